@@ -76,10 +76,14 @@ xd, yd, phid = dynamicsymbols("x y phi", 1, real=True)
 STATE_NAMES: tuple[str, ...] = ("x", "y", "phi", "xd", "yd", "phid")
 qs = sp.symbols("x y phi", real=True)
 us = sp.symbols("xd yd phid", real=True)
+udots = sp.symbols("xdd ydd phidd", real=True)
 
 
 def to_plain(expr: sp.Expr) -> sp.Expr:
     """Replace x(t), x'(t), ... by the plain state symbols (derivatives first)."""
     from sympy.physics.mechanics import msubs
 
-    return msubs(expr, dict(zip((xd, yd, phid), us, strict=True)), dict(zip((x, y, phi), qs, strict=True)))
+    t_dyn = dynamicsymbols._t
+
+    second = {q.diff(t_dyn, 2): a for q, a in zip((x, y, phi), udots, strict=True)}
+    return msubs(expr, second, dict(zip((xd, yd, phid), us, strict=True)), dict(zip((x, y, phi), qs, strict=True)))

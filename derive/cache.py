@@ -1,0 +1,77 @@
+"""Content-hash cache of derivations.
+
+The key is a sha256 over the derivation's inputs: the source of every module of
+``apexseal.derive``, the effects, the assumptions and the sympy version. A hit
+loads the pickled :class:`DerivedModel` (well under a second); a miss derives and
+stores it atomically (write to a temporary file, then ``os.replace``), so two
+processes deriving at once never see a half-written file.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import pickle
+import tempfile
+from pathlib import Path
+
+import sympy
+
+from .assumptions import Assumptions
+from .effects import Effects
+
+_DERIVE_DIR = Path(__file__).resolve().parent
+
+
+def cache_dir() -> Path:
+    """Where derivations and compiled libraries are kept: $APEXSEAL_CACHE or the user cache folder."""
+    env = os.environ.get("APEXSEAL_CACHE")
+    if env:
+        return Path(env)
+    import platformdirs
+
+    return Path(platformdirs.user_cache_dir("apexseal"))
+
+
+def source_digest() -> str:
+    """sha256 of the derivation's own source files (a change to any of them invalidates the cache)."""
+    h = hashlib.sha256()
+    for path in sorted(_DERIVE_DIR.rglob("*.py")):
+        if "paper" in path.name:  # the printed forms do not change the derivation
+            continue
+        h.update(path.relative_to(_DERIVE_DIR).as_posix().encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def derivation_key(effects: Effects, assumptions: Assumptions) -> str:
+    payload = {
+        "source": source_digest(),
+        "effects": effects.as_dict(),
+        "assumptions": assumptions.as_dict(),
+        "sympy": sympy.__version__,
+    }
+    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
+
+
+def cached_model(effects: Effects | None = None, assumptions: Assumptions | None = None, *, refresh: bool = False):
+    """The derived model for these inputs, from the cache when it is there (see :func:`model.derive_model`)."""
+    from .model import derive_model
+
+    effects = effects or Effects()
+    assumptions = assumptions or Assumptions()
+    path = cache_dir() / "derive" / f"{derivation_key(effects, assumptions)}.pkl"
+    if path.exists() and not refresh:
+        try:
+            with path.open("rb") as fh:
+                return pickle.load(fh)
+        except Exception:  # a corrupt or foreign file: derive again and overwrite it
+            pass
+    model = derive_model(effects, assumptions)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+    with os.fdopen(fd, "wb") as fh:
+        pickle.dump(model, fh, protocol=pickle.HIGHEST_PROTOCOL)
+    os.replace(tmp, path)
+    return model

@@ -1,0 +1,127 @@
+"""Assemble the seal model for a set of effects: loads, guards, outputs, Eq. 80.
+
+``derive_model(effects, assumptions)`` is the one entry point. It builds only the
+contacts the effects ask for, so an effect that is off never appears in any
+expression. Results are plain sympy expressions of the crank angle ``theta``, the
+state (x, y, phi, xd, yd, phid), the parameters (:data:`symbols.PARAMETERS`), the
+chamber pressures (Pa, Pb) and the activations of the contacts that exist.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from . import contact_geometry, eom, kinematics
+from .assumptions import Assumptions
+from .effects import Effects
+from .forces.base import ContactModel
+from .forces.groove import groove_contacts
+from .forces.housing import housing_contact
+from .forces.pressure import chamber_pressure
+from .forces.spring import spring_contact
+from .kinematics import plain
+
+#: the contacts' guard names, in the order of the activation vector
+GUARD_OF_CONTACT = {"i1": "b1", "c2": "b2", "i2": "b3", "c4": "b4", "housing": "xs5", "spring": "spring"}
+
+
+@dataclass
+class DerivedModel:
+    effects: Effects
+    assumptions: Assumptions
+    mass_matrix: sp.Matrix
+    forcing: sp.Matrix
+    #: contact guard name -> expression; the contact is closed while it is negative
+    guards: dict[str, sp.Expr]
+    #: contact guard name -> activation symbol
+    activations: dict[str, sp.Symbol]
+    #: velocity switches of damping and friction laws: name -> expression
+    velocity_guards: dict[str, sp.Expr]
+    #: named outputs: forces (groove-frame components, N), moments about C (N m), friction powers (W)
+    outputs: dict[str, sp.Expr]
+    #: intermediate quantities keyed by the paper's equation labels, for the paper check
+    quantities: dict[str, sp.Expr] = field(default_factory=dict)
+
+    @property
+    def guard_names(self) -> tuple[str, ...]:
+        return tuple(self.guards)
+
+
+def _contacts(k, g, effects: Effects, assumptions: Assumptions) -> list[ContactModel]:
+    contacts: list[ContactModel] = []
+    if effects.groove_contact:
+        contacts += groove_contacts(k, g, effects, assumptions)
+    if effects.housing_contact:
+        contacts.append(housing_contact(k, g, effects, assumptions))
+    if effects.spring:
+        contacts.append(spring_contact(k, g, effects, assumptions))
+    if effects.chamber_pressure:
+        contacts.append(chamber_pressure(k, g, assumptions, effects.groove_contact))
+    return contacts
+
+
+def derive_model(effects: Effects | None = None, assumptions: Assumptions | None = None) -> DerivedModel:
+    """Derive the model from frames, points and contact rules (Eqs. 10-80)."""
+    effects = effects or Effects()
+    assumptions = assumptions or Assumptions()
+    k = kinematics.build()
+    g = contact_geometry.build(k)
+    contacts = _contacts(k, g, effects, assumptions)
+    loads = [load for c in contacts for load in c.loads]
+    eq = eom.build(k, loads, inertia=effects.inertia)
+
+    guards, activations, vguards, outputs = {}, {}, {}, {}
+    for c in contacts:
+        if c.guard is not None:
+            name = GUARD_OF_CONTACT[c.name]
+            guards[name] = plain(c.guard)
+            activations[name] = c.activation
+        vguards.update({n: plain(e) for n, e in c.velocity_guards.items()})
+        fx = sum((load.force.dot(k.G.x) for load in c.loads), sp.S.Zero)
+        fy = sum((load.force.dot(k.G.y) for load in c.loads), sp.S.Zero)
+        mz = sum((load.r_CP.cross(load.force).dot(k.G.z) for load in c.loads), sp.S.Zero)
+        outputs[f"F_{c.name}_X"] = plain(fx)
+        outputs[f"F_{c.name}_Y"] = plain(fy)
+        outputs[f"M_{c.name}"] = plain(mz)
+        if any(load.friction_power != 0 for load in c.loads):
+            outputs[f"Pf_{c.name}"] = plain(sum((load.friction_power for load in c.loads), sp.S.Zero))
+    pf = [e for n, e in outputs.items() if n.startswith("Pf_")]
+    outputs["Pf_total"] = sum(pf, sp.S.Zero)
+
+    quantities = _quantities(k, g)
+    return DerivedModel(effects, assumptions, eq.mass_matrix, eq.forcing, guards, activations, vguards,
+                        outputs, quantities)
+
+
+def _quantities(k, g) -> dict[str, sp.Expr]:
+    """The intermediate results the paper prints, by equation label (checked in derive/paper_check.py)."""
+    from . import kinematics as kin
+
+    G, S = k.G, k.S
+    q: dict[str, sp.Expr] = {}
+    q["12.i"], q["12.j"] = kin.position_rotor(k)
+    q["13.i"], q["13.j"] = kin.velocity_rotor(k)
+    q["15.X1"], q["15.Y1"] = kin.acceleration_rotor(k)
+    q["22"] = plain(g.l2)
+    q["23"] = plain(g.l4)
+    q["31"] = plain(g.beta)
+    q["33"] = plain(g.xs5)
+    q["36"] = plain(g.b6)
+    q["37"] = plain(g.X_s6)
+    q["38"] = plain(g.spring_compression)
+    for i, name in enumerate(("b1", "b2", "b3", "b4"), start=40):
+        q[str(i)] = plain(g.gaps[name])
+    for label, vec in (("20", g.r_i1), ("21", g.r_i2), ("26", g.r_s5), ("44", g.r_s1), ("45", g.r_s2),
+                       ("46", g.r_s3), ("47", g.r_s4)):
+        q[label + ".X"], q[label + ".Y"] = k.components(vec)
+    for label, vec in (("51", k.relative_velocity(g.r_i1)), ("57", k.relative_velocity(g.r_c2)),
+                       ("59", k.relative_velocity(g.r_c4)), ("61", k.relative_velocity(g.r_i2)),
+                       ("72", k.relative_velocity(g.r_s6))):
+        q[label + ".X"], q[label + ".Y"] = k.components(vec)
+    v_i1 = k.relative_velocity(g.r_i1)
+    q["52"], q["53"] = plain(v_i1.dot(S.x)), plain(v_i1.dot(S.y))
+    s5 = k.point_on_seal("s5q", g.r_s5)
+    q["66.X"], q["66.Y"] = k.components(s5.vel(k.N))
+    return q
