@@ -99,7 +99,7 @@ def _quantities(k, g) -> dict[str, sp.Expr]:
     """The intermediate results the paper prints, by equation label (checked in derive/paper_check.py)."""
     from . import kinematics as kin
 
-    G, S = k.G, k.S
+    S = k.S
     q: dict[str, sp.Expr] = {}
     q["12.i"], q["12.j"] = kin.position_rotor(k)
     q["13.i"], q["13.j"] = kin.velocity_rotor(k)
