@@ -1,0 +1,76 @@
+"""Contact cases, Algorithms 3 and 4 (Section 4.4).
+
+A seal-groove case is named by its back contact (``n``: b2 <= 0, ``q``: b4 <= 0,
+``p``: neither) and its front contact (``1``: b1 <= 0, ``3``: b3 <= 0, ``2``:
+neither). A *mode* of the hybrid model is a groove case with the housing contact
+closed or open and the spring in contact or not: within a mode the right-hand
+side is smooth.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+#: the nine cases of Algorithm 3: name -> (b1 closed, b2 closed, b3 closed, b4 closed)
+CASES: dict[str, tuple[bool, bool, bool, bool]] = {
+    "q1": (True, False, False, True),
+    "n3": (False, True, True, False),
+    "p1": (True, False, False, False),
+    "n2": (False, True, False, False),
+    "p3": (False, False, True, False),
+    "q2": (False, False, False, True),
+    "q3": (False, False, True, True),
+    "n1": (True, True, False, False),
+    "p2": (False, False, False, False),
+}
+
+
+def case_of(closed_b1: bool, closed_b2: bool, closed_b3: bool, closed_b4: bool) -> str:
+    """Algorithm 3: the case name for the closed groove contacts ('x?' outside the paper's nine)."""
+    back = "n" if closed_b2 else "q" if closed_b4 else "p"
+    front = "1" if closed_b1 else "3" if closed_b3 else "2"
+    name = back + front
+    if closed_b2 and closed_b4 or closed_b1 and closed_b3:
+        return "x" + name[1]  # both sides at once: geometrically impossible with Wg > Ws
+    return name
+
+
+def gap_width(b1: float, b2: float, b3: float, b4: float) -> float:
+    """Algorithm 4: the seal-groove gap b_gap (leakage area A_gap = b_gap H)."""
+    if b1 > 0 and b2 > 0 and b3 > 0 and b4 > 0:
+        return min(b1, b2, b3, b4)
+    return 0.0
+
+
+@dataclass(frozen=True)
+class Mode:
+    """One smooth piece of the hybrid model: which contacts are closed."""
+
+    closed: tuple[bool, ...]  # in the order of ``guard_names``
+    guard_names: tuple[str, ...]
+
+    @property
+    def label(self) -> str:
+        c = dict(zip(self.guard_names, self.closed, strict=True))
+        parts = []
+        if "b1" in c:
+            parts.append(case_of(c["b1"], c["b2"], c["b3"], c["b4"]))
+        if "xs5" in c:
+            parts.append("h" if c["xs5"] else "h0")
+        if "spring" in c:
+            parts.append("s" if c["spring"] else "s0")
+        return "_".join(parts) or "free"
+
+
+def modes(guard_names: tuple[str, ...]) -> list[Mode]:
+    """Every mode the contacts of a model allow: the nine groove cases x housing x spring."""
+    groove = [g for g in ("b1", "b2", "b3", "b4") if g in guard_names]
+    others = [g for g in guard_names if g not in groove]
+    out = []
+    groove_sets = [CASES[c] for c in CASES] if groove else [()]
+    for gset in groove_sets:
+        for rest in itertools.product((True, False), repeat=len(others)):
+            closed = dict(zip(groove, gset, strict=True)) | dict(zip(others, rest, strict=True))
+            out.append(Mode(tuple(closed[g] for g in guard_names), guard_names))
+    return out
