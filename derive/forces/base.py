@@ -4,6 +4,8 @@ A :class:`Load` is a force applied at a material point of the seal (given by its
 vector from C). Contact laws are written with an activation symbol per contact
 (1 while the contact is closed, 0 while open), so that each contact case of the
 paper is the same expression with the activations set to 0 or 1 (Algorithm 3).
+Elastic forces are also clipped at zero penetration (max(-gap, 0)): a contact
+never pulls, even if an event is located a hair before the gap closes.
 """
 
 from __future__ import annotations

@@ -9,6 +9,7 @@ along -+Ys, normal to the seal's sides; c2 and c4 (the back corners) push along
 from __future__ import annotations
 
 import sympy as sp
+from sympy import Max
 
 from ..assumptions import Assumptions
 from ..contact_geometry import ContactGeometry
@@ -39,7 +40,7 @@ def groove_contacts(k: Kinematics, g: ContactGeometry, effects: Effects, assumpt
         v = k.relative_velocity(r)  # Eqs. 50-61
         closing = -v.dot(n)  # > 0 while the seal moves into the groove wall
         guards = {f"v_{point}_n": closing}
-        normal = act * P[k_name] * (-gap)  # |b| kg while b < 0
+        normal = act * P[k_name] * Max(-gap, 0)  # |b| kg while b < 0 (a contact cannot pull)
         if effects.groove_damping:
             damp = P["cr"] * approach(closing)
             normal = normal + (act * damp if assumptions.damping == "in-contact" else damp)

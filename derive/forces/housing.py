@@ -37,9 +37,9 @@ def housing_contact(k: Kinematics, g: ContactGeometry, effects: Effects, assumpt
     velocity_guards = {"v_s5_X": closing}
 
     if assumptions.housing_stiffness == "groove-axis":
-        Fw = act * P["kw"] * g.xs5  # Eq. 34: X component
+        Fw = act * P["kw"] * sp.Max(g.xs5, 0)  # Eq. 34: X component (a contact cannot pull)
     else:
-        Fw = act * P["kw"] * g.xs5 * sp.cos(lam)  # normal force
+        Fw = act * P["kw"] * sp.Max(g.xs5, 0) * sp.cos(lam)  # normal force
     if effects.housing_damping:
         damp = P["cw"] * approach(closing)
         Fw = Fw + (damp * act if assumptions.damping == "in-contact" else damp)

@@ -25,7 +25,7 @@ def spring_contact(k: Kinematics, g: ContactGeometry, effects: Effects, assumpti
     v = k.relative_velocity(g.r_s6)  # Eqs. 70-72
     closing = -v.dot(G.x)  # > 0 while the seal moves down into the spring
     guards = {"v_s6_n": closing}
-    normal = act * P["ks"] * g.spring_compression  # Eq. 39
+    normal = act * P["ks"] * sp.Max(g.spring_compression, 0)  # Eq. 39 (a spring cannot pull)
     if effects.spring_damping:
         damp = P["cs"] * approach(closing)  # Eq. 73
         normal = normal + (act * damp if assumptions.damping == "in-contact" else damp)
