@@ -1,0 +1,132 @@
+"""Mode switching located by apexseal itself, for integrators without usable events.
+
+CVODES and IDAS events are fragile in CasADi 3.8 (they need a dense output grid
+and IDAS misses crossings), and ``rk``/``collocation`` have none. Here the mode
+is a parameter: one integrator call advances one output interval with the mode
+fixed; afterwards the zero functions e_i = (1 - 2 s_i) g_i are checked, and if
+one went negative its crossing is located by the Illinois (regula falsi) method on
+the interval length, to ``event_tol`` in crank angle. The integrator runs on a
+normalised interval (sigma in [0, 1], length H a parameter), so one integrator
+serves every interval length.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import casadi as ca
+import numpy as np
+
+from .methods import METHODS
+from .scaling import LENGTH, scaled_rhs, state_scale
+
+
+class StepperIntegrator:
+    def __init__(self, rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *, method: str,
+                 rtol: float, atol: float | None, n_samples: int, span: float = 2 * np.pi, steps_per_revolution: int = 20000,
+                 event_tol: float = 1e-9, max_events: int = 10000, max_steps: int = 200000):
+        plugin = METHODS[method][0]
+        n_g = guards.size1_out(0)
+        self.n_g = n_g
+        self.n_samples = n_samples
+        self.dtheta = span / n_samples
+        self.event_tol = event_tol
+        self.max_events = max_events
+        z = ca.SX.sym("z", 6)
+        sigma = ca.SX.sym("sigma")
+        P = ca.SX.sym("P", n_par + n_g + 4)  # params, activations, theta0, H, Pa, Pb
+        par, act = P[:n_par], P[n_par:n_par + n_g]
+        theta0, H, u = P[n_par + n_g], P[n_par + n_g + 1], P[n_par + n_g + 2:]
+        omega = par[omega_index]
+        theta = theta0 + sigma * H
+        X = z * state_scale(omega)
+        ode = H * scaled_rhs(rhs(theta, X, act, par, u), omega)
+        dae = {"x": z, "t": sigma, "p": P, "ode": ode}
+        opts: dict = {}
+        if plugin in ("cvodes", "idas"):
+            opts = {"reltol": rtol, "abstol": atol if atol is not None else rtol, "max_num_steps": int(max_steps)}
+            if method == "cvodes-adams":
+                opts["linear_multistep_method"] = "adams"
+                opts["nonlinear_solver_iteration"] = "functional"
+        else:  # fixed steps: the interval is cut into equal elements of about the revolution's step
+            opts = {"number_of_finite_elements": max(1, int(round(steps_per_revolution / n_samples)))}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            F = ca.integrator("apexseal_" + method.replace("-", "_"), plugin, dae, 0.0, 1.0, opts)
+        zs = ca.MX.sym("z", 6)
+        Pm = ca.MX.sym("P", P.size1())
+        zf = F(x0=zs, p=Pm)["xf"]
+        Xf = zf * state_scale(Pm[omega_index])
+        g = guards(Pm[n_par + n_g] + Pm[n_par + n_g + 1], Xf, Pm[:n_par], Pm[n_par + n_g + 2:]) / LENGTH
+        e = (1 - 2 * Pm[n_par:n_par + n_g]) * g
+        self.step = ca.Function("step", [zs, Pm], [zf, e])
+        self.integrator = F
+        self.n_par = n_par
+        self.stats = {"n_calls": 0, "n_events": 0}
+
+    def _advance(self, z, params, act, theta0, H, u):
+        self.stats["n_calls"] += 1
+        zf, e = self.step(z, np.r_[params, act, theta0, H, u])
+        return np.array(zf).ravel(), np.array(e).ravel()
+
+    def _locate(self, z, params, act, theta0, H, u, i, e0, e1) -> float:
+        """Illinois method on h in (0, H] for the crossing of zero function i (e0 > 0 >= e1)."""
+        a, b, fa, fb = 0.0, H, e0, e1
+        side = 0
+        while b - a > self.event_tol:
+            c = (a * fb - b * fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
+            if not a < c < b:
+                c = 0.5 * (a + b)
+            _, ec = self._advance(z, params, act, theta0, c, u)
+            fc = ec[i]
+            if fc > 0:
+                a, fa = c, fc
+                if side == -1:
+                    fb *= 0.5
+                side = -1
+            else:
+                b, fb = c, fc
+                if side == 1:
+                    fa *= 0.5
+                side = 1
+        return b
+
+    def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray):
+        """Same contract as EventIntegrator.run: states [6 scaled, activations, event counts] at each sample."""
+        from .event_integrator import RevolutionResult
+
+        n_g = self.n_g
+        self.stats = {"n_calls": 0, "n_events": 0}
+        z = np.array(z0[:6], float)
+        act = np.array(z0[6:6 + n_g], float)
+        counts = np.array(z0[6 + n_g:], float)
+        out = np.empty((6 + 2 * n_g, self.n_samples))
+        events_here = 0
+        for k in range(self.n_samples):
+            t = theta0 + k * self.dtheta
+            left = self.dtheta
+            u = pressures[:, k]
+            _, e_start = self._advance(z, params, act, t, 0.0, u)
+            while True:
+                zf, e = self._advance(z, params, act, t, left, u)
+                fired = [i for i in range(n_g) if e[i] < 0 and e_start[i] >= 0]
+                if not fired:
+                    z = zf
+                    break
+                hits = {i: self._locate(z, params, act, t, left, u, i, e_start[i], e[i]) for i in fired}
+                i = min(hits, key=hits.get)
+                h = hits[i]
+                z, e_start = self._advance(z, params, act, t, h, u)
+                act[i] = 1 - act[i]
+                counts[i] += 1
+                e_start[i] = -e_start[i]
+                events_here += 1
+                self.stats["n_events"] += 1
+                if events_here > self.max_events:
+                    raise RuntimeError(f"more than max_events = {self.max_events} events")
+                t += h
+                left -= h
+                if left <= self.event_tol:
+                    break
+            out[:, k] = np.r_[z, act, counts]
+        return RevolutionResult(out, dict(self.stats))
