@@ -1,0 +1,90 @@
+"""The numbers a designer reads first: summary.json of a run."""
+
+from __future__ import annotations
+
+import platform
+from collections import Counter
+
+import numpy as np
+
+from ..derive.modes import gap_width
+from .result import SimulationResult
+
+
+def housing_force(result: SimulationResult) -> np.ndarray:
+    """|Fs5|, the seal-housing contact force (Eq. 68), N."""
+    if "F_housing_X" not in result.outputs:
+        return np.zeros(result.n)
+    return np.hypot(result.outputs["F_housing_X"], result.outputs["F_housing_Y"])
+
+
+def spectrum(signal: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """One-sided amplitude spectrum (angular frequency in rad/s, amplitude) of a uniformly sampled signal."""
+    s = np.asarray(signal, float) - np.mean(signal)
+    n = s.size
+    window = np.hanning(n)
+    amp = np.abs(np.fft.rfft(s * window)) * 2 / window.sum()
+    w = 2 * np.pi * np.fft.rfftfreq(n, dt)
+    return w, amp
+
+
+def spectral_peaks(w: np.ndarray, amp: np.ndarray, count: int = 5) -> list[dict]:
+    """The largest local maxima of a spectrum, largest first."""
+    if amp.size < 3:
+        return []
+    inner = (amp[1:-1] > amp[:-2]) & (amp[1:-1] >= amp[2:])
+    idx = np.nonzero(inner)[0] + 1
+    idx = idx[np.argsort(amp[idx])[::-1][:count]]
+    return [{"omega_rad_s": float(w[i]), "amplitude_N": float(amp[i])} for i in idx]
+
+
+def gap_series(result: SimulationResult) -> np.ndarray:
+    """Algorithm 4 at every sample: b_gap (m)."""
+    names = ("b1", "b2", "b3", "b4")
+    if not all(n in result.outputs for n in names):
+        return np.zeros(result.n)
+    return np.array([gap_width(*(result.outputs[n][i] for n in names)) for i in range(result.n)])
+
+
+def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
+    """Extremes with their crank angles, time in each mode, events, friction power, gaps, force spectrum."""
+    deg = np.degrees(result.theta)
+    out: dict = {"status": result.status, "stop": None if result.stop is None else result.stop.describe(),
+                 "samples": int(result.n), "revolutions": float(result.theta[-1] / (2 * np.pi)) if result.n else 0.0}
+    extremes = {}
+    for i, (name, unit, scale) in enumerate((("x", "um", 1e6), ("y", "um", 1e6), ("phi", "mrad", 1e3))):
+        v = result.state[i] * scale
+        extremes[name] = {"unit": unit, "min": float(v.min()), "min_at_deg": float(deg[v.argmin()] % 360),
+                          "max": float(v.max()), "max_at_deg": float(deg[v.argmax()] % 360)}
+    out["extremes"] = extremes
+    counts = Counter(result.modes[1:] or result.modes)
+    total = sum(counts.values())
+    out["mode_fraction"] = {m: counts[m] / total for m in sorted(counts, key=lambda m: -counts[m])}
+    out["events"] = {g: int(result.events[i, -1]) for i, g in enumerate(result.guard_names)}
+    out["events_total"] = int(result.events[:, -1].sum()) if result.events.size else 0
+    powers = {k[3:]: float(np.mean(v[1:] if v.size > 1 else v)) for k, v in result.outputs.items() if k.startswith("Pf_")}
+    out["mean_friction_power_W"] = powers
+    gaps = gap_series(result)
+    out["leakage_gap"] = {"open_fraction": float(np.mean(gaps > 0)), "mean_um": float(gaps.mean() * 1e6),
+                          "max_um": float(gaps.max() * 1e6)}
+    F = housing_force(result)
+    out["housing_force_N"] = {"mean": float(F.mean()), "max": float(F.max()), "max_at_deg": float(deg[F.argmax()] % 360)}
+    if result.n > 8:
+        w, amp = spectrum(F[1:], float(np.mean(np.diff(result.time))))
+        out["housing_force_spectrum_peaks"] = spectral_peaks(w, amp)
+    out["run"] = dict(result.info)
+    out["versions"] = versions()
+    if scene_info:
+        out["scene"] = scene_info
+    return out
+
+
+def versions() -> dict:
+    import casadi
+    import numpy
+    import sympy
+
+    from .. import __version__
+
+    return {"apexseal": __version__, "casadi": casadi.__version__, "sympy": sympy.__version__,
+            "numpy": numpy.__version__, "python": platform.python_version(), "machine": platform.machine()}
