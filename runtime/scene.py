@@ -1,0 +1,351 @@
+"""Scenes: one TOML file holds everything a run needs, checked before anything is built.
+
+A scene has the sections ``[machine]``, ``[operation]``, ``[seal]``, ``[spring]``,
+``[contacts]``, ``[friction]`` (required) and ``[pressure]``, ``[effects]``,
+``[assumptions]``, ``[solver]`` (optional); ``docs/scenes.md`` lists every key.
+Quantities carry units (``"3 mm"``, ``"1500 rpm"``, ``"6 bar"``); bare numbers are SI.
+
+>>> scene = load_scene()                       # the embedded default (the paper's case study)
+>>> scene.parameter_vector()                   # derive.symbols.PARAMETERS order, SI
+>>> fast = scene.with_overrides(**{"operation.rpm": 6000, "contacts.kw": "2e9 N/m"})
+
+Every problem of a scene (unknown keys, wrong units or types, out-of-range and
+physically inconsistent values, a bad pressure table) is reported at once in one
+:class:`~.scene_errors.SceneError`.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import importlib.resources
+import json
+import numbers
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from apexseal.derive.assumptions import Assumptions
+from apexseal.derive.effects import Effects
+from apexseal.derive.geometry import initial_wall_deflection
+from apexseal.derive.symbols import PARAMETER_NAMES
+
+from .scene_checks import check_consistency, resolve_assumptions, resolve_effects, zeta0_of
+from .scene_errors import Problem, SceneError
+from .scene_pressure import PressureSource, make_source
+from .scene_schema import (
+    ContactsSection,
+    FrictionSection,
+    MachineSection,
+    OperationSection,
+    SealSection,
+    Section,
+    SolverSection,
+    SpringSection,
+    validate_sections,
+)
+
+__all__ = ["Scene", "SceneError", "load_scene", "default_scene_text", "derive_parameters"]
+
+DEFAULT_SCENE = "default.toml"
+#: bump when the meaning of a scene's content changes (it enters the content hash)
+SCENE_FORMAT = 1
+
+
+def _scenes_folder() -> Any:
+    """The folder of embedded scenes (an importlib resource; a Path in ordinary installs)."""
+    return importlib.resources.files("apexseal.runtime").joinpath("scenes")
+
+
+def default_scene_text() -> str:
+    """The TOML text of the embedded default scene (a starting point for new scenes)."""
+    return _scenes_folder().joinpath(DEFAULT_SCENE).read_text(encoding="utf-8")
+
+
+def load_scene(path: str | Path | None = None) -> Scene:
+    """Load and check a scene file; ``None`` loads the embedded default (the paper's case study)."""
+    if path is None:
+        folder = _scenes_folder()
+        source = Path(str(folder.joinpath(DEFAULT_SCENE))) if isinstance(folder, Path) else None
+        return Scene.from_toml_string(default_scene_text(), folder, name="default", source_path=source)
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise SceneError([("scene", str(path), "file not found")], source=str(path)) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SceneError([("scene", str(path), f"cannot read: {exc}")], source=str(path)) from None
+    return Scene.from_toml_string(text, p.parent, name=p.name, source_path=p)
+
+
+def _parse_toml(text: str, name: str) -> dict[str, Any]:
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        msg = str(exc)
+        lines = text.splitlines() or [""]
+        m = re.search(r"\(at line (\d+), column (\d+)\)", msg)
+        line, col = (int(m[1]), int(m[2])) if m else (len(lines), len(lines[-1]) + 1)
+        reason = re.sub(r"\s*\(at [^)]*\)\s*$", "", msg)
+        shown = lines[line - 1].strip() if 0 < line <= len(lines) else ""
+        if re.search(r"=\s*[-+.\d][\w.+-]*\s+[A-Za-z%]", shown):
+            reason += ' (a quantity with a unit must be a quoted string, e.g. r = "3 mm")'
+        raise SceneError(
+            [("toml", shown, f"malformed TOML at line {line}, column {col}: {reason}")], source=name
+        ) from None
+
+
+def derive_parameters(sections: dict[str, Section], effects: Effects) -> dict[str, float]:
+    """Every parameter of ``derive.symbols.PARAMETERS``, in SI, from validated sections.
+
+    Derived: ``omega`` from rpm; ``Li = L - ds1`` (Eq. 12); ``ms = density Ws (ds1 + ds2) Bs``
+    and ``Icg = ms (Ws^2 + (ds1 + ds2)^2) / 12`` (Eq. 80) unless given; ``zeta0`` from
+    ``[seal]`` or else the groove truncation z (Eqs. 6-8); ``delta_w`` from the rest
+    balance ``ks delta_s = kw delta_w`` (Eq. 9) when both the spring and the housing
+    contact are on, else 0 (nothing presses the seal on the housing at rest).
+    """
+    m: MachineSection = sections["machine"]
+    op: OperationSection = sections["operation"]
+    s: SealSection = sections["seal"]
+    sp: SpringSection = sections["spring"]
+    c: ContactsSection = sections["contacts"]
+    f: FrictionSection = sections["friction"]
+    ds = s.ds1 + s.ds2
+    ms = s.ms if s.ms is not None else s.density * s.Ws * ds * s.Bs
+    icg = s.Icg if s.Icg is not None else ms * (s.Ws**2 + ds**2) / 12
+    zeta0, why = zeta0_of(m, s)
+    if zeta0 is None:  # pragma: no cover - check_consistency reports it first
+        raise SceneError([("seal.zeta0", None, why or "undefined")])
+    values: dict[str, float] = {
+        "omega": op.omega,
+        "r": m.r,
+        "L": m.L,
+        "Li": m.L - s.ds1,
+        "zeta0": zeta0,
+        "Ws": s.Ws,
+        "Wg": s.Wg,
+        "ds1": s.ds1,
+        "ds2": s.ds2,
+        "ro": s.ro,
+        "Bs": s.Bs,
+        "ms": ms,
+        "Icg": icg,
+        "ks": sp.ks,
+        "delta_s": sp.delta_s,
+        "kw": c.kw,
+        "kg1": c.kg1,
+        "kg2": c.kg2,
+        "kg3": c.kg3,
+        "kg4": c.kg4,
+        "cw": c.cw,
+        "cr": c.cr,
+        "cs": c.cs,
+        "mu1": f.mu1,
+        "mu2": f.mu2,
+        "mus": f.mus,
+        "v_eps": f.v_eps,
+    }
+    if effects.spring and effects.housing_contact:
+        expr = initial_wall_deflection()
+        values["delta_w"] = float(expr.subs({sym: values[sym.name] for sym in expr.free_symbols}))
+    else:
+        values["delta_w"] = 0.0
+    missing = set(PARAMETER_NAMES) - set(values)
+    if missing:  # pragma: no cover - guards derive.symbols growing a parameter
+        raise RuntimeError(f"scene gives no value for parameters {sorted(missing)}; update derive_parameters")
+    return {name: float(values[name]) for name in PARAMETER_NAMES}
+
+
+def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: str) -> Scene:
+    sections, problems = validate_sections(raw)
+    problems += check_consistency(sections, raw)
+    pressure: PressureSource | None = None
+    if "pressure" in sections and not any(p.key.startswith("pressure.") for p in problems):
+        try:
+            pressure = make_source(sections["pressure"], base_dir)
+        except SceneError as exc:
+            problems += exc.errors
+    effects: Effects | None = None
+    if "effects" in sections:
+        src = sections["pressure"].source if "pressure" in sections else None
+        effects, more = resolve_effects(sections["effects"], src, raw)
+        problems += more
+    if problems:
+        raise SceneError(problems, source=name)
+    assert pressure is not None and effects is not None
+    values = derive_parameters(sections, effects)
+    return Scene(
+        machine=sections["machine"],
+        operation=sections["operation"],
+        seal=sections["seal"],
+        spring=sections["spring"],
+        contacts=sections["contacts"],
+        friction=sections["friction"],
+        pressure=pressure,
+        effects=effects,
+        assumptions=resolve_assumptions(sections["assumptions"]),
+        solver=sections["solver"],
+        source_path=source_path,
+        name=name,
+        _raw=copy.deepcopy(raw),
+        _base_dir=base_dir,
+        _values=tuple(values[n] for n in PARAMETER_NAMES),
+    )
+
+
+def _plain(value: Any) -> Any:
+    """numpy scalars and paths as TOML-like Python values."""
+    if isinstance(value, bool | np.bool_):
+        return bool(value)
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real):
+        return float(value)
+    if isinstance(value, Path):
+        return str(value)
+    return value
+
+
+def _normalise(obj: Any) -> Any:
+    """Floats to 12 significant digits, so "3.06 mm" and 0.00306 hash alike."""
+    if isinstance(obj, dict):
+        return {k: _normalise(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_normalise(v) for v in obj]
+    if isinstance(obj, float):
+        return float(f"{obj:.12g}")
+    return obj
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class Scene:
+    """A checked scene: the validated sections, the pressure source, effects, assumptions, solver settings.
+
+    Quantities in the sections are SI (``operation.rpm`` in rev/min, angles in rad).
+    Build with :func:`load_scene`, :meth:`from_toml_string` or :meth:`with_overrides`.
+    """
+
+    machine: MachineSection
+    operation: OperationSection
+    seal: SealSection
+    spring: SpringSection
+    contacts: ContactsSection
+    friction: FrictionSection
+    pressure: PressureSource
+    effects: Effects
+    assumptions: Assumptions
+    solver: SolverSection
+    source_path: Path | None
+    name: str
+    _raw: dict[str, Any] = field(repr=False)
+    _base_dir: Any = field(repr=False)
+    _values: tuple[float, ...] = field(repr=False)
+
+    @classmethod
+    def from_toml_string(
+        cls,
+        text: str,
+        base_dir: str | Path | None = None,
+        *,
+        name: str = "<string>",
+        source_path: Path | None = None,
+    ) -> Scene:
+        """Parse and check TOML ``text``; a pressure table's path is taken relative to ``base_dir``
+        (default: the current directory)."""
+        raw = _parse_toml(text, name)
+        folder = Path.cwd() if base_dir is None else Path(base_dir) if isinstance(base_dir, str) else base_dir
+        return _build(raw, folder, source_path, name)
+
+    # -- parameters ---------------------------------------------------------
+
+    @property
+    def parameters(self) -> dict[str, float]:
+        """Every parameter of ``derive.symbols.PARAMETER_NAMES``, in SI (see :func:`derive_parameters`)."""
+        return dict(zip(PARAMETER_NAMES, self._values, strict=True))
+
+    def parameter_vector(self) -> np.ndarray:
+        """The parameters as a float array in ``PARAMETER_NAMES`` order (the generated Functions' order)."""
+        return np.array(self._values, dtype=float)
+
+    @property
+    def omega(self) -> float:
+        """Rotor speed in rad/s."""
+        return self.operation.omega
+
+    # -- variants -----------------------------------------------------------
+
+    def with_overrides(self, **dotted: Any) -> Scene:
+        """A new, checked scene with keys replaced, e.g. ``**{"contacts.kw": 2e9, "operation.rpm": 6000}``.
+
+        Values are written as in the TOML (numbers in SI, or strings with units);
+        ``None`` removes a key, restoring its default.
+        """
+        raw = copy.deepcopy(self._raw)
+        problems = []
+        for key, value in dotted.items():
+            parts = key.split(".")
+            if not all(parts):
+                problems.append(Problem(key, value, "not a key path such as 'seal.Ws'"))
+                continue
+            node = raw
+            for i, part in enumerate(parts[:-1]):
+                nxt = node.get(part)
+                if nxt is None:
+                    nxt = node[part] = {}
+                elif not isinstance(nxt, dict):
+                    problems.append(
+                        Problem(key, value, f"{'.'.join(parts[: i + 1])} is a value, not a table")
+                    )
+                    break
+                node = nxt
+            else:
+                if value is None:
+                    node.pop(parts[-1], None)
+                else:
+                    node[parts[-1]] = _plain(value)
+        if problems:
+            raise SceneError(problems, source=f"{self.name} overrides")
+        return _build(raw, self._base_dir, self.source_path, self.name)
+
+    # -- content ------------------------------------------------------------
+
+    def to_dict(self) -> dict[str, Any]:
+        """Normalised content in SI: every section, the pressure source, effects, assumptions, parameters."""
+        return {
+            "format": SCENE_FORMAT,
+            "machine": self.machine.model_dump(),
+            "operation": self.operation.model_dump(),
+            "seal": self.seal.model_dump(),
+            "spring": self.spring.model_dump(),
+            "contacts": self.contacts.model_dump(),
+            "friction": self.friction.model_dump(),
+            "pressure": self.pressure.to_dict(),
+            "effects": self.effects.as_dict(),
+            "assumptions": self.assumptions.as_dict(),
+            "solver": self.solver.model_dump(),
+            "parameters": self.parameters,
+        }
+
+    def content_hash(self) -> str:
+        """sha256 of the normalised content (including the pressure table's numbers).
+
+        Independent of where the scene lives, of the table's file name and of how
+        units are spelled (``"3 mm"`` and ``0.003`` hash alike).
+        """
+        content = self.to_dict()
+        content["pressure"].pop("file", None)
+        text = json.dumps(_normalise(content), sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Scene) and self.content_hash() == other.content_hash()
+
+    def __hash__(self) -> int:
+        return hash(self.content_hash())
+
+    def __repr__(self) -> str:
+        where = f", {self.source_path.name}" if self.source_path else ""
+        return f"Scene({self.name!r}{where}, {self.content_hash()[:12]})"

@@ -1,0 +1,267 @@
+"""Checks of a scene that involve more than one key: physical consistency.
+
+Each check runs only when the sections it reads are valid on their own (see
+:func:`.scene_schema.validate_sections`), and reports a
+:class:`~.scene_errors.Problem` naming the key to change, the value given and
+what is allowed. The paper's reasons are cited with each check.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from apexseal.derive.assumptions import Assumptions
+from apexseal.derive.effects import EFFECTS, Effects
+from apexseal.derive.geometry import machine_numbers
+
+from .scene_errors import MISSING, Problem
+from .scene_schema import (
+    MachineSection,
+    PressureSection,
+    SealSection,
+    Section,
+    raw_at,
+)
+
+#: largest aspect ratio b = r/L of a dimple-free limaçon (Eq. 4; derive.geometry.looping_free_limit)
+MAX_ASPECT_RATIO = 0.25
+
+
+def _mm(x: float) -> str:
+    return f"{x * 1e3:.6g} mm"
+
+
+def check_machine(m: MachineSection, raw: dict[str, Any]) -> list[Problem]:
+    """Aspect ratio (Eq. 4), lobe clearance (Eq. 5), port lengths against the machine depth."""
+    out = []
+    b = m.r / m.L
+    if b > MAX_ASPECT_RATIO:
+        out.append(
+            Problem(
+                "machine.r",
+                raw_at(raw, ["machine", "r"]),
+                f"aspect ratio b = r/L = {b:.4g} exceeds {MAX_ASPECT_RATIO} (Eq. 4: the limaçon must be "
+                f"dimple-free); allowed: r <= {MAX_ASPECT_RATIO} L = {_mm(MAX_ASPECT_RATIO * m.L)}",
+            )
+        )
+    if m.embodiment != "limacon-to-limacon" and m.Cr >= m.L:
+        out.append(
+            Problem(
+                "machine.Cr",
+                raw_at(raw, ["machine", "Cr"]),
+                f"the clearance must be smaller than the half chord (Eq. 5); allowed: "
+                f"0 <= Cr < L = {_mm(m.L)}",
+            )
+        )
+    if m.ports is not None:
+        for name in ("inlet", "outlet"):
+            port = getattr(m.ports, name)
+            if port.length > m.H:
+                out.append(
+                    Problem(
+                        f"machine.ports.{name}.length",
+                        raw_at(raw, ["machine", "ports", name, "length"]),
+                        f"a port cannot be longer than the machine is deep; allowed: "
+                        f"<= machine.H = {_mm(m.H)}",
+                    )
+                )
+    return out
+
+
+def tip_numbers(s: SealSection) -> tuple[float, float]:
+    """Half-angle of the tip arc and the start of the arc: ``beta_o = asin(Ws / (2 ro))`` (Eq. 31
+    at the seal's edge) and ``ds0 = ds1 - ro (1 - cos beta_o)`` (Eqs. 24, 27)."""
+    beta_o = math.asin(s.Ws / (2 * s.ro))
+    return beta_o, s.ds1 - s.ro * (1 - math.cos(beta_o))
+
+
+def check_seal(s: SealSection, raw: dict[str, Any]) -> list[Problem]:
+    """Seal and groove sizes (Eqs. 17, 24, 27, 31), and what the mass and inertia need."""
+    out = []
+    if s.Wg <= s.Ws:
+        out.append(
+            Problem(
+                "seal.Wg",
+                raw_at(raw, ["seal", "Wg"]),
+                f"the groove must be wider than the seal (Eq. 17); allowed: Wg > seal.Ws = {_mm(s.Ws)}",
+            )
+        )
+    if s.ro < s.Ws / 2:
+        out.append(
+            Problem(
+                "seal.ro",
+                raw_at(raw, ["seal", "ro"]),
+                f"the tip arc cannot span the seal width (Eq. 31: beta_o = asin(Ws / (2 ro))); "
+                f"allowed: ro >= Ws/2 = {_mm(s.Ws / 2)}",
+            )
+        )
+    else:
+        beta_o, ds0 = tip_numbers(s)
+        if ds0 <= -s.ds2:
+            out.append(
+                Problem(
+                    "seal.ds1",
+                    raw_at(raw, ["seal", "ds1"]),
+                    f"the tip arc does not fit on the seal: ds0 = ds1 - ro (1 - cos beta_o) = {_mm(ds0)} "
+                    f"(beta_o = {math.degrees(beta_o):.4g} deg) must be > -ds2 = {_mm(-s.ds2)} "
+                    f"(Eqs. 24, 27); allowed: ds1 > {_mm(s.ro * (1 - math.cos(beta_o)) - s.ds2)}",
+                )
+            )
+    if s.zeta0 is not None and s.zeta0 >= s.ds1 + s.ds2:
+        out.append(
+            Problem(
+                "seal.zeta0",
+                raw_at(raw, ["seal", "zeta0"]),
+                f"the seal would leave its groove (Eq. 17); allowed: 0 <= zeta0 < ds1 + ds2 = "
+                f"{_mm(s.ds1 + s.ds2)}",
+            )
+        )
+    if s.density is None and (s.ms is None or s.Icg is None):
+        which = " and ".join(n for n in ("ms", "Icg") if getattr(s, n) is None)
+        out.append(
+            Problem(
+                "seal.density",
+                MISSING,
+                f"required to compute seal.{which} (Eq. 80); give a density in kg/m^3 "
+                f'(e.g. "7200 kg/m^3") or seal.{which}',
+            )
+        )
+    return out
+
+
+def check_seal_in_rotor(m: MachineSection, s: SealSection, raw: dict[str, Any]) -> list[Problem]:
+    """The groove bottom must lie inside the rotor: ds1 + ds2 < L, i.e. Li = L - ds1 > ds2 (Eq. 12)."""
+    if s.ds1 + s.ds2 < m.L:
+        return []
+    return [
+        Problem(
+            "seal.ds2",
+            raw_at(raw, ["seal", "ds2"]),
+            f"seal.ds1 + seal.ds2 = {_mm(s.ds1 + s.ds2)} reaches past the chord centre (Eq. 12: the groove "
+            f"bottom must lie inside the rotor); allowed: ds1 + ds2 < machine.L = {_mm(m.L)}",
+        )
+    ]
+
+
+def zeta0_of(m: MachineSection, s: SealSection) -> tuple[float | None, str | None]:
+    """``seal.zeta0`` if given, else the groove truncation z of Eqs. 6-8; or (None, why not)."""
+    if s.zeta0 is not None:
+        return s.zeta0, None
+    try:
+        z = machine_numbers(m.embodiment, m.r, m.L, s.Wg, m.Cr, m.k).truncation
+    except (ValueError, ZeroDivisionError):
+        return None, "the groove truncation z of Eqs. 6-8 is undefined for this geometry"
+    if not z > 0:
+        return None, f"the groove truncation z of Eqs. 6-8 for this geometry is {_mm(z)} (<= 0)"
+    if z >= s.ds1 + s.ds2:
+        return (
+            None,
+            f"the groove truncation z of Eqs. 6-8 is {_mm(z)}, not below ds1 + ds2 = {_mm(s.ds1 + s.ds2)}",
+        )
+    return z, None
+
+
+def check_zeta0(m: MachineSection, s: SealSection) -> list[Problem]:
+    _, why = zeta0_of(m, s)
+    if why is None:
+        return []
+    return [
+        Problem(
+            "seal.zeta0",
+            MISSING,
+            f"not given, and {why}; give seal.zeta0 explicitly; allowed: 0 <= zeta0 < ds1 + ds2 = "
+            f"{_mm(s.ds1 + s.ds2)}",
+        )
+    ]
+
+
+def check_pressure(p: PressureSection, raw: dict[str, Any]) -> list[Problem]:
+    """What each source needs, and no keys that the chosen source would ignore."""
+    needs = {"none": (), "constant": ("Pa", "Pb"), "table": ("file",)}
+    out = []
+    for key in ("Pa", "Pb", "file"):
+        given = getattr(p, key) is not None
+        if key in needs[p.source] and not given:
+            what = "a file name" if key == "file" else 'a pressure in Pa (e.g. "6 bar")'
+            out.append(
+                Problem(f"pressure.{key}", MISSING, f'required with source = "{p.source}"; give {what}')
+            )
+        elif given and key not in needs[p.source]:
+            users = " or ".join(f'"{s}"' for s, n in needs.items() if key in n)
+            out.append(
+                Problem(
+                    f"pressure.{key}",
+                    raw_at(raw, ["pressure", key]),
+                    f'not used with source = "{p.source}"; only with source = {users} '
+                    "(remove it, or change the source)",
+                )
+            )
+    if p.source != "table" and raw_at(raw, ["pressure", "unit"]) is not MISSING:
+        out.append(
+            Problem(
+                "pressure.unit",
+                raw_at(raw, ["pressure", "unit"]),
+                f'not used with source = "{p.source}"; only with source = "table"',
+            )
+        )
+    return out
+
+
+def resolve_effects(
+    given: Section, pressure_source: str | None, raw: dict[str, Any]
+) -> tuple[Effects | None, list[Problem]]:
+    """Effects from the [effects] keys that are set (Effects.from_mapping fills in the rest).
+
+    A child that is switched on under a parent that is off is an error; with
+    ``[pressure] source = "none"`` the chamber_pressure effect is off (an
+    explicit ``chamber_pressure = true`` is then an error).
+    """
+    values = {k: v for k, v in given.model_dump().items() if v is not None}
+    out = []
+    for name, value in values.items():
+        parent = EFFECTS[name][0]
+        if value and parent is not None and values.get(parent) is False:
+            out.append(
+                Problem(
+                    f"effects.{name}",
+                    value,
+                    f"needs effects.{parent} = true (there is no {name.split('_')[-1]} without the "
+                    f"{parent.replace('_', ' ')}); allowed: false, or set effects.{parent} = true",
+                )
+            )
+    if pressure_source == "none":
+        if values.get("chamber_pressure") is True:
+            out.append(
+                Problem(
+                    "effects.chamber_pressure",
+                    True,
+                    'pressure.source = "none" gives no chamber pressure; allowed: false, or choose '
+                    'pressure.source = "constant" or "table"',
+                )
+            )
+        values["chamber_pressure"] = False
+    if out:
+        return None, out
+    return Effects.from_mapping(values), []
+
+
+def resolve_assumptions(given: Section) -> Assumptions:
+    return Assumptions.from_mapping(given.model_dump())
+
+
+def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list[Problem]:
+    """Every cross-key check whose sections are valid."""
+    out: list[Problem] = []
+    m, s = sections.get("machine"), sections.get("seal")
+    if m is not None:
+        out += check_machine(m, raw)
+    if s is not None:
+        out += check_seal(s, raw)
+    if m is not None and s is not None:
+        out += check_seal_in_rotor(m, s, raw)
+        if s.zeta0 is None:
+            out += check_zeta0(m, s)
+    if "pressure" in sections:
+        out += check_pressure(sections["pressure"], raw)
+    return out

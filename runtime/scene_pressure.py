@@ -1,0 +1,292 @@
+"""Chamber pressures Pa(theta), Pb(theta) for the seal model (Eq. 75).
+
+Chamber a is on the seal's +Ys side, chamber b on its -Ys side. A source gives
+both as vectorised, 2π-periodic functions of the crank angle theta (rad), in Pa.
+The runtime feeds them to the CasADi integrators as inputs held constant over
+each output interval, so every source also gives :meth:`PressureSource.interval_means`.
+
+Sources (``[pressure] source``):
+
+* ``"none"``: zero pressure; the scene then switches the chamber_pressure effect off;
+* ``"constant"``: ``Pa``, ``Pb`` fixed;
+* ``"table"``: a CSV file ``theta_deg,Pa,Pb`` (one revolution, angles strictly
+  increasing within [0, 360) or [-180, 180); pressures absolute, in ``unit``),
+  interpolated linearly and periodically. Lines starting with ``#`` are comments.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, ClassVar
+
+import numpy as np
+
+from .scene_errors import Problem, SceneError
+from .scene_units import parse_pressure_unit
+
+TWO_PI = 2 * math.pi
+HEADER = ("theta_deg", "Pa", "Pb")
+#: how many row problems a table error lists before summarising the rest
+MAX_ROW_PROBLEMS = 20
+
+
+def _edges(theta_edges: Any) -> np.ndarray:
+    e = np.asarray(theta_edges, dtype=float)
+    if e.ndim != 1 or e.size < 2:
+        raise ValueError("theta_edges must be a 1-D array of at least 2 crank angles")
+    if not np.all(np.isfinite(e)) or not np.all(np.diff(e) > 0):
+        raise ValueError("theta_edges must be finite and strictly increasing")
+    return e
+
+
+class PressureSource(ABC):
+    """A source of the two chamber pressures, in Pa, as 2π-periodic functions of theta (rad)."""
+
+    kind: ClassVar[str]
+
+    @abstractmethod
+    def Pa(self, theta: Any) -> np.ndarray:
+        """Pressure of chamber a at crank angles ``theta``."""
+
+    @abstractmethod
+    def Pb(self, theta: Any) -> np.ndarray:
+        """Pressure of chamber b at crank angles ``theta``."""
+
+    @abstractmethod
+    def interval_means(self, theta_edges: Any) -> tuple[np.ndarray, np.ndarray]:
+        """Means of Pa and Pb over each interval ``[theta_edges[k], theta_edges[k+1]]``."""
+
+    @abstractmethod
+    def to_dict(self) -> dict[str, Any]:
+        """Normalised content (for ``Scene.to_dict`` and the content hash)."""
+
+    def __call__(self, theta: Any) -> tuple[np.ndarray, np.ndarray]:
+        return self.Pa(theta), self.Pb(theta)
+
+
+@dataclass(frozen=True)
+class ConstantPressure(PressureSource):
+    """Both chambers at fixed pressures."""
+
+    pa: float
+    pb: float
+    kind: ClassVar[str] = "constant"
+
+    def Pa(self, theta: Any) -> np.ndarray:
+        return np.full(np.shape(theta), self.pa, dtype=float)
+
+    def Pb(self, theta: Any) -> np.ndarray:
+        return np.full(np.shape(theta), self.pb, dtype=float)
+
+    def interval_means(self, theta_edges: Any) -> tuple[np.ndarray, np.ndarray]:
+        n = _edges(theta_edges).size - 1
+        return np.full(n, self.pa), np.full(n, self.pb)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"source": self.kind, "Pa": self.pa, "Pb": self.pb}
+
+
+@dataclass(frozen=True)
+class NoPressure(ConstantPressure):
+    """No gas load: both pressures zero (the chamber_pressure effect is off)."""
+
+    pa: float = 0.0
+    pb: float = 0.0
+    kind: ClassVar[str] = "none"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"source": self.kind}
+
+
+class PeriodicLinear:
+    """A 2π-periodic piecewise-linear function through knots ``(x, y)`` (any order, distinct mod 2π)."""
+
+    def __init__(self, x: np.ndarray, y: np.ndarray) -> None:
+        x = np.mod(np.asarray(x, dtype=float), TWO_PI)
+        order = np.argsort(x)
+        self.x, self.y = x[order], np.asarray(y, dtype=float)[order]
+        # one period of knots, closed: x0 .. x0 + 2π
+        self._xs = np.append(self.x, self.x[0] + TWO_PI)
+        self._ys = np.append(self.y, self.y[0])
+        seg = 0.5 * (self._ys[1:] + self._ys[:-1]) * np.diff(self._xs)
+        self._cum = np.concatenate(([0.0], np.cumsum(seg)))
+        self.period_integral = float(self._cum[-1])
+
+    def __call__(self, theta: Any) -> np.ndarray:
+        return np.interp(theta, self.x, self.y, period=TWO_PI)
+
+    def integral(self, theta: Any) -> np.ndarray:
+        """Exact antiderivative F(theta) = integral from x[0] to theta (any real theta)."""
+        t = np.asarray(theta, dtype=float)
+        x0 = self._xs[0]
+        turns = np.floor((t - x0) / TWO_PI)
+        u = t - turns * TWO_PI
+        k = np.clip(np.searchsorted(self._xs, u, side="right") - 1, 0, self._xs.size - 2)
+        dx = u - self._xs[k]
+        slope = (self._ys[k + 1] - self._ys[k]) / (self._xs[k + 1] - self._xs[k])
+        return turns * self.period_integral + self._cum[k] + self._ys[k] * dx + 0.5 * slope * dx**2
+
+    def interval_means(self, theta_edges: Any) -> np.ndarray:
+        e = _edges(theta_edges)
+        return np.diff(self.integral(e)) / np.diff(e)
+
+
+@dataclass(frozen=True, eq=False)
+class TablePressure(PressureSource):
+    """Pressures from a table of one revolution, interpolated linearly and periodically.
+
+    ``theta_deg`` as in the file; ``pa``, ``pb`` already converted to Pa.
+    """
+
+    theta_deg: np.ndarray
+    pa: np.ndarray
+    pb: np.ndarray
+    file: str = ""
+    unit: str = "Pa"
+    kind: ClassVar[str] = "table"
+    _a: PeriodicLinear = field(init=False, repr=False)
+    _b: PeriodicLinear = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        theta = np.radians(np.asarray(self.theta_deg, dtype=float))
+        object.__setattr__(self, "_a", PeriodicLinear(theta, self.pa))
+        object.__setattr__(self, "_b", PeriodicLinear(theta, self.pb))
+
+    def Pa(self, theta: Any) -> np.ndarray:
+        return self._a(theta)
+
+    def Pb(self, theta: Any) -> np.ndarray:
+        return self._b(theta)
+
+    def interval_means(self, theta_edges: Any) -> tuple[np.ndarray, np.ndarray]:
+        """Exact means of the piecewise-linear table over each interval."""
+        return self._a.interval_means(theta_edges), self._b.interval_means(theta_edges)
+
+    def data_sha256(self) -> str:
+        """Hash of the numbers (angles in deg, pressures in Pa), independent of the file's spelling."""
+        h = hashlib.sha256()
+        for arr in (self.theta_deg, self.pa, self.pb):
+            h.update(np.ascontiguousarray(arr, dtype="<f8").tobytes())
+        return h.hexdigest()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "source": self.kind,
+            "file": self.file,
+            "unit": self.unit,
+            "rows": int(self.theta_deg.size),
+            "data_sha256": self.data_sha256(),
+        }
+
+
+# ---------------------------------------------------------------------------
+# reading tables
+
+
+def parse_table(text: str, *, file: str, factor: float = 1.0, unit: str = "Pa") -> TablePressure:
+    """Read a pressure table from CSV text; every problem becomes a :class:`SceneError` line.
+
+    ``factor`` converts the file's pressures (in ``unit``) to Pa. Checks: the
+    header ``theta_deg,Pa,Pb``; three numbers a row; finite values; no negative
+    absolute pressure; angles strictly increasing (no duplicates) within one
+    revolution, [0, 360) or [-180, 180); at least 2 rows.
+    """
+    key = "pressure.file"
+    problems: list[Problem] = []
+
+    def bad(message: str) -> None:
+        problems.append(Problem(key, file, message))
+
+    rows: list[tuple[int, float, float, float]] = []
+    header_seen = False
+    for lineno, line in enumerate(text.splitlines(), start=1):
+        stripped = line.strip()
+        if not stripped or stripped.startswith("#"):
+            continue
+        cells = [c.strip() for c in stripped.split(",")]
+        if not header_seen:
+            header_seen = True
+            if tuple(cells) != HEADER:
+                bad(f"{file} line {lineno}: expected the header 'theta_deg,Pa,Pb', got '{stripped}'")
+                break
+            continue
+        if len(cells) != 3:
+            n = len(cells)
+            bad(f"{file} line {lineno}: expected 3 comma-separated numbers (theta_deg,Pa,Pb), got {n}")
+            continue
+        try:
+            t, a, b = (float(c) for c in cells)
+        except ValueError:
+            bad(f"{file} line {lineno}: '{stripped}' is not three numbers")
+            continue
+        ok = True
+        for name, v in zip(HEADER, (t, a, b), strict=True):
+            if not math.isfinite(v):
+                bad(f"{file} line {lineno}: {name} = {v} is not a finite number")
+                ok = False
+            elif name != "theta_deg" and v < 0:
+                what = f"{name} = {v:g} {unit} is a negative absolute pressure"
+                bad(f"{file} line {lineno}: {what}; allowed: >= 0")
+                ok = False
+        if ok:
+            if rows and not t > rows[-1][1]:
+                prev_line, prev_t = rows[-1][0], rows[-1][1]
+                what = "repeats" if t == prev_t else "is below"
+                bad(
+                    f"{file} line {lineno}: theta_deg = {t:g} {what} the previous angle {prev_t:g} (line "
+                    f"{prev_line}); allowed: strictly increasing angles"
+                )
+            rows.append((lineno, t, a, b))
+    if not header_seen and not problems:
+        bad(f"{file}: empty; expected the header 'theta_deg,Pa,Pb' and at least 2 rows")
+    elif header_seen and len(rows) < 2 and not problems:
+        bad(f"{file}: {len(rows)} data row{'s' if len(rows) != 1 else ''}; allowed: at least 2 rows")
+    if rows and not problems:
+        lo, hi = rows[0][1], rows[-1][1]
+        if not ((0 <= lo and hi < 360) or (-180 <= lo and hi < 180)):
+            bad(
+                f"{file}: angles span [{lo:g}, {hi:g}] deg (lines {rows[0][0]}-{rows[-1][0]}); allowed: one "
+                "revolution, all angles in [0, 360) or all in [-180, 180)"
+            )
+    if problems:
+        if len(problems) > MAX_ROW_PROBLEMS:
+            extra = len(problems) - MAX_ROW_PROBLEMS
+            problems = problems[:MAX_ROW_PROBLEMS] + [Problem(key, file, f"... and {extra} more problems")]
+        raise SceneError(problems, source=file)
+    data = np.array([r[1:] for r in rows], dtype=float)
+    return TablePressure(data[:, 0], data[:, 1] * factor, data[:, 2] * factor, file=file, unit=unit)
+
+
+def load_table(file: str, base_dir: Any, unit: str = "Pa") -> TablePressure:
+    """Read the table ``file`` (relative to ``base_dir``, a path or an importlib resource folder)."""
+    factor = parse_pressure_unit(unit)
+    target = Path(file) if Path(file).is_absolute() else base_dir.joinpath(file)
+    try:
+        text = target.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise SceneError(
+            [
+                (
+                    "pressure.file",
+                    file,
+                    f"file not found: {target} (a relative path is taken from the scene file's folder)",
+                )
+            ],
+            source=file,
+        ) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SceneError([("pressure.file", file, f"cannot read {target}: {exc}")], source=file) from None
+    return parse_table(text, file=file, factor=factor, unit=unit)
+
+
+def make_source(section: Any, base_dir: Any) -> PressureSource:
+    """The pressure source of a validated ``[pressure]`` section (see :mod:`.scene_schema`)."""
+    if section.source == "constant":
+        return ConstantPressure(section.Pa, section.Pb)
+    if section.source == "table":
+        return load_table(section.file, base_dir, section.unit)
+    return NoPressure()

@@ -1,0 +1,522 @@
+"""The sections of a scene file, as pydantic models (unknown keys are errors).
+
+Keys are the paper's symbols in ASCII. Every quantity is stored in SI (rpm stays
+rpm; angles in rad); see ``docs/scenes.md`` for the reference of every key.
+Each field's validator is one of the small classes below (:class:`SI`,
+:class:`Int`, :class:`Choice`, :class:`Flag`, :class:`Text`): they raise one
+clear message each, and carry what is allowed, so that a missing key can say
+what to give. :func:`validate_sections` turns pydantic's errors into
+:class:`~.scene_errors.Problem` lines ``key = value: message``.
+
+Checks that involve more than one key (aspect ratio, groove and seal sizes,
+pressure source) are in :mod:`.scene_checks`.
+"""
+
+import difflib
+import math
+from typing import Annotated, Any
+
+from apexseal.derive.assumptions import CHOICES
+from apexseal.derive.effects import EFFECTS
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, create_model
+from pydantic_core import PydanticCustomError
+
+from .methods import METHODS
+from .scene_errors import MISSING, Problem
+from .scene_units import QuantityError, Range, expected, parse_pressure_unit, parse_quantity, registry
+
+# ---------------------------------------------------------------------------
+# field validators
+
+
+def _fail(message: str) -> PydanticCustomError:
+    return PydanticCustomError("scene", "{message}", {"message": message})
+
+
+class SI:
+    """A quantity converted to ``unit`` (pint syntax) and checked against a range.
+
+    ``bare``: unit of bare numbers (default: ``unit``; angles refuse bare numbers).
+    ``show``: unit in which the range is printed (default: ``unit``).
+    """
+
+    def __init__(
+        self,
+        unit: str,
+        *,
+        gt: float | None = None,
+        ge: float | None = None,
+        lt: float | None = None,
+        le: float | None = None,
+        bare: str | None = None,
+        optional: bool = False,
+        show: str | None = None,
+    ) -> None:
+        self.unit, self.bare, self.optional = unit, bare, optional
+        self.range = Range(gt=gt, ge=ge, lt=lt, le=le)
+        self.show = show or unit
+
+    def __call__(self, value: Any) -> float | None:
+        if value is None and self.optional:
+            return None
+        try:
+            x = parse_quantity(value, self.unit, bare=self.bare)
+        except QuantityError as exc:
+            raise _fail(exc.reason) from None
+        if not self.range.holds(x):
+            raise _fail(f"{self._shown(x)} is out of range; allowed: {self.allowed()}")
+        return x
+
+    def _factor(self) -> float:
+        return (
+            1.0
+            if self.show == self.unit
+            else float(registry().Quantity(1.0, self.unit).to(self.show).magnitude)
+        )
+
+    def _shown(self, x: float) -> str:
+        return _g(x) if self.show == "1" else f"{_g(x * self._factor())} {self.show}"
+
+    def allowed(self) -> str:
+        if self.show == self.unit:
+            return self.range.describe(self.unit)
+        f = self._factor()
+        scaled = Range(
+            *(
+                None if b is None else round(b * f, 9)
+                for b in (self.range.gt, self.range.ge, self.range.lt, self.range.le)
+            )
+        )
+        return scaled.describe(self.show)
+
+    def expects(self) -> str:
+        return expected(self.unit) + ("" if self.range == Range() else f", {self.allowed()}")
+
+
+class Int:
+    """An integer (TOML integer, not float or bool) in a range."""
+
+    def __init__(self, *, ge: int | None = None, le: int | None = None) -> None:
+        self.range = Range(ge=ge, le=le)
+
+    def __call__(self, value: Any) -> int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise _fail(f"expected an integer, {self.allowed()}")
+        if not self.range.holds(value):
+            raise _fail(f"out of range; allowed: {self.allowed()}")
+        return value
+
+    def allowed(self) -> str:
+        return self.range.describe(name="n")
+
+    def expects(self) -> str:
+        return f"an integer, {self.allowed()}"
+
+
+class Choice:
+    """One of a few strings; a near miss gets a "did you mean"."""
+
+    def __init__(self, *allowed: str) -> None:
+        self.values = allowed
+
+    def __call__(self, value: Any) -> str:
+        if isinstance(value, str) and value in self.values:
+            return value
+        near = difflib.get_close_matches(str(value), self.values, n=1) if isinstance(value, str) else []
+        hint = f" (did you mean '{near[0]}'?)" if near else ""
+        raise _fail(f"not allowed{hint}; allowed: {self.allowed()}")
+
+    def allowed(self) -> str:
+        return ", ".join(f'"{v}"' for v in self.values)
+
+    def expects(self) -> str:
+        return f"one of {self.allowed()}"
+
+
+class Flag:
+    """A TOML boolean (``true``/``false``; not 0/1 or "yes")."""
+
+    def __init__(self, optional: bool = False) -> None:
+        self.optional = optional
+
+    def __call__(self, value: Any) -> bool | None:
+        if value is None and self.optional:
+            return None
+        if not isinstance(value, bool):
+            raise _fail("expected true or false")
+        return value
+
+    def allowed(self) -> str:
+        return "true or false"
+
+    expects = allowed
+
+
+class Text:
+    """A non-empty string (a file name)."""
+
+    def __init__(self, optional: bool = False) -> None:
+        self.optional = optional
+
+    def __call__(self, value: Any) -> str | None:
+        if value is None and self.optional:
+            return None
+        if not isinstance(value, str) or not value.strip():
+            raise _fail("expected a non-empty string")
+        return value
+
+    def allowed(self) -> str:
+        return "a non-empty string"
+
+    expects = allowed
+
+
+class PressureUnit:
+    """A pressure unit name, e.g. "Pa", "kPa", "bar"."""
+
+    def __call__(self, value: Any) -> str:
+        try:
+            parse_pressure_unit(value)
+        except QuantityError as exc:
+            raise _fail(exc.reason) from None
+        return value
+
+    def allowed(self) -> str:
+        return 'a pressure unit such as "Pa", "kPa" or "bar"'
+
+    expects = allowed
+
+
+def _g(x: float) -> str:
+    return f"{x:.6g}"
+
+
+def _q(unit: str, **kw: Any) -> Any:
+    """Annotated float field of a quantity in ``unit``."""
+    kind = float | None if kw.get("optional") else float
+    return Annotated[kind, BeforeValidator(SI(unit, **kw))]
+
+
+def _v(validator: Any, kind: Any) -> Any:
+    return Annotated[kind, BeforeValidator(validator)]
+
+
+TWO_PI = 2 * math.pi
+
+# ---------------------------------------------------------------------------
+# sections
+
+
+class Section(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Port(Section):
+    """A port of Table 1: its angular position, angular width and axial length."""
+
+    angle: _q("rad", show="deg") = Field(description="angular position of the port centre")
+    width: _q("rad", gt=0, lt=TWO_PI, show="deg") = Field(description="angular width of the port")
+    length: _q("m", gt=0) = Field(description="length of the port along the machine axis")
+
+    @property
+    def angle_deg(self) -> float:
+        return math.degrees(self.angle)
+
+    @property
+    def width_deg(self) -> float:
+        return math.degrees(self.width)
+
+
+class Ports(Section):
+    """The inlet and outlet ports; ``items()`` gives ``(name, Port)`` pairs."""
+
+    inlet: Port
+    outlet: Port
+
+    def items(self) -> tuple[tuple[str, Port], ...]:
+        return (("inlet", self.inlet), ("outlet", self.outlet))
+
+
+class MachineSection(Section):
+    """[machine]: the limaçon machine (Eqs. 1-8)."""
+
+    embodiment: _v(Choice("limacon-to-limacon", "circolimacon", "limacon-to-circular"), str) = Field(
+        description="machine embodiment (Section 2)"
+    )
+    r: _q("m", gt=0) = Field(description="radius of the limaçon base circle (Eq. 1)")
+    L: _q("m", gt=0) = Field(description="half chord of the rotor (Eq. 2)")
+    H: _q("m", gt=0) = Field(description="machine depth along the axis (Algorithm 4)")
+    Cr: _q("m", ge=0) = Field(0.0, description="rotor-housing clearance of circular lobes (Eqs. 5, 8)")
+    k: _q("m") = Field(0.0, description="offset of a circular lobe's centre on the Yr axis (Eq. 5)")
+    ports: Ports | None = Field(None, description="inlet and outlet ports (Table 1)")
+
+
+class InitialState(Section):
+    """Initial seal state in the groove frame (Eq. 10)."""
+
+    x: _q("m") = 0.0
+    y: _q("m") = 0.0
+    phi: _q("rad", show="deg") = 0.0
+    xd: _q("m/s") = 0.0
+    yd: _q("m/s") = 0.0
+    phid: _q("rad/s") = 0.0
+
+
+class OperationSection(Section):
+    """[operation]: speed and run length."""
+
+    rpm: _q("rpm", gt=0, bare="rpm") = Field(description="constant rotor speed; bare numbers are rev/min")
+    revolutions: _v(Int(ge=1), int) = Field(
+        1, description="revolutions to run (the most, with until_periodic)"
+    )
+    start_angle: _q("rad", show="deg") = Field(0.0, description="crank angle theta at the start")
+    initial_state: InitialState = Field(default_factory=InitialState)
+    until_periodic: _v(Flag(), bool) = Field(
+        False, description="stop once a revolution repeats the previous one"
+    )
+    periodic_tol: _q("1", gt=0) = Field(1e-6, description="relative state change that counts as periodic")
+
+    @property
+    def omega(self) -> float:
+        """Rotor speed in rad/s."""
+        return self.rpm * TWO_PI / 60.0
+
+
+class SealSection(Section):
+    """[seal]: the apex seal (Eqs. 16-31, 76, 80)."""
+
+    Ws: _q("m", gt=0) = Field(description="seal width (Eq. 19)")
+    Wg: _q("m", gt=0) = Field(description="groove width (Eq. 17)")
+    ds1: _q("m", gt=0) = Field(description="centre of gravity to the seal tip (Eq. 16)")
+    ds2: _q("m", gt=0) = Field(description="centre of gravity to the seal back face (Eq. 16)")
+    ro: _q("m", gt=0) = Field(description="radius of the tip arc (Eq. 27)")
+    Bs: _q("m", gt=0) = Field(description="seal length along the machine axis (Eq. 76)")
+    density: _q("kg/m^3", gt=0, optional=True) = Field(None, description="seal material density")
+    ms: _q("kg", gt=0, optional=True) = Field(None, description="seal mass; default density Ws ds Bs")
+    Icg: _q("kg*m^2", gt=0, optional=True) = Field(
+        None, description="moment of inertia; default ms (Ws^2+ds^2)/12"
+    )
+    zeta0: _q("m", ge=0, optional=True) = Field(
+        None, description="initial protrusion; default the truncation z"
+    )
+
+
+class SpringSection(Section):
+    """[spring]: the groove-bottom spring (Eqs. 37-39)."""
+
+    ks: _q("N/m", gt=0) = Field(description="spring stiffness")
+    delta_s: _q("m", ge=0) = Field(description="spring preload deflection (Eq. 9)")
+
+
+class ContactsSection(Section):
+    """[contacts]: contact stiffness and damping (Eqs. 34, 55, 62, 67, 73, Algorithm 1)."""
+
+    kw: _q("N/m", gt=0)
+    kg1: _q("N/m", gt=0)
+    kg2: _q("N/m", gt=0)
+    kg3: _q("N/m", gt=0)
+    kg4: _q("N/m", gt=0)
+    cw: _q("N*s/m", ge=0)
+    cr: _q("N*s/m", ge=0)
+    cs: _q("N*s/m", ge=0)
+
+
+class FrictionSection(Section):
+    """[friction]: Coulomb coefficients, regularised as mu tanh(v / v_eps)."""
+
+    mu1: _q("1", ge=0, lt=1) = Field(description="seal-housing (Algorithm 2)")
+    mu2: _q("1", ge=0, lt=1) = Field(description="seal-groove (Algorithm 1)")
+    mus: _q("1", ge=0, lt=1) = Field(description="seal-spring (Eq. 73)")
+    v_eps: _q("m/s", gt=0) = Field(1e-3, description="sliding-speed width of tanh(v / v_eps)")
+
+
+class PressureSection(Section):
+    """[pressure]: where the chamber pressures Pa(theta), Pb(theta) come from (Eq. 75)."""
+
+    source: _v(Choice("none", "constant", "table"), str) = "none"
+    Pa: _q("Pa", ge=0, optional=True) = Field(None, description="chamber a (+Ys side), source = constant")
+    Pb: _q("Pa", ge=0, optional=True) = Field(None, description="chamber b (-Ys side), source = constant")
+    file: _v(Text(optional=True), str | None) = Field(
+        None, description="CSV table, relative to the scene file"
+    )
+    unit: _v(PressureUnit(), str) = Field("Pa", description="unit of the table's pressure columns")
+
+
+#: integration methods, as runtime/methods.py defines them
+SOLVER_METHODS: tuple[str, ...] = tuple(METHODS)
+
+
+class SolverSection(Section):
+    """[solver]: integration settings."""
+
+    method: _v(Choice(*SOLVER_METHODS), str) = "erk"
+    rtol: _q("1", ge=1e-12, le=1e-2) = 1e-6
+    atol: _q("1", gt=0, optional=True) = None
+    samples_per_revolution: _v(Int(ge=36, le=100000), int) = 720
+    event_tol: _q("rad", gt=0) = 1e-10
+    max_events_per_revolution: _v(Int(ge=1), int) = 10000
+    euler_steps_per_revolution: _v(Int(ge=1), int) = 200000
+    chatter_window: _q("rad", gt=0) = 1e-3
+    chatter_events: _v(Int(ge=2), int) = 50
+    compile: _v(Choice("quick", "optimised"), str) = "optimised"
+    interpreted: _v(Flag(), bool) = False
+
+
+#: [effects]: each effect of derive/effects.py, true/false; unset ones are resolved by Effects.from_mapping
+EffectsSection = create_model(
+    "EffectsSection",
+    __base__=Section,
+    **{
+        name: (_v(Flag(optional=True), bool | None), Field(None, description=meaning))
+        for name, (_, meaning) in EFFECTS.items()
+    },
+)
+
+#: [assumptions]: each modelling choice of derive/assumptions.py
+AssumptionsSection = create_model(
+    "AssumptionsSection",
+    __base__=Section,
+    **{
+        name: (_v(Choice(*allowed), str), Field(allowed[0], description=meaning))
+        for name, (allowed, meaning) in CHOICES.items()
+    },
+)
+
+#: section name -> (model, required)
+SECTIONS: dict[str, tuple[type[Section], bool]] = {
+    "machine": (MachineSection, True),
+    "operation": (OperationSection, True),
+    "seal": (SealSection, True),
+    "spring": (SpringSection, True),
+    "contacts": (ContactsSection, True),
+    "friction": (FrictionSection, True),
+    "pressure": (PressureSection, False),
+    "effects": (EffectsSection, False),
+    "assumptions": (AssumptionsSection, False),
+    "solver": (SolverSection, False),
+}
+
+# ---------------------------------------------------------------------------
+# schema walking (for messages and docs)
+
+
+def _sub_model(annotation: Any) -> type[Section] | None:
+    if isinstance(annotation, type) and issubclass(annotation, Section):
+        return annotation
+    for arg in getattr(annotation, "__args__", ()):
+        if isinstance(arg, type) and issubclass(arg, Section):
+            return arg
+    return None
+
+
+def model_at(model: type[Section], path: list[str]) -> type[Section] | None:
+    """The nested model reached by ``path`` from ``model`` (None if the path leaves the schema)."""
+    for part in path:
+        field = model.model_fields.get(part)
+        sub = _sub_model(field.annotation) if field is not None else None
+        if sub is None:
+            return None
+        model = sub
+    return model
+
+
+def validator_of(model: type[Section], name: str) -> Any:
+    """The scene validator (:class:`SI`, :class:`Int`, ...) of field ``name``, if any."""
+    for meta in model.model_fields[name].metadata:
+        if isinstance(meta, BeforeValidator):
+            return meta.func
+    return None
+
+
+def key_paths(prefix: str = "") -> list[str]:
+    """Every key path of the schema, e.g. ``machine.ports.inlet.angle`` (for docs and tests)."""
+    out: list[str] = []
+
+    def walk(model: type[Section], base: str) -> None:
+        for name, field in model.model_fields.items():
+            sub = _sub_model(field.annotation)
+            if sub is not None:
+                walk(sub, f"{base}.{name}")
+            else:
+                out.append(f"{base}.{name}")
+
+    for section, (model, _) in SECTIONS.items():
+        walk(model, section)
+    return [p for p in out if p.startswith(prefix)]
+
+
+# ---------------------------------------------------------------------------
+# validation
+
+
+def raw_at(raw: Any, path: list[str]) -> Any:
+    """The raw value at ``path`` in the parsed TOML, or :data:`MISSING`."""
+    for part in path:
+        if not isinstance(raw, dict) or part not in raw:
+            return MISSING
+        raw = raw[part]
+    return raw
+
+
+def _unknown(key: str, known: list[str], what: str = "key") -> str:
+    near = difflib.get_close_matches(key, known, n=1, cutoff=0.5)
+    hint = f" (did you mean '{near[0]}'?)" if near else ""
+    return f"unknown {what}{hint}; known: {', '.join(known)}"
+
+
+def _problems(exc: ValidationError, section: str, model: type[Section], raw: Any) -> list[Problem]:
+    out = []
+    for err in exc.errors():
+        loc = [str(p) for p in err["loc"]]
+        key = ".".join([section, *loc])
+        kind = err["type"]
+        if kind == "scene":
+            out.append(Problem(key, err["input"], err["msg"]))
+        elif kind == "missing":
+            parent = model_at(model, loc[:-1])
+            spec = validator_of(parent, loc[-1]) if parent is not None else None
+            sub = model_at(model, loc)
+            what = (
+                spec.expects()
+                if spec is not None
+                else (f"a table with keys {', '.join(sub.model_fields)}" if sub is not None else "a table")
+            )
+            out.append(Problem(key, MISSING, f"required; give {what}"))
+        elif kind == "extra_forbidden":
+            parent = model_at(model, loc[:-1])
+            known = list(parent.model_fields) if parent is not None else []
+            out.append(Problem(key, err["input"], _unknown(loc[-1], known)))
+        elif kind in ("model_type", "model_attributes_type", "dict_type"):
+            out.append(Problem(key, raw_at(raw, loc), "expected a table of keys"))
+        else:  # pragma: no cover - every field has a scene validator
+            out.append(Problem(key, err.get("input"), err["msg"]))
+    return out
+
+
+def validate_sections(raw: dict[str, Any]) -> tuple[dict[str, Section], list[Problem]]:
+    """Validate every section of a parsed scene on its own.
+
+    Returns the sections that are valid and the problems of the others, so that
+    cross-key checks can still run on the valid ones.
+    """
+    problems: list[Problem] = []
+    valid: dict[str, Section] = {}
+    for key, value in raw.items():
+        if key not in SECTIONS:
+            what = "section" if isinstance(value, dict) else "top-level key (keys belong in sections)"
+            problems.append(Problem(key, value, _unknown(key, list(SECTIONS), what)))
+    for name, (model, required) in SECTIONS.items():
+        if name not in raw:
+            if required:
+                problems.append(Problem(name, MISSING, f"required section [{name}] is missing"))
+            else:
+                valid[name] = model()
+            continue
+        if not isinstance(raw[name], dict):
+            problems.append(Problem(name, raw[name], f"expected a table: [{name}]"))
+            continue
+        try:
+            valid[name] = model.model_validate(raw[name])
+        except ValidationError as exc:
+            problems.extend(_problems(exc, name, model, raw[name]))
+    return valid, problems

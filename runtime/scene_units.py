@@ -1,0 +1,236 @@
+"""Quantities with units in scene files, read with pint.
+
+A value is either a TOML number, taken in the SI unit of its key (``ks = 5000``
+is 5000 N/m), or a string with a unit (``"5e3 N/m"``, ``"3 mm"``, ``"6 bar"``).
+Two exceptions remove the usual ambiguities:
+
+* angles and angular speeds need a unit (``"30 deg"``, ``"0.5 rad"``,
+  ``"0 rad/s"``); a bare number is an error, never silently radians;
+* a rotational speed must carry an angle (``rpm``, ``rev/s``, ``rad/s``); ``Hz``
+  or ``1/s`` is refused, because pint would read ``25 Hz`` as 25 rad/s.
+
+The one key whose name is its unit, ``operation.rpm``, reads bare numbers as rev/min.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+import pint
+
+
+class QuantityError(ValueError):
+    """A value that is not a quantity of the expected kind; ``reason`` says why."""
+
+    def __init__(self, key: str, value: Any, reason: str) -> None:
+        self.key, self.value, self.reason = key, value, reason
+        where = f"{key} = {value!r}: " if key else f"{value!r}: "
+        super().__init__(where + reason)
+
+
+@lru_cache(maxsize=1)
+def registry() -> pint.UnitRegistry:
+    """The shared unit registry (built once; pint's start-up takes a few tenths of a second)."""
+    ureg = pint.UnitRegistry()
+    ureg.define("rev = revolution")
+    return ureg
+
+
+#: SI unit (pint syntax) -> the word used in messages
+KINDS: dict[str, str] = {
+    "m": "length",
+    "m/s": "speed",
+    "rad": "angle",
+    "rad/s": "angular speed",
+    "rpm": "rotational speed",
+    "kg": "mass",
+    "kg*m^2": "moment of inertia",
+    "kg/m^3": "density",
+    "N/m": "stiffness",
+    "N*s/m": "damping coefficient",
+    "Pa": "pressure",
+    "1": "plain number",
+}
+
+#: example spelling for messages
+EXAMPLES: dict[str, str] = {
+    "m": '"3 mm"',
+    "m/s": '"1 mm/s"',
+    "rad": '"30 deg"',
+    "rad/s": '"0 rad/s"',
+    "rpm": '"1500 rpm"',
+    "kg": '"17 g"',
+    "kg*m^2": '"1.05e-7 kg*m^2"',
+    "kg/m^3": '"7200 kg/m^3"',
+    "N/m": '"5e3 N/m"',
+    "N*s/m": '"27 N*s/m"',
+    "Pa": '"6 bar"',
+    "1": "0.1",
+}
+
+#: a quantity string starts with a number: "3 mm", "-25 deg", ".5 bar", "5e3 N/m"
+NUMBER_FIRST = re.compile(r"^[+-]?\.?\d")
+
+#: units that contain an angle, so bare numbers are ambiguous and an angle must be spelled out
+ANGULAR = ("rad", "rad/s", "rpm")
+
+
+def expected(unit: str) -> str:
+    """Words for the expected kind, e.g. ``a length in m (e.g. "3 mm")``."""
+    kind = KINDS.get(unit, "quantity")
+    article = "an" if kind[0] in "aeiou" else "a"
+    if unit == "1":
+        return "a plain number"
+    return f"{article} {kind} in {unit} (e.g. {EXAMPLES.get(unit, unit)})"
+
+
+def _has_angle(q: pint.Quantity) -> bool:
+    return dict(q.to_root_units().unit_items()).get("radian", 0) == 1
+
+
+def parse_quantity(value: Any, unit: str, *, key: str = "", bare: str | None = None) -> float:
+    """The magnitude of ``value`` in ``unit`` (pint syntax, e.g. ``"m"``, ``"N/m"``, ``"rad"``).
+
+    ``value`` is an int or float (taken in ``bare`` if given, else in ``unit``) or a
+    string with a unit. Angles and angular speeds refuse bare numbers unless
+    ``bare`` is given. Raises :class:`QuantityError` naming ``key``, the value and
+    the expected unit. The result is rounded to 15 significant digits, so that
+    ``"3.06 mm"`` gives exactly ``0.00306``.
+    """
+    ureg = registry()
+    angular = unit in ANGULAR
+    if isinstance(value, bool) or not isinstance(value, int | float | str):
+        raise QuantityError(key, value, f"expected {expected(unit)}, got {type(value).__name__}")
+    number = value
+    if isinstance(value, str):
+        text = value.strip()
+        if "," in text:
+            raise QuantityError(key, value, f"use a decimal point, not a comma; expected {expected(unit)}")
+        if not NUMBER_FIRST.match(text):
+            raise QuantityError(key, value, f"needs a number first, then the unit; expected {expected(unit)}")
+        try:
+            q = ureg.Quantity(text)
+        except pint.UndefinedUnitError as exc:
+            raise QuantityError(
+                key, value, f"unknown unit {exc.args[0]!r}; expected {expected(unit)}"
+            ) from None
+        except Exception:  # pint's parser raises several kinds for malformed text
+            raise QuantityError(
+                key, value, f"cannot read this as a quantity; expected {expected(unit)}"
+            ) from None
+        if not isinstance(q, pint.Quantity):  # a bare number in a string
+            q = ureg.Quantity(float(q), "dimensionless")
+        if tuple(q.unit_items()):  # written with a unit (pint's `unitless` is also true for "%")
+            return _convert(q, unit, key, value, angular)
+        number = float(q.magnitude)  # "0.003": a plain number, treated like a TOML number
+    if angular and bare is None:
+        raise QuantityError(
+            key,
+            value,
+            f"give a unit: deg or rad (an angle without a unit is ambiguous), e.g. {EXAMPLES[unit]}",
+        )
+    number = float(number)
+    if bare is not None and bare != unit:
+        return _convert(ureg.Quantity(number, bare), unit, key, value, angular)
+    return _round(_finite(number, key, value, unit))
+
+
+def _convert(q: pint.Quantity, unit: str, key: str, raw: Any, angular: bool) -> float:
+    ureg = registry()
+    try:
+        out = float(q.to(ureg.Quantity(1, unit).units).magnitude)
+    except pint.DimensionalityError:
+        got = f"{q.units:~}" + ("" if q.dimensionless else f" ({q.dimensionality})")
+        raise QuantityError(key, raw, f"wrong unit: expected {expected(unit)}, got {got}") from None
+    if angular and not _has_angle(q):
+        if unit == "rad":
+            raise QuantityError(key, raw, f"give a unit: deg or rad; expected {expected(unit)}")
+        raise QuantityError(
+            key,
+            raw,
+            f"{q.units:~} carries no angle, so the speed is ambiguous: use rpm, rev/s, "
+            f"rad/s or deg/s (not Hz or 1/s); expected {expected(unit)}",
+        )
+    return _round(_finite(out, key, raw, unit))
+
+
+def _finite(x: float, key: str, raw: Any, unit: str) -> float:
+    if not math.isfinite(x):
+        raise QuantityError(key, raw, f"must be finite; expected {expected(unit)}")
+    return x
+
+
+def _round(x: float) -> float:
+    return float(f"{x:.15g}")
+
+
+def parse_pressure_unit(text: Any, *, key: str = "pressure.unit") -> float:
+    """The factor from ``text`` (a pressure unit such as ``"Pa"``, ``"bar"``, ``"kPa"``) to Pa."""
+    if not isinstance(text, str):
+        raise QuantityError(key, text, 'expected a pressure unit such as "Pa", "kPa" or "bar"')
+    ureg = registry()
+    try:
+        units = ureg.parse_units(text.strip())
+    except Exception:
+        raise QuantityError(
+            key, text, 'unknown unit; expected a pressure unit such as "Pa", "kPa" or "bar"'
+        ) from None
+    try:
+        return _round(float(ureg.Quantity(1.0, units).to("Pa").magnitude))
+    except pint.DimensionalityError:
+        raise QuantityError(
+            key, text, 'wrong unit: expected a pressure unit such as "Pa", "kPa" or "bar"'
+        ) from None
+
+
+@dataclass(frozen=True)
+class Range:
+    """Bounds of a value in its SI unit; ``None`` means unbounded."""
+
+    gt: float | None = None
+    ge: float | None = None
+    lt: float | None = None
+    le: float | None = None
+
+    def holds(self, x: float) -> bool:
+        return not (
+            (self.gt is not None and not x > self.gt)
+            or (self.ge is not None and not x >= self.ge)
+            or (self.lt is not None and not x < self.lt)
+            or (self.le is not None and not x <= self.le)
+        )
+
+    def describe(self, unit: str = "", name: str = "value") -> str:
+        """E.g. ``0 <= value < 1`` or ``> 0 m``."""
+        u = "" if unit in ("", "1") else f" {unit}"
+        low = (
+            f"{_g(self.gt)} < "
+            if self.gt is not None
+            else f"{_g(self.ge)} <= "
+            if self.ge is not None
+            else ""
+        )
+        high = (
+            f" < {_g(self.lt)}"
+            if self.lt is not None
+            else f" <= {_g(self.le)}"
+            if self.le is not None
+            else ""
+        )
+        if low and high:
+            return f"{low}{name}{high}{u}"
+        if low:
+            return (
+                f"{'>' if self.gt is not None else '>='} {_g(self.gt if self.gt is not None else self.ge)}{u}"
+            )
+        if high:
+            return f"{high.strip()}{u}"
+        return "any finite value"
+
+
+def _g(x: float) -> str:
+    return f"{x:.6g}"

@@ -1,0 +1,258 @@
+"""The default scene (the paper's case study, CASE-STUDY.md), parameters, overrides and the content hash."""
+
+import math
+import shutil
+from importlib.resources import files
+
+import numpy as np
+import pytest
+from apexseal.derive.effects import EFFECTS
+from apexseal.derive.symbols import PARAMETER_NAMES
+from apexseal.runtime.scene import Scene, default_scene_text, load_scene
+from apexseal.runtime.scene_pressure import TablePressure
+
+
+@pytest.fixture(scope="module")
+def scene() -> Scene:
+    return load_scene()
+
+
+# values of CASE-STUDY.md, SI
+CASE_STUDY = {
+    "omega": 1500 * 2 * math.pi / 60,
+    "r": 0.010,
+    "L": 0.050,
+    "Li": 0.046,
+    "zeta0": 7.1e-4,
+    "Ws": 3.0e-3,
+    "Wg": 3.06e-3,
+    "ds1": 4.0e-3,
+    "ds2": 4.0e-3,
+    "ro": 3.0e-3,
+    "Bs": 0.0999,
+    "ks": 5.0e3,
+    "delta_s": 2.0e-3,
+    "kw": 6.2e7,
+    "kg1": 1.05e6,
+    "kg2": 1.05e6,
+    "kg3": 1.05e6,
+    "kg4": 1.05e6,
+    "cw": 207.0,
+    "cr": 27.0,
+    "cs": 1.9,
+    "mu1": 0.10,
+    "mu2": 0.12,
+    "mus": 0.10,
+    "v_eps": 1e-3,
+}
+
+
+def test_default_parameters_match_the_case_study(scene):
+    p = scene.parameters
+    assert list(p) == list(PARAMETER_NAMES)
+    for name, value in CASE_STUDY.items():
+        assert p[name] == pytest.approx(value, rel=1e-12), name
+
+
+def test_derived_parameters(scene):
+    p = scene.parameters
+    assert p["omega"] == pytest.approx(157.08, abs=1e-3)
+    assert p["ms"] == pytest.approx(0.0173, rel=0.01)  # rho Ws ds Bs
+    assert p["ms"] == pytest.approx(7200 * 3e-3 * 8e-3 * 0.0999, rel=1e-12)
+    assert p["Icg"] == pytest.approx(1.05e-7, rel=0.01)  # ms (Ws^2 + ds^2) / 12
+    assert p["Icg"] == pytest.approx(p["ms"] * (3e-3**2 + 8e-3**2) / 12, rel=1e-12)
+    assert p["Li"] == pytest.approx(p["L"] - p["ds1"], rel=1e-15)
+    assert p["delta_w"] == pytest.approx(p["ks"] * p["delta_s"] / p["kw"], rel=1e-12)  # Eq. 9
+    assert math.sqrt(p["kw"] / p["ms"]) == pytest.approx(6.0e4, rel=0.01)  # Fig. 14's main peak
+    assert math.sqrt(p["kg1"] / p["ms"]) == pytest.approx(7.8e3, rel=0.01)
+
+
+def test_parameter_vector_is_in_parameter_order(scene):
+    v = scene.parameter_vector()
+    assert v.dtype == float and v.shape == (len(PARAMETER_NAMES),)
+    np.testing.assert_array_equal(v, [scene.parameters[n] for n in PARAMETER_NAMES])
+    v[0] = -1.0  # a copy: the scene is not changed
+    assert scene.parameter_vector()[0] > 0
+
+
+def test_default_sections(scene):
+    assert scene.name == "default" and scene.source_path.name == "default.toml"
+    assert scene.machine.embodiment == "limacon-to-limacon"
+    assert scene.machine.ports.inlet.angle == pytest.approx(math.radians(-25))
+    assert scene.machine.ports.outlet.width == pytest.approx(math.radians(36))
+    assert scene.machine.ports.outlet.length == pytest.approx(0.080)
+    ports = {k: (v.angle_deg, v.width_deg) for k, v in scene.machine.ports.items()}
+    assert ports == {"inlet": pytest.approx((-25.0, 22.0)), "outlet": pytest.approx((140.0, 36.0))}
+    assert scene.operation.rpm == 1500 and scene.operation.revolutions == 1
+    assert scene.operation.initial_state.phid == 0 and scene.operation.start_angle == 0
+    assert isinstance(scene.pressure, TablePressure) and scene.pressure.theta_deg.size == 720
+    assert all(scene.effects.as_dict().values())
+    assert scene.assumptions.pend_rule == "mean"
+    assert scene.solver.samples_per_revolution == 720 and scene.solver.compile == "optimised"
+
+
+def test_default_toml_tags_every_value():
+    tags = ("[paper]", "[wankel]", "[derived]", "[estimate]")
+    text = default_scene_text()
+    for section in ("machine", "seal", "spring", "contacts", "friction", "operation", "pressure"):
+        body = text.split(f"[{section}]", 1)[1].split("\n[", 1)[0]
+        for line in body.splitlines():
+            if "=" in line.split("#")[0] and not line.lstrip().startswith("#"):
+                assert any(t in line for t in tags), line
+
+
+def test_section_defaults_apply_when_omitted(scene):
+    text = default_scene_text().split("[effects]")[0]  # no [effects], [assumptions], [solver]
+    bare = Scene.from_toml_string(text, files("apexseal.runtime").joinpath("scenes"))
+    assert bare.solver.method == "erk" and bare.solver.euler_steps_per_revolution == 200000
+    assert bare.solver.chatter_window == 1e-3 and bare.solver.interpreted is False
+    assert all(bare.effects.as_dict().values()) and bare.friction.v_eps == 1e-3
+    assert bare.parameters == scene.parameters
+
+
+# ---------------------------------------------------------------------------
+# overrides
+
+
+def test_overrides_return_a_new_checked_scene(scene):
+    fast = scene.with_overrides(**{"contacts.kw": 2e9, "operation.rpm": 6000})
+    assert fast.parameters["kw"] == 2e9
+    assert fast.omega == pytest.approx(6000 * 2 * math.pi / 60)
+    assert fast.parameters["delta_w"] == pytest.approx(5e3 * 2e-3 / 2e9)  # re-derived
+    assert scene.parameters["kw"] == 6.2e7  # the original is unchanged
+
+
+def test_overrides_take_units_and_nested_keys(scene):
+    s = scene.with_overrides(
+        **{
+            "seal.density": "7.8 g/cm^3",
+            "operation.initial_state.y": "10 um",
+            "machine.ports.inlet.angle": "-30 deg",
+            "solver.method": "cvodes",
+        }
+    )
+    assert s.parameters["ms"] == pytest.approx(7800 * 3e-3 * 8e-3 * 0.0999)
+    assert s.operation.initial_state.y == pytest.approx(1e-5)
+    assert s.machine.ports.inlet.angle == pytest.approx(math.radians(-30))
+    assert s.solver.method == "cvodes"
+
+
+def test_override_none_restores_the_default(scene):
+    s = scene.with_overrides(**{"friction.v_eps": "1 m/s"}).with_overrides(**{"friction.v_eps": None})
+    assert s.parameters["v_eps"] == 1e-3
+
+
+def test_numpy_values_are_accepted(scene):
+    s = scene.with_overrides(
+        **{
+            "operation.revolutions": np.int64(3),
+            "contacts.kw": np.float64(1e8),
+            "solver.interpreted": np.bool_(True),
+        }
+    )
+    assert s.operation.revolutions == 3 and s.parameters["kw"] == 1e8 and s.solver.interpreted is True
+
+
+def test_explicit_mass_and_inertia_win(scene):
+    s = scene.with_overrides(**{"seal.ms": "20 g", "seal.Icg": "2e-7 kg*m^2", "seal.density": None})
+    assert s.parameters["ms"] == pytest.approx(0.020) and s.parameters["Icg"] == 2e-7
+
+
+def test_zeta0_from_the_truncation_of_a_circular_lobe(scene):
+    from apexseal.derive.geometry import machine_numbers
+
+    s = scene.with_overrides(**{"machine.embodiment": "circolimacon", "seal.zeta0": None})
+    z = machine_numbers("circolimacon", 0.01, 0.05, 3.06e-3, 1e-4, 0.0).truncation
+    assert z > 0 and s.parameters["zeta0"] == pytest.approx(z)
+
+
+def test_no_spring_means_no_initial_wall_deflection(scene):
+    s = scene.with_overrides(
+        **{"effects.spring": False, "effects.spring_damping": False, "effects.spring_friction": False}
+    )
+    assert s.parameters["delta_w"] == 0.0 and not s.effects.spring
+
+
+# ---------------------------------------------------------------------------
+# content
+
+
+def test_to_dict_is_si_and_complete(scene):
+    d = scene.to_dict()
+    assert set(d) >= {
+        "machine",
+        "operation",
+        "seal",
+        "spring",
+        "contacts",
+        "friction",
+        "pressure",
+        "effects",
+        "assumptions",
+        "solver",
+        "parameters",
+    }
+    assert d["seal"]["Wg"] == 0.00306 and d["operation"]["rpm"] == 1500
+    assert d["pressure"]["source"] == "table" and d["pressure"]["rows"] == 720
+    assert set(d["effects"]) == set(EFFECTS)
+    assert d["parameters"] == scene.parameters
+
+
+def test_content_hash_is_stable(scene):
+    again = load_scene()
+    assert scene.content_hash() == again.content_hash() and scene == again
+    assert len(scene.content_hash()) == 64 and hash(scene) == hash(again)
+
+
+def test_content_hash_ignores_unit_spelling_and_location(scene, tmp_path):
+    same = scene.with_overrides(**{"seal.Wg": 0.00306, "operation.rpm": "25 rev/s", "machine.L": "5 cm"})
+    assert same.content_hash() == scene.content_hash()
+    folder = files("apexseal.runtime").joinpath("scenes")
+    shutil.copy(str(folder.joinpath("expander-pressure.csv")), tmp_path / "renamed.csv")
+    (tmp_path / "copy.toml").write_text(default_scene_text().replace("expander-pressure.csv", "renamed.csv"))
+    assert load_scene(tmp_path / "copy.toml").content_hash() == scene.content_hash()
+
+
+@pytest.mark.parametrize(
+    "overrides",
+    [
+        {"contacts.kw": 6.3e7},
+        {"seal.Ws": "3.01 mm"},
+        {"operation.revolutions": 2},
+        {"operation.initial_state.x": "1 um"},
+        {"solver.method": "rosenbrock"},
+        {"solver.rtol": 1e-7},
+        {"assumptions.pend_rule": "half-difference"},
+        {"effects.groove_friction": False},
+        {"machine.ports.outlet.angle": "141 deg"},
+    ],
+)
+def test_content_hash_changes_with_content(scene, overrides):
+    assert scene.with_overrides(**overrides).content_hash() != scene.content_hash()
+
+
+def test_content_hash_sees_the_pressure_table_data(scene, tmp_path):
+    text = files("apexseal.runtime").joinpath("scenes", "expander-pressure.csv").read_text(encoding="utf-8")
+    lines = text.splitlines()
+    i = lines.index("theta_deg,Pa,Pb") + 10
+    t, a, b = lines[i].split(",")
+    lines[i] = f"{t},{float(a) + 1.0:.1f},{b}"
+    (tmp_path / "p.csv").write_text("\n".join(lines) + "\n")
+    changed = scene.with_overrides(**{"pressure.file": str(tmp_path / "p.csv")})
+    assert changed.content_hash() != scene.content_hash()
+    (tmp_path / "q.csv").write_text(text)
+    assert (
+        scene.with_overrides(**{"pressure.file": str(tmp_path / "q.csv")}).content_hash()
+        == scene.content_hash()
+    )
+
+
+def test_scene_is_frozen(scene):
+    with pytest.raises(AttributeError):
+        scene.name = "x"
+    with pytest.raises(Exception, match="frozen"):
+        scene.seal.Ws = 1.0
+
+
+def test_repr_is_short(scene):
+    assert repr(scene).startswith("Scene('default', default.toml, ") and len(repr(scene)) < 60

@@ -1,0 +1,528 @@
+"""Every validation error a scene can raise names the key, the value given and what is allowed.
+
+Each case changes the default scene (``with_overrides``) and checks the one
+problem it provokes: its line ``key = value: message`` in the SceneError, and
+fragments of the message that state the allowed range (or the allowed values).
+"""
+
+from pathlib import Path
+
+import pytest
+from apexseal.runtime.scene import Scene, load_scene
+from apexseal.runtime.scene_errors import MISSING, Problem, SceneError
+from apexseal.runtime.scene_schema import SECTIONS
+
+#: the pressure section switched to constant pressures (the table keys removed)
+CONSTANT = {
+    "pressure.source": "constant",
+    "pressure.file": None,
+    "pressure.unit": None,
+    "pressure.Pa": "6 bar",
+    "pressure.Pb": "1 bar",
+}
+
+# id, overrides, key, value as shown, fragments of the message (the last ones state what is allowed)
+CASES = [
+    # units and types
+    (
+        "wrong-dimension",
+        {"spring.ks": "3 mm"},
+        "spring.ks",
+        '"3 mm"',
+        ["wrong unit", "expected a stiffness in N/m", "got mm"],
+    ),
+    (
+        "angle-without-unit",
+        {"operation.start_angle": 30},
+        "operation.start_angle",
+        "30",
+        ["give a unit: deg or rad"],
+    ),
+    (
+        "angle-string-without-unit",
+        {"machine.ports.inlet.angle": "-25"},
+        "machine.ports.inlet.angle",
+        '"-25"',
+        ["give a unit: deg or rad"],
+    ),
+    (
+        "angular-speed-without-unit",
+        {"operation.initial_state.phid": 0},
+        "operation.initial_state.phid",
+        "0",
+        ["give a unit: deg or rad"],
+    ),
+    (
+        "speed-without-angle",
+        {"operation.rpm": "25 Hz"},
+        "operation.rpm",
+        '"25 Hz"',
+        ["ambiguous", "rotational speed in rpm", "use rpm, rev/s, rad/s or deg/s"],
+    ),
+    ("unknown-unit", {"seal.Ws": "3 mmm"}, "seal.Ws", '"3 mmm"', ["unknown unit 'mmm'", "length in m"]),
+    ("unreadable-quantity", {"seal.Ws": "3 (mm"}, "seal.Ws", '"3 (mm"', ["cannot read", "length in m"]),
+    ("unit-without-number", {"seal.Ws": "mm"}, "seal.Ws", '"mm"', ["needs a number first", "length in m"]),
+    ("decimal-comma", {"seal.Ws": "3,0 mm"}, "seal.Ws", '"3,0 mm"', ["decimal point", "length in m"]),
+    ("not-finite", {"seal.Ws": float("inf")}, "seal.Ws", "inf", ["finite", "length in m"]),
+    ("bool-for-quantity", {"seal.Ws": True}, "seal.Ws", "true", ["got bool", "length in m"]),
+    (
+        "float-for-integer",
+        {"solver.samples_per_revolution": 720.0},
+        "solver.samples_per_revolution",
+        "720.0",
+        ["expected an integer", "36 <= n <= 100000"],
+    ),
+    (
+        "bool-for-integer",
+        {"operation.revolutions": True},
+        "operation.revolutions",
+        "true",
+        ["expected an integer", ">= 1"],
+    ),
+    (
+        "integer-too-small",
+        {"operation.revolutions": 0},
+        "operation.revolutions",
+        "0",
+        ["out of range", "allowed: >= 1"],
+    ),
+    (
+        "integer-too-large",
+        {"solver.samples_per_revolution": 200000},
+        "solver.samples_per_revolution",
+        "200000",
+        ["out of range", "allowed: 36 <= n <= 100000"],
+    ),
+    ("chatter-events", {"solver.chatter_events": 1}, "solver.chatter_events", "1", ["allowed: >= 2"]),
+    (
+        "unknown-choice",
+        {"solver.method": "cvode"},
+        "solver.method",
+        '"cvode"',
+        ["not allowed (did you mean 'cvodes'?); allowed: \"erk\"", '"euler"'],
+    ),
+    (
+        "unknown-embodiment",
+        {"machine.embodiment": "limacon"},
+        "machine.embodiment",
+        '"limacon"',
+        ['allowed: "limacon-to-limacon", "circolimacon", "limacon-to-circular"'],
+    ),
+    (
+        "unknown-compile",
+        {"solver.compile": "optimized"},
+        "solver.compile",
+        '"optimized"',
+        ["did you mean 'optimised'?", 'allowed: "quick", "optimised"'],
+    ),
+    (
+        "string-for-flag",
+        {"solver.interpreted": "no"},
+        "solver.interpreted",
+        '"no"',
+        ["expected true or false"],
+    ),
+    (
+        "number-for-flag",
+        {"operation.until_periodic": 0},
+        "operation.until_periodic",
+        "0",
+        ["expected true or false"],
+    ),
+    ("number-for-effect", {"effects.spring": 1}, "effects.spring", "1", ["expected true or false"]),
+    (
+        "unknown-assumption-value",
+        {"assumptions.damping": "alway"},
+        "assumptions.damping",
+        '"alway"',
+        ["did you mean 'always'?", 'allowed: "in-contact", "always"'],
+    ),
+    ("empty-file-name", {"pressure.file": ""}, "pressure.file", '""', ["expected a non-empty string"]),
+    (
+        "pressure-unit",
+        {"pressure.unit": "m"},
+        "pressure.unit",
+        '"m"',
+        ["wrong unit", "pressure unit", '"bar"'],
+    ),
+    # ranges
+    (
+        "negative-length",
+        {"seal.Ws": "-3 mm"},
+        "seal.Ws",
+        '"-3 mm"',
+        ["-0.003 m is out of range", "allowed: > 0 m"],
+    ),
+    ("zero-length", {"machine.L": 0}, "machine.L", "0", ["out of range", "allowed: > 0 m"]),
+    (
+        "negative-stiffness",
+        {"contacts.kw": -5},
+        "contacts.kw",
+        "-5",
+        ["-5 N/m is out of range", "allowed: > 0 N/m"],
+    ),
+    ("negative-spring", {"spring.ks": "-5e3 N/m"}, "spring.ks", '"-5e3 N/m"', ["allowed: > 0 N/m"]),
+    ("zero-groove-stiffness", {"contacts.kg3": 0}, "contacts.kg3", "0", ["allowed: > 0 N/m"]),
+    ("negative-damping", {"contacts.cw": -1}, "contacts.cw", "-1", ["allowed: >= 0 N*s/m"]),
+    ("negative-preload", {"spring.delta_s": "-1 mm"}, "spring.delta_s", '"-1 mm"', ["allowed: >= 0 m"]),
+    ("negative-clearance", {"machine.Cr": "-1 mm"}, "machine.Cr", '"-1 mm"', ["allowed: >= 0 m"]),
+    (
+        "friction-one",
+        {"friction.mu1": 1.0},
+        "friction.mu1",
+        "1.0",
+        ["1 is out of range", "allowed: 0 <= value < 1"],
+    ),
+    ("friction-negative", {"friction.mu2": -0.1}, "friction.mu2", "-0.1", ["allowed: 0 <= value < 1"]),
+    ("friction-regularisation", {"friction.v_eps": 0}, "friction.v_eps", "0", ["allowed: > 0 m/s"]),
+    (
+        "negative-density",
+        {"seal.density": "-7200 kg/m^3"},
+        "seal.density",
+        '"-7200 kg/m^3"',
+        ["allowed: > 0 kg/m^3"],
+    ),
+    ("negative-mass", {"seal.ms": "-1 g"}, "seal.ms", '"-1 g"', ["allowed: > 0 kg"]),
+    ("zero-inertia", {"seal.Icg": 0}, "seal.Icg", "0", ["allowed: > 0 kg*m^2"]),
+    ("negative-zeta0", {"seal.zeta0": "-0.1 mm"}, "seal.zeta0", '"-0.1 mm"', ["allowed: >= 0 m"]),
+    ("zero-speed", {"operation.rpm": 0}, "operation.rpm", "0", ["allowed: > 0 rpm"]),
+    ("periodic-tolerance", {"operation.periodic_tol": 0}, "operation.periodic_tol", "0", ["allowed: > 0"]),
+    (
+        "port-width",
+        {"machine.ports.outlet.width": "400 deg"},
+        "machine.ports.outlet.width",
+        '"400 deg"',
+        ["400 deg is out of range", "allowed: 0 < value < 360 deg"],
+    ),
+    ("rtol", {"solver.rtol": 0.1}, "solver.rtol", "0.1", ["allowed: 1e-12 <= value <= 0.01"]),
+    ("atol", {"solver.atol": -1e-9}, "solver.atol", "-1e-09", ["allowed: > 0"]),
+    ("event-tolerance", {"solver.event_tol": "0 rad"}, "solver.event_tol", '"0 rad"', ["allowed: > 0 rad"]),
+    (
+        "chatter-window",
+        {"solver.chatter_window": "-1 deg"},
+        "solver.chatter_window",
+        '"-1 deg"',
+        ["allowed: > 0 rad"],
+    ),
+    (
+        "negative-pressure",
+        {**CONSTANT, "pressure.Pa": "-1 bar"},
+        "pressure.Pa",
+        '"-1 bar"',
+        ["allowed: >= 0 Pa"],
+    ),
+    # structure
+    (
+        "unknown-key",
+        {"contacts.kww": 1},
+        "contacts.kww",
+        "1",
+        ["unknown key (did you mean 'kw'?); known: kw, kg1, kg2, kg3, kg4, cw, cr, cs"],
+    ),
+    (
+        "unknown-nested-key",
+        {"operation.initial_state.phii": "0 deg"},
+        "operation.initial_state.phii",
+        '"0 deg"',
+        ["did you mean 'phi'?", "known: x, y, phi, xd, yd, phid"],
+    ),
+    (
+        "unknown-effect",
+        {"effects.inertial": True},
+        "effects.inertial",
+        "true",
+        ["did you mean 'inertia'?", "known: inertia, housing_contact"],
+    ),
+    (
+        "unknown-section",
+        {"sael.Ws": 3},
+        "sael",
+        "{'Ws': 3}",
+        ["unknown section (did you mean 'seal'?); known: machine, operation, seal"],
+    ),
+    ("top-level-key", {"title": "x"}, "title", '"x"', ["unknown top-level key", "known: machine"]),
+    ("missing-key", {"seal.Ws": None}, "seal.Ws", MISSING, ["required; give a length in m", "> 0 m"]),
+    (
+        "missing-nested-key",
+        {"machine.ports.inlet.length": None},
+        "machine.ports.inlet.length",
+        MISSING,
+        ["required; give a length in m"],
+    ),
+    (
+        "missing-port",
+        {"machine.ports.inlet": None},
+        "machine.ports.inlet",
+        MISSING,
+        ["required; give a table with keys angle, width, length"],
+    ),
+    ("missing-section", {"machine": None}, "machine", MISSING, ["required section [machine] is missing"]),
+    ("section-not-a-table", {"seal": 5}, "seal", "5", ["expected a table: [seal]"]),
+    ("key-not-a-table", {"operation.initial_state": 3}, "operation.initial_state", "3", ["expected a table"]),
+    # physical consistency
+    (
+        "aspect-ratio",
+        {"machine.r": "20 mm"},
+        "machine.r",
+        '"20 mm"',
+        ["b = r/L = 0.4 exceeds 0.25", "Eq. 4", "allowed: r <= 0.25 L = 12.5 mm"],
+    ),
+    (
+        "lobe-clearance",
+        {"machine.embodiment": "circolimacon", "machine.Cr": "60 mm"},
+        "machine.Cr",
+        '"60 mm"',
+        ["Eq. 5", "allowed: 0 <= Cr < L = 50 mm"],
+    ),
+    (
+        "port-longer-than-machine",
+        {"machine.ports.inlet.length": "0.2 m"},
+        "machine.ports.inlet.length",
+        '"0.2 m"',
+        ["allowed: <= machine.H = 100 mm"],
+    ),
+    (
+        "groove-narrower",
+        {"seal.Wg": "2.9 mm"},
+        "seal.Wg",
+        '"2.9 mm"',
+        ["groove must be wider than the seal", "allowed: Wg > seal.Ws = 3 mm"],
+    ),
+    ("groove-equal", {"seal.Wg": "3 mm"}, "seal.Wg", '"3 mm"', ["allowed: Wg > seal.Ws = 3 mm"]),
+    ("tip-radius", {"seal.ro": "1 mm"}, "seal.ro", '"1 mm"', ["Eq. 31", "allowed: ro >= Ws/2 = 1.5 mm"]),
+    (
+        "tip-arc-does-not-fit",
+        {"seal.ds1": "0.5 mm", "seal.ds2": "0.5 mm", "seal.ro": "1.5 mm", "seal.zeta0": "0.1 mm"},
+        "seal.ds1",
+        '"0.5 mm"',
+        ["ds0 = ds1 - ro (1 - cos beta_o) = -1 mm", "must be > -ds2", "allowed: ds1 > 1 mm"],
+    ),
+    (
+        "seal-taller-than-rotor",
+        {"seal.ds2": "47 mm"},
+        "seal.ds2",
+        '"47 mm"',
+        [
+            "seal.ds1 + seal.ds2 = 51 mm",
+            "groove bottom must lie inside the rotor",
+            "allowed: ds1 + ds2 < machine.L = 50 mm",
+        ],
+    ),
+    (
+        "zeta0-too-large",
+        {"seal.zeta0": "9 mm"},
+        "seal.zeta0",
+        '"9 mm"',
+        ["leave its groove", "allowed: 0 <= zeta0 < ds1 + ds2 = 8 mm"],
+    ),
+    (
+        "zeta0-not-computable",
+        {"seal.zeta0": None},
+        "seal.zeta0",
+        MISSING,
+        [
+            "truncation z of Eqs. 6-8",
+            "-0.581553 mm (<= 0)",
+            "give seal.zeta0 explicitly",
+            "allowed: 0 <= zeta0 < ds1 + ds2 = 8 mm",
+        ],
+    ),
+    (
+        "zeta0-truncation-undefined",
+        {"machine.embodiment": "circolimacon", "machine.k": "1 m", "seal.zeta0": None},
+        "seal.zeta0",
+        MISSING,
+        [
+            "the groove truncation z of Eqs. 6-8 is undefined",
+            "give seal.zeta0 explicitly",
+            "allowed: 0 <= zeta0",
+        ],
+    ),
+    (
+        "zeta0-truncation-too-deep",
+        {"machine.embodiment": "circolimacon", "machine.k": "0.5 m", "seal.zeta0": None},
+        "seal.zeta0",
+        MISSING,
+        [
+            "not below ds1 + ds2 = 8 mm",
+            "give seal.zeta0 explicitly",
+            "allowed: 0 <= zeta0 < ds1 + ds2 = 8 mm",
+        ],
+    ),
+    (
+        "density-needed",
+        {"seal.density": None},
+        "seal.density",
+        MISSING,
+        ["required to compute seal.ms and Icg", "kg/m^3"],
+    ),
+    # pressure source
+    (
+        "constant-needs-pressure",
+        {**CONSTANT, "pressure.Pb": None},
+        "pressure.Pb",
+        MISSING,
+        ['required with source = "constant"', "give a pressure in Pa"],
+    ),
+    (
+        "table-needs-file",
+        {"pressure.file": None},
+        "pressure.file",
+        MISSING,
+        ['required with source = "table"', "give a file name"],
+    ),
+    (
+        "key-unused-by-source",
+        {"pressure.Pa": "1 bar"},
+        "pressure.Pa",
+        '"1 bar"',
+        ['not used with source = "table"', 'only with source = "constant"'],
+    ),
+    (
+        "unit-unused-by-source",
+        {**CONSTANT, "pressure.unit": "bar"},
+        "pressure.unit",
+        '"bar"',
+        ['not used with source = "constant"', 'only with source = "table"'],
+    ),
+    # effects
+    (
+        "effect-without-parent",
+        {"effects.housing_contact": False, "effects.housing_damping": False},
+        "effects.housing_friction",
+        "true",
+        ["needs effects.housing_contact = true", "allowed: false, or set effects.housing_contact = true"],
+    ),
+    (
+        "pressure-effect-without-source",
+        {"pressure.source": "none", "pressure.file": None, "pressure.unit": None},
+        "effects.chamber_pressure",
+        "true",
+        ['pressure.source = "none" gives no chamber pressure', "allowed: false"],
+    ),
+]
+
+
+@pytest.fixture(scope="module")
+def default():
+    return load_scene()
+
+
+def _error(scene, overrides) -> SceneError:
+    with pytest.raises(SceneError) as info:
+        scene.with_overrides(**overrides)
+    return info.value
+
+
+@pytest.mark.parametrize(
+    "overrides, key, shown, fragments", [c[1:] for c in CASES], ids=[c[0] for c in CASES]
+)
+def test_each_error_names_key_value_and_what_is_allowed(default, overrides, key, shown, fragments):
+    err = _error(default, overrides)
+    assert err.keys() == [key], str(err)
+    (problem,) = err.errors
+    line = f"{key} = {shown}: "
+    assert line in str(err)
+    assert str(problem).startswith(line)
+    for fragment in fragments:
+        assert fragment in problem.message, (fragment, problem.message)
+
+
+def test_errors_are_key_value_message_tuples(default):
+    err = _error(default, {"seal.Wg": "2.9 mm"})
+    key, value, message = err.errors[0]
+    assert (key, value) == ("seal.Wg", "2.9 mm") and "Wg > seal.Ws" in message
+    assert isinstance(err, ValueError) and isinstance(err.errors[0], Problem)
+
+
+def test_every_problem_is_reported_at_once(default):
+    err = _error(
+        default,
+        {
+            "seal.Wg": "2.9 mm",
+            "spring.ks": "3 mm",
+            "contacts.kww": 1,
+            "machine.r": "20 mm",
+            "solver.method": "rk45",
+            "effects.spring": "yes",
+        },
+    )
+    assert sorted(err.keys()) == sorted(
+        ["seal.Wg", "spring.ks", "contacts.kww", "machine.r", "solver.method", "effects.spring"]
+    )
+    lines = str(err).splitlines()
+    assert lines[0] == "scene default: 6 problems"
+    assert len(lines) == 7 and all(line.startswith("  ") for line in lines[1:])
+
+
+def test_cross_checks_still_run_when_another_section_is_invalid(default):
+    err = _error(default, {"seal.Wg": "2.9 mm", "solver.rtol": "fast"})
+    assert set(err.keys()) == {"seal.Wg", "solver.rtol"}
+
+
+def test_malformed_toml_gives_line_and_column():
+    with pytest.raises(SceneError) as info:
+        Scene.from_toml_string("[machine]\nr = 3 mm\n")
+    (problem,) = info.value.errors
+    assert problem.key == "toml" and problem.value == "r = 3 mm"
+    assert (
+        "line 2, column 7" in problem.message
+        and 'must be a quoted string, e.g. r = "3 mm"' in problem.message
+    )
+
+
+def test_malformed_toml_at_end_of_document():
+    with pytest.raises(SceneError) as info:
+        Scene.from_toml_string("[machine]\nr = ")
+    assert "malformed TOML at line 2, column 5: Invalid value" in str(info.value)
+
+
+def test_duplicate_toml_key():
+    with pytest.raises(SceneError, match="malformed TOML"):
+        Scene.from_toml_string("[seal]\nWs = 1\nWs = 2\n")
+
+
+def test_missing_scene_file(tmp_path):
+    missing = tmp_path / "nope.toml"
+    with pytest.raises(SceneError) as info:
+        load_scene(missing)
+    assert info.value.errors[0] == ("scene", str(missing), "file not found")
+
+
+def test_unreadable_scene_file(tmp_path):
+    with pytest.raises(SceneError) as info:
+        load_scene(tmp_path)
+    (problem,) = info.value.errors
+    assert (problem.key, problem.value) == ("scene", str(tmp_path)) and "cannot read" in problem.message
+
+
+def test_empty_scene_lists_every_required_section():
+    with pytest.raises(SceneError) as info:
+        Scene.from_toml_string("")
+    required = [name for name, (_, req) in SECTIONS.items() if req]
+    assert info.value.keys() == required
+    assert all(p.value is MISSING for p in info.value.errors)
+
+
+@pytest.mark.parametrize(
+    "overrides, fragment",
+    [
+        ({"seal.Ws.x": 1}, "seal.Ws is a value, not a table"),
+        ({"seal..Ws": 1}, "not a key path"),
+    ],
+)
+def test_bad_override_paths(default, overrides, fragment):
+    err = _error(default, overrides)
+    assert fragment in str(err) and list(overrides)[0] in str(err)
+
+
+def test_effect_hierarchy_fills_children_of_an_effect_that_is_off(default):
+    scene = default.with_overrides(**{"effects": {"housing_contact": False}})
+    assert not scene.effects.housing_contact and not scene.effects.housing_friction
+    assert scene.effects.groove_contact
+
+
+def test_the_docs_error_table_shows_these_messages(default):
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "scenes.md").read_text(encoding="utf-8")
+    for _, overrides, *_ in CASES:
+        assert f"`{_error(default, overrides).errors[0]}`" in docs
