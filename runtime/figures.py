@@ -91,7 +91,7 @@ def mode_timeline(result: SimulationResult, path: Path) -> Path:
     plt = _plt()
     deg = np.degrees(result.theta)
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(12, 5), sharex=True, gridspec_kw={"height_ratios": [1.2, 1]})
-    for i, g in enumerate(result.guard_names):
+    for i in range(len(result.guard_names)):
         ax1.fill_between(deg, i, i + 0.8 * result.closed[i], step="post", alpha=0.8)
     ax1.set_yticks(np.arange(len(result.guard_names)) + 0.4, result.guard_names)
     ax1.set_title("closed contacts")
