@@ -88,7 +88,7 @@ def test_default_sections(scene):
     assert isinstance(scene.pressure, TablePressure) and scene.pressure.theta_deg.size == 720
     assert all(scene.effects.as_dict().values())
     assert scene.assumptions.pend_rule == "mean"
-    assert scene.solver.samples_per_revolution == 720 and scene.solver.compile == "optimised"
+    assert scene.solver.samples_per_revolution == 3600 and scene.solver.compile == "optimised"
 
 
 def test_default_toml_tags_every_value():
