@@ -32,9 +32,10 @@ class StepperIntegrator:
         self.dtheta = span / n_samples
         self.event_tol = event_tol
         self.max_events = max_events
-        z = ca.SX.sym("z", 6)
-        sigma = ca.SX.sym("sigma")
-        P = ca.SX.sym("P", n_par + n_g + 4)  # params, activations, theta0, H, Pa, Pb
+        # MX, so that compiled (external) right-hand sides can be used as well as SX ones
+        z = ca.MX.sym("z", 6)
+        sigma = ca.MX.sym("sigma")
+        P = ca.MX.sym("P", n_par + n_g + 4)  # params, activations, theta0, H, Pa, Pb
         par, act = P[:n_par], P[n_par:n_par + n_g]
         theta0, H, u = P[n_par + n_g], P[n_par + n_g + 1], P[n_par + n_g + 2:]
         omega = par[omega_index]

@@ -1,0 +1,1 @@
+"""Work-precision benchmark: what accuracy costs in time (issue: apexseal bench)."""
