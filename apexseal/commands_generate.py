@@ -1,0 +1,117 @@
+"""``apexseal generate``: write (and compile) the C of a scene's model; ``--check`` the committed default."""
+
+from __future__ import annotations
+
+import sys
+import tempfile
+from pathlib import Path
+
+import click
+
+from .derive.assumptions import Assumptions
+from .derive.effects import EFFECTS, Effects
+
+_ON = {"on": True, "true": True, "1": True, "yes": True, "off": False, "false": False, "0": False, "no": False}
+
+
+def _pairs(values: tuple[str, ...], what: str) -> dict[str, str]:
+    out = {}
+    for item in (part for v in values for part in v.split(",") if part.strip()):
+        if "=" not in item:
+            raise click.BadParameter(f"{item!r}: expected NAME=VALUE", param_hint=what)
+        name, value = item.split("=", 1)
+        out[name.strip()] = value.strip()
+    return out
+
+
+def _with_overrides(base: Effects, overrides: dict[str, str]) -> Effects:
+    """``base`` with these effects switched; an effect switched off takes its children with it."""
+    values = base.as_dict()
+    for name, raw in overrides.items():
+        if raw.lower() not in _ON:
+            raise click.BadParameter(f"{name}={raw}: use on/off", param_hint="--effects")
+        values[name] = _ON[raw.lower()]
+    for name, (parent, _) in EFFECTS.items():  # parents come first
+        if parent is not None and not values.get(parent, True) and name not in overrides:
+            values[name] = False
+    return Effects.from_mapping(values)
+
+
+def _scene_inputs(scene: Path | None) -> tuple[Effects, Assumptions]:
+    if scene is None:
+        return Effects(), Assumptions()
+    try:
+        from .runtime.scene import load_scene
+    except ImportError as exc:  # the scene loader is not installed yet
+        raise click.UsageError(f"cannot read scenes ({exc}); give --effects/--assumptions instead") from exc
+    s = load_scene(scene)
+    return s.effects, s.assumptions
+
+
+def _check_default(echo) -> bool:
+    """Is generated/default current? Compare the manifest with the inputs, then regenerate and compare bytes."""
+    from .generated.generate import generate as run_generate
+    from .generated.load import DEFAULT_DIR
+    from .generated.manifest import StaleArtefactError, input_hash, verify
+
+    try:
+        verify(DEFAULT_DIR, expected_hash=input_hash(Effects(), Assumptions()))
+    except StaleArtefactError as exc:
+        echo(f"STALE: {exc}")
+        return False
+    with tempfile.TemporaryDirectory(prefix="apexseal-check-") as tmp:
+        fresh = run_generate(out_dir=Path(tmp) / "default", compile=False, echo=None)
+        differ = [n for n in fresh.files if (Path(tmp) / "default" / n).read_bytes() != (DEFAULT_DIR / n).read_bytes()]
+    if differ:
+        echo(f"STALE: regenerating gives different bytes for {', '.join(differ)}")
+        return False
+    echo(f"generated/default is current (input hash {fresh.input_hash[:16]}, {len(fresh.files)} files)")
+    return True
+
+
+@click.command("generate")
+@click.argument("scene", required=False, type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Output folder [default: the cache folder load_functions uses]. "
+                   "`--out generated/default` refreshes the committed default artefacts.")
+@click.option("--flags", type=click.Choice(["quick", "optimised"]), default="optimised", show_default=True,
+              help="quick: -O1, for edit-and-try; optimised: -O3 -march=native, for long studies.")
+@click.option("--effects", "effect_opts", multiple=True, metavar="NAME=on|off[,...]",
+              help="Switch effects (on top of the scene's), e.g. --effects groove_friction=off")
+@click.option("--assumptions", "assumption_opts", multiple=True, metavar="NAME=VALUE[,...]",
+              help="Modelling choices, e.g. --assumptions damping=always")
+@click.option("--no-compile", is_flag=True, help="Write the C only.")
+@click.option("--check", is_flag=True, help="Verify that generated/default is up to date (exit 1 if stale).")
+def generate(scene: Path | None, out: Path | None, flags: str, effect_opts: tuple[str, ...],
+             assumption_opts: tuple[str, ...], no_compile: bool, check: bool) -> None:
+    """Generate (and compile) the C code of the model of SCENE (a TOML scene file; default: the default scene).
+
+    Prints the time of each stage (derive, lower to CasADi, codegen, render, compile) and where the
+    artefacts and the compiled library are.
+    """
+    if check:
+        sys.exit(0 if _check_default(click.echo) else 1)
+    from .generated.generate import generate as run_generate
+    from .generated.manifest import input_hash
+
+    effects, assumptions = _scene_inputs(scene)
+    if effect_opts:
+        effects = _with_overrides(effects, _pairs(effect_opts, "--effects"))
+    if assumption_opts:
+        assumptions = Assumptions.from_mapping({**assumptions.as_dict(), **_pairs(assumption_opts, "--assumptions")})
+    if out is None:
+        from .derive.cache import cache_dir
+
+        out = cache_dir() / "gen" / input_hash(effects, assumptions)
+    click.echo(f"effects: {effects.label}; assumptions: {assumptions.as_dict()}")
+    manifest = run_generate(effects, assumptions, out, flags=flags, compile=not no_compile, echo=click.echo)
+    c_bytes = sum((out / n).stat().st_size for n in manifest.files if n.endswith(".c"))
+    n_instr = sum(f["n_instructions"] for f in manifest.data["functions"].values())
+    click.echo(f"total   {sum(manifest.timings.values()):8.2f} s")
+    click.echo(f"artefacts: {out} ({len(manifest.files)} files, C {c_bytes / 1e6:.2f} MB, "
+               f"{len(manifest.modes)} modes, {n_instr} SX instructions)")
+    click.echo(f"input hash: {manifest.input_hash}")
+    if manifest.library is not None:
+        click.echo(f"library ({flags}): {manifest.library}")
+    elif not no_compile:
+        click.echo("library: none (no working C compiler; the interpreted Functions will be used)")

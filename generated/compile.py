@@ -1,0 +1,216 @@
+"""Compile generated C into shared libraries, cached by content, and load them with ``casadi.external``.
+
+Cache: ``derive.cache.cache_dir() / "lib" / <key> /`` (``$APEXSEAL_CACHE`` moves it),
+holding the library and ``build.json`` (key, flags, compiler, the library's sha256).
+The key is a sha256 over the sources' hashes (for a model: the manifest's input
+hash and file hashes), the flag set, the compiler's identity and, for
+``-march=native``, the CPU architecture gcc resolves it to; so a library is only
+reused for exactly what it was built from.
+
+Builds are safe with concurrent processes: an ``fcntl`` lock per key serialises
+builders, objects and the library are built in a uniquely named temporary folder,
+and the library is moved in with ``os.replace``. A library whose sha256 differs
+from its ``build.json`` is rebuilt with a warning, never used.
+
+Compiler: ``$APEXSEAL_CC``, else ``$CC``, else ``gcc``. When it is missing or fails,
+callers fall back to CasADi's interpreted SX Functions with a
+:class:`CompilerFallbackWarning` that says what that costs.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import platform
+import re
+import shutil
+import subprocess
+import tempfile
+import warnings
+from collections.abc import Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import casadi as ca
+
+from ..derive.cache import cache_dir
+from .manifest import StaleArtefactWarning, verify
+from .store import atomic_write, file_lock, sha256_bytes, sha256_file
+
+#: flag setting -> compiler flags. -ffp-contract=off keeps gcc from fusing a*b+c into FMA
+#: instructions under -march=native, so compiled results stay those of CasADi's interpreter.
+FLAG_SETS: dict[str, tuple[str, ...]] = {
+    "quick": ("-O1",),
+    "optimised": ("-O3", "-march=native", "-ffp-contract=off"),
+}
+MODEL_LIBRARY = "libapexseal_model.so"
+
+FALLBACK_COST = (
+    "CasADi's interpreted SX Functions are used instead, which are about 4-10x slower per evaluation: an Euler step "
+    "of this model's rhs_switched costs ~2.1 us interpreted vs ~0.35-0.55 us compiled (docs/codegen.md), and the "
+    "CasADi notes measured 740 vs 60 ns per right-hand side and ~250-300 vs ~20-26 ms per erk revolution. Install "
+    "gcc or point APEXSEAL_CC at a working C compiler."
+)
+
+
+class CompilerUnavailable(RuntimeError):
+    """No working C compiler (missing, or it failed on the generated code)."""
+
+
+class CompilerFallbackWarning(RuntimeWarning):
+    """Compiled code was asked for but the interpreted Functions are used."""
+
+
+def compiler() -> str:
+    return os.environ.get("APEXSEAL_CC") or os.environ.get("CC") or "gcc"
+
+
+def flag_list(flags: str) -> tuple[str, ...]:
+    if flags not in FLAG_SETS:
+        raise ValueError(f"flags must be one of {', '.join(FLAG_SETS)}, not {flags!r}")
+    return FLAG_SETS[flags]
+
+
+def _run(cmd: Sequence[str], cwd: Path | None = None) -> subprocess.CompletedProcess:
+    try:
+        return subprocess.run(list(cmd), cwd=cwd, capture_output=True, text=True, check=False)
+    except OSError as exc:  # FileNotFoundError, PermissionError
+        raise CompilerUnavailable(f"C compiler {cmd[0]!r} cannot be run ({exc.strerror or exc})") from exc
+
+
+@functools.lru_cache(maxsize=8)
+def compiler_identity(cc: str, flags: tuple[str, ...]) -> str:
+    """The compiler's version line (+ the architecture -march=native means on this machine)."""
+    out = _run([cc, "--version"])
+    if out.returncode != 0 or not out.stdout:
+        raise CompilerUnavailable(f"C compiler {cc!r} does not work ({(out.stderr or '').strip()[:200]})")
+    ident = out.stdout.splitlines()[0].strip() + " | " + platform.machine()
+    if "-march=native" in flags:
+        target = _run([cc, "-march=native", "-Q", "--help=target"])
+        arch = re.search(r"^\s*-march=\s+(\S+)", target.stdout or "", re.M)
+        ident += " | march=" + (arch.group(1) if arch else "native-unknown")
+    return ident
+
+
+def lib_root() -> Path:
+    return cache_dir() / "lib"
+
+
+def _build_key(payload: dict) -> str:
+    return sha256_bytes(json.dumps(payload, sort_keys=True).encode())
+
+
+def _valid(so: Path, record_path: Path, key: str) -> bool:
+    try:
+        record = json.loads(record_path.read_text())
+    except (OSError, ValueError):
+        return False
+    return record.get("key") == key and so.is_file() and sha256_file(so) == record.get("so_sha256")
+
+
+def _compile_all(cc: str, flags: tuple[str, ...], sources: list[Path], build_dir: Path, target: Path) -> None:
+    """Compile every source to an object in parallel, then link them into ``target``."""
+    sources = sorted(sources, key=lambda p: -p.stat().st_size)  # biggest first: better load balance
+    includes = sorted({f"-I{p.parent}" for p in sources})
+
+    def one(src: Path) -> Path:
+        obj = build_dir / (src.stem + ".o")
+        out = _run([cc, *flags, "-fPIC", *includes, "-c", str(src), "-o", str(obj)])
+        if out.returncode != 0:
+            raise CompilerUnavailable(f"{cc} failed on {src.name}: {out.stderr.strip()[-600:]}")
+        return obj
+
+    with ThreadPoolExecutor(max_workers=max(1, min(len(sources), os.cpu_count() or 1))) as pool:
+        objects = list(pool.map(one, sources))
+    out = _run([cc, "-shared", *[str(o) for o in objects], "-o", str(target), "-lm"])
+    if out.returncode != 0:
+        raise CompilerUnavailable(f"{cc} failed to link {target.name}: {out.stderr.strip()[-600:]}")
+
+
+def build_library(key_payload: dict, sources: list[Path], name: str, *, flags: str) -> Path:
+    """The cached library built from ``sources`` (building it if missing or modified)."""
+    cc = compiler()
+    fl = flag_list(flags)
+    key = _build_key({**key_payload, "flags": list(fl), "compiler": compiler_identity(cc, fl), "cc": cc})
+    lib_dir = lib_root() / key
+    so, record = lib_dir / name, lib_dir / "build.json"
+    if _valid(so, record, key):
+        return so
+    with file_lock(lib_root() / f"{key}.lock"):
+        if _valid(so, record, key):  # another process built it while we waited
+            return so
+        if so.exists():
+            warnings.warn(f"compiled library {so} does not match its build record (modified or partial); rebuilding",
+                          StaleArtefactWarning, stacklevel=3)
+        build_dir = Path(tempfile.mkdtemp(dir=lib_root(), prefix=f".build-{key[:16]}-"))
+        try:
+            _compile_all(cc, fl, sources, build_dir, build_dir / name)
+            lib_dir.mkdir(parents=True, exist_ok=True)
+            os.replace(build_dir / name, so)
+        finally:
+            shutil.rmtree(build_dir, ignore_errors=True)
+        atomic_write(record, json.dumps({"key": key, "so": name, "so_sha256": sha256_file(so), "flags": list(fl),
+                                         "compiler": compiler_identity(cc, fl), "sources": key_payload}, indent=2) + "\n")
+    return so
+
+
+def compile_library(source_dir: Path | str, *, flags: str = "optimised") -> Path:
+    """Compile a folder written by :func:`.generate.generate` (after :func:`.manifest.verify`) into the cache.
+
+    Raises :class:`.manifest.StaleArtefactError` for stale or modified artefacts and
+    :class:`CompilerUnavailable` when no compiler works.
+    """
+    source_dir = Path(source_dir)
+    manifest = verify(source_dir)
+    payload = {"kind": "model", "input_hash": manifest.input_hash, "files": manifest.files}
+    return build_library(payload, [source_dir / f for f in manifest.c_files], MODEL_LIBRARY, flags=flags)
+
+
+def load_externals(library: Path, names: Sequence[str]) -> dict[str, ca.Function]:
+    """One ``casadi.external`` per Function name, all from the same library (Jacobians are found by name)."""
+    return {name: ca.external(name, str(library)) for name in names}
+
+
+def fallback(reason: str | Exception, *, stacklevel: int = 3) -> None:
+    warnings.warn(f"no compiled C: {reason}. {FALLBACK_COST}", CompilerFallbackWarning, stacklevel=stacklevel)
+
+
+def _c_stem(name: str) -> str:
+    stem = re.sub(r"\W", "_", name)
+    return "fn_" + stem
+
+
+def compile_function(fn: ca.Function, *, flags: str = "optimised", derivatives: bool = False) -> ca.Function:
+    """Generate C for any CasADi Function (e.g. an ``erk`` integrator with events), compile, return the external.
+
+    The library is cached by the sha256 of the generated C, the flags and the
+    compiler. ``derivatives=True`` also generates ``fn.jacobian()`` so the external
+    has an exact Jacobian. With no working compiler, returns ``fn`` itself and warns.
+    """
+    with tempfile.TemporaryDirectory(prefix="apexseal-fn-") as tmp:
+        stem = _c_stem(fn.name())
+        cg = ca.CodeGenerator(f"{stem}.c")
+        cg.add(fn)
+        if derivatives:
+            cg.add(fn.jacobian())
+        cg.generate(tmp + os.sep)
+        src = Path(tmp) / f"{stem}.c"
+        payload = {"kind": "function", "name": fn.name(), "c_sha256": sha256_file(src)}
+        try:
+            so = build_library(payload, [src], f"{stem}.so", flags=flags)
+        except CompilerUnavailable as exc:
+            fallback(exc)
+            return fn
+    return ca.external(fn.name(), str(so))
+
+
+def compiled_or_interpreted(library_source: Path, names: Sequence[str], sx: Mapping[str, ca.Function], *,
+                            flags: str) -> tuple[dict[str, ca.Function], Path | None]:
+    """Externals from the compiled library of ``library_source``, or ``sx`` with a fallback warning."""
+    try:
+        so = compile_library(library_source, flags=flags)
+    except CompilerUnavailable as exc:
+        fallback(exc, stacklevel=4)
+        return dict(sx), None
+    return load_externals(so, names), so

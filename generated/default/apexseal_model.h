@@ -1,0 +1,173 @@
+/* apexseal_model.h: indices, mode table and mode dispatch of the generated apex-seal model.
+ * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
+ * Effects: all. Input hash: 438097cc12004f43d63785b1de35048fd45e79aae1389283c63ad24d3fbd46f1.
+ * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
+ */
+#ifndef APEXSEAL_MODEL_H
+#define APEXSEAL_MODEL_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define APEXSEAL_INPUT_HASH "438097cc12004f43d63785b1de35048fd45e79aae1389283c63ad24d3fbd46f1"
+
+/* state x */
+#define APEXSEAL_NX 6
+#define APEXSEAL_X_X 0
+#define APEXSEAL_X_Y 1
+#define APEXSEAL_X_PHI 2
+#define APEXSEAL_X_XD 3
+#define APEXSEAL_X_YD 4
+#define APEXSEAL_X_PHID 5
+
+/* parameters p (derive.symbols.PARAMETER_NAMES) */
+#define APEXSEAL_NP 28
+#define APEXSEAL_P_OMEGA 0
+#define APEXSEAL_P_R 1
+#define APEXSEAL_P_L 2
+#define APEXSEAL_P_LI 3
+#define APEXSEAL_P_ZETA0 4
+#define APEXSEAL_P_DELTA_W 5
+#define APEXSEAL_P_WS 6
+#define APEXSEAL_P_WG 7
+#define APEXSEAL_P_DS1 8
+#define APEXSEAL_P_DS2 9
+#define APEXSEAL_P_RO 10
+#define APEXSEAL_P_BS 11
+#define APEXSEAL_P_MS 12
+#define APEXSEAL_P_ICG 13
+#define APEXSEAL_P_KS 14
+#define APEXSEAL_P_DELTA_S 15
+#define APEXSEAL_P_KW 16
+#define APEXSEAL_P_KG1 17
+#define APEXSEAL_P_KG2 18
+#define APEXSEAL_P_KG3 19
+#define APEXSEAL_P_KG4 20
+#define APEXSEAL_P_CW 21
+#define APEXSEAL_P_CR 22
+#define APEXSEAL_P_CS 23
+#define APEXSEAL_P_MU1 24
+#define APEXSEAL_P_MU2 25
+#define APEXSEAL_P_MUS 26
+#define APEXSEAL_P_V_EPS 27
+
+/* inputs u: chamber pressures */
+#define APEXSEAL_NU 2
+#define APEXSEAL_U_PA 0
+#define APEXSEAL_U_PB 1
+
+/* contact guards g (closed while g < 0) = order of the activations a */
+#define APEXSEAL_NG 6
+#define APEXSEAL_G_B1 0
+#define APEXSEAL_G_B2 1
+#define APEXSEAL_G_B3 2
+#define APEXSEAL_G_B4 3
+#define APEXSEAL_G_XS5 4
+#define APEXSEAL_G_SPRING 5
+
+/* velocity guards */
+#define APEXSEAL_NVG 12
+#define APEXSEAL_VG_V_I1_N 0
+#define APEXSEAL_VG_V_I1_SLIDE 1
+#define APEXSEAL_VG_V_C2_N 2
+#define APEXSEAL_VG_V_C2_SLIDE 3
+#define APEXSEAL_VG_V_I2_N 4
+#define APEXSEAL_VG_V_I2_SLIDE 5
+#define APEXSEAL_VG_V_C4_N 6
+#define APEXSEAL_VG_V_C4_SLIDE 7
+#define APEXSEAL_VG_V_S5_X 8
+#define APEXSEAL_VG_V_S5_SLIDE 9
+#define APEXSEAL_VG_V_S6_N 10
+#define APEXSEAL_VG_V_S6_SLIDE 11
+
+/* outputs y */
+#define APEXSEAL_NY 29
+#define APEXSEAL_Y_F_I1_X 0
+#define APEXSEAL_Y_F_I1_Y 1
+#define APEXSEAL_Y_M_I1 2
+#define APEXSEAL_Y_PF_I1 3
+#define APEXSEAL_Y_F_C2_X 4
+#define APEXSEAL_Y_F_C2_Y 5
+#define APEXSEAL_Y_M_C2 6
+#define APEXSEAL_Y_PF_C2 7
+#define APEXSEAL_Y_F_I2_X 8
+#define APEXSEAL_Y_F_I2_Y 9
+#define APEXSEAL_Y_M_I2 10
+#define APEXSEAL_Y_PF_I2 11
+#define APEXSEAL_Y_F_C4_X 12
+#define APEXSEAL_Y_F_C4_Y 13
+#define APEXSEAL_Y_M_C4 14
+#define APEXSEAL_Y_PF_C4 15
+#define APEXSEAL_Y_F_HOUSING_X 16
+#define APEXSEAL_Y_F_HOUSING_Y 17
+#define APEXSEAL_Y_M_HOUSING 18
+#define APEXSEAL_Y_PF_HOUSING 19
+#define APEXSEAL_Y_F_SPRING_X 20
+#define APEXSEAL_Y_F_SPRING_Y 21
+#define APEXSEAL_Y_M_SPRING 22
+#define APEXSEAL_Y_PF_SPRING 23
+#define APEXSEAL_Y_F_PRESSURE_X 24
+#define APEXSEAL_Y_F_PRESSURE_Y 25
+#define APEXSEAL_Y_M_PRESSURE 26
+#define APEXSEAL_Y_PF_TOTAL 27
+#define APEXSEAL_Y_B_GAP 28
+
+/* modes: groove case of Algorithm 3, housing contact (h closed, h0 open), spring (s, s0) */
+#define APEXSEAL_NMODES 36
+#define APEXSEAL_MODE_Q1_H_S 0
+#define APEXSEAL_MODE_Q1_H_S0 1
+#define APEXSEAL_MODE_Q1_H0_S 2
+#define APEXSEAL_MODE_Q1_H0_S0 3
+#define APEXSEAL_MODE_N3_H_S 4
+#define APEXSEAL_MODE_N3_H_S0 5
+#define APEXSEAL_MODE_N3_H0_S 6
+#define APEXSEAL_MODE_N3_H0_S0 7
+#define APEXSEAL_MODE_P1_H_S 8
+#define APEXSEAL_MODE_P1_H_S0 9
+#define APEXSEAL_MODE_P1_H0_S 10
+#define APEXSEAL_MODE_P1_H0_S0 11
+#define APEXSEAL_MODE_N2_H_S 12
+#define APEXSEAL_MODE_N2_H_S0 13
+#define APEXSEAL_MODE_N2_H0_S 14
+#define APEXSEAL_MODE_N2_H0_S0 15
+#define APEXSEAL_MODE_P3_H_S 16
+#define APEXSEAL_MODE_P3_H_S0 17
+#define APEXSEAL_MODE_P3_H0_S 18
+#define APEXSEAL_MODE_P3_H0_S0 19
+#define APEXSEAL_MODE_Q2_H_S 20
+#define APEXSEAL_MODE_Q2_H_S0 21
+#define APEXSEAL_MODE_Q2_H0_S 22
+#define APEXSEAL_MODE_Q2_H0_S0 23
+#define APEXSEAL_MODE_Q3_H_S 24
+#define APEXSEAL_MODE_Q3_H_S0 25
+#define APEXSEAL_MODE_Q3_H0_S 26
+#define APEXSEAL_MODE_Q3_H0_S0 27
+#define APEXSEAL_MODE_N1_H_S 28
+#define APEXSEAL_MODE_N1_H_S0 29
+#define APEXSEAL_MODE_N1_H0_S 30
+#define APEXSEAL_MODE_N1_H0_S0 31
+#define APEXSEAL_MODE_P2_H_S 32
+#define APEXSEAL_MODE_P2_H_S0 33
+#define APEXSEAL_MODE_P2_H0_S 34
+#define APEXSEAL_MODE_P2_H0_S0 35
+
+typedef struct {
+  const char* label;      /* mode label, e.g. "q1_h_s" */
+  const char* function;   /* the generated CasADi function of this mode */
+  unsigned char closed[APEXSEAL_NG > 0 ? APEXSEAL_NG : 1];  /* 1 = contact closed, in guard order */
+} apexseal_mode_info;
+
+extern const apexseal_mode_info apexseal_modes[APEXSEAL_NMODES];
+
+/* The mode whose closed contacts are exactly {i : g[i] < 0}; -1 if no mode has them. */
+int apexseal_mode_index(const double* g);
+
+/* xdot = mode_<label>(theta, x, p, u) of mode number `mode`; returns 0 on success, -1 for an unknown mode. */
+int apexseal_mode_rhs(int mode, double theta, const double* x, const double* p, const double* u, double* xdot);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* APEXSEAL_MODEL_H */

@@ -1,0 +1,164 @@
+"""The manifest of a folder of generated artefacts: what went in, what came out.
+
+``manifest.json`` records the inputs of the generation (digest of the derivation's
+source and of the generator's own modules, effects, assumptions, the templates,
+the CasADi and sympy versions), their sha256 (``input_hash``, the cache key), the
+sha256 of every file written, the modes, each Function's instruction count and the
+names of the state, parameters, guards and outputs. It holds no time stamps and no
+paths, so regenerating from the same inputs gives the same bytes.
+
+Compiler flags are not an input of the generated files (the C is the same for every
+flag set); they enter the key of the compiled library instead (see ``compile.py``).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import casadi
+import sympy
+
+from ..derive.assumptions import Assumptions
+from ..derive.cache import source_digest
+from ..derive.effects import Effects
+from .store import sha256_bytes, sha256_file
+
+FORMAT = "apexseal-generated/1"
+MANIFEST_NAME = "manifest.json"
+TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
+_HERE = Path(__file__).resolve().parent
+#: the generator modules whose code shapes the generated files
+GENERATOR_MODULES = ("lower.py", "functions.py", "codegen.py", "render.py", "manifest.py", "generate.py")
+
+
+class StaleArtefactError(RuntimeError):
+    """Generated artefacts that do not match their manifest or the current inputs."""
+
+    def __init__(self, directory: Path | str, problems: list[str]):
+        self.directory = str(directory)
+        self.problems = problems
+        super().__init__(f"stale or modified generated artefacts in {directory}: " + "; ".join(problems))
+
+
+class StaleArtefactWarning(UserWarning):
+    """Artefacts were stale or modified and are being rebuilt."""
+
+
+def template_paths() -> list[Path]:
+    return sorted(p for p in TEMPLATE_DIR.iterdir() if ".in." in p.name)
+
+
+def generator_digest() -> str:
+    return sha256_bytes(b"".join(name.encode() + (_HERE / name).read_bytes() for name in GENERATOR_MODULES))
+
+
+def inputs_record(effects: Effects, assumptions: Assumptions) -> dict[str, Any]:
+    """Everything the generated files depend on (cheap: no derivation)."""
+    return {
+        "derive_source": source_digest(),
+        "generator_source": generator_digest(),
+        "effects": effects.as_dict(),
+        "assumptions": assumptions.as_dict(),
+        "templates": {p.name: sha256_file(p) for p in template_paths()},
+        "casadi": casadi.__version__,
+        "sympy": sympy.__version__,
+    }
+
+
+def hash_of(record: dict[str, Any]) -> str:
+    return sha256_bytes(json.dumps(record, sort_keys=True).encode())
+
+
+def input_hash(effects: Effects, assumptions: Assumptions) -> str:
+    """The sha256 that names the artefacts of these effects and assumptions under the current sources."""
+    return hash_of(inputs_record(effects, assumptions))
+
+
+@dataclass
+class Manifest:
+    """The parsed ``manifest.json`` plus, after :func:`generate`, the stage timings and the library."""
+
+    data: dict[str, Any]
+    directory: Path | None = None
+    #: stage -> seconds (derive, lower, codegen, render, compile); not written to the file
+    timings: dict[str, float] = field(default_factory=dict)
+    library: Path | None = None
+
+    @property
+    def input_hash(self) -> str:
+        return self.data["input_hash"]
+
+    @property
+    def files(self) -> dict[str, str]:
+        return self.data["files"]
+
+    @property
+    def c_files(self) -> list[str]:
+        return [name for name in self.files if name.endswith(".c")]
+
+    @property
+    def function_names(self) -> list[str]:
+        return list(self.data["functions"])
+
+    @property
+    def modes(self) -> list[dict[str, Any]]:
+        return self.data["modes"]
+
+    @property
+    def effects(self) -> Effects:
+        return Effects(**self.data["inputs"]["effects"])
+
+    @property
+    def assumptions(self) -> Assumptions:
+        return Assumptions(**self.data["inputs"]["assumptions"])
+
+    def dumps(self) -> str:
+        return json.dumps(self.data, indent=2) + "\n"
+
+
+def read_manifest(directory: Path) -> Manifest:
+    path = Path(directory) / MANIFEST_NAME
+    return Manifest(json.loads(path.read_text()), Path(directory))
+
+
+def verify(directory: Path, *, expected_hash: str | None = None) -> Manifest:
+    """Check a folder of artefacts against its manifest and the current inputs; raise :class:`StaleArtefactError`.
+
+    Detects: a missing or unreadable manifest, a manifest whose recorded hash does not
+    match its own inputs record, inputs that changed since generation (derivation or
+    generator source, templates, versions), other effects/assumptions than expected,
+    and files whose sha256 differs from the manifest.
+    """
+    directory = Path(directory)
+    try:
+        manifest = read_manifest(directory)
+        data = manifest.data
+        if data.get("format") != FORMAT:
+            raise StaleArtefactError(directory, [f"format {data.get('format')!r} is not {FORMAT!r}"])
+        recorded = data["inputs"]
+        effects, assumptions = manifest.effects, manifest.assumptions
+    except StaleArtefactError:
+        raise
+    except Exception as exc:  # missing, not JSON, missing keys, unknown effect names
+        raise StaleArtefactError(directory, [f"unreadable {MANIFEST_NAME} ({type(exc).__name__}: {exc})"]) from exc
+    problems = []
+    if hash_of(recorded) != data["input_hash"]:
+        problems.append("the manifest's input_hash does not match its own inputs record (edited manifest)")
+    current = inputs_record(effects, assumptions)
+    if hash_of(current) != data["input_hash"]:
+        changed = sorted(k for k in current if current[k] != recorded.get(k))
+        problems.append(f"inputs changed since generation: {', '.join(changed) or 'hash'}")
+    if expected_hash is not None and data["input_hash"] != expected_hash:
+        problems.append("generated for other effects/assumptions or sources than requested")
+    for name, digest in data["files"].items():
+        path = directory / name
+        if not path.is_file():
+            problems.append(f"{name} is missing")
+        elif sha256_file(path) != digest:
+            problems.append(f"{name} differs from the manifest (sha256)")
+    if problems:
+        raise StaleArtefactError(directory, problems)
+    return manifest

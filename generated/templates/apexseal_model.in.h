@@ -1,0 +1,75 @@
+/* apexseal_model.h: indices, mode table and mode dispatch of the generated apex-seal model.
+ * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
+ * Effects: {{ effects_label }}. Input hash: {{ input_hash }}.
+ * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
+ */
+#ifndef APEXSEAL_MODEL_H
+#define APEXSEAL_MODEL_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define APEXSEAL_INPUT_HASH "{{ input_hash }}"
+
+/* state x */
+#define APEXSEAL_NX {{ state|length }}
+{% for name in state %}
+#define APEXSEAL_X_{{ name|upper }} {{ loop.index0 }}
+{% endfor %}
+
+/* parameters p (derive.symbols.PARAMETER_NAMES) */
+#define APEXSEAL_NP {{ parameters|length }}
+{% for name in parameters %}
+#define APEXSEAL_P_{{ name|upper }} {{ loop.index0 }}
+{% endfor %}
+
+/* inputs u: chamber pressures */
+#define APEXSEAL_NU {{ inputs|length }}
+{% for name in inputs %}
+#define APEXSEAL_U_{{ name|upper }} {{ loop.index0 }}
+{% endfor %}
+
+/* contact guards g (closed while g < 0) = order of the activations a */
+#define APEXSEAL_NG {{ guards|length }}
+{% for name in guards %}
+#define APEXSEAL_G_{{ name|upper }} {{ loop.index0 }}
+{% endfor %}
+
+/* velocity guards */
+#define APEXSEAL_NVG {{ velocity_guards|length }}
+{% for name in velocity_guards %}
+#define APEXSEAL_VG_{{ name|upper }} {{ loop.index0 }}
+{% endfor %}
+
+/* outputs y */
+#define APEXSEAL_NY {{ outputs|length }}
+{% for name in outputs %}
+#define APEXSEAL_Y_{{ name|upper }} {{ loop.index0 }}
+{% endfor %}
+
+/* modes: groove case of Algorithm 3, housing contact (h closed, h0 open), spring (s, s0) */
+#define APEXSEAL_NMODES {{ modes|length }}
+{% for m in modes %}
+#define APEXSEAL_MODE_{{ m.label|upper }} {{ m.index }}
+{% endfor %}
+
+typedef struct {
+  const char* label;      /* mode label, e.g. "{{ modes[0].label }}" */
+  const char* function;   /* the generated CasADi function of this mode */
+  unsigned char closed[APEXSEAL_NG > 0 ? APEXSEAL_NG : 1];  /* 1 = contact closed, in guard order */
+} apexseal_mode_info;
+
+extern const apexseal_mode_info apexseal_modes[APEXSEAL_NMODES];
+
+/* The mode whose closed contacts are exactly {i : g[i] < 0}; -1 if no mode has them. */
+int apexseal_mode_index(const double* g);
+
+/* xdot = mode_<label>(theta, x, p, u) of mode number `mode`; returns 0 on success, -1 for an unknown mode. */
+int apexseal_mode_rhs(int mode, double theta, const double* x, const double* p, const double* u, double* xdot);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* APEXSEAL_MODEL_H */

@@ -1,0 +1,139 @@
+"""Generated artefacts: byte-identical regeneration, no machine paths, staleness detection, the CLI check."""
+
+from __future__ import annotations
+
+import getpass
+import json
+import shutil
+import warnings
+from pathlib import Path
+
+import pytest
+
+from apexseal.generated import load
+from apexseal.generated.compile import compile_library
+from apexseal.generated.generate import generate
+from apexseal.generated.load import DEFAULT_DIR, artefact_dir
+from apexseal.generated.manifest import StaleArtefactError, StaleArtefactWarning, read_manifest, verify
+
+#: the committed files besides the manifest
+COMMITTED = sorted(p.name for p in DEFAULT_DIR.iterdir() if p.is_file())
+
+
+@pytest.fixture(scope="module")
+def regenerated(tmp_path_factory):
+    out = tmp_path_factory.mktemp("regen") / "default"
+    manifest = generate(out_dir=out, compile=False, echo=None)
+    return out, manifest
+
+
+def test_default_artefacts_are_current():
+    verify(DEFAULT_DIR)
+
+
+def test_regeneration_is_byte_identical(regenerated):
+    out, manifest = regenerated
+    assert sorted(p.name for p in out.iterdir()) == COMMITTED
+    for name in COMMITTED:
+        assert (out / name).read_bytes() == (DEFAULT_DIR / name).read_bytes(), name
+    assert set(manifest.timings) == {"derive", "lower", "codegen", "render"}
+
+
+def test_no_machine_paths_or_user_names():
+    user = getpass.getuser()
+    needles = ["/home/", "/root", "/tmp", "/work", "/Users/", "C:\\", str(Path.home())]
+    if len(user) > 3:
+        needles.append(user)
+    for name in COMMITTED:
+        text = (DEFAULT_DIR / name).read_text()
+        for needle in needles:
+            assert needle not in text, (name, needle)
+
+
+def test_manifest_records_inputs_outputs_modes(loaded):
+    data = read_manifest(DEFAULT_DIR).data
+    assert set(data["inputs"]) == {"derive_source", "generator_source", "effects", "assumptions", "templates",
+                                   "casadi", "sympy"}
+    assert [m["label"] for m in data["modes"]] == list(loaded.sx.mode_labels)
+    assert data["names"]["parameters"] == list(loaded.sx.parameter_names)
+    assert data["names"]["outputs"] == list(loaded.sx.output_names)
+    assert {k: v["n_instructions"] for k, v in data["functions"].items()} == loaded.sx.n_instructions
+    assert set(data["files"]) == set(COMMITTED) - {"manifest.json"}
+
+
+@pytest.fixture
+def copy(tmp_path) -> Path:
+    dst = tmp_path / "default"
+    shutil.copytree(DEFAULT_DIR, dst)
+    verify(dst)
+    return dst
+
+
+def test_corrupted_c_file_is_detected(copy):
+    path = copy / "casadi_modes_3.c"
+    data = bytearray(path.read_bytes())
+    data[len(data) // 2] ^= 0x01  # one flipped bit
+    path.write_bytes(bytes(data))
+    with pytest.raises(StaleArtefactError, match="casadi_modes_3.c differs"):
+        verify(copy)
+    with pytest.raises(StaleArtefactError):
+        compile_library(copy, flags="quick")
+
+
+def test_missing_file_is_detected(copy):
+    (copy / "apexseal_dispatch.c").unlink()
+    with pytest.raises(StaleArtefactError, match="apexseal_dispatch.c is missing"):
+        verify(copy)
+
+
+@pytest.mark.parametrize("edit", ["hash", "effects", "derive_source", "files", "garbage"])
+def test_corrupted_manifest_is_detected(copy, edit):
+    path = copy / "manifest.json"
+    data = json.loads(path.read_text())
+    if edit == "hash":
+        data["input_hash"] = "0" * 64
+    elif edit == "effects":
+        data["inputs"]["effects"]["groove_friction"] = False
+    elif edit == "derive_source":  # consistent record, but for other derivation sources
+        from apexseal.generated.manifest import hash_of
+
+        data["inputs"]["derive_source"] = "1" * 64
+        data["input_hash"] = hash_of(data["inputs"])
+    elif edit == "files":
+        data["files"]["casadi_model.c"] = "2" * 64
+    path.write_text(json.dumps(data) if edit != "garbage" else "{ not json")
+    with pytest.raises(StaleArtefactError) as info:
+        verify(copy)
+    if edit == "derive_source":
+        assert "derive_source" in str(info.value)
+
+
+def test_stale_default_is_regenerated_into_the_cache(copy, monkeypatch):
+    (copy / "casadi_model.c").write_text("/* stale */\n")
+    monkeypatch.setattr(load, "DEFAULT_DIR", copy)
+    with pytest.warns(StaleArtefactWarning, match="casadi_model.c differs"):
+        where = artefact_dir()
+    assert where != copy
+    verify(where)
+    assert (where / "casadi_model.c").read_bytes() == (DEFAULT_DIR / "casadi_model.c").read_bytes()
+    stamp = (where / "manifest.json").stat().st_mtime_ns
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        assert artefact_dir() == where  # the cache copy is current now: used as it is
+    assert [str(w.message).startswith(f"stale or modified generated artefacts in {copy}") for w in caught] == [True]
+    assert (where / "manifest.json").stat().st_mtime_ns == stamp
+
+
+def test_cli_check(monkeypatch, copy):
+    from click.testing import CliRunner
+
+    from apexseal.commands_generate import generate as command
+
+    result = CliRunner().invoke(command, ["--check"])
+    assert result.exit_code == 0, result.output
+    assert "current" in result.output
+    (copy / "apexseal_model.h").write_text("/* edited */\n")
+    monkeypatch.setattr(load, "DEFAULT_DIR", copy)
+    result = CliRunner().invoke(command, ["--check"])
+    assert result.exit_code == 1
+    assert "STALE" in result.output

@@ -1,0 +1,90 @@
+"""Guards, case labels (Algorithm 3) and the C mode table/dispatch on states placed in each case."""
+
+from __future__ import annotations
+
+import ctypes
+
+import numpy as np
+import pytest
+
+from apexseal.derive.modes import CASES, case_of
+
+OPEN, CLOSED = 3e-6, -1e-6  # target gaps (m)
+#: case -> two groove gaps (index in b1..b4) to place; the other two must come out open
+PLACED = {
+    "q1": {0: CLOSED, 3: CLOSED}, "n3": {1: CLOSED, 2: CLOSED}, "p1": {0: CLOSED, 1: OPEN},
+    "n2": {1: CLOSED, 0: OPEN}, "p3": {2: CLOSED, 3: OPEN}, "q2": {3: CLOSED, 2: OPEN},
+    "q3": {2: CLOSED, 3: CLOSED}, "n1": {0: CLOSED, 1: CLOSED}, "p2": {0: OPEN, 1: 5 * OPEN},
+}
+#: (x position, housing label, spring label): x = 0 presses tip and spring; -1 um lifts the tip; 2.1 mm frees the spring
+AXIAL = [(0.0, "h", "s"), (-1e-6, "h0", "s"), (2.1e-3, "h", "s0")]
+
+
+def place(guards, p, u, theta, x_pos, targets):
+    """Newton on (y, phi) so that two groove gaps take their target values."""
+    z = np.zeros(2)
+    idx = list(targets)
+    want = np.array([targets[i] for i in idx])
+
+    def gaps(z):
+        return np.array(guards(theta, np.r_[x_pos, z[0], z[1], 0.0, 0.0, 0.0], p, u)).ravel()
+
+    for _ in range(30):
+        r = gaps(z)[idx] - want
+        if np.abs(r).max() < 1e-13:
+            break
+        J = np.column_stack([(gaps(z + h)[idx] - gaps(z - h)[idx]) / 2e-9 for h in (np.r_[1e-9, 0], np.r_[0, 1e-9])])
+        z = z - np.linalg.solve(J, r)
+    return np.r_[x_pos, z[0], z[1], 0.0, 0.0, 0.0], gaps(z)
+
+
+@pytest.fixture(scope="module")
+def clib(loaded):
+    lib = ctypes.CDLL(str(loaded.library))
+    dp = ctypes.POINTER(ctypes.c_double)
+    lib.apexseal_mode_index.argtypes = [dp]
+    lib.apexseal_mode_rhs.argtypes = [ctypes.c_int, ctypes.c_double, dp, dp, dp, dp]
+    return lib
+
+
+def ptr(a: np.ndarray):
+    return a.ctypes.data_as(ctypes.POINTER(ctypes.c_double))
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_states_placed_in_each_case(loaded, clib, params, case):
+    fns = loaded.c
+    u = np.array([3e5, 1.5e5])
+    for x_pos, h, s in AXIAL:
+        x, g = place(fns.guards, params, u, 0.7, x_pos, PLACED[case])
+        closed = g < 0
+        assert case_of(*closed[:4]) == case, (x_pos, g)
+        assert tuple(closed[:4]) == CASES[case]
+        assert (h == "h") == closed[4] and (s == "s") == closed[5], g
+        label = loaded.sx.mode_of(closed)
+        assert label == f"{case}_{h}_{s}"
+        # the C mode table and dispatch agree with Python
+        index = clib.apexseal_mode_index(ptr(np.ascontiguousarray(g)))
+        assert loaded.manifest.modes[index]["label"] == label
+        xdot = np.zeros(6)
+        assert clib.apexseal_mode_rhs(index, 0.7, ptr(x), ptr(params), ptr(u), ptr(xdot)) == 0
+        want = np.array(fns.modes[label](0.7, x, params, u)).ravel()
+        np.testing.assert_array_equal(xdot, want)
+        np.testing.assert_allclose(np.array(fns.rhs_switched(0.7, x, params, u)).ravel(), want, rtol=1e-13)
+
+
+def test_impossible_groove_pair_has_no_mode(clib):
+    g = np.array([-1e-6, -1e-6, 1e-6, -1e-6, -1e-6, -1e-6])  # b2 and b4 closed at once
+    assert case_of(*(g[:4] < 0)).startswith("x")
+    assert clib.apexseal_mode_index(ptr(g)) == -1
+    assert clib.apexseal_mode_rhs(10_000, 0.0, ptr(g), ptr(g), ptr(g), ptr(np.zeros(6))) == -1
+
+
+def test_header_indices_follow_the_names(loaded):
+    text = (loaded.source_dir / "apexseal_model.h").read_text()
+    for prefix, names in (("P", loaded.sx.parameter_names), ("X", loaded.sx.state_names),
+                          ("G", loaded.sx.guard_names), ("Y", loaded.sx.output_names)):
+        for i, name in enumerate(names):
+            assert f"#define APEXSEAL_{prefix}_{name.upper()} {i}\n" in text
+    for i, label in enumerate(loaded.sx.mode_labels):
+        assert f"#define APEXSEAL_MODE_{label.upper()} {i}\n" in text

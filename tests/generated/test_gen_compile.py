@@ -1,0 +1,101 @@
+"""compile_function on an integrator, the library cache (tampering, concurrency), the no-compiler fallback."""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import warnings
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from apexseal.generated import compile as comp
+from apexseal.generated.compile import CompilerFallbackWarning, compile_function
+from apexseal.generated.load import load_functions
+from apexseal.generated.manifest import StaleArtefactWarning
+
+
+def bouncing_ball(name: str = "ball") -> ca.Function:
+    """A small erk integrator with a zero-crossing event and a transition (restitution as parameter)."""
+    h = ca.SX.sym("x", 2)
+    t = ca.SX.sym("t")
+    e = ca.SX.sym("p")
+    idx = ca.SX.sym("index")
+    dae = {"x": h, "t": t, "p": e, "ode": ca.vertcat(h[1], -9.81), "zero": h[0]}
+    tr = ca.Function("tr", {"index": idx, "t": t, "x": h, "p": e, "post_x": ca.vertcat(h[0], -e * h[1])},
+                     ca.event_in(), ca.event_out())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return ca.integrator(name, "erk", dae, 0, np.linspace(0, 3, 31)[1:],
+                             {"transition": tr, "reltol": 1e-9, "abstol": 1e-12, "max_events": 100})
+
+
+@pytest.fixture
+def fresh_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("APEXSEAL_CACHE", str(tmp_path / "cache"))
+    return tmp_path / "cache"
+
+
+def test_compile_function_erk_integrator(fresh_cache):
+    F = bouncing_ball()
+    C = compile_function(F, flags="quick")
+    assert C.class_name() != F.class_name()  # an external, not the VM integrator
+    want = np.array(F(x0=[5, 0], p=0.8)["xf"])
+    got = np.array(C(x0=[5, 0], p=0.8)["xf"])
+    np.testing.assert_allclose(got, want, rtol=1e-14, atol=1e-14)
+    assert len(list((fresh_cache / "lib").glob("*/fn_ball.so"))) == 1
+    compile_function(F, flags="quick")  # a cache hit: nothing new
+    assert len(list((fresh_cache / "lib").glob("*/fn_ball.so"))) == 1
+
+
+def _tiny(name: str) -> ca.Function:
+    x = ca.SX.sym("x", 2)
+    return ca.Function(name, [x], [ca.sin(x[0]) * x[1] + 3])
+
+
+def test_modified_library_is_rebuilt(fresh_cache):
+    f = _tiny("tiny")
+    compile_function(f, flags="quick")
+    (so,) = (fresh_cache / "lib").glob("*/fn_tiny.so")
+    so.write_bytes(so.read_bytes()[:-16])  # truncated / tampered
+    with pytest.warns(StaleArtefactWarning, match="does not match its build record"):
+        g = compile_function(f, flags="quick")
+    assert float(g([0.5, 2.0])) == pytest.approx(np.sin(0.5) * 2 + 3, rel=1e-15)
+
+
+def _compile_in_child(cache: str, q) -> None:
+    import os
+
+    os.environ["APEXSEAL_CACHE"] = cache
+    g = compile_function(_tiny("raced"), flags="quick")
+    q.put(float(g([0.5, 2.0])))
+
+
+def test_two_processes_compile_at_once(fresh_cache):
+    ctx = mp.get_context("spawn")
+    q = ctx.Queue()
+    procs = [ctx.Process(target=_compile_in_child, args=(str(fresh_cache), q)) for _ in range(2)]
+    for p in procs:
+        p.start()
+    for p in procs:
+        p.join(60)
+        assert p.exitcode == 0
+    assert [q.get(timeout=5) for _ in procs] == [np.sin(0.5) * 2 + 3] * 2
+    assert len(list((fresh_cache / "lib").glob("*/fn_raced.so"))) == 1
+    assert not list((fresh_cache / "lib").glob(".build-*"))  # no temporary build folders left
+
+
+@pytest.mark.parametrize("cc", ["/nonexistent/gcc", "false"])
+def test_no_compiler_falls_back_to_sx(monkeypatch, params, cc):
+    monkeypatch.setenv("APEXSEAL_CC", cc)
+    comp.compiler_identity.cache_clear()
+    with pytest.warns(CompilerFallbackWarning, match="slower per evaluation"):
+        L = load_functions(flags="quick")
+    assert not L.compiled and L.library is None
+    x = np.array([1e-6, -2e-6, 1e-3, 0.01, -0.02, 3.0])
+    u = np.array([3e5, 1e5])
+    np.testing.assert_array_equal(np.array(L.c.rhs_switched(0.4, x, params, u)),
+                                  np.array(L.sx.rhs_switched(0.4, x, params, u)))
+    f = _tiny("nocc")
+    with pytest.warns(CompilerFallbackWarning):
+        assert compile_function(f, flags="quick") is f

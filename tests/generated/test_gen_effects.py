@@ -1,0 +1,43 @@
+"""An effect that is off costs nothing and equals the full model with its coefficients at zero."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from gen_helpers import parameter_vector, random_point
+
+from apexseal.derive import Effects, cached_model
+from apexseal.generated.functions import build_functions
+
+#: effect switched off -> (parameter changes, pressures forced to zero) that give the same right-hand side
+EQUIVALENT = {
+    "groove_friction": ({"mu2": 0.0}, False),
+    "housing_damping": ({"cw": 0.0}, False),
+    "spring_friction": ({"mus": 0.0}, False),
+    "chamber_pressure": ({}, True),
+}
+
+
+@pytest.mark.parametrize("effect", list(EQUIVALENT))
+def test_effect_off_is_cheaper_and_equal_to_zero_coefficient(loaded, effect, rng):
+    full = loaded.sx
+    off = build_functions(cached_model(Effects.from_mapping({effect: False})))
+    assert off.guard_names == full.guard_names
+    assert off.n_instructions["rhs"] < full.n_instructions["rhs"]
+    assert off.n_instructions["rhs_switched"] < full.n_instructions["rhs_switched"]
+    assert sum(off.n_instructions[f.name()] for f in off.modes.values()) < sum(
+        full.n_instructions[f.name()] for f in full.modes.values())
+
+    changes, zero_pressure = EQUIVALENT[effect]
+    p = parameter_vector()
+    p0 = parameter_vector(**changes)
+    for _ in range(8):
+        theta, x, u = random_point(rng)
+        a = rng.integers(0, 2, len(full.guard_names)).astype(float)
+        got = np.array(off.rhs(theta, x, a, p, u)).ravel()
+        want = np.array(full.rhs(theta, x, a, p0, np.zeros(2) if zero_pressure else u)).ravel()
+        np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+        label = full.mode_labels[int(rng.integers(len(full.mode_labels)))]
+        got = np.array(off.modes[label](theta, x, p, u)).ravel()
+        want = np.array(full.modes[label](theta, x, p0, np.zeros(2) if zero_pressure else u)).ravel()
+        np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
