@@ -32,7 +32,9 @@ def case_of(closed_b1: bool, closed_b2: bool, closed_b3: bool, closed_b4: bool) 
     front = "1" if closed_b1 else "3" if closed_b3 else "2"
     name = back + front
     if closed_b2 and closed_b4 or closed_b1 and closed_b3:
-        return "x" + name[1]  # both sides at once: geometrically impossible with Wg > Ws
+        # both back contacts at once is impossible (b2 + b4 = Wg - Ws cos(phi) > 0); both front contacts
+        # only past |phi| ~ 11 deg for the case study: outside the paper's nine cases
+        return "x" + name[1]
     return name
 
 

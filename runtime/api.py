@@ -11,10 +11,14 @@ from .simulate import RunSettings, run
 
 
 def model_functions(scene):
-    """The CasADi Functions of a scene's effects and assumptions (generated, cached, compiled when possible)."""
+    """The SX Functions of a scene's effects and assumptions (cached derivation).
+
+    The integrators embed these and are compiled to C whole (runtime/event_integrator.py), so the
+    model library itself need not be compiled here.
+    """
     from ..generated.load import load_functions
 
-    return load_functions(scene.effects, scene.assumptions).sx
+    return load_functions(scene.effects, scene.assumptions, compiled=False).sx
 
 
 def settings_of(scene, **overrides) -> RunSettings:

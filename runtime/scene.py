@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects
 from apexseal.derive.geometry import initial_wall_deflection
@@ -101,7 +102,9 @@ def _parse_toml(text: str, name: str) -> dict[str, Any]:
 def derive_parameters(sections: dict[str, Section], effects: Effects) -> dict[str, float]:
     """Every parameter of ``derive.symbols.PARAMETERS``, in SI, from validated sections.
 
-    Derived: ``omega`` from rpm; ``Li = L - ds1`` (Eq. 12); ``ms = density Ws (ds1 + ds2) Bs``
+    Derived: ``omega`` from rpm; ``Li = L - ds1 + delta_w`` (Eq. 12: the seal tip, ds1 above C, then
+    presses delta_w into the housing at Rh - 2 r sin(theta) = L from the chord centre, as Eq. 33 assumes);
+    ``ms = density Ws (ds1 + ds2) Bs``
     and ``Icg = ms (Ws^2 + (ds1 + ds2)^2) / 12`` (Eq. 80) unless given; ``zeta0`` from
     ``[seal]`` or else the groove truncation z (Eqs. 6-8); ``delta_w`` from the rest
     balance ``ks delta_s = kw delta_w`` (Eq. 9) when both the spring and the housing
@@ -123,7 +126,6 @@ def derive_parameters(sections: dict[str, Section], effects: Effects) -> dict[st
         "omega": op.omega,
         "r": m.r,
         "L": m.L,
-        "Li": m.L - s.ds1,
         "zeta0": zeta0,
         "Ws": s.Ws,
         "Wg": s.Wg,
@@ -153,6 +155,7 @@ def derive_parameters(sections: dict[str, Section], effects: Effects) -> dict[st
         values["delta_w"] = float(expr.subs({sym: values[sym.name] for sym in expr.free_symbols}))
     else:
         values["delta_w"] = 0.0
+    values["Li"] = m.L - s.ds1 + values["delta_w"]
     missing = set(PARAMETER_NAMES) - set(values)
     if missing:  # pragma: no cover - guards derive.symbols growing a parameter
         raise RuntimeError(f"scene gives no value for parameters {sorted(missing)}; update derive_parameters")

@@ -60,6 +60,7 @@ HEADER_LINES = (
 @lru_cache(maxsize=8)
 def _area_function(r: float, L: float) -> Callable[[np.ndarray], np.ndarray]:
     import sympy as sp
+
     from apexseal.derive import geometry
     from apexseal.derive.symbols import P, theta
 

@@ -16,10 +16,11 @@ import difflib
 import math
 from typing import Annotated, Any
 
-from apexseal.derive.assumptions import CHOICES
-from apexseal.derive.effects import EFFECTS
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, create_model
 from pydantic_core import PydanticCustomError
+
+from apexseal.derive.assumptions import CHOICES
+from apexseal.derive.effects import EFFECTS
 
 from .methods import METHODS
 from .scene_errors import MISSING, Problem

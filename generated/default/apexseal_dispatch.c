@@ -1,6 +1,6 @@
 /* apexseal_dispatch.c: mode table and dispatch over the generated mode functions.
  * Rendered by apexseal from templates/apexseal_dispatch.in.c; do not edit (run `apexseal generate`).
- * Input hash: 438097cc12004f43d63785b1de35048fd45e79aae1389283c63ad24d3fbd46f1.
+ * Input hash: 7400199c4daf9ad00283f4c31010cc7cbaea934abe63952ec7f718c220fe961b.
  */
 #include "apexseal_model.h"
 #include "casadi_model.h"

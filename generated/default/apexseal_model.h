@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices, mode table and mode dispatch of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 438097cc12004f43d63785b1de35048fd45e79aae1389283c63ad24d3fbd46f1.
+ * Effects: all. Input hash: 7400199c4daf9ad00283f4c31010cc7cbaea934abe63952ec7f718c220fe961b.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "438097cc12004f43d63785b1de35048fd45e79aae1389283c63ad24d3fbd46f1"
+#define APEXSEAL_INPUT_HASH "7400199c4daf9ad00283f4c31010cc7cbaea934abe63952ec7f718c220fe961b"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -7,6 +7,7 @@ the cases themselves, in test_scene_validation.py and test_scene_pressure.py.)
 from pathlib import Path
 
 import pytest
+
 from apexseal.runtime.scene_schema import SOLVER_METHODS, key_paths
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "scenes.md"

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from apexseal.runtime.scene import load_scene
 from apexseal.runtime.scene_errors import SceneError
 from apexseal.runtime.scene_pressure import (

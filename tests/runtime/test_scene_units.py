@@ -3,6 +3,7 @@
 import math
 
 import pytest
+
 from apexseal.runtime.scene_units import QuantityError, Range, parse_pressure_unit, parse_quantity
 
 

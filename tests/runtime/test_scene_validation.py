@@ -8,6 +8,7 @@ fragments of the message that state the allowed range (or the allowed values).
 from pathlib import Path
 
 import pytest
+
 from apexseal.runtime.scene import Scene, load_scene
 from apexseal.runtime.scene_errors import MISSING, Problem, SceneError
 from apexseal.runtime.scene_schema import SECTIONS
