@@ -116,6 +116,9 @@ def _atomic(path: Path, write, binary: bool = False) -> None:
     try:
         with os.fdopen(fd, "wb" if binary else "w", newline=None if binary else "") as fh:
             write(fh)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; a result is an ordinary file
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
