@@ -140,3 +140,96 @@ def test_summary_has_the_promised_fields(erk_result):
     assert abs(sum(s["mode_fraction"].values()) - 1) < 1e-12
     assert s["mean_friction_power_W"]["total"] > 0
     assert s["extremes"]["y"]["min"] <= s["extremes"]["y"]["max"]
+
+
+class _FlakyEngine:
+    """Wraps a real engine; raises on the given revolution (to test that nothing computed is lost)."""
+
+    def __init__(self, engine, fail_on: int, error: BaseException):
+        self.engine, self.fail_on, self.error, self.calls = engine, fail_on, error, 0
+        self.compiled = False
+        self.n_samples = engine.n_samples
+
+    def run(self, *args):
+        self.calls += 1
+        if self.calls == self.fail_on:
+            raise self.error
+        return self.engine.run(*args)
+
+
+def _flaky_run(scene, functions, error):
+    from apexseal.runtime.api import settings_of
+    from apexseal.runtime.simulate import make_engine, run
+
+    st = settings_of(scene, samples_per_revolution=72, compile_c=False)
+    engine = _FlakyEngine(make_engine(functions.sx, st), 2, error)
+    return run(functions.sx, scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=3,
+               pressure=scene.pressure.interval_means, engine=engine)
+
+
+def test_ctrl_c_keeps_the_finished_revolutions(default_scene, default_functions):
+    r = _flaky_run(default_scene, default_functions, KeyboardInterrupt())
+    assert r.status == "interrupted"
+    assert r.n == 1 + 72  # the initial sample and the one integrator call (a revolution) that finished
+    assert "Ctrl-C" in r.stop.reason and r.stop.theta == pytest.approx(r.theta[-1])
+
+
+class _FailsBeyond:
+    """Wraps a real engine; fails whenever a call reaches past a crank angle (a persistent solver failure)."""
+
+    def __init__(self, engine, theta_fail: float):
+        self.engine, self.theta_fail = engine, theta_fail
+        self.compiled, self.n_samples = False, engine.n_samples
+
+    def run(self, z0, params, theta0, pressures):
+        span = 2 * np.pi * self.n_samples / 72
+        if theta0 + span > self.theta_fail:
+            raise RuntimeError("CV_TOO_MUCH_WORK (simulated)")
+        return self.engine.run(z0, params, theta0, pressures)
+
+
+def test_solver_failure_keeps_samples_and_says_where(default_scene, default_functions, monkeypatch):
+    from apexseal.runtime import simulate as sim
+    from apexseal.runtime.api import settings_of
+
+    real = sim.make_engine
+    fail_at = 2 * np.pi + np.radians(100)
+    monkeypatch.setattr(sim, "make_engine", lambda *a, **k: _FailsBeyond(real(*a, **k), fail_at))
+    st = settings_of(default_scene, samples_per_revolution=72, compile_c=False)
+    r = sim.run(default_functions.sx, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6),
+                revolutions=3, pressure=default_scene.pressure.interval_means)
+    assert r.status == "failed"
+    assert r.theta[-1] <= fail_at and r.theta[-1] > 2 * np.pi  # the first revolution and part of the second kept
+    assert "CV_TOO_MUCH_WORK" in r.stop.reason and r.stop.mode
+    assert np.degrees(r.stop.theta) == pytest.approx(np.degrees(r.theta[-1]), abs=5.0)
+    assert np.isfinite(r.state).all()
+
+
+def test_friction_regularisation_converges_as_the_width_shrinks(default_scene, default_functions):
+    """tanh(v / v_eps) friction: shrinking v_eps 4x at a time, the cycle's friction power converges.
+
+    Measured (README, "Friction"): 28.0, 27.1, 26.8, 26.7 W for 1, 0.25, 0.0625, 0.0156 mm/s: the
+    default 1 mm/s is within 5 % of the limit; the successive differences must shrink.
+    """
+    powers = []
+    for width in ("1 mm/s", "0.25 mm/s", "0.0625 mm/s"):
+        scene = default_scene.with_overrides(**{"friction.v_eps": width})
+        r = _run(scene, default_functions, method="erk", rtol=1e-8, samples_per_revolution=90, compile_c=False)
+        assert r.ok
+        powers.append(r.outputs["Pf_total"][1:].mean())
+    d1, d2 = abs(powers[0] - powers[1]), abs(powers[1] - powers[2])
+    assert d2 < 0.6 * d1, powers
+    assert d1 / powers[2] < 0.06, powers
+
+
+def test_until_periodic_stops_early(default_scene, default_functions):
+    """Without chamber pressure the seal settles; the run stops once a revolution repeats."""
+    quiet = default_scene.with_overrides(**{"pressure.source": "none", "pressure.file": None, "pressure.unit": None,
+                                            "effects.chamber_pressure": False,
+                                            "operation.until_periodic": True, "operation.periodic_tol": 1e-4})
+    r = _run(quiet, default_functions, method="erk", rtol=1e-8, samples_per_revolution=72, revolutions=12,
+             compile_c=False)
+    assert r.ok
+    revs = r.info["solver_stats"].get("periodic_after")
+    assert revs is not None and revs < 12
+    assert r.theta[-1] == pytest.approx(2 * np.pi * revs)
