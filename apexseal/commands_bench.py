@@ -1,0 +1,58 @@
+"""``apexseal bench``: the work-precision benchmark (runtime/bench), written to docs/bench/ by default."""
+
+from __future__ import annotations
+
+import shlex
+import time
+from pathlib import Path
+
+import click
+
+
+def _command_line(ctx: click.Context) -> str:
+    """The command as typed, rebuilt from the options that differ from their defaults."""
+    words = ["apexseal", "bench"]
+    for param in ctx.command.params:
+        value = ctx.params.get(param.name)
+        if not isinstance(param, click.Option) or value in (None, "", False) or value == param.default:
+            continue
+        words.append(param.opts[0])
+        if not param.is_flag:
+            words.append(shlex.quote(str(value)))
+    return " ".join(words)
+
+
+@click.command()
+@click.option("--quick", is_flag=True, help="Smaller run (< 2 min): default scene, fewer methods, tolerances, repeats.")
+@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=Path("docs/bench"), show_default=True,
+              help="Folder for results.json, table.md, effects.md, work-precision.png.")
+@click.option("--methods", default="", help="Comma-separated method ids to keep (e.g. erk-C,scipy-RK45).")
+@click.option("--scenes", default="", help="Comma-separated scenes to keep (default, stiff).")
+@click.option("--samples", type=click.IntRange(4, 100000), help="Output samples per span (default 360).")
+@click.option("--span", "span_deg", type=click.FloatRange(1, 360), help="Crank angle integrated, deg (default 360).")
+@click.option("--settle", type=click.IntRange(0, 100), help="Settling revolutions before the span (default 3).")
+@click.option("--repeats", type=click.IntRange(1, 100), help="Timed runs after the warm-up.")
+@click.option("--no-effects", is_flag=True, help="Skip the effects-cost table.")
+@click.option("--no-check", is_flag=True, help="Skip checking the reference with a second method.")
+@click.option("--flags", type=click.Choice(["optimised", "quick"]), help="C compiler flag set (default optimised).")
+def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_effects, no_check, flags) -> None:
+    """Work-precision benchmark: error against CPU time for every method, targets, effects cost."""
+    from .runtime.bench.config import PRESETS
+    from .runtime.bench.output import write_outputs
+    from .runtime.bench.runner import run_benchmark
+
+    cfg = PRESETS["quick" if quick else "full"]()
+    split = lambda s: tuple(x.strip() for x in s.split(",") if x.strip())  # noqa: E731
+    try:
+        cfg = cfg.restricted(methods=split(methods), scenes=split(scenes), samples=samples, span_deg=span_deg,
+                             settle=settle, repeats=repeats, flags=flags, effects=False if no_effects else None,
+                             check_reference=False if no_check else None)
+    except ValueError as err:
+        raise click.BadParameter(str(err)) from err
+    command = _command_line(click.get_current_context())
+    t0 = time.perf_counter()
+    results = run_benchmark(cfg, log=lambda msg: click.echo(msg, err=True))
+    paths = write_outputs(results, out, command)
+    click.echo(f"wrote {', '.join(str(p) for p in paths.values())} in {(time.perf_counter() - t0) / 60:.1f} min")
+    for t in results.get("targets", []):
+        click.echo(f"  [{t['status']:>7}] {t['scene']}: {t['target']}: {t['text']}")

@@ -1,0 +1,111 @@
+"""Compile many CasADi Functions before timing starts: C generated one by one, gcc run in parallel.
+
+``generated.compile.compile_function`` generates, compiles and loads one Function
+at a time. The benchmark needs ~25 integrators (one per tolerance: the tolerance is
+a constant of the generated C), so it fills the same content-hash cache first,
+with ``workers`` compilers at once: C generation stays serial (CasADi symbolics
+are not thread-safe); only the compiler subprocesses overlap. Afterwards the
+engines are built with ``compile_c=True`` and find their libraries in the cache.
+Compilation never overlaps a timed run.
+
+The cold compile of one integrator (for the "code generation pays for itself"
+estimate) is measured in a private, empty cache, so a warm user cache does not
+hide it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import resource
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import casadi as ca
+
+
+def _stem(name: str) -> str:
+    # the file stem generated.compile.compile_function uses, so that its cache key is the one filled here
+    return "fn_" + re.sub(r"\W", "_", name)
+
+
+def _children_cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def precompile(functions: list[ca.Function], *, flags: str, workers: int = 2, log=None) -> dict:
+    """Compile every Function into the cache.
+
+    Returns the phase totals and ``builds``: one record per input Function, in order
+    (C size, compile wall time in this run, ~0 when it was already cached).
+    """
+    from ...generated.compile import CompilerUnavailable, build_library
+    from ...generated.store import sha256_file
+
+    tmp = tempfile.TemporaryDirectory(prefix="apexseal-bench-")
+    jobs, index, seen = [], [], {}
+    with tmp:
+        for i, fn in enumerate(functions):
+            folder = Path(tmp.name) / str(i)
+            folder.mkdir()
+            stem = _stem(fn.name())
+            cg = ca.CodeGenerator(f"{stem}.c")
+            cg.add(fn)
+            cg.generate(str(folder) + os.sep)
+            src = folder / f"{stem}.c"
+            payload = {"kind": "function", "name": fn.name(), "c_sha256": sha256_file(src)}
+            if payload["c_sha256"] not in seen:
+                seen[payload["c_sha256"]] = len(jobs)
+                jobs.append((fn.name(), payload, src, stem, src.stat().st_size))
+            index.append(seen[payload["c_sha256"]])
+
+        def build(job):
+            name, payload, src, stem, size = job
+            w0 = time.perf_counter()
+            try:
+                build_library(payload, [src], f"{stem}.so", flags=flags)
+                err = None
+            except CompilerUnavailable as exc:
+                err = str(exc)
+            return {"name": name, "c_sha256": payload["c_sha256"], "c_bytes": size, "wall_s": time.perf_counter() - w0,
+                    "error": err}
+
+        w0, c0 = time.perf_counter(), _children_cpu()
+        with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
+            builds = list(pool.map(build, jobs))
+        total = {"functions": len(jobs), "wall_s": time.perf_counter() - w0, "compiler_cpu_s": _children_cpu() - c0,
+                 "workers": workers, "builds": [builds[i] for i in index]}
+    if log:
+        log(f"  compiled {len(jobs)} functions in {total['wall_s']:.1f} s wall "
+            f"({total['compiler_cpu_s']:.1f} s compiler CPU, {workers} at a time; cached ones take ~0 s)")
+    return total
+
+
+@contextlib.contextmanager
+def private_cache():
+    """Point apexseal's cache (``$APEXSEAL_CACHE``) at an empty temporary folder for the block."""
+    old = os.environ.get("APEXSEAL_CACHE")
+    with tempfile.TemporaryDirectory(prefix="apexseal-cold-") as d:
+        os.environ["APEXSEAL_CACHE"] = d
+        try:
+            yield Path(d)
+        finally:
+            if old is None:
+                os.environ.pop("APEXSEAL_CACHE", None)
+            else:
+                os.environ["APEXSEAL_CACHE"] = old
+
+
+def cold_compile(fn: ca.Function, *, flags: str) -> dict:
+    """Generate and compile ``fn`` from scratch (empty cache): wall and compiler CPU seconds, C size."""
+    from ...generated.compile import compile_function
+
+    with private_cache():
+        w0, c0 = time.perf_counter(), _children_cpu()
+        compile_function(fn, flags=flags)
+        wall, cpu = time.perf_counter() - w0, _children_cpu() - c0
+    return {"function": fn.name(), "wall_s": wall, "compiler_cpu_s": cpu, "flags": flags}

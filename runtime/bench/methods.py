@@ -1,0 +1,95 @@
+"""Engines for the CasADi methods of the benchmark, built once and shared by every scene of the same model.
+
+An engine integrates one span from ``z0`` (``run(z0, params, theta0, pressures)``);
+parameters are inputs, so the default and the stiff scene share every engine (and
+every compiled library). Event and stepper methods come from the runtime
+(``runtime.simulate.make_engine``), the switched-RHS RK4 from runtime/bench/rk4.py.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..simulate import OMEGA, RunSettings, make_engine
+from .config import MethodSpec
+from .rk4 import RK4Integrator
+
+
+def settings_for(spec: MethodSpec, value: float, *, samples: int, span: float, flags: str, compiled: bool,
+                 event_tol: float | None = None) -> RunSettings:
+    """RunSettings for one point. Steps are per revolution; Euler and collocation count them per span."""
+    per_span = spec.method in ("euler", "collocation")
+    steps = int(round(value * span / (2 * math.pi))) if per_span else int(value)
+    kw = {"event_tol": event_tol} if event_tol is not None else {}
+    return RunSettings(method=spec.method, rtol=float(value) if spec.sweep == "rtol" else 1e-6,
+                       steps_per_revolution=steps if spec.sweep == "steps" else RunSettings.steps_per_revolution,
+                       samples_per_revolution=samples, compile_c=compiled, flags=flags, **kw)
+
+
+def build_engine(functions, spec: MethodSpec, value: float, *, samples: int, span: float, flags: str, compiled: bool,
+                 event_tol: float | None = None):
+    if spec.kind == "rk4":
+        n_par = functions.rhs_switched.size1_in(2)
+        return RK4Integrator(functions.rhs_switched, functions.guards, n_par, OMEGA, n_samples=samples,
+                             steps=int(round(value * span / (2 * math.pi))), span=span, compile_c=compiled, flags=flags)
+    st = settings_for(spec, value, samples=samples, span=span, flags=flags, compiled=compiled, event_tol=event_tol)
+    return make_engine(functions, st, n_samples=samples, span=span)
+
+
+def compile_target(engine):
+    """The CasADi Function that compiling this engine would generate to C (None: nothing to compile)."""
+    return getattr(engine, "vm", None) or getattr(engine, "function", None)
+
+
+def normalise_stats(raw: dict, source: str) -> dict:
+    """steps / rhs evaluations / events / rejected steps / Jacobians / integrator calls, where known."""
+    names = {"n_steps": "steps", "n_rhs": "rhs_evaluations", "n_events": "events", "n_reject": "rejected_steps",
+             "n_jac": "jacobians", "n_calls": "integrator_calls"}
+    out = {v: int(raw[k]) for k, v in names.items() if k in raw and isinstance(raw[k], int | float)}
+    out["source"] = source
+    return out
+
+
+class EngineCache:
+    """Engines keyed by (model, method, setting, compiled, grid); also records their build times."""
+
+    def __init__(self, *, samples: int, span: float, flags: str):
+        self.samples, self.span, self.flags = samples, span, flags
+        self._engines: dict = {}
+        self.build_s: dict = {}
+
+    def key(self, model: str, spec: MethodSpec, value: float, compiled: bool, event_tol=None):
+        return (model, spec.kind, spec.method, spec.sweep, float(value), compiled, event_tol)
+
+    def get(self, model: str, functions, spec: MethodSpec, value: float, *, compiled: bool, event_tol=None):
+        k = self.key(model, spec, value, compiled, event_tol)
+        if k not in self._engines:
+            w0 = time.perf_counter()
+            self._engines[k] = build_engine(functions, spec, value, samples=self.samples, span=self.span,
+                                            flags=self.flags, compiled=compiled, event_tol=event_tol)
+            self.build_s[k] = time.perf_counter() - w0
+        return self._engines[k]
+
+
+    def reference(self, model: str, functions, rtol: float, event_tol: float, *, compiled: bool = True):
+        """The reference engine: erk at ``rtol`` with events located to ``event_tol``."""
+        from .config import METHODS
+
+        return self.get(model, functions, METHODS["erk-C"], rtol, compiled=compiled, event_tol=event_tol)
+
+    def settle(self, model: str, functions, rtol: float, event_tol: float):
+        """Engine and settings for settling with the reference method, whole revolutions of ``samples`` each."""
+        st = RunSettings(method="erk", rtol=rtol, samples_per_revolution=self.samples, flags=self.flags,
+                         event_tol=event_tol)
+        if math.isclose(self.span, 2 * math.pi):
+            return self.reference(model, functions, rtol, event_tol), st
+        return make_engine(functions, st), st
+
+
+def run_engine(engine, problem, z0: np.ndarray | None = None, pressures: np.ndarray | None = None):
+    """One span of ``problem`` with ``engine`` (z0 and pressures precomputed by the caller when timing)."""
+    return engine.run(problem.z0 if z0 is None else z0, problem.params, problem.theta0,
+                      problem.pressures if pressures is None else pressures)

@@ -1,0 +1,130 @@
+"""One point of the diagram: a method at one setting on one problem, timed, checked against the reference.
+
+Failures (solver errors, exceeded CPU budgets, non-finite states) are points too,
+with ``status = "failed"`` and the reason; they are never dropped.
+
+Solver statistics: compiled integrators report none, so for them the same
+integrator is run once more interpreted (CasADi VM, identical algorithm and
+settings, so identical counts); that run's CPU time is kept as
+``interpreted_cpu_s``. Euler and the RK4 fold have known step counts; their
+contact switches are counted on the output grid (a lower bound: a bounce inside
+one output interval is not seen). Stepper methods count their integrator calls
+and the events their Python loop located.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+from .baseline_scipy import solve
+from .config import MethodSpec
+from .methods import normalise_stats
+from .metrics import errors, trajectory
+from .timing import measure, timed
+
+
+@contextlib.contextmanager
+def captured_stdout():
+    """Collect what C code prints on file descriptor 1 (CasADi dumps a failing Function's inputs there)."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    with tempfile.TemporaryFile(mode="w+b") as tmp:
+        os.dup2(tmp.fileno(), 1)
+        box = {"text": ""}
+        try:
+            yield box
+        finally:
+            sys.stdout.flush()
+            os.dup2(saved, 1)
+            os.close(saved)
+            tmp.seek(0)
+            box["text"] = tmp.read().decode(errors="replace")
+
+
+def _base(problem, spec: MethodSpec, value: float) -> dict:
+    return {"scene": problem.name, "method": spec.id, "label": spec.label, "family": spec.family, "sweep": spec.sweep,
+            "value": value, "generated_c": spec.generated_c}
+
+
+def _failure(point: dict, exc: BaseException, cpu_s: float) -> dict:
+    reason = str(exc).strip().splitlines()[-1] if str(exc).strip() else type(exc).__name__
+    return point | {"status": "failed", "reason": f"{type(exc).__name__}: {reason}"[:300], "timing": None,
+                    "cpu_s_until_failure": cpu_s, "load_average": os.getloadavg()[0]}
+
+
+def _analyse(point: dict, problem, ref, out, timing) -> dict:
+    traj = trajectory(problem, out.z)
+    err = errors(traj, ref)
+    status = "ok" if math.isfinite(err["state"]) else "failed"
+    point |= {"status": status, "error": err, "mean_friction_power_W": traj.mean_friction_power,
+              "timing": timing.as_dict(), "counted_switches": int(traj.events.sum())}
+    if status == "failed":
+        point["reason"] = "non-finite state"
+    return point
+
+
+def casadi_point(problem, ref, spec: MethodSpec, value: float, engine, *, repeats: int, slow_run_s: float,
+                 budget_s: float | None, stats_engine=None, build_s: float | None = None) -> dict:
+    point = _base(problem, spec, value) | {"engine_build_s": build_s, "compiled": bool(getattr(engine, "compiled", False))}
+    z0, P = problem.z0, problem.pressures
+
+    def call():
+        return engine.run(z0, problem.params, problem.theta0, P)
+
+    c0 = time.process_time()
+    with captured_stdout() as printed:
+        try:
+            out, timing = measure(call, repeats=repeats, slow_run_s=slow_run_s, budget_s=budget_s)
+        except Exception as exc:  # noqa: BLE001 - every failure is a result
+            out, failure = None, exc
+    if out is None:
+        return _failure(point, failure, time.process_time() - c0) | {"solver_output": printed["text"][-2000:]}
+    point = _analyse(point, problem, ref, out, timing)
+    point["load_average"] = os.getloadavg()[0]
+    stats = normalise_stats(out.stats, "run")
+    if spec.kind == "rk4" or spec.method == "euler":
+        stats.setdefault("rhs_evaluations", stats.get("steps"))
+        stats["events"] = point["counted_switches"]
+        stats["source"] = "fixed steps; events = switches seen on the output grid (lower bound)"
+    elif spec.method == "erk-rk4":
+        steps = int(value)
+        stats |= {"steps": steps, "rhs_evaluations": 4 * steps, "events": point["counted_switches"],
+                  "source": "nominal fixed steps (+1 per event); events from the integrator's own counters"}
+    elif "integrator_calls" in stats:
+        stats["source"] = "apexseal's event loop (integrator calls, located events); internal steps not reported"
+    if stats_engine is not None:
+        try:
+            vm_out, cpu, _ = timed(lambda: stats_engine.run(z0, problem.params, problem.theta0, P), budget_s)
+            stats = normalise_stats(vm_out.stats, "one interpreted run with identical settings")
+            point["interpreted_cpu_s"] = cpu
+            same = np.allclose(vm_out.z[:6], out.z[:6], rtol=1e-9, atol=1e-9)
+            point["interpreted_matches_compiled"] = bool(same)
+        except Exception as exc:  # noqa: BLE001
+            stats["stats_run_failed"] = str(exc)[-200:]
+    point["stats"] = stats
+    return point
+
+
+def scipy_point(problem, ref, spec: MethodSpec, rtol: float, model, *, repeats: int, slow_run_s: float,
+                budget_s: float | None) -> dict:
+    point = _base(problem, spec, rtol) | {"compiled": False}
+    c0 = time.process_time()
+    try:
+        out, timing = measure(lambda: solve(model, problem, spec.method, rtol), repeats=repeats, slow_run_s=slow_run_s,
+                              budget_s=budget_s)
+    except Exception as exc:  # noqa: BLE001
+        return _failure(point, exc, time.process_time() - c0)
+    point = _analyse(point, problem, ref, out, timing)
+    point["load_average"] = os.getloadavg()[0]
+    stats = normalise_stats(out.stats, "solve_ivp (nfev, njev); events = switches seen on the output grid")
+    stats["lu_decompositions"] = out.stats.get("n_lu")
+    stats["events"] = point["counted_switches"]
+    point["stats"] = stats
+    return point

@@ -1,0 +1,96 @@
+"""The work-precision benchmark (issue: apexseal bench): `--quick` on a tiny problem, and its building blocks.
+
+No timing is asserted: the machine is shared. What is checked: the outputs exist
+and hold what they promise, errors fall with the tolerance, failures are kept.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+from click.testing import CliRunner
+
+from apexseal.cli import main
+from apexseal.runtime.bench.metrics import pareto, time_at_error
+from apexseal.runtime.bench.output import FILES
+from apexseal.runtime.bench.timing import BudgetExceeded, measure
+
+TINY = ["bench", "--quick", "--samples", "24", "--span", "20", "--settle", "0", "--methods", "erk-C,scipy-LSODA",
+        "--flags", "quick", "--repeats", "1"]
+
+
+@pytest.fixture(scope="module")
+def tiny(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench")
+    res = CliRunner().invoke(main, [*TINY, "--out", str(out)], catch_exceptions=False)
+    assert res.exit_code == 0, res.output
+    return out, json.loads((out / "results.json").read_text()), res.output
+
+
+def test_outputs_exist(tiny):
+    out, _, stdout = tiny
+    for name in FILES:
+        assert (out / name).is_file() and (out / name).stat().st_size > 0, name
+    assert (out / "work-precision.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "wrote" in stdout
+
+
+def test_json_fields(tiny):
+    _, r, _ = tiny
+    for key in ("config", "machine", "model", "compile", "scenes", "summary", "targets", "command"):
+        assert key in r, key
+    assert r["scenes"][0]["rhs_cost"] and all(c["s"] > 0 for c in r["scenes"][0]["rhs_cost"])
+    assert r["machine"]["packages"]["casadi"] and r["machine"]["cpu"]
+    scene = r["scenes"][0]
+    assert set(scene["problem"]["initial_state"]) == {"x", "y", "phi", "xd", "yd", "phid"}
+    ref = scene["reference"]
+    assert ref["rtol"] == 1e-12 and ref["check"]["status"] == "ok"
+    assert ref["check"]["difference"]["state"] < 1e-6  # two methods agree
+    methods = {p["method"] for p in scene["points"]}
+    assert methods == {"erk-C", "scipy-LSODA"}
+    for p in scene["points"]:
+        assert p["status"] == "ok", p.get("reason")
+        assert {"x", "y", "phi", "state", "friction_power"} <= set(p["error"])
+        assert p["timing"]["median_cpu_s"] > 0 and p["stats"]["rhs_evaluations"] > 0
+    erk = [p for p in scene["points"] if p["method"] == "erk-C"]
+    assert all(p["compiled"] for p in erk)
+    assert all(p["stats"]["source"].startswith("one interpreted run") for p in erk)
+
+
+@pytest.mark.parametrize("method", ["erk-C", "scipy-LSODA"])
+def test_error_decreases_with_tolerance(tiny, method):
+    _, r, _ = tiny
+    pts = sorted((p for p in r["scenes"][0]["points"] if p["method"] == method), key=lambda p: -p["value"])
+    errs = [p["error"]["state"] for p in pts]
+    assert len(errs) >= 2 and errs[-1] < errs[0] / 3, errs
+    assert errs == sorted(errs, reverse=True), errs
+
+
+def test_tables_name_the_command_and_targets(tiny):
+    out, r, _ = tiny
+    table = (out / "table.md").read_text()
+    assert r["command"].startswith("apexseal bench --quick") and r["command"] in table
+    assert "## Targets" in table and "scaled error" in table
+    assert all(t["status"] in ("met", "missed", "not measured") for t in r["targets"])
+
+
+def test_budget_and_failure_are_recorded():
+    def busy():
+        x = 0
+        while True:
+            x += 1
+
+    with pytest.raises(BudgetExceeded):
+        measure(busy, repeats=1, slow_run_s=1.0, budget_s=0.2)
+
+
+def test_time_at_error_interpolates_and_extrapolates():
+    curve = [(1.0, 1e-4), (2.0, 1e-6 / 4), (1.5, 1e-3)]  # (time, error); (1.5, 1e-3) is beaten by (1.0, 1e-4)
+    assert pareto(curve) == [(1.0, 1e-4), (2.0, 2.5e-7)]
+    at = time_at_error(curve, 1e-6)
+    assert at["how"] == "interpolated" and 1.0 < at["time_s"] < 2.0
+    ext = time_at_error([(1.0, 1e-2), (10.0, 1e-3)], 1e-6)  # first order: 10x time per digit
+    assert ext["how"].startswith("extrapolated") and math.isclose(ext["time_s"], 1e4, rel_tol=1e-9)
+    assert time_at_error([], 1e-6) is None
