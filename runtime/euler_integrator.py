@@ -9,10 +9,60 @@ revolution), so a whole revolution is one call, and it compiles to C.
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 import casadi as ca
 import numpy as np
 
+from ..derive.symbols import PARAMETER_NAMES
 from .scaling import LENGTH, scaled_rhs, state_scale
+
+#: contact stiffness -> its damping coefficient
+_CONTACTS = {"kw": "cw", "kg1": "cr", "kg2": "cr", "kg3": "cr", "kg4": "cr", "ks": "cs"}
+#: the most explicit Euler may amplify a contact's oscillation over one revolution in contact
+MAX_GROWTH = 1e3
+
+
+@dataclass(frozen=True)
+class ContactGrowth:
+    """How explicit Euler treats one contact oscillator (stiffness k, damping c, seal mass ms)."""
+
+    name: str  # the stiffness parameter: kw, kg1..kg4, ks
+    k: float
+    omega: float  # sqrt(k/ms), rad/s
+    zeta: float  # effective damping ratio: half of c / (2 sqrt(k ms)), the damping acts on approach only
+    log_growth: float  # ln of the amplification over one revolution of closed contact
+    steps_needed: int  # Euler steps per revolution that keep the growth below MAX_GROWTH
+
+    def describe(self, steps: int) -> str:
+        return (f"explicit Euler amplifies the oscillation of the {self.name} contact ({self.name} = {self.k:.3g} N/m, "
+                f"sqrt(k/ms) = {self.omega:.3g} rad/s, damping ratio {self.zeta:.3g} on average) by "
+                f"exp({self.log_growth:.3g}) over one revolution in contact at {steps} steps per revolution: use at "
+                f"least {self.steps_needed} solver.euler_steps_per_revolution, or method 'rosenbrock'")
+
+
+def contact_growth(params: np.ndarray, steps_per_revolution: int) -> list[ContactGrowth]:
+    """Stability of explicit Euler on each contact, most amplified first.
+
+    Per step, explicit Euler multiplies a damped oscillation (frequency w, damping
+    ratio zeta) by |1 + h lambda| = sqrt(1 - 2 zeta h w + (h w)^2): it grows unless
+    h w < 2 zeta, and an undamped contact always grows. Over the n steps of one
+    revolution the logarithm of the growth is n/2 ln(1 - 2 zeta h w + (h w)^2).
+    """
+    p = dict(zip(PARAMETER_NAMES, np.asarray(params, float), strict=True))
+    n = int(steps_per_revolution)
+    out = []
+    for k_name, c_name in _CONTACTS.items():
+        k, c, ms = p[k_name], p[c_name], p["ms"]
+        w = math.sqrt(k / ms)
+        zeta = 0.5 * c / (2 * math.sqrt(k * ms))
+        hw = 2 * math.pi * w / (n * p["omega"])
+        log_growth = 0.5 * n * math.log1p(hw * hw - 2 * zeta * hw)
+        c_hw = 2 * math.pi * w / p["omega"]  # h w = c_hw / n; small h w: log growth ~ (c_hw^2 / n - 2 zeta c_hw) / 2
+        needed = math.ceil(c_hw * c_hw / (2 * math.log(MAX_GROWTH) + 2 * zeta * c_hw))
+        out.append(ContactGrowth(k_name, k, w, zeta, log_growth, needed))
+    return sorted(out, key=lambda g: -g.log_growth)
 
 
 class EulerIntegrator:

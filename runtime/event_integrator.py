@@ -30,13 +30,15 @@ class EventIntegrator:
 
     def __init__(self, rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *, method: str,
                  rtol: float, atol: float | None, n_samples: int, span: float = 2 * np.pi,
-                 max_events: int = 10000, max_steps: int = 200000, compile_c: bool = True, flags: str = "optimised"):
+                 max_events: int = 10000, max_steps: int = 200000, event_tol: float = 1e-10, compile_c: bool = True,
+                 flags: str = "optimised"):
         plugin = METHODS[method][0]
-        self.hybrid = build_hybrid_dae(rhs, guards, n_par, omega_index)
+        self.hybrid = build_hybrid_dae(rhs, guards, n_par, omega_index, event_tol=event_tol)
         self.n_samples = n_samples
         self.grid = np.linspace(0.0, span, n_samples + 1)[1:]
         opts = {"transition": self.hybrid.transition, "reltol": rtol, "abstol": atol if atol is not None else rtol,
-                "max_events": int(max_events), "max_num_steps": int(max_steps)}
+                "max_events": int(max_events), "max_num_steps": int(max_steps), "event_tol": float(event_tol),
+                "show_eval_warnings": False}  # a NaN tried inside a failing step is reported once, by the run
         if method == "erk-rk4":
             opts["method"] = "rk4"
             opts["step_size"] = float(rtol)  # for the fixed-step variant rtol is read as the step in crank angle

@@ -11,10 +11,18 @@ serves every interval length. The zero functions are checked on a sub-grid of
 each call (``check_step`` in crank angle, 0.05 deg by default: a housing-contact
 bounce lasts about 1 deg at 1500 rpm), so a contact that closes and opens again
 inside one output interval is not missed.
+
+Limits, so that a call always ends: ``max_steps`` integrator steps per output
+interval (shared by its sub-grid calls), ``max_events`` switches per call, and a
+wall-clock ``deadline`` (``time.perf_counter()`` value, set by the caller) checked
+after every integrator call; past it, :class:`WallTimeExceeded` carries the samples
+finished so far.
 """
 
 from __future__ import annotations
 
+import math
+import time
 import warnings
 
 import casadi as ca
@@ -25,6 +33,14 @@ from .scaling import LENGTH, scaled_rhs, state_scale
 
 #: zero-function values this far below 0 (in µm) are integration noise, not a crossing
 _NOISE = 1e-9
+
+
+class WallTimeExceeded(RuntimeError):
+    """The wall-time budget ran out inside a call; ``partial`` holds the samples finished before it."""
+
+    def __init__(self, partial: np.ndarray):
+        super().__init__("wall-time budget used up inside an integrator call")
+        self.partial = partial
 
 
 class StepperIntegrator:
@@ -58,8 +74,11 @@ class StepperIntegrator:
                 opts["nonlinear_solver_iteration"] = "functional"
         else:  # fixed steps: the interval is cut into equal elements of about the revolution's step
             opts = {"number_of_finite_elements": max(1, int(round(steps_per_revolution / n_samples)))}
+        opts["show_eval_warnings"] = False  # a NaN tried inside a failing step is reported once, by the run
         m = max(1, int(np.ceil(self.dtheta / check_step)))
         self.sub = np.linspace(0.0, 1.0, m + 1)[1:]
+        if "max_num_steps" in opts:  # CVODES counts per call: share the interval's steps among its sub-grid points
+            opts["max_num_steps"] = max(1000, int(max_steps) // m)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             F = ca.integrator("apexseal_" + method.replace("-", "_"), plugin, dae, 0.0, self.sub, opts)
@@ -76,9 +95,13 @@ class StepperIntegrator:
         self.integrator = F
         self.n_par = n_par
         self.stats = {"n_calls": 0, "n_events": 0}
+        self.deadline = math.inf  # time.perf_counter() value past which a call stops (set by the caller)
+        self._done = np.zeros((6 + 2 * n_g, 0))
 
     def _advance_all(self, z, params, act, theta0, H, u):
         """States and zero functions at the sub-grid points of [theta0, theta0 + H]."""
+        if time.perf_counter() > self.deadline:
+            raise WallTimeExceeded(self._done)
         self.stats["n_calls"] += 1
         Z, e = self.step(z, np.r_[params, act, theta0, H, u])
         return np.array(Z), np.array(e)
@@ -119,6 +142,7 @@ class StepperIntegrator:
         act = np.array(z0[6:6 + n_g], float)
         counts = np.array(z0[6 + n_g:], float)
         out = np.empty((6 + 2 * n_g, self.n_samples))
+        self._done = out[:, :0]
         events_here = 0
         for k in range(self.n_samples):
             t = theta0 + k * self.dtheta
@@ -159,4 +183,5 @@ class StepperIntegrator:
                 if left <= self.event_tol:
                     break
             out[:, k] = np.r_[z, act, counts]
+            self._done = out[:, :k + 1]
         return RevolutionResult(out, dict(self.stats))
