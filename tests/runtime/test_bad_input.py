@@ -1,0 +1,243 @@
+"""Bad input of every kind gets a clear error, and no partial file is presented as a result (docs/bad-input.md).
+
+Each row of the table in docs/bad-input.md is one test here (or names the test elsewhere that covers it). Scene
+files are written to a temporary folder from the default scene's text with one edit, and read with load_scene.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import apexseal
+from apexseal.cli import main
+from apexseal.generated.load import DEFAULT_DIR
+from apexseal.generated.manifest import StaleArtefactError, verify
+from apexseal.runtime import simulate as sim
+from apexseal.runtime.result import SimulationResult
+from apexseal.runtime.scene import default_scene_text, load_scene
+from apexseal.runtime.scene_errors import SceneError
+
+TEXT = default_scene_text()
+SCENES_DIR = Path(__file__).resolve().parents[2] / "runtime" / "scenes"
+TABLE = "theta_deg,Pa,Pb\n0,1e5,2e5\n90,3e5,2e5\n180,1e5,2e5\n270,3e5,2e5\n"
+
+# id, (old, new) edit of the default scene's text, fragments of the error
+SCENE_FILES = [
+    ("toml-unquoted-unit", ('r = "10 mm"', "r = 10 mm"), ["malformed TOML at line", "must be a quoted string"]),
+    ("toml-unclosed-string", ('L = "50 mm"', 'L = "50 mm'), ["malformed TOML at line"]),
+    ("toml-duplicate-key", ('L = "50 mm"', 'L = "50 mm"\nL = "60 mm"'), ["malformed TOML"]),
+    ("toml-unclosed-table", ("[spring]", "[spring"), ["malformed TOML"]),
+    ("empty-file", (TEXT, ""), ["required section [machine] is missing"]),
+    ("unknown-key", ('cw = "207 N*s/m"', 'cw = "207 N*s/m"\ncww = 1'), ["contacts.cww", "unknown key", "'cw'"]),
+    ("unknown-section", ("[friction]", "[fricton]"), ["unknown section", "'friction'"]),
+    ("wrong-unit", ('ks = "5e3 N/m"', 'ks = "5e3 mm"'), ["spring.ks", "wrong unit", "N/m"]),
+    ("angle-without-unit", ('start_angle = "0 deg"', "start_angle = 30"), ["operation.start_angle", "give a unit"]),
+    ("speed-in-hertz", ('rpm = "1500 rpm"', 'rpm = "25 Hz"'), ["operation.rpm", "Hz carries no angle"]),
+    ("unknown-unit", ('Ws = "3.0 mm"', 'Ws = "3.0 mmm"'), ["seal.Ws", "unknown unit 'mmm'"]),
+    ("decimal-comma", ('Ws = "3.0 mm"', 'Ws = "3,0 mm"'), ["seal.Ws", "decimal point"]),
+    ("nan-value", ('Ws = "3.0 mm"', "Ws = nan"), ["seal.Ws", "must be finite"]),
+    ("negative-stiffness", ('kw = "6.2e7 N/m"', "kw = -5"), ["contacts.kw", "out of range", "> 0 N/m"]),
+    ("friction-of-one", ("mu1 = 0.10", "mu1 = 1.0"), ["friction.mu1", "0 <= value < 1"]),
+    ("zero-speed", ('rpm = "1500 rpm"', "rpm = 0"), ["operation.rpm", "out of range"]),
+    ("too-many-samples", ("samples_per_revolution = 3600", "samples_per_revolution = 200000"),
+     ["solver.samples_per_revolution", "36 <= n <= 100000"]),
+    ("tolerance-out-of-range", ("rtol = 1e-6", "rtol = 0.1"), ["solver.rtol", "1e-12 <= value <= 0.01"]),
+    ("unknown-method", ('method = "erk"', 'method = "cvode"'), ["solver.method", "did you mean 'cvodes'"]),
+    ("groove-narrower-than-seal", ('Wg = "3.06 mm"', 'Wg = "2.9 mm"'), ["seal.Wg", "groove must be wider"]),
+    ("aspect-ratio-above-limit", ('r = "10 mm"', 'r = "20 mm"'), ["machine.r", "exceeds 0.25"]),
+    ("tip-arc-too-small", ('ro = "3.0 mm"', 'ro = "1 mm"'), ["seal.ro", "ro >= Ws/2"]),
+    ("seal-longer-than-rotor", ('ds2 = "4.0 mm"', 'ds2 = "47 mm"'), ["seal.ds2", "reaches past the chord centre"]),
+    ("seal-leaves-groove", ('zeta0 = "0.71 mm"', 'zeta0 = "9 mm"'), ["seal.zeta0", "would leave its groove"]),
+    ("three-problems-at-once", ('ks = "5e3 N/m"', 'ks = "-5 N/m"\nkss = 1\ndelta = "3 Hz"'),
+     ["3 problems", "spring.ks", "spring.kss", "spring.delta"]),
+]
+
+# id, table text, fragments of the error
+TABLES = [
+    ("table-wrong-header", "theta,Pa,Pb\n0,1,2\n90,1,2\n", ["expected the header 'theta_deg,Pa,Pb'"]),
+    ("table-empty-cell", "theta_deg,Pa,Pb\n0,1,2\n90,,2\n", ["line 3", "is not three numbers"]),
+    ("table-missing-column", "theta_deg,Pa,Pb\n0,1,2\n90,1\n", ["line 3", "expected 3 comma-separated numbers"]),
+    ("table-non-monotonic", "theta_deg,Pa,Pb\n0,1,2\n90,1,2\n45,1,2\n", ["line 4", "below the previous angle"]),
+    ("table-repeated-angle", "theta_deg,Pa,Pb\n0,1,2\n90,1,2\n90,3,2\n", ["line 4", "repeats the previous angle"]),
+    ("table-nan", "theta_deg,Pa,Pb\n0,1,2\n90,nan,2\n", ["line 3", "Pa = nan is not a finite number"]),
+    ("table-inf", "theta_deg,Pa,Pb\n0,1,inf\n90,1,2\n", ["line 2", "Pb = inf is not a finite number"]),
+    ("table-negative-pressure", "theta_deg,Pa,Pb\n0,1,2\n90,-5,2\n", ["negative absolute pressure"]),
+    ("table-one-row", "theta_deg,Pa,Pb\n0,1,2\n", ["1 data row", "at least 2 rows"]),
+    ("table-more-than-a-revolution", "theta_deg,Pa,Pb\n0,1,2\n180,1,2\n360,1,2\n", ["one revolution"]),
+    ("table-binary", b"\xff\xfe\x00\x01", ["p.csv"]),
+]
+
+
+def _write_scene(tmp_path: Path, old: str, new: str, table: str | bytes | None = None) -> Path:
+    assert old in TEXT
+    text = TEXT.replace(old, new)
+    if table is not None:
+        text = text.replace('file = "expander-pressure.csv"', 'file = "p.csv"')
+        (tmp_path / "p.csv").write_bytes(table if isinstance(table, bytes) else table.encode())
+    else:
+        shutil.copy(SCENES_DIR / "expander-pressure.csv", tmp_path)
+    path = tmp_path / "scene.toml"
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("edit, fragments", [c[1:] for c in SCENE_FILES], ids=[c[0] for c in SCENE_FILES])
+def test_bad_scene_file(tmp_path, edit, fragments):
+    path = _write_scene(tmp_path, *edit)
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    for f in fragments:
+        assert f in str(info.value), (f, str(info.value))
+
+
+@pytest.mark.parametrize("table, fragments", [c[1:] for c in TABLES], ids=[c[0] for c in TABLES])
+def test_bad_pressure_table(tmp_path, table, fragments):
+    path = _write_scene(tmp_path, "", "", table)
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    assert "pressure.file" in str(info.value)
+    for f in fragments:
+        assert f in str(info.value), (f, str(info.value))
+
+
+def test_missing_scene_file(tmp_path):
+    with pytest.raises(SceneError, match="file not found"):
+        load_scene(tmp_path / "nope.toml")
+
+
+def test_scene_file_not_utf8(tmp_path):
+    (tmp_path / "s.toml").write_bytes(b"\xff\xfe[machine]\n")
+    with pytest.raises(SceneError, match="cannot read"):
+        load_scene(tmp_path / "s.toml")
+
+
+def test_missing_pressure_table(tmp_path):
+    path = _write_scene(tmp_path, 'file = "expander-pressure.csv"', 'file = "missing.csv"')
+    with pytest.raises(SceneError, match="file not found: .*missing.csv"):
+        load_scene(path)
+
+
+def test_table_with_a_wide_angular_gap_is_accepted_and_interpolated_across(tmp_path):
+    """Not an error: rows need not be dense; the table is linear (and periodic) across any gap."""
+    path = _write_scene(tmp_path, "", "", "theta_deg,Pa,Pb\n0,1e5,1e5\n10,2e5,1e5\n")
+    scene = load_scene(path)
+    Pa = np.asarray(scene.pressure(np.radians([5.0, 185.0])), float)[0]
+    assert Pa == pytest.approx([1.5e5, 1.5e5])
+
+
+# ---------------------------------------------------------------- the run API
+def test_unknown_method_in_the_api(default_scene, default_functions):
+    with pytest.raises(ValueError, match="did you mean 'cvodes'"):
+        apexseal.simulate(default_scene, method="cvode", functions=default_functions.sx)
+
+
+def test_engine_that_does_not_divide_the_revolution(default_scene, default_functions):
+    fns = default_functions.sx
+    st = sim.RunSettings(samples_per_revolution=72, compile_c=False)
+    engine = sim.make_engine(fns, st, n_samples=7, span=7 * 2 * np.pi / 72)
+    with pytest.raises(ValueError, match="do not divide samples_per_revolution = 72"):
+        sim.run(fns, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
+                engine=engine)
+
+
+def test_nan_parameter_through_the_api(default_scene, default_functions):
+    """Scenes refuse NaN; the lower-level run refuses it too, before the first step, with the reason."""
+    p = default_scene.parameter_vector()
+    p[3] = np.nan
+    r = sim.run(default_functions.sx, p, sim.RunSettings(compile_c=False), theta_start=0.0, state0=np.zeros(6),
+                revolutions=1, pressure=default_scene.pressure.interval_means)
+    assert r.status == "failed" and r.n == 1 and "not finite" in r.stop.reason
+
+
+# ---------------------------------------------------------------- the command line and the output folder
+def test_cli_output_folder_is_a_file(tmp_path):
+    blocker = tmp_path / "out"
+    blocker.write_text("a file")
+    r = CliRunner().invoke(main, ["simulate", "--out", str(blocker), "-q"])
+    assert r.exit_code != 0 and "--out" in r.output
+    assert blocker.read_text() == "a file"
+
+
+def test_cli_output_folder_cannot_be_created(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    r = CliRunner().invoke(main, ["simulate", "--out", str(blocker / "sub"), "-q"])
+    assert r.exit_code != 0 and "cannot create the output folder" in r.output
+    assert list(tmp_path.iterdir()) == [blocker]
+
+
+def test_cli_bad_scene_writes_nothing(tmp_path):
+    path = _write_scene(tmp_path, 'kw = "6.2e7 N/m"', "kw = -5")
+    r = CliRunner().invoke(main, ["simulate", str(path), "--out", str(tmp_path / "o"), "-q"])
+    assert r.exit_code != 0 and "contacts.kw" in r.output
+    assert not (tmp_path / "o").exists()
+
+
+def test_cli_option_out_of_range(tmp_path):
+    r = CliRunner().invoke(main, ["simulate", "--rtol", "0.5", "--out", str(tmp_path / "o")])
+    assert r.exit_code != 0 and "--rtol" in r.output
+    assert not (tmp_path / "o").exists()
+
+
+def test_cli_run_that_cannot_start_is_labelled_failed(tmp_path):
+    """A scene on the edge of the model (ro = Ws/2) with a method that differentiates: exit code 2, the reason on
+    stderr, and the files say status 'failed' (nothing presented as a completed result)."""
+    hard = SCENES_DIR / "hard" / "tip-arc-edge.toml"
+    out = tmp_path / "o"
+    r = CliRunner().invoke(main, ["simulate", str(hard), "--method", "erk", "--out", str(out), "-q"])
+    assert r.exit_code == 2
+    assert "derivative of the right-hand side is not finite" in r.output
+    assert json.loads((out / "result.json").read_text())["status"] == "failed"
+    assert json.loads((out / "summary.json").read_text())["status"] == "failed"
+
+
+def test_a_write_that_fails_leaves_no_half_file(default_scene, default_functions, tmp_path, monkeypatch):
+    """Results are written file by file through temporary files; result.json, which makes a folder a result, last."""
+    r = sim.run(default_functions.sx, default_scene.parameter_vector(),
+                sim.RunSettings(samples_per_revolution=36, compile_c=False), theta_start=0.0, state0=np.zeros(6),
+                revolutions=1, pressure=default_scene.pressure.interval_means)
+
+    def disk_full(*a, **k):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(np, "savez_compressed", disk_full)
+    with pytest.raises(OSError, match="No space left"):
+        r.save(tmp_path / "o")
+    assert list((tmp_path / "o").iterdir()) == []
+    monkeypatch.undo()
+    r.save(tmp_path / "o")
+    assert SimulationResult.load(tmp_path / "o").n == r.n
+
+
+# ---------------------------------------------------------------- generated artefacts
+@pytest.fixture
+def artefacts(tmp_path) -> Path:
+    dst = tmp_path / "default"
+    shutil.copytree(DEFAULT_DIR, dst)
+    verify(dst)
+    return dst
+
+
+def test_corrupted_generated_c_file(artefacts):
+    """One flipped bit in a generated C file: detected by its sha256 (regeneration and library rebuild:
+    tests/generated/test_gen_artefacts.py::test_stale_default_is_regenerated_into_the_cache,
+    tests/generated/test_gen_compile.py::test_modified_library_is_rebuilt)."""
+    path = artefacts / "casadi_model.c"
+    data = bytearray(path.read_bytes())
+    data[len(data) // 3] ^= 0x04
+    path.write_bytes(bytes(data))
+    with pytest.raises(StaleArtefactError, match="casadi_model.c differs from the manifest"):
+        verify(artefacts)
+
+
+def test_truncated_manifest(artefacts):
+    path = artefacts / "manifest.json"
+    path.write_text(path.read_text()[:100])
+    with pytest.raises(StaleArtefactError, match="unreadable manifest.json"):
+        verify(artefacts)

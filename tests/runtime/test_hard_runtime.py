@@ -1,0 +1,228 @@
+"""How the runtime keeps hard runs honest: grazing, starting on a guard, switches inside CasADi's blind window,
+missed events, NaN, stiff explicit Euler, wall-time budgets and failed calls (docs/hard-cases.md)."""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+import pytest
+from hard_helpers import SAMPLES, load, mode_mismatches, short_run, simulate
+
+from apexseal.derive.symbols import PARAMETER_NAMES
+from apexseal.runtime import simulate as sim
+from apexseal.runtime.euler_integrator import MAX_GROWTH, contact_growth
+from apexseal.runtime.hybrid import BLIND_WINDOW, build_hybrid_dae
+
+
+@pytest.fixture(scope="module")
+def fns(default_functions):
+    return default_functions.sx
+
+
+# ---------------------------------------------------------------- grazing and starting on a guard
+def _across_and_beside(scene, fns, key, value, step, degrees, guard):
+    """Runs at value (1 - step), (1 + step) (across the touch) and (1 + 3 step) (the same side as the second):
+    the guard's event counts, and the state changes across and beside (scaled: um, mrad)."""
+    runs = [short_run(scene.with_overrides(**{key: value * (1 + f * step)}), fns, "erk", degrees, rtol=1e-10)
+            for f in (-1, 1, 3)]
+    i = fns.guard_names.index(guard)
+    X = [r[1][:3, -1] * [1e6, 1e6, 1e3] for r in runs]
+    return [int(r[3][i, -1]) for r in runs], np.abs(X[0] - X[1]).max(), np.abs(X[2] - X[1]).max()
+
+
+def test_grazing_gap_touches_tangentially_and_stays_continuous(fns):
+    """grazing-gap: yd 1e-6 below the bisected value misses the wall, 1e-6 above touches it (b4 closes and opens);
+    across the touch the state moves no more than between two runs on the same side: no jump."""
+    scene = load("grazing-gap")
+    counts, across, beside = _across_and_beside(scene, fns, "operation.initial_state.yd",
+                                                scene.operation.initial_state.yd, 1e-6, 40, "b4")
+    assert counts == [0, 2, 2]
+    assert across < 2 * beside + 1e-6, (across, beside)
+
+
+def test_grazing_housing_touches_tangentially_and_stays_continuous(fns):
+    """grazing-housing: 1e-4 less spring preload than bisected lifts the tip off (xs5 opens and closes), 1e-4 more
+    keeps it on; across the threshold the state moves as smoothly as beside it."""
+    scene = load("grazing-housing")
+    counts, across, beside = _across_and_beside(scene, fns, "spring.delta_s", scene.parameters["delta_s"], 1e-4, 300,
+                                                "xs5")
+    assert counts == [2, 0, 0]
+    assert across < 2 * beside + 1e-6, (across, beside)
+
+
+def _start(scene, fns):
+    p = scene.parameter_vector()
+    X = np.array([getattr(scene.operation.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float)
+    u = np.asarray(scene.pressure.interval_means(np.array([0.0, 0.01])), float)[:, 0]
+    return X, p, u
+
+
+def test_start_on_guard_pressed_shut_is_closed(fns):
+    """start-on-guard: xs5 = 0.0 exactly at rest, the spring pressing: closed from the start (a second-order step
+    decides; the velocity alone says nothing), and the run never holds the tip open while it penetrates."""
+    scene = load("start-on-guard")
+    X, p, u = _start(scene, fns)
+    xs5 = fns.guard_names.index("xs5")
+    assert np.array(fns.guards(0.0, X, p, u)).ravel()[xs5] == 0.0
+    assert sim.initial_activations(fns, 0.0, X, p, u)[xs5] == 1.0
+    r = simulate(scene, fns)
+    assert r.ok and r.closed[xs5, 0] and mode_mismatches(r) == []
+
+
+@pytest.mark.parametrize("xd, closed", [(-1e-3, 0.0), (1e-3, 1.0)])
+def test_start_on_guard_moving_decides_by_the_velocity(fns, xd, closed):
+    scene = load("start-on-guard").with_overrides(**{"operation.initial_state.xd": f"{xd} m/s"})
+    X, p, u = _start(scene, fns)
+    assert sim.initial_activations(fns, 0.0, X, p, u)[fns.guard_names.index("xs5")] == closed
+
+
+# ---------------------------------------------------------------- events inside CasADi's blind window
+def _two_walls(gap_um: float):
+    """A toy model with the runtime's signatures: x moves at 1 um/rad towards two walls gap_um apart."""
+    n_par = len(PARAMETER_NAMES)
+    th, x, a, p, u = ca.SX.sym("theta"), ca.SX.sym("x", 6), ca.SX.sym("a", 2), ca.SX.sym("p", n_par), ca.SX.sym("u", 2)
+    omega = p[PARAMETER_NAMES.index("omega")]
+    rhs = ca.Function("rhs", [th, x, a, p, u], [ca.vertcat(x[3], 0, 0, 0, 0, 0)])
+    guards = ca.Function("guards", [th, x, p, u], [ca.vertcat(1e-6 - x[0], (1 + gap_um) * 1e-6 - x[0])])
+    params = np.ones(n_par)
+    z0 = np.r_[0, 0, 0, 1.0, 0, 0, 0, 0, 0, 0]  # x' = 1 um per rad (scaled state), both walls open
+    return rhs, guards, params, omega, z0
+
+
+@pytest.mark.parametrize("plugin", ["erk", "rosenbrock"])
+def test_casadi_ignores_crossings_right_after_an_event(plugin):
+    """Upstream behaviour the hybrid model works around (CasADi 3.8.2): with a plain transition, a second zero function
+    crossing 8 event_tol after the first is lost; 12 event_tol after, it is seen."""
+    for gap_tols, seen in ((2, 0), (8, 0), (12, 1), (20, 1)):
+        x, t, idx = ca.SX.sym("x", 3), ca.SX.sym("t"), ca.SX.sym("index")
+        dae = {"x": x, "t": t, "ode": ca.vertcat(1, 0, 0), "zero": ca.vertcat(0.5 - x[0], 0.5 + gap_tols * 1e-8 - x[0])}
+        tr = ca.Function("tr", {"index": idx, "t": t, "x": x, "post_x": ca.vertcat(x[0], x[1] + (idx == 0),
+                                                                                  x[2] + (idx == 1))},
+                         ca.event_in(), ca.event_out())
+        F = ca.integrator("F", plugin, dae, 0.0, 1.0, {"transition": tr, "event_tol": 1e-8})
+        assert np.array(F(x0=[0, 0, 0])["xf"]).ravel()[1:].tolist() == [1, seen]
+
+
+@pytest.mark.parametrize("plugin", ["erk", "rosenbrock"])
+@pytest.mark.parametrize("gap_tols", [0, 2, 5, 50])
+def test_hybrid_transition_switches_contacts_inside_the_blind_window(plugin, gap_tols):
+    """Two contacts closing 0..50 event_tol apart both close, each counted once (runtime/hybrid.py)."""
+    event_tol = 1e-8
+    rhs, guards, params, omega, z0 = _two_walls(gap_tols * event_tol)
+    h = build_hybrid_dae(rhs, guards, params.size, PARAMETER_NAMES.index("omega"), event_tol=event_tol)
+    F = ca.integrator("F", plugin, h.dae, 0.0, 2.0, {"transition": h.transition, "event_tol": event_tol})
+    z = np.array(F(x0=z0, p=np.r_[params, 0.0], u=[0, 0])["xf"]).ravel()
+    assert z[6:8].tolist() == [1, 1] and z[8:10].tolist() == [1, 1]
+    assert BLIND_WINDOW * event_tol > 10 * event_tol
+
+
+class _LosesContact:
+    """Wraps an engine; after its second call the seal sits 100 um into the groove wall with every groove contact
+    open (a lost event)."""
+
+    def __init__(self, engine):
+        self.engine, self.calls = engine, 0
+        self.n_samples, self.compiled = engine.n_samples, False
+
+    def run(self, z0, params, theta0, pressures):
+        out = self.engine.run(z0, params, theta0, pressures)
+        self.calls += 1
+        if self.calls == 2:
+            out.z[1, -1] -= 100.0  # y: 100 um into the wall ...
+            out.z[6:10, -1] = 0.0  # ... with the groove contacts open
+        return out
+
+
+def test_a_lost_contact_event_stops_the_run(default_scene, fns):
+    """The safety net: a contact held open while its gap is below -1 nm ends the run, naming the guard."""
+    st = sim.RunSettings(samples_per_revolution=72, compile_c=False, calls_per_revolution=4)
+    engine = _LosesContact(sim.make_engine(fns, st, n_samples=18, span=np.pi / 2))
+    r = sim.run(fns, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
+                pressure=default_scene.pressure.interval_means, engine=engine)
+    assert r.status == "failed" and "missed contact event: guard b" in r.stop.reason
+    assert np.degrees(r.stop.theta) == pytest.approx(180.0)
+
+
+# ---------------------------------------------------------------- non-finite values
+def _nan_after(degrees: float, pressure):
+    def p(edges):
+        out = np.asarray(pressure(edges), float).copy()
+        out[:, edges[:-1] >= np.radians(degrees)] = np.nan
+        return out
+
+    return p
+
+
+@pytest.mark.parametrize("method, reason", [("erk", "the right-hand side is not finite at 90.000 deg"),
+                                            ("euler", "non-finite state (NaN or Inf) at 91.000 deg")])
+def test_nan_in_the_inputs_stops_with_the_angle(default_scene, fns, method, reason):
+    """A NaN pressure from 90 deg on: the run keeps the samples before and says where; no NaN is returned."""
+    st = sim.RunSettings(method=method, samples_per_revolution=SAMPLES, compile_c=False, calls_per_revolution=4,
+                         steps_per_revolution=36000)
+    r = sim.run(fns, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
+                pressure=_nan_after(90.0, default_scene.pressure.interval_means))
+    assert r.status == "failed" and reason in r.stop.reason
+    assert np.isfinite(r.state).all() and 89.0 <= np.degrees(r.theta[-1]) <= 90.0
+
+
+def test_nan_parameter_is_refused_before_the_first_step(default_scene, fns):
+    p = default_scene.parameter_vector()
+    p[PARAMETER_NAMES.index("cw")] = np.nan
+    r = sim.run(fns, p, sim.RunSettings(compile_c=False), theta_start=0.0, state0=np.zeros(6), revolutions=1,
+                pressure=default_scene.pressure.interval_means)
+    assert r.status == "failed" and r.n == 1 and "right-hand side is not finite at the start" in r.stop.reason
+
+
+# ---------------------------------------------------------------- explicit Euler on stiff contacts
+def test_euler_growth_matches_the_amplification_factor(default_scene):
+    """ln growth per revolution = n/2 ln(1 - 2 zeta h w + (h w)^2); the steps it asks for meet the limit."""
+    p = default_scene.parameter_vector()
+    damped = {g.name: g for g in contact_growth(p, 200000)}
+    assert damped["kw"].log_growth < 0  # 10 % damping (5 % on average): the default scene is stable
+    undamped = p.copy()
+    undamped[PARAMETER_NAMES.index("cw")] = 0.0
+    g = next(g for g in contact_growth(undamped, 200000) if g.name == "kw")
+    hw = 2 * np.pi * g.omega / (200000 * p[PARAMETER_NAMES.index("omega")])
+    assert g.log_growth == pytest.approx(1e5 * np.log1p(hw**2))
+    more = next(g2 for g2 in contact_growth(undamped, g.steps_needed) if g2.name == "kw")
+    assert more.log_growth <= np.log(MAX_GROWTH) * 1.01
+
+
+# ---------------------------------------------------------------- no hang: budgets and failed calls
+def test_wall_time_budget_with_apexseals_event_loop(fns):
+    """cvodes on the rattling stiff groove (~45 s per revolution): 2 s of budget end it with the reason."""
+    r = simulate(load("stiff-groove-1e9"), fns, method="cvodes", max_wall_time=2.0, calls_per_revolution=72)
+    assert r.status == "interrupted" and "max_wall_time = 2 s" in r.stop.reason
+    assert r.info["wall_time_s"] < 2.0 + 6.0 and r.n > 1
+
+
+class _FailsOnLongCalls:
+    """Wraps an engine; a call over more than one output interval fails, single intervals pass."""
+
+    def __init__(self, engine):
+        self.engine, self.n_samples, self.compiled = engine, engine.n_samples, False
+
+    def run(self, z0, params, theta0, pressures):
+        if pressures.shape[1] > 1:
+            raise RuntimeError("Evaluation failed (simulated)")
+        return self.engine.run(z0, params, theta0, pressures)
+
+
+def test_a_call_that_fails_whole_but_passes_interval_by_interval_goes_on(default_scene, fns, monkeypatch):
+    real = sim.make_engine
+    monkeypatch.setattr(sim, "make_engine", lambda *a, **k: _FailsOnLongCalls(real(*a, **k)))
+    st = sim.RunSettings(samples_per_revolution=72, compile_c=False)
+    r = sim.run(fns, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
+                pressure=default_scene.pressure.interval_means)
+    assert r.ok and r.n == 73 and r.info["solver_stats"]["n_recovered_calls"] == 1
+
+
+@pytest.mark.parametrize("n, calls, per_call", [(360, None, 360), (360, 8, 45), (360, 7, 45), (37, 8, 1),
+                                                (72, 100, 1)])
+def test_samples_per_call_divides_the_revolution(n, calls, per_call):
+    assert sim.samples_per_call(sim.RunSettings(samples_per_revolution=n, calls_per_revolution=calls)) == per_call
+
+
+def test_a_wall_time_budget_cuts_revolutions_into_calls():
+    assert sim.samples_per_call(sim.RunSettings(samples_per_revolution=360, max_wall_time=10.0)) == 10
+    assert sim.samples_per_call(sim.RunSettings(samples_per_revolution=3600, max_wall_time=10.0)) == 100
