@@ -313,13 +313,16 @@ class _Checks:
             missed = self.missed_event(Z, thetas, P)
             if missed is not None:
                 return missed
-        in_rev = Z[6 + n_g:, -1] - z_rev[6 + n_g:]
-        if in_rev.sum() > st.max_events_per_revolution:
-            i = int(np.argmax(in_rev))
-            c = Chattering(self.functions.guard_names[i], float(thetas[-1] - self.theta_start), int(in_rev[i]),
-                           f"in less than one revolution (of {int(in_rev.sum())} > max_events_per_revolution = "
+        in_rev = Z[6 + n_g:] - z_rev[6 + n_g:, None]  # switches of each guard since the revolution began
+        over = in_rev.sum(axis=0) > st.max_events_per_revolution
+        if over.any():
+            k = int(np.argmax(over))  # the sample where the budget ran out
+            i = int(np.argmax(in_rev[:, k]))
+            where = float(thetas[k] - self.theta_start)
+            c = Chattering(self.functions.guard_names[i], where, int(in_rev[i, k]),
+                           f"in less than one revolution (of {int(in_rev[:, k].sum())} > max_events_per_revolution = "
                            f"{st.max_events_per_revolution})")
-            return "chattering", StopInfo(thetas[-1] - self.theta_start, _mode(self.functions, Z[6:6 + n_g, -1]), str(c))
+            return "chattering", StopInfo(where, _mode(self.functions, Z[6:6 + n_g, k]), str(c))
         return None
 
     def missed_event(self, Z, thetas, P) -> tuple | None:
