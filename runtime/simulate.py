@@ -380,7 +380,7 @@ def _locate_failure(functions, settings, params, z, edges, P, err, deadline, the
             return _cols(cols, z), ("interrupted", where)
         except RuntimeError as e:
             status, where.reason = _diagnose(functions, settings, single, e, z, edges[k], dth, params, P[:, k],
-                                             theta_start)
+                                             theta_start, deadline)
             return _cols(cols, z), (status, where)
         z = out.z[:, -1]
         cols.append(z.copy())
@@ -397,14 +397,15 @@ def _last_line(err) -> str:
 
 
 def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, params, u,
-              theta_start: float) -> tuple[str, str]:
+              theta_start: float, deadline: float = math.inf) -> tuple[str, str]:
     """(status, reason) of one output interval that failed, from the interpreted integrator's statistics.
 
     Compiled integrators only say 'Evaluation failed'; the interpreted one counts
     its steps, rejections and events, which tell an event limit (chattering) and a
     step limit (too stiff) apart. Otherwise the longest head of the interval that
     still passes shows whether the model itself turns non-finite just ahead (the
-    state has left the model's domain).
+    state has left the model's domain). The search for that head stops at the
+    wall-time ``deadline`` with what it has found.
     """
     msg = _last_line(err)
     try:
@@ -416,7 +417,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
     if not _finite_ahead(functions, z, theta, params, u):
         return "failed", f"the right-hand side is not finite at {where}: {msg}"
     if "max_events" in str(err) or stats.get("n_events", 0) >= settings.max_events_per_revolution:
-        z_end, _ = _longest_head(functions, settings, params, z, theta, dth, u)
+        z_end, _ = _longest_head(functions, settings, params, z, theta, dth, u, deadline)
         switches = z_end[6 + n_g:] - z[6 + n_g:]
         guard = functions.guard_names[int(np.argmax(switches))] if switches.any() else "(unknown)"
         c = Chattering(guard, theta - theta_start, int(switches.max()), f"in {np.degrees(dth):.3g} deg or less (more "
@@ -426,7 +427,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
         return "failed", (f"step limit: more than max_steps_per_interval = {settings.max_steps_per_interval} steps in "
                           f"one output interval; the problem is too stiff for {settings.method!r} here: use method "
                           "'rosenbrock' (stiff contacts, a small friction.v_eps) or a larger friction.v_eps")
-    z_end, head = _longest_head(functions, settings, params, z, theta, dth, u)
+    z_end, head = _longest_head(functions, settings, params, z, theta, dth, u, deadline)
     if not _finite_ahead(functions, z_end, theta + head, params, u):
         omega = float(params[OMEGA])
         x, y, phi = to_physical(z_end[:6], omega)[:3]
@@ -456,11 +457,15 @@ def _finite_ahead(functions, z, theta, params, u) -> bool:
                for h in (1e-9, 1e-8, 1e-7))
 
 
-def _longest_head(functions, settings: RunSettings, params, z, theta, dth, u) -> tuple[np.ndarray, float]:
+def _longest_head(functions, settings: RunSettings, params, z, theta, dth, u,
+                  deadline: float = math.inf) -> tuple[np.ndarray, float]:
     """The state at the end of the longest head of a failing interval that the interpreted integrator passes,
-    and the head's length: bisection on the length, 12 halvings (z itself and 0 when no head passes)."""
+    and the head's length: bisection on the length, 12 halvings or until the deadline (z itself and 0 when no
+    head passes)."""
     lo, hi, end = 0.0, dth, z
     for _ in range(12):
+        if time.perf_counter() > deadline:
+            break
         mid = 0.5 * (lo + hi)
         try:
             out = make_engine(functions, settings, n_samples=1, span=mid, compile_c=False).run(
