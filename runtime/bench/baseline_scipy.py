@@ -75,7 +75,10 @@ def solve(model: LambdifiedModel, problem, method: str, rtol: float) -> Revoluti
     """One span with ``solve_ivp``; returns integrator-like states (scaled state, closed flags, switch counts).
 
     The caller times it and enforces the CPU budget (``timing.measure``)."""
-    from scipy.integrate import solve_ivp
+    try:
+        from scipy.integrate import solve_ivp
+    except ModuleNotFoundError as exc:  # scipy is only needed for this baseline
+        raise ModuleNotFoundError("the scipy baselines need scipy: pip install 'apexseal[bench]'") from exc
 
     omega, N = problem.omega, problem.samples
     th0, dth = problem.theta0, problem.span / N
