@@ -72,7 +72,7 @@ class EulerIntegrator:
         n_g = guards.size1_out(0)
         self.n_g = n_g
         self.n_samples = n_samples
-        sub = max(1, int(round(steps_per_revolution / n_samples)))
+        sub = max(1, int(round(steps_per_revolution * span / (2 * np.pi) / n_samples)))  # steps per sample
         self.h = span / (n_samples * sub)
         self.sub = sub
         # accumulated: [theta, z(6)]; per interval: [params, Pa, Pb]

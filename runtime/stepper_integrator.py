@@ -67,13 +67,18 @@ class StepperIntegrator:
         ode = H * scaled_rhs(rhs(theta, X, act, par, u), omega)
         dae = {"x": z, "t": sigma, "p": P, "ode": ode}
         opts: dict = {}
+        self.elements = None  # fixed-step methods: finite elements per output interval
         if plugin in ("cvodes", "idas"):
             opts = {"reltol": rtol, "abstol": atol if atol is not None else rtol, "max_num_steps": int(max_steps)}
             if method == "cvodes-adams":
                 opts["linear_multistep_method"] = "adams"
                 opts["nonlinear_solver_iteration"] = "functional"
         else:  # fixed steps: the interval is cut into equal elements of about the revolution's step
-            opts = {"number_of_finite_elements": max(1, int(round(steps_per_revolution / n_samples)))}
+            # steps_per_revolution is per revolution whatever the call's span (a revolution may take several calls)
+            self.elements = max(1, int(round(steps_per_revolution * self.dtheta / (2 * np.pi))))
+            opts = {"number_of_finite_elements": self.elements}
+            if plugin == "collocation":  # Newton on the scaled state: its default 1e-12 is below the round-off floor
+                opts["rootfinder_options"] = {"abstol": 1e-10, "abstolStep": 1e-10}
         opts["show_eval_warnings"] = False  # a NaN tried inside a failing step is reported once, by the run
         m = max(1, int(np.ceil(self.dtheta / check_step)))
         self.sub = np.linspace(0.0, 1.0, m + 1)[1:]

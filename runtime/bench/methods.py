@@ -20,9 +20,8 @@ from .rk4 import RK4Integrator
 
 def settings_for(spec: MethodSpec, value: float, *, samples: int, span: float, flags: str, compiled: bool,
                  event_tol: float | None = None) -> RunSettings:
-    """RunSettings for one point. Steps are per revolution; Euler and collocation count them per span."""
-    per_span = spec.method in ("euler", "collocation")
-    steps = int(round(value * span / (2 * math.pi))) if per_span else int(value)
+    """RunSettings for one point (steps are per revolution, whatever the span)."""
+    steps = int(value)
     kw = {"event_tol": event_tol} if event_tol is not None else {}
     return RunSettings(method=spec.method, rtol=float(value) if spec.sweep == "rtol" else 1e-6,
                        steps_per_revolution=steps if spec.sweep == "steps" else RunSettings.steps_per_revolution,

@@ -158,7 +158,7 @@ def _nan_after(degrees: float, pressure):
 def test_nan_in_the_inputs_stops_with_the_angle(default_scene, fns, method, reason):
     """A NaN pressure from 90 deg on: the run keeps the samples before and says where; no NaN is returned."""
     st = sim.RunSettings(method=method, samples_per_revolution=SAMPLES, compile_c=False, calls_per_revolution=4,
-                         steps_per_revolution=36000)
+                         steps_per_revolution=144000)
     r = sim.run(fns, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
                 pressure=_nan_after(90.0, default_scene.pressure.interval_means))
     assert r.status == "failed" and reason in r.stop.reason

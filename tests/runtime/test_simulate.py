@@ -233,3 +233,28 @@ def test_until_periodic_stops_early(default_scene, default_functions):
     revs = r.info["solver_stats"].get("periodic_after")
     assert revs is not None and revs < 12
     assert r.theta[-1] == pytest.approx(2 * np.pi * revs)
+
+
+@pytest.mark.parametrize("calls", [1, 4, 36])
+def test_fixed_steps_count_per_revolution_whatever_the_calls(default_scene, default_functions, calls):
+    """steps_per_revolution means per revolution also when a revolution is cut into several integrator calls
+    (a wall-time budget cuts it into 36): Euler's step and collocation's elements do not depend on the cut."""
+    from apexseal.runtime.simulate import RunSettings, make_engine
+
+    steps, n = 36000, SAMPLES // calls
+    for method in ("euler", "collocation"):
+        st = RunSettings(method=method, steps_per_revolution=steps, samples_per_revolution=SAMPLES, compile_c=False)
+        engine = make_engine(default_functions.sx, st, n_samples=n, span=2 * np.pi / calls)
+        if method == "euler":
+            assert engine.h == pytest.approx(2 * np.pi / steps, rel=1e-12)
+        else:
+            assert engine.elements * SAMPLES == steps
+
+
+def test_collocation_runs_a_revolution_and_agrees_with_erk(default_scene, default_functions, erk_result):
+    """Collocation (Radau, fixed steps) completes the default scene; its Newton tolerance sits above round-off."""
+    r = _run(default_scene, default_functions, method="collocation", steps_per_revolution=3600, compile_c=False)
+    assert r.status == "completed", r.stop
+    ref = erk_result.state[:, :SAMPLES + 1]
+    err = np.abs(r.state[:3] - ref[:3]) / np.ptp(ref[:3], axis=1)[:, None]
+    assert err.max() < 1e-2, err.max(axis=1)
