@@ -14,6 +14,7 @@ the work-precision diagram); its *sweep* is the setting varied along the curve
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 
 #: the event-integrator and stepper methods of runtime/methods.py the benchmark uses, plus its own ones
@@ -145,7 +146,7 @@ def full() -> BenchConfig:
         "cvodes-C": (1e-4, 1e-6, 1e-8),
         "cvodes-adams-C": (1e-5, 1e-7),
         "idas-C": (1e-5, 1e-7),
-        "collocation-C": (36_000, 180_000),
+        "collocation-C": (18_000, 72_000),
         "erk-VM": (1e-6, 1e-8, 1e-9),
         "rosenbrock-VM": (1e-6, 1e-8),
         "scipy-RK45": (1e-4, 1e-6),
@@ -163,7 +164,8 @@ def full() -> BenchConfig:
         "scipy-Radau": (1e-5,),
         "scipy-LSODA": (1e-4, 1e-6),
     })
-    return BenchConfig("full", (default, stiff))
+    # every point gets the full number of timed runs, however slow (the issue asks for medians of at least 5)
+    return BenchConfig("full", (default, stiff), slow_run_s=math.inf)
 
 
 def quick() -> BenchConfig:

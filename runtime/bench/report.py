@@ -71,14 +71,20 @@ def problem_lines(r: dict) -> list[str]:
     return out
 
 
-METRICS = [
-    "- **Scaled error**: for x, y and phi, max over the samples of |method - reference| / (range of the reference over "
-    "the span); the largest of the three.",
-    "- **Friction power error**: |mean Pf_total - reference| / reference, means over the samples (the cycle's mean).",
-    "- **CPU time**: `time.process_time()` per revolution, median of the timed samples after one warm-up; `n` = samples "
-    "× revolutions per sample (a sample lasts >= 0.2 s; slow runs get fewer samples, `1` = the warm-up run alone). "
-    "Compile, derivation and lambdify times are reported apart (Setup).",
-]
+def metrics_lines(cfg: dict) -> list[str]:
+    slow = cfg.get("slow_run_s", 0.5)
+    every = slow is None or not math.isfinite(slow)  # inf (None once written to JSON): no run is "slow"
+    samples = (f"every point {cfg.get('repeats')} timed samples after the warm-up" if every else
+               "slow runs get fewer samples, `1` = the warm-up run alone")
+    return [
+        "- **Scaled error**: for x, y and phi, max over the samples of |method - reference| / (range of the reference "
+        "over the span); the largest of the three.",
+        "- **Friction power error**: |mean Pf_total - reference| / reference, means over the samples (the cycle's "
+        "mean).",
+        "- **CPU time**: `time.process_time()` per revolution, median of the timed samples after one warm-up; `n` = "
+        f"samples × revolutions per sample (a sample lasts >= 0.2 s; {samples}). "
+        "Compile, derivation and lambdify times are reported apart (Setup).",
+    ]
 
 
 def targets_md(r: dict) -> list[str]:
@@ -177,7 +183,7 @@ def table_md(r: dict, command: str) -> str:
     lines = ["# Work-precision benchmark", "",
              f"Made by `{command}` ({r['config']['mode']} mode). Data: `results.json`; diagram: `work-precision.png`; "
              "effects: `effects.md`.", "", f"Machine and software: {_versions(r)}.", "",
-             "## Problem and metrics", "", *problem_lines(r), *METRICS, "",
+             "## Problem and metrics", "", *problem_lines(r), *metrics_lines(r["config"]), "",
              "## Targets", "", *targets_md(r), "",
              f"## CPU time per revolution at scaled error {r['config']['target_error']:g}", "",
              "Interpolated (log-log) on each method's Pareto front; *extrapolated* along its last two points when its "

@@ -94,3 +94,25 @@ def test_time_at_error_interpolates_and_extrapolates():
     ext = time_at_error([(1.0, 1e-2), (10.0, 1e-3)], 1e-6)  # first order: 10x time per digit
     assert ext["how"].startswith("extrapolated") and math.isclose(ext["time_s"], 1e4, rel_tol=1e-9)
     assert time_at_error([], 1e-6) is None
+
+
+def test_full_preset_times_every_point_five_times():
+    """The full benchmark takes the median of at least 5 timed runs after a warm-up, however slow the run."""
+    import time
+
+    from apexseal.runtime.bench.config import full
+
+    cfg = full()
+    assert cfg.repeats >= 5
+    calls = []
+
+    def slow():
+        calls.append(1)
+        t = time.process_time()
+        while time.process_time() - t < 0.03:
+            pass
+
+    _, timing = measure(slow, repeats=cfg.repeats, slow_run_s=cfg.slow_run_s, budget_s=None, min_sample_s=0.0)
+    assert len(timing.cpu_s) == cfg.repeats and len(calls) == cfg.repeats + 1
+    _, adaptive = measure(slow, repeats=5, slow_run_s=0.01, budget_s=None, min_sample_s=0.0)
+    assert len(adaptive.cpu_s) < 5  # the quick preset's adaptive rule, for contrast
