@@ -18,7 +18,12 @@ Ws, ds1, ds2, ro = P["Ws"], P["ds1"], P["ds2"], P["ro"]
 ds = ds1 + ds2
 
 #: half-angle of the tip arc: the arc meets the sides Ys = -+Ws/2 where ro sin(beta_o) = Ws/2
-beta_o = sp.asin(Ws / (2 * ro))
+BETA_O = sp.asin(Ws / (2 * ro))
+
+#: ... entering the model as a derived parameter, its value BETA_O computed by the scene (like ms and Icg): at
+#: ro = Ws/2 the arcsine's derivative is infinite, and automatic differentiation would turn its product with the
+#: zero seed of the parameters into NaN in every derivative of the right-hand side (docs/hard-cases.md)
+beta_o = P["beta_o"]
 
 #: Eq. 24: distance from C to where the curved tip starts (c1, c3), from the arc meeting the sides
 ds0 = ds1 - ro + ro * sp.cos(beta_o)

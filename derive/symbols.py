@@ -33,6 +33,7 @@ PARAMETERS: tuple[Parameter, ...] = (
     Parameter("ds1", "m", "centre of gravity to the seal tip along Xs (Eq. 16)"),
     Parameter("ds2", "m", "centre of gravity to the seal back face along Xs (Eq. 16)"),
     Parameter("ro", "m", "radius of the seal's tip arc (Eq. 27)"),
+    Parameter("beta_o", "rad", "half-angle of the tip arc, asin(Ws / (2 ro)) (Eqs. 24, 76-78); computed by the scene"),
     Parameter("Bs", "m", "seal length along the machine axis (Eq. 76)"),
     Parameter("ms", "kg", "seal mass (Eq. 80)"),
     Parameter("Icg", "kg m^2", "seal moment of inertia about its centre of gravity (Eq. 80)"),

@@ -20,6 +20,7 @@ import copy
 import hashlib
 import importlib.resources
 import json
+import math
 import numbers
 import re
 import tomllib
@@ -105,7 +106,8 @@ def derive_parameters(sections: dict[str, Section], effects: Effects) -> dict[st
     Derived: ``omega`` from rpm; ``Li = L - ds1 + delta_w`` (Eq. 12: the seal tip, ds1 above C, then
     presses delta_w into the housing at Rh - 2 r sin(theta) = L from the chord centre, as Eq. 33 assumes);
     ``ms = density Ws (ds1 + ds2) Bs``
-    and ``Icg = ms (Ws^2 + (ds1 + ds2)^2) / 12`` (Eq. 80) unless given; ``zeta0`` from
+    and ``Icg = ms (Ws^2 + (ds1 + ds2)^2) / 12`` (Eq. 80) unless given; ``beta_o = asin(Ws / (2 ro))``, the
+    tip arc's half-angle (Eq. 24); ``zeta0`` from
     ``[seal]`` or else the groove truncation z (Eqs. 6-8); ``delta_w`` from the rest
     balance ``ks delta_s = kw delta_w`` (Eq. 9) when both the spring and the housing
     contact are on, else 0 (nothing presses the seal on the housing at rest).
@@ -132,6 +134,7 @@ def derive_parameters(sections: dict[str, Section], effects: Effects) -> dict[st
         "ds1": s.ds1,
         "ds2": s.ds2,
         "ro": s.ro,
+        "beta_o": math.asin(min(1.0, s.Ws / (2 * s.ro))),  # derive/seal_shape.py: computed here, not differentiated
         "Bs": s.Bs,
         "ms": ms,
         "Icg": icg,

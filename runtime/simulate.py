@@ -243,9 +243,10 @@ def _preflight(functions, settings: RunSettings, params, theta, X, closed, u) ->
       MAX_GROWTH times per revolution (runtime/euler_integrator.contact_growth);
     * NaN/Inf in the derivative of the right-hand side, for every method but the
       fixed-step ones without Jacobians (euler, rk): an infinite partial derivative
-      with respect to a parameter (e.g. seal.ro = Ws/2 exactly, where
-      beta_o = asin(Ws/(2 ro)) sits at the edge of the arcsine, Eq. 31) turns every
-      automatic derivative into 0 * inf = NaN, although the right-hand side is finite.
+      with respect to a parameter (a function of the parameters at the edge of its domain,
+      such as asin(1); beta_o = asin(Ws/(2 ro)) at ro = Ws/2 was one until it became a
+      derived parameter) turns every automatic derivative into 0 * inf = NaN, although
+      the right-hand side is finite.
     """
     mode = _mode(functions, closed)
     xdot = np.array(functions.rhs(theta, X, closed, params, u)).ravel()
@@ -271,9 +272,8 @@ def _preflight(functions, settings: RunSettings, params, theta, X, closed, u) ->
     return StopInfo(0.0, mode, f"the derivative of the right-hand side is not finite at the start although its value is "
                     f"(an infinite partial derivative with respect to {culprits}, which automatic differentiation turns "
                     f"into 0*inf = NaN); method {settings.method!r} needs derivatives. The scene sits on the edge of "
-                    "the model's domain (e.g. seal.ro = Ws/2 exactly: beta_o = asin(Ws/(2 ro)) at the edge of the "
-                    "arcsine, Eq. 31): move it off the edge (ro = Ws/2 * (1 + 1e-9) changes nothing measurable) or "
-                    "use method 'euler'")
+                    "the model's domain, where a function of these parameters has an infinite slope: move it off the "
+                    "edge by a relative 1e-9 (nothing measurable changes) or use method 'euler'")
 
 
 def _names(names, mask) -> str:

@@ -1,6 +1,6 @@
 /* apexseal_dispatch.c: mode table and dispatch over the generated mode functions.
  * Rendered by apexseal from templates/apexseal_dispatch.in.c; do not edit (run `apexseal generate`).
- * Input hash: 7400199c4daf9ad00283f4c31010cc7cbaea934abe63952ec7f718c220fe961b.
+ * Input hash: d3fc5a902f6084f0b01f5de5fa7f91b4904a664722e1e83e993404107ccb8265.
  */
 #include "apexseal_model.h"
 #include "casadi_model.h"
@@ -18,7 +18,7 @@
 #define APEXSEAL_MODE_SZ_ARG 4
 #define APEXSEAL_MODE_SZ_RES 1
 #define APEXSEAL_MODE_SZ_IW 0
-#define APEXSEAL_MODE_SZ_W 69
+#define APEXSEAL_MODE_SZ_W 70
 
 const apexseal_mode_info apexseal_modes[APEXSEAL_NMODES] = {
   {"q1_h_s", "mode_q1_h_s", { 1, 0, 0, 1, 1, 1 }},

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices, mode table and mode dispatch of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 7400199c4daf9ad00283f4c31010cc7cbaea934abe63952ec7f718c220fe961b.
+ * Effects: all. Input hash: d3fc5a902f6084f0b01f5de5fa7f91b4904a664722e1e83e993404107ccb8265.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "7400199c4daf9ad00283f4c31010cc7cbaea934abe63952ec7f718c220fe961b"
+#define APEXSEAL_INPUT_HASH "d3fc5a902f6084f0b01f5de5fa7f91b4904a664722e1e83e993404107ccb8265"
 
 /* state x */
 #define APEXSEAL_NX 6
@@ -22,7 +22,7 @@ extern "C" {
 #define APEXSEAL_X_PHID 5
 
 /* parameters p (derive.symbols.PARAMETER_NAMES) */
-#define APEXSEAL_NP 28
+#define APEXSEAL_NP 29
 #define APEXSEAL_P_OMEGA 0
 #define APEXSEAL_P_R 1
 #define APEXSEAL_P_L 2
@@ -34,23 +34,24 @@ extern "C" {
 #define APEXSEAL_P_DS1 8
 #define APEXSEAL_P_DS2 9
 #define APEXSEAL_P_RO 10
-#define APEXSEAL_P_BS 11
-#define APEXSEAL_P_MS 12
-#define APEXSEAL_P_ICG 13
-#define APEXSEAL_P_KS 14
-#define APEXSEAL_P_DELTA_S 15
-#define APEXSEAL_P_KW 16
-#define APEXSEAL_P_KG1 17
-#define APEXSEAL_P_KG2 18
-#define APEXSEAL_P_KG3 19
-#define APEXSEAL_P_KG4 20
-#define APEXSEAL_P_CW 21
-#define APEXSEAL_P_CR 22
-#define APEXSEAL_P_CS 23
-#define APEXSEAL_P_MU1 24
-#define APEXSEAL_P_MU2 25
-#define APEXSEAL_P_MUS 26
-#define APEXSEAL_P_V_EPS 27
+#define APEXSEAL_P_BETA_O 11
+#define APEXSEAL_P_BS 12
+#define APEXSEAL_P_MS 13
+#define APEXSEAL_P_ICG 14
+#define APEXSEAL_P_KS 15
+#define APEXSEAL_P_DELTA_S 16
+#define APEXSEAL_P_KW 17
+#define APEXSEAL_P_KG1 18
+#define APEXSEAL_P_KG2 19
+#define APEXSEAL_P_KG3 20
+#define APEXSEAL_P_KG4 21
+#define APEXSEAL_P_CW 22
+#define APEXSEAL_P_CR 23
+#define APEXSEAL_P_CS 24
+#define APEXSEAL_P_MU1 25
+#define APEXSEAL_P_MU2 26
+#define APEXSEAL_P_MUS 27
+#define APEXSEAL_P_V_EPS 28
 
 /* inputs u: chamber pressures */
 #define APEXSEAL_NU 2

@@ -186,13 +186,13 @@ def test_cli_option_out_of_range(tmp_path):
 
 
 def test_cli_run_that_cannot_start_is_labelled_failed(tmp_path):
-    """A scene on the edge of the model (ro = Ws/2) with a method that differentiates: exit code 2, the reason on
-    stderr, and the files say status 'failed' (nothing presented as a completed result)."""
-    hard = SCENES_DIR / "hard" / "tip-arc-edge.toml"
+    """A run refused before its first step (explicit Euler on a 1e10 N/m contact it would amplify): exit code 2,
+    the reason on stderr, and the files say status 'failed' (nothing presented as a completed result)."""
+    hard = SCENES_DIR / "hard" / "stiff-housing-1e10.toml"
     out = tmp_path / "o"
-    r = CliRunner().invoke(main, ["simulate", str(hard), "--method", "erk", "--out", str(out), "-q"])
+    r = CliRunner().invoke(main, ["simulate", str(hard), "--method", "euler", "--out", str(out), "-q"])
     assert r.exit_code == 2
-    assert "derivative of the right-hand side is not finite" in r.output
+    assert "explicit Euler amplifies" in r.output
     assert json.loads((out / "result.json").read_text())["status"] == "failed"
     assert json.loads((out / "summary.json").read_text())["status"] == "failed"
 

@@ -226,3 +226,24 @@ def test_samples_per_call_divides_the_revolution(n, calls, per_call):
 def test_a_wall_time_budget_cuts_revolutions_into_calls():
     assert sim.samples_per_call(sim.RunSettings(samples_per_revolution=360, max_wall_time=10.0)) == 10
     assert sim.samples_per_call(sim.RunSettings(samples_per_revolution=3600, max_wall_time=10.0)) == 100
+
+
+def test_an_infinite_parameter_derivative_stops_methods_that_differentiate(default_scene, fns):
+    """A right-hand side that is finite where its derivative is not (here + 1e-30 sqrt(mu2 - mu2_scene): the kind
+    of edge asin(Ws/(2 ro)) had at ro = Ws/2 before beta_o became a derived parameter): automatic differentiation
+    gives 0 * inf = NaN, so methods that differentiate stop before the first step naming the parameter; euler runs."""
+    from dataclasses import replace
+
+    p = default_scene.parameter_vector()
+    i = PARAMETER_NAMES.index("mu2")
+    args = [fns.rhs.sx_in(k) for k in range(fns.rhs.n_in())]
+    edge = fns.rhs(*args) + 1e-30 * ca.sqrt(args[3][i] - p[i])
+    edgy = replace(fns, rhs=ca.Function("rhs", args, [edge], fns.rhs.name_in(), fns.rhs.name_out()))
+    st = sim.RunSettings(method="erk", samples_per_revolution=SAMPLES, compile_c=False)
+    r = sim.run(edgy, p, st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
+                pressure=default_scene.pressure.interval_means)
+    assert r.status == "failed" and r.n == 1 and r.stop.theta == 0.0
+    assert "derivative of the right-hand side is not finite" in r.stop.reason and "mu2" in r.stop.reason
+    euler = sim.RunSettings(method="euler", samples_per_revolution=SAMPLES, compile_c=False)
+    assert sim._preflight(edgy, euler, p, 0.0, np.zeros(6), np.zeros(fns.guards.size1_out(0)),
+                          np.array([1e5, 1e5])) is None

@@ -17,7 +17,7 @@ OUTCOME = {"tip-chatter": "chattering"}
 #: how three revolutions end, and a fragment of the reason
 LONG = {"tip-chatter": ("chattering", "guard xs5"), "speed-20000": ("failed", "leaves the model's domain")}
 #: the tip chatters from 180 deg on: 5-deg integrator calls check the event budget soon after
-FAST = {"tip-chatter": {"calls_per_revolution": 72}, "tip-arc-edge": {"steps_per_revolution": 50000}}
+FAST = {"tip-chatter": {"calls_per_revolution": 72}}
 
 
 @pytest.fixture(scope="module")
@@ -75,14 +75,15 @@ def test_chatter_names_the_guard_and_the_remedies(fns):
         assert 9 < np.degrees(r.stop.theta) < 60  # the chambers swap 10 deg after the start
 
 
-def test_tip_arc_edge_stops_methods_that_differentiate_with_the_reason(fns):
-    """ro = Ws/2: a finite right-hand side whose derivative is NaN (0*inf): erk stops before the first step."""
+def test_tip_arc_edge_runs_with_methods_that_differentiate(fns):
+    """ro = Ws/2: beta_o = asin(1) is a derived parameter, so the derivatives stay finite: erk runs, and its result
+    is continuous with the scene nudged off the edge (ro = Ws/2 (1 + 1e-9))."""
     scene = load("tip-arc-edge")
-    r = simulate(scene, fns, method="erk")
-    assert r.status == "failed" and r.stop.theta == 0.0 and r.n == 1
-    assert "derivative" in r.stop.reason and "ro" in r.stop.reason and "Eq. 31" in r.stop.reason
-    nudged = scene.with_overrides(**{"seal.ro": 1.5e-3 * (1 + 1e-9)})
-    assert simulate(nudged, fns, method="erk").ok
+    r = simulate(scene, fns, method="erk", rtol=1e-10)
+    assert r.ok, r.stop
+    nudged = simulate(scene.with_overrides(**{"seal.ro": 1.5e-3 * (1 + 1e-9)}), fns, method="erk", rtol=1e-10)
+    assert nudged.ok
+    assert np.abs((r.state[:3] - nudged.state[:3]) * np.array([[1e6], [1e6], [1e3]])).max() < 1e-2  # um, mrad
 
 
 @pytest.mark.parametrize("name", ["stiff-housing-2e9", "stiff-housing-1e10", "stiff-groove-1e9", "undamped"])
@@ -123,8 +124,7 @@ def test_scene_runs_three_revolutions_compiled(name, fns):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", [s for s in SCENES if s not in ("tip-arc-edge", "stick-slip-spring",
-                                                                  "friction-chatter-groove")])
+@pytest.mark.parametrize("name", [s for s in SCENES if s not in ("stick-slip-spring", "friction-chatter-groove")])
 @pytest.mark.parametrize("method", ["erk", "rosenbrock"])
 def test_scene_runs_with_erk_and_rosenbrock(name, method, fns):
     scene = load(name)
