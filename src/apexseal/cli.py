@@ -24,6 +24,12 @@ def _register() -> None:
     else:
         main.add_command(generate)
     try:
+        from .commands_optimise import optimise_preload
+    except ImportError:  # pragma: no cover
+        pass
+    else:
+        main.add_command(optimise_preload)
+    try:
         from .commands_bench import bench
     except ImportError:  # pragma: no cover
         pass

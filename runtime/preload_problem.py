@@ -1,0 +1,286 @@
+"""What the spring-preload study optimises: the preload as a parameter, the tip's contact force, the checks.
+
+Shared by the IPOPT study (runtime/preload.py) and its derivative-free check
+(runtime/preload_bisect.py), so both ask exactly the same question of exactly the
+same model: the simulator's hybrid DAE (runtime/hybrid.py) integrated by CasADi's
+``erk`` with events, on the simulator's output grid and pressure means.
+
+* **The preload as a parameter.** ``delta_s`` is one entry of the simulator's
+  parameter vector, but two others follow from it: the rest deflection of the
+  housing contact ``delta_w = ks delta_s / kw`` (Eq. 9) and the groove position
+  ``Li = L - ds1 + delta_w`` (Eq. 12). The scene derives them; here the vector is
+  the affine map ``p(delta_s) = p0 + dp * delta_s`` read off the scene at two
+  preloads (and checked against a third), so the study's parameters are always
+  those ``scene.with_overrides(spring.delta_s=...)`` would give.
+* **The contact force measure.** In contact the tip presses on the housing with
+  ``Fw = kw xs5 + cw max(v, 0)`` along the groove axis (Eq. 34 with the damping
+  of Eq. 67; the X component of the housing force, Algorithm 2, which the
+  simulator reports as ``-F_housing_X``). When the tip has lifted off the force
+  is 0 whatever the preload, and a constraint on it has no gradient. The measure
+  is therefore the contact force in contact and ``kw xs5 < 0`` (minus kw times
+  the gap) in lift-off: continuous at lift-off (the damping term is 0 while the
+  tip separates), equal to the force wherever the force is positive, and
+  ``measure >= min_force > 0`` holds exactly when the tip is in contact with at
+  least ``min_force``.
+* **The checks.** The measure is checked at the output samples of one periodic
+  revolution (the scene's ``samples_per_revolution``), except in the crank-angle
+  windows the caller excludes. Nothing is promised between samples (the tip
+  rings at ~1e4 rad/s after a chamber switch, ~4 deg of crank angle per period at
+  1500 rpm: use samples of 0.1 deg or finer near the switches) nor in an
+  excluded window.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from ..derive.symbols import PARAMETER_NAMES
+from .scaling import LENGTH, to_scaled
+from .simulate import OMEGA, initial_activations
+
+KW = PARAMETER_NAMES.index("kw")
+DELTA_S = PARAMETER_NAMES.index("delta_s")
+#: the study's preload unit: decision variables and tolerances are in mm
+MM = 1e-3
+
+
+class PreloadStudyError(ValueError):
+    """A bad request (the message names the option, the value and the allowed range)."""
+
+
+@dataclass(frozen=True)
+class PreloadMap:
+    """The simulator's parameter vector as an affine function of delta_s (m)."""
+
+    p0: np.ndarray
+    dp: np.ndarray
+
+    def __call__(self, delta_s):
+        return self.p0 + self.dp * delta_s
+
+
+def preload_parameters(scene) -> PreloadMap:
+    """``p(delta_s)`` from the scene: delta_s itself, delta_w (Eq. 9) and Li (Eq. 12) move with it.
+
+    Read off ``scene.with_overrides`` at 0 and 1 mm and checked at the scene's own preload,
+    so any parameter the scene derives from delta_s is carried along.
+    """
+    a = scene.with_overrides(**{"spring.delta_s": 0.0}).parameter_vector()
+    b = scene.with_overrides(**{"spring.delta_s": MM}).parameter_vector()
+    pmap = PreloadMap(a, (b - a) / MM)
+    own = scene.parameter_vector()
+    if not np.allclose(pmap(own[DELTA_S]), own, rtol=1e-12, atol=1e-15):  # pragma: no cover - a scene change
+        raise RuntimeError("the scene's parameters are not affine in spring.delta_s; update preload_parameters")
+    return pmap
+
+
+def contact_measure(functions) -> ca.Function:
+    """``measure(theta, X, a, p, u)``: the tip's contact force (N) in contact, ``kw xs5`` (< 0) in lift-off.
+
+    Contact force = ``-F_housing_X`` = kw xs5 + cw max(v, 0) (Eq. 34 with Eq. 67's damping, Algorithm 2).
+    """
+    g_names, o_names = tuple(functions.guard_names), tuple(functions.output_names)
+    theta, X, a, p, u = (functions.outputs.sx_in(i) for i in range(5))
+    ih, ifx = g_names.index("xs5"), o_names.index("F_housing_X")
+    xs5 = -functions.guards(theta, X, p, u)[ih]  # the guard is -xs5 (closed while negative)
+    force = -functions.outputs(theta, X, a, p, u)[ifx]
+    act = a[ih]
+    return ca.Function("tip_contact_measure", [theta, X, a, p, u], [act * force + (1 - act) * p[KW] * xs5],
+                       ["theta", "x", "a", "p", "u"], ["measure"])
+
+
+def check_mask(thetas: np.ndarray, exclude: tuple[tuple[float, float], ...]) -> np.ndarray:
+    """True for the samples (crank angle, rad) outside every excluded window (start_deg, end_deg), mod 360."""
+    deg = np.degrees(np.asarray(thetas, float)) % 360.0
+    keep = np.ones(deg.shape, bool)
+    for start, end in exclude:
+        width = (end - start) % 360.0
+        keep &= ~(((deg - start) % 360.0) <= width)
+    return keep
+
+
+def parse_window(text: str) -> tuple[float, float]:
+    """'START:END' in degrees of crank angle -> (start, end)."""
+    try:
+        start, end = (float(v) for v in text.split(":"))
+    except ValueError:
+        raise PreloadStudyError(f"exclude = {text!r}: not a window START:END in degrees (e.g. 180:200)") from None
+    if not (math.isfinite(start) and math.isfinite(end)) or start == end:
+        raise PreloadStudyError(f"exclude = {text!r}: START and END must be finite and differ (degrees, e.g. 180:200)")
+    return start, end
+
+
+@dataclass
+class Periodic:
+    """Periodic revolutions of the simulator at several preloads (full simulations from the scene's start)."""
+
+    deltas: np.ndarray  # (n,) m
+    thetas: np.ndarray  # (samples,) crank angle of each sample of the last revolution (absolute, rad)
+    z: np.ndarray  # (n, n_z, samples + 1) hybrid states of the last revolution, its start included
+    change: np.ndarray  # (n,) max change of the scaled state between the starts of the last two revolutions
+    measure: np.ndarray  # (n, samples) tip contact measure at the samples
+    friction_power: np.ndarray  # (n,) mean friction power over the last revolution (W)
+
+
+@dataclass
+class PreloadSetup:
+    """The study's model, grid and checks for one scene (see the module docstring)."""
+
+    scene: object
+    functions: object
+    min_force: float
+    exclude: tuple[tuple[float, float], ...] = ()
+    samples: int | None = None  # per revolution; None: the scene's
+    rtol: float | None = None  # None: the scene's
+    revolutions: int = 3  # of every full simulation (the last one is the periodic revolution)
+    flags: str = "quick"
+    pmap: PreloadMap = field(init=False)
+    measure_fn: ca.Function = field(init=False)
+    compile_s: float = field(init=False, default=0.0)
+
+    def __post_init__(self) -> None:
+        check_request(self.scene, self.min_force, self.samples, self.revolutions)
+        self.pmap = preload_parameters(self.scene)
+        self.measure_fn = contact_measure(self.functions)
+        self.samples = int(self.samples or self.scene.solver.samples_per_revolution)
+        self.rtol = float(self.rtol or self.scene.solver.rtol)
+        self._engine = None
+        self._mapped: dict[int, ca.Function] = {}
+
+    # -- grid ---------------------------------------------------------------
+    @property
+    def theta_start(self) -> float:
+        return float(self.scene.operation.start_angle)
+
+    @property
+    def dth(self) -> float:
+        return 2 * np.pi / self.samples
+
+    @property
+    def n_guards(self) -> int:
+        return self.functions.guards.size1_out(0)
+
+    def pressures(self, edges: np.ndarray) -> np.ndarray:
+        if not self.scene.effects.chamber_pressure:
+            return np.zeros((2, edges.size - 1))
+        return np.asarray(self.scene.pressure.interval_means(edges), float)
+
+    def settings(self):
+        from .api import settings_of
+
+        return settings_of(self.scene, method="erk", rtol=self.rtol, samples_per_revolution=self.samples,
+                           flags=self.flags)
+
+    # -- full simulations -----------------------------------------------------
+    def engine(self):
+        """The simulator's compiled erk integrator over one revolution (runtime/event_integrator.py)."""
+        if self._engine is None:
+            import time
+
+            from .simulate import make_engine
+
+            t = time.perf_counter()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                self._engine = make_engine(self.functions, self.settings(), n_samples=self.samples)
+            self.compile_s += time.perf_counter() - t
+        return self._engine
+
+    def mapped(self, n: int) -> ca.Function:
+        """The compiled one-revolution integrator mapped over n preloads on two threads."""
+        if n not in self._mapped:
+            self._mapped[n] = self.engine().function.map(n, "thread", 2)
+        return self._mapped[n]
+
+    def start_state(self, delta_s: float) -> np.ndarray:
+        """The hybrid state at the scene's start (its initial state, contacts closed by their gaps)."""
+        op = self.scene.operation
+        X = np.array([getattr(op.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float)
+        p = self.pmap(delta_s)
+        u0 = self.pressures(self.theta_start + np.array([0.0, self.dth]))[:, 0]
+        act = initial_activations(self.functions, self.theta_start, X, p, u0)
+        return np.r_[to_scaled(X, float(p[OMEGA])), act, np.zeros(self.n_guards)]
+
+    def periodic(self, deltas) -> Periodic:
+        """Simulate ``revolutions`` revolutions from the scene's start at each preload (one mapped call per
+        revolution, both cores) and return the last revolution of each."""
+        deltas = np.atleast_1d(np.asarray(deltas, float))
+        n, N, ng = deltas.size, self.samples, self.n_guards
+        F = self.mapped(n)
+        P = np.stack([self.pmap(d) for d in deltas], axis=1)
+        z = np.stack([self.start_state(d) for d in deltas], axis=1)
+        starts = [z.copy()]
+        for rev in range(self.revolutions):
+            edges = self.theta_start + rev * 2 * np.pi + self.dth * np.arange(N + 1)
+            U = self.pressures(edges)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                out = F(x0=z, p=np.r_[P, np.full((1, n), edges[0])], u=np.tile(U, (1, n)))
+            Z = np.array(out["xf"]).reshape(z.shape[0], n, N)  # column i N + j: preload i, sample j
+            z0 = z
+            z = Z[:, :, -1].copy()
+            z[6 + ng:] = 0.0  # event counts per revolution
+            starts.append(z.copy())
+        if not np.isfinite(Z).all():
+            bad = [f"{d / MM:.4g} mm" for d, ok in zip(deltas, np.isfinite(Z).all(axis=(0, 2)), strict=True) if not ok]
+            raise RuntimeError(f"the simulation turned non-finite at delta_s = {', '.join(bad)}")
+        thetas = edges[1:]
+        full = np.concatenate([z0[:, :, None], Z], axis=2).transpose(1, 0, 2)  # (n, n_z, N + 1)
+        full[:, 6 + ng:, 0] = 0.0
+        change = np.max(np.abs(starts[-1][:6] - starts[-2][:6]) / np.maximum(1.0, np.abs(starts[-1][:6])), axis=0)
+        meas = np.stack([self.measure_at(full[i, :, 1:], thetas, self.pmap(d), U) for i, d in enumerate(deltas)])
+        power = np.array([self.friction_power(full[i, :, 1:], thetas, self.pmap(d), U) for i, d in enumerate(deltas)])
+        return Periodic(deltas, thetas, full, change, meas, power)
+
+    def measure_at(self, Z: np.ndarray, thetas: np.ndarray, p: np.ndarray, U: np.ndarray) -> np.ndarray:
+        n, ng = thetas.size, self.n_guards
+        X = Z[:6] * _scale(p)[:, None]
+        return np.array(self.measure_fn.map(n)(thetas[None, :], X, Z[6:6 + ng], np.repeat(p[:, None], n, 1), U)).ravel()
+
+    def friction_power(self, Z: np.ndarray, thetas: np.ndarray, p: np.ndarray, U: np.ndarray) -> float:
+        n, ng = thetas.size, self.n_guards
+        X = Z[:6] * _scale(p)[:, None]
+        Y = np.array(self.functions.outputs.map(n)(thetas[None, :], X, Z[6:6 + ng], np.repeat(p[:, None], n, 1), U))
+        return float(Y[tuple(self.functions.output_names).index("Pf_total")].mean())
+
+    def mask(self, thetas: np.ndarray) -> np.ndarray:
+        return check_mask(thetas, self.exclude)
+
+    def min_checked(self, periodic: Periodic) -> tuple[np.ndarray, np.ndarray]:
+        """Per preload: the smallest measure at the checked samples and its crank angle (deg, mod 360)."""
+        keep = self.mask(periodic.thetas)
+        m = np.where(keep[None, :], periodic.measure, np.inf)
+        k = np.argmin(m, axis=1)
+        return m[np.arange(m.shape[0]), k], np.degrees(periodic.thetas[k]) % 360.0
+
+
+def _scale(p: np.ndarray) -> np.ndarray:
+    from .scaling import state_scale
+
+    return state_scale(float(p[OMEGA]))
+
+
+def check_request(scene, min_force, samples, revolutions) -> None:
+    """Reject what the study cannot answer, naming the option, its value and the allowed range."""
+    problems = []
+    if not (isinstance(min_force, int | float) and math.isfinite(min_force) and min_force > 0):
+        problems.append(f"min_force = {min_force!r}: must be a force > 0 N (finite)")
+    if samples is not None and not (isinstance(samples, int) and 36 <= samples <= 100000):
+        problems.append(f"samples = {samples!r}: must be an integer in 36..100000 (samples per revolution)")
+    if not (isinstance(revolutions, int) and 2 <= revolutions <= 50):
+        problems.append(f"revolutions = {revolutions!r}: must be an integer in 2..50")
+    eff = scene.effects
+    if not (eff.spring and eff.housing_contact):
+        problems.append("effects: the preload study needs both 'spring' and 'housing_contact' on (the spring presses "
+                        "the tip on the housing)")
+    if problems:
+        raise PreloadStudyError("; ".join(problems))
+
+
+__all__ = ["LENGTH", "MM", "Periodic", "PreloadMap", "PreloadSetup", "PreloadStudyError", "check_mask",
+           "contact_measure", "parse_window", "preload_parameters"]
