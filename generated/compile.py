@@ -48,8 +48,8 @@ MODEL_LIBRARY = "libapexseal_model.so"
 
 FALLBACK_COST = (
     "CasADi's interpreted SX Functions are used instead, which are about 4-10x slower per evaluation: an Euler step "
-    "of this model's rhs_switched costs ~2.1 us interpreted vs ~0.35-0.55 us compiled (docs/codegen.md), and the "
-    "CasADi notes measured 740 vs 60 ns per right-hand side and ~250-300 vs ~20-26 ms per erk revolution. Install "
+    "of this model's rhs_switched costs ~2.1 us interpreted vs ~0.35-0.55 us compiled (docs/codegen.md), and a "
+    "revolution of the default scene with erk ~360 vs ~45 ms (docs/bench/table.md). Install "
     "gcc or point APEXSEAL_CC at a working C compiler."
 )
 

@@ -18,7 +18,7 @@ Formulation (multiple shooting, every choice measured on the default scene, docs
 * **Decision variables**: delta_s in mm and the 6 scaled states (runtime/scaling.py) at
   ``nodes`` shooting nodes, each divided by the largest magnitude that component reaches on
   the start trajectory, so every variable is of order 1 (unscaled, IPOPT stops at points
-  that violate constraints by a few per cent of their bound, CASADI notes).
+  that violate constraints by a few per cent of their bound, as measured on a probe model).
 * **Shooting intervals**: one ``erk`` integrator with events over 360/nodes degrees whose
   output grid is the scene's samples, mapped over the nodes on two threads; its parameters
   are [p(delta_s), crank angle of the node] and its controls the pressure means of the
@@ -33,7 +33,7 @@ Formulation (multiple shooting, every choice measured on the default scene, docs
   first node); the force measure / 10 N >= min_force / 10 N at every check sample (excluded
   samples get no lower bound, so the compiled function does not depend on the windows).
 * **Objective**: delta_s in mm (gradient 1: with the L-BFGS Hessian approximation a smaller
-  objective scale makes IPOPT crawl, CASADI notes section 4).
+  objective scale makes IPOPT crawl, as measured on a probe model).
 * **Start**: a feasible periodic trajectory. With the tip lifted off, the force has no
   gradient and IPOPT starting there would sit on a flat, infeasible region; the signed
   measure (-kw x gap in lift-off) has a gradient, but the lift-off pattern changes with every
