@@ -64,7 +64,7 @@ def test_constraint_is_active_at_the_optimum_and_violated_just_below(study, setu
     below, above = setup.min_checked(per)[0]
     assert below < MIN_FORCE < above, (below, above)
     # the spring force and the friction power are reported and consistent
-    assert ip["spring_force"] == pytest.approx(5e3 * ds, rel=1e-12)  # ks = 5e3 N/m in the default scene
+    assert ip["spring_force"] == pytest.approx(setup.scene.parameters["ks"] * ds, rel=1e-12)
     assert ip["friction_power"] == pytest.approx(per.friction_power.mean(), rel=0.02)
 
 
