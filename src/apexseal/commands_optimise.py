@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .commands_simulate import _writable
+from .cli_common import scene_and_folder
 
 #: the largest min-force accepted (N): far above any contact force of a seal
 MAX_FORCE = 1e5
@@ -55,16 +55,8 @@ def optimise_preload(scene: Path | None, min_force: float, exclude, samples, nod
     from .runtime.preload import optimise_preload as run_study
     from .runtime.preload_bisect import bisect_preload
     from .runtime.preload_problem import MM, PreloadStudyError
-    from .runtime.scene import load_scene
-    from .runtime.scene_errors import SceneError
 
-    try:
-        sc = load_scene(scene)
-    except SceneError as err:
-        raise click.ClickException(str(err)) from err
-    name = scene.stem if scene else "default"
-    out = out or Path("apexseal-out") / name
-    _writable(out)
+    sc, out = scene_and_folder(scene, out)
     click.echo(f"scene {scene or '(embedded default: the paper case study)'}; min force {min_force:g} N; "
                f"writing to {out}/")
     try:

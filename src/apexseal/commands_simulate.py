@@ -3,23 +3,13 @@
 from __future__ import annotations
 
 import json
-import os
 import sys
 from pathlib import Path
 
 import click
 
+from .cli_common import scene_and_folder
 from .runtime.methods import METHODS
-
-
-def _writable(folder: Path) -> None:
-    """Fail before computing anything if the output folder cannot be written."""
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as err:
-        raise click.BadParameter(f"cannot create the output folder {folder}: {err.strerror}", param_hint="--out") from err
-    if not os.access(folder, os.W_OK):
-        raise click.BadParameter(f"the output folder {folder} is not writable", param_hint="--out")
 
 
 @click.command()
@@ -35,17 +25,9 @@ def simulate(scene: Path | None, revolutions, method, rtol, out, no_figures, qui
     """Simulate SCENE (a TOML file; default: the embedded case study of the paper)."""
     from .runtime.api import simulate as run_scene
     from .runtime.figures import write_figures
-    from .runtime.scene import load_scene
-    from .runtime.scene_errors import SceneError
     from .runtime.summary import summarise
 
-    try:
-        sc = load_scene(scene)
-    except SceneError as err:
-        raise click.ClickException(str(err)) from err
-    name = scene.stem if scene else "default"
-    out = out or Path("apexseal-out") / name
-    _writable(out)
+    sc, out = scene_and_folder(scene, out)
     click.echo(f"scene {scene or '(embedded default: the paper case study)'}; method "
                f"{method or sc.solver.method}; writing to {out}/")
     result = run_scene(sc, revolutions=revolutions, method=method, rtol=rtol, progress=not quiet and sys.stderr.isatty())

@@ -1,0 +1,33 @@
+"""What the run commands share: the scene argument and the output folder, both checked before any work."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import click
+
+
+def writable(folder: Path) -> None:
+    """Fail before computing anything if the output folder cannot be written."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise click.BadParameter(f"cannot create the output folder {folder}: {err.strerror}", param_hint="--out") from err
+    if not os.access(folder, os.W_OK):
+        raise click.BadParameter(f"the output folder {folder} is not writable", param_hint="--out")
+
+
+def scene_and_folder(scene: Path | None, out: Path | None):
+    """The loaded scene (embedded default if None; a scene error becomes a clean CLI error) and the output
+    folder (default ``apexseal-out/<scene name>``), created and checked writable."""
+    from .runtime.scene import load_scene
+    from .runtime.scene_errors import SceneError
+
+    try:
+        sc = load_scene(scene)
+    except SceneError as err:
+        raise click.ClickException(str(err)) from err
+    folder = out or Path("apexseal-out") / (scene.stem if scene else "default")
+    writable(folder)
+    return sc, folder
