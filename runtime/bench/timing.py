@@ -78,6 +78,10 @@ class Timing:
         return d
 
 
+#: most runs in one timed sample
+MAX_BATCH = 1000
+
+
 def timed(fn: Callable[[], object], budget_s: float | None = None) -> tuple[object, float, float]:
     """(result, CPU s, wall s) of one call."""
     with cpu_budget(budget_s):
@@ -94,7 +98,9 @@ def measure(fn: Callable[[], object], *, repeats: int, slow_run_s: float, budget
     out, c, w = timed(fn, budget_s)
     t = Timing(warmup_cpu_s=c, warmup_wall_s=w)
     n = repeats if c < slow_run_s else (min(2, repeats) if c < 5 * slow_run_s else 0)
-    t.batch = k = max(1, math.ceil(min_sample_s / max(c, 1e-6))) if n else 1
+    # the batch is sized on the warm-up's wall time too: CPU time can come out as 0 for a short call (it is
+    # accounted in ticks on a busy VM), which would otherwise ask for 200000 runs per sample
+    t.batch = k = min(MAX_BATCH, max(1, math.ceil(min_sample_s / max(c, w, 1e-5)))) if n else 1
 
     def batch():
         for _ in range(k):

@@ -116,3 +116,21 @@ def test_full_preset_times_every_point_five_times():
     assert len(timing.cpu_s) == cfg.repeats and len(calls) == cfg.repeats + 1
     _, adaptive = measure(slow, repeats=5, slow_run_s=0.01, budget_s=None, min_sample_s=0.0)
     assert len(adaptive.cpu_s) < 5  # the quick preset's adaptive rule, for contrast
+
+
+def test_a_call_whose_cpu_time_reads_zero_gets_a_bounded_batch(monkeypatch):
+    """CPU time is accounted in ticks on a busy VM: a short call can read 0 s. The batch is then sized on the
+    wall time (and capped), not on the 1e-6 s floor that asked for 200000 runs per sample."""
+    import time
+
+    from apexseal.runtime.bench import timing
+
+    monkeypatch.setattr(timing.time, "process_time", lambda: 0.0)
+    calls = []
+
+    def short():
+        calls.append(1)
+        time.sleep(0.002)
+
+    _, t = measure(short, repeats=2, slow_run_s=0.5, budget_s=None, min_sample_s=0.2)
+    assert 1 <= t.batch <= 200 and len(calls) == 1 + 2 * t.batch
