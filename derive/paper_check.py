@@ -57,7 +57,7 @@ DEFAULTS: dict[str, float] = {
     "cr": 27.0, "cs": 1.9, "mu1": 0.10, "mu2": 0.12, "mus": 0.10, "v_eps": 1.0e-3,
 }
 DEFAULTS["delta_w"] = DEFAULTS["ks"] * DEFAULTS["delta_s"] / DEFAULTS["kw"]  # Eq. 9
-DEFAULTS["beta_o"] = math.asin(DEFAULTS["Ws"] / (2 * DEFAULTS["ro"]))  # derived parameter (derive/seal_shape.py)
+DEFAULTS["beta_o"] = shape.tip_half_angle(DEFAULTS["Ws"], DEFAULTS["ro"])  # a derived parameter
 EXTRA_DEFAULTS = {"Cr": 1.0e-4, "k": 0.02, "b": 0.2, "theta0": 0.03}
 
 #: the stated state of the numeric examples (SI units)
@@ -707,7 +707,7 @@ def _values(names: list[str], rng: np.random.Generator, jitter: bool, ranges: di
     if "Wg" in vals and "Ws" in vals and jitter:
         vals["Wg"] = vals["Ws"] * 1.02
     if "beta_o" in vals:  # a derived parameter: consistent with the (jittered) Ws and ro
-        vals["beta_o"] = math.asin(min(1.0, vals.get("Ws", DEFAULTS["Ws"]) / (2 * vals.get("ro", DEFAULTS["ro"]))))
+        vals["beta_o"] = shape.tip_half_angle(vals.get("Ws", DEFAULTS["Ws"]), vals.get("ro", DEFAULTS["ro"]))
     if "delta_w" in vals and jitter:
         vals["delta_w"] = vals.get("ks", DEFAULTS["ks"]) * vals.get("delta_s", DEFAULTS["delta_s"]) / vals.get(
             "kw", DEFAULTS["kw"])
@@ -738,7 +738,7 @@ def _sample_points(exprs: tuple[sp.Expr, ...], seed_label: str, n: int = N_SAMPL
 def _example_point(overrides: dict[str, float]) -> dict[str, float]:
     pt = dict(DEFAULTS) | EXTRA_DEFAULTS | EXAMPLE_STATE | overrides
     pt["delta_w"] = pt["ks"] * pt["delta_s"] / pt["kw"]
-    pt["beta_o"] = math.asin(min(1.0, pt["Ws"] / (2 * pt["ro"])))
+    pt["beta_o"] = shape.tip_half_angle(pt["Ws"], pt["ro"])
     return pt
 
 

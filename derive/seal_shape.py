@@ -7,6 +7,8 @@ that passes through the tip point ds1 Xs. Everything follows from Ws, ds1, ds2, 
 
 from __future__ import annotations
 
+import math
+
 import sympy as sp
 from sympy.physics.vector import ReferenceFrame, Vector
 
@@ -17,13 +19,16 @@ Ws, ds1, ds2, ro = P["Ws"], P["ds1"], P["ds2"], P["ro"]
 #: Eq. 16
 ds = ds1 + ds2
 
-#: half-angle of the tip arc: the arc meets the sides Ys = -+Ws/2 where ro sin(beta_o) = Ws/2
-BETA_O = sp.asin(Ws / (2 * ro))
-
-#: ... entering the model as a derived parameter, its value BETA_O computed by the scene (like ms and Icg): at
-#: ro = Ws/2 the arcsine's derivative is infinite, and automatic differentiation would turn its product with the
-#: zero seed of the parameters into NaN in every derivative of the right-hand side (docs/hard-cases.md)
+#: half-angle of the tip arc, a derived parameter: the arc meets the sides Ys = -+Ws/2 where ro sin(beta_o) = Ws/2,
+#: and the scene computes the value (tip_half_angle, like ms and Icg). As an expression asin(Ws / (2 ro)) of the
+#: model its infinite derivative at ro = Ws/2 would turn, times the zero seed of the parameters, into NaN in every
+#: automatic derivative of the right-hand side (docs/hard-cases.md)
 beta_o = P["beta_o"]
+
+
+def tip_half_angle(Ws: float, ro: float) -> float:
+    """The value of beta_o, Eq. 24: asin(Ws / (2 ro)) (pi/2 at the edge ro = Ws/2)."""
+    return math.asin(min(1.0, Ws / (2 * ro)))
 
 #: Eq. 24: distance from C to where the curved tip starts (c1, c3), from the arc meeting the sides
 ds0 = ds1 - ro + ro * sp.cos(beta_o)

@@ -20,7 +20,6 @@ import copy
 import hashlib
 import importlib.resources
 import json
-import math
 import numbers
 import re
 import tomllib
@@ -33,6 +32,7 @@ import numpy as np
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects
 from apexseal.derive.geometry import initial_wall_deflection
+from apexseal.derive.seal_shape import tip_half_angle
 from apexseal.derive.symbols import PARAMETER_NAMES
 
 from .scene_checks import check_consistency, resolve_assumptions, resolve_effects, zeta0_of
@@ -134,7 +134,7 @@ def derive_parameters(sections: dict[str, Section], effects: Effects) -> dict[st
         "ds1": s.ds1,
         "ds2": s.ds2,
         "ro": s.ro,
-        "beta_o": math.asin(min(1.0, s.Ws / (2 * s.ro))),  # derive/seal_shape.py: computed here, not differentiated
+        "beta_o": tip_half_angle(s.Ws, s.ro),  # computed here, not differentiated (derive/seal_shape.py)
         "Bs": s.Bs,
         "ms": ms,
         "Icg": icg,

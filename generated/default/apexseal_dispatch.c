@@ -1,6 +1,6 @@
 /* apexseal_dispatch.c: mode table and dispatch over the generated mode functions.
  * Rendered by apexseal from templates/apexseal_dispatch.in.c; do not edit (run `apexseal generate`).
- * Input hash: d3fc5a902f6084f0b01f5de5fa7f91b4904a664722e1e83e993404107ccb8265.
+ * Input hash: 50ddf7c25db9a5cf781ba3db55b7994494330b410037d3167017d50712fc3d38.
  */
 #include "apexseal_model.h"
 #include "casadi_model.h"

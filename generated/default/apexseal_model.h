@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices, mode table and mode dispatch of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: d3fc5a902f6084f0b01f5de5fa7f91b4904a664722e1e83e993404107ccb8265.
+ * Effects: all. Input hash: 50ddf7c25db9a5cf781ba3db55b7994494330b410037d3167017d50712fc3d38.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "d3fc5a902f6084f0b01f5de5fa7f91b4904a664722e1e83e993404107ccb8265"
+#define APEXSEAL_INPUT_HASH "50ddf7c25db9a5cf781ba3db55b7994494330b410037d3167017d50712fc3d38"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from apexseal.derive.seal_shape import tip_half_angle
 from apexseal.derive.symbols import PARAMETER_NAMES
 
 
@@ -14,13 +15,13 @@ def default_parameters() -> dict[str, float]:
     return dict(omega=157.08, r=0.01, L=0.05, Li=0.046, zeta0=7.1e-4, delta_w=ks * delta_s / kw, Ws=Ws, Wg=3.06e-3,
                 ds1=ds1, ds2=ds2, ro=3e-3, Bs=Bs, ms=ms, Icg=ms * (Ws**2 + (ds1 + ds2) ** 2) / 12, ks=ks,
                 delta_s=delta_s, kw=kw, kg1=1.05e6, kg2=1.05e6, kg3=1.05e6, kg4=1.05e6, cw=207.0, cr=27.0, cs=1.9,
-                mu1=0.1, mu2=0.12, mus=0.1, v_eps=1e-3, beta_o=float(np.arcsin(Ws / (2 * 3e-3))))
+                mu1=0.1, mu2=0.12, mus=0.1, v_eps=1e-3, beta_o=tip_half_angle(Ws, 3e-3))
 
 
 def parameter_vector(**changes: float) -> np.ndarray:
     values = default_parameters() | changes
     if "beta_o" not in changes:  # derived from Ws and ro, as the scene does
-        values["beta_o"] = float(np.arcsin(min(1.0, values["Ws"] / (2 * values["ro"]))))
+        values["beta_o"] = tip_half_angle(values["Ws"], values["ro"])
     return np.array([values[n] for n in PARAMETER_NAMES], float)
 
 
