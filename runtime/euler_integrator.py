@@ -16,6 +16,7 @@ import casadi as ca
 import numpy as np
 
 from ..derive.symbols import PARAMETER_NAMES
+from .methods import fixed_steps
 from .scaling import LENGTH, scaled_rhs, state_scale
 
 #: contact stiffness -> its damping coefficient
@@ -72,7 +73,7 @@ class EulerIntegrator:
         n_g = guards.size1_out(0)
         self.n_g = n_g
         self.n_samples = n_samples
-        sub = max(1, int(round(steps_per_revolution * span / (2 * np.pi) / n_samples)))  # steps per sample
+        sub = fixed_steps(steps_per_revolution, span / n_samples)  # steps per sample
         self.h = span / (n_samples * sub)
         self.sub = sub
         # accumulated: [theta, z(6)]; per interval: [params, Pa, Pb]

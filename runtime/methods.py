@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 #: method -> (CasADi plugin, kind, one-line description)
 METHODS: dict[str, tuple[str, str, str]] = {
     "erk": ("erk", "events", "adaptive RK45 (Dormand-Prince) with events located on its dense output; compiles to C"),
@@ -24,3 +26,12 @@ def check_method(name: str) -> None:
         near = difflib.get_close_matches(name, METHODS, n=1)
         hint = f"; did you mean '{near[0]}'?" if near else ""
         raise ValueError(f"solver.method = {name!r} is not a method{hint} Allowed: {', '.join(METHODS)}")
+
+
+def fixed_steps(steps_per_revolution: int, dtheta: float) -> int:
+    """Steps of a fixed-step method in an interval of ``dtheta`` rad of crank angle (at least 1).
+
+    ``steps_per_revolution`` counts per revolution whatever the interval: a revolution may be cut into several
+    integrator calls (a wall-time budget cuts it into 36), and each output interval gets its share.
+    """
+    return max(1, int(round(steps_per_revolution * dtheta / (2 * math.pi))))

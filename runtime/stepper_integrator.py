@@ -28,7 +28,7 @@ import warnings
 import casadi as ca
 import numpy as np
 
-from .methods import METHODS
+from .methods import METHODS, fixed_steps
 from .scaling import LENGTH, scaled_rhs, state_scale
 
 #: zero-function values this far below 0 (in µm) are integration noise, not a crossing
@@ -74,8 +74,7 @@ class StepperIntegrator:
                 opts["linear_multistep_method"] = "adams"
                 opts["nonlinear_solver_iteration"] = "functional"
         else:  # fixed steps: the interval is cut into equal elements of about the revolution's step
-            # steps_per_revolution is per revolution whatever the call's span (a revolution may take several calls)
-            self.elements = max(1, int(round(steps_per_revolution * self.dtheta / (2 * np.pi))))
+            self.elements = fixed_steps(steps_per_revolution, self.dtheta)
             opts = {"number_of_finite_elements": self.elements}
             if plugin == "collocation":  # Newton on the scaled state: its default 1e-12 is below the round-off floor
                 opts["rootfinder_options"] = {"abstol": 1e-10, "abstolStep": 1e-10}
