@@ -145,3 +145,43 @@ def test_default_resolution_agreement(default_scene):
     b = bisect_preload(default_scene, min_force=MIN_FORCE, functions=f, tol=1e-4 * MM, upper=r.start_delta_s)
     assert abs(r.delta_s - b.delta_s) <= AGREE * b.delta_s + (b.delta_s - b.lower)
     assert abs(r.min_measure - MIN_FORCE) < 0.01 * MIN_FORCE
+
+
+def lift_off_table(deltas_mm=(1, 2, 4, 5, 6, 8, 10)) -> str:
+    """The lift-off table of docs/preload.md: periodic revolutions of the default scene (its 3600 samples) at
+    several preloads: lift-off segments, time off the housing, mean friction power."""
+    import apexseal
+    from apexseal.runtime.api import model_functions
+
+    sc = apexseal.load_scene()
+    per = PreloadSetup(sc, model_functions(sc), MIN_FORCE).periodic(np.array(deltas_mm, float) * MM)
+    off = per.measure < 0
+    segments = (np.diff(off.astype(int), axis=1) == 1).sum(axis=1) + (off[:, 0] & ~off[:, -1])
+    return "\n".join([
+        "| δs (mm) | " + " | ".join(f"{d / MM:g}" for d in per.deltas) + " |",
+        "|---|" + "---|" * len(per.deltas),
+        "| lift-off segments per revolution | " + " | ".join(str(int(s)) for s in segments) + " |",
+        "| time off the housing | " + " | ".join(f"{100 * o.mean():.0f} %" for o in off) + " |",
+        "| mean friction power (W) | " + " | ".join(f"{p:.1f}" for p in per.friction_power) + " |"])
+
+
+def passing_stretches(lo_mm=8.2, hi_mm=9.2, step_mm=0.01) -> str:
+    """Where the 5 N checks pass between lo and hi (default scene, 3600 samples): the non-monotone stretches."""
+    import apexseal
+    from apexseal.runtime.api import model_functions
+
+    sc = apexseal.load_scene()
+    setup = PreloadSetup(sc, model_functions(sc), MIN_FORCE)
+    ds = np.arange(lo_mm, hi_mm + step_mm / 2, step_mm) * MM
+    ok = np.concatenate([setup.min_checked(setup.periodic(ds[i:i + 10]))[0] >= MIN_FORCE for i in range(0, ds.size, 10)])
+    cuts = np.flatnonzero(np.diff(ok.astype(int))) + 1
+    runs = zip(np.r_[0, cuts], np.r_[cuts, ds.size], strict=True)
+    return "checks pass at " + ", ".join(f"{ds[a] / MM:.2f}-{ds[b - 1] / MM:.2f} mm" for a, b in runs if ok[a])
+
+
+if __name__ == "__main__":  # python tests/runtime/test_preload.py: the measured tables of docs/preload.md
+    import warnings
+
+    warnings.simplefilter("ignore")
+    print(lift_off_table())
+    print(passing_stretches())
