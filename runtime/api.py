@@ -6,14 +6,15 @@ from dataclasses import replace
 
 import numpy as np
 
-from .result import SimulationResult
-from .simulate import RunSettings, run
+from .results.result import SimulationResult
+from .solving.run import run
+from .solving.settings import RunSettings
 
 
 def model_functions(scene):
     """The SX Functions of a scene's effects and assumptions (cached derivation).
 
-    The integrators embed these and are compiled to C whole (runtime/event_integrator.py), so the
+    The integrators embed these and are compiled to C whole (runtime/solving/event_integrator.py), so the
     model library itself need not be compiled here.
     """
     from ..generated.load import load_functions

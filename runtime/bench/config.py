@@ -7,7 +7,7 @@ the work-precision diagram); its *sweep* is the setting varied along the curve
 * ``C integrator``: the whole integrator (events included) generated to C and compiled (erk, rosenbrock,
   erk-rk4, the paper's Euler and apexseal's RK4 ``fold``);
 * ``C model + Python event loop``: CasADi's SUNDIALS/collocation plugins calling the compiled model library, with
-  apexseal's own event loop in Python between output intervals (runtime/stepper_integrator.py);
+  apexseal's own event loop in Python between output intervals (runtime/solving/stepper_integrator.py);
 * ``CasADi VM``: the same integrator as ``C integrator`` but interpreted by CasADi's virtual machine;
 * ``sympy.lambdify + scipy``: what a user would otherwise write (runtime/bench/baseline_scipy.py).
 """
@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
-#: the event-integrator and stepper methods of runtime/methods.py the benchmark uses, plus its own ones
+#: the event-integrator and stepper methods of runtime/solving/methods.py the benchmark uses, plus its own ones
 FAMILY_C = "C integrator"
 FAMILY_STEPPER = "C model + Python event loop"
 FAMILY_VM = "CasADi VM"
@@ -34,7 +34,7 @@ class MethodSpec:
     family: str
     #: "casadi" (runtime.simulate.make_engine), "rk4" (runtime/bench/rk4.py) or "scipy"
     kind: str
-    #: runtime method name (runtime/methods.py) or the scipy solve_ivp method
+    #: runtime method name (runtime/solving/methods.py) or the scipy solve_ivp method
     method: str
     #: "rtol" or "steps" (fixed steps per revolution)
     sweep: str

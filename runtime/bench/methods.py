@@ -13,7 +13,9 @@ import time
 
 import numpy as np
 
-from ..simulate import OMEGA, RunSettings, make_engine
+from ...derive.symbols import PARAMETER_NAMES
+from ..solving.methods import make_engine
+from ..solving.settings import RunSettings
 from .config import MethodSpec
 from .rk4 import RK4Integrator
 
@@ -32,8 +34,9 @@ def build_engine(functions, spec: MethodSpec, value: float, *, samples: int, spa
                  event_tol: float | None = None):
     if spec.kind == "rk4":
         n_par = functions.rhs_switched.size1_in(2)
-        return RK4Integrator(functions.rhs_switched, functions.guards, n_par, OMEGA, n_samples=samples,
-                             steps=int(round(value * span / (2 * math.pi))), span=span, compile_c=compiled, flags=flags)
+        return RK4Integrator(functions.rhs_switched, functions.guards, n_par, PARAMETER_NAMES.index("omega"),
+                             n_samples=samples, steps=int(round(value * span / (2 * math.pi))), span=span,
+                             compile_c=compiled, flags=flags)
     st = settings_for(spec, value, samples=samples, span=span, flags=flags, compiled=compiled, event_tol=event_tol)
     return make_engine(functions, st, n_samples=samples, span=span)
 

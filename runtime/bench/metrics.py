@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scaling import to_physical
+from ..solving.scaling import to_physical
 
 STATE_KEYS = ("x", "y", "phi")
 

@@ -18,8 +18,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...derive.effects import Effects
-from ..scaling import to_scaled
-from ..simulate import OMEGA, RunSettings, initial_activations, run
+from ...derive.symbols import PARAMETER_NAMES
+from ..solving.preflight import initial_activations
+from ..solving.run import RunSettings, run
+from ..solving.scaling import to_scaled
 
 
 @dataclass
@@ -38,7 +40,7 @@ class Problem:
 
     @property
     def omega(self) -> float:
-        return float(self.params[OMEGA])
+        return float(self.params[PARAMETER_NAMES.index("omega")])
 
     @property
     def n_guards(self) -> int:

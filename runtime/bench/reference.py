@@ -3,7 +3,7 @@
 Reference: erk (RK45) with events located on its dense output to ``1e-13`` rad
 of crank angle, ``rtol = atol = 1e-12`` (scaled state), compiled to C. Check: CVODES (BDF, a different method
 family) at the same tolerance with apexseal's own event loop locating every
-contact switch to ``1e-13`` rad of crank angle (runtime/stepper_integrator.py).
+contact switch to ``1e-13`` rad of crank angle (runtime/solving/stepper_integrator.py).
 Their disagreement, in the benchmark's own error metrics, bounds how small an
 error the diagram can resolve; it is stored with the results and printed in the
 tables.

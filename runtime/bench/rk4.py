@@ -1,6 +1,6 @@
 """Classical fixed-step RK4 on the switched right-hand side, chained in CasADi and compiled to C.
 
-The same construction as the paper's Euler (runtime/euler_integrator.py): each
+The same construction as the paper's Euler (runtime/solving/euler_integrator.py): each
 stage evaluates ``rhs_switched`` (activations from the gaps inside the Function),
 the steps of an output interval are a ``fold``, the intervals of a revolution a
 ``mapaccum``, so one revolution is one call of one compiled Function. Contact
@@ -14,8 +14,8 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from ..event_integrator import RevolutionResult
-from ..scaling import LENGTH, scaled_rhs, state_scale
+from ..solving.methods import RevolutionResult
+from ..solving.scaling import LENGTH, scaled_rhs, state_scale
 
 
 class RK4Integrator:

@@ -32,7 +32,7 @@ VM_TWIN = {"erk-C": "erk-VM", "rosenbrock-C": "rosenbrock-VM"}
 def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
     """Run the benchmark ``cfg`` describes; the returned dict is what ``output.write_outputs`` writes."""
     from ...generated.load import load_functions
-    from ..scene import load_scene
+    from ..scenes.scene import load_scene
 
     t0 = time.perf_counter()
     results: dict = {"config": _config_dict(cfg), "machine": machine_info()}

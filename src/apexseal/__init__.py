@@ -15,7 +15,7 @@ __version__ = "0.1.0"
 
 def __getattr__(name):  # lazy: importing apexseal stays cheap
     if name == "load_scene":
-        from .runtime.scene import load_scene
+        from .runtime.scenes.scene import load_scene
 
         return load_scene
     if name in ("simulate", "Model"):
@@ -23,7 +23,7 @@ def __getattr__(name):  # lazy: importing apexseal stays cheap
 
         return getattr(api, name)
     if name == "SimulationResult":
-        from .runtime.result import SimulationResult
+        from .runtime.results.result import SimulationResult
 
         return SimulationResult
     raise AttributeError(name)

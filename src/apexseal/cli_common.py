@@ -21,8 +21,8 @@ def writable(folder: Path) -> None:
 def scene_and_folder(scene: Path | None, out: Path | None):
     """The loaded scene (embedded default if None; a scene error becomes a clean CLI error) and the output
     folder (default ``apexseal-out/<scene name>``), created and checked writable."""
-    from .runtime.scene import load_scene
-    from .runtime.scene_errors import SceneError
+    from .runtime.scenes.errors import SceneError
+    from .runtime.scenes.scene import load_scene
 
     try:
         sc = load_scene(scene)

@@ -17,7 +17,7 @@ import click
 def derive(scene: Path | None, check: bool, report: Path, refresh: bool) -> None:
     """Derive the equations of motion for SCENE's effects (default: the paper's case study), timing cold and warm."""
     from .derive.cache import cached_model
-    from .runtime.scene import load_scene
+    from .runtime.scenes.scene import load_scene
 
     sc = load_scene(scene)
     t0 = time.perf_counter()

@@ -41,7 +41,7 @@ def _scene_inputs(scene: Path | None) -> tuple[Effects, Assumptions]:
     if scene is None:
         return Effects(), Assumptions()
     try:
-        from .runtime.scene import load_scene
+        from .runtime.scenes.scene import load_scene
     except ImportError as exc:  # the scene loader is not installed yet
         raise click.UsageError(f"cannot read scenes ({exc}); give --effects/--assumptions instead") from exc
     s = load_scene(scene)

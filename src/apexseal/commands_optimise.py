@@ -15,7 +15,7 @@ MAX_FORCE = 1e5
 
 
 def _force(ctx, param, value) -> float:
-    from .runtime.scene_units import QuantityError, parse_quantity
+    from .runtime.scenes.units import QuantityError, parse_quantity
 
     try:
         f = parse_quantity(value, "N", key="--min-force")
@@ -27,7 +27,7 @@ def _force(ctx, param, value) -> float:
 
 
 def _windows(ctx, param, values) -> tuple:
-    from .runtime.preload_problem import PreloadStudyError, parse_window
+    from .runtime.studies.preload.problem import PreloadStudyError, parse_window
 
     try:
         return tuple(parse_window(v) for v in values)
@@ -52,9 +52,9 @@ def _windows(ctx, param, values) -> tuple:
 def optimise_preload(scene: Path | None, min_force: float, exclude, samples, nodes, check, out) -> None:
     """Find the smallest spring preload delta_s of SCENE (default: the embedded case study) for which the
     seal tip stays pressed on the housing with at least --min-force over the periodic revolution."""
-    from .runtime.preload import optimise_preload as run_study
-    from .runtime.preload_bisect import bisect_preload
-    from .runtime.preload_problem import MM, PreloadStudyError
+    from .runtime.studies.preload.bisect import bisect_preload
+    from .runtime.studies.preload.nlp import optimise_preload as run_study
+    from .runtime.studies.preload.problem import MM, PreloadStudyError
 
     sc, out = scene_and_folder(scene, out)
     click.echo(f"scene {scene or '(embedded default: the paper case study)'}; min force {min_force:g} N; "

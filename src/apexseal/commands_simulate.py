@@ -9,7 +9,7 @@ from pathlib import Path
 import click
 
 from .cli_common import scene_and_folder
-from .runtime.methods import METHODS
+from .runtime.solving.methods import METHODS
 
 
 @click.command()
@@ -24,8 +24,8 @@ from .runtime.methods import METHODS
 def simulate(scene: Path | None, revolutions, method, rtol, out, no_figures, quiet) -> None:
     """Simulate SCENE (a TOML file; default: the embedded case study of the paper)."""
     from .runtime.api import simulate as run_scene
-    from .runtime.figures import write_figures
-    from .runtime.summary import summarise
+    from .runtime.results.figures import write_figures
+    from .runtime.results.summary import summarise
 
     sc, out = scene_and_folder(scene, out)
     click.echo(f"scene {scene or '(embedded default: the paper case study)'}; method "

@@ -26,7 +26,7 @@ def test_simulate_default_scene_end_to_end(tmp_path):
 
 def test_simulate_rejects_a_bad_scene_with_the_key_named(tmp_path):
     scene = tmp_path / "bad.toml"
-    from apexseal.runtime.scene import default_scene_text
+    from apexseal.runtime.scenes.scene import default_scene_text
 
     scene.write_text(default_scene_text().replace('ks = "5e3 N/m"', 'ks = "-5e3 N/m"'))
     r = CliRunner().invoke(main, ["simulate", str(scene), "--out", str(tmp_path / "o")])

@@ -7,8 +7,9 @@ from pathlib import Path
 import numpy as np
 
 import apexseal
-from apexseal.runtime.scaling import to_physical, to_scaled
-from apexseal.runtime.simulate import OMEGA, RunSettings, initial_activations, make_engine
+from apexseal.derive.symbols import PARAMETER_NAMES
+from apexseal.runtime.solving.run import RunSettings, initial_activations, make_engine
+from apexseal.runtime.solving.scaling import to_physical, to_scaled
 
 HARD_DIR = Path(__file__).resolve().parents[2] / "runtime" / "scenes" / "hard"
 SCENES = sorted(p.stem for p in HARD_DIR.glob("*.toml"))
@@ -32,7 +33,7 @@ def initial_z(scene, functions, pressures):
     p = scene.parameter_vector()
     X0 = np.array([getattr(scene.operation.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float)
     closed = initial_activations(functions, scene.operation.start_angle, X0, p, pressures[:, 0])
-    return np.r_[to_scaled(X0, p[OMEGA]), closed, np.zeros(closed.size)]
+    return np.r_[to_scaled(X0, p[PARAMETER_NAMES.index("omega")]), closed, np.zeros(closed.size)]
 
 
 def short_run(scene, functions, method: str, degrees: float, *, rtol: float = 1e-8, samples: int = SAMPLES, **settings):

@@ -18,10 +18,10 @@ import apexseal
 from apexseal.cli import main
 from apexseal.generated.load import DEFAULT_DIR
 from apexseal.generated.manifest import StaleArtefactError, verify
-from apexseal.runtime import simulate as sim
-from apexseal.runtime.result import SimulationResult
-from apexseal.runtime.scene import default_scene_text, load_scene
-from apexseal.runtime.scene_errors import SceneError
+from apexseal.runtime.results.result import SimulationResult
+from apexseal.runtime.scenes.errors import SceneError
+from apexseal.runtime.scenes.scene import default_scene_text, load_scene
+from apexseal.runtime.solving import run as sim
 
 TEXT = default_scene_text()
 SCENES_DIR = Path(__file__).resolve().parents[2] / "runtime" / "scenes"

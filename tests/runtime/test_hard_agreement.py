@@ -1,6 +1,6 @@
 """cvodes and idas agree within their tolerances on every hard scene both can run (and with erk's events).
 
-cvodes and idas share apexseal's own event loop (runtime/stepper_integrator.py) but not their integration; erk
+cvodes and idas share apexseal's own event loop (runtime/solving/stepper_integrator.py) but not their integration; erk
 locates the same switches with CasADi's events. Rattling scenes are sensitive to the smallest perturbation (runs
 at different tolerances part after some tens of degrees, docs/hard-cases.md), so each is compared over the span
 where its solution is well defined at these tolerances.

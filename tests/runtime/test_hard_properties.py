@@ -14,8 +14,8 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import apexseal
-from apexseal.runtime.result import STATUS
-from apexseal.runtime.scene_errors import SceneError
+from apexseal.runtime.results.result import STATUS
+from apexseal.runtime.scenes.errors import SceneError
 
 SAMPLES = 72
 BUDGET = 4.0

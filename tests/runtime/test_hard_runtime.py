@@ -9,9 +9,9 @@ import pytest
 from hard_helpers import SAMPLES, load, mode_mismatches, short_run, simulate
 
 from apexseal.derive.symbols import PARAMETER_NAMES
-from apexseal.runtime import simulate as sim
-from apexseal.runtime.euler_integrator import MAX_GROWTH, contact_growth
-from apexseal.runtime.hybrid import BLIND_WINDOW, build_hybrid_dae
+from apexseal.runtime.solving import run as sim
+from apexseal.runtime.solving.euler_integrator import MAX_GROWTH, contact_growth
+from apexseal.runtime.solving.hybrid import BLIND_WINDOW, build_hybrid_dae
 
 
 @pytest.fixture(scope="module")
@@ -106,7 +106,7 @@ def test_casadi_ignores_crossings_right_after_an_event(plugin):
 @pytest.mark.parametrize("plugin", ["erk", "rosenbrock"])
 @pytest.mark.parametrize("gap_tols", [0, 2, 5, 50])
 def test_hybrid_transition_switches_contacts_inside_the_blind_window(plugin, gap_tols):
-    """Two contacts closing 0..50 event_tol apart both close, each counted once (runtime/hybrid.py)."""
+    """Two contacts closing 0..50 event_tol apart both close, each counted once (runtime/solving/hybrid.py)."""
     event_tol = 1e-8
     rhs, guards, params, omega, z0 = _two_walls(gap_tols * event_tol)
     h = build_hybrid_dae(rhs, guards, params.size, PARAMETER_NAMES.index("omega"), event_tol=event_tol)
@@ -245,5 +245,5 @@ def test_an_infinite_parameter_derivative_stops_methods_that_differentiate(defau
     assert r.status == "failed" and r.n == 1 and r.stop.theta == 0.0
     assert "derivative of the right-hand side is not finite" in r.stop.reason and "mu2" in r.stop.reason
     euler = sim.RunSettings(method="euler", samples_per_revolution=SAMPLES, compile_c=False)
-    assert sim._preflight(edgy, euler, p, 0.0, np.zeros(6), np.zeros(fns.guards.size1_out(0)),
+    assert sim.preflight(edgy, euler, p, 0.0, np.zeros(6), np.zeros(fns.guards.size1_out(0)),
                           np.array([1e5, 1e5])) is None

@@ -1,4 +1,4 @@
-"""The spring-preload study (runtime/preload.py): IPOPT against a bisection over full simulations, the
+"""The spring-preload study (runtime/studies/preload/nlp.py): IPOPT against a bisection over full simulations, the
 constraint active at the optimum, the CLI end to end, bad input.
 
 The study runs once (module fixture, through the CLI, which also runs the bisection) at 720 samples
@@ -16,9 +16,9 @@ import pytest
 from click.testing import CliRunner
 
 from apexseal.cli import main
-from apexseal.runtime.preload import SOLVED, optimise_preload
-from apexseal.runtime.preload_bisect import bisect_preload
-from apexseal.runtime.preload_problem import MM, PreloadSetup, PreloadStudyError, check_mask, preload_parameters
+from apexseal.runtime.studies.preload.bisect import bisect_preload
+from apexseal.runtime.studies.preload.nlp import SOLVED, optimise_preload
+from apexseal.runtime.studies.preload.problem import MM, PreloadSetup, PreloadStudyError, check_mask, preload_parameters
 
 SAMPLES = 720
 MIN_FORCE = 5.0

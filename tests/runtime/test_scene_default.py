@@ -9,8 +9,8 @@ import pytest
 
 from apexseal.derive.effects import EFFECTS
 from apexseal.derive.symbols import PARAMETER_NAMES
-from apexseal.runtime.scene import Scene, default_scene_text, load_scene
-from apexseal.runtime.scene_pressure import TablePressure
+from apexseal.runtime.scenes.pressure import TablePressure
+from apexseal.runtime.scenes.scene import Scene, default_scene_text, load_scene
 
 
 @pytest.fixture(scope="module")

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from apexseal.runtime.scene_schema import SOLVER_METHODS, key_paths
+from apexseal.runtime.scenes.schema import SOLVER_METHODS, key_paths
 
 DOCS = Path(__file__).resolve().parents[2] / "docs" / "scenes.md"
 

@@ -7,9 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from apexseal.runtime.scene import load_scene
-from apexseal.runtime.scene_errors import SceneError
-from apexseal.runtime.scene_pressure import (
+from apexseal.runtime.scenes.errors import SceneError
+from apexseal.runtime.scenes.pressure import (
     ConstantPressure,
     NoPressure,
     PeriodicLinear,
@@ -17,7 +16,7 @@ from apexseal.runtime.scene_pressure import (
     load_table,
     parse_table,
 )
-from apexseal.runtime.scene_pressure_default import (
+from apexseal.runtime.scenes.pressure_default import (
     GAMMA,
     P_EXHAUST,
     P_SUPPLY,
@@ -25,6 +24,7 @@ from apexseal.runtime.scene_pressure_default import (
     default_table,
     write_default_table,
 )
+from apexseal.runtime.scenes.scene import load_scene
 
 TWO_PI = 2 * math.pi
 SIMPLE = "theta_deg,Pa,Pb\n0,100,400\n90,200,300\n180,300,200\n270,200,100\n"

@@ -1,10 +1,10 @@
-"""Quantities with units in scene files (runtime/scene_units.py)."""
+"""Quantities with units in scene files (runtime/scenes/units.py)."""
 
 import math
 
 import pytest
 
-from apexseal.runtime.scene_units import QuantityError, Range, parse_pressure_unit, parse_quantity
+from apexseal.runtime.scenes.units import QuantityError, Range, parse_pressure_unit, parse_quantity
 
 
 @pytest.mark.parametrize(

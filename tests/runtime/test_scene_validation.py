@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from apexseal.runtime.scene import Scene, load_scene
-from apexseal.runtime.scene_errors import MISSING, Problem, SceneError
-from apexseal.runtime.scene_schema import SECTIONS
+from apexseal.runtime.scenes.errors import MISSING, Problem, SceneError
+from apexseal.runtime.scenes.scene import Scene, load_scene
+from apexseal.runtime.scenes.schema import SECTIONS
 
 #: the pressure section switched to constant pressures (the table keys removed)
 CONSTANT = {

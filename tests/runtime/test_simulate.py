@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import apexseal
-from apexseal.runtime.result import SimulationResult
+from apexseal.runtime.results.result import SimulationResult
 
 SAMPLES = 360  # one compiled integrator for all tests of this file
 
@@ -131,7 +131,7 @@ def test_model_rhs_matches_generated_function(default_scene, default_functions):
 
 
 def test_summary_has_the_promised_fields(erk_result):
-    from apexseal.runtime.summary import summarise
+    from apexseal.runtime.results.summary import summarise
 
     s = summarise(erk_result)
     for key in ("extremes", "mode_fraction", "events", "mean_friction_power_W", "leakage_gap", "housing_force_N",
@@ -159,7 +159,7 @@ class _FlakyEngine:
 
 def _flaky_run(scene, functions, error):
     from apexseal.runtime.api import settings_of
-    from apexseal.runtime.simulate import make_engine, run
+    from apexseal.runtime.solving.run import make_engine, run
 
     st = settings_of(scene, samples_per_revolution=72, compile_c=False)
     engine = _FlakyEngine(make_engine(functions.sx, st), 2, error)
@@ -189,8 +189,8 @@ class _FailsBeyond:
 
 
 def test_solver_failure_keeps_samples_and_says_where(default_scene, default_functions, monkeypatch):
-    from apexseal.runtime import simulate as sim
     from apexseal.runtime.api import settings_of
+    from apexseal.runtime.solving import run as sim
 
     real = sim.make_engine
     fail_at = 2 * np.pi + np.radians(100)
@@ -239,7 +239,7 @@ def test_until_periodic_stops_early(default_scene, default_functions):
 def test_fixed_steps_count_per_revolution_whatever_the_calls(default_scene, default_functions, calls):
     """steps_per_revolution means per revolution also when a revolution is cut into several integrator calls
     (a wall-time budget cuts it into 36): Euler's step and collocation's elements do not depend on the cut."""
-    from apexseal.runtime.simulate import RunSettings, make_engine
+    from apexseal.runtime.solving.run import RunSettings, make_engine
 
     steps, n = 36000, SAMPLES // calls
     for method in ("euler", "collocation"):

@@ -15,8 +15,8 @@ from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import EFFECTS, Effects
 from apexseal.derive.geometry import machine_numbers
 
-from .scene_errors import MISSING, Problem
-from .scene_schema import (
+from .errors import MISSING, Problem
+from .schema import (
     MachineSection,
     PressureSection,
     SealSection,

@@ -1,8 +1,8 @@
 """What the spring-preload study optimises: the preload as a parameter, the tip's contact force, the checks.
 
-Shared by the IPOPT study (runtime/preload.py) and its derivative-free check
-(runtime/preload_bisect.py), so both ask exactly the same question of exactly the
-same model: the simulator's hybrid DAE (runtime/hybrid.py) integrated by CasADi's
+Shared by the IPOPT study (runtime/studies/preload/nlp.py) and its derivative-free check
+(runtime/studies/preload/bisect.py), so both ask exactly the same question of exactly the
+same model: the simulator's hybrid DAE (runtime/solving/hybrid.py) integrated by CasADi's
 ``erk`` with events, on the simulator's output grid and pressure means.
 
 * **The preload as a parameter.** ``delta_s`` is one entry of the simulator's
@@ -39,9 +39,9 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from ..derive.symbols import PARAMETER_NAMES
-from .scaling import LENGTH, to_scaled
-from .simulate import OMEGA, initial_activations
+from ....derive.symbols import PARAMETER_NAMES
+from ...solving.preflight import initial_activations
+from ...solving.scaling import LENGTH, to_scaled
 
 KW = PARAMETER_NAMES.index("kw")
 DELTA_S = PARAMETER_NAMES.index("delta_s")
@@ -171,18 +171,18 @@ class PreloadSetup:
         return np.asarray(self.scene.pressure.interval_means(edges), float)
 
     def settings(self):
-        from .api import settings_of
+        from ...api import settings_of
 
         return settings_of(self.scene, method="erk", rtol=self.rtol, samples_per_revolution=self.samples,
                            flags=self.flags)
 
     # -- full simulations -----------------------------------------------------
     def engine(self):
-        """The simulator's compiled erk integrator over one revolution (runtime/event_integrator.py)."""
+        """The simulator's compiled erk integrator over one revolution (runtime/solving/event_integrator.py)."""
         if self._engine is None:
             import time
 
-            from .simulate import make_engine
+            from ...solving.methods import make_engine
 
             t = time.perf_counter()
             with warnings.catch_warnings():
@@ -204,7 +204,7 @@ class PreloadSetup:
         p = self.pmap(delta_s)
         u0 = self.pressures(self.theta_start + np.array([0.0, self.dth]))[:, 0]
         act = initial_activations(self.functions, self.theta_start, X, p, u0)
-        return np.r_[to_scaled(X, float(p[OMEGA])), act, np.zeros(self.n_guards)]
+        return np.r_[to_scaled(X, float(p[PARAMETER_NAMES.index("omega")])), act, np.zeros(self.n_guards)]
 
     def periodic(self, deltas) -> Periodic:
         """Simulate ``revolutions`` revolutions from the scene's start at each preload (one mapped call per
@@ -260,9 +260,9 @@ class PreloadSetup:
 
 
 def _scale(p: np.ndarray) -> np.ndarray:
-    from .scaling import state_scale
+    from ...solving.scaling import state_scale
 
-    return state_scale(float(p[OMEGA]))
+    return state_scale(float(p[PARAMETER_NAMES.index("omega")]))
 
 
 def check_request(scene, min_force, samples, revolutions) -> None:

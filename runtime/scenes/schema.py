@@ -22,9 +22,9 @@ from pydantic_core import PydanticCustomError
 from apexseal.derive.assumptions import CHOICES
 from apexseal.derive.effects import EFFECTS
 
-from .methods import METHODS
-from .scene_errors import MISSING, Problem
-from .scene_units import QuantityError, Range, expected, parse_pressure_unit, parse_quantity, registry
+from ..solving.methods import METHODS
+from .errors import MISSING, Problem
+from .units import QuantityError, Range, expected, parse_pressure_unit, parse_quantity, registry
 
 # ---------------------------------------------------------------------------
 # field validators
@@ -343,7 +343,7 @@ class PressureSection(Section):
     unit: _v(PressureUnit(), str) = Field("Pa", description="unit of the table's pressure columns")
 
 
-#: integration methods, as runtime/methods.py defines them
+#: integration methods, as runtime/solving/methods.py defines them
 SOLVER_METHODS: tuple[str, ...] = tuple(METHODS)
 
 

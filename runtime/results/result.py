@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..derive.symbols import STATE_NAMES
+from ...derive.symbols import STATE_NAMES
 
 STATUS = ("completed", "interrupted", "failed", "chattering")
 

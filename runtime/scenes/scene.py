@@ -35,10 +35,10 @@ from apexseal.derive.geometry import initial_wall_deflection
 from apexseal.derive.seal_shape import tip_half_angle
 from apexseal.derive.symbols import PARAMETER_NAMES
 
-from .scene_checks import check_consistency, resolve_assumptions, resolve_effects, zeta0_of
-from .scene_errors import Problem, SceneError
-from .scene_pressure import PressureSource, make_source
-from .scene_schema import (
+from .checks import check_consistency, resolve_assumptions, resolve_effects, zeta0_of
+from .errors import Problem, SceneError
+from .pressure import PressureSource, make_source
+from .schema import (
     ContactsSection,
     FrictionSection,
     MachineSection,
@@ -59,7 +59,7 @@ SCENE_FORMAT = 1
 
 def _scenes_folder() -> Any:
     """The folder of embedded scenes (an importlib resource; a Path in ordinary installs)."""
-    return importlib.resources.files("apexseal.runtime").joinpath("scenes")
+    return importlib.resources.files("apexseal.runtime.scenes")
 
 
 def default_scene_text() -> str:

@@ -7,7 +7,7 @@ from collections import Counter
 
 import numpy as np
 
-from ..derive.modes import gap_width
+from ...derive.modes import gap_width
 from .result import SimulationResult
 
 
@@ -84,7 +84,7 @@ def versions() -> dict:
     import numpy
     import sympy
 
-    from .. import __version__
+    from ... import __version__
 
     return {"apexseal": __version__, "casadi": casadi.__version__, "sympy": sympy.__version__,
             "numpy": numpy.__version__, "python": platform.python_version(), "machine": platform.machine()}

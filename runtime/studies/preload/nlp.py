@@ -6,16 +6,16 @@
     subject to  the seal's motion over one revolution is periodic (the machine's steady state), and
                 the tip's contact force >= min_force at every check sample of that revolution,
 
-where the motion is the simulator's: the hybrid model of runtime/hybrid.py (contact switches
+where the motion is the simulator's: the hybrid model of runtime/solving/hybrid.py (contact switches
 as events) integrated by CasADi's ``erk`` on the scene's output grid, with the scene's
 parameter vector in which delta_s is one entry (and delta_w = ks delta_s / kw, Eq. 9, and Li,
 Eq. 12, follow it). The spring presses the seal out with ks (delta_s - travel of s6) (Eqs. 38-39,
 with the erratum of docs/paper-check.md); the contact force is kw xs5 + cw max(v, 0) (Eq. 34
-and the damping of Eq. 67). runtime/preload_problem.py defines the force measure and the checks.
+and the damping of Eq. 67). runtime/studies/preload/problem.py defines the force measure and the checks.
 
 Formulation (multiple shooting, every choice measured on the default scene, docs/preload.md):
 
-* **Decision variables**: delta_s in mm and the 6 scaled states (runtime/scaling.py) at
+* **Decision variables**: delta_s in mm and the 6 scaled states (runtime/solving/scaling.py) at
   ``nodes`` shooting nodes, each divided by the largest magnitude that component reaches on
   the start trajectory, so every variable is of order 1 (unscaled, IPOPT stops at points
   that violate constraints by a few per cent of their bound, as measured on a probe model).
@@ -49,7 +49,7 @@ Formulation (multiple shooting, every choice measured on the default scene, docs
   defect of 1e-3 of a state's range): the constraint function is noisy at the erk rtol (1e-6),
   and at tighter tolerances IPOPT keeps iterating on that noise.
 * **Which crossing**: the lowest contact force of the ringing after a chamber switch is not
-  monotone in delta_s (runtime/preload_bisect.py has the numbers), so the checks pass on a
+  monotone in delta_s (runtime/studies/preload/bisect.py has the numbers), so the checks pass on a
   union of intervals. Starting above and descending, IPOPT stops at the first crossing below
   the start: the smallest preload from which every larger one (up to the start) passes, which
   is also what keeps sealing when the spring relaxes. Lower passing islands are not sought.
@@ -69,10 +69,9 @@ from dataclasses import asdict, dataclass, field
 import casadi as ca
 import numpy as np
 
-from ..derive.symbols import PARAMETER_NAMES
-from .preload_problem import KW, MM, PreloadSetup, PreloadStudyError
-from .scaling import state_scale
-from .simulate import OMEGA
+from ....derive.symbols import PARAMETER_NAMES
+from ...solving.scaling import state_scale
+from .problem import KW, MM, PreloadSetup, PreloadStudyError
 
 _DS = PARAMETER_NAMES.index("delta_s")
 _KS = PARAMETER_NAMES.index("ks")
@@ -147,7 +146,7 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), nodes: int = 
     ``nodes``: shooting nodes (a divisor of ``samples``); ``max_preload`` (m): the largest
     delta_s tried for a feasible start. See the module docstring for the formulation.
     """
-    from .api import model_functions
+    from ...api import model_functions
 
     if not (isinstance(nodes, int) and 2 <= nodes <= 64):
         raise PreloadStudyError(f"nodes = {nodes!r}: must be an integer in 2..64")
@@ -264,8 +263,8 @@ class _ShootingNlp:
     """The multiple-shooting constraint function g(V), compiled with its Jacobian (see the module docstring)."""
 
     def __init__(self, setup: PreloadSetup, nodes: int, per0):
-        from ..generated.compile import compile_function
-        from .event_integrator import EventIntegrator
+        from ....generated.compile import compile_function
+        from ...solving.event_integrator import EventIntegrator
 
         self.setup, self.N = setup, nodes
         m = setup.samples // nodes
@@ -279,14 +278,15 @@ class _ShootingNlp:
         self.theta_nodes = theta_nodes
         S = np.maximum(1.0, np.max(np.abs(Z0[:6]), axis=1))
         self.S = S
-        omega = float(setup.pmap.p0[OMEGA])
+        omega = float(setup.pmap.p0[PARAMETER_NAMES.index("omega")])
         sc = state_scale(omega)
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            F = EventIntegrator(fn.rhs, fn.guards, setup.pmap.p0.size, OMEGA, method="erk", rtol=setup.rtol,
-                                atol=st.atol, n_samples=m, span=m * setup.dth, max_events=st.max_events_per_revolution,
-                                max_steps=st.max_steps_per_interval, event_tol=st.event_tol, compile_c=False).vm
+            F = EventIntegrator(fn.rhs, fn.guards, setup.pmap.p0.size, PARAMETER_NAMES.index("omega"), method="erk",
+                                rtol=setup.rtol, atol=st.atol, n_samples=m, span=m * setup.dth,
+                                max_events=st.max_events_per_revolution, max_steps=st.max_steps_per_interval,
+                                event_tol=st.event_tol, compile_c=False).vm
         edges = setup.theta_start + setup.dth * (self.offset + np.arange(setup.samples + 1))
         U = setup.pressures(edges)  # (2, samples), sample j of the rotated revolution
         self.sample_thetas = edges[1:]

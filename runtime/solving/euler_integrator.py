@@ -15,8 +15,9 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from ..derive.symbols import PARAMETER_NAMES
-from .methods import fixed_steps
+from ...derive.symbols import PARAMETER_NAMES
+from .layout import HybridLayout
+from .methods import Engine, RevolutionResult, fixed_steps
 from .scaling import LENGTH, scaled_rhs, state_scale
 
 #: contact stiffness -> its damping coefficient
@@ -66,18 +67,27 @@ def contact_growth(params: np.ndarray, steps_per_revolution: int) -> list[Contac
     return sorted(out, key=lambda g: -g.log_growth)
 
 
-class EulerIntegrator:
+class EulerIntegrator(Engine):
+    """The paper's explicit Euler on the switched right-hand side, chained in C with ``fold``/``mapaccum``."""
+
+    @classmethod
+    def build(cls, functions, settings, *, method, n_samples, span, compile_c):
+        names = tuple(functions.parameter_names)
+        return cls(functions.rhs_switched, functions.guards, len(names), names.index("omega"), n_samples=n_samples,
+                   steps_per_revolution=settings.steps_per_revolution, span=span, compile_c=compile_c,
+                   flags=settings.flags)
+
     def __init__(self, rhs_switched: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *,
                  n_samples: int, steps_per_revolution: int, span: float = 2 * np.pi, compile_c: bool = True,
                  flags: str = "optimised"):
-        n_g = guards.size1_out(0)
-        self.n_g = n_g
+        self.layout = layout = HybridLayout.sized(rhs_switched.size1_in(1), guards.size1_out(0))
+        n_x = layout.n_x
         self.n_samples = n_samples
         sub = fixed_steps(steps_per_revolution, span / n_samples)  # steps per sample
         self.h = span / (n_samples * sub)
         self.sub = sub
-        # accumulated: [theta, z(6)]; per interval: [params, Pa, Pb]
-        acc = ca.SX.sym("acc", 7)
+        # accumulated: [theta, z (n_x)]; per interval: [params, Pa, Pb]
+        acc = ca.SX.sym("acc", 1 + n_x)
         q = ca.SX.sym("q", n_par + 2)
         par, u = q[:n_par], q[n_par:]
         omega = par[omega_index]
@@ -86,10 +96,10 @@ class EulerIntegrator:
         znew = z + self.h * scaled_rhs(rhs_switched(theta, X, par, u), omega)
         step = ca.Function("euler_step", [acc, q], [ca.vertcat(theta + self.h, znew)])
         interval = step.fold(sub)  # q repeated for each step of the interval
-        a0 = ca.MX.sym("a0", 7)
+        a0 = ca.MX.sym("a0", 1 + n_x)
         Q = ca.MX.sym("Q", n_par + 2, n_samples)
         qi = ca.MX.sym("qi", n_par + 2)
-        ai = ca.MX.sym("ai", 7)
+        ai = ca.MX.sym("ai", 1 + n_x)
         one = ca.Function("one_interval", [ai, qi], [interval(ai, ca.repmat(qi, 1, sub))])
         revolution = one.mapaccum(n_samples)
         A = revolution(a0, Q)
@@ -98,22 +108,20 @@ class EulerIntegrator:
         self.function = ca.Function("apexseal_euler", [a0, Q], [A, g])
         self.compiled = False
         if compile_c:
-            from ..generated.compile import compile_function
+            from ...generated.compile import compile_function
 
             compiled = compile_function(self.function, flags=flags)
             self.compiled = compiled is not self.function
             self.function = compiled
         self.stats = {"n_steps": 0}
 
-    def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray):
-        from .event_integrator import RevolutionResult
-
-        n_g = self.n_g
+    def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:
+        lay = self.layout
         Q = np.vstack([np.repeat(params[:, None], self.n_samples, axis=1), pressures])
-        A, g = self.function(np.r_[theta0, z0[:6]], Q)
+        A, g = self.function(np.r_[theta0, z0[lay.x]], Q)
         A, g = np.array(A), np.array(g)
         closed = (g < 0).astype(float)
-        prev = np.c_[z0[6:6 + n_g], closed[:, :-1]]
-        counts = z0[6 + n_g:, None] + np.cumsum(closed != prev, axis=1)
+        prev = np.c_[z0[lay.active], closed[:, :-1]]
+        counts = z0[lay.counts, None] + np.cumsum(closed != prev, axis=1)
         self.stats = {"n_steps": self.sub * self.n_samples}
         return RevolutionResult(np.vstack([A[1:], closed, counts]), dict(self.stats))

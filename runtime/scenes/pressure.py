@@ -25,8 +25,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .scene_errors import Problem, SceneError
-from .scene_units import parse_pressure_unit
+from .errors import Problem, SceneError
+from .units import parse_pressure_unit
 
 TWO_PI = 2 * math.pi
 HEADER = ("theta_deg", "Pa", "Pb")

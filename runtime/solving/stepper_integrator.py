@@ -28,35 +28,38 @@ import warnings
 import casadi as ca
 import numpy as np
 
-from .methods import METHODS, fixed_steps
+from .layout import HybridLayout
+from .methods import METHODS, Engine, RevolutionResult, WallTimeExceeded, fixed_steps
 from .scaling import LENGTH, scaled_rhs, state_scale
 
 #: zero-function values this far below 0 (in µm) are integration noise, not a crossing
 _NOISE = 1e-9
 
 
-class WallTimeExceeded(RuntimeError):
-    """The wall-time budget ran out inside a call; ``partial`` holds the samples finished before it."""
+class StepperIntegrator(Engine):
+    """One integrator call per output interval with the mode fixed; switches located by apexseal (see above)."""
 
-    def __init__(self, partial: np.ndarray):
-        super().__init__("wall-time budget used up inside an integrator call")
-        self.partial = partial
+    @classmethod
+    def build(cls, functions, settings, *, method, n_samples, span, compile_c):
+        names = tuple(functions.parameter_names)
+        return cls(functions.rhs, functions.guards, len(names), names.index("omega"), method=method,
+                   rtol=settings.rtol, atol=settings.atol, n_samples=n_samples, span=span,
+                   steps_per_revolution=settings.steps_per_revolution, event_tol=settings.event_tol,
+                   max_events=settings.max_events_per_revolution, max_steps=settings.max_steps_per_interval)
 
-
-class StepperIntegrator:
     def __init__(self, rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *, method: str,
                  rtol: float, atol: float | None, n_samples: int, span: float = 2 * np.pi, steps_per_revolution: int = 20000,
                  event_tol: float = 1e-9, max_events: int = 10000, max_steps: int = 200000,
                  check_step: float = np.radians(0.05)):
-        plugin = METHODS[method][0]
-        n_g = guards.size1_out(0)
-        self.n_g = n_g
+        plugin = METHODS[method].plugin
+        self.layout = layout = HybridLayout.of_functions(rhs, guards)
+        n_x, n_g = layout.n_x, layout.n_g
         self.n_samples = n_samples
         self.dtheta = span / n_samples
         self.event_tol = event_tol
         self.max_events = max_events
         # MX, so that compiled (external) right-hand sides can be used as well as SX ones
-        z = ca.MX.sym("z", 6)
+        z = ca.MX.sym("z", n_x)
         sigma = ca.MX.sym("sigma")
         P = ca.MX.sym("P", n_par + n_g + 4)  # params, activations, theta0, H, Pa, Pb
         par, act = P[:n_par], P[n_par:n_par + n_g]
@@ -86,9 +89,9 @@ class StepperIntegrator:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             F = ca.integrator("apexseal_" + method.replace("-", "_"), plugin, dae, 0.0, self.sub, opts)
-        zs = ca.MX.sym("z", 6)
+        zs = ca.MX.sym("z", n_x)
         Pm = ca.MX.sym("P", P.size1())
-        Z = F(x0=zs, p=Pm)["xf"]  # 6 x m, at the sub-grid
+        Z = F(x0=zs, p=Pm)["xf"]  # n_x x m, at the sub-grid
         theta_sub = Pm[n_par + n_g] + Pm[n_par + n_g + 1] * ca.DM(self.sub).T
         Xs = Z * ca.repmat(state_scale(Pm[omega_index]), 1, m)
         g = guards.map(m)(theta_sub, Xs, Pm[:n_par], Pm[n_par + n_g + 2:]) / LENGTH
@@ -100,7 +103,7 @@ class StepperIntegrator:
         self.n_par = n_par
         self.stats = {"n_calls": 0, "n_events": 0}
         self.deadline = math.inf  # time.perf_counter() value past which a call stops (set by the caller)
-        self._done = np.zeros((6 + 2 * n_g, 0))
+        self._done = layout.empty()
 
     def _advance_all(self, z, params, act, theta0, H, u):
         """States and zero functions at the sub-grid points of [theta0, theta0 + H]."""
@@ -137,15 +140,13 @@ class StepperIntegrator:
         return b
 
     def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray):
-        """Same contract as EventIntegrator.run: states [6 scaled, activations, event counts] at each sample."""
-        from .event_integrator import RevolutionResult
-
-        n_g = self.n_g
+        """See :class:`~.methods.Engine`: hybrid states (:mod:`.layout`) at each sample."""
+        lay = self.layout
         self.stats = {"n_calls": 0, "n_events": 0}
-        z = np.array(z0[:6], float)
-        act = np.array(z0[6:6 + n_g], float)
-        counts = np.array(z0[6 + n_g:], float)
-        out = np.empty((6 + 2 * n_g, self.n_samples))
+        z = np.array(z0[lay.x], float)
+        act = np.array(z0[lay.active], float)
+        counts = np.array(z0[lay.counts], float)
+        out = np.empty((lay.size, self.n_samples))
         self._done = out[:, :0]
         events_here = 0
         for k in range(self.n_samples):
@@ -186,6 +187,6 @@ class StepperIntegrator:
                 left -= h
                 if left <= self.event_tol:
                     break
-            out[:, k] = np.r_[z, act, counts]
+            out[:, k] = lay.pack(z, act, counts)
             self._done = out[:, :k + 1]
         return RevolutionResult(out, dict(self.stats))

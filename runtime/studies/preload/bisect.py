@@ -2,7 +2,7 @@
 
 Each probe is a full simulation of the scene from its start (the simulator's compiled ``erk``
 integrator over one revolution, called ``revolutions`` times), at a parameter vector in which
-only delta_s (and what the scene derives from it, runtime/preload_problem.py) changes; the last
+only delta_s (and what the scene derives from it, runtime/studies/preload/problem.py) changes; the last
 revolution is the periodic one and its contact force is checked at the same samples as in the
 IPOPT study. Several preloads run at once: the compiled integrator mapped over them on two
 threads (``Function.map(n, 'thread', 2)``), so a round of ``probes`` preloads shrinks the bracket
@@ -24,7 +24,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from .preload_problem import MM, PreloadSetup, PreloadStudyError
+from .problem import MM, PreloadSetup, PreloadStudyError
 
 
 @dataclass
@@ -56,7 +56,7 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
     above is then bisected. A failing stretch narrower than ``scan_step`` can be missed; passing
     preloads below the answer (islands) are kept in ``probes`` and flagged by ``monotone = False``.
     """
-    from .api import model_functions
+    from ...api import model_functions
 
     if not (isinstance(probes, int) and 1 <= probes <= 16):
         raise PreloadStudyError(f"probes = {probes!r}: must be an integer in 1..16")
@@ -122,6 +122,6 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
                            float(per.change.max()), n_sim, time.perf_counter() - t, monotone, sorted(seen))
 
 
-from ..derive.symbols import PARAMETER_NAMES  # noqa: E402
+from ....derive.symbols import PARAMETER_NAMES  # noqa: E402
 
 _DS = PARAMETER_NAMES.index("delta_s")

@@ -5,7 +5,7 @@ crank angle ("alike in shape and π out of phase") from the authors'
 thermodynamic model, but tabulates nothing. This script writes a stand-in with
 the same character; it is not the paper's data. Regenerate the table with::
 
-    python -m apexseal.runtime.scene_pressure_default runtime/scenes/expander-pressure.csv
+    python -m apexseal.runtime.scenes.pressure_default runtime/scenes/expander-pressure.csv
 
 Model of chamber a (the seal's +Ys side, Eq. 75), an ideal expander:
 
@@ -50,7 +50,7 @@ STEP_DEG = 0.5  # table step: 720 rows
 
 HEADER_LINES = (
     "# Chamber pressures of a limacon gas expander at 1500 rpm: an ESTIMATE, not the paper's data.",
-    "# The paper's Fig. 11 is not tabulated; this table comes from apexseal.runtime.scene_pressure_default",
+    "# The paper's Fig. 11 is not tabulated; this table comes from apexseal.runtime.scenes.pressure_default",
     "# (ideal expander: admission at 6.0e5 Pa for 22 deg after the smallest volume, isentropic expansion,",
     "# gamma 1.4, exhaust at 1.013e5 Pa, 5 deg port-opening ramps; chamber b = chamber a shifted by pi).",
     "# Columns: crank angle theta in degrees; absolute pressures of chambers a (+Ys) and b (-Ys) in Pa.",

@@ -1,6 +1,6 @@
 """One revolution at a time with CasADi's event-locating integrators (erk, rosenbrock).
 
-The hybrid DAE (runtime/hybrid.py) is integrated over one revolution in a single
+The hybrid DAE (runtime/solving/hybrid.py) is integrated over one revolution in a single
 call, with the output grid of the scene; events (contact switches) are located on
 the integrator's dense output inside CasADi, so no Python runs between steps. The
 integrator itself can be generated to C and compiled (with its event logic); the
@@ -10,29 +10,32 @@ compiled library is cached by the hash of its C source.
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
 
 from .hybrid import build_hybrid_dae
-from .methods import METHODS
+from .methods import METHODS, Engine, RevolutionResult
 
 
-@dataclass
-class RevolutionResult:
-    z: np.ndarray  # (n_states, n_samples) integrator states at the output grid
-    stats: dict
-
-
-class EventIntegrator:
+class EventIntegrator(Engine):
     """Integrates the hybrid model over `span` of crank angle with `n_samples` outputs."""
+
+    @classmethod
+    def build(cls, functions, settings, *, method, n_samples, span, compile_c):
+        names = tuple(functions.parameter_names)
+        # for the fixed-step variant the rtol slot carries the step in crank angle
+        rtol = settings.rtol if method != "erk-rk4" else 2 * np.pi / settings.steps_per_revolution
+        return cls(functions.rhs, functions.guards, len(names), names.index("omega"), method=method, rtol=rtol,
+                   atol=settings.atol, n_samples=n_samples, span=span, max_events=settings.max_events_per_revolution,
+                   max_steps=settings.max_steps_per_interval, event_tol=settings.event_tol, compile_c=compile_c,
+                   flags=settings.flags)
 
     def __init__(self, rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *, method: str,
                  rtol: float, atol: float | None, n_samples: int, span: float = 2 * np.pi,
                  max_events: int = 10000, max_steps: int = 200000, event_tol: float = 1e-10, compile_c: bool = True,
                  flags: str = "optimised"):
-        plugin = METHODS[method][0]
+        plugin = METHODS[method].plugin
         self.hybrid = build_hybrid_dae(rhs, guards, n_par, omega_index, event_tol=event_tol)
         self.n_samples = n_samples
         self.grid = np.linspace(0.0, span, n_samples + 1)[1:]
@@ -51,7 +54,7 @@ class EventIntegrator:
         self.function = self.vm
         self.compiled = False
         if compile_c:
-            from ..generated.compile import compile_function
+            from ...generated.compile import compile_function
 
             self.function = compile_function(self.vm, flags=flags)
             self.compiled = self.function is not self.vm

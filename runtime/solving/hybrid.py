@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import casadi as ca
 
+from .layout import HybridLayout
 from .scaling import LENGTH, scaled_rhs, state_scale
 
 
@@ -37,11 +38,7 @@ from .scaling import LENGTH, scaled_rhs, state_scale
 class HybridDae:
     dae: dict
     transition: ca.Function
-    n_guards: int
-
-    @property
-    def n_states(self) -> int:
-        return 6 + 2 * self.n_guards
+    layout: HybridLayout
 
 
 #: after an event CasADi's erk and rosenbrock ignore crossings for 10 event_tol (measured); the margin covers it
@@ -55,15 +52,16 @@ def build_hybrid_dae(rhs: ca.Function, guards: ca.Function, n_par: int, omega_in
     ``event_tol`` (crank angle, rad) is the tolerance the integrator locates events
     to; the transition switches the contacts that cross within ``BLIND_WINDOW`` of it.
     """
-    n_g = guards.size1_out(0)
-    z = ca.SX.sym("z", 6 + 2 * n_g)
+    lay = HybridLayout.of_functions(rhs, guards)
+    n_g = lay.n_g
+    z = ca.SX.sym("z", lay.size)
     tau = ca.SX.sym("tau")
     p = ca.SX.sym("p", n_par + 1)
     u = ca.SX.sym("u", 2)
     par, theta0 = p[:n_par], p[n_par]
     omega = par[omega_index]
     theta = theta0 + tau
-    zs, s = z[:6], z[6:6 + n_g]
+    zs, s, counts = z[lay.x], z[lay.active], z[lay.counts]
     X = zs * state_scale(omega)
     xdot = rhs(theta, X, s, par, u)
     g = guards(theta, X, par, u) / LENGTH
@@ -72,13 +70,14 @@ def build_hybrid_dae(rhs: ca.Function, guards: ca.Function, n_par: int, omega_in
     dae = {"x": z, "t": tau, "p": p, "u": u, "ode": ode, "zero": zero}
 
     idx = ca.SX.sym("index")
-    post = ca.SX(z)
+    new_s, new_counts = [], []
     # every zero function at the end of the blind window, extrapolated along the motion
     ahead = zero + BLIND_WINDOW * event_tol * ca.jtimes(zero, ca.vertcat(z, tau), ca.vertcat(ode, 1))
     for i in range(n_g):
         switch = ca.logic_or(idx == i, ahead[i] < 0)
-        post[6 + i] = ca.if_else(switch, 1 - z[6 + i], z[6 + i])
-        post[6 + n_g + i] = z[6 + n_g + i] + switch
+        new_s.append(ca.if_else(switch, 1 - s[i], s[i]))
+        new_counts.append(counts[i] + switch)
+    post = ca.vertcat(zs, *new_s, *new_counts)
     transition = ca.Function("transition", {"index": idx, "t": tau, "x": z, "p": p, "u": u, "post_x": post},
                              ca.event_in(), ca.event_out())
-    return HybridDae(dae, transition, n_g)
+    return HybridDae(dae, transition, lay)

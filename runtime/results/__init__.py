@@ -1,0 +1,1 @@
+"""Results: the SimulationResult, its summary and the paper's figures."""

@@ -1,0 +1,1 @@
+"""Scenes: TOML files with units, validated sections, pressure sources, the embedded default and hard scenes."""

@@ -1,0 +1,102 @@
+"""What is checked after every integrator call: finite states, chattering, missed events, the event budget."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..results.result import StopInfo
+from .euler_integrator import contact_growth
+from .layout import HybridLayout
+from .methods import method_of
+from .scaling import LENGTH, to_physical
+from .settings import RunSettings
+
+#: a contact left open while its gap is below this (µm) is a missed event, not event-location noise
+MISSED_EVENT_UM = 1e-3
+#: what to try when contacts chatter (in the chattering message)
+CHATTER_ADVICE = ("regularise instead of resolving every switch: more contact damping (contacts.cw/cr/cs), a larger "
+                  "friction.v_eps, or method 'euler' (the switches inside the right-hand side, no events); or raise "
+                  "solver.chatter_events / max_events_per_revolution if the switches are physical")
+
+
+class Chattering(RuntimeError):
+    def __init__(self, guard: str, theta: float, count: int, within: str = "within one output interval"):
+        super().__init__(f"chattering on guard {guard}: {count} switches {within} near {np.degrees(theta):.3f} deg; "
+                         + CHATTER_ADVICE)
+        self.guard, self.theta, self.count = guard, theta, count
+
+
+class RunChecks:
+    """The checks of one run (see the module docstring); each returns ``(status, StopInfo)`` or None."""
+
+    def __init__(self, functions, settings: RunSettings, params, theta_start: float):
+        self.functions, self.settings, self.params = functions, settings, params
+        self.theta_start = theta_start
+        self.layout = HybridLayout.of(functions)
+        self.omega = float(params[list(functions.parameter_names).index("omega")])
+
+    def finite(self, Z, thetas) -> tuple[np.ndarray, tuple | None]:
+        """Z up to its first non-finite sample, and the failure it means (None if all finite)."""
+        ok = np.isfinite(Z).all(axis=0)
+        if ok.all():
+            return Z, None
+        lay = self.layout
+        k = int(np.argmin(ok))
+        last = Z[lay.active, k - 1] if k else np.zeros(lay.n_g)
+        reason = f"non-finite state (NaN or Inf) at {np.degrees(thetas[k] - self.theta_start):.3f} deg"
+        if self.settings.method == "euler":
+            reason += "; " + contact_growth(self.params, self.settings.steps_per_revolution)[0].describe(
+                self.settings.steps_per_revolution)
+        return Z[:, :k], ("failed", StopInfo(thetas[k] - self.theta_start, lay.mode(last), reason))
+
+    def events(self, Z, z_start, thetas, P, z_rev) -> tuple | None:
+        """Chattering, a missed contact event, or more events in this revolution than allowed."""
+        if not Z.shape[1]:
+            return None
+        lay, st = self.layout, self.settings
+        chatter = chattering(Z, lay, thetas - self.theta_start, z_start[lay.counts], st)
+        if chatter is not None:
+            return "chattering", StopInfo(chatter.theta, lay.mode(Z[lay.active, -1]), str(chatter))
+        if method_of(st.method).locates_events:
+            missed = self.missed_event(Z, thetas, P)
+            if missed is not None:
+                return missed
+        in_rev = Z[lay.counts] - z_rev[lay.counts, None]  # switches of each guard since the revolution began
+        over = in_rev.sum(axis=0) > st.max_events_per_revolution
+        if over.any():
+            k = int(np.argmax(over))  # the sample where the budget ran out
+            i = int(np.argmax(in_rev[:, k]))
+            where = float(thetas[k] - self.theta_start)
+            c = Chattering(lay.guard_names[i], where, int(in_rev[i, k]),
+                           f"in less than one revolution (of {int(in_rev[:, k].sum())} > max_events_per_revolution = "
+                           f"{st.max_events_per_revolution})")
+            return "chattering", StopInfo(where, lay.mode(Z[lay.active, k]), str(c))
+        return None
+
+    def missed_event(self, Z, thetas, P) -> tuple | None:
+        """A contact the integrator holds open while its gap is negative: a lost event (the seal would pass the wall)."""
+        lay, n = self.layout, Z.shape[1]
+        X = to_physical(Z[lay.x], self.omega)
+        g = np.array(self.functions.guards.map(n)(thetas[None, :], X, np.repeat(self.params[:, None], n, 1), P))
+        bad = (Z[lay.active] < 0.5) & (g / LENGTH < -MISSED_EVENT_UM)
+        if not bad.any():
+            return None
+        i, k = (int(v[0]) for v in np.nonzero(bad))
+        return "failed", StopInfo(thetas[k] - self.theta_start, lay.mode(Z[lay.active, k]),
+                                  f"missed contact event: guard {lay.guard_names[i]} is open in the "
+                                  f"integrator's mode but its gap is {g[i, k] / LENGTH:.4g} µm (a bug: please report "
+                                  "the scene)")
+
+
+def chattering(Z, layout: HybridLayout, thetas, counts_before, settings: RunSettings) -> Chattering | None:
+    """More switches of one guard in one output interval than ``chatter_events`` per ``chatter_window``."""
+    counts = np.c_[counts_before, Z[layout.counts]]
+    per_interval = np.diff(counts, axis=1)
+    dth = thetas[1] - thetas[0] if thetas.size > 1 else 2 * np.pi / settings.samples_per_revolution
+    # events per output interval, scaled to the chatter window
+    limit = settings.chatter_events * max(1.0, dth / settings.chatter_window)
+    hot = np.argwhere(per_interval > limit)
+    if hot.size == 0:
+        return None
+    i, k = hot[0]
+    return Chattering(layout.guard_names[i], float(thetas[k]), int(per_interval[i, k]))

@@ -1,0 +1,150 @@
+"""When an integrator call fails: re-run it interval by interval, keep what passes, and name the reason.
+
+Compiled integrators only say 'Evaluation failed'; the interpreted one counts its steps, rejections and
+events, which tell an event limit (chattering) and a step limit (too stiff) apart. Otherwise the longest
+head of the interval that still passes shows whether the model itself turns non-finite just ahead (the state
+has left the model's domain). Every search stops at the run's wall-time deadline with what it has found.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..results.result import StopInfo
+from .checks import Chattering
+from .layout import HybridLayout
+from .methods import WallTimeExceeded, make_engine
+from .scaling import to_physical
+from .settings import RunSettings, out_of_time
+
+
+def locate_failure(functions, settings, params, z, edges, P, err, deadline, theta_start, make=make_engine):
+    """Re-run a failed call interval by interval with the interpreted integrator (see the module docstring).
+
+    ``make`` builds the engines (the run's engine factory, so that what is re-run is what ran).
+
+    Returns the samples computed and the stop (status, StopInfo) at the first interval
+    that fails on its own, with the reason diagnosed; or every sample and no stop when
+    each interval passes alone (the run goes on from there).
+    """
+    lay = HybridLayout.of(functions)
+    dth = edges[1] - edges[0]
+    single = make(functions, settings, n_samples=1, span=dth, compile_c=False)
+    single.deadline = deadline
+    cols = []
+    for k in range(edges.size - 1):
+        where = StopInfo(edges[k] - theta_start, lay.mode(z[lay.active]), "")
+        if time.perf_counter() > deadline:
+            where.reason = out_of_time(settings, deadline - settings.max_wall_time, ", while re-running a failed call "
+                                        f"interval by interval; the call failed with: {_last_line(err)}")
+            return _cols(cols, z), ("interrupted", where)
+        try:
+            out = single.run(z, params, edges[k], P[:, k:k + 1])
+        except WallTimeExceeded:
+            where.reason = out_of_time(settings, deadline - settings.max_wall_time, ", while re-running a failed call "
+                                        "interval by interval")
+            return _cols(cols, z), ("interrupted", where)
+        except RuntimeError as e:
+            status, where.reason = _diagnose(functions, settings, single, e, z, edges[k], dth, params, P[:, k],
+                                             theta_start, deadline, make)
+            return _cols(cols, z), (status, where)
+        z = out.z[:, -1]
+        cols.append(z.copy())
+    return _cols(cols, z), None
+
+
+def _cols(cols, z):
+    return np.array(cols).T if cols else np.zeros((z.size, 0))
+
+
+def _last_line(err) -> str:
+    text = str(err).strip()
+    return text.splitlines()[-1] if text else repr(err)
+
+
+def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, params, u,
+              theta_start: float, deadline: float = math.inf, make=make_engine) -> tuple[str, str]:
+    """(status, reason) of one output interval that failed, from the interpreted integrator's statistics.
+
+    Compiled integrators only say 'Evaluation failed'; the interpreted one counts
+    its steps, rejections and events, which tell an event limit (chattering) and a
+    step limit (too stiff) apart. Otherwise the longest head of the interval that
+    still passes shows whether the model itself turns non-finite just ahead (the
+    state has left the model's domain). The search for that head stops at the
+    wall-time ``deadline`` with what it has found.
+    """
+    msg = _last_line(err)
+    try:
+        stats = dict(engine.function.stats())
+    except Exception:  # noqa: BLE001 - the stepper engines have no single function
+        stats = {}
+    lay = HybridLayout.of(functions)
+    where = f"{np.degrees(theta - theta_start):.3f} deg"
+    if not _finite_ahead(functions, z, theta, params, u):
+        return "failed", f"the right-hand side is not finite at {where}: {msg}"
+    if "max_events" in str(err) or stats.get("n_events", 0) >= settings.max_events_per_revolution:
+        z_end, _ = _longest_head(functions, settings, params, z, theta, dth, u, deadline, make)
+        switches = z_end[lay.counts] - z[lay.counts]
+        guard = functions.guard_names[int(np.argmax(switches))] if switches.any() else "(unknown)"
+        c = Chattering(guard, theta - theta_start, int(switches.max()), f"in {np.degrees(dth):.3g} deg or less (more "
+                       f"than max_events_per_revolution = {settings.max_events_per_revolution} in one output interval)")
+        return "chattering", str(c)
+    if stats.get("n_steps", 0) >= settings.max_steps_per_interval:
+        return "failed", (f"step limit: more than max_steps_per_interval = {settings.max_steps_per_interval} steps in "
+                          f"one output interval; the problem is too stiff for {settings.method!r} here: use method "
+                          "'rosenbrock' (stiff contacts, a small friction.v_eps) or a larger friction.v_eps")
+    z_end, head = _longest_head(functions, settings, params, z, theta, dth, u, deadline, make)
+    if not _finite_ahead(functions, z_end, theta + head, params, u):
+        omega = _omega(functions, params)
+        x, y, phi = to_physical(z_end[lay.x], omega)[:3]
+        g = np.array(functions.guards(theta + head, to_physical(z_end[lay.x], omega), params, u)).ravel()
+        g[[i for i, name in enumerate(functions.guard_names) if name == "spring"]] = np.inf  # compressed by design
+        deepest = int(np.argmin(g))
+        return "failed", (f"the state leaves the model's domain at {np.degrees(theta + head - theta_start):.3f} deg: "
+                          f"the right-hand side turns non-finite just ahead of x = {x * 1e6:.4g} um, y = {y * 1e6:.4g} "
+                          f"um, phi = {phi * 1e3:.4g} mrad (deepest contact {functions.guard_names[deepest]}: "
+                          f"{-g[deepest] * 1e6:.4g} um); contacts this soft for these loads let the seal go where the "
+                          "geometry of Eqs. 20-43 no longer holds: stiffer contacts (contacts.kw, kg1..kg4) or a lower "
+                          f"speed (CasADi: {msg})")
+    if stats.get("n_reject", 0):
+        return "failed", (f"the step size fell below its minimum after {stats.get('n_steps', 0)} steps and "
+                          f"{stats['n_reject']} rejected ones (CasADi: {msg})")
+    return "failed", f"solver failed: {msg}"
+
+
+def _finite_ahead(functions, z, theta, params, u) -> bool:
+    """The right-hand side is finite at z and along its direction a little ahead (1e-9 .. 1e-7 s)."""
+    lay = HybridLayout.of(functions)
+    X = to_physical(z[lay.x], _omega(functions, params))
+    xdot = np.array(functions.rhs(theta, X, z[lay.active], params, u)).ravel()
+    if not (np.isfinite(z).all() and np.isfinite(xdot).all()):
+        return False
+    return all(np.isfinite(np.array(functions.rhs(theta, X + h * xdot, z[lay.active], params, u))).all()
+               for h in (1e-9, 1e-8, 1e-7))
+
+
+def _longest_head(functions, settings: RunSettings, params, z, theta, dth, u,
+                  deadline: float = math.inf, make=make_engine) -> tuple[np.ndarray, float]:
+    """The state at the end of the longest head of a failing interval that the interpreted integrator passes,
+    and the head's length: bisection on the length, 12 halvings or until the deadline (z itself and 0 when no
+    head passes)."""
+    lo, hi, end = 0.0, dth, z
+    for _ in range(12):
+        if time.perf_counter() > deadline:
+            break
+        mid = 0.5 * (lo + hi)
+        try:
+            out = make(functions, settings, n_samples=1, span=mid, compile_c=False).run(
+                z, params, theta, u[:, None])
+        except RuntimeError:
+            hi = mid
+            continue
+        lo, end = mid, out.z[:, -1]
+    return end, lo
+
+
+def _omega(functions, params) -> float:
+    return float(params[list(functions.parameter_names).index("omega")])

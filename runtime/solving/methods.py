@@ -1,0 +1,138 @@
+"""The integration methods: one registry of engines with a written contract (SciPy's ``METHODS`` style).
+
+Every engine integrates the hybrid state (:mod:`.layout`) over a whole number of output intervals and
+follows :class:`Engine`. ``METHODS`` maps a method name to its engine class (named ``"module:Class"`` so
+that reading a scene imports no integrator); :func:`register_method` adds a user's engine, and
+``simulate(scene, method=MyEngine)`` accepts an engine class directly.
+"""
+
+from __future__ import annotations
+
+import difflib
+import importlib
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass
+class RevolutionResult:
+    """What an engine's ``run`` returns: the hybrid states at the output grid and the solver's statistics."""
+
+    z: np.ndarray  # (layout.size, n_samples)
+    stats: dict
+
+
+class Engine:
+    """The contract of an integration engine.
+
+    ``build(functions, settings, method=..., n_samples=..., span=..., compile_c=...)`` makes one that covers
+    ``n_samples`` equal output intervals of ``span`` rad of crank angle; ``run(z0, params, theta0, pressures)``
+    integrates from the hybrid state ``z0`` at crank angle ``theta0`` with the physical parameter vector
+    ``params`` and the chamber pressures ``pressures`` (2, n_samples), and returns a :class:`RevolutionResult`.
+    It raises :class:`WallTimeExceeded` (with the samples done) past ``deadline`` (a ``time.perf_counter()``
+    value; engines that cannot stop inside a call may ignore it) and ``RuntimeError`` when the solver fails.
+    """
+
+    n_samples: int
+    compiled: bool = False
+    deadline: float = math.inf
+
+    @classmethod
+    def build(cls, functions, settings, *, method: str, n_samples: int, span: float, compile_c: bool) -> Engine:
+        raise NotImplementedError
+
+    def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:
+        raise NotImplementedError
+
+
+class WallTimeExceeded(RuntimeError):
+    """The wall-time deadline passed inside an engine's call; ``partial`` holds the samples computed."""
+
+    def __init__(self, partial: np.ndarray):
+        super().__init__("wall-time budget used up")
+        self.partial = partial
+
+
+@dataclass(frozen=True)
+class Method:
+    """A method name's engine, the CasADi plugin it uses, and what it is."""
+
+    engine: str | type  # "module:Class" or the class itself
+    plugin: str
+    description: str
+    #: False for methods that switch contacts inside the right-hand side (no events to miss)
+    locates_events: bool = True
+
+    def engine_class(self) -> type:
+        if isinstance(self.engine, type):
+            return self.engine
+        module, name = self.engine.split(":")
+        return getattr(importlib.import_module(module, __package__), name)
+
+
+_EVENTS = ".event_integrator:EventIntegrator"
+_STEPPER = ".stepper_integrator:StepperIntegrator"
+
+#: method name -> :class:`Method`
+METHODS: dict[str, Method] = {
+    "erk": Method(_EVENTS, "erk", "adaptive RK45 (Dormand-Prince) with events located on its dense output; "
+                  "compiles to C"),
+    "erk-rk4": Method(_EVENTS, "erk", "fixed-step RK4 with events on its dense output; compiles to C"),
+    "rosenbrock": Method(_EVENTS, "rosenbrock", "L-stable Rosenbrock order 5(4) for stiff contacts, events on dense "
+                         "output; compiles to C"),
+    "cvodes": Method(_STEPPER, "cvodes", "SUNDIALS CVODES (BDF), mode switches located by the apexseal event loop"),
+    "cvodes-adams": Method(_STEPPER, "cvodes", "SUNDIALS CVODES (Adams), mode switches located by the apexseal event "
+                           "loop"),
+    "idas": Method(_STEPPER, "idas", "SUNDIALS IDAS, mode switches located by the apexseal event loop"),
+    "rk": Method(_STEPPER, "rk", "fixed-step RK4 per output interval, mode switches located by the apexseal event "
+                 "loop"),
+    "collocation": Method(_STEPPER, "collocation", "fixed-step Radau collocation, mode switches located by the event "
+                          "loop"),
+    "euler": Method(".euler_integrator:EulerIntegrator", "euler", "the paper's method: explicit Euler on the "
+                    "switched right-hand side, fixed step", locates_events=False),
+}
+
+
+def register_method(name: str, engine: type, description: str, *, plugin: str = "", locates_events: bool = True) -> None:
+    """Make ``engine`` (a subclass of :class:`Engine`) available as ``solver.method = name``."""
+    if not (isinstance(engine, type) and issubclass(engine, Engine)):
+        raise TypeError(f"method {name!r}: the engine must be a subclass of apexseal's Engine, not {engine!r}")
+    METHODS[name] = Method(engine, plugin, description, locates_events)
+
+
+def method_of(method: str | type) -> Method:
+    """The :class:`Method` of a name, or of an engine class passed directly."""
+    if isinstance(method, type):
+        if not issubclass(method, Engine):
+            raise TypeError(f"method {method!r} is not a subclass of apexseal's Engine")
+        return Method(method, "", method.__doc__ or method.__name__)
+    check_method(method)
+    return METHODS[method]
+
+
+def check_method(name: str) -> None:
+    if name not in METHODS:
+        near = difflib.get_close_matches(str(name), METHODS, n=1)
+        hint = f"; did you mean '{near[0]}'?" if near else ""
+        raise ValueError(f"solver.method = {name!r} is not a method{hint} Allowed: {', '.join(METHODS)}")
+
+
+def make_engine(functions, settings, *, n_samples: int | None = None, span: float = 2 * np.pi,
+                compile_c: bool | None = None) -> Engine:
+    """The engine of ``settings.method`` for these model Functions."""
+    method = method_of(settings.method)
+    return method.engine_class().build(
+        functions, settings, method=settings.method if isinstance(settings.method, str) else "",
+        n_samples=n_samples or settings.samples_per_revolution, span=span,
+        compile_c=settings.compile_c if compile_c is None else compile_c)
+
+
+def fixed_steps(steps_per_revolution: int, dtheta: float) -> int:
+    """Steps of a fixed-step method in an interval of ``dtheta`` rad of crank angle (at least 1).
+
+    ``steps_per_revolution`` counts per revolution whatever the interval: a revolution may be cut into several
+    integrator calls (a wall-time budget cuts it into 36), and each output interval gets its share.
+    """
+    return max(1, int(round(steps_per_revolution * dtheta / (2 * math.pi))))

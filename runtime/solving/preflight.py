@@ -1,0 +1,84 @@
+"""Before the first step: the initial contact mode, and the refusal of runs that cannot give a meaningful result."""
+
+from __future__ import annotations
+
+import math
+
+import casadi as ca
+import numpy as np
+
+from ..results.result import StopInfo
+from .euler_integrator import MAX_GROWTH, contact_growth
+from .layout import mode_label
+from .settings import RunSettings
+
+#: methods whose integrators differentiate the right-hand side (Jacobians, or event location on derivatives)
+NEEDS_DERIVATIVES = ("erk", "erk-rk4", "rosenbrock", "cvodes", "cvodes-adams", "idas", "collocation")
+
+
+def initial_activations(functions, theta: float, X: np.ndarray, params: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Which contacts are closed at the start: g < 0, and a guard exactly at 0 by the way it is heading.
+
+    A guard exactly at 0 is closed if it is about to go negative: judged from a short
+    second-order step (positions + h velocities + h²/2 accelerations), so that a seal
+    at rest on a contact that the load presses shut counts as closing. The events then
+    start from zero functions that grow, the only way CasADi's + to - events can see
+    the next switch.
+    """
+    g = np.array(functions.guards(theta, X, params, u)).ravel()
+    closed = g < 0
+    on_guard = np.abs(g) <= 1e-15
+    if on_guard.any():
+        omega = params[list(functions.parameter_names).index("omega")]
+        xdot = np.array(functions.rhs(theta, X, closed.astype(float), params, u)).ravel()
+        h = 1e-6 / omega  # 1e-6 rad of crank angle
+        n_q = X.size // 2
+        X2 = X + h * xdot + 0.5 * h * h * np.r_[xdot[n_q:], np.zeros(X.size - n_q)]
+        g2 = np.array(functions.guards(theta + omega * h, X2, params, u)).ravel()
+        closed = np.where(on_guard, g2 < 0, closed)
+    return closed.astype(float)
+
+
+def names_where(names, mask) -> str:
+    return ", ".join(n for n, m in zip(names, mask, strict=True) if m)
+
+
+def preflight(functions, settings: RunSettings, params, theta, X, closed, u) -> StopInfo | None:
+    """Refuse to start what cannot give a meaningful result, with the reason.
+
+    * NaN/Inf in the right-hand side;
+    * explicit Euler with a step that amplifies a contact oscillation more than
+      MAX_GROWTH times per revolution (runtime/solving/euler_integrator.contact_growth);
+    * NaN/Inf in the derivative of the right-hand side, for every method but the
+      fixed-step ones without Jacobians (euler, rk): an infinite partial derivative
+      with respect to a parameter (a function of the parameters at the edge of its domain,
+      such as asin(1); beta_o = asin(Ws/(2 ro)) at ro = Ws/2 was one until it became a
+      derived parameter) turns every automatic derivative into 0 * inf = NaN, although
+      the right-hand side is finite.
+    """
+    mode = mode_label(functions.guard_names, closed)
+    xdot = np.array(functions.rhs(theta, X, closed, params, u)).ravel()
+    if not np.isfinite(xdot).all():
+        return StopInfo(0.0, mode, "the right-hand side is not finite at the start (NaN or Inf in "
+                        f"{names_where(functions.state_names, ~np.isfinite(xdot))}): check the scene's values")
+    if settings.method == "euler":
+        worst = contact_growth(params, settings.steps_per_revolution)[0]
+        if worst.log_growth > math.log(MAX_GROWTH):
+            return StopInfo(0.0, mode, worst.describe(settings.steps_per_revolution))
+    if settings.method not in NEEDS_DERIVATIVES:
+        return None
+    try:  # SX Functions; compiled externals may have no derivatives to check
+        seeds = [1.0, np.ones(X.size), *(np.zeros(functions.rhs.size1_in(i)) for i in (2, 3, 4))]
+        d = np.array(functions.rhs.forward(1)(theta, X, closed, params, u, xdot, *seeds)).ravel()
+        if np.isfinite(d).all():
+            return None
+        p = functions.rhs.sx_in(3)
+        J = np.array(ca.Function("jac_p", [p], [ca.jacobian(functions.rhs(theta, X, closed, p, u), p)])(params))
+    except (RuntimeError, NotImplementedError, TypeError):
+        return None
+    culprits = names_where(functions.parameter_names, ~np.isfinite(J).all(axis=0)) or "(none found)"
+    return StopInfo(0.0, mode, f"the derivative of the right-hand side is not finite at the start although its value is "
+                    f"(an infinite partial derivative with respect to {culprits}, which automatic differentiation turns "
+                    f"into 0*inf = NaN); method {settings.method!r} needs derivatives. The scene sits on the edge of "
+                    "the model's domain, where a function of these parameters has an infinite slope: move it off the "
+                    "edge by a relative 1e-9 (nothing measurable changes) or use method 'euler'")

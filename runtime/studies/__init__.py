@@ -1,0 +1,1 @@
+"""Studies that reuse the simulator: preload design, sweeps."""
