@@ -1,70 +1,87 @@
-"""Modelling choices where the paper is silent or physically doubtful.
+"""Modelling choices where the paper is silent or physically doubtful: the "assumptions" slots of the options.
 
 Each is recorded, with its reason, in the paper-check report (docs/paper-check.md);
 each is a scene switch (``[assumptions]``) because users may want the other reading.
-Like effects, they are structural: they change what is derived and generated.
+Like effects, they are structural: they change what is derived and generated. Each
+submodel declares its choices (derive/submodels/); :class:`Assumptions` reads them.
 """
 
 from __future__ import annotations
 
-import difflib
-from dataclasses import dataclass, fields
-
-#: name -> (allowed values, default first; what it decides)
-CHOICES: dict[str, tuple[tuple[str, ...], str]] = {
-    "pend_rule": (
-        ("mean", "half-difference"),
-        "groove-bottom pressure Pend under the seal (Eq. 75): the mean (Pa + Pb)/2, or the text's "
-        "literal 'half the difference' (Pa - Pb)/2",
-    ),
-    "gap_pressure": (
-        ("open-side", "chamber"),
-        "side-gap pressures Ps2, Ps4 (Eq. 75, no rule printed): 'open-side' = the chamber's pressure while "
-        "the mouth contact on that side is open (b1 > 0, b3 > 0), else Pend; 'chamber' = always the chamber's",
-    ),
-    "damping": (
-        ("in-contact", "always"),
-        "contact damping (Eqs. 55, 62, 67, 73) acts on approach only; 'in-contact' also requires the contact "
-        "to be closed, 'always' applies the printed velocity rule alone",
-    ),
-    "housing_stiffness": (
-        ("groove-axis", "normal"),
-        "kw xs5 is the groove-axis (X) component of the housing force, as Algorithm 2 prints ('groove-axis'), "
-        "or the normal force, kw times the normal penetration xs5 cos(lambda) ('normal')",
-    ),
-}
+from .options import Option, OptionError, did_you_mean
 
 
-class AssumptionError(ValueError):
+class AssumptionError(OptionError):
     pass
 
 
-@dataclass(frozen=True)
-class Assumptions:
-    pend_rule: str = "mean"
-    gap_pressure: str = "open-side"
-    damping: str = "in-contact"
-    housing_stiffness: str = "groove-axis"
+def declared() -> dict[str, Option]:
+    """The modelling-choice slots of the registered submodels."""
+    from .submodels.registry import options
 
-    def __post_init__(self) -> None:
-        for f in fields(self):
-            allowed = CHOICES[f.name][0]
-            value = getattr(self, f.name)
+    return {n: o for n, o in options().items() if o.table == "assumptions"}
+
+
+def __getattr__(name: str):
+    """``CHOICES``: name -> (allowed values, default first; what it decides), from the registry."""
+    if name == "CHOICES":
+        return {n: (o.choices, o.meaning) for n, o in declared().items()}
+    raise AttributeError(name)
+
+
+class Assumptions:
+    """The modelling choices (strings by name); each defaults to its first allowed value."""
+
+    __slots__ = ("_values",)
+
+    def __init__(self, **values: str) -> None:
+        slots = declared()
+        for key in values:
+            if key not in slots:
+                raise TypeError(f"Assumptions() got an unexpected choice {key!r}{did_you_mean(key, slots)}")
+        resolved = {name: values.get(name, opt.default) for name, opt in slots.items()}
+        for name, value in resolved.items():
+            allowed = slots[name].choices
             if value not in allowed:
-                near = difflib.get_close_matches(str(value), allowed, n=1)
-                hint = f"; did you mean '{near[0]}'?" if near else ""
                 raise AssumptionError(
-                    f"assumptions.{f.name} = {value!r} is not allowed{hint} Allowed: {', '.join(allowed)}"
+                    f"assumptions.{name} = {value!r} is not allowed{did_you_mean(value, allowed)} "
+                    f"Allowed: {', '.join(allowed)}"
                 )
+        object.__setattr__(self, "_values", resolved)
+
+    def __getattr__(self, name: str) -> str:
+        try:
+            return object.__getattribute__(self, "_values")[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __setattr__(self, name, value) -> None:
+        raise AttributeError("Assumptions are immutable")
+
+    def __reduce__(self):
+        return _rebuild, (self._values,)
 
     @classmethod
     def from_mapping(cls, values: dict[str, str]) -> Assumptions:
+        slots = declared()
         for key in values:
-            if key not in CHOICES:
-                near = difflib.get_close_matches(key, CHOICES, n=1)
-                hint = f"; did you mean '{near[0]}'?" if near else ""
-                raise AssumptionError(f"assumptions.{key} is not a modelling choice{hint} Known: {', '.join(CHOICES)}")
+            if key not in slots:
+                raise AssumptionError(f"assumptions.{key} is not a modelling choice{did_you_mean(key, slots)} "
+                                      f"Known: {', '.join(slots)}")
         return cls(**values)
 
     def as_dict(self) -> dict[str, str]:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+        return dict(self._values)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Assumptions) and self._values == other._values
+
+    def __hash__(self) -> int:
+        return hash(tuple(sorted(self._values.items())))
+
+    def __repr__(self) -> str:
+        return f"Assumptions({', '.join(f'{k}={v!r}' for k, v in self._values.items())})"
+
+
+def _rebuild(values: dict[str, str]) -> Assumptions:
+    return Assumptions(**values)

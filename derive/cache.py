@@ -1,7 +1,8 @@
 """Content-hash cache of derivations.
 
 The key is a sha256 over the derivation's inputs: the source of every module of
-``apexseal.derive``, the effects, the assumptions and the sympy version. A hit
+``apexseal.derive``, the source of every registered submodel (a user's too), the
+effects, the assumptions and the sympy version. A hit
 loads the pickled :class:`DerivedModel` (well under a second); a miss derives and
 stores it atomically (write to a temporary file, then ``os.replace``), so two
 processes deriving at once never see a half-written file.
@@ -46,8 +47,11 @@ def source_digest() -> str:
 
 
 def derivation_key(effects: Effects, assumptions: Assumptions) -> str:
+    from .submodels.registry import digest
+
     payload = {
         "source": source_digest(),
+        "submodels": digest(),
         "effects": effects.as_dict(),
         "assumptions": assumptions.as_dict(),
         "sympy": sympy.__version__,

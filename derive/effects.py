@@ -1,93 +1,122 @@
-"""The physical effects a scene can switch on or off.
+"""The physical effects a scene can switch on or off: the "effects" slots of the options (derive/options.py).
 
 An effect that is off never enters the derivation: its forces are not built, its
 guards do not exist, and nothing of it reaches the generated C or the run
 (MuJoCo's disable flags, PyBaMM's options). Effects form a small hierarchy: no
-contact means no damping and no friction at that contact.
+contact means no damping and no friction at that contact. Each submodel declares
+its effects (derive/submodels/); :class:`Effects` reads and writes them as
+booleans, the way scenes write them in ``[effects]``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
-
-#: effect name -> (parent effect or None, one-line meaning)
-EFFECTS: dict[str, tuple[str | None, str]] = {
-    "inertia": (None, "rotor-motion inertial loads on the seal: centrifugal, Coriolis, chord translation (Eq. 15)"),
-    "housing_contact": (None, "elastic seal tip-housing contact, Eqs. 33-34"),
-    "housing_damping": ("housing_contact", "damping of the tip-housing contact, Eq. 67"),
-    "housing_friction": ("housing_contact", "Coulomb friction at the tip, Algorithm 2"),
-    "spring": (None, "the groove-bottom spring and its preload, Eqs. 37-39"),
-    "spring_damping": ("spring", "damping at the seal-spring contact, Eq. 73"),
-    "spring_friction": ("spring", "Coulomb friction at the seal-spring contact, Eq. 73"),
-    "groove_contact": (None, "elastic seal-groove contacts at g1..g4, Algorithm 1"),
-    "groove_damping": ("groove_contact", "damping of the seal-groove contacts, Eqs. 55, 62"),
-    "groove_friction": ("groove_contact", "Coulomb friction at the seal-groove contacts, Algorithm 1"),
-    "chamber_pressure": (None, "gas pressure of the two chambers on the seal, Eqs. 75-79"),
-}
+from .options import NONE, Option, OptionError, did_you_mean
 
 
-class EffectError(ValueError):
+def on_choice(opt: Option) -> str:
+    """The choice that switches an effect on (its first choice other than "none")."""
+    return next(c for c in opt.choices if c != NONE)
+
+
+class EffectError(OptionError):
     """An effect set that names an unknown effect or breaks the hierarchy."""
 
 
-@dataclass(frozen=True)
+def declared() -> dict[str, Option]:
+    """The effect slots of the registered submodels, parents before children."""
+    from .submodels.registry import options
+
+    return {n: o for n, o in options().items() if o.table == "effects"}
+
+
+def __getattr__(name: str):
+    """``EFFECTS``: effect name -> (parent effect or None, one-line meaning), from the registry."""
+    if name == "EFFECTS":
+        return {n: (o.parent, o.meaning) for n, o in declared().items()}
+    raise AttributeError(name)
+
+
 class Effects:
-    """Which effects are on. All on by default (the paper's full model)."""
+    """Which effects are on (booleans by effect name). All on by default (the paper's full model)."""
 
-    inertia: bool = True
-    housing_contact: bool = True
-    housing_damping: bool = True
-    housing_friction: bool = True
-    spring: bool = True
-    spring_damping: bool = True
-    spring_friction: bool = True
-    groove_contact: bool = True
-    groove_damping: bool = True
-    groove_friction: bool = True
-    chamber_pressure: bool = True
+    __slots__ = ("_on",)
 
-    def __post_init__(self) -> None:
-        for name, (parent, _) in EFFECTS.items():
-            if getattr(self, name) and parent is not None and not getattr(self, parent):
+    def __init__(self, **on: bool) -> None:
+        slots = declared()
+        for key in on:
+            if key not in slots:
+                raise TypeError(f"Effects() got an unexpected effect {key!r}{did_you_mean(key, slots)}")
+        values = {name: bool(on.get(name, opt.default != NONE)) for name, opt in slots.items()}
+        for name, opt in slots.items():
+            if values[name] and opt.parent is not None and not values[opt.parent]:
                 raise EffectError(
-                    f"effects.{name} = true needs effects.{parent} = true "
-                    f"(there is no {name.split('_')[-1]} without the {parent.replace('_', ' ')})"
+                    f"effects.{name} = true needs effects.{opt.parent} = true "
+                    f"(there is no {name.split('_')[-1]} without the {opt.parent.replace('_', ' ')})"
                 )
+        object.__setattr__(self, "_on", values)
+
+    def __getattr__(self, name: str) -> bool:
+        try:
+            return object.__getattribute__(self, "_on")[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __setattr__(self, name, value) -> None:
+        raise AttributeError("Effects are immutable")
+
+    def __reduce__(self):
+        return _rebuild, (self._on,)
 
     @classmethod
     def from_mapping(cls, values: dict[str, bool]) -> Effects:
         """Build from a mapping; children of an effect that is off default to off."""
-        import difflib
-
+        slots = declared()
         for key in values:
-            if key not in EFFECTS:
-                near = difflib.get_close_matches(key, EFFECTS, n=1)
-                hint = f"; did you mean '{near[0]}'?" if near else ""
-                raise EffectError(f"effects.{key} is not an effect{hint} Known: {', '.join(EFFECTS)}")
+            if key not in slots:
+                raise EffectError(f"effects.{key} is not an effect{did_you_mean(key, slots)} Known: {', '.join(slots)}")
         resolved: dict[str, bool] = {}
-        for name, (parent, _) in EFFECTS.items():  # parents come before children
-            default = resolved[parent] if parent is not None else True
+        for name, opt in slots.items():  # parents come before children
+            default = opt.default != NONE and (opt.parent is None or resolved[opt.parent])
             resolved[name] = bool(values.get(name, default))
         return cls(**resolved)
 
     @classmethod
     def only(cls, *names: str) -> Effects:
         """Just these effects (and the parents they need)."""
+        slots = declared()
         on = set(names)
         for name in names:
-            parent = EFFECTS[name][0] if name in EFFECTS else None
+            parent = slots[name].parent if name in slots else None
             while parent is not None:
                 on.add(parent)
-                parent = EFFECTS[parent][0]
-        return cls.from_mapping({n: (n in on) for n in EFFECTS})
+                parent = slots[parent].parent
+        return cls.from_mapping({n: (n in on) for n in slots})
 
     def on(self) -> tuple[str, ...]:
-        return tuple(f.name for f in fields(self) if getattr(self, f.name))
+        return tuple(n for n, v in self._on.items() if v)
 
     def as_dict(self) -> dict[str, bool]:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+        return dict(self._on)
+
+    def choices(self) -> dict[str, str]:
+        """The effects as option choices ("on"/"none")."""
+        slots = declared()
+        return {n: (on_choice(slots[n]) if v else NONE) for n, v in self._on.items()}
 
     @property
     def label(self) -> str:
         """Short stable label, used in cache keys and file names."""
-        return "all" if all(self.as_dict().values()) else "+".join(self.on()) or "none"
+        return "all" if all(self._on.values()) else "+".join(self.on()) or "none"
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Effects) and self._on == other._on
+
+    def __hash__(self) -> int:
+        return hash(tuple(sorted(self._on.items())))
+
+    def __repr__(self) -> str:
+        return f"Effects({', '.join(f'{k}={v}' for k, v in self._on.items())})"
+
+
+def _rebuild(on: dict[str, bool]) -> Effects:
+    return Effects(**on)

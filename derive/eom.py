@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import sympy as sp
 from sympy.physics.vector import Vector
 
-from .forces.base import Load
 from .kinematics import Kinematics, plain
+from .submodels.base import Load
 from .symbols import P, phid, udots, xd, yd
 
 SPEEDS = (xd, yd, phid)

@@ -9,11 +9,9 @@ the groove truncation (Eqs. 6-8), the chamber areas, and the initial deflections
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-
 import sympy as sp
 
+from .numbers import MachineNumbers, machine_numbers  # noqa: F401  (numeric Eqs. 4-8, sympy-free)
 from .symbols import P, theta
 
 r, L = P["r"], P["L"]
@@ -122,26 +120,3 @@ def initial_wall_deflection() -> sp.Expr:
     delta_w); the spring pushes with ks delta_s; nothing else acts at rest.
     """
     return P["ks"] * P["delta_s"] / P["kw"]
-
-
-# ---------------------------------------------------------------------------
-# numbers for scenes
-
-
-@dataclass(frozen=True)
-class MachineNumbers:
-    aspect_ratio: float
-    truncation: float
-    truncation_angle: float | None
-
-
-def machine_numbers(embodiment: str, r_: float, L_: float, Wg_: float, Cr_: float = 0.0, k_: float = 0.0) -> MachineNumbers:
-    """Numeric Eqs. 4-8 for a scene (embodiment: limacon-to-limacon, circolimacon, limacon-to-circular)."""
-    if embodiment == "limacon-to-limacon":
-        s = (-L_ + math.sqrt(L_**2 + 4 * r_ * Wg_)) / (4 * r_)
-        th0 = math.asin(s)
-        z = L_ - (r_ * math.sin(2 * th0) + L_ * math.cos(th0))
-        return MachineNumbers(r_ / L_, z, th0)
-    Rlc = math.sqrt((L_ - Cr_) ** 2 + k_**2)
-    z = L_ - Cr_ - math.sqrt(Rlc**2 - (k_ + Wg_ / 2) ** 2)
-    return MachineNumbers(r_ / L_, z, None)

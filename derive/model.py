@@ -1,10 +1,10 @@
-"""Assemble the seal model for a set of effects: loads, guards, outputs, Eq. 80.
+"""Assemble the seal model from the registered submodels: loads, guards, outputs, Eq. 80.
 
-``derive_model(effects, assumptions)`` is the one entry point. It builds only the
-contacts the effects ask for, so an effect that is off never appears in any
-expression. Results are plain sympy expressions of the crank angle ``theta``, the
-state (x, y, phi, xd, yd, phid), the parameters (:data:`symbols.PARAMETERS`), the
-chamber pressures (Pa, Pb) and the activations of the contacts that exist.
+``derive_model(effects, assumptions)`` is the one entry point. It asks every active
+submodel (derive/submodels/) for its contacts, so an effect that is off never appears
+in any expression. Results are plain sympy expressions of the crank angle ``theta``,
+the state (x, y, phi, xd, yd, phid), the parameters (named, in the registry's order),
+the chamber pressures (Pa, Pb) and the activations of the contacts that exist.
 """
 
 from __future__ import annotations
@@ -16,15 +16,11 @@ import sympy as sp
 from . import contact_geometry, eom, kinematics
 from .assumptions import Assumptions
 from .effects import Effects
-from .forces.base import ContactModel
-from .forces.groove import groove_contacts
-from .forces.housing import housing_contact
-from .forces.pressure import chamber_pressure
-from .forces.spring import spring_contact
 from .kinematics import plain
-
-#: the contacts' guard names, in the order of the activation vector
-GUARD_OF_CONTACT = {"i1": "b1", "c2": "b2", "i2": "b3", "c4": "b4", "housing": "xs5", "spring": "spring"}
+from .options import Options, options_of
+from .submodels.base import ContactModel, Context
+from .submodels.registry import guard, parameter_names, submodels
+from .symbols import P, Pa, Pb
 
 
 @dataclass
@@ -43,41 +39,45 @@ class DerivedModel:
     outputs: dict[str, sp.Expr]
     #: intermediate quantities keyed by the paper's equation labels, for the paper check
     quantities: dict[str, sp.Expr] = field(default_factory=dict)
+    #: the parameter vector's names, in order (the registry's at derivation time)
+    parameter_names: tuple[str, ...] = ()
 
     @property
     def guard_names(self) -> tuple[str, ...]:
         return tuple(self.guards)
 
+    @property
+    def options(self) -> Options:
+        return options_of(self.effects, self.assumptions)
 
-def _contacts(k, g, effects: Effects, assumptions: Assumptions) -> list[ContactModel]:
-    contacts: list[ContactModel] = []
-    if effects.groove_contact:
-        contacts += groove_contacts(k, g, effects, assumptions)
-    if effects.housing_contact:
-        contacts.append(housing_contact(k, g, effects, assumptions))
-    if effects.spring:
-        contacts.append(spring_contact(k, g, effects, assumptions))
-    if effects.chamber_pressure:
-        contacts.append(chamber_pressure(k, g, assumptions, effects.groove_contact))
-    return contacts
+
+def _contacts(k, g, options: Options) -> list[ContactModel]:
+    ctx = Context(k, g, options, P, Pa, Pb)
+    return [c for cls in submodels() if cls.active(options) for c in cls().contacts(ctx)]
+
+
+def submodel_contacts(name: str, k, g, options: Options | None = None) -> list[ContactModel]:
+    """The contacts of one registered submodel (e.g. for the paper check), whether or not it is switched on."""
+    cls = next(c for c in submodels() if c.name == name)
+    return cls().contacts(Context(k, g, options or options_of(Effects(), Assumptions()), P, Pa, Pb))
 
 
 def derive_model(effects: Effects | None = None, assumptions: Assumptions | None = None) -> DerivedModel:
     """Derive the model from frames, points and contact rules (Eqs. 10-80)."""
     effects = effects or Effects()
     assumptions = assumptions or Assumptions()
+    options = options_of(effects, assumptions)
     k = kinematics.build()
     g = contact_geometry.build(k)
-    contacts = _contacts(k, g, effects, assumptions)
+    contacts = _contacts(k, g, options)
     loads = [load for c in contacts for load in c.loads]
-    eq = eom.build(k, loads, inertia=effects.inertia)
+    eq = eom.build(k, loads, inertia=options.on("inertia"))
 
     guards, activations, vguards, outputs = {}, {}, {}, {}
     for c in contacts:
         if c.guard is not None:
-            name = GUARD_OF_CONTACT[c.name]
-            guards[name] = plain(c.guard)
-            activations[name] = c.activation
+            guards[c.guard_name] = plain(c.guard)
+            activations[c.guard_name] = sp.Symbol(guard(c.guard_name).activation, nonnegative=True)
         vguards.update({n: plain(e) for n, e in c.velocity_guards.items()})
         fx = sum((load.force.dot(k.G.x) for load in c.loads), sp.S.Zero)
         fy = sum((load.force.dot(k.G.y) for load in c.loads), sp.S.Zero)
@@ -92,7 +92,7 @@ def derive_model(effects: Effects | None = None, assumptions: Assumptions | None
 
     quantities = _quantities(k, g)
     return DerivedModel(effects, assumptions, eq.mass_matrix, eq.forcing, guards, activations, vguards,
-                        outputs, quantities)
+                        outputs, quantities, parameter_names())
 
 
 def _quantities(k, g) -> dict[str, sp.Expr]:

@@ -54,20 +54,36 @@ class Mode:
 
     @property
     def label(self) -> str:
+        """The groove's case (Algorithm 3) followed by each other guard's declared closed/open label, e.g. q1_h_s."""
         c = dict(zip(self.guard_names, self.closed, strict=True))
         parts = []
-        if "b1" in c:
-            parts.append(case_of(c["b1"], c["b2"], c["b3"], c["b4"]))
-        if "xs5" in c:
-            parts.append("h" if c["xs5"] else "h0")
-        if "spring" in c:
-            parts.append("s" if c["spring"] else "s0")
+        if all(g in c for g in GROOVE_GUARDS):
+            parts.append(case_of(*(c[g] for g in GROOVE_GUARDS)))
+        for name in self.guard_names:
+            if name not in GROOVE_GUARDS:
+                closed_label, open_label = _labels(name)
+                parts.append(closed_label if c[name] else open_label)
         return "_".join(parts) or "free"
 
 
+#: the guards named together by the nine cases of Algorithm 3
+GROOVE_GUARDS = ("b1", "b2", "b3", "b4")
+
+
+def _labels(name: str) -> tuple[str, str]:
+    """A guard's declared (closed, open) label parts; its name and name + '0' when it declares none."""
+    from .submodels.registry import guard
+
+    try:
+        g = guard(name)
+    except KeyError:
+        return name, name + "0"
+    return g.closed_label or name, g.open_label or name + "0"
+
+
 def modes(guard_names: tuple[str, ...]) -> list[Mode]:
-    """Every mode the contacts of a model allow: the nine groove cases x housing x spring."""
-    groove = [g for g in ("b1", "b2", "b3", "b4") if g in guard_names]
+    """Every mode the contacts of a model allow: the nine groove cases x each other contact closed or open."""
+    groove = [g for g in GROOVE_GUARDS if g in guard_names]
     others = [g for g in guard_names if g not in groove]
     out = []
     groove_sets = [CASES[c] for c in CASES] if groove else [()]

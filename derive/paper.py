@@ -313,7 +313,7 @@ def _velocities() -> list[Printed]:
         Printed("53", "v_i1 · Ŷs", "v_i1·Ŷs = −ẋ sin ϕ + ẏ cos ϕ + (ds0 − l1) ϕ̇",
                 printed=(-xd * sp.sin(phi) + yd * sp.cos(phi) + (ds0 - l1) * phid,)),
         Printed("54", "friction direction γ1", "γ1 = sign(v_i1·X̂s)", kind=STRUCTURAL,
-                implemented_by="derive.forces.base:slip_sign"),
+                implemented_by="derive.submodels.laws:slip_sign"),
         Printed("55", "damping at i1", "Fd_i1 = −cr (v_i1·Ŷs) Ŷs if v_i1·Ŷs < 0, else 0", frame="G",
                 printed=damping(v_i1, Ys, "<")),
         Printed("56", "relative velocity at c2", "v_c2 = ṙc − ϕ̇×(ds2 X̂s + (Ws/2) Ŷs)", frame="G",
@@ -393,7 +393,7 @@ def _spring() -> list[Printed]:
         Printed("73.friction", "spring friction", "Ff_s6 = −sign(v_s6·Ŷ) μs (Fsp − cs v_s6·X̂) Ŷ",
                 printed=(-I["gamma_s6"] * mus * (Fsp - cs * vX),)),
         Printed("74", "spring contact force and moment", "Fs6 = Fsp X̂ + Fd_s6 + Ff_s6, Ms6 = rs6 × Fs6", kind=STRUCTURAL,
-                implemented_by="derive.forces.spring:spring_contact"),
+                implemented_by="derive.submodels.spring:SpringContact"),
     ]
 
 
@@ -424,9 +424,9 @@ def _pressure() -> list[Printed]:
                 printed=(l1 * Bs, l2 * Bs, l3 * Bs, l4 * Bs, Ws * Bs, As8, As9)),
         Printed("76.Pend", "groove-bottom pressure Pend", "\"Pend is assumed to be half that of the difference of Pa and "
                 "Pb\"", kind=ASSUMPTION, printed=((Pa - Pb) / 2,),
-                implemented_by="derive.forces.pressure:groove_bottom_pressure"),
+                implemented_by="derive.submodels.pressure:groove_bottom_pressure"),
         Printed("76.Ps", "side-gap pressures Ps2, Ps4", "\"Ps2 and Ps4 will depend on the seal-groove relative positions\" "
-                "(no rule printed)", kind=ASSUMPTION, implemented_by="derive.forces.pressure:chamber_pressure"),
+                "(no rule printed)", kind=ASSUMPTION, implemented_by="derive.submodels.pressure:ChamberPressure"),
         Printed("77", "point s8 of Fs8 (moment of Fs8 about C)", "rs8 = (ds1 − ro) X̂s + ro e^{j(β − βo)/2}",
                 printed=(moment(r8, F8),), reading="each point at the middle of its arc: (β − βo)/2 for s8",
                 alternative="(β + βo)/2 for s8 (the extraction mixes the two)",

@@ -32,12 +32,10 @@ from . import seal_shape as shape
 from .assumptions import CHOICES, Assumptions
 from .cache import cached_model
 from .effects import Effects
-from .forces.base import ACT
-from .forces.groove import groove_contacts
-from .forces.housing import housing_contact
-from .forces.pressure import chamber_pressure, groove_bottom_pressure
-from .forces.spring import spring_contact
 from .kinematics import plain
+from .model import options_of, submodel_contacts
+from .submodels.pressure import groove_bottom_pressure as _pend
+from .submodels.registry import activation_symbols
 from .symbols import P, Pa, Pb, qs, theta, us
 
 I = paper.INTERMEDIATES  # noqa: E741
@@ -72,6 +70,14 @@ STATE_RANGES: dict[str, tuple[float, float]] = {
     "beta": (-0.4, 0.4), "Pa": (1e5, 6e5), "Pb": (1e5, 6e5), "theta0": (0.0, 0.2), "b": (0.1, 0.25),
     "Cr": (5e-5, 2e-4), "k": (0.0, 0.02),
 }
+
+#: the activation symbols of the contacts (1 = closed), by name
+_ACT = activation_symbols()
+
+
+def groove_bottom_pressure():
+    """Pend of the default pend_rule (Eq. 75)."""
+    return _pend(Pa, Pb, Assumptions().pend_rule)
 
 
 @dataclass(frozen=True)
@@ -401,12 +407,12 @@ class Derived:
         beta_d = plain(g.beta)
         X_s6 = plain(g.X_s6)
         self.guard_rule = {
-            ACT["s_b1"]: sp.Piecewise((1, plain(g.gaps["b1"]) < 0), (0, True)),
-            ACT["s_b2"]: sp.Piecewise((1, plain(g.gaps["b2"]) < 0), (0, True)),
-            ACT["s_b3"]: sp.Piecewise((1, plain(g.gaps["b3"]) < 0), (0, True)),
-            ACT["s_b4"]: sp.Piecewise((1, plain(g.gaps["b4"]) < 0), (0, True)),
-            ACT["s_h"]: sp.Piecewise((1, plain(g.xs5) > 0), (0, True)),
-            ACT["s_sp"]: sp.Piecewise((1, plain(g.spring_compression) > 0), (0, True)),
+            _ACT["s_b1"]: sp.Piecewise((1, plain(g.gaps["b1"]) < 0), (0, True)),
+            _ACT["s_b2"]: sp.Piecewise((1, plain(g.gaps["b2"]) < 0), (0, True)),
+            _ACT["s_b3"]: sp.Piecewise((1, plain(g.gaps["b3"]) < 0), (0, True)),
+            _ACT["s_b4"]: sp.Piecewise((1, plain(g.gaps["b4"]) < 0), (0, True)),
+            _ACT["s_h"]: sp.Piecewise((1, plain(g.xs5) > 0), (0, True)),
+            _ACT["s_sp"]: sp.Piecewise((1, plain(g.spring_compression) > 0), (0, True)),
         }
         housing = self.housing(Effects())
         arcs = self.pressure(Assumptions(gap_pressure="chamber"))
@@ -426,7 +432,7 @@ class Derived:
             I["Fw"]: -housing[0],
             I["Fs5X"]: housing[0], I["Fs5Y"]: housing[1],
             I["Fsp"]: P["ks"] * sp.Max(plain(g.spring_compression), 0),
-            I["Pend"]: groove_bottom_pressure(Assumptions()),
+            I["Pend"]: groove_bottom_pressure(),
             I["Ps2"]: Pb, I["Ps4"]: Pa,
             I["vOgX"]: self.G(k.Og.vel(k.N))[0], I["vOgY"]: self.G(k.Og.vel(k.N))[1],
             I["v_s6X"]: self.G(k.relative_velocity(g.r_s6))[0],
@@ -469,20 +475,21 @@ class Derived:
 
     def groove(self, effects: Effects) -> dict[str, tuple[sp.Expr, ...]]:
         return self._cached("groove", effects, lambda: {
-            c.name: self.G(c.loads[0].force) for c in groove_contacts(self.k, self.g, effects, Assumptions())})
+            c.name: self.G(c.loads[0].force)
+            for c in submodel_contacts("groove", self.k, self.g, options_of(effects, Assumptions()))})
 
     def housing(self, effects: Effects) -> tuple[sp.Expr, ...]:
         return self._cached("housing", effects, lambda: self.G(
-            housing_contact(self.k, self.g, effects, Assumptions()).loads[0].force))
+            submodel_contacts("housing", self.k, self.g, options_of(effects, Assumptions()))[0].loads[0].force))
 
     def spring(self, effects: Effects) -> tuple[sp.Expr, ...]:
         return self._cached("spring", effects, lambda: self.G(
-            spring_contact(self.k, self.g, effects, Assumptions()).loads[0].force))
+            submodel_contacts("spring", self.k, self.g, options_of(effects, Assumptions()))[0].loads[0].force))
 
     def pressure(self, assumptions: Assumptions) -> dict[str, tuple[tuple[sp.Expr, ...], object]]:
         key = tuple(sorted(assumptions.as_dict().items()))
         if key not in self._pressure:
-            model = chamber_pressure(self.k, self.g, assumptions, groove_contact=True)
+            model = submodel_contacts("pressure", self.k, self.g, options_of(Effects(), assumptions))[0]
             self._pressure[key] = {ld.name: (self.G(ld.force), ld.r_CP) for ld in model.loads}
         return self._pressure[key]
 
@@ -530,7 +537,7 @@ def _pressure_faces(d: Derived) -> tuple[sp.Expr, ...]:
 def _areas(d: Derived) -> tuple[sp.Expr, ...]:
     loads = d.pressure(Assumptions(gap_pressure="chamber"))
     S = d.k.S
-    Pend = groove_bottom_pressure(Assumptions())
+    Pend = groove_bottom_pressure()
 
     def along(name, axis):
         return plain(d.k.G.x.dot(axis)) * loads[name][0][0] + plain(d.k.G.y.dot(axis)) * loads[name][0][1]
@@ -643,7 +650,7 @@ _COUNTERPARTS = {
     "73.friction": lambda d: (d.spring(Effects())[1],),
     "75": _pressure_faces,
     "76": _areas,
-    "76.Pend": lambda d: (groove_bottom_pressure(Assumptions()),),
+    "76.Pend": lambda d: (groove_bottom_pressure(),),
     "77": lambda d: (d.moment_about_C(d.pressure(Assumptions())["s8"][1], d.pressure(Assumptions())["s8"][0]),),
     "78": lambda d: (d.moment_about_C(d.pressure(Assumptions())["s9"][1], d.pressure(Assumptions())["s9"][0]),),
     "79": _face_moments,
@@ -686,7 +693,7 @@ def _prepare(expr: sp.Expr, d: Derived, settings: tuple[str, str], free: tuple[s
         expr = expr.xreplace(subs)
     expr = expr.replace(sp.tanh, (lambda a: sp.S.One) if sign_limit == "forward" else (lambda a: sp.sign(a)))
     if act == "one":
-        expr = expr.xreplace({a: sp.S.One for a in ACT.values()})
+        expr = expr.xreplace({a: sp.S.One for a in _ACT.values()})
     elif act == "guard":
         expr = expr.xreplace(d.guard_rule)
     return expr

@@ -7,11 +7,10 @@ that passes through the tip point ds1 Xs. Everything follows from Ws, ds1, ds2, 
 
 from __future__ import annotations
 
-import math
-
 import sympy as sp
 from sympy.physics.vector import ReferenceFrame, Vector
 
+from .numbers import tip_half_angle  # noqa: F401  (the value of beta_o, Eq. 24, sympy-free)
 from .symbols import P
 
 Ws, ds1, ds2, ro = P["Ws"], P["ds1"], P["ds2"], P["ro"]
@@ -26,9 +25,6 @@ ds = ds1 + ds2
 beta_o = P["beta_o"]
 
 
-def tip_half_angle(Ws: float, ro: float) -> float:
-    """The value of beta_o, Eq. 24: asin(Ws / (2 ro)) (pi/2 at the edge ro = Ws/2)."""
-    return math.asin(min(1.0, Ws / (2 * ro)))
 
 #: Eq. 24: distance from C to where the curved tip starts (c1, c3), from the arc meeting the sides
 ds0 = ds1 - ro + ro * sp.cos(beta_o)

@@ -1,65 +1,52 @@
 """Symbols of the seal model: generalised coordinates, parameters and inputs.
 
 Every physical parameter is a symbol, so one compiled library serves every value
-(the parameter vector of the generated Functions follows :data:`PARAMETERS`).
+(declared by the submodels in derive/submodels/ and looked up by name, ``P["kw"]``;
+the parameter vector follows the registry: ``PARAMETER_NAMES``).
 Names are the paper's symbols written in ASCII.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Iterator, Mapping
 
 import sympy as sp
 from sympy.physics.mechanics import dynamicsymbols
 
 
-@dataclass(frozen=True)
-class Parameter:
-    name: str
-    unit: str
-    meaning: str
+class _ParameterSymbols(Mapping[str, sp.Symbol]):
+    """The sympy symbol of every parameter the registered submodels declare, by name (``P["kw"]``)."""
+
+    def __getitem__(self, name: str) -> sp.Symbol:
+        from .submodels.registry import parameter
+
+        return parameter(name).symbol
+
+    def __iter__(self) -> Iterator[str]:
+        from .submodels.registry import parameter_names
+
+        return iter(parameter_names(all_inputs=True))
+
+    def __len__(self) -> int:
+        from .submodels.registry import parameter_names
+
+        return len(parameter_names(all_inputs=True))
 
 
-#: The parameter vector, in order. (Eq. numbers say where each first appears.)
-PARAMETERS: tuple[Parameter, ...] = (
-    Parameter("omega", "rad/s", "rotor angular speed, constant (Eq. 13)"),
-    Parameter("r", "m", "radius of the limaçon base circle (Eq. 1)"),
-    Parameter("L", "m", "half chord of the rotor (Eq. 2)"),
-    Parameter("Li", "m", "distance from the chord centre to the seal's centre of gravity at rest (Eq. 12)"),
-    Parameter("zeta0", "m", "initial protrusion of the seal out of the groove (Eq. 17)"),
-    Parameter("delta_w", "m", "initial deflection of the housing wall (Eq. 9)"),
-    Parameter("Ws", "m", "seal width (Eq. 19)"),
-    Parameter("Wg", "m", "groove width (Eq. 17)"),
-    Parameter("ds1", "m", "centre of gravity to the seal tip along Xs (Eq. 16)"),
-    Parameter("ds2", "m", "centre of gravity to the seal back face along Xs (Eq. 16)"),
-    Parameter("ro", "m", "radius of the seal's tip arc (Eq. 27)"),
-    Parameter("beta_o", "rad", "half-angle of the tip arc, asin(Ws / (2 ro)) (Eqs. 24, 76-78); computed by the scene"),
-    Parameter("Bs", "m", "seal length along the machine axis (Eq. 76)"),
-    Parameter("ms", "kg", "seal mass (Eq. 80)"),
-    Parameter("Icg", "kg m^2", "seal moment of inertia about its centre of gravity (Eq. 80)"),
-    Parameter("ks", "N/m", "spring stiffness (Eq. 39)"),
-    Parameter("delta_s", "m", "spring preload deflection (Eq. 9)"),
-    Parameter("kw", "N/m", "equivalent housing stiffness along the groove axis (Eq. 34)"),
-    Parameter("kg1", "N/m", "groove stiffness at g1 (Algorithm 1)"),
-    Parameter("kg2", "N/m", "groove stiffness at g2 (Algorithm 1)"),
-    Parameter("kg3", "N/m", "groove stiffness at g3 (Algorithm 1)"),
-    Parameter("kg4", "N/m", "groove stiffness at g4 (Algorithm 1)"),
-    Parameter("cw", "N s/m", "housing contact damping (Eq. 67)"),
-    Parameter("cr", "N s/m", "seal-groove contact damping (Eq. 55)"),
-    Parameter("cs", "N s/m", "seal-spring contact damping (Eq. 73)"),
-    Parameter("mu1", "1", "seal-housing friction coefficient (Algorithm 2)"),
-    Parameter("mu2", "1", "seal-groove friction coefficient (Algorithm 1)"),
-    Parameter("mus", "1", "seal-spring friction coefficient (Eq. 73)"),
-    Parameter("v_eps", "m/s", "sliding-speed width of the friction regularisation tanh(v/v_eps)"),
-)
+#: parameter symbols by name, declared by the submodels (derive/submodels/)
+P: Mapping[str, sp.Symbol] = _ParameterSymbols()
 
-PARAMETER_NAMES: tuple[str, ...] = tuple(p.name for p in PARAMETERS)
 
-#: sympy symbols of the parameters, positive where the physics says so
-P: dict[str, sp.Symbol] = {
-    p.name: sp.Symbol(p.name, positive=p.name not in ("zeta0", "delta_w", "delta_s"), real=True)
-    for p in PARAMETERS
-}
+def __getattr__(name: str):
+    """``PARAMETERS`` / ``PARAMETER_NAMES``: the registry's parameter vector as it stands (derive/submodels/)."""
+    from .submodels import registry
+
+    if name == "PARAMETERS":
+        return registry.parameters()
+    if name == "PARAMETER_NAMES":
+        return registry.parameter_names()
+    raise AttributeError(name)
+
 
 #: chamber pressures: time-varying inputs, not parameters (chamber a on +Ys, b on -Ys; Eq. 75)
 Pa, Pb = sp.symbols("Pa Pb", real=True)
@@ -74,7 +61,7 @@ x, y, phi = dynamicsymbols("x y phi", real=True)
 xd, yd, phid = dynamicsymbols("x y phi", 1, real=True)
 
 #: plain symbols standing for the state in the final expressions
-STATE_NAMES: tuple[str, ...] = ("x", "y", "phi", "xd", "yd", "phid")
+STATE_NAMES: tuple[str, ...] = ("x", "y", "phi", "xd", "yd", "phid")  # the seal body's states (submodels/seal.py)
 qs = sp.symbols("x y phi", real=True)
 us = sp.symbols("xd yd phid", real=True)
 udots = sp.symbols("xdd ydd phidd", real=True)

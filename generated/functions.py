@@ -8,7 +8,7 @@ the hybrid model with the activations fixed (``mode_<label>``, each with its
 Jacobian), the contact and velocity guards, the named outputs, and
 ``rhs_switched``, which computes the activations from the guards (for fixed-step
 methods). Argument order everywhere: crank angle ``theta``, state ``x`` (6),
-[activations ``a``], parameters ``p`` (:data:`~apexseal.derive.symbols.PARAMETER_NAMES`),
+[activations ``a``], parameters ``p`` (named: ``parameter_names``, the submodels' declarations),
 chamber pressures ``u = [Pa, Pb]``.
 """
 
@@ -44,11 +44,12 @@ class Arguments:
         theta = ca.SX.sym("theta")
         x = ca.SX.sym("x", len(sym.STATE_NAMES))
         a = ca.SX.sym("a", len(model.activations))
-        p = ca.SX.sym("p", len(sym.PARAMETER_NAMES))
+        names = parameter_names_of(model)
+        p = ca.SX.sym("p", len(names))
         u = ca.SX.sym("u", len(sym.INPUT_NAMES))
         values = {sym.theta: theta, sym.Pa: u[0], sym.Pb: u[1]}
         values.update({s: x[i] for i, s in enumerate(sym.qs + sym.us)})
-        values.update({sym.P[n]: p[i] for i, n in enumerate(sym.PARAMETER_NAMES)})
+        values.update({sym.P[n]: p[i] for i, n in enumerate(names)})
         values.update({s: a[i] for i, s in enumerate(model.activations.values())})
         return cls(theta, x, a, p, u, Lowering(values))
 
@@ -128,6 +129,11 @@ def _accelerations(args: Arguments, mass_matrix: sp.Matrix, forcing: sp.Matrix) 
     return ca.solve(M, f)
 
 
+def parameter_names_of(model) -> tuple[str, ...]:
+    """The parameter vector a derived model was derived with (the registry's order at the time)."""
+    return tuple(model.parameter_names) or sym.PARAMETER_NAMES
+
+
 def gap_width(gaps: list[ca.SX]) -> ca.SX:
     """Algorithm 4: min(b1..b4) while every groove contact is open, else 0."""
     all_open = gaps[0] > 0
@@ -173,6 +179,7 @@ def build_functions(model) -> ModelFunctions:
         mode_fns[mode.label], mode_jacs[mode.label] = f, f.jacobian()
 
     out = ModelFunctions(
+        parameter_names=parameter_names_of(model),
         rhs=rhs, rhs_jac=rhs.jacobian(), rhs_switched=rhs_switched, rhs_switched_jac=rhs_switched.jacobian(),
         guards=guards, velocity_guards=velocity_guards, outputs=outputs, modes=mode_fns, mode_jacs=mode_jacs,
         mode_list=mode_list, guard_names=tuple(model.guards),

@@ -57,8 +57,11 @@ def generator_digest() -> str:
 
 def inputs_record(effects: Effects, assumptions: Assumptions) -> dict[str, Any]:
     """Everything the generated files depend on (cheap: no derivation)."""
+    from ..derive.submodels.registry import digest
+
     return {
         "derive_source": source_digest(),
+        "submodels": digest(),
         "generator_source": generator_digest(),
         "effects": effects.as_dict(),
         "assumptions": assumptions.as_dict(),

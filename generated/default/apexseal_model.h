@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices, mode table and mode dispatch of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 50ddf7c25db9a5cf781ba3db55b7994494330b410037d3167017d50712fc3d38.
+ * Effects: all. Input hash: 95a56847c1a8f9d8e19fb6c97f4bd18f68f44f6dd9f553a97b5f8c578289ef93.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "50ddf7c25db9a5cf781ba3db55b7994494330b410037d3167017d50712fc3d38"
+#define APEXSEAL_INPUT_HASH "95a56847c1a8f9d8e19fb6c97f4bd18f68f44f6dd9f553a97b5f8c578289ef93"
 
 /* state x */
 #define APEXSEAL_NX 6
@@ -27,31 +27,31 @@ extern "C" {
 #define APEXSEAL_P_R 1
 #define APEXSEAL_P_L 2
 #define APEXSEAL_P_LI 3
-#define APEXSEAL_P_ZETA0 4
-#define APEXSEAL_P_DELTA_W 5
-#define APEXSEAL_P_WS 6
-#define APEXSEAL_P_WG 7
-#define APEXSEAL_P_DS1 8
-#define APEXSEAL_P_DS2 9
-#define APEXSEAL_P_RO 10
-#define APEXSEAL_P_BETA_O 11
-#define APEXSEAL_P_BS 12
-#define APEXSEAL_P_MS 13
-#define APEXSEAL_P_ICG 14
-#define APEXSEAL_P_KS 15
-#define APEXSEAL_P_DELTA_S 16
-#define APEXSEAL_P_KW 17
-#define APEXSEAL_P_KG1 18
-#define APEXSEAL_P_KG2 19
-#define APEXSEAL_P_KG3 20
-#define APEXSEAL_P_KG4 21
-#define APEXSEAL_P_CW 22
+#define APEXSEAL_P_DELTA_W 4
+#define APEXSEAL_P_WS 5
+#define APEXSEAL_P_WG 6
+#define APEXSEAL_P_DS1 7
+#define APEXSEAL_P_DS2 8
+#define APEXSEAL_P_RO 9
+#define APEXSEAL_P_BETA_O 10
+#define APEXSEAL_P_BS 11
+#define APEXSEAL_P_MS 12
+#define APEXSEAL_P_ICG 13
+#define APEXSEAL_P_ZETA0 14
+#define APEXSEAL_P_V_EPS 15
+#define APEXSEAL_P_KW 16
+#define APEXSEAL_P_CW 17
+#define APEXSEAL_P_MU1 18
+#define APEXSEAL_P_KG1 19
+#define APEXSEAL_P_KG2 20
+#define APEXSEAL_P_KG3 21
+#define APEXSEAL_P_KG4 22
 #define APEXSEAL_P_CR 23
-#define APEXSEAL_P_CS 24
-#define APEXSEAL_P_MU1 25
-#define APEXSEAL_P_MU2 26
-#define APEXSEAL_P_MUS 27
-#define APEXSEAL_P_V_EPS 28
+#define APEXSEAL_P_MU2 24
+#define APEXSEAL_P_KS 25
+#define APEXSEAL_P_DELTA_S 26
+#define APEXSEAL_P_CS 27
+#define APEXSEAL_P_MUS 28
 
 /* inputs u: chamber pressures */
 #define APEXSEAL_NU 2
@@ -60,50 +60,50 @@ extern "C" {
 
 /* contact guards g (closed while g < 0) = order of the activations a */
 #define APEXSEAL_NG 6
-#define APEXSEAL_G_B1 0
-#define APEXSEAL_G_B2 1
-#define APEXSEAL_G_B3 2
-#define APEXSEAL_G_B4 3
-#define APEXSEAL_G_XS5 4
+#define APEXSEAL_G_XS5 0
+#define APEXSEAL_G_B1 1
+#define APEXSEAL_G_B2 2
+#define APEXSEAL_G_B3 3
+#define APEXSEAL_G_B4 4
 #define APEXSEAL_G_SPRING 5
 
 /* velocity guards */
 #define APEXSEAL_NVG 12
-#define APEXSEAL_VG_V_I1_N 0
-#define APEXSEAL_VG_V_I1_SLIDE 1
-#define APEXSEAL_VG_V_C2_N 2
-#define APEXSEAL_VG_V_C2_SLIDE 3
-#define APEXSEAL_VG_V_I2_N 4
-#define APEXSEAL_VG_V_I2_SLIDE 5
-#define APEXSEAL_VG_V_C4_N 6
-#define APEXSEAL_VG_V_C4_SLIDE 7
-#define APEXSEAL_VG_V_S5_X 8
-#define APEXSEAL_VG_V_S5_SLIDE 9
+#define APEXSEAL_VG_V_S5_X 0
+#define APEXSEAL_VG_V_S5_SLIDE 1
+#define APEXSEAL_VG_V_I1_N 2
+#define APEXSEAL_VG_V_I1_SLIDE 3
+#define APEXSEAL_VG_V_C2_N 4
+#define APEXSEAL_VG_V_C2_SLIDE 5
+#define APEXSEAL_VG_V_I2_N 6
+#define APEXSEAL_VG_V_I2_SLIDE 7
+#define APEXSEAL_VG_V_C4_N 8
+#define APEXSEAL_VG_V_C4_SLIDE 9
 #define APEXSEAL_VG_V_S6_N 10
 #define APEXSEAL_VG_V_S6_SLIDE 11
 
 /* outputs y */
 #define APEXSEAL_NY 29
-#define APEXSEAL_Y_F_I1_X 0
-#define APEXSEAL_Y_F_I1_Y 1
-#define APEXSEAL_Y_M_I1 2
-#define APEXSEAL_Y_PF_I1 3
-#define APEXSEAL_Y_F_C2_X 4
-#define APEXSEAL_Y_F_C2_Y 5
-#define APEXSEAL_Y_M_C2 6
-#define APEXSEAL_Y_PF_C2 7
-#define APEXSEAL_Y_F_I2_X 8
-#define APEXSEAL_Y_F_I2_Y 9
-#define APEXSEAL_Y_M_I2 10
-#define APEXSEAL_Y_PF_I2 11
-#define APEXSEAL_Y_F_C4_X 12
-#define APEXSEAL_Y_F_C4_Y 13
-#define APEXSEAL_Y_M_C4 14
-#define APEXSEAL_Y_PF_C4 15
-#define APEXSEAL_Y_F_HOUSING_X 16
-#define APEXSEAL_Y_F_HOUSING_Y 17
-#define APEXSEAL_Y_M_HOUSING 18
-#define APEXSEAL_Y_PF_HOUSING 19
+#define APEXSEAL_Y_F_HOUSING_X 0
+#define APEXSEAL_Y_F_HOUSING_Y 1
+#define APEXSEAL_Y_M_HOUSING 2
+#define APEXSEAL_Y_PF_HOUSING 3
+#define APEXSEAL_Y_F_I1_X 4
+#define APEXSEAL_Y_F_I1_Y 5
+#define APEXSEAL_Y_M_I1 6
+#define APEXSEAL_Y_PF_I1 7
+#define APEXSEAL_Y_F_C2_X 8
+#define APEXSEAL_Y_F_C2_Y 9
+#define APEXSEAL_Y_M_C2 10
+#define APEXSEAL_Y_PF_C2 11
+#define APEXSEAL_Y_F_I2_X 12
+#define APEXSEAL_Y_F_I2_Y 13
+#define APEXSEAL_Y_M_I2 14
+#define APEXSEAL_Y_PF_I2 15
+#define APEXSEAL_Y_F_C4_X 16
+#define APEXSEAL_Y_F_C4_Y 17
+#define APEXSEAL_Y_M_C4 18
+#define APEXSEAL_Y_PF_C4 19
 #define APEXSEAL_Y_F_SPRING_X 20
 #define APEXSEAL_Y_F_SPRING_Y 21
 #define APEXSEAL_Y_M_SPRING 22

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..solving.layout import HybridLayout
 from ..solving.scaling import to_physical
 
 STATE_KEYS = ("x", "y", "phi")
@@ -32,12 +33,12 @@ class Trajectory:
 
 
 def trajectory(problem, z: np.ndarray) -> Trajectory:
-    """Physical trajectory and friction power from integrator states z (6 scaled + activations + counts, N)."""
-    n_g, N = problem.n_guards, problem.samples
-    X = to_physical(z[:6], problem.omega)
-    closed = (z[6:6 + n_g] > 0.5).astype(float)
-    events = z[6 + n_g:6 + 2 * n_g, -1] - problem.z0[6 + n_g:]
-    fns = problem.functions
+    """Physical trajectory and friction power from hybrid integrator states z (runtime/solving/layout.py), (size, N)."""
+    fns, N = problem.functions, problem.samples
+    lay = HybridLayout.of(fns)
+    X = to_physical(z[lay.x], problem.omega)
+    closed = lay.closed(z).astype(float)
+    events = z[lay.counts, -1] - problem.z0[lay.counts]
     if "Pf_total" in fns.output_names:
         Y = np.array(fns.outputs.map(N)(problem.theta[None, :], X, closed, np.repeat(problem.params[:, None], N, 1),
                                         problem.pressures))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...derive.submodels.registry import guard
 from ..solving.layout import HybridLayout
 from ..solving.scaling import to_physical
 from .result import SimulationResult
@@ -33,8 +34,9 @@ def assemble(functions, params, blocks, thetas, pressures, first, theta_start, o
     Y = np.array(functions.outputs.map(n)(theta[None, :], X, closed.astype(float), P, U))
     outputs = {name: Y[i] for i, name in enumerate(functions.output_names)}
     g = np.array(functions.guards.map(n)(theta[None, :], X, P, U))
-    for i, name in enumerate(functions.guard_names):  # gaps b1..b4, penetration xs5, spring compression
-        outputs[{"spring": "spring_compression"}.get(name, name)] = g[i] if name.startswith("b") else -g[i]
+    for i, name in enumerate(functions.guard_names):  # each guard's declared output: a gap, a penetration, ...
+        declared = guard(name)
+        outputs[declared.output] = declared.sign * g[i]
     outputs["Pa"], outputs["Pb"] = U[0], U[1]
     modes = [lay.mode(closed[:, i]) for i in range(n)]
     return SimulationResult(theta - theta_start, (theta - theta_start) / omega, X, closed, events, outputs,

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...derive.symbols import STATE_NAMES
+from ...derive.submodels.registry import state_names
 
 STATUS = ("completed", "interrupted", "failed", "chattering")
 
@@ -60,8 +60,8 @@ class SimulationResult:
         return self.status == "completed"
 
     def column(self, name: str) -> np.ndarray:
-        if name in STATE_NAMES:
-            return self.state[STATE_NAMES.index(name)]
+        if name in state_names():
+            return self.state[state_names().index(name)]
         return self.outputs[name]
 
     # ------------------------------------------------------------------ saving
@@ -74,7 +74,7 @@ class SimulationResult:
         arrays.update({f"out_{k}": v for k, v in self.outputs.items()})
         _atomic(folder / "trajectory.npz", lambda fh: np.savez_compressed(fh, **arrays), binary=True)
 
-        header = ["theta_deg", "time_s", *STATE_NAMES, "mode", *[f"closed_{g}" for g in self.guard_names],
+        header = ["theta_deg", "time_s", *state_names(), "mode", *[f"closed_{g}" for g in self.guard_names],
                   *self.outputs]
 
         def write_csv(fh):

@@ -12,8 +12,8 @@ import math
 from typing import Any
 
 from apexseal.derive.assumptions import Assumptions
-from apexseal.derive.effects import EFFECTS, Effects
-from apexseal.derive.geometry import machine_numbers
+from apexseal.derive.effects import Effects, declared
+from apexseal.derive.numbers import machine_numbers
 
 from .errors import MISSING, Problem
 from .schema import (
@@ -218,9 +218,10 @@ def resolve_effects(
     explicit ``chamber_pressure = true`` is then an error).
     """
     values = {k: v for k, v in given.model_dump().items() if v is not None}
+    slots = declared()
     out = []
     for name, value in values.items():
-        parent = EFFECTS[name][0]
+        parent = slots[name].parent
         if value and parent is not None and values.get(parent) is False:
             out.append(
                 Problem(

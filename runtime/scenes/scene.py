@@ -31,24 +31,11 @@ import numpy as np
 
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects
-from apexseal.derive.geometry import initial_wall_deflection
-from apexseal.derive.seal_shape import tip_half_angle
-from apexseal.derive.symbols import PARAMETER_NAMES
 
-from .checks import check_consistency, resolve_assumptions, resolve_effects, zeta0_of
+from .checks import check_consistency, resolve_assumptions, resolve_effects
 from .errors import Problem, SceneError
 from .pressure import PressureSource, make_source
-from .schema import (
-    ContactsSection,
-    FrictionSection,
-    MachineSection,
-    OperationSection,
-    SealSection,
-    Section,
-    SolverSection,
-    SpringSection,
-    validate_sections,
-)
+from .schema import OperationSection, Section, SolverSection, validate_sections
 
 __all__ = ["Scene", "SceneError", "load_scene", "default_scene_text", "derive_parameters"]
 
@@ -100,69 +87,39 @@ def _parse_toml(text: str, name: str) -> dict[str, Any]:
         ) from None
 
 
-def derive_parameters(sections: dict[str, Section], effects: Effects) -> dict[str, float]:
-    """Every parameter of ``derive.symbols.PARAMETERS``, in SI, from validated sections.
+def derive_parameters(sections: dict[str, Section], effects: Effects,
+                      assumptions: Assumptions | None = None) -> dict[str, float]:
+    """Every parameter of the model's vector, in SI, from validated sections.
 
-    Derived: ``omega`` from rpm; ``Li = L - ds1 + delta_w`` (Eq. 12: the seal tip, ds1 above C, then
-    presses delta_w into the housing at Rh - 2 r sin(theta) = L from the chord centre, as Eq. 33 assumes);
-    ``ms = density Ws (ds1 + ds2) Bs``
-    and ``Icg = ms (Ws^2 + (ds1 + ds2)^2) / 12`` (Eq. 80) unless given; ``beta_o = asin(Ws / (2 ro))``, the
-    tip arc's half-angle (Eq. 24); ``zeta0`` from
-    ``[seal]`` or else the groove truncation z (Eqs. 6-8); ``delta_w`` from the rest
-    balance ``ks delta_s = kw delta_w`` (Eq. 9) when both the spring and the housing
-    contact are on, else 0 (nothing presses the seal on the housing at rest).
+    The keys each submodel declares are read from their sections; then each submodel
+    computes its derived parameters from them with plain numeric functions (the seal
+    body: omega from rpm, the mass and inertia, beta_o of Eq. 24, zeta0 of Eqs. 6-8,
+    delta_w of Eq. 9 and Li of Eq. 12; see derive/submodels/seal.py).
     """
-    m: MachineSection = sections["machine"]
-    op: OperationSection = sections["operation"]
-    s: SealSection = sections["seal"]
-    sp: SpringSection = sections["spring"]
-    c: ContactsSection = sections["contacts"]
-    f: FrictionSection = sections["friction"]
-    ds = s.ds1 + s.ds2
-    ms = s.ms if s.ms is not None else s.density * s.Ws * ds * s.Bs
-    icg = s.Icg if s.Icg is not None else ms * (s.Ws**2 + ds**2) / 12
-    zeta0, why = zeta0_of(m, s)
-    if zeta0 is None:  # pragma: no cover - check_consistency reports it first
-        raise SceneError([("seal.zeta0", None, why or "undefined")])
-    values: dict[str, float] = {
-        "omega": op.omega,
-        "r": m.r,
-        "L": m.L,
-        "zeta0": zeta0,
-        "Ws": s.Ws,
-        "Wg": s.Wg,
-        "ds1": s.ds1,
-        "ds2": s.ds2,
-        "ro": s.ro,
-        "beta_o": tip_half_angle(s.Ws, s.ro),  # computed here, not differentiated (derive/seal_shape.py)
-        "Bs": s.Bs,
-        "ms": ms,
-        "Icg": icg,
-        "ks": sp.ks,
-        "delta_s": sp.delta_s,
-        "kw": c.kw,
-        "kg1": c.kg1,
-        "kg2": c.kg2,
-        "kg3": c.kg3,
-        "kg4": c.kg4,
-        "cw": c.cw,
-        "cr": c.cr,
-        "cs": c.cs,
-        "mu1": f.mu1,
-        "mu2": f.mu2,
-        "mus": f.mus,
-        "v_eps": f.v_eps,
-    }
-    if effects.spring and effects.housing_contact:
-        expr = initial_wall_deflection()
-        values["delta_w"] = float(expr.subs({sym: values[sym.name] for sym in expr.free_symbols}))
-    else:
-        values["delta_w"] = 0.0
-    values["Li"] = m.L - s.ds1 + values["delta_w"]
-    missing = set(PARAMETER_NAMES) - set(values)
-    if missing:  # pragma: no cover - guards derive.symbols growing a parameter
-        raise RuntimeError(f"scene gives no value for parameters {sorted(missing)}; update derive_parameters")
-    return {name: float(values[name]) for name in PARAMETER_NAMES}
+    from apexseal.derive.options import options_of
+    from apexseal.derive.submodels.registry import parameters
+
+    values = parameter_values(sections, options_of(effects, assumptions or Assumptions()))
+    names = parameters()
+    missing = [p.name for p in names if values.get(p.name) is None]
+    if missing:  # pragma: no cover - a submodel declares a parameter that nothing computes
+        raise RuntimeError(f"the scene gives no value for parameters {missing}: a submodel's derived() must")
+    return {p.name: float(values[p.name]) for p in names}
+
+
+def parameter_values(sections: dict[str, Section], options, **changes) -> dict[str, Any]:
+    """Every declared value (scene inputs and parameters) by name: the sections' keys, ``changes`` (numbers or
+    CasADi symbols) in their place, then each submodel's derived parameters computed from them."""
+    from apexseal.derive.submodels.registry import parameters, submodels
+
+    values: dict[str, Any] = {}
+    for p in parameters(all_inputs=True):
+        if p.key is not None:
+            values[p.name] = getattr(sections[p.section], p.leaf)
+    values.update(changes)
+    for cls in submodels():
+        values.update(cls.derived(values, sections, options))
+    return values
 
 
 def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: str) -> Scene:
@@ -182,7 +139,8 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
     if problems:
         raise SceneError(problems, source=name)
     assert pressure is not None and effects is not None
-    values = derive_parameters(sections, effects)
+    assumptions = resolve_assumptions(sections["assumptions"])
+    values = derive_parameters(sections, effects, assumptions)
     return Scene(
         machine=sections["machine"],
         operation=sections["operation"],
@@ -192,13 +150,15 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
         friction=sections["friction"],
         pressure=pressure,
         effects=effects,
-        assumptions=resolve_assumptions(sections["assumptions"]),
+        assumptions=assumptions,
         solver=sections["solver"],
         source_path=source_path,
         name=name,
         _raw=copy.deepcopy(raw),
         _base_dir=base_dir,
-        _values=tuple(values[n] for n in PARAMETER_NAMES),
+        _values=tuple(values.values()),
+        _names=tuple(values),
+        _sections=sections,
     )
 
 
@@ -234,12 +194,12 @@ class Scene:
     Build with :func:`load_scene`, :meth:`from_toml_string` or :meth:`with_overrides`.
     """
 
-    machine: MachineSection
+    machine: Section
     operation: OperationSection
-    seal: SealSection
-    spring: SpringSection
-    contacts: ContactsSection
-    friction: FrictionSection
+    seal: Section
+    spring: Section
+    contacts: Section
+    friction: Section
     pressure: PressureSource
     effects: Effects
     assumptions: Assumptions
@@ -249,6 +209,8 @@ class Scene:
     _raw: dict[str, Any] = field(repr=False)
     _base_dir: Any = field(repr=False)
     _values: tuple[float, ...] = field(repr=False)
+    _names: tuple[str, ...] = field(repr=False, default=())
+    _sections: dict[str, Section] = field(repr=False, default_factory=dict)
 
     @classmethod
     def from_toml_string(
@@ -269,12 +231,39 @@ class Scene:
 
     @property
     def parameters(self) -> dict[str, float]:
-        """Every parameter of ``derive.symbols.PARAMETER_NAMES``, in SI (see :func:`derive_parameters`)."""
-        return dict(zip(PARAMETER_NAMES, self._values, strict=True))
+        """Every parameter of the model, by name, in SI (see :func:`derive_parameters`)."""
+        return dict(zip(self._names, self._values, strict=True))
 
-    def parameter_vector(self) -> np.ndarray:
-        """The parameters as a float array in ``PARAMETER_NAMES`` order (the generated Functions' order)."""
-        return np.array(self._values, dtype=float)
+    def parameter_vector(self, names=None) -> np.ndarray:
+        """The parameters as a float array, in the order of ``names`` (default: the registry's parameter vector,
+        the generated Functions' order; pass ``functions.parameter_names`` to match a model)."""
+        values = self.parameters
+        if names is None:
+            names = self._names
+        try:
+            return np.array([values[n] for n in names], dtype=float)
+        except KeyError as exc:
+            raise KeyError(f"the scene has no parameter {exc.args[0]!r} (was its submodel registered after the "
+                           "scene was loaded? load the scene again)") from None
+
+    def parameter_function(self, *names: str):
+        """The parameter vector as a CasADi Function of the named parameters (the others at the scene's values).
+
+        Derived parameters follow through the submodels' own formulas: ``parameter_function("delta_s")`` moves
+        delta_w (Eq. 9) and Li (Eq. 12) with the preload, so a study can differentiate ``p(delta_s)``.
+        """
+        import casadi as ca
+
+        from apexseal.derive.options import options_of
+        from apexseal.derive.submodels.registry import parameters
+
+        unknown = [n for n in names if n not in self.parameters]
+        if unknown:
+            raise KeyError(f"no parameters {unknown}; known: {', '.join(self.parameters)}")
+        sym = {n: ca.SX.sym(n) for n in names}
+        values = parameter_values(self._sections, options_of(self.effects, self.assumptions), **sym)
+        p = ca.vertcat(*[values[q.name] for q in parameters()])
+        return ca.Function("parameters_of_" + "_".join(names), list(sym.values()), [p], list(names), ["p"])
 
     @property
     def omega(self) -> float:

@@ -13,14 +13,12 @@ pressure source) are in :mod:`.scene_checks`.
 """
 
 import difflib
+import functools
 import math
 from typing import Annotated, Any
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, create_model
 from pydantic_core import PydanticCustomError
-
-from apexseal.derive.assumptions import CHOICES
-from apexseal.derive.effects import EFFECTS
 
 from ..solving.methods import METHODS
 from .errors import MISSING, Problem
@@ -238,20 +236,6 @@ class Ports(Section):
         return (("inlet", self.inlet), ("outlet", self.outlet))
 
 
-class MachineSection(Section):
-    """[machine]: the limaçon machine (Eqs. 1-8)."""
-
-    embodiment: _v(Choice("limacon-to-limacon", "circolimacon", "limacon-to-circular"), str) = Field(
-        description="machine embodiment (Section 2)"
-    )
-    r: _q("m", gt=0) = Field(description="radius of the limaçon base circle (Eq. 1)")
-    L: _q("m", gt=0) = Field(description="half chord of the rotor (Eq. 2)")
-    H: _q("m", gt=0) = Field(description="machine depth along the axis (Algorithm 4)")
-    Cr: _q("m", ge=0) = Field(0.0, description="rotor-housing clearance of circular lobes (Eqs. 5, 8)")
-    k: _q("m") = Field(0.0, description="offset of a circular lobe's centre on the Yr axis (Eq. 5)")
-    ports: Ports | None = Field(None, description="inlet and outlet ports (Table 1)")
-
-
 class InitialState(Section):
     """Initial seal state in the groove frame (Eq. 10)."""
 
@@ -281,54 +265,6 @@ class OperationSection(Section):
     def omega(self) -> float:
         """Rotor speed in rad/s."""
         return self.rpm * TWO_PI / 60.0
-
-
-class SealSection(Section):
-    """[seal]: the apex seal (Eqs. 16-31, 76, 80)."""
-
-    Ws: _q("m", gt=0) = Field(description="seal width (Eq. 19)")
-    Wg: _q("m", gt=0) = Field(description="groove width (Eq. 17)")
-    ds1: _q("m", gt=0) = Field(description="centre of gravity to the seal tip (Eq. 16)")
-    ds2: _q("m", gt=0) = Field(description="centre of gravity to the seal back face (Eq. 16)")
-    ro: _q("m", gt=0) = Field(description="radius of the tip arc (Eq. 27)")
-    Bs: _q("m", gt=0) = Field(description="seal length along the machine axis (Eq. 76)")
-    density: _q("kg/m^3", gt=0, optional=True) = Field(None, description="seal material density")
-    ms: _q("kg", gt=0, optional=True) = Field(None, description="seal mass; default density Ws ds Bs")
-    Icg: _q("kg*m^2", gt=0, optional=True) = Field(
-        None, description="moment of inertia; default ms (Ws^2+ds^2)/12"
-    )
-    zeta0: _q("m", ge=0, optional=True) = Field(
-        None, description="initial protrusion; default the truncation z"
-    )
-
-
-class SpringSection(Section):
-    """[spring]: the groove-bottom spring (Eqs. 37-39)."""
-
-    ks: _q("N/m", gt=0) = Field(description="spring stiffness")
-    delta_s: _q("m", ge=0) = Field(description="spring preload deflection (Eq. 9)")
-
-
-class ContactsSection(Section):
-    """[contacts]: contact stiffness and damping (Eqs. 34, 55, 62, 67, 73, Algorithm 1)."""
-
-    kw: _q("N/m", gt=0)
-    kg1: _q("N/m", gt=0)
-    kg2: _q("N/m", gt=0)
-    kg3: _q("N/m", gt=0)
-    kg4: _q("N/m", gt=0)
-    cw: _q("N*s/m", ge=0)
-    cr: _q("N*s/m", ge=0)
-    cs: _q("N*s/m", ge=0)
-
-
-class FrictionSection(Section):
-    """[friction]: Coulomb coefficients, regularised as mu tanh(v / v_eps)."""
-
-    mu1: _q("1", ge=0, lt=1) = Field(description="seal-housing (Algorithm 2)")
-    mu2: _q("1", ge=0, lt=1) = Field(description="seal-groove (Algorithm 1)")
-    mus: _q("1", ge=0, lt=1) = Field(description="seal-spring (Eq. 73)")
-    v_eps: _q("m/s", gt=0) = Field(1e-3, description="sliding-speed width of tanh(v / v_eps)")
 
 
 class PressureSection(Section):
@@ -363,39 +299,93 @@ class SolverSection(Section):
     interpreted: _v(Flag(), bool) = False
 
 
-#: [effects]: each effect of derive/effects.py, true/false; unset ones are resolved by Effects.from_mapping
-EffectsSection = create_model(
-    "EffectsSection",
-    __base__=Section,
-    **{
-        name: (_v(Flag(optional=True), bool | None), Field(None, description=meaning))
-        for name, (_, meaning) in EFFECTS.items()
-    },
-)
+# ---------------------------------------------------------------------------
+# sections built from the submodels' declarations (derive/submodels/)
 
-#: [assumptions]: each modelling choice of derive/assumptions.py
-AssumptionsSection = create_model(
-    "AssumptionsSection",
-    __base__=Section,
-    **{
-        name: (_v(Choice(*allowed), str), Field(allowed[0], description=meaning))
-        for name, (allowed, meaning) in CHOICES.items()
-    },
-)
-
-#: section name -> (model, required)
-SECTIONS: dict[str, tuple[type[Section], bool]] = {
-    "machine": (MachineSection, True),
-    "operation": (OperationSection, True),
-    "seal": (SealSection, True),
-    "spring": (SpringSection, True),
-    "contacts": (ContactsSection, True),
-    "friction": (FrictionSection, True),
-    "pressure": (PressureSection, False),
-    "effects": (EffectsSection, False),
-    "assumptions": (AssumptionsSection, False),
-    "solver": (SolverSection, False),
+#: keys of parameter sections that are not model parameters: (before the parameters, after them)
+_EXTRA_FIELDS: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
+    "machine": (
+        {"embodiment": (_v(Choice("limacon-to-limacon", "circolimacon", "limacon-to-circular"), str),
+                        Field(description="machine embodiment (Section 2)"))},
+        {"ports": (Ports | None, Field(None, description="inlet and outlet ports (Table 1)"))},
+    ),
 }
+#: within a section, keys are listed stiffnesses first, then damping, coefficients, the rest (stable otherwise)
+_KIND_ORDER = {"N/m": 0, "N*s/m": 1, "1": 2}
+#: the built-in sections, in the order scenes and docs list them
+_ORDER = ("machine", "operation", "seal", "spring", "contacts", "friction", "pressure", "effects", "assumptions",
+          "solver")
+_DOCS = {"machine": "[machine]: the limaçon machine (Eqs. 1-8).", "seal": "[seal]: the apex seal (Eqs. 16-31, 76, 80).",
+         "spring": "[spring]: the groove-bottom spring (Eqs. 37-39).",
+         "contacts": "[contacts]: contact stiffness and damping (Eqs. 34, 55, 62, 67, 73, Algorithm 1).",
+         "friction": "[friction]: Coulomb coefficients, regularised as mu tanh(v / v_eps)."}
+
+
+def _parameter_field(p) -> tuple[Any, Any]:
+    """The pydantic field of a declared parameter: its unit, range, default and meaning."""
+    validator = SI(p.unit, bare=p.bare, optional=p.optional, show=p.show, **p.range_kwargs())
+    kind = float | None if p.optional else float
+    default = None if p.optional else (p.default if p.default is not None else ...)
+    return Annotated[kind, BeforeValidator(validator)], Field(default, description=p.meaning)
+
+
+def _option_fields(table: str) -> dict[str, Any]:
+    from apexseal.derive.submodels.registry import options
+
+    out = {}
+    for name, opt in options().items():
+        if opt.table != table:
+            continue
+        if table == "effects":  # true/false (or a choice); unset ones are resolved by Effects.from_mapping
+            out[name] = (_v(Flag(optional=True), bool | None), Field(None, description=opt.meaning))
+        else:
+            out[name] = (_v(Choice(*opt.choices), str), Field(opt.default, description=opt.meaning))
+    return out
+
+
+@functools.lru_cache(maxsize=8)
+def _sections(names: tuple[str, ...]) -> dict[str, tuple[type[Section], bool]]:
+    from apexseal.derive.submodels.registry import parameters
+
+    by_section: dict[str, list] = {}
+    for p in parameters(all_inputs=True):
+        if p.key is not None:
+            by_section.setdefault(p.section, []).append(p)
+    built: dict[str, tuple[type[Section], bool]] = {}
+    for section, params in by_section.items():
+        params = sorted(params, key=lambda p: _KIND_ORDER.get(p.unit, 3))
+        head, tail = _EXTRA_FIELDS.get(section, ({}, {}))
+        fields = {**head, **{p.leaf: _parameter_field(p) for p in params}, **tail}
+        model = create_model(f"{section.title()}Section", __base__=Section, **fields)
+        model.__doc__ = _DOCS.get(section, f"[{section}]: parameters of a submodel.")
+        required = any(f.is_required() for f in model.model_fields.values())
+        built[section] = (model, required)
+    built["operation"] = (OperationSection, True)
+    built["pressure"] = (PressureSection, False)
+    built["effects"] = (create_model("EffectsSection", __base__=Section, **_option_fields("effects")), False)
+    built["assumptions"] = (create_model("AssumptionsSection", __base__=Section, **_option_fields("assumptions")),
+                            False)
+    built["solver"] = (SolverSection, False)
+    order = [n for n in _ORDER if n in built] + [n for n in built if n not in _ORDER]
+    return {n: built[n] for n in order}
+
+
+def sections() -> dict[str, tuple[type[Section], bool]]:
+    """Section name -> (model, required), for the submodels registered now."""
+    from apexseal.derive.submodels.registry import submodels
+
+    return _sections(tuple(f"{c.__module__}.{c.__qualname__}:{id(c)}" for c in submodels()))
+
+
+def __getattr__(name: str):
+    """``SECTIONS`` and the section classes by their names (``ContactsSection``, ...), as registered now."""
+    if name == "SECTIONS":
+        return sections()
+    for model, _ in sections().values():
+        if model.__name__ == name:
+            return model
+    raise AttributeError(name)
+
 
 # ---------------------------------------------------------------------------
 # schema walking (for messages and docs)
@@ -441,7 +431,7 @@ def key_paths(prefix: str = "") -> list[str]:
             else:
                 out.append(f"{base}.{name}")
 
-    for section, (model, _) in SECTIONS.items():
+    for section, (model, _) in sections().items():
         walk(model, section)
     return [p for p in out if p.startswith(prefix)]
 
@@ -502,11 +492,12 @@ def validate_sections(raw: dict[str, Any]) -> tuple[dict[str, Section], list[Pro
     """
     problems: list[Problem] = []
     valid: dict[str, Section] = {}
+    known = sections()
     for key, value in raw.items():
-        if key not in SECTIONS:
+        if key not in known:
             what = "section" if isinstance(value, dict) else "top-level key (keys belong in sections)"
-            problems.append(Problem(key, value, _unknown(key, list(SECTIONS), what)))
-    for name, (model, required) in SECTIONS.items():
+            problems.append(Problem(key, value, _unknown(key, list(known), what)))
+    for name, (model, required) in known.items():
         if name not in raw:
             if required:
                 problems.append(Problem(name, MISSING, f"required section [{name}] is missing"))

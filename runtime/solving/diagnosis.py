@@ -13,6 +13,7 @@ import time
 
 import numpy as np
 
+from ...derive.submodels.registry import guard as declared_guard
 from ..results.result import StopInfo
 from .checks import Chattering
 from .layout import HybridLayout
@@ -101,7 +102,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
         omega = _omega(functions, params)
         x, y, phi = to_physical(z_end[lay.x], omega)[:3]
         g = np.array(functions.guards(theta + head, to_physical(z_end[lay.x], omega), params, u)).ravel()
-        g[[i for i, name in enumerate(functions.guard_names) if name == "spring"]] = np.inf  # compressed by design
+        g[[i for i, name in enumerate(functions.guard_names) if declared_guard(name).closed_at_rest]] = np.inf
         deepest = int(np.argmin(g))
         return "failed", (f"the state leaves the model's domain at {np.degrees(theta + head - theta_start):.3f} deg: "
                           f"the right-hand side turns non-finite just ahead of x = {x * 1e6:.4g} um, y = {y * 1e6:.4g} "

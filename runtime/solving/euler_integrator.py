@@ -15,13 +15,11 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from ...derive.symbols import PARAMETER_NAMES
+from ...derive.submodels.registry import oscillators, parameter_names
 from .layout import HybridLayout
 from .methods import Engine, RevolutionResult, fixed_steps
 from .scaling import LENGTH, scaled_rhs, state_scale
 
-#: contact stiffness -> its damping coefficient
-_CONTACTS = {"kw": "cw", "kg1": "cr", "kg2": "cr", "kg3": "cr", "kg4": "cr", "ks": "cs"}
 #: the most explicit Euler may amplify a contact's oscillation over one revolution in contact
 MAX_GROWTH = 1e3
 
@@ -44,18 +42,21 @@ class ContactGrowth:
                 f"least {self.steps_needed} solver.euler_steps_per_revolution, or method 'rosenbrock'")
 
 
-def contact_growth(params: np.ndarray, steps_per_revolution: int) -> list[ContactGrowth]:
+def contact_growth(params: np.ndarray, steps_per_revolution: int, names=None) -> list[ContactGrowth]:
     """Stability of explicit Euler on each contact, most amplified first.
 
     Per step, explicit Euler multiplies a damped oscillation (frequency w, damping
     ratio zeta) by |1 + h lambda| = sqrt(1 - 2 zeta h w + (h w)^2): it grows unless
     h w < 2 zeta, and an undamped contact always grows. Over the n steps of one
     revolution the logarithm of the growth is n/2 ln(1 - 2 zeta h w + (h w)^2).
+    The contacts are the (stiffness, damping) pairs the submodels declare; ``names`` are the parameter
+    vector's (default: the registry's).
     """
-    p = dict(zip(PARAMETER_NAMES, np.asarray(params, float), strict=True))
+    names = parameter_names() if names is None else names
+    p = dict(zip(names, np.asarray(params, float), strict=True))
     n = int(steps_per_revolution)
     out = []
-    for k_name, c_name in _CONTACTS.items():
+    for k_name, c_name in oscillators():
         k, c, ms = p[k_name], p[c_name], p["ms"]
         w = math.sqrt(k / ms)
         zeta = 0.5 * c / (2 * math.sqrt(k * ms))

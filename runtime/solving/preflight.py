@@ -62,7 +62,7 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u) -> 
         return StopInfo(0.0, mode, "the right-hand side is not finite at the start (NaN or Inf in "
                         f"{names_where(functions.state_names, ~np.isfinite(xdot))}): check the scene's values")
     if settings.method == "euler":
-        worst = contact_growth(params, settings.steps_per_revolution)[0]
+        worst = contact_growth(params, settings.steps_per_revolution, functions.parameter_names)[0]
         if worst.log_growth > math.log(MAX_GROWTH):
             return StopInfo(0.0, mode, worst.describe(settings.steps_per_revolution))
     if settings.method not in NEEDS_DERIVATIVES:

@@ -9,7 +9,7 @@ import sympy as sp
 
 from apexseal.derive import cached_model, derive_model, geometry
 from apexseal.derive.effects import Effects
-from apexseal.derive.forces.base import ACT
+from apexseal.derive.submodels.registry import activation_symbols
 from apexseal.derive.symbols import P, Pa, Pb, qs, theta, us
 
 
@@ -63,7 +63,7 @@ def test_housing_contact_off_removes_the_housing():
     for name in ("kw", "cw", "mu1"):
         assert P[name] not in syms, name
     assert "xs5" not in model.guards and "xs5" not in model.activations
-    assert ACT["s_h"] not in syms
+    assert activation_symbols()["s_h"] not in syms
     assert not any(name.startswith("F_housing") for name in model.outputs)
 
 
@@ -75,7 +75,7 @@ def test_chamber_pressure_off_removes_the_pressures():
 
 def _at_rest_without_contacts(model) -> list[sp.Expr]:
     """Forcing at the zero state with every contact open and no pressure."""
-    zero = {s: 0 for s in (*qs, *us)} | {a: 0 for a in ACT.values()} | {Pa: 0, Pb: 0}
+    zero = {s: 0 for s in (*qs, *us)} | {a: 0 for a in activation_symbols().values()} | {Pa: 0, Pb: 0}
     return [sp.simplify(e.xreplace(zero)) for e in model.forcing]
 
 
@@ -95,7 +95,7 @@ def test_inertia_on_brings_the_rotor_terms(timed_default):
 def test_static_equilibrium_at_rest():
     """Eq. 9: at rest, with the groove contacts open and no pressure or inertia, the spring preload balances the housing."""
     model = variant(inertia=False, chamber_pressure=False, groove_contact=False)
-    rest = {s: 0 for s in (*qs, *us)} | {ACT["s_h"]: 1, ACT["s_sp"]: 1}
+    rest = {s: 0 for s in (*qs, *us)} | {activation_symbols()["s_h"]: 1, activation_symbols()["s_sp"]: 1}
     fx = sp.simplify(model.forcing[0].xreplace(rest))
     ks, kw, delta_s, delta_w = P["ks"], P["kw"], P["delta_s"], P["delta_w"]
     assert sp.simplify(fx - (ks * sp.Max(delta_s, 0) - kw * sp.Max(delta_w, 0))) == 0

@@ -178,12 +178,12 @@ def test_eq67_printed_damping_at_rest_is_hundreds_of_newtons(rows):
 
 def test_tip_arc_resultants_pass_through_the_arc_centre(kg):
     """Fs8 applied at Co (the derivation) and at the printed s8 (Eq. 77) share a line of action; |Fs8| = Pb As8."""
-    from apexseal.derive.forces.pressure import tip_arc_force
+    from apexseal.derive.submodels.pressure import tip_arc_force
     from apexseal.derive.symbols import Pb
 
     k, _ = kg
     beta, beta_o = sp.Symbol("beta", real=True), sp.Symbol("beta_o", positive=True)
-    f = tip_arc_force(k, Pb, -beta_o, beta)
+    f = tip_arc_force(k, P, Pb, -beta_o, beta)
     fx, fy = f.dot(k.S.x), f.dot(k.S.y)  # seal frame
     mid = (beta - beta_o) / 2  # printed s8 = Co + ro (cos mid, sin mid)
     assert sp.simplify(sp.cos(mid) * fy - sp.sin(mid) * fx) == 0

@@ -52,8 +52,8 @@ def test_no_machine_paths_or_user_names():
 
 def test_manifest_records_inputs_outputs_modes(loaded):
     data = read_manifest(DEFAULT_DIR).data
-    assert set(data["inputs"]) == {"derive_source", "generator_source", "effects", "assumptions", "templates",
-                                   "casadi", "sympy"}
+    assert set(data["inputs"]) == {"derive_source", "submodels", "generator_source", "effects", "assumptions",
+                                   "templates", "casadi", "sympy"}
     assert [m["label"] for m in data["modes"]] == list(loaded.sx.mode_labels)
     assert data["names"]["parameters"] == list(loaded.sx.parameter_names)
     assert data["names"]["outputs"] == list(loaded.sx.output_names)

@@ -20,11 +20,11 @@ PLACED = {
 AXIAL = [(0.0, "h", "s"), (-1e-6, "h0", "s"), (2.1e-3, "h", "s0")]
 
 
-def place(guards, p, u, theta, x_pos, targets):
-    """Newton on (y, phi) so that two groove gaps take their target values."""
+def place(guards, p, u, theta, x_pos, targets, guard_names):
+    """Newton on (y, phi) so that two groove gaps (index in b1..b4) take their target values."""
     z = np.zeros(2)
-    idx = list(targets)
-    want = np.array([targets[i] for i in idx])
+    idx = [guard_names.index(f"b{i + 1}") for i in targets]
+    want = np.array(list(targets.values()))
 
     def gaps(z):
         return np.array(guards(theta, np.r_[x_pos, z[0], z[1], 0.0, 0.0, 0.0], p, u)).ravel()
@@ -56,11 +56,13 @@ def test_states_placed_in_each_case(loaded, clib, params, case):
     fns = loaded.c
     u = np.array([3e5, 1.5e5])
     for x_pos, h, s in AXIAL:
-        x, g = place(fns.guards, params, u, 0.7, x_pos, PLACED[case])
+        names = list(fns.guard_names)
+        x, g = place(fns.guards, params, u, 0.7, x_pos, PLACED[case], names)
         closed = g < 0
-        assert case_of(*closed[:4]) == case, (x_pos, g)
-        assert tuple(closed[:4]) == CASES[case]
-        assert (h == "h") == closed[4] and (s == "s") == closed[5], g
+        groove = closed[[names.index(b) for b in ("b1", "b2", "b3", "b4")]]
+        assert case_of(*groove) == case, (x_pos, g)
+        assert tuple(groove) == CASES[case]
+        assert (h == "h") == closed[names.index("xs5")] and (s == "s") == closed[names.index("spring")], g
         label = loaded.sx.mode_of(closed)
         assert label == f"{case}_{h}_{s}"
         # the C mode table and dispatch agree with Python
@@ -73,9 +75,11 @@ def test_states_placed_in_each_case(loaded, clib, params, case):
         np.testing.assert_allclose(np.array(fns.rhs_switched(0.7, x, params, u)).ravel(), want, rtol=1e-13)
 
 
-def test_impossible_groove_pair_has_no_mode(clib):
-    g = np.array([-1e-6, -1e-6, 1e-6, -1e-6, -1e-6, -1e-6])  # b2 and b4 closed at once
-    assert case_of(*(g[:4] < 0)).startswith("x")
+def test_impossible_groove_pair_has_no_mode(loaded, clib):
+    names = list(loaded.sx.guard_names)
+    closed = {"b1": -1e-6, "b2": -1e-6, "b3": 1e-6, "b4": -1e-6, "xs5": -1e-6, "spring": -1e-6}  # b2, b4 at once
+    g = np.array([closed[n] for n in names])
+    assert case_of(*(closed[b] < 0 for b in ("b1", "b2", "b3", "b4"))).startswith("x")
     assert clib.apexseal_mode_index(ptr(g)) == -1
     assert clib.apexseal_mode_rhs(10_000, 0.0, ptr(g), ptr(g), ptr(g), ptr(np.zeros(6))) == -1
 

@@ -8,6 +8,7 @@ import numpy as np
 
 import apexseal
 from apexseal.derive.symbols import PARAMETER_NAMES
+from apexseal.runtime.solving.layout import HybridLayout
 from apexseal.runtime.solving.run import RunSettings, initial_activations, make_engine
 from apexseal.runtime.solving.scaling import to_physical, to_scaled
 
@@ -46,8 +47,8 @@ def short_run(scene, functions, method: str, degrees: float, *, rtol: float = 1e
     st = RunSettings(method=method, rtol=rtol, samples_per_revolution=samples, **settings)
     engine = make_engine(functions, st, n_samples=m, span=edges[-1] - th0, compile_c=False)
     Z = engine.run(initial_z(scene, functions, P), scene.parameter_vector(), th0, P).z
-    n_g = functions.guards.size1_out(0)
-    return edges[1:], to_physical(Z[:6], scene.omega), Z[6:6 + n_g] > 0.5, Z[6 + n_g:]
+    lay = HybridLayout.of(functions)
+    return edges[1:], to_physical(Z[lay.x], scene.omega), lay.closed(Z), Z[lay.counts]
 
 
 def allowed_penetrations(scene, result) -> dict[str, float]:

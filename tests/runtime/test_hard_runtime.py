@@ -12,6 +12,7 @@ from apexseal.derive.symbols import PARAMETER_NAMES
 from apexseal.runtime.solving import run as sim
 from apexseal.runtime.solving.euler_integrator import MAX_GROWTH, contact_growth
 from apexseal.runtime.solving.hybrid import BLIND_WINDOW, build_hybrid_dae
+from apexseal.runtime.solving.layout import HybridLayout
 
 
 @pytest.fixture(scope="module")
@@ -120,23 +121,26 @@ class _LosesContact:
     """Wraps an engine; after its second call the seal sits 100 um into the groove wall with every groove contact
     open (a lost event)."""
 
-    def __init__(self, engine):
+    def __init__(self, engine, fns):
         self.engine, self.calls = engine, 0
         self.n_samples, self.compiled = engine.n_samples, False
+        lay = HybridLayout.of(fns)
+        self.y = fns.state_names.index("y")
+        self.groove = [lay.active.start + fns.guard_names.index(b) for b in ("b1", "b2", "b3", "b4")]
 
     def run(self, z0, params, theta0, pressures):
         out = self.engine.run(z0, params, theta0, pressures)
         self.calls += 1
         if self.calls == 2:
-            out.z[1, -1] -= 100.0  # y: 100 um into the wall ...
-            out.z[6:10, -1] = 0.0  # ... with the groove contacts open
+            out.z[self.y, -1] -= 100.0  # y: 100 um into the wall ...
+            out.z[self.groove, -1] = 0.0  # ... with the groove contacts open
         return out
 
 
 def test_a_lost_contact_event_stops_the_run(default_scene, fns):
     """The safety net: a contact held open while its gap is below -1 nm ends the run, naming the guard."""
     st = sim.RunSettings(samples_per_revolution=72, compile_c=False, calls_per_revolution=4)
-    engine = _LosesContact(sim.make_engine(fns, st, n_samples=18, span=np.pi / 2))
+    engine = _LosesContact(sim.make_engine(fns, st, n_samples=18, span=np.pi / 2), fns)
     r = sim.run(fns, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
                 pressure=default_scene.pressure.interval_means, engine=engine)
     assert r.status == "failed" and "missed contact event: guard b" in r.stop.reason

@@ -67,14 +67,15 @@ class PreloadMap:
 def preload_parameters(scene) -> PreloadMap:
     """``p(delta_s)`` from the scene: delta_s itself, delta_w (Eq. 9) and Li (Eq. 12) move with it.
 
-    Read off ``scene.with_overrides`` at 0 and 1 mm and checked at the scene's own preload,
-    so any parameter the scene derives from delta_s is carried along.
+    The submodels' own formulas give p as a function of delta_s (``Scene.parameter_function``); its value at 0
+    and its derivative make the map, checked at the scene's own preload.
     """
-    a = scene.with_overrides(**{"spring.delta_s": 0.0}).parameter_vector()
-    b = scene.with_overrides(**{"spring.delta_s": MM}).parameter_vector()
-    pmap = PreloadMap(a, (b - a) / MM)
+    f = scene.parameter_function("delta_s")
+    d = ca.SX.sym("d")
+    dp = ca.Function("dp", [d], [ca.jacobian(f(d), d)])
+    pmap = PreloadMap(np.array(f(0.0)).ravel(), np.array(dp(0.0)).ravel())
     own = scene.parameter_vector()
-    if not np.allclose(pmap(own[DELTA_S]), own, rtol=1e-12, atol=1e-15):  # pragma: no cover - a scene change
+    if not np.allclose(pmap(own[DELTA_S]), own, rtol=1e-12, atol=1e-15):  # pragma: no cover - a formula change
         raise RuntimeError("the scene's parameters are not affine in spring.delta_s; update preload_parameters")
     return pmap
 

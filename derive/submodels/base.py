@@ -1,0 +1,126 @@
+"""The submodel contract: what a contact or load declares, and what the derivation hands it.
+
+A :class:`Submodel` declares, as class attributes, its parameters (:class:`~..parameters.Parameter`: unit,
+meaning, scene key, range, default), its option slots (:class:`~..options.Option`), its guards
+(:class:`Guard`: the contact is closed while the guard is negative; the name of its output and the labels of
+its modes), which option switches it on, its (stiffness, damping) pairs for the explicit-Euler stability check,
+and plain numeric functions for its derived parameters. Its laws are written in :meth:`Submodel.contacts`,
+which returns the loads it puts on the seal, given a :class:`Context` (kinematics, contact geometry, options,
+parameter symbols, the chamber pressures, activation symbols).
+
+Declarations import no sympy (a scene is read without it); :meth:`Submodel.contacts` imports what it needs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+from ..options import Option
+from ..parameters import Parameter
+
+
+@dataclass(frozen=True)
+class State:
+    """A continuous state a submodel owns: its name, SI unit, meaning, and the scale engines integrate it in."""
+
+    name: str
+    unit: str
+    meaning: str
+    #: integrators see state / scale (of order 1); velocities are scaled by omega times their position's scale
+    scale: float = 1.0
+
+
+@dataclass(frozen=True)
+class Guard:
+    """A contact's guard: the contact is closed while the guard expression is negative."""
+
+    name: str  # e.g. "xs5"
+    activation: str  # the activation symbol's name, e.g. "s_h" (1 while closed)
+    meaning: str
+    #: name of the result's output of ``sign * guard`` (a gap: +1; a penetration or compression: -1)
+    output: str
+    sign: int = 1
+    #: parts of a mode's label while the contact is closed / open (e.g. "h" / "h0")
+    closed_label: str = ""
+    open_label: str = ""
+    #: guards labelled together by a table of cases (the groove's nine cases of Algorithm 3)
+    group: str | None = None
+    #: closed at rest by design (a preloaded spring): its depth says nothing about leaving the model's domain
+    closed_at_rest: bool = False
+
+
+@dataclass
+class Load:
+    """A force ``force`` at the seal's material point ``r_CP`` (from C)."""
+
+    name: str
+    r_CP: Any  # sympy.physics.vector.Vector
+    force: Any  # Vector
+    #: rate at which friction at this contact dissipates energy (>= 0), or 0
+    friction_power: Any = 0
+
+
+@dataclass
+class ContactModel:
+    """The loads of one contact and the guard that opens and closes it."""
+
+    name: str
+    loads: list[Load] = field(default_factory=list)
+    #: the guard's name (declared by the submodel) and expression; None for loads that always act (pressure)
+    guard_name: str | None = None
+    guard: Any = None
+    #: velocity switches inside the contact law (for the guard outputs): name -> expression
+    velocity_guards: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Context:
+    """What the derivation hands a submodel: kinematics ``k``, contact geometry ``g``, ``options``, and symbols."""
+
+    k: Any  # derive.kinematics.Kinematics
+    g: Any  # derive.contact_geometry.ContactGeometry
+    options: Any  # derive.options.Options
+    #: parameter symbols by name
+    P: Mapping[str, Any]
+    #: chamber pressures (sympy symbols Pa, Pb: chamber a on +Ys, b on -Ys; Eq. 75)
+    Pa: Any
+    Pb: Any
+
+    def activation(self, guard: Guard):
+        """The activation symbol of a guard (1 = closed)."""
+        import sympy as sp
+
+        return sp.Symbol(guard.activation, nonnegative=True)
+
+
+class Submodel:
+    """A contact or load of the seal (see the module docstring)."""
+
+    #: unique name; also the prefix of its outputs (F_<name>_X, F_<name>_Y, M_<name>, Pf_<name>)
+    name: ClassVar[str] = ""
+    parameters: ClassVar[tuple[Parameter, ...]] = ()
+    options: ClassVar[tuple[Option, ...]] = ()
+    guards: ClassVar[tuple[Guard, ...]] = ()
+    #: continuous states it owns (the seal body: x, y, phi and their rates)
+    states: ClassVar[tuple[State, ...]] = ()
+    #: the option slot that switches the submodel on (None: always on)
+    switch: ClassVar[str | None] = None
+    #: (stiffness, damping) parameter names of the oscillators it adds (explicit-Euler stability check)
+    oscillators: ClassVar[tuple[tuple[str, str], ...]] = ()
+    #: one line for the docs
+    summary: ClassVar[str] = ""
+
+    @classmethod
+    def active(cls, options) -> bool:
+        return cls.switch is None or options.on(cls.switch)
+
+    @classmethod
+    def derived(cls, values: dict[str, float], inputs: Mapping[str, Any], options) -> dict[str, float]:
+        """Values of its derived parameters (plain numbers) from the values known so far and the scene inputs."""
+        return {}
+
+    def contacts(self, ctx: Context) -> list[ContactModel]:
+        """The contacts and loads it puts on the seal."""
+        return []

@@ -1,0 +1,82 @@
+"""Seal - groove contacts at g1..g4: Algorithm 1 and Eqs. 48-63.
+
+Contact i1 (g1 on the seal's negative side) and i2 (g3 on its positive side) push
+along -+Ys, normal to the seal's sides; c2 and c4 (the back corners) push along
+-+Y, normal to the groove walls. Sliding is measured relative to the groove
+(Eqs. 50-61); friction opposes it with the normal force of the contact. The four
+guards b1..b4 name the paper's nine contact cases together (Algorithm 3).
+"""
+
+from __future__ import annotations
+
+from ..options import NONE, ON, Option
+from ..parameters import Parameter
+from .base import ContactModel, Context, Guard, Load, Submodel
+
+#: contact -> (gap, seal point, stiffness, normal direction (frame, axis, sign), tangent direction (frame, axis))
+_CONTACTS = {
+    "i1": ("b1", "r_i1", "kg1", ("S", "y", +1), ("S", "x")),
+    "c2": ("b2", "r_c2", "kg2", ("G", "y", +1), ("G", "x")),
+    "i2": ("b3", "r_i2", "kg3", ("S", "y", -1), ("S", "x")),
+    "c4": ("b4", "r_c4", "kg4", ("G", "y", -1), ("G", "x")),
+}
+
+
+def _gap(name: str, where: str, eq: str) -> Guard:
+    return Guard(name, "s_" + name, f"gap at {where} (Eq. {eq})", output=name, sign=1, group="groove")
+
+
+class GrooveContacts(Submodel):
+    name = "groove"
+    summary = "the seal's corners and sides on the groove walls at g1..g4 (Algorithm 1, Eqs. 48-63)"
+    switch = "groove_contact"
+    parameters = (
+        *(Parameter(f"kg{i}", "N/m", f"groove stiffness at g{i} (Algorithm 1)", key=f"contacts.kg{i}", gt=0)
+          for i in range(1, 5)),
+        Parameter("cr", "N*s/m", "seal-groove contact damping (Eq. 55)", key="contacts.cr", ge=0),
+        Parameter("mu2", "1", "seal-groove friction coefficient (Algorithm 1)", key="friction.mu2", ge=0, lt=1),
+    )
+    options = (
+        Option("groove_contact", (ON, NONE), "elastic seal-groove contacts at g1..g4, Algorithm 1"),
+        Option("groove_damping", (ON, NONE), "damping of the seal-groove contacts, Eqs. 55, 62",
+               parent="groove_contact"),
+        Option("groove_friction", (ON, NONE), "Coulomb friction at the seal-groove contacts, Algorithm 1",
+               parent="groove_contact"),
+    )
+    guards = (_gap("b1", "g1, the mouth corner on the seal's negative side", "40"),
+              _gap("b2", "g2, the back corner c2 on the negative wall", "41"),
+              _gap("b3", "g3, the mouth corner on the seal's positive side", "42"),
+              _gap("b4", "g4, the back corner c4 on the positive wall", "43"))
+    oscillators = tuple((f"kg{i}", "cr") for i in range(1, 5))
+
+    def contacts(self, ctx: Context) -> list[ContactModel]:
+        """Fi1, Fc2, Fi2, Fc4 of Eq. 63: elastic (Algorithm 1) + damping (Eqs. 55, 62) + friction."""
+        import sympy as sp
+
+        from . import laws
+
+        k, g, P, opts = ctx.k, ctx.g, ctx.P, ctx.options
+        frames = {"S": k.S, "G": k.G}
+        guard_of = {gd.name: gd for gd in self.guards}
+        models = []
+        for point, (gap_name, r_name, k_name, (nf, na, sgn), (tf, ta)) in _CONTACTS.items():
+            gap = g.gaps[gap_name]
+            act = ctx.activation(guard_of[gap_name])
+            r = getattr(g, r_name)
+            n = sgn * getattr(frames[nf], na)  # direction the groove pushes the seal
+            tangent = getattr(frames[tf], ta)
+            v = k.relative_velocity(r)  # Eqs. 50-61
+            closing = -v.dot(n)  # > 0 while the seal moves into the groove wall
+            guards = {f"v_{point}_n": closing}
+            normal = laws.penalty(P[k_name], -gap, act)  # |b| kg while b < 0 (a contact cannot pull)
+            if opts.on("groove_damping"):
+                normal = laws.damped(normal, P["cr"], closing, act, opts["damping"])
+            force, power = normal * n, sp.S.Zero
+            if opts.on("groove_friction"):
+                v_slide = v.dot(tangent)
+                friction, power = laws.coulomb(P["mu2"], normal, v_slide, P["v_eps"])  # gamma_i of Algorithm 1
+                force = force + friction * tangent
+                guards[f"v_{point}_slide"] = v_slide
+            models.append(ContactModel(point, [Load(point, r, force, friction_power=power)], guard_name=gap_name,
+                                       guard=gap, velocity_guards=guards))
+        return models

@@ -1,0 +1,41 @@
+"""Contact laws shared by every contact, written once (sympy's actuators are the model).
+
+Each contact combines them: an elastic penalty force that never pulls, damping that acts on approach only
+(Eqs. 55, 62, 67, 73) and, by ``options["damping"]``, only while the contact is closed, and Coulomb friction
+regularised as tanh(v / v_eps) (Algorithm 1, Eq. 73) with the power it dissipates.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+
+def approach(v: sp.Expr) -> sp.Expr:
+    """max(v, 0): the one-sided ('on approach only') velocity rule of Eqs. 55, 62, 67, 73."""
+    return sp.Max(v, 0)
+
+
+def penalty(stiffness: sp.Expr, penetration: sp.Expr, activation: sp.Expr) -> sp.Expr:
+    """activation * k * max(penetration, 0): elastic, and a contact never pulls (Eqs. 34, 39, Algorithm 1)."""
+    return activation * stiffness * sp.Max(penetration, 0)
+
+
+def damped(normal: sp.Expr, damping: sp.Expr, closing: sp.Expr, activation: sp.Expr, rule: str) -> sp.Expr:
+    """The normal force plus c * max(closing speed, 0), gated by the contact being closed unless rule = 'always'."""
+    damp = damping * approach(closing)
+    return normal + (activation * damp if rule == "in-contact" else damp)
+
+
+def slip_sign(v: sp.Expr, v_eps: sp.Expr) -> sp.Expr:
+    """Regularised sign(v) = tanh(v / v_eps) of the Coulomb friction laws (Algorithm 1, Eq. 73).
+
+    A bare sign() makes every adaptive integrator stall once a contact sticks; the width v_eps is a scene
+    parameter (friction.v_eps) and its effect is tested.
+    """
+    return sp.tanh(v / v_eps)
+
+
+def coulomb(mu: sp.Expr, normal: sp.Expr, v_slide: sp.Expr, v_eps: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
+    """(friction force along the sliding direction, dissipated power): -mu N sigma(v), mu N sigma(v) v."""
+    sigma = slip_sign(v_slide, v_eps)
+    return -mu * sigma * normal, mu * normal * sigma * v_slide

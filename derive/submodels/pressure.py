@@ -1,0 +1,75 @@
+"""Chamber gas pressure on the seal: Eqs. 75-79.
+
+Chamber a (pressure Pa) lies on the seal's +Ys side, chamber b (Pb) on its -Ys
+side. Each face carries its pressure times its area; the tip arcs are integrated
+over the arc (their resultants pass through the arc centre Co, which fixes their
+lines of action, Eqs. 77-78). The groove-bottom pressure Pend and the side-gap
+pressures Ps2, Ps4 follow the options ``pend_rule`` and ``gap_pressure``.
+"""
+
+from __future__ import annotations
+
+from ..options import NONE, ON, Option
+from .base import ContactModel, Context, Submodel
+
+
+def groove_bottom_pressure(Pa, Pb, rule: str):
+    """Pend under the seal's back face (Eq. 75 and the text after Eq. 76)."""
+    return (Pa + Pb) / 2 if rule == "mean" else (Pa - Pb) / 2
+
+
+def tip_arc_force(k, P, pressure, a0, a1):
+    """Resultant of a pressure on the tip arc between arc angles a0 < a1 (Eqs. 75-78).
+
+    -integral of p n(alpha) ro Bs d(alpha), n the outward normal (cos alpha, sin alpha) in Xs Ys.
+    """
+    import sympy as sp
+
+    alpha = sp.Symbol("alpha", real=True)
+    S = k.S
+    fx = -pressure * P["ro"] * P["Bs"] * sp.integrate(sp.cos(alpha), (alpha, a0, a1))
+    fy = -pressure * P["ro"] * P["Bs"] * sp.integrate(sp.sin(alpha), (alpha, a0, a1))
+    return fx * S.x + fy * S.y
+
+
+class ChamberPressure(Submodel):
+    name = "pressure"
+    summary = "the gas pressures of the two chambers on the seal's faces and tip (Eqs. 75-79)"
+    switch = "chamber_pressure"
+    options = (
+        Option("chamber_pressure", (ON, NONE), "gas pressure of the two chambers on the seal, Eqs. 75-79"),
+        Option("pend_rule", ("mean", "half-difference"), "groove-bottom pressure Pend under the seal (Eq. 75): the "
+               "mean (Pa + Pb)/2, or the text's literal 'half the difference' (Pa - Pb)/2", table="assumptions"),
+        Option("gap_pressure", ("open-side", "chamber"), "side-gap pressures Ps2, Ps4 (Eq. 75, no rule printed): "
+               "'open-side' = the chamber's pressure while the mouth contact on that side is open (b1 > 0, b3 > 0), "
+               "else Pend; 'chamber' = always the chamber's", table="assumptions"),
+    )
+
+    def contacts(self, ctx: Context) -> list[ContactModel]:
+        """Fs1..Fs4, Fs7, Fs8, Fs9 (Eq. 75) at s1..s4, s7 and on the arcs through Co."""
+        from .. import seal_shape as shape
+        from .base import Load
+        from .registry import guard
+
+        k, g, P, opts, Pa, Pb = ctx.k, ctx.g, ctx.P, ctx.options, ctx.Pa, ctx.Pb
+        S, Bs = k.S, P["Bs"]
+        Pend = groove_bottom_pressure(Pa, Pb, opts["pend_rule"])
+        if opts["gap_pressure"] == "open-side" and opts.on("groove_contact"):
+            # the gap between seal side and groove sees its chamber while the mouth is open, else the groove bottom
+            s_b1, s_b3 = ctx.activation(guard("b1")), ctx.activation(guard("b3"))
+            Ps2 = (1 - s_b1) * Pb + s_b1 * Pend
+            Ps4 = (1 - s_b3) * Pa + s_b3 * Pend
+        else:
+            Ps2, Ps4 = Pb, Pa
+        beta, beta_o = g.beta, shape.beta_o
+        r_Co = shape.tip_centre(S)
+        loads = [
+            Load("s1", g.r_s1, Pb * g.l1 * Bs * S.y),  # Eqs. 75-76
+            Load("s2", g.r_s2, Ps2 * g.l2 * Bs * S.y),
+            Load("s3", g.r_s3, -Pa * g.l3 * Bs * S.y),
+            Load("s4", g.r_s4, -Ps4 * g.l4 * Bs * S.y),
+            Load("s7", -P["ds2"] * S.x, Pend * P["Ws"] * Bs * S.x),
+            Load("s8", r_Co, tip_arc_force(k, P, Pb, -beta_o, beta)),  # chamber b: arc from c1 to s5
+            Load("s9", r_Co, tip_arc_force(k, P, Pa, beta, beta_o)),  # chamber a: arc from s5 to c3
+        ]
+        return [ContactModel("pressure", loads)]

@@ -1,0 +1,159 @@
+"""The ordered registry of submodels, and everything built from it.
+
+The parameter vector (:func:`parameters`, :func:`parameter_names`), the option slots (:func:`options`), the
+guards (:func:`guards`), the scene's parameter keys and the mode labels all come from here, in registration
+order: the built-in submodels first (seal body, housing, spring, groove, chamber pressure), then a user's.
+
+>>> from apexseal.derive.submodels import registry
+>>> registry.register(MyContact)          # a subclass of Submodel; see docs/extending.md
+>>> registry.unregister("my_contact")     # e.g. at the end of a test
+
+The content of the registry (the source of every registered class) enters the derivation's cache key, so a
+new or changed submodel is never served an old derivation.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import inspect
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+from ..options import Option
+from ..parameters import Parameter
+from .base import Guard, State, Submodel
+
+#: the built-in submodels, in registration order
+BUILTIN = (".seal:SealBody", ".housing:HousingContact", ".groove:GrooveContacts", ".spring:SpringContact",
+           ".pressure:ChamberPressure")
+
+_registry: dict[str, type[Submodel]] = {}
+_loaded = False
+
+
+class RegistryError(ValueError):
+    """A submodel whose declarations clash with those already registered."""
+
+
+def _ensure() -> None:
+    global _loaded
+    if not _loaded:
+        _loaded = True
+        for spec in BUILTIN:
+            module, name = spec.split(":")
+            register(getattr(importlib.import_module(module, __package__), name))
+
+
+def register(cls: type[Submodel]) -> type[Submodel]:
+    """Add a submodel (usable as a class decorator). Its parameters, options and guards must be new names."""
+    _ensure()
+    if not (isinstance(cls, type) and issubclass(cls, Submodel)) or not cls.name:
+        raise RegistryError(f"{cls!r} is not a named subclass of apexseal's Submodel")
+    if cls.name in _registry:
+        raise RegistryError(f"a submodel named {cls.name!r} is registered already")
+    for what, mine, theirs in (("parameter", [p.name for p in cls.parameters], parameter_names(all_inputs=True)),
+                               ("option", [o.name for o in cls.options], list(options())),
+                               ("guard", [g.name for g in cls.guards], [g.name for g in guards()])):
+        clash = sorted(set(mine) & set(theirs))
+        if clash:
+            raise RegistryError(f"submodel {cls.name!r} declares {what}s that exist already: {', '.join(clash)}")
+    known = set(options()) | {o.name for o in cls.options}
+    for o in cls.options:
+        if o.parent is not None and o.parent not in known:
+            raise RegistryError(f"option {o.name!r} of {cls.name!r} names an unknown parent {o.parent!r}")
+    _registry[cls.name] = cls
+    return cls
+
+
+def unregister(name: str) -> None:
+    """Remove a user's submodel (built-in ones stay)."""
+    _ensure()
+    cls = _registry.get(name)
+    if cls is not None and cls.__module__.startswith(__package__):
+        raise RegistryError(f"{name!r} is a built-in submodel; switch it off with its option instead")
+    _registry.pop(name, None)
+
+
+@contextmanager
+def registered(*classes: type[Submodel]) -> Iterator[None]:
+    """Register submodels for the duration of a ``with`` block."""
+    for cls in classes:
+        register(cls)
+    try:
+        yield
+    finally:
+        for cls in classes:
+            unregister(cls.name)
+
+
+def submodels() -> tuple[type[Submodel], ...]:
+    _ensure()
+    return tuple(_registry.values())
+
+
+def parameters(*, all_inputs: bool = False) -> tuple[Parameter, ...]:
+    """Every declared parameter in order (``all_inputs``: also the scene inputs outside the vector)."""
+    return tuple(p for cls in submodels() for p in cls.parameters if all_inputs or p.in_vector)
+
+
+def parameter_names(*, all_inputs: bool = False) -> tuple[str, ...]:
+    """The names of the parameter vector of the generated Functions, in order."""
+    return tuple(p.name for p in parameters(all_inputs=all_inputs))
+
+
+def parameter(name: str) -> Parameter:
+    for p in parameters(all_inputs=True):
+        if p.name == name:
+            return p
+    raise KeyError(name)
+
+
+def options() -> dict[str, Option]:
+    """Every option slot by name, parents before children."""
+    return {o.name: o for cls in submodels() for o in cls.options}
+
+
+def states() -> tuple[State, ...]:
+    """The continuous states, in the order of the state vector."""
+    return tuple(s for cls in submodels() for s in cls.states)
+
+
+def state_names() -> tuple[str, ...]:
+    return tuple(s.name for s in states())
+
+
+def guards() -> tuple[Guard, ...]:
+    return tuple(g for cls in submodels() for g in cls.guards)
+
+
+def guard(name: str) -> Guard:
+    for g in guards():
+        if g.name == name:
+            return g
+    raise KeyError(name)
+
+
+def activation_symbols() -> dict:
+    """The activation symbol of every declared guard, by the activation's name (e.g. ``"s_h"``)."""
+    import sympy as sp
+
+    return {g.activation: sp.Symbol(g.activation, nonnegative=True) for g in guards()}
+
+
+def oscillators(opts=None) -> tuple[tuple[str, str], ...]:
+    """The (stiffness, damping) pairs of the active submodels (all with ``opts`` None), for the explicit-Euler
+    stability check."""
+    return tuple(pair for cls in submodels() if opts is None or cls.active(opts) for pair in cls.oscillators)
+
+
+def digest() -> str:
+    """sha256 over the source of every registered submodel (part of the derivation's cache key)."""
+    h = hashlib.sha256()
+    for cls in submodels():
+        h.update(cls.name.encode())
+        try:
+            h.update(inspect.getsource(cls).encode())
+        except (OSError, TypeError):  # defined where no source is available: its declarations stand in
+            h.update(repr((cls.parameters, cls.options, cls.guards, cls.switch)).encode())
+    return h.hexdigest()

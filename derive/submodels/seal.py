@@ -1,0 +1,91 @@
+"""The seal body: the machine and seal geometry, the seal's mass, the rotor's inertial loads (Eqs. 1-31, 80).
+
+Always on. It owns the parameters every contact shares (geometry, mass, speed), the parameters derived
+from them (plain numeric functions, no sympy: the rotor speed, the seal's mass and inertia, the tip arc's
+half-angle, the groove truncation, the housing wall's initial deflection and the seal's rest position), the
+``inertia`` effect (Eq. 15) and the rules of the shared contact laws (the damping rule, the width of the
+friction regularisation).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from ..numbers import initial_wall_deflection, machine_numbers, tip_half_angle
+from ..options import NONE, ON, Option
+from ..parameters import Parameter
+from .base import State, Submodel
+
+
+class SealBody(Submodel):
+    name = "seal"
+    summary = "the seal as a rigid body in its groove: geometry, mass, the rotor's inertial loads (Eqs. 1-31, 80)"
+    parameters = (
+        Parameter("omega", "rad/s", "rotor angular speed, constant (Eq. 13); from operation.rpm"),
+        Parameter("r", "m", "radius of the limaçon base circle (Eq. 1)", key="machine.r", gt=0),
+        Parameter("L", "m", "half chord of the rotor (Eq. 2)", key="machine.L", gt=0),
+        Parameter("H", "m", "machine depth along the axis (Algorithm 4)", key="machine.H", gt=0, in_vector=False),
+        Parameter("Cr", "m", "rotor-housing clearance of circular lobes (Eqs. 5, 8)", key="machine.Cr", default=0.0,
+                  ge=0, in_vector=False),
+        Parameter("k", "m", "offset of a circular lobe's centre on the Yr axis (Eq. 5)", key="machine.k",
+                  default=0.0, sign="real", in_vector=False),
+        Parameter("Li", "m", "distance from the chord centre to the seal's centre of gravity at rest (Eq. 12): "
+                  "L - ds1 + delta_w"),
+        Parameter("delta_w", "m", "initial deflection of the housing wall (Eq. 9): ks delta_s / kw", sign="real"),
+        Parameter("Ws", "m", "seal width (Eq. 19)", key="seal.Ws", gt=0),
+        Parameter("Wg", "m", "groove width (Eq. 17)", key="seal.Wg", gt=0),
+        Parameter("ds1", "m", "centre of gravity to the seal tip along Xs (Eq. 16)", key="seal.ds1", gt=0),
+        Parameter("ds2", "m", "centre of gravity to the seal back face along Xs (Eq. 16)", key="seal.ds2", gt=0),
+        Parameter("ro", "m", "radius of the seal's tip arc (Eq. 27)", key="seal.ro", gt=0),
+        Parameter("beta_o", "rad", "half-angle of the tip arc, asin(Ws / (2 ro)) (Eqs. 24, 76-78)"),
+        Parameter("Bs", "m", "seal length along the machine axis (Eq. 76)", key="seal.Bs", gt=0),
+        Parameter("density", "kg/m^3", "seal material density", key="seal.density", gt=0, optional=True,
+                  in_vector=False),
+        Parameter("ms", "kg", "seal mass (Eq. 80); default density Ws (ds1 + ds2) Bs", key="seal.ms", gt=0,
+                  optional=True),
+        Parameter("Icg", "kg*m^2", "seal moment of inertia about its centre of gravity (Eq. 80); default "
+                  "ms (Ws^2 + (ds1 + ds2)^2) / 12", key="seal.Icg", gt=0, optional=True),
+        Parameter("zeta0", "m", "initial protrusion of the seal out of the groove (Eq. 17); default the groove "
+                  "truncation z of Eqs. 6-8", key="seal.zeta0", ge=0, optional=True, sign="real"),
+        Parameter("v_eps", "m/s", "sliding-speed width of the friction regularisation tanh(v / v_eps)",
+                  key="friction.v_eps", default=1e-3, gt=0),
+    )
+    states = (
+        State("x", "m", "the seal's centre of gravity along the groove axis Xg, out of the groove (Eq. 10)", 1e-6),
+        State("y", "m", "the seal's centre of gravity across the groove, along Yg (Eq. 10)", 1e-6),
+        State("phi", "rad", "the seal's tilt from the groove axis (Eq. 10)", 1e-3),
+        State("xd", "m/s", "dx/dt", 1e-6),
+        State("yd", "m/s", "dy/dt", 1e-6),
+        State("phid", "rad/s", "dphi/dt", 1e-3),
+    )
+    options = (
+        Option("inertia", (ON, NONE), "rotor-motion inertial loads on the seal: centrifugal, Coriolis, chord "
+               "translation (Eq. 15)"),
+        Option("damping", ("in-contact", "always"), "contact damping (Eqs. 55, 62, 67, 73) acts on approach only; "
+               "'in-contact' also requires the contact to be closed, 'always' applies the printed velocity rule alone",
+               table="assumptions"),
+    )
+
+    @classmethod
+    def derived(cls, values: dict[str, float], inputs: Mapping[str, Any], options) -> dict[str, float]:
+        """omega, ms, Icg, beta_o (Eq. 24), zeta0 (Eqs. 6-8), delta_w (Eq. 9) and Li (Eq. 12), as numbers.
+
+        ``Li = L - ds1 + delta_w``: the seal tip, ds1 above C, then presses delta_w into the housing at
+        Rh - 2 r sin(theta) = L from the chord centre, as Eq. 33 assumes. ``delta_w`` balances the spring's
+        preload on the housing at rest when both are on, else 0 (nothing presses the seal on the housing).
+        """
+        v = values
+        out: dict[str, float] = {"omega": inputs["operation"].omega}
+        ds = v["ds1"] + v["ds2"]
+        ms = v["ms"] if v.get("ms") is not None else v["density"] * v["Ws"] * ds * v["Bs"]
+        out["ms"] = ms
+        out["Icg"] = v["Icg"] if v.get("Icg") is not None else ms * (v["Ws"] ** 2 + ds**2) / 12
+        out["beta_o"] = tip_half_angle(v["Ws"], v["ro"])
+        if v.get("zeta0") is None:
+            m = inputs["machine"]
+            out["zeta0"] = machine_numbers(m.embodiment, v["r"], v["L"], v["Wg"], v["Cr"], v["k"]).truncation
+        pressed = options.on("spring") and options.on("housing_contact")
+        out["delta_w"] = initial_wall_deflection(v["ks"], v["delta_s"], v["kw"]) if pressed else 0.0
+        out["Li"] = v["L"] - v["ds1"] + out["delta_w"]
+        return out

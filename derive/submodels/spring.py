@@ -1,0 +1,57 @@
+"""Seal - spring contact at s6: Eqs. 35-39 and 69-74.
+
+The spring sits on the groove axis and pushes along +X on the seal's back face,
+at the point s6 where the face crosses the axis (Eq. 36). Its force is
+ks times its compression, delta_s at rest less the outward travel of s6
+(Eq. 38); it exists while the compression is positive (the spring can only push).
+"""
+
+from __future__ import annotations
+
+from ..options import NONE, ON, Option
+from ..parameters import Parameter
+from .base import ContactModel, Context, Guard, Load, Submodel
+
+
+class SpringContact(Submodel):
+    name = "spring"
+    summary = "the groove-bottom spring and its preload (Eqs. 35-39, 69-74)"
+    switch = "spring"
+    parameters = (
+        Parameter("ks", "N/m", "spring stiffness (Eq. 39)", key="spring.ks", gt=0),
+        Parameter("delta_s", "m", "spring preload deflection (Eq. 9)", key="spring.delta_s", ge=0, sign="real"),
+        Parameter("cs", "N*s/m", "seal-spring contact damping (Eq. 73)", key="contacts.cs", ge=0),
+        Parameter("mus", "1", "seal-spring friction coefficient (Eq. 73)", key="friction.mus", ge=0, lt=1),
+    )
+    options = (
+        Option("spring", (ON, NONE), "the groove-bottom spring and its preload, Eqs. 37-39"),
+        Option("spring_damping", (ON, NONE), "damping at the seal-spring contact, Eq. 73", parent="spring"),
+        Option("spring_friction", (ON, NONE), "Coulomb friction at the seal-spring contact, Eq. 73", parent="spring"),
+    )
+    guards = (Guard("spring", "s_sp", "minus the spring's compression (Eq. 38)", output="spring_compression",
+                    sign=-1, closed_label="s", open_label="s0", closed_at_rest=True),)
+    oscillators = (("ks", "cs"),)
+
+    def contacts(self, ctx: Context) -> list[ContactModel]:
+        """Fs6 = Fsp X + Fd_s6 + Ff_s6 (Eq. 74)."""
+        import sympy as sp
+
+        from . import laws
+
+        k, g, P, opts = ctx.k, ctx.g, ctx.P, ctx.options
+        G = k.G
+        act = ctx.activation(self.guards[0])
+        v = k.relative_velocity(g.r_s6)  # Eqs. 70-72
+        closing = -v.dot(G.x)  # > 0 while the seal moves down into the spring
+        guards = {"v_s6_n": closing}
+        normal = laws.penalty(P["ks"], g.spring_compression, act)  # Eq. 39 (a spring cannot pull)
+        if opts.on("spring_damping"):
+            normal = laws.damped(normal, P["cs"], closing, act, opts["damping"])  # Eq. 73
+        force, power = normal * G.x, sp.S.Zero
+        if opts.on("spring_friction"):
+            v_slide = v.dot(G.y)
+            friction, power = laws.coulomb(P["mus"], normal, v_slide, P["v_eps"])  # Eq. 73
+            force = force + friction * G.y
+            guards["v_s6_slide"] = v_slide
+        return [ContactModel("spring", [Load("s6", g.r_s6, force, friction_power=power)], guard_name="spring",
+                             guard=-g.spring_compression, velocity_guards=guards)]

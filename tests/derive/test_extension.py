@@ -1,0 +1,91 @@
+"""A new contact, defined entirely in this file, is derived, generated and simulated (docs/extending.md).
+
+The example: a cushion, a linear spring between the seal's back face and the groove bottom that acts
+while the back face is less than ``hb`` above its rest position (the spring at s6 pushes along +X with
+kb * (hb - h), h the back face's height above rest). Its parameters, option, guard and law are declared
+here, and nothing of the package is edited: the registry builds the parameter vector, the scene's keys,
+the options, the modes and the outputs from these declarations.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import apexseal
+from apexseal.derive.options import NONE, ON, Option
+from apexseal.derive.parameters import Parameter
+from apexseal.derive.submodels import registry
+from apexseal.derive.submodels.base import ContactModel, Context, Guard, Load, Submodel
+from apexseal.runtime.scenes.errors import SceneError
+
+
+class Cushion(Submodel):
+    name = "cushion"
+    summary = "a linear spring between the seal's back face and the groove bottom"
+    switch = "cushion"
+    parameters = (
+        Parameter("kb", "N/m", "cushion stiffness", key="contacts.kb", default=2e5, gt=0),
+        Parameter("hb", "m", "height of the back face above rest below which the cushion acts", key="contacts.hb",
+                  default=4e-6, sign="real"),
+    )
+    options = (Option("cushion", (NONE, ON), "the cushion under the seal's back face"),)
+    guards = (Guard("cb", "s_cb", "height of the back face above hb", output="cushion_gap", sign=1,
+                    closed_label="c", open_label="c0"),)
+    oscillators = (("kb", "cs"),)
+
+    def contacts(self, ctx: Context) -> list[ContactModel]:
+        from apexseal.derive.submodels import laws
+
+        g, P = ctx.g, ctx.P
+        height = g.X_s6 + P["ds2"]  # the back face's height above its rest position (Eq. 37)
+        gap = height - P["hb"]
+        force = laws.penalty(P["kb"], -gap, ctx.activation(self.guards[0])) * ctx.k.G.x
+        return [ContactModel("cushion", [Load("cb", g.r_s6, force)], guard_name="cb", guard=gap)]
+
+
+@pytest.fixture
+def cushion():
+    with registry.registered(Cushion):
+        yield
+
+
+def test_the_registry_builds_everything_from_the_declarations(cushion):
+    from apexseal.runtime.scenes.schema import key_paths
+
+    assert registry.parameter_names()[-2:] == ("kb", "hb")
+    assert {"contacts.kb", "contacts.hb", "effects.cushion"} <= set(key_paths())
+    scene = apexseal.load_scene()
+    assert scene.effects.cushion is False and scene.parameters["kb"] == 2e5  # off unless a scene asks for it
+    on = scene.with_overrides(**{"effects.cushion": True, "contacts.kb": "3e5 N/m"})
+    assert on.effects.cushion and on.parameters["kb"] == 3e5
+    with pytest.raises(SceneError, match="contacts.hb"):
+        scene.with_overrides(**{"contacts.hb": "4 kg"})
+
+
+def test_a_contact_declared_in_a_test_is_derived_generated_and_simulated(cushion, tmp_path):
+    from apexseal.derive.cache import cached_model
+    from apexseal.generated.generate import generate
+
+    scene = apexseal.load_scene().with_overrides(**{"effects.cushion": True, "solver.samples_per_revolution": 360,
+                                                    "solver.interpreted": True})
+    model = cached_model(scene.effects, scene.assumptions)
+    assert "cb" in model.guards and "F_cushion_X" in model.outputs
+    manifest = generate(scene.effects, scene.assumptions, tmp_path / "gen", compile=False, echo=None)
+    assert "cb" in manifest.data["names"]["guards"]
+    assert any(m["label"].endswith("_c") for m in manifest.modes)
+    assert len(manifest.modes) == 72  # the nine groove cases x housing x spring x cushion
+
+    r = apexseal.simulate(scene, revolutions=1)
+    assert r.status == "completed", r.stop
+    i = r.guard_names.index("cb")
+    assert r.events[i, -1] > 0  # the cushion closed and opened during the revolution
+    closed = r.closed[i]
+    F = r.outputs["F_cushion_X"]
+    assert np.all(F[~closed] == 0) and np.all(F[closed] >= 0) and F[closed].max() > 0
+    np.testing.assert_allclose(r.outputs["cushion_gap"][closed] < 1e-9, True)
+    assert any(m.endswith("_c") for m in r.modes) and any(m.endswith("_c0") for m in r.modes)
+
+    without = apexseal.simulate(scene.with_overrides(**{"effects.cushion": False}), revolutions=1)
+    assert "cb" not in without.guard_names  # off: not derived, not generated, not run
+    assert abs(without.state[0] - r.state[0]).max() > 1e-7  # the cushion moves the seal
