@@ -8,7 +8,7 @@ submodel declares its choices (derive/submodels/); :class:`Assumptions` reads th
 
 from __future__ import annotations
 
-from .options import Option, OptionError, did_you_mean
+from .options import Option, OptionError, TableView, did_you_mean
 
 
 class AssumptionError(OptionError):
@@ -29,10 +29,10 @@ def __getattr__(name: str):
     raise AttributeError(name)
 
 
-class Assumptions:
+class Assumptions(TableView):
     """The modelling choices (strings by name); each defaults to its first allowed value."""
 
-    __slots__ = ("_values",)
+    __slots__ = ()
 
     def __init__(self, **values: str) -> None:
         slots = declared()
@@ -47,19 +47,7 @@ class Assumptions:
                     f"assumptions.{name} = {value!r} is not allowed{did_you_mean(value, allowed)} "
                     f"Allowed: {', '.join(allowed)}"
                 )
-        object.__setattr__(self, "_values", resolved)
-
-    def __getattr__(self, name: str) -> str:
-        try:
-            return object.__getattribute__(self, "_values")[name]
-        except KeyError:
-            raise AttributeError(name) from None
-
-    def __setattr__(self, name, value) -> None:
-        raise AttributeError("Assumptions are immutable")
-
-    def __reduce__(self):
-        return _rebuild, (self._values,)
+        self._set(resolved)
 
     @classmethod
     def from_mapping(cls, values: dict[str, str]) -> Assumptions:
@@ -69,19 +57,3 @@ class Assumptions:
                 raise AssumptionError(f"assumptions.{key} is not a modelling choice{did_you_mean(key, slots)} "
                                       f"Known: {', '.join(slots)}")
         return cls(**values)
-
-    def as_dict(self) -> dict[str, str]:
-        return dict(self._values)
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, Assumptions) and self._values == other._values
-
-    def __hash__(self) -> int:
-        return hash(tuple(sorted(self._values.items())))
-
-    def __repr__(self) -> str:
-        return f"Assumptions({', '.join(f'{k}={v!r}' for k, v in self._values.items())})"
-
-
-def _rebuild(values: dict[str, str]) -> Assumptions:
-    return Assumptions(**values)

@@ -10,7 +10,7 @@ booleans, the way scenes write them in ``[effects]``.
 
 from __future__ import annotations
 
-from .options import NONE, Option, OptionError, did_you_mean
+from .options import NONE, Option, OptionError, TableView, did_you_mean
 
 
 def on_choice(opt: Option) -> str:
@@ -36,10 +36,10 @@ def __getattr__(name: str):
     raise AttributeError(name)
 
 
-class Effects:
+class Effects(TableView):
     """Which effects are on (booleans by effect name). All on by default (the paper's full model)."""
 
-    __slots__ = ("_on",)
+    __slots__ = ()
 
     def __init__(self, **on: bool) -> None:
         slots = declared()
@@ -53,19 +53,7 @@ class Effects:
                     f"effects.{name} = true needs effects.{opt.parent} = true "
                     f"(there is no {name.split('_')[-1]} without the {opt.parent.replace('_', ' ')})"
                 )
-        object.__setattr__(self, "_on", values)
-
-    def __getattr__(self, name: str) -> bool:
-        try:
-            return object.__getattribute__(self, "_on")[name]
-        except KeyError:
-            raise AttributeError(name) from None
-
-    def __setattr__(self, name, value) -> None:
-        raise AttributeError("Effects are immutable")
-
-    def __reduce__(self):
-        return _rebuild, (self._on,)
+        self._set(values)
 
     @classmethod
     def from_mapping(cls, values: dict[str, bool]) -> Effects:
@@ -93,30 +81,14 @@ class Effects:
         return cls.from_mapping({n: (n in on) for n in slots})
 
     def on(self) -> tuple[str, ...]:
-        return tuple(n for n, v in self._on.items() if v)
-
-    def as_dict(self) -> dict[str, bool]:
-        return dict(self._on)
+        return tuple(n for n, v in self._values.items() if v)
 
     def choices(self) -> dict[str, str]:
         """The effects as option choices ("on"/"none")."""
         slots = declared()
-        return {n: (on_choice(slots[n]) if v else NONE) for n, v in self._on.items()}
+        return {n: (on_choice(slots[n]) if v else NONE) for n, v in self._values.items()}
 
     @property
     def label(self) -> str:
         """Short stable label, used in cache keys and file names."""
-        return "all" if all(self._on.values()) else "+".join(self.on()) or "none"
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, Effects) and self._on == other._on
-
-    def __hash__(self) -> int:
-        return hash(tuple(sorted(self._on.items())))
-
-    def __repr__(self) -> str:
-        return f"Effects({', '.join(f'{k}={v}' for k, v in self._on.items())})"
-
-
-def _rebuild(on: dict[str, bool]) -> Effects:
-    return Effects(**on)
+        return "all" if all(self._values.values()) else "+".join(self.on()) or "none"

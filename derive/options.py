@@ -40,6 +40,46 @@ class Option:
         return self.choices[0]
 
 
+class TableView:
+    """An immutable view of one scene table's slots (``[effects]`` or ``[assumptions]``), read as attributes.
+
+    Subclasses validate in ``__init__(**values)`` and store the resolved values with :meth:`_set`.
+    """
+
+    __slots__ = ("_values",)
+
+    def _set(self, values: dict) -> None:
+        object.__setattr__(self, "_values", values)
+
+    def __getattr__(self, name: str):
+        try:
+            return object.__getattribute__(self, "_values")[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __setattr__(self, name, value) -> None:
+        raise AttributeError(f"{type(self).__name__} are immutable")
+
+    def __reduce__(self):
+        return _rebuild_view, (type(self), self._values)
+
+    def as_dict(self) -> dict:
+        return dict(self._values)
+
+    def __eq__(self, other: object) -> bool:
+        return type(other) is type(self) and self._values == other._values
+
+    def __hash__(self) -> int:
+        return hash(tuple(sorted(self._values.items())))
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}({', '.join(f'{k}={v!r}' for k, v in self._values.items())})"
+
+
+def _rebuild_view(cls: type, values: dict) -> TableView:
+    return cls(**values)
+
+
 def did_you_mean(word: str, known, *, cutoff: float = 0.6) -> str:
     """'; did you mean 'x'?' for the closest of ``known``, or ''."""
     near = difflib.get_close_matches(str(word), list(known), n=1, cutoff=cutoff)

@@ -1,6 +1,6 @@
 /* apexseal_dispatch.c: mode table and dispatch over the generated mode functions.
  * Rendered by apexseal from templates/apexseal_dispatch.in.c; do not edit (run `apexseal generate`).
- * Input hash: 95a56847c1a8f9d8e19fb6c97f4bd18f68f44f6dd9f553a97b5f8c578289ef93.
+ * Input hash: 127c27f2fad300aa01a7a56d38010c3e2d72ee3e0001c9296780d52e5e878931.
  */
 #include "apexseal_model.h"
 #include "casadi_model.h"

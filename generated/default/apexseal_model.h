@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices, mode table and mode dispatch of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 95a56847c1a8f9d8e19fb6c97f4bd18f68f44f6dd9f553a97b5f8c578289ef93.
+ * Effects: all. Input hash: 127c27f2fad300aa01a7a56d38010c3e2d72ee3e0001c9296780d52e5e878931.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "95a56847c1a8f9d8e19fb6c97f4bd18f68f44f6dd9f553a97b5f8c578289ef93"
+#define APEXSEAL_INPUT_HASH "127c27f2fad300aa01a7a56d38010c3e2d72ee3e0001c9296780d52e5e878931"
 
 /* state x */
 #define APEXSEAL_NX 6
