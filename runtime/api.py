@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
@@ -23,27 +23,66 @@ def model_functions(scene):
 
 
 def settings_of(scene, **overrides) -> RunSettings:
-    """RunSettings from the scene's [solver] table, with keyword overrides (None = keep)."""
+    """RunSettings from the scene's [solver] table and [operation] revolutions, with keyword overrides (None =
+    keep); every value is checked by :class:`RunSettings` (a bad one raises :class:`SettingsError`)."""
     s = scene.solver
-    base = RunSettings(method=s.method, rtol=s.rtol, atol=s.atol, samples_per_revolution=s.samples_per_revolution,
-                       steps_per_revolution=s.euler_steps_per_revolution, event_tol=s.event_tol,
-                       max_events_per_revolution=s.max_events_per_revolution, chatter_window=s.chatter_window,
-                       chatter_events=s.chatter_events, compile_c=not s.interpreted,
-                       flags="quick" if s.compile == "quick" else "optimised")
-    return replace(base, **{k: v for k, v in overrides.items() if v is not None})
+    base = dict(method=s.method, rtol=s.rtol, atol=s.atol, samples_per_revolution=s.samples_per_revolution,
+                steps_per_revolution=s.euler_steps_per_revolution, event_tol=s.event_tol,
+                max_events_per_revolution=s.max_events_per_revolution, chatter_window=s.chatter_window,
+                chatter_events=s.chatter_events, compile_c=not s.interpreted,
+                flags="quick" if s.compile == "quick" else "optimised", revolutions=scene.operation.revolutions)
+    return RunSettings(**(base | {k: v for k, v in overrides.items() if v is not None}))
+
+
+def scene_of(scene):
+    """A scene, or a scene loaded from a path (str or Path); anything else is a TypeError naming what was given."""
+    from .scenes.scene import Scene, load_scene
+
+    if isinstance(scene, str | Path):
+        return load_scene(scene)
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene: expected a Scene (apexseal.load_scene(...)) or the path of a scene file, "
+                        f"not {type(scene).__name__}")
+    return scene
 
 
 def simulate(scene, *, revolutions: int | None = None, method: str | None = None, rtol: float | None = None,
-             progress: bool = False, functions=None, **settings) -> SimulationResult:
-    """Simulate a scene (see :func:`apexseal.load_scene`) and return its :class:`SimulationResult`."""
+             progress: bool = False, functions=None, out=None, **settings) -> SimulationResult:
+    """Simulate a scene (see :func:`apexseal.load_scene`, or a scene file's path) and return its
+    :class:`SimulationResult`.
+
+    Settings given here override the scene's and are checked with the same ranges (:class:`RunSettings`).
+    With ``out`` (a folder) the revolutions are streamed to disk as they finish and the folder is written as
+    one unit (runtime/results/folder.py); the returned result is read back from it.
+    """
+    scene = scene_of(scene)
+    st = settings_of(scene, method=method, rtol=rtol, revolutions=revolutions, **settings)
+    if out is None:
+        return run_scene(scene, st, progress=progress, functions=functions)
+    from .results.folder import ResultFolder
+
+    sink = ResultFolder(out)
+    result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)
+    sink.commit()
+    return result
+
+
+def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions=None, sink=None) -> SimulationResult:
+    """Run a loaded scene with checked settings (``sink``: where completed revolutions go, see :func:`run`)."""
     functions = functions or model_functions(scene)
-    st = settings_of(scene, method=method, rtol=rtol, **settings)
     op = scene.operation
     pressure = scene.pressure.interval_means if scene.effects.chamber_pressure else None
-    return run(functions, scene.parameter_vector(), st, theta_start=op.start_angle,
-               state0=np.array([getattr(op.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float),
-               revolutions=revolutions or op.revolutions, pressure=pressure, until_periodic=op.until_periodic,
-               periodic_tol=op.periodic_tol, progress=progress, info={"scene": str(scene.source_path or "default")})
+    return run(functions, scene.parameter_vector(), settings, theta_start=op.start_angle, state0=initial_state(scene),
+               pressure=pressure, until_periodic=op.until_periodic, periodic_tol=op.periodic_tol, progress=progress,
+               info={"scene": str(scene.source_path or "default")}, sink=sink)
+
+
+def initial_state(scene) -> np.ndarray:
+    """The scene's initial state (x, y, phi, xd, yd, phid), SI."""
+    return np.array([getattr(scene.operation.initial_state, k) for k in STATE_KEYS], float)
+
+
+STATE_KEYS = ("x", "y", "phi", "xd", "yd", "phid")
 
 
 class Model:
@@ -61,13 +100,34 @@ class Model:
 
     def closed(self, theta: float, state) -> np.ndarray:
         """Which contacts are closed (guard < 0), in the order of ``guard_names``."""
-        g = np.array(self.functions.guards(theta, np.asarray(state, float), self.params, self.pressures(theta)))
+        theta, state = self._point(theta, state)
+        g = np.array(self.functions.guards(theta, state, self.params, self.pressures(theta)))
         return g.ravel() < 0
 
     def rhs(self, theta: float, state) -> np.ndarray:
         """d/dt of the state (x, y, phi, x', y', phi') at crank angle theta, contacts set by their gaps."""
+        theta, state = self._point(theta, state)
         u = self.pressures(theta)
-        return np.array(self.functions.rhs_switched(theta, np.asarray(state, float), self.params, u)).ravel()
+        return np.array(self.functions.rhs_switched(theta, state, self.params, u)).ravel()
+
+    def _point(self, theta, state) -> tuple[float, np.ndarray]:
+        """theta as a finite float and state as 6 finite floats, or a ValueError naming what is wrong."""
+        try:
+            theta = float(theta)
+        except (TypeError, ValueError):
+            raise ValueError(f"theta = {theta!r}: expected a crank angle in rad (a finite number)") from None
+        if not np.isfinite(theta):
+            raise ValueError(f"theta = {theta!r}: expected a finite crank angle in rad")
+        try:
+            x = np.asarray(state, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"state = {state!r}: expected 6 numbers ({', '.join(STATE_KEYS)})") from None
+        if x.shape != (6,):
+            raise ValueError(f"state: expected shape (6,) ({', '.join(STATE_KEYS)}, SI), got shape {x.shape}")
+        if not np.isfinite(x).all():
+            bad = ", ".join(k for k, v in zip(STATE_KEYS, x, strict=True) if not np.isfinite(v))
+            raise ValueError(f"state: not finite in {bad}: {x.tolist()}")
+        return theta, x
 
     @property
     def guard_names(self) -> tuple[str, ...]:

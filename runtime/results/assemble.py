@@ -1,4 +1,9 @@
-"""Turn the hybrid states an engine returned into a :class:`~.result.SimulationResult` (outputs evaluated in C)."""
+"""Turn the hybrid states an engine returned into a :class:`~.result.SimulationResult` (outputs evaluated in C).
+
+The run loop assembles one part at a time (a revolution, or what was completed of it), so the cost of a part
+does not depend on how long the run is, and a part can be written to disk as soon as it is complete
+(runtime/results/folder.py).
+"""
 
 from __future__ import annotations
 
@@ -9,35 +14,56 @@ from ..solving.layout import HybridLayout
 from ..solving.scaling import to_physical
 from .result import SimulationResult
 
+#: (id of the Function, n) -> (Function, its map over n samples); a few sizes per run, built once each
+_MAPPED: dict[tuple[int, int], tuple] = {}
 
-def assemble(functions, params, blocks, thetas, pressures, first, theta_start, omega) -> SimulationResult:
-    """The result of the blocks of hybrid states ``blocks`` (one per integrator call) after the state ``first``.
+
+def mapped(f, n: int):
+    """``f.map(n)``, built once per Function and size (building a map costs more than evaluating it)."""
+    key = (id(f), n)
+    if key not in _MAPPED:
+        if len(_MAPPED) > 64:
+            _MAPPED.clear()
+        _MAPPED[key] = (f, f.map(n))
+    return _MAPPED[key][1]
+
+
+def assemble(functions, params, Z, theta, U, theta_start, omega) -> SimulationResult:
+    """The result of the hybrid states ``Z`` (layout.size, n) at crank angles ``theta`` (n,), absolute, with
+    the chamber pressures ``U`` (2, n) in force over the interval that ends at each sample.
 
     Every named output of the model is evaluated at every sample by the model's ``outputs`` Function, mapped
     over the samples in one call; the guards give the gaps and penetrations.
     """
     lay = HybridLayout.of(functions)
-    if blocks:
-        Z = np.c_[first, np.hstack(blocks)]
-        theta = np.r_[theta_start, np.concatenate(thetas)]
-        U = np.hstack(pressures)
-    else:
-        Z = first[:, None]
-        theta = np.array([theta_start])
-        U = np.zeros((2, 1))
-    U = np.c_[U[:, :1], U]
     X = to_physical(Z[lay.x], omega)
     closed = lay.closed(Z)
     events = Z[lay.counts]
     n = theta.size
     P = np.repeat(params[:, None], n, 1)
-    Y = np.array(functions.outputs.map(n)(theta[None, :], X, closed.astype(float), P, U))
+    Y = np.array(mapped(functions.outputs, n)(theta[None, :], X, closed.astype(float), P, U))
     outputs = {name: Y[i] for i, name in enumerate(functions.output_names)}
-    g = np.array(functions.guards.map(n)(theta[None, :], X, P, U))
+    g = np.array(mapped(functions.guards, n)(theta[None, :], X, P, U))
     for i, name in enumerate(functions.guard_names):  # each guard's declared output: a gap, a penetration, ...
         declared = guard(name)
         outputs[declared.output] = declared.sign * g[i]
     outputs["Pa"], outputs["Pb"] = U[0], U[1]
-    modes = [lay.mode(closed[:, i]) for i in range(n)]
+    patterns, which = np.unique(closed, axis=1, return_inverse=True) if n else (closed, np.zeros(0, int))
+    labels = [lay.mode(c) for c in patterns.T]  # a few contact cases, many samples
+    modes = [labels[i] for i in np.ravel(which)]
     return SimulationResult(theta - theta_start, (theta - theta_start) / omega, X, closed, events, outputs,
                             lay.guard_names, modes)
+
+
+def assemble_blocks(functions, params, blocks, thetas, pressures, theta_start, omega, first=None) -> SimulationResult:
+    """The part made of the integrator calls ``blocks`` (hybrid states at ``thetas``, with the pressures
+    ``pressures`` of each call), after the initial state ``first`` (given for the first part of a run only).
+    """
+    Z = np.hstack(blocks) if blocks else np.zeros((HybridLayout.of(functions).size, 0))
+    theta = np.concatenate(thetas) if thetas else np.zeros(0)
+    U = np.hstack(pressures) if pressures else np.zeros((2, 0))
+    if first is not None:
+        Z = np.c_[first, Z]
+        theta = np.r_[theta_start, theta]
+        U = np.c_[U[:, :1] if U.shape[1] else np.zeros((2, 1)), U]
+    return assemble(functions, params, Z, theta, U, theta_start, omega)

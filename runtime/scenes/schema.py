@@ -21,6 +21,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationEr
 from pydantic_core import PydanticCustomError
 
 from ..solving.methods import METHODS
+from ..solving.settings import LIMITS
 from .errors import MISSING, Problem
 from .units import QuantityError, Range, expected, parse_pressure_unit, parse_quantity, registry
 
@@ -202,6 +203,16 @@ def _v(validator: Any, kind: Any) -> Any:
 
 TWO_PI = 2 * math.pi
 
+
+def _bounds(name: str) -> dict[str, float]:
+    """The bounds of run setting ``name`` (runtime/solving/settings.py: one table for scene, CLI and API)."""
+    rng = LIMITS[name][1]
+    return {k: getattr(rng, k) for k in ("gt", "ge", "lt", "le") if getattr(rng, k) is not None}
+
+
+def _int(name: str) -> Int:
+    return Int(**_bounds(name))
+
 # ---------------------------------------------------------------------------
 # sections
 
@@ -251,7 +262,7 @@ class OperationSection(Section):
     """[operation]: speed and run length."""
 
     rpm: _q("rpm", gt=0, bare="rpm") = Field(description="constant rotor speed; bare numbers are rev/min")
-    revolutions: _v(Int(ge=1), int) = Field(
+    revolutions: _v(_int("revolutions"), int) = Field(
         1, description="revolutions to run (the most, with until_periodic)"
     )
     start_angle: _q("rad", show="deg") = Field(0.0, description="crank angle theta at the start")
@@ -287,14 +298,14 @@ class SolverSection(Section):
     """[solver]: integration settings."""
 
     method: _v(Choice(*SOLVER_METHODS), str) = "erk"
-    rtol: _q("1", ge=1e-12, le=1e-2) = 1e-6
-    atol: _q("1", gt=0, optional=True) = None
-    samples_per_revolution: _v(Int(ge=36, le=100000), int) = 720
-    event_tol: _q("rad", gt=0) = 1e-10
-    max_events_per_revolution: _v(Int(ge=1), int) = 10000
-    euler_steps_per_revolution: _v(Int(ge=1), int) = 200000
-    chatter_window: _q("rad", gt=0) = 1e-3
-    chatter_events: _v(Int(ge=2), int) = 50
+    rtol: _q("1", **_bounds("rtol")) = 1e-6
+    atol: _q("1", optional=True, **_bounds("atol")) = None
+    samples_per_revolution: _v(_int("samples_per_revolution"), int) = 720
+    event_tol: _q("rad", **_bounds("event_tol")) = 1e-10
+    max_events_per_revolution: _v(_int("max_events_per_revolution"), int) = 10000
+    euler_steps_per_revolution: _v(_int("steps_per_revolution"), int) = 200000
+    chatter_window: _q("rad", **_bounds("chatter_window")) = 1e-3
+    chatter_events: _v(_int("chatter_events"), int) = 50
     compile: _v(Choice("quick", "optimised"), str) = "optimised"
     interpreted: _v(Flag(), bool) = False
 

@@ -4,11 +4,13 @@
 :mod:`.methods`) and returns a :class:`SimulationResult`. A revolution is one
 integrator call, or ``calls_per_revolution`` calls (36, 10 degrees each, when a
 wall-time budget is set, so the budget is checked often enough). Nothing computed is lost, and every
-run ends with a named reason: on Ctrl-C, a solver failure, a non-finite state, a
-missed contact event, chattering or a used-up wall-time budget, the result keeps
+run ends with a named reason: on SIGINT or SIGTERM (acted on between calls, :mod:`.signals`), a solver
+failure, a non-finite state, a missed contact event, chattering or a used-up wall-time budget, the result keeps
 every finished sample and says where (crank angle, contact case) and why it
 stopped (docs/hard-cases.md lists what each reason means and what to do).
 The checks after each call are in :mod:`.checks`, the diagnosis of a failed call in :mod:`.diagnosis`.
+Each completed revolution is assembled and handed to a sink at once (runtime/results/parts.py; streamed to disk
+by runtime/results/folder.py), so the loop holds one revolution whatever the length of the run.
 """
 
 from __future__ import annotations
@@ -18,7 +20,9 @@ import time
 
 import numpy as np
 
-from ..results.assemble import assemble
+from ..results.assemble import assemble_blocks
+from ..results.folder import ResultStorageError
+from ..results.parts import InMemory
 from ..results.result import SimulationResult, StopInfo
 from .checks import RunChecks
 from .diagnosis import locate_failure
@@ -27,17 +31,25 @@ from .methods import WallTimeExceeded, make_engine
 from .preflight import initial_activations, preflight
 from .scaling import to_scaled
 from .settings import RunSettings, out_of_time, samples_per_call
+from .signals import StopSignals
 
 
 def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: float, state0: np.ndarray,
-        revolutions: int, pressure=None, until_periodic: bool = False, periodic_tol: float = 1e-6,
-        progress: bool = False, engine=None, info: dict | None = None) -> SimulationResult:
-    """Integrate ``revolutions`` revolutions from ``state0`` (physical) at crank angle ``theta_start``.
+        revolutions: int | None = None, pressure=None, until_periodic: bool = False, periodic_tol: float = 1e-6,
+        progress: bool = False, engine=None, info: dict | None = None, sink=None) -> SimulationResult:
+    """Integrate ``revolutions`` (default ``settings.revolutions``) revolutions from ``state0`` (physical) at crank
+    angle ``theta_start``.
 
-    ``engine`` (optional) must cover a whole number of output intervals that divides a revolution.
+    ``engine`` (optional) must cover a whole number of output intervals that divides a revolution. ``sink``
+    receives each completed revolution as it is assembled (default: kept in memory; a
+    :class:`~..results.folder.ResultFolder` writes it to disk and keeps none in memory).
     """
     from tqdm.auto import tqdm
 
+    if revolutions is not None:
+        settings = settings.replace(revolutions=revolutions)
+    revolutions = settings.revolutions
+    sink = sink if sink is not None else InMemory()
     lay = HybridLayout.of(functions)
     omega = float(params[list(functions.parameter_names).index("omega")])
     N = settings.samples_per_revolution
@@ -46,8 +58,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     deadline = t_wall + settings.max_wall_time if settings.max_wall_time else math.inf
     u0 = _pressures(pressure, theta_start + np.array([0.0, dth]))[:, 0]
     z = lay.pack(to_scaled(state0, omega), initial_activations(functions, theta_start, state0, params, u0))
-    first = z.copy()
-    blocks, thetas, pressures_used = [], [], []
+    part = _Part(functions, params, theta_start, omega, sink, first=z.copy())
     stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0)
     status = "completed" if stop is None else "failed"
     if engine is None and stop is None:  # no compiling for a run that cannot start
@@ -61,66 +72,111 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     check = RunChecks(functions, settings, params, theta_start)
     bar = tqdm(total=revolutions, unit="rev", disable=not progress, leave=False)
     z_rev = z.copy()
-    try:
-        for call in range(revolutions * calls if stop is None else 0):
-            rev, c = divmod(call, calls)
-            if time.perf_counter() > deadline:
-                status, stop = "interrupted", StopInfo(call * m * dth, lay.mode(z[lay.active]),
-                                                       out_of_time(settings, t_wall))
-                break
-            edges = theta_start + rev * 2 * np.pi + dth * (c * m + np.arange(m + 1))
-            P = _pressures(pressure, edges)
-            engine.deadline = deadline
-            try:
-                out = engine.run(z, params, edges[0], P)
-                Z, stats, failure = out.z, out.stats, None
-            except WallTimeExceeded as late:
-                Z, stats = late.partial, {}
-                last = Z[lay.active, -1] if Z.shape[1] else z[lay.active]
-                failure = "interrupted", StopInfo(edges[Z.shape[1]] - theta_start, lay.mode(last),
-                                                  out_of_time(settings, t_wall))
-            except RuntimeError as err:
-                Z, failure = locate_failure(functions, settings, params, z, edges, P, err, deadline, theta_start,
-                                            make_engine)
-                stats = {"n_recovered_calls": 1} if failure is None else {}
-            Z, bad = check.finite(Z, edges[1:])
-            failure = failure or bad
-            if Z.shape[1]:
-                blocks.append(Z)
-                thetas.append(edges[1:1 + Z.shape[1]])
-                pressures_used.append(P[:, :Z.shape[1]])
-            for k, v in stats.items():
-                if k.startswith("n_") and isinstance(v, int | float):
-                    stats_total[k] = stats_total.get(k, 0) + v
-            found = failure or check.events(Z, z, edges[1:], P, z_rev)
-            if Z.shape[1]:
-                z = Z[:, -1].copy()
-            if found is not None:
-                status, stop = found
-                break
-            bar.update(1 / calls)
-            if c == calls - 1:
-                z_prev, z_rev = z_rev, z.copy()
-                if until_periodic and rev > 0:
-                    change = np.max(np.abs(z[lay.x] - z_prev[lay.x]) / np.maximum(1.0, np.abs(z[lay.x])))
-                    if change < periodic_tol:
-                        stats_total["periodic_after"] = rev + 1
-                        break
-    except KeyboardInterrupt:
-        status = "interrupted"
-        done = sum(b.shape[1] for b in blocks)
-        last = blocks[-1][lay.active, -1] if blocks else first[lay.active]
-        stop = StopInfo(done * dth, lay.mode(last), "interrupted by the user (Ctrl-C)")
-    finally:
-        bar.close()
-    wall = time.perf_counter() - t_wall
-    result = assemble(functions, params, blocks, thetas, pressures_used, first, theta_start, omega)
-    result.status, result.stop = status, stop
-    result.info = dict(info or {}) | {"method": settings.method, "rtol": settings.rtol, "atol": settings.atol,
-                                      "samples_per_revolution": N, "calls_per_revolution": calls,
-                                      "wall_time_s": wall, "solver_stats": stats_total,
-                                      "compiled": bool(engine is not None and engine.compiled)}
-    return result
+    with StopSignals() as signals:
+        signals.watch(engine)
+        try:
+            for call in range(revolutions * calls if stop is None else 0):
+                rev, c = divmod(call, calls)
+                if signals.requested:
+                    status, stop = "interrupted", StopInfo(part.theta_done, lay.mode(z[lay.active]), signals.reason())
+                    break
+                if time.perf_counter() > deadline:
+                    status, stop = "interrupted", StopInfo(part.theta_done, lay.mode(z[lay.active]),
+                                                           out_of_time(settings, t_wall))
+                    break
+                edges = theta_start + rev * 2 * np.pi + dth * (c * m + np.arange(m + 1))
+                P = _pressures(pressure, edges)
+                engine.deadline = deadline if not signals.requested else -math.inf
+                try:
+                    out = engine.run(z, params, edges[0], P)
+                    Z, stats, failure = out.z, out.stats, None
+                except WallTimeExceeded as late:
+                    Z, stats = late.partial, {}
+                    last = Z[lay.active, -1] if Z.shape[1] else z[lay.active]
+                    why = signals.reason() if signals.requested else out_of_time(settings, t_wall)
+                    failure = "interrupted", StopInfo(edges[Z.shape[1]] - theta_start, lay.mode(last), why)
+                except RuntimeError as err:
+                    Z, failure = locate_failure(functions, settings, params, z, edges, P, err, deadline, theta_start,
+                                                make_engine)
+                    stats = {"n_recovered_calls": 1} if failure is None else {}
+                Z, bad = check.finite(Z, edges[1:])
+                failure = failure or bad
+                found = failure or check.events(Z, z, edges[1:], P, z_rev)
+                Z = _up_to_stop(Z, edges, theta_start, found)
+                if Z.shape[1]:
+                    part.add(Z, edges[1:1 + Z.shape[1]], P[:, :Z.shape[1]])
+                    z = Z[:, -1].copy()
+                for k, v in stats.items():
+                    if k.startswith("n_") and isinstance(v, int | float):
+                        stats_total[k] = stats_total.get(k, 0) + v
+                if found is not None:
+                    status, stop = found
+                    break
+                bar.update(1 / calls)
+                if c == calls - 1:
+                    part.flush()  # a completed revolution goes to the sink (to disk when streaming)
+                    z_prev, z_rev = z_rev, z.copy()
+                    if until_periodic and rev > 0:
+                        change = np.max(np.abs(z[lay.x] - z_prev[lay.x]) / np.maximum(1.0, np.abs(z[lay.x])))
+                        if change < periodic_tol:
+                            stats_total["periodic_after"] = rev + 1
+                            break
+        except KeyboardInterrupt:  # outside the main thread, or raised by an engine: the same as a signal
+            status = "interrupted"
+            stop = StopInfo(part.theta_done, lay.mode(part.last_active(lay)), "interrupted by the user (Ctrl-C)")
+        except ResultStorageError as err:
+            status, stop = "failed", StopInfo(part.theta_done, lay.mode(part.last_active(lay)), str(err))
+        finally:
+            bar.close()
+        try:
+            part.flush()  # the completed calls of an unfinished revolution are kept too
+        except ResultStorageError as err:
+            status, stop = "failed", StopInfo(part.theta_done, lay.mode(part.last_active(lay)), str(err))
+        wall = time.perf_counter() - t_wall
+        info = dict(info or {}) | {"method": settings.method, "rtol": settings.rtol, "atol": settings.atol,
+                                   "samples_per_revolution": N, "calls_per_revolution": calls,
+                                   "revolutions_asked": revolutions, "wall_time_s": wall, "solver_stats": stats_total,
+                                   "compiled": bool(engine is not None and engine.compiled)}
+        if signals.requested:
+            info["signals"] = [int(s) for s in signals.received]
+        return sink.finish(status, stop, info)
+
+
+def _up_to_stop(Z: np.ndarray, edges: np.ndarray, theta_start: float, found) -> np.ndarray:
+    """The samples of a call up to where the run stopped: nothing past a stop is presented as a result."""
+    if found is None or not Z.shape[1]:
+        return Z
+    keep = int(np.searchsorted(edges[1:1 + Z.shape[1]] - theta_start, found[1].theta, side="right"))
+    return Z[:, :keep]
+
+
+class _Part:
+    """The integrator calls of the revolution in progress; :meth:`flush` hands them to the sink as one part."""
+
+    def __init__(self, functions, params, theta_start, omega, sink, first):
+        self.functions, self.params, self.theta_start, self.omega, self.sink = functions, params, theta_start, omega, sink
+        self.first = first
+        self.blocks, self.thetas, self.pressures = [], [], []
+        self.theta_done = 0.0  # crank angle of the last sample, from the start
+        self._last = first
+
+    def add(self, Z, thetas, P) -> None:
+        self.blocks.append(Z)
+        self.thetas.append(thetas)
+        self.pressures.append(P)
+        self.theta_done = float(thetas[-1] - self.theta_start)
+        self._last = Z[:, -1]
+
+    def last_active(self, lay):
+        return self._last[lay.active]
+
+    def flush(self) -> None:
+        if not self.blocks and self.first is None:
+            return
+        part = assemble_blocks(self.functions, self.params, self.blocks, self.thetas, self.pressures,
+                               self.theta_start, self.omega, first=self.first)
+        self.blocks, self.thetas, self.pressures, self.first = [], [], [], None
+        self.sink.append(part)
 
 
 def _pressures(pressure, edges: np.ndarray) -> np.ndarray:

@@ -1,29 +1,164 @@
-"""The solver settings of one run, and how a revolution is cut into integrator calls."""
+"""The settings of one run (one validated model for scene, CLI and API), and how a revolution is cut into calls.
+
+:class:`RunSettings` is the only place where the ranges of the run's settings live: the scene's ``[solver]``
+and ``[operation]`` tables (runtime/scenes/schema.py) take their bounds from :data:`LIMITS`, the command line
+passes its options through :meth:`RunSettings.of`, and so does ``apexseal.simulate(scene, rtol=...)``. A bad
+value raises :class:`SettingsError`, one line per field: ``rtol = nan: out of range; allowed: 1e-12 <= rtol <=
+0.01``.
+"""
 
 from __future__ import annotations
 
+import math
+import numbers
 import time
-from dataclasses import dataclass
+from typing import Annotated, Any
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, ValidationError
+from pydantic_core import PydanticCustomError
+
+from ..scenes.errors import Problem
+from ..scenes.units import Range
+
+#: the most revolutions one run may ask for (results are streamed to disk, but a run must end)
+MAX_REVOLUTIONS = 100_000
+
+#: field -> (kind, range): the one table of the run settings' bounds ("int" or "float"; None: optional)
+LIMITS: dict[str, tuple[str, Range]] = {
+    "rtol": ("float", Range(ge=1e-12, le=1e-2)),
+    "atol": ("float?", Range(gt=0, le=1.0)),
+    "samples_per_revolution": ("int", Range(ge=36, le=100_000)),
+    "steps_per_revolution": ("int", Range(ge=1, le=10**9)),
+    "event_tol": ("float", Range(gt=0, le=1e-2)),  # rad of crank angle
+    "max_events_per_revolution": ("int", Range(ge=1, le=10**8)),
+    "chatter_window": ("float", Range(gt=0, le=2 * math.pi)),  # rad
+    "chatter_events": ("int", Range(ge=2, le=10**8)),
+    "max_steps_per_interval": ("int", Range(ge=1, le=10**9)),
+    "max_wall_time": ("float?", Range(gt=0, le=1e7)),  # s
+    "calls_per_revolution": ("int?", Range(ge=1, le=100_000)),
+    "revolutions": ("int", Range(ge=1, le=MAX_REVOLUTIONS)),
+}
+FLAGS = ("quick", "optimised")
 
 
-@dataclass(frozen=True)
-class RunSettings:
-    """Solver settings of one run (from the scene's [solver] table, with overrides)."""
+class SettingsError(ValueError):
+    """Run settings that cannot be used; ``errors`` lists every ``(field, value, message)``."""
 
-    method: str = "erk"
-    rtol: float = 1e-6
-    atol: float | None = None
-    samples_per_revolution: int = 720
-    steps_per_revolution: int = 200000  # fixed-step methods (euler, rk, collocation)
-    event_tol: float = 1e-10  # crank angle, rad: event location of every method
-    max_events_per_revolution: int = 10000
-    chatter_window: float = 1e-3  # rad
-    chatter_events: int = 50
-    compile_c: bool = True
-    flags: str = "optimised"
-    max_steps_per_interval: int = 200000  # adaptive methods: integrator steps allowed in one output interval
-    max_wall_time: float | None = None  # s, checked between integrator calls; None: no budget
-    calls_per_revolution: int | None = None  # None: 1, or 36 with a wall-time budget
+    def __init__(self, errors: list[tuple[str, Any, str]]) -> None:
+        self.errors = [Problem(*e) for e in errors]
+        count = len(self.errors)
+        super().__init__("\n".join([f"run settings: {count} problem{'s' if count != 1 else ''}",
+                                    *(f"  {p}" for p in self.errors)]))
+
+    def keys(self) -> list[str]:
+        return [p.key for p in self.errors]
+
+
+def _fail(message: str) -> PydanticCustomError:
+    return PydanticCustomError("settings", "{message}", {"message": message})
+
+
+def allowed(name: str) -> str:
+    """The allowed range of a numeric setting, e.g. ``1e-12 <= rtol <= 0.01``."""
+    kind, rng = LIMITS[name]
+    return ("an integer, " if kind.startswith("int") else "") + rng.describe(name=name)
+
+
+def check_value(name: str, value: Any) -> Any:
+    """``value`` as the setting ``name`` (int or float in its range), or a message naming the range."""
+    kind, rng = LIMITS[name]
+    if value is None and kind.endswith("?"):
+        return None
+    if kind.startswith("int"):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+            raise _fail(f"expected {allowed(name)}")
+        value = int(value)
+    else:
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+            raise _fail(f"expected a number, {allowed(name)}")
+        value = float(value)
+    if not rng.holds(value):  # NaN fails every bound
+        raise _fail(f"out of range; allowed: {allowed(name)}")
+    return value
+
+
+def _ranged(name: str, kind: Any) -> Any:
+    return Annotated[kind, BeforeValidator(lambda v: check_value(name, v))]
+
+
+def _method(value: Any) -> Any:
+    from .methods import METHODS, Engine
+
+    if isinstance(value, type) and issubclass(value, Engine):
+        return value
+    if isinstance(value, str) and value in METHODS:
+        return value
+    import difflib
+
+    near = difflib.get_close_matches(str(value), METHODS, n=1) if isinstance(value, str) else []
+    hint = f" (did you mean '{near[0]}'?)" if near else ""
+    raise _fail(f"not a method{hint}; allowed: {', '.join(METHODS)}, or a subclass of apexseal's Engine")
+
+
+def _flags(value: Any) -> str:
+    if value in FLAGS:
+        return value
+    raise _fail(f"not allowed; allowed: {', '.join(FLAGS)}")
+
+
+def _flag(value: Any) -> bool:
+    if isinstance(value, bool):
+        return value
+    raise _fail("expected true or false")
+
+
+class RunSettings(BaseModel):
+    """Settings of one run: method, tolerances, samples, budgets and revolutions (see the module docstring)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid", arbitrary_types_allowed=True)
+
+    method: Annotated[Any, BeforeValidator(_method)] = "erk"
+    rtol: _ranged("rtol", float) = 1e-6
+    atol: _ranged("atol", float | None) = None
+    samples_per_revolution: _ranged("samples_per_revolution", int) = 720
+    steps_per_revolution: _ranged("steps_per_revolution", int) = 200000  # fixed-step methods (euler, rk, collocation)
+    event_tol: _ranged("event_tol", float) = 1e-10  # crank angle, rad: event location of every method
+    max_events_per_revolution: _ranged("max_events_per_revolution", int) = 10000
+    chatter_window: _ranged("chatter_window", float) = 1e-3  # rad
+    chatter_events: _ranged("chatter_events", int) = 50
+    compile_c: Annotated[bool, BeforeValidator(_flag)] = True
+    flags: Annotated[str, BeforeValidator(_flags)] = "optimised"
+    #: adaptive methods: integrator steps allowed in one output interval
+    max_steps_per_interval: _ranged("max_steps_per_interval", int) = 200000
+    max_wall_time: _ranged("max_wall_time", float | None) = None  # s, checked between integrator calls; None: no budget
+    calls_per_revolution: _ranged("calls_per_revolution", int | None) = None  # None: 1, or 36 with a wall-time budget
+    revolutions: _ranged("revolutions", int) = 1
+
+    def __init__(self, **values: Any) -> None:
+        try:
+            super().__init__(**values)
+        except ValidationError as exc:
+            raise settings_error(exc) from None
+
+    def replace(self, **changes: Any) -> RunSettings:
+        """A copy with ``changes`` (validated like the original; ``None`` values are ignored)."""
+        return RunSettings(**(dict(self) | {k: v for k, v in changes.items() if v is not None}))
+
+
+def settings_error(exc: ValidationError) -> SettingsError:
+    """The :class:`SettingsError` of pydantic's errors: ``field = value: message``."""
+    out = []
+    for err in exc.errors():
+        name = ".".join(str(p) for p in err["loc"]) or "settings"
+        if err["type"] == "extra_forbidden":
+            import difflib
+
+            near = difflib.get_close_matches(name, RunSettings.model_fields, n=1)
+            hint = f" (did you mean '{near[0]}'?)" if near else ""
+            out.append((name, err["input"], f"unknown setting{hint}; known: {', '.join(RunSettings.model_fields)}"))
+        else:
+            out.append((name, err.get("input"), err["msg"]))
+    return SettingsError(out)
 
 
 def samples_per_call(settings: RunSettings) -> int:

@@ -18,16 +18,37 @@ def writable(folder: Path) -> None:
         raise click.BadParameter(f"the output folder {folder} is not writable", param_hint="--out")
 
 
-def scene_and_folder(scene: Path | None, out: Path | None):
-    """The loaded scene (embedded default if None; a scene error becomes a clean CLI error) and the output
-    folder (default ``apexseal-out/<scene name>``), created and checked writable."""
+def scene_of(scene: Path | None):
+    """The loaded scene (embedded default if None); a scene error becomes a clean CLI error."""
     from .runtime.scenes.errors import SceneError
     from .runtime.scenes.scene import load_scene
 
     try:
-        sc = load_scene(scene)
+        return load_scene(scene)
     except SceneError as err:
         raise click.ClickException(str(err)) from err
-    folder = out or Path("apexseal-out") / (scene.stem if scene else "default")
+
+
+def default_folder(scene: Path | None, out: Path | None) -> Path:
+    return out or Path("apexseal-out") / (scene.stem if scene else "default")
+
+
+def scene_and_folder(scene: Path | None, out: Path | None):
+    """The loaded scene and the output folder (default ``apexseal-out/<scene name>``), created and checked
+    writable."""
+    sc = scene_of(scene)
+    folder = default_folder(scene, out)
     writable(folder)
     return sc, folder
+
+
+def result_folder(folder: Path) -> None:
+    """Fail before computing anything if a result cannot be written as ``folder`` (written beside it, in the
+    same parent folder, then renamed into place: see runtime/results/folder.py)."""
+    from .runtime.results.folder import ResultFolderError, check_replaceable
+
+    try:
+        check_replaceable(folder)
+    except ResultFolderError as err:
+        raise click.BadParameter(str(err), param_hint="--out") from err
+    writable(folder.parent if folder.parent != Path("") else Path("."))

@@ -1,44 +1,70 @@
-"""``apexseal simulate``: run a scene and write the trajectory, summary.json and the paper's figures."""
+"""``apexseal simulate``: run a scene and write its result folder (parts, result.json, summary.json, figures)."""
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
 import click
 
-from .cli_common import scene_and_folder
+from .cli_common import default_folder, result_folder, scene_of
 from .runtime.solving.methods import METHODS
+
+#: run setting -> the option that sets it (a bad value is reported against the option)
+OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol"}
 
 
 @click.command()
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
-@click.option("--revolutions", "-n", type=click.IntRange(1, 100000), help="Revolutions to simulate (default: the scene's).")
+@click.option("--revolutions", "-n", type=int, help="Revolutions to simulate (default: the scene's; 1 to 100000).")
 @click.option("--method", type=click.Choice(list(METHODS)), help="Integration method (default: the scene's).")
-@click.option("--rtol", type=click.FloatRange(1e-13, 1e-1), help="Relative tolerance (default: the scene's).")
+@click.option("--rtol", type=float, help="Relative tolerance (default: the scene's; 1e-12 to 0.01).")
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder [default: apexseal-out/<scene name>].")
+@click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv (text; slower than the binary parts).")
 @click.option("--no-figures", is_flag=True, help="Skip the figures.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
-def simulate(scene: Path | None, revolutions, method, rtol, out, no_figures, quiet) -> None:
-    """Simulate SCENE (a TOML file; default: the embedded case study of the paper)."""
-    from .runtime.api import simulate as run_scene
-    from .runtime.results.figures import write_figures
-    from .runtime.results.summary import summarise
+def simulate(scene: Path | None, revolutions, method, rtol, out, csv, no_figures, quiet) -> None:
+    """Simulate SCENE (a TOML file; default: the embedded case study of the paper).
 
-    sc, out = scene_and_folder(scene, out)
-    click.echo(f"scene {scene or '(embedded default: the paper case study)'}; method "
-               f"{method or sc.solver.method}; writing to {out}/")
-    result = run_scene(sc, revolutions=revolutions, method=method, rtol=rtol, progress=not quiet and sys.stderr.isatty())
-    result.save(out)
-    summary = summarise(result, {"source": str(scene or "default")})
-    (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-    files = ["trajectory.csv", "trajectory.npz", "result.json", "summary.json"]
-    if not no_figures and result.n > 1:
-        ports = {k: {"angle_deg": v.angle_deg, "width_deg": v.width_deg} for k, v in sc.machine.ports.items()} \
-            if getattr(sc.machine, "ports", None) else None
-        files += [p.name for p in write_figures(result, out, ports)]
+    Revolutions are written to disk as they finish; the folder is written beside OUT and renamed into place at
+    the end. SIGINT (Ctrl-C) and SIGTERM stop the run between integrator calls, and the revolutions completed
+    are written as a result with status "interrupted" (exit code 130 or 143).
+    """
+    from .runtime.api import run_scene, settings_of
+    from .runtime.results.figures import write_figures
+    from .runtime.results.folder import ResultFolder, ResultStorageError
+    from .runtime.results.summary import summarise
+    from .runtime.solving.settings import SettingsError
+    from .runtime.solving.signals import StopSignals
+
+    sc = scene_of(scene)
+    try:
+        settings = settings_of(sc, revolutions=revolutions, method=method, rtol=rtol)
+    except SettingsError as err:
+        key = err.errors[0].key
+        raise click.BadParameter("\n".join(p.message for p in err.errors), param_hint=OPTIONS.get(key, key)) from err
+    out = default_folder(scene, out)
+    result_folder(out)
+    click.echo(f"scene {scene or '(embedded default: the paper case study)'}; method {settings.method}; "
+               f"writing to {out}/")
+    with StopSignals() as signals:  # a second signal during the writing is noted, not raised
+        try:
+            writer = ResultFolder(out)
+            result = run_scene(sc, settings, progress=not quiet and sys.stderr.isatty(), sink=writer)
+            summary = summarise(result, {"source": str(scene or "default")})
+            writer.write_json("summary.json", summary)
+            files = ["result.json", f"parts/ ({len(writer.parts)} files)", "summary.json"]
+            if csv:
+                writer.write_csv()
+                files.append("trajectory.csv")
+            if not no_figures and result.n > 1 and not signals.requested:
+                ports = {k: {"angle_deg": v.angle_deg, "width_deg": v.width_deg}
+                         for k, v in sc.machine.ports.items()} if getattr(sc.machine, "ports", None) else None
+                files += [p.name for p in write_figures(result, writer.staging, ports)]
+            writer.commit()
+        except ResultStorageError as err:
+            raise click.ClickException(str(err)) from err
     ext = summary["extremes"]
     click.echo(f"{result.status}: {summary['revolutions']:.2f} revolutions, {summary['events_total']} contact switches, "
                f"wall {result.info['wall_time_s']:.2f} s")
@@ -48,4 +74,4 @@ def simulate(scene: Path | None, revolutions, method, rtol, out, no_figures, qui
     click.echo(f"  wrote {', '.join(files)} to {out}/")
     if not result.ok:
         click.echo(f"  {result.stop.describe()}", err=True)
-        sys.exit(2)
+        sys.exit(signals.exit_code() or 2)

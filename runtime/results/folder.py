@@ -1,0 +1,320 @@
+"""A result folder, written as one unit and read back only if its files belong together.
+
+Layout (format ``apexseal-result/2``)::
+
+    <out>/result.json          run id, status, where and why it stopped, the list of parts (samples, sha256)
+    <out>/parts/part-00000.npz one per revolution (the first also holds the initial sample); run id inside
+    <out>/summary.json         (CLI) the designer's numbers, with the run id
+    <out>/trajectory.csv       (on request) one row per sample; first line ``# apexseal result <run id>, <n> samples``
+    <out>/*.png                (CLI) the paper's figures
+
+Writing: everything goes into the sibling folder ``<out>.partial-<run id>``; each part is written as soon as the
+run loop completes it, followed by a progress record (result.json saying status ``interrupted`` and how far the
+run got), so a run that is killed (SIGKILL, power loss) leaves a loadable folder that loses at most the
+revolution in progress. At the end the final result.json is written and :meth:`ResultFolder.commit` renames
+the folder into place: a previous result at ``<out>`` stays intact until then, and is replaced only if it is a
+result folder (so a mistyped ``--out`` never deletes a user's files).
+
+Reading (:func:`read`): result.json must be of this format; every part must carry the same run id, the recorded
+sample count and sha256, and shapes that agree; summary.json and trajectory.csv, if present, must name the
+same run. A mixed folder is refused with the file and the mismatch named.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import os
+import shutil
+import uuid
+from pathlib import Path
+
+import numpy as np
+
+from .parts import join
+from .result import SimulationResult, StopInfo
+
+FORMAT = "apexseal-result/2"
+PARTS = "parts"
+#: files and folders a result folder may hold (anything else makes :func:`check_replaceable` refuse)
+KNOWN = {"result.json", "summary.json", "trajectory.csv", "trajectory.npz", PARTS}
+KNOWN_SUFFIXES = (".png", ".svg", ".pdf")
+
+
+class ResultFolderError(ValueError):
+    """A folder that is not a complete, self-consistent result (or cannot be replaced by one)."""
+
+
+class ResultStorageError(OSError):
+    """Writing a result failed (disk full, permissions): the message names the folder and what was kept."""
+
+
+def check_replaceable(target: Path) -> None:
+    """Refuse to write a result where it would replace something that is not a result folder."""
+    target = Path(target)
+    if not target.exists():
+        return
+    if not target.is_dir():
+        raise ResultFolderError(f"{target} exists and is not a folder: choose another output folder")
+    foreign = sorted(p.name for p in target.iterdir() if p.name not in KNOWN and p.suffix not in KNOWN_SUFFIXES)
+    if foreign:
+        shown = ", ".join(foreign[:5]) + (", ..." if len(foreign) > 5 else "")
+        raise ResultFolderError(f"{target} holds files that are not part of an apexseal result ({shown}); a result "
+                                "replaces its folder as a whole, so choose an empty or new output folder")
+
+
+def _write_bytes(path: Path, data: bytes) -> None:
+    """Write through a temporary file and rename (a half-written file never carries the final name)."""
+    tmp = path.with_name(f".{path.name}.tmp")
+    try:
+        with open(tmp, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def _json_bytes(data) -> bytes:
+    return (json.dumps(data, indent=2, default=_jsonable) + "\n").encode()
+
+
+def _jsonable(v):
+    if isinstance(v, np.generic):
+        return v.item()
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    return str(v)
+
+
+def part_arrays(part: SimulationResult, run_id: str, index: int) -> dict[str, np.ndarray]:
+    arrays = {"run_id": np.array(run_id), "part": np.array(index), "samples": np.array(part.n),
+              "theta": part.theta, "time": part.time, "state": part.state, "closed": part.closed,
+              "events": part.events, "modes": np.array(part.modes, dtype="U16")}
+    arrays.update({f"out_{k}": v for k, v in part.outputs.items()})
+    return arrays
+
+
+class ResultFolder:
+    """Writes one result folder (see the module docstring); the run loop's sink when a run streams to disk."""
+
+    def __init__(self, target: str | Path, run_id: str | None = None) -> None:
+        self.target = Path(target)
+        check_replaceable(self.target)
+        self.run_id = run_id or uuid.uuid4().hex
+        self.staging = self.target.parent / f"{self.target.name}.partial-{self.run_id[:12]}"
+        try:
+            (self.staging / PARTS).mkdir(parents=True)
+        except OSError as err:
+            raise ResultStorageError(err.errno, f"cannot create the result folder {self.staging}: "
+                                     f"{err.strerror}") from err
+        self.parts: list[dict] = []
+        self.samples = 0
+        self.guard_names: tuple[str, ...] = ()
+        self.outputs: list[str] = []
+        self.last: tuple[float, str] = (0.0, "")
+        self.state_rows = 0
+        self.info: dict = {}
+        self.final = False
+
+    # ------------------------------------------------------------------ writing
+    def append(self, part: SimulationResult) -> None:
+        """Write one part, then the progress record that lists it."""
+        index = len(self.parts)
+        name = f"{PARTS}/part-{index:05d}.npz"
+        buf = io.BytesIO()
+        np.savez(buf, **part_arrays(part, self.run_id, index))
+        data = buf.getvalue()
+        self._store(name, data, "a part")
+        self.parts.append({"file": name, "samples": int(part.n), "sha256": hashlib.sha256(data).hexdigest()})
+        self.samples += part.n
+        self.guard_names, self.outputs = tuple(part.guard_names), list(part.outputs)
+        self.state_rows = part.state.shape[0]
+        if part.n:
+            self.last = (float(part.theta[-1]), part.modes[-1])
+        stop = StopInfo(self.last[0], self.last[1], "the run ended without its final record (killed, or the machine "
+                        f"stopped) after {len(self.parts)} completed part(s); the revolution in progress was lost")
+        self._store("result.json", _json_bytes(self._record("interrupted", stop)), "the progress record")
+
+    def finish(self, status: str, stop: StopInfo | None, info: dict) -> SimulationResult:
+        """Write the final result.json and return the whole result, read back from the folder."""
+        self.info = dict(info) | {"run_id": self.run_id}
+        self._store("result.json", _json_bytes(self._record(status, stop)), "the final record")
+        self.final = True
+        return read(self.staging)
+
+    def write_json(self, name: str, data: dict) -> None:
+        """Another JSON file of the result (summary.json), stamped with the run id."""
+        self._store(name, _json_bytes({"run_id": self.run_id} | data), name)
+
+    def write_csv(self) -> None:
+        """trajectory.csv from the parts on disk, part by part (memory does not grow with the run)."""
+        from .csv_table import write_csv
+
+        path = self.staging / "trajectory.csv"
+        tmp = path.with_name(".trajectory.csv.tmp")
+        try:
+            with open(tmp, "w", newline="") as fh:
+                write_csv(fh, self.run_id, self.samples, (read_part(self.staging, p, self.run_id)
+                                                          for p in self.parts), self.guard_names)
+            os.replace(tmp, path)
+        except OSError as err:
+            tmp.unlink(missing_ok=True)
+            raise self._storage_error(path, err, "trajectory.csv") from err
+
+    def commit(self) -> Path:
+        """Rename the finished folder into place (replacing a previous result there) and return its path."""
+        if not self.final:
+            raise RuntimeError("commit() before finish(): the folder has no final record")
+        target = self.target
+        try:
+            if target.exists():
+                check_replaceable(target)
+                old = target.parent / f".{target.name}.old-{self.run_id[:12]}"
+                os.rename(target, old)
+                try:
+                    os.rename(self.staging, target)
+                except OSError:
+                    os.rename(old, target)
+                    raise
+                shutil.rmtree(old, ignore_errors=True)
+            else:
+                os.rename(self.staging, target)
+        except OSError as err:
+            raise ResultStorageError(err.errno, f"could not move the finished result {self.staging} to {target}: "
+                                     f"{err.strerror}; the result is complete in {self.staging}") from err
+        return target
+
+    def abandon(self) -> None:
+        """Remove the unfinished folder (a save that failed: the previous result stays as it was)."""
+        shutil.rmtree(self.staging, ignore_errors=True)
+
+    # ------------------------------------------------------------------ helpers
+    def _record(self, status: str, stop: StopInfo | None) -> dict:
+        return {"format": FORMAT, "run_id": self.run_id, "status": status,
+                "stop": None if stop is None else vars(stop), "samples": self.samples, "parts": self.parts,
+                "state_rows": self.state_rows, "guard_names": list(self.guard_names), "outputs": self.outputs,
+                "info": self.info}
+
+    def _store(self, name: str, data: bytes, what: str) -> None:
+        path = self.staging / name
+        try:
+            _write_bytes(path, data)
+        except OSError as err:
+            raise self._storage_error(path, err, what) from err
+
+    def _storage_error(self, path: Path, err: OSError, what: str) -> ResultStorageError:
+        kept = (f"{len(self.parts)} completed part(s), {self.samples} samples, are kept in {self.staging}"
+                if self.parts else f"nothing of this run was kept ({self.staging} holds no complete part)")
+        previous = f"; the previous result in {self.target} is unchanged" if self.target.exists() else ""
+        return ResultStorageError(err.errno, f"could not write {what} ({path.name}) to {self.staging}: "
+                                  f"{err.strerror or err}; {kept}{previous}")
+
+
+def save(result: SimulationResult, folder: str | Path, *, csv: bool = False) -> Path:
+    """Write an in-memory result as a result folder (one part), as one unit."""
+    writer = ResultFolder(folder)
+    try:
+        writer.append(result)
+        writer.finish(result.status, result.stop, result.info)
+        if csv:
+            writer.write_csv()
+        return writer.commit()
+    except BaseException:
+        writer.abandon()
+        raise
+
+
+# ---------------------------------------------------------------------- reading
+def read_record(folder: Path) -> dict:
+    path = folder / "result.json"
+    if not path.is_file():
+        raise ResultFolderError(f"{folder} is not a result folder: it has no result.json")
+    try:
+        meta = json.loads(path.read_text())
+    except (OSError, ValueError) as err:
+        raise ResultFolderError(f"{path} is unreadable: {err}") from err
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+        raise ResultFolderError(f"{path} is not an {FORMAT} record (a result written by an older apexseal, whose "
+                                "files cannot be checked to belong together: simulate again)")
+    return meta
+
+
+def read_part(folder: Path, entry: dict, run_id: str, guards: int | None = None,
+              outputs: list[str] | None = None, state_rows: int | None = None) -> SimulationResult:
+    """One part, checked: run id, sample count, sha256, shapes."""
+    path = folder / entry["file"]
+    try:
+        data = path.read_bytes()
+    except OSError as err:
+        raise ResultFolderError(f"{path} is missing or unreadable ({err.strerror}): the folder is incomplete") from err
+    if hashlib.sha256(data).hexdigest() != entry["sha256"]:
+        raise ResultFolderError(f"{path} is not the file result.json recorded (sha256 differs): the folder mixes files "
+                                "of different runs, or a file was changed")
+    with np.load(io.BytesIO(data)) as d:
+        if str(d["run_id"]) != run_id:
+            raise ResultFolderError(f"{path} belongs to run {d['run_id']}, result.json to run {run_id}: mixed folder")
+        arrays = {k: d[k] for k in d.files}
+    n = int(arrays["samples"])
+    names = outputs if outputs is not None else [k[4:] for k in arrays if k.startswith("out_")]
+    g = guards if guards is not None else arrays["closed"].shape[0]
+    s = state_rows if state_rows is not None else arrays["state"].shape[0]
+    expect = {"theta": (n,), "time": (n,), "state": (s, n), "closed": (g, n), "events": (g, n), "modes": (n,)}
+    expect |= {f"out_{k}": (n,) for k in names}
+    for key, shape in expect.items():
+        if key not in arrays:
+            raise ResultFolderError(f"{path} has no array {key!r}: the folder is inconsistent")
+        if arrays[key].shape != shape:
+            raise ResultFolderError(f"{path}: {key} has shape {arrays[key].shape}, expected {shape} ({n} samples, "
+                                    f"{g} guards)")
+    if n != entry["samples"]:
+        raise ResultFolderError(f"{path} holds {n} samples, result.json records {entry['samples']}")
+    return SimulationResult(arrays["theta"], arrays["time"], arrays["state"], arrays["closed"], arrays["events"],
+                            {k: arrays[f"out_{k}"] for k in names}, (), [str(m) for m in arrays["modes"]])
+
+
+def read(folder: str | Path) -> SimulationResult:
+    """The result in ``folder`` (a committed result, or the ``.partial-`` folder a killed run left), checked."""
+    folder = Path(folder)
+    meta = read_record(folder)
+    run_id = meta["run_id"]
+    guards = list(meta["guard_names"])
+    parts = [read_part(folder, e, run_id, len(guards), list(meta["outputs"]), meta.get("state_rows"))
+             for e in meta["parts"]]
+    total = sum(p.n for p in parts)
+    if total != meta["samples"]:
+        raise ResultFolderError(f"{folder}: the parts hold {total} samples, result.json records {meta['samples']}")
+    if not parts:
+        raise ResultFolderError(f"{folder}: result.json lists no part (the run was killed before its first sample "
+                                "was written)")
+    for name in ("summary.json", "trajectory.csv"):
+        _check_stamp(folder / name, run_id)
+    for p in parts:
+        p.guard_names = tuple(guards)
+    stop = StopInfo(**meta["stop"]) if meta["stop"] else None
+    result = join(parts, meta["status"], stop, meta["info"])
+    result.info.setdefault("run_id", run_id)
+    theta = result.theta
+    if theta.size > 1 and not (np.diff(theta) > 0).all():
+        raise ResultFolderError(f"{folder}: the parts do not follow each other (crank angle not increasing)")
+    return result
+
+
+def _check_stamp(path: Path, run_id: str) -> None:
+    if not path.exists():
+        return
+    try:
+        if path.suffix == ".json":
+            found = json.loads(path.read_text()).get("run_id")
+        else:
+            with open(path) as fh:
+                head = fh.readline()
+            found = head.split()[3].rstrip(",") if head.startswith("# apexseal result ") else None
+    except (OSError, ValueError, AttributeError, IndexError):
+        found = None
+    if found != run_id:
+        raise ResultFolderError(f"{path} belongs to run {found}, result.json to run {run_id}: mixed folder "
+                                f"(simulate again, or remove {path.name})")

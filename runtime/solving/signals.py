@@ -1,0 +1,80 @@
+"""SIGINT and SIGTERM during a run: noted, never raised inside a CasADi call, acted on between calls.
+
+Python runs a signal handler between bytecodes, and CasADi polls for pending signals inside its own calls: a
+``KeyboardInterrupt`` raised there surfaces as a CasADi error (``NotImplementedError: Wrong number or type of
+arguments``, ``SystemError: DM.__array__ returned a result with an exception set``) and loses the run. Inside
+:class:`StopSignals` both signals only set a flag (and tell the running engine to stop at its next check, see
+``Engine.deadline``); the run loop reads the flag between integrator calls, keeps every completed revolution and
+ends with status ``interrupted``. A second signal while the result is written is noted too, so the writing
+finishes (the folder is committed as one unit, runtime/results/folder.py).
+
+Outside the main thread signals cannot be caught: there the context does nothing and Ctrl-C raises
+``KeyboardInterrupt`` as usual (the run loop still catches it between calls).
+"""
+
+from __future__ import annotations
+
+import math
+import signal
+import threading
+
+#: the signals a run catches: Ctrl-C, and what ``kill``, ``timeout`` and batch schedulers send
+CAUGHT = (signal.SIGINT, signal.SIGTERM)
+
+
+class StopSignals:
+    """Context manager: while inside, SIGINT/SIGTERM are recorded in ``received`` instead of raising.
+
+    Nested uses share the outermost instance (the CLI wraps run and save, the run loop wraps itself).
+    """
+
+    _active: StopSignals | None = None
+
+    def __init__(self) -> None:
+        self.received: list[int] = []
+        self._previous: dict[int, object] = {}
+        self._engines: list = []
+        self._outer: StopSignals | None = None
+
+    def __enter__(self) -> StopSignals:
+        if StopSignals._active is not None:
+            self._outer = StopSignals._active
+            return self._outer
+        if threading.current_thread() is threading.main_thread():
+            for s in CAUGHT:
+                self._previous[s] = signal.signal(s, self._note)
+        StopSignals._active = self
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self._outer is not None:
+            return
+        for s, handler in self._previous.items():
+            signal.signal(s, handler)
+        self._previous.clear()
+        StopSignals._active = None
+
+    def _note(self, signum, frame) -> None:
+        self.received.append(signum)
+        for engine in self._engines:  # engines that check their deadline inside a call stop at the next check
+            engine.deadline = -math.inf
+
+    def watch(self, engine) -> None:
+        """Stop ``engine`` at its next deadline check when a signal arrives."""
+        if engine is not None:
+            self._engines.append(engine)
+
+    @property
+    def requested(self) -> bool:
+        return bool(self.received)
+
+    def reason(self) -> str:
+        """The stop reason of a run that a signal ended."""
+        first = self.received[0]
+        name = signal.Signals(first).name
+        who = "the user (Ctrl-C, SIGINT)" if first == signal.SIGINT else f"{name} (kill, timeout or a batch scheduler)"
+        return f"interrupted by {who}; every completed integrator call is kept"
+
+    def exit_code(self) -> int:
+        """The shell's convention for a process ended by a signal: 128 + its number."""
+        return 128 + int(self.received[0]) if self.received else 0
