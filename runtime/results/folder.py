@@ -119,6 +119,7 @@ class ResultFolder:
         self.state_rows = 0
         self.info: dict = {}
         self.final = False
+        self.error: ResultStorageError | None = None  # the first storage error, if any
 
     # ------------------------------------------------------------------ writing
     def append(self, part: SimulationResult) -> None:
@@ -142,6 +143,10 @@ class ResultFolder:
     def finish(self, status: str, stop: StopInfo | None, info: dict) -> SimulationResult:
         """Write the final result.json and return the whole result, read back from the folder."""
         self.info = dict(info) | {"run_id": self.run_id}
+        if not self.parts:
+            raise ResultStorageError(self.error.errno if self.error else None,
+                                     str(self.error) if self.error else f"no part of the result was written to "
+                                     f"{self.staging}")
         self._store("result.json", _json_bytes(self._record(status, stop)), "the final record")
         self.final = True
         return read(self.staging)
@@ -210,8 +215,10 @@ class ResultFolder:
         kept = (f"{len(self.parts)} completed part(s), {self.samples} samples, are kept in {self.staging}"
                 if self.parts else f"nothing of this run was kept ({self.staging} holds no complete part)")
         previous = f"; the previous result in {self.target} is unchanged" if self.target.exists() else ""
-        return ResultStorageError(err.errno, f"could not write {what} ({path.name}) to {self.staging}: "
-                                  f"{err.strerror or err}; {kept}{previous}")
+        error = ResultStorageError(err.errno, f"could not write {what} ({path.name}) to {self.staging}: "
+                                   f"{err.strerror or err}; {kept}{previous}")
+        self.error = self.error or error
+        return error
 
 
 def save(result: SimulationResult, folder: str | Path, *, csv: bool = False) -> Path:

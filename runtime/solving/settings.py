@@ -3,8 +3,8 @@
 :class:`RunSettings` is the only place where the ranges of the run's settings live: the scene's ``[solver]``
 and ``[operation]`` tables (runtime/scenes/schema.py) take their bounds from :data:`LIMITS`, the command line
 passes its options through :meth:`RunSettings.of`, and so does ``apexseal.simulate(scene, rtol=...)``. A bad
-value raises :class:`SettingsError`, one line per field: ``rtol = nan: out of range; allowed: 1e-12 <= rtol <=
-0.01``.
+value raises :class:`SettingsError`, one line per field: ``rtol = nan: nan is out of range; allowed: 1e-12 <=
+value <= 0.01``.
 """
 
 from __future__ import annotations
@@ -59,9 +59,10 @@ def _fail(message: str) -> PydanticCustomError:
 
 
 def allowed(name: str) -> str:
-    """The allowed range of a numeric setting, e.g. ``1e-12 <= rtol <= 0.01``."""
+    """The allowed range of a numeric setting as the scene's validators print it, e.g. ``1e-12 <= value <= 0.01``
+    (``36 <= n <= 100000`` for integers)."""
     kind, rng = LIMITS[name]
-    return ("an integer, " if kind.startswith("int") else "") + rng.describe(name=name)
+    return rng.describe(name="n") if kind.startswith("int") else rng.describe(name="value")
 
 
 def check_value(name: str, value: Any) -> Any:
@@ -71,14 +72,15 @@ def check_value(name: str, value: Any) -> Any:
         return None
     if kind.startswith("int"):
         if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-            raise _fail(f"expected {allowed(name)}")
+            raise _fail(f"expected an integer, {allowed(name)}")
         value = int(value)
     else:
         if isinstance(value, bool) or not isinstance(value, numbers.Real):
             raise _fail(f"expected a number, {allowed(name)}")
         value = float(value)
     if not rng.holds(value):  # NaN fails every bound
-        raise _fail(f"out of range; allowed: {allowed(name)}")
+        shown = "out of range" if kind.startswith("int") else f"{value:.6g} is out of range"
+        raise _fail(f"{shown}; allowed: {allowed(name)}")
     return value
 
 

@@ -197,24 +197,6 @@ def test_cli_run_that_cannot_start_is_labelled_failed(tmp_path):
     assert json.loads((out / "summary.json").read_text())["status"] == "failed"
 
 
-def test_a_write_that_fails_leaves_no_half_file(default_scene, default_functions, tmp_path, monkeypatch):
-    """Results are written file by file through temporary files; result.json, which makes a folder a result, last."""
-    r = sim.run(default_functions.sx, default_scene.parameter_vector(),
-                sim.RunSettings(samples_per_revolution=36, compile_c=False), theta_start=0.0, state0=np.zeros(6),
-                revolutions=1, pressure=default_scene.pressure.interval_means)
-
-    def disk_full(*a, **k):
-        raise OSError(28, "No space left on device")
-
-    monkeypatch.setattr(np, "savez_compressed", disk_full)
-    with pytest.raises(OSError, match="No space left"):
-        r.save(tmp_path / "o")
-    assert list((tmp_path / "o").iterdir()) == []
-    monkeypatch.undo()
-    r.save(tmp_path / "o")
-    assert SimulationResult.load(tmp_path / "o").n == r.n
-
-
 # ---------------------------------------------------------------- generated artefacts
 @pytest.fixture
 def artefacts(tmp_path) -> Path:

@@ -106,15 +106,22 @@ def test_euler_converges_at_first_order(default_scene, default_functions):
 
 
 def test_saved_result_round_trip(erk_result, tmp_path):
-    erk_result.save(tmp_path)
+    erk_result.save(tmp_path, csv=True)
     back = SimulationResult.load(tmp_path)
     assert np.array_equal(back.state, erk_result.state)
     assert back.modes == erk_result.modes
     assert back.outputs.keys() == erk_result.outputs.keys()
     assert all(np.array_equal(back.outputs[k], v) for k, v in erk_result.outputs.items())
     assert back.status == erk_result.status and back.guard_names == erk_result.guard_names
-    header = (tmp_path / "trajectory.csv").read_text().splitlines()[0].split(",")
+    lines = (tmp_path / "trajectory.csv").read_text().splitlines()
+    assert lines[0] == f"# apexseal result {back.info['run_id']}, {back.n} samples"
+    header = lines[1].split(",")
     assert header[:8] == ["theta_deg", "time_s", "x", "y", "phi", "xd", "yd", "phid"]
+    assert len(lines) == 2 + back.n
+    table = np.loadtxt(tmp_path / "trajectory.csv", delimiter=",", comments="#", skiprows=2,
+                       usecols=range(8))  # the numbers as written: 10 significant digits
+    assert np.allclose(table[:, 2:].T, erk_result.state, rtol=1e-9, atol=1e-300)
+    assert np.allclose(table[:, 0], np.degrees(erk_result.theta), atol=1e-6)
 
 
 def test_model_rhs_matches_generated_function(default_scene, default_functions):

@@ -1,0 +1,303 @@
+"""Faults during a run and while saving: nothing lost, nothing mixed, nothing unchecked (docs/bad-input.md, "Faults").
+
+Signals are sent to a real ``apexseal simulate`` subprocess (interpreted integrator, 360 samples: about a second
+per revolution, so a signal lands inside a CasADi call); a full disk is a patched write; mixed folders are built
+from two real results.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from apexseal.runtime.results import folder as folder_mod
+from apexseal.runtime.results.folder import ResultFolder, ResultFolderError, ResultStorageError
+from apexseal.runtime.results.result import SimulationResult
+from apexseal.runtime.scenes.scene import default_scene_text
+from apexseal.runtime.solving import run as sim
+
+SCENES_DIR = Path(__file__).resolve().parents[2] / "runtime" / "scenes"
+SAMPLES = 72
+
+
+def _run(scene, functions, revolutions=2, **kw):
+    st = sim.RunSettings(samples_per_revolution=SAMPLES, compile_c=False, revolutions=revolutions)
+    return sim.run(functions.sx, scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6),
+                   pressure=scene.pressure.interval_means, **kw)
+
+
+@pytest.fixture(scope="module")
+def two_results(default_scene, default_functions):
+    return _run(default_scene, default_functions, 2), _run(default_scene, default_functions, 1)
+
+
+# ---------------------------------------------------------------- the result folder is one unit
+def test_streamed_folder_round_trip_and_counts(default_scene, default_functions, tmp_path):
+    sink = ResultFolder(tmp_path / "o")
+    r = _run(default_scene, default_functions, 3, sink=sink)
+    sink.commit()
+    meta = json.loads((tmp_path / "o" / "result.json").read_text())
+    assert meta["status"] == "completed" and meta["samples"] == r.n == 1 + 3 * SAMPLES
+    assert [p["samples"] for p in meta["parts"]] == [1 + SAMPLES, SAMPLES, SAMPLES]  # one part per revolution
+    with np.load(tmp_path / "o" / meta["parts"][1]["file"]) as d:
+        assert str(d["run_id"]) == meta["run_id"] and int(d["samples"]) == SAMPLES
+    back = SimulationResult.load(tmp_path / "o")
+    assert np.array_equal(back.state, r.state) and back.modes == r.modes and back.info["run_id"] == meta["run_id"]
+    assert not list(tmp_path.glob("o.partial-*"))
+
+
+def test_in_memory_and_streamed_runs_agree(default_scene, default_functions, two_results, tmp_path):
+    sink = ResultFolder(tmp_path / "o")
+    streamed = _run(default_scene, default_functions, 2, sink=sink)
+    mem = two_results[0]
+    assert np.array_equal(streamed.state, mem.state) and np.array_equal(streamed.theta, mem.theta)
+    assert all(np.array_equal(streamed.outputs[k], v) for k, v in mem.outputs.items())
+
+
+def _mixed(tmp_path, two_results, edit) -> Path:
+    a, b = tmp_path / "a", tmp_path / "b"
+    two_results[0].save(a, csv=True)
+    two_results[1].save(b, csv=True)
+    edit(a, b)
+    return a
+
+
+def _copy_part(a, b):
+    shutil.copy(b / "parts" / "part-00000.npz", a / "parts" / "part-00000.npz")
+
+
+def _relabel_part(a, b):  # a part of another run with result.json's hash updated: the run id still differs
+    _copy_part(a, b)
+    meta = json.loads((a / "result.json").read_text())
+    meta["parts"][0]["sha256"] = json.loads((b / "result.json").read_text())["parts"][0]["sha256"]
+    (a / "result.json").write_text(json.dumps(meta))
+
+
+def _short_state(a, b):  # a state array shorter than theta, with a matching hash
+    p = a / "parts" / "part-00000.npz"
+    with np.load(p) as d:
+        arrays = {k: d[k] for k in d.files}
+    arrays["state"] = arrays["state"][:, :-1]
+    np.savez(p, **arrays)
+    meta = json.loads((a / "result.json").read_text())
+    meta["parts"][0]["sha256"] = folder_mod.hashlib.sha256(p.read_bytes()).hexdigest()
+    (a / "result.json").write_text(json.dumps(meta))
+
+
+def _truncated_guards(a, b):
+    meta = json.loads((a / "result.json").read_text())
+    meta["guard_names"] = meta["guard_names"][:-1]
+    (a / "result.json").write_text(json.dumps(meta))
+
+
+def _old_result_json(a, b):  # the new parts beside an older run's record (the disk-full case of the issue)
+    shutil.copy(b / "result.json", a / "result.json")
+
+
+MIXED = [
+    ("part-of-another-run", _copy_part, "sha256 differs"),
+    ("part-relabelled", _relabel_part, "mixed folder"),
+    ("state-shorter-than-theta", _short_state, "state has shape"),
+    ("truncated-guard-list", _truncated_guards, "closed has shape"),
+    ("result-json-of-another-run", _old_result_json, "sha256 differs"),
+    ("csv-of-another-run", lambda a, b: shutil.copy(b / "trajectory.csv", a / "trajectory.csv"), "mixed folder"),
+    ("legacy-record", lambda a, b: (a / "result.json").write_text('{"status": "completed"}'), "older apexseal"),
+    ("missing-part", lambda a, b: (a / "parts" / "part-00000.npz").unlink(), "missing"),
+    ("not-a-result", lambda a, b: (a / "result.json").unlink(), "no result.json"),
+]
+
+
+@pytest.mark.parametrize("edit,message", [m[1:] for m in MIXED], ids=[m[0] for m in MIXED])
+def test_mixed_folder_is_refused(tmp_path, two_results, edit, message):
+    a = _mixed(tmp_path, two_results, edit)
+    with pytest.raises(ResultFolderError, match=message):
+        SimulationResult.load(a)
+
+
+def test_summary_of_another_run_is_refused(tmp_path, two_results):
+    a, b = tmp_path / "a", tmp_path / "b"
+    for r, f in zip(two_results, (a, b), strict=True):
+        w = ResultFolder(f)
+        w.append(r)
+        w.finish(r.status, r.stop, r.info)
+        w.write_json("summary.json", {"status": r.status})
+        w.commit()
+    shutil.copy(b / "summary.json", a / "summary.json")
+    with pytest.raises(ResultFolderError, match="summary.json belongs to run"):
+        SimulationResult.load(a)
+
+
+def test_a_full_disk_during_save_keeps_the_previous_result(tmp_path, two_results, monkeypatch):
+    """ENOSPC while saving over an earlier result: the earlier result stays whole, the error names the folder."""
+    new, old = two_results
+    out = tmp_path / "o"
+    old.save(out)
+    real = folder_mod._write_bytes
+
+    def disk_full(path, data):
+        if path.name == "result.json":
+            raise OSError(28, "No space left on device")
+        real(path, data)
+
+    monkeypatch.setattr(folder_mod, "_write_bytes", disk_full)
+    with pytest.raises(ResultStorageError, match="No space left on device") as err:
+        new.save(out)
+    assert str(out) in str(err.value) and "previous result" in str(err.value)
+    monkeypatch.undo()
+    back = SimulationResult.load(out)
+    assert back.n == old.n and back.status == "completed"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["o"]  # no half folder left behind
+
+
+def test_a_full_disk_during_a_streamed_run_keeps_the_completed_revolutions(default_scene, default_functions, tmp_path,
+                                                                           monkeypatch):
+    real = folder_mod._write_bytes
+
+    def disk_full(path, data):
+        if path.name == "part-00002.npz":
+            raise OSError(28, "No space left on device")
+        real(path, data)
+
+    monkeypatch.setattr(folder_mod, "_write_bytes", disk_full)
+    sink = ResultFolder(tmp_path / "o")
+    r = _run(default_scene, default_functions, 4, sink=sink)
+    assert r.status == "failed" and r.n == 1 + 2 * SAMPLES
+    assert "No space left on device" in r.stop.reason and str(sink.staging) in r.stop.reason
+    assert "2 completed part(s)" in r.stop.reason
+    sink.commit()
+    assert SimulationResult.load(tmp_path / "o").status == "failed"
+
+
+def test_a_killed_run_leaves_a_loadable_folder(default_scene, default_functions, tmp_path):
+    """The progress record after each part: a run that never finishes loads as interrupted, all parts kept."""
+    full = _run(default_scene, default_functions, 2)
+    sink = ResultFolder(tmp_path / "o")
+    first = _run(default_scene, default_functions, 1)
+    sink.append(first)  # as the run loop does after the first revolution; then the process dies
+    back = SimulationResult.load(sink.staging)
+    assert back.status == "interrupted" and "without its final record" in back.stop.reason
+    assert back.n == 1 + SAMPLES and np.array_equal(back.state, full.state[:, :1 + SAMPLES])
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_result_never_replaces_a_folder_of_other_files(tmp_path, two_results):
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("keep me")
+    with pytest.raises(ResultFolderError, match="notes.txt"):
+        two_results[1].save(out)
+    assert (out / "notes.txt").read_text() == "keep me" and len(list(tmp_path.iterdir())) == 1
+
+
+def test_cli_refuses_an_output_folder_of_other_files(tmp_path):
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+
+    (tmp_path / "data.csv").write_text("1,2\n")
+    r = CliRunner().invoke(main, ["simulate", "--out", str(tmp_path), "-q", "-n", "1"])
+    assert r.exit_code != 0 and "--out" in r.output and "data.csv" in r.output
+    assert [p.name for p in tmp_path.iterdir()] == ["data.csv"]
+
+
+# ---------------------------------------------------------------- chattering covers only the angle reached
+def test_chattering_result_covers_only_the_angle_reached(default_functions):
+    """tip-chatter stops near 43 deg: its samples and summary end there (0.12 revolutions), not at 360 deg."""
+    from hard_helpers import load, simulate
+
+    from apexseal.runtime.results.summary import summarise
+
+    r = simulate(load("tip-chatter"), default_functions.sx, calls_per_revolution=72)
+    assert r.status == "chattering", r.stop
+    assert r.theta[-1] <= r.stop.theta + 1e-12 and r.theta[-1] > r.stop.theta - np.radians(1.0)
+    s = summarise(r)
+    assert s["revolutions"] == pytest.approx(r.stop.theta / (2 * np.pi)) and s["revolutions"] < 0.5
+
+
+# ---------------------------------------------------------------- signals, sent to a real process
+@pytest.fixture(scope="module")
+def slow_scene(tmp_path_factory) -> Path:
+    d = tmp_path_factory.mktemp("signals")
+    text = default_scene_text().replace("samples_per_revolution = 3600", "samples_per_revolution = 360")
+    (d / "s.toml").write_text(text.replace("interpreted = false", "interpreted = true"))
+    shutil.copy(SCENES_DIR / "expander-pressure.csv", d)
+    return d / "s.toml"
+
+
+def _start(scene: Path, out: Path, revolutions: int = 200) -> subprocess.Popen:
+    cmd = [sys.executable, "-c", "from apexseal.cli import main; main()", "simulate", str(scene), "-n",
+           str(revolutions), "--out", str(out), "-q", "--no-figures"]
+    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ.copy())
+
+
+def _wait_for_parts(out: Path, proc: subprocess.Popen, count: int, timeout: float = 120.0) -> Path:
+    t_end = time.monotonic() + timeout
+    while time.monotonic() < t_end:
+        for staging in out.parent.glob(f"{out.name}.partial-*"):
+            if (staging / "parts" / f"part-{count - 1:05d}.npz").exists():
+                return staging
+        assert proc.poll() is None, proc.communicate()
+        time.sleep(0.05)
+    proc.kill()
+    raise AssertionError(f"no {count} parts after {timeout} s")
+
+
+@pytest.mark.parametrize("signum,code,words", [(signal.SIGTERM, 143, "SIGTERM"), (signal.SIGINT, 130, "Ctrl-C")])
+def test_a_signal_keeps_every_completed_revolution(slow_scene, tmp_path, signum, code, words):
+    out = tmp_path / "o"
+    proc = _start(slow_scene, out)
+    _wait_for_parts(out, proc, 2)
+    time.sleep(0.3)  # into the next revolution's integrator call
+    sent = time.monotonic()
+    proc.send_signal(signum)
+    stdout, stderr = proc.communicate(timeout=60)
+    assert time.monotonic() - sent < 10.0, "the run must end within a few seconds"
+    assert proc.returncode == code, (stdout, stderr)
+    assert "Traceback" not in stderr and "NotImplementedError" not in stderr, stderr
+    r = SimulationResult.load(out)
+    assert r.status == "interrupted" and words in r.stop.reason
+    assert r.n >= 1 + 2 * 360 and (r.n - 1) % 360 == 0  # whole revolutions: every completed call kept
+    assert r.theta[-1] == pytest.approx(r.stop.theta)
+    assert json.loads((out / "summary.json").read_text())["status"] == "interrupted"
+    assert not list(tmp_path.glob("o.partial-*"))
+
+
+def test_a_second_signal_while_saving_corrupts_nothing(slow_scene, tmp_path):
+    out = tmp_path / "o"
+    proc = _start(slow_scene, out)
+    _wait_for_parts(out, proc, 2)
+    proc.send_signal(signal.SIGINT)
+    for _ in range(20):  # keep pressing Ctrl-C while the run stops and saves
+        time.sleep(0.02)
+        if proc.poll() is not None:
+            break
+        proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 130, (stdout, stderr)
+    assert "Traceback" not in stderr, stderr
+    r = SimulationResult.load(out)
+    assert r.status == "interrupted" and r.n >= 1 + 2 * 360
+
+
+def test_a_killed_run_leaves_the_previous_result_intact(slow_scene, tmp_path):
+    out = tmp_path / "o"
+    first = _start(slow_scene, out, revolutions=1)
+    assert first.wait(timeout=120) == 0, first.communicate()
+    before = SimulationResult.load(out)
+    proc = _start(slow_scene, out)
+    staging = _wait_for_parts(out, proc, 2)
+    proc.kill()  # SIGKILL: no handler runs
+    proc.wait(timeout=30)
+    after = SimulationResult.load(out)
+    assert after.info["run_id"] == before.info["run_id"] and after.n == before.n and after.ok
+    partial = SimulationResult.load(staging)  # what the killed run had completed
+    assert partial.status == "interrupted" and partial.n >= 1 + 2 * 360
