@@ -18,7 +18,6 @@ import apexseal
 from apexseal.cli import main
 from apexseal.generated.load import DEFAULT_DIR
 from apexseal.generated.manifest import StaleArtefactError, verify
-from apexseal.runtime.results.result import SimulationResult
 from apexseal.runtime.scenes.errors import SceneError
 from apexseal.runtime.scenes.scene import default_scene_text, load_scene
 from apexseal.runtime.solving import run as sim

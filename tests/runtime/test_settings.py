@@ -1,0 +1,111 @@
+"""One settings model: the same ranges and messages from the scene, the CLI and the API (runtime/solving/settings.py)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+import apexseal
+from apexseal.cli import main
+from apexseal.runtime.api import settings_of
+from apexseal.runtime.scenes.errors import SceneError
+from apexseal.runtime.solving.settings import LIMITS, RunSettings, SettingsError
+
+# field, bad value, fragment of the message (each case of the issue)
+BAD = [
+    ("revolutions", -1, "1 <= n <= 100000"),
+    ("revolutions", 0, "1 <= n <= 100000"),
+    ("revolutions", 1e20, "expected an integer"),
+    ("revolutions", 10**20, "1 <= n <= 100000"),
+    ("rtol", -1.0, "1e-12 <= value <= 0.01"),
+    ("rtol", 0.0, "1e-12 <= value <= 0.01"),
+    ("rtol", math.nan, "nan is out of range"),
+    ("event_tol", math.nan, "0 < value <= 0.01"),
+    ("event_tol", 0.0, "0 < value <= 0.01"),
+    ("event_tol", -1e-9, "0 < value <= 0.01"),
+    ("samples_per_revolution", 7, "36 <= n <= 100000"),
+    ("samples_per_revolution", 0, "36 <= n <= 100000"),
+    ("max_events_per_revolution", -1, "1 <= n <= 1e+08"),
+    ("chatter_events", 1, "2 <= n <= 1e+08"),
+    ("max_wall_time", math.inf, "0 < value <= 1e+07"),
+    ("method", "rk45", "not a method"),
+    ("flags", "fast", "not allowed"),
+]
+
+
+@pytest.mark.parametrize("field,value,fragment", BAD, ids=[f"{f}={v}" for f, v, _ in BAD])
+def test_api_refuses_bad_settings_naming_field_value_and_range(default_scene, field, value, fragment):
+    with pytest.raises(SettingsError) as err:
+        apexseal.simulate(default_scene, **{field: value})  # refused before anything is built
+    assert err.value.keys() == [field]
+    line = str(err.value).splitlines()[1]
+    assert line.strip().startswith(f"{field} = ") and fragment in line, line
+
+
+def test_unknown_setting_is_named_with_a_suggestion():
+    with pytest.raises(SettingsError, match=r"rtl = 1e-06: unknown setting \(did you mean 'rtol'\?\)"):
+        RunSettings(rtl=1e-6)
+
+
+def test_every_problem_is_reported_at_once():
+    with pytest.raises(SettingsError) as err:
+        RunSettings(rtol=-1, samples_per_revolution=7, revolutions=0)
+    assert sorted(err.value.keys()) == ["revolutions", "rtol", "samples_per_revolution"]
+
+
+def test_the_same_range_in_scene_cli_and_api(default_scene, tmp_path):
+    """rtol = 0.5: the scene, the CLI and the API print the same allowed range."""
+    text = "1e-12 <= value <= 0.01"
+    with pytest.raises(SettingsError, match=text):
+        settings_of(default_scene, rtol=0.5)
+    with pytest.raises(SceneError, match=text):
+        default_scene.with_overrides(**{"solver.rtol": 0.5})
+    for value in ("0.5", "nan"):
+        r = CliRunner().invoke(main, ["simulate", "--rtol", value, "--out", str(tmp_path / "o")])
+        assert r.exit_code == 2 and "--rtol" in r.output and text in r.output, r.output
+    assert not (tmp_path / "o").exists()
+
+
+def test_cli_refuses_1e20_revolutions(tmp_path):
+    r = CliRunner().invoke(main, ["simulate", "-n", "100000000000000000000", "--out", str(tmp_path / "o")])
+    assert r.exit_code == 2 and "--revolutions" in r.output and "1 <= n <= 100000" in r.output
+
+
+def test_scene_refuses_1e20_revolutions(default_scene):
+    with pytest.raises(SceneError, match="operation.revolutions.*1 <= n <= 100000"):
+        default_scene.with_overrides(**{"operation.revolutions": 10**20})
+
+
+def test_scene_bounds_come_from_the_settings_table():
+    from apexseal.runtime.scenes.schema import OperationSection, SolverSection, validator_of
+
+    assert validator_of(SolverSection, "rtol").range == LIMITS["rtol"][1]
+    assert validator_of(SolverSection, "samples_per_revolution").range == LIMITS["samples_per_revolution"][1]
+    assert validator_of(OperationSection, "revolutions").range == LIMITS["revolutions"][1]
+
+
+def test_simulate_accepts_a_path_and_names_a_wrong_type(tmp_path):
+    with pytest.raises(TypeError, match="expected a Scene .* not int"):
+        apexseal.simulate(42)
+    with pytest.raises(SceneError, match="x.toml"):
+        apexseal.simulate(str(tmp_path / "x.toml"))
+
+
+@pytest.mark.parametrize("state,fragment", [
+    (0.0, "shape ()"), ([1e-6], "shape (1,)"), (None, "got shape ()"), (np.zeros((6, 2)), "shape (6, 2)"),
+    ([0, 0, 0, 0, 0, math.nan], "not finite in phid"), ("abc", "expected 6 numbers"),
+])
+def test_model_rhs_validates_the_state(default_scene, default_functions, state, fragment):
+    model = apexseal.Model(default_scene, functions=default_functions.sx)
+    with pytest.raises(ValueError) as err:
+        model.rhs(0.4, state)
+    assert fragment in str(err.value)
+
+
+def test_model_rhs_validates_theta(default_scene, default_functions):
+    model = apexseal.Model(default_scene, functions=default_functions.sx)
+    with pytest.raises(ValueError, match="theta"):
+        model.rhs(math.nan, np.zeros(6))
