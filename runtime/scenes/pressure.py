@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import hashlib
 import math
+import os
+import stat
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -32,6 +34,16 @@ TWO_PI = 2 * math.pi
 HEADER = ("theta_deg", "Pa", "Pb")
 #: how many row problems a table error lists before summarising the rest
 MAX_ROW_PROBLEMS = 20
+#: the largest pressure table read (one revolution; 10 MB is ~300 000 rows)
+MAX_TABLE_BYTES = 10 * 2**20
+#: the most characters of a line of the file quoted in a message
+EXCERPT = 60
+
+
+def excerpt(text: str, limit: int = EXCERPT) -> str:
+    """``text`` quoted for a message: at most ``limit`` characters, invisible characters escaped."""
+    shown = repr(text[:limit])[1:-1]
+    return shown + (f"... ({len(text) - limit} more characters)" if len(text) > limit else "")
 
 
 def _edges(theta_edges: Any) -> np.ndarray:
@@ -211,7 +223,7 @@ def parse_table(text: str, *, file: str, factor: float = 1.0, unit: str = "Pa") 
         if not header_seen:
             header_seen = True
             if tuple(cells) != HEADER:
-                bad(f"{file} line {lineno}: expected the header 'theta_deg,Pa,Pb', got '{stripped}'")
+                bad(f"{file} line {lineno}: expected the header 'theta_deg,Pa,Pb', got '{excerpt(stripped)}'")
                 break
             continue
         if len(cells) != 3:
@@ -221,7 +233,7 @@ def parse_table(text: str, *, file: str, factor: float = 1.0, unit: str = "Pa") 
         try:
             t, a, b = (float(c) for c in cells)
         except ValueError:
-            bad(f"{file} line {lineno}: '{stripped}' is not three numbers")
+            bad(f"{file} line {lineno}: '{excerpt(stripped)}' is not three numbers")
             continue
         ok = True
         for name, v in zip(HEADER, (t, a, b), strict=True):
@@ -262,24 +274,46 @@ def parse_table(text: str, *, file: str, factor: float = 1.0, unit: str = "Pa") 
 
 
 def load_table(file: str, base_dir: Any, unit: str = "Pa") -> TablePressure:
-    """Read the table ``file`` (relative to ``base_dir``, a path or an importlib resource folder)."""
+    """Read the table ``file`` (relative to ``base_dir``, a path or an importlib resource folder).
+
+    Only a regular file of at most :data:`MAX_TABLE_BYTES` is read (a device or a pipe could be endless, a file
+    of the proc file system reports size 0 and holds what the process knows); UTF-8 with or without a byte-order
+    mark, LF or CRLF line ends.
+    """
     factor = parse_pressure_unit(unit)
     target = Path(file) if Path(file).is_absolute() else base_dir.joinpath(file)
+
+    def refuse(message: str) -> SceneError:
+        return SceneError([("pressure.file", file, message)], source=file)
+
     try:
-        text = target.read_text(encoding="utf-8")
+        if isinstance(target, Path):
+            info = os.stat(target)
+            if not stat.S_ISREG(info.st_mode):
+                raise refuse(f"cannot read {target}: not a regular file (a folder, device or pipe); allowed: a CSV file")
+            if info.st_size > MAX_TABLE_BYTES:
+                raise refuse(f"{target} is {info.st_size / 2**20:.1f} MB; allowed: at most "
+                             f"{MAX_TABLE_BYTES // 2**20} MB (a table of one revolution)")
+            with open(target, "rb") as fh:
+                data = fh.read(MAX_TABLE_BYTES + 1)
+            if info.st_size == 0 and data:
+                raise refuse(f"{target} reports size 0 but has content (a file of a virtual file system); "
+                             "allowed: a CSV file on disk")
+        else:
+            data = target.read_bytes()
     except FileNotFoundError:
-        raise SceneError(
-            [
-                (
-                    "pressure.file",
-                    file,
-                    f"file not found: {target} (a relative path is taken from the scene file's folder)",
-                )
-            ],
-            source=file,
-        ) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SceneError([("pressure.file", file, f"cannot read {target}: {exc}")], source=file) from None
+        raise refuse(f"file not found: {target} (a relative path is taken from the scene file's folder)") from None
+    except OSError as exc:
+        raise refuse(f"cannot read {target}: {exc.strerror or exc}") from None
+    if len(data) > MAX_TABLE_BYTES:
+        raise refuse(f"{target} is larger than {MAX_TABLE_BYTES // 2**20} MB; allowed: a table of one revolution")
+    if b"\0" in data:
+        raise refuse(f"{target} is a binary file (it contains NUL bytes); allowed: a CSV text file")
+    try:
+        text = data.decode("utf-8-sig")  # a byte-order mark (spreadsheet exports) is accepted
+    except UnicodeDecodeError as exc:
+        raise refuse(f"cannot read {target}: not UTF-8 text (byte {exc.start}: {data[exc.start:exc.start + 1]!r})") \
+            from None
     return parse_table(text, file=file, factor=factor, unit=unit)
 
 

@@ -42,6 +42,13 @@ class ContactGrowth:
                 f"least {self.steps_needed} solver.euler_steps_per_revolution, or method 'rosenbrock'")
 
 
+def contact_frequencies(params: np.ndarray, names=None) -> dict[str, float]:
+    """sqrt(k/ms) of each penalty contact the submodels declare (rad/s), by the name of its stiffness."""
+    names = parameter_names() if names is None else names
+    p = dict(zip(names, np.asarray(params, float), strict=True))
+    return {k_name: math.sqrt(p[k_name] / p["ms"]) for k_name, _ in oscillators()}
+
+
 def contact_growth(params: np.ndarray, steps_per_revolution: int, names=None) -> list[ContactGrowth]:
     """Stability of explicit Euler on each contact, most amplified first.
 
@@ -56,9 +63,8 @@ def contact_growth(params: np.ndarray, steps_per_revolution: int, names=None) ->
     p = dict(zip(names, np.asarray(params, float), strict=True))
     n = int(steps_per_revolution)
     out = []
-    for k_name, c_name in oscillators():
+    for (k_name, c_name), w in zip(oscillators(), contact_frequencies(params, names).values(), strict=True):
         k, c, ms = p[k_name], p[c_name], p["ms"]
-        w = math.sqrt(k / ms)
         zeta = 0.5 * c / (2 * math.sqrt(k * ms))
         hw = 2 * math.pi * w / (n * p["omega"])
         log_growth = 0.5 * n * math.log1p(hw * hw - 2 * zeta * hw)

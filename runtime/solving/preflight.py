@@ -8,7 +8,7 @@ import casadi as ca
 import numpy as np
 
 from ..results.result import StopInfo
-from .euler_integrator import MAX_GROWTH, contact_growth
+from .euler_integrator import MAX_GROWTH, contact_frequencies, contact_growth
 from .layout import mode_label
 from .settings import RunSettings
 
@@ -43,9 +43,59 @@ def names_where(names, mask) -> str:
     return ", ".join(n for n, m in zip(names, mask, strict=True) if m)
 
 
+#: the most contact oscillations per radian of crank angle a run can resolve (every method steps in crank angle)
+MAX_OSCILLATIONS_PER_RAD = 1e8
+#: a penalty contact may start at most this fraction of the seal width Ws inside its wall
+MAX_START_PENETRATION = 0.1
+#: the state's scene keys and how to show a value of each (unit, factor)
+STATE_KEYS = (("x", "m", 1.0), ("y", "m", 1.0), ("phi", "deg", 180 / math.pi), ("xd", "m/s", 1.0),
+              ("yd", "m/s", 1.0), ("phid", "rad/s", 1.0))
+
+
+def speed_problem(functions, params) -> str | None:
+    """The rotor speed, if it is too slow for the stiffest contact to be followed in crank angle."""
+    p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
+    omega = p["omega"]
+    name, w = max(contact_frequencies(params, functions.parameter_names).items(), key=lambda item: item[1])
+    ratio = w / omega if omega > 0 else math.inf
+    if ratio <= MAX_OSCILLATIONS_PER_RAD:
+        return None
+    rpm, rpm_min = omega * 60 / (2 * math.pi), w / MAX_OSCILLATIONS_PER_RAD * 60 / (2 * math.pi)
+    return (f"operation.rpm = {rpm:.3g} rpm is too slow to simulate in crank angle: the stiffest contact ({name}, "
+            f"sqrt(k/ms) = {w:.3g} rad/s) would oscillate {ratio * 2 * math.pi:.3g} times per revolution; "
+            f"allowed: rpm >= {rpm_min:.3g} (at most {MAX_OSCILLATIONS_PER_RAD:g} oscillations per rad)")
+
+
+def start_problem(functions, params, theta, X, u) -> str | None:
+    """The initial-state values, if they start the seal deep inside a wall (no meaningful contact force there)."""
+    names = list(functions.guard_names)
+    penalty = [i for i, n in enumerate(names) if n != "spring"]  # the spring's guard is its compression
+    p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
+    limit = MAX_START_PENETRATION * p["Ws"]
+
+    def worst(state) -> tuple[float, int]:
+        g = np.array(functions.guards(theta, state, params, u)).ravel()[penalty]
+        g = np.where(np.isfinite(g), g, -np.inf)
+        return float(g.min()), penalty[int(np.argmin(g))]
+
+    depth, where = worst(X)
+    if -depth <= limit:
+        return None
+    culprits = [i for i in range(X.size) if X[i] != 0 and -worst(np.where(np.arange(X.size) == i, 0.0, X))[0] <= limit]
+    culprits = culprits or [i for i in range(3) if X[i] != 0]
+    keys = STATE_KEYS + tuple((f"[{i}]", "", 1.0) for i in range(len(STATE_KEYS), X.size))
+    shown = ", ".join(f"operation.initial_state.{keys[i][0]} = {X[i] * keys[i][2]:.6g} {keys[i][1]}".rstrip()
+                      for i in culprits)
+    return (f"{shown} starts the seal {-depth * 1e6:.4g} µm inside a wall (guard {names[where]}); allowed: at most "
+            f"{MAX_START_PENETRATION:g} Ws = {limit * 1e6:.4g} µm of penetration at the start: check the initial "
+            "state's units and sign")
+
+
 def preflight(functions, settings: RunSettings, params, theta, X, closed, u) -> StopInfo | None:
     """Refuse to start what cannot give a meaningful result, with the reason.
 
+    * a rotor speed too slow for the stiffest contact (:func:`speed_problem`), an initial state that starts the
+      seal deep inside a wall (:func:`start_problem`): both name the scene value;
     * NaN/Inf in the right-hand side;
     * explicit Euler with a step that amplifies a contact oscillation more than
       MAX_GROWTH times per revolution (runtime/solving/euler_integrator.contact_growth);
@@ -57,6 +107,9 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u) -> 
       the right-hand side is finite.
     """
     mode = mode_label(functions.guard_names, closed)
+    for problem in (speed_problem(functions, params), start_problem(functions, params, theta, X, u)):
+        if problem:
+            return StopInfo(0.0, mode, problem)
     xdot = np.array(functions.rhs(theta, X, closed, params, u)).ravel()
     if not np.isfinite(xdot).all():
         return StopInfo(0.0, mode, "the right-hand side is not finite at the start (NaN or Inf in "

@@ -1,0 +1,95 @@
+"""Inputs that could exhaust the machine or mislead: pressure tables bounded, impossible starts named before a step."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import apexseal
+from apexseal.runtime.scenes import pressure as pressure_mod
+from apexseal.runtime.scenes.errors import SceneError
+from apexseal.runtime.scenes.pressure import load_table
+
+TABLE = "theta_deg,Pa,Pb\n0,1e5,2e5\n90,3e5,2e5\n180,1e5,2e5\n270,3e5,2e5\n"
+
+
+def _message(name, folder) -> str:
+    with pytest.raises(SceneError) as info:
+        load_table(str(name), folder)
+    (problem,) = info.value.errors
+    assert problem.key == "pressure.file"
+    return problem.message
+
+
+def test_bom_and_crlf_are_accepted(tmp_path):
+    (tmp_path / "plain.csv").write_text(TABLE)
+    (tmp_path / "excel.csv").write_bytes(b"\xef\xbb\xbf" + TABLE.replace("\n", "\r\n").encode())
+    plain, excel = load_table("plain.csv", tmp_path), load_table("excel.csv", tmp_path)
+    assert np.array_equal(plain.Pa(np.linspace(0, 6, 50)), excel.Pa(np.linspace(0, 6, 50)))
+
+
+def test_an_endless_pipe_is_refused_without_reading(tmp_path):
+    os.mkfifo(tmp_path / "pipe.csv")  # opening it would block: the file type is checked first
+    assert "not a regular file" in _message("pipe.csv", tmp_path)
+
+
+def test_a_device_is_refused():
+    assert "not a regular file" in _message(os.devnull, Path("."))
+
+
+@pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="no proc file system")
+def test_a_virtual_file_is_refused_without_echoing_it():
+    message = _message("/proc/self/environ", Path("."))
+    assert "virtual file system" in message and len(message) < 300
+    assert not any(f"{k}={v}" in message for k, v in os.environ.items() if len(v) > 3)
+
+
+def test_a_table_over_the_size_limit_is_refused(tmp_path, monkeypatch):
+    monkeypatch.setattr(pressure_mod, "MAX_TABLE_BYTES", 1000)
+    (tmp_path / "big.csv").write_text(TABLE + "# padding\n" * 200)
+    assert "allowed: at most" in _message("big.csv", tmp_path)
+
+
+def test_messages_quote_a_short_excerpt(tmp_path):
+    (tmp_path / "long.csv").write_text("x" * 100_000 + "\n0,1,2\n")
+    message = _message("long.csv", tmp_path)
+    assert len(message) < 300 and "more characters" in message
+    (tmp_path / "nul.csv").write_bytes(b"theta_deg,Pa,Pb\n0,1\x00,2\n")
+    assert "binary file" in _message("nul.csv", tmp_path)
+
+
+# ---------------------------------------------------------------- impossible runs named before the first step
+@pytest.mark.parametrize("override,fragments", [
+    ({"operation.initial_state.x": "1 m"}, ["operation.initial_state.x = 1 m", "inside a wall", "guard xs5"]),
+    ({"operation.initial_state.phi": "90 deg"}, ["operation.initial_state.phi = 90 deg", "inside a wall"]),
+    ({"operation.initial_state.y": "1 mm"}, ["operation.initial_state.y = 0.001 m", "inside a wall"]),
+    ({"operation.rpm": 1e-300}, ["operation.rpm = 1e-300 rpm is too slow", "allowed: rpm >="]),
+])
+def test_impossible_start_is_named_before_integrating(default_scene, default_functions, override, fragments):
+    scene = default_scene.with_overrides(**override)
+    t = time.perf_counter()
+    r = apexseal.simulate(scene, functions=default_functions.sx, samples_per_revolution=72, compile_c=False)
+    assert time.perf_counter() - t < 5.0
+    assert r.status == "failed" and r.n == 1
+    assert all(f in r.stop.reason for f in fragments), r.stop.reason
+
+
+def test_every_hard_scene_passes_the_preflight(default_functions):
+    """The bounds refuse only impossible starts: no hard scene (start on a guard, 60 rpm, ...) is refused."""
+    from hard_helpers import SCENES, load
+
+    from apexseal.runtime.api import initial_state
+    from apexseal.runtime.solving.preflight import speed_problem, start_problem
+
+    fns = default_functions.sx
+    for name in SCENES:
+        sc = load(name)
+        p, th = sc.parameter_vector(), sc.operation.start_angle
+        u = np.asarray(sc.pressure.interval_means(np.array([th, th + 1e-3])), float)[:, 0] \
+            if sc.effects.chamber_pressure else np.zeros(2)
+        assert speed_problem(fns, p) is None, name
+        assert start_problem(fns, p, th, initial_state(sc), u) is None, name
