@@ -3,7 +3,8 @@
 The key is a sha256 over the derivation's inputs: the source of every module of
 ``apexseal.derive``, the source of every registered submodel (a user's too), the
 effects, the assumptions and the sympy version. A hit
-loads the pickled :class:`DerivedModel` (well under a second); a miss derives and
+loads the pickled :class:`DerivedModel` (well under a second); a miss, or an entry
+that is corrupt or not a DerivedModel, derives and
 stores it atomically (write to a temporary file, then ``os.replace``), so two
 processes deriving at once never see a half-written file.
 """
@@ -61,7 +62,7 @@ def derivation_key(effects: Effects, assumptions: Assumptions) -> str:
 
 def cached_model(effects: Effects | None = None, assumptions: Assumptions | None = None, *, refresh: bool = False):
     """The derived model for these inputs, from the cache when it is there (see :func:`model.derive_model`)."""
-    from .model import derive_model
+    from .model import DerivedModel, derive_model
 
     effects = effects or Effects()
     assumptions = assumptions or Assumptions()
@@ -69,9 +70,11 @@ def cached_model(effects: Effects | None = None, assumptions: Assumptions | None
     if path.exists() and not refresh:
         try:
             with path.open("rb") as fh:
-                return pickle.load(fh)
+                model = pickle.load(fh)
+            if isinstance(model, DerivedModel):
+                return model
         except Exception:  # a corrupt or foreign file: derive again and overwrite it
-            pass
+            pass  # (an entry of the wrong type, a valid pickle of something else, is treated the same way)
     model = derive_model(effects, assumptions)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")

@@ -10,7 +10,9 @@ reused for exactly what it was built from.
 Builds are safe with concurrent processes: an ``fcntl`` lock per key serialises
 builders, objects and the library are built in a uniquely named temporary folder,
 and the library is moved in with ``os.replace``. A library whose sha256 differs
-from its ``build.json`` is rebuilt with a warning, never used.
+from its ``build.json`` is rebuilt with a warning, never used. Build folders a killed
+compile left behind are swept: those of the same key under its lock, any other
+one older than :data:`ABANDONED_AFTER`.
 
 Compiler: ``$APEXSEAL_CC``, else ``$CC``, else ``gcc``. When it is missing or fails,
 callers fall back to CasADi's interpreted SX Functions with a
@@ -27,6 +29,7 @@ import re
 import shutil
 import subprocess
 import tempfile
+import time
 import warnings
 from collections.abc import Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
@@ -97,6 +100,26 @@ def lib_root() -> Path:
     return cache_dir() / "lib"
 
 
+#: a temporary build folder older than this (s) belongs to a compile that was killed
+ABANDONED_AFTER = 24 * 3600.0
+
+
+def sweep_build_folders(key: str) -> list[Path]:
+    """Remove the build folders of ``key`` (call with its lock held) and every build folder older than
+    :data:`ABANDONED_AFTER`; return what was removed."""
+    removed = []
+    now = time.time()
+    for folder in lib_root().glob(".build-*"):
+        try:
+            stale = folder.name.startswith(f".build-{key[:16]}-") or now - folder.stat().st_mtime > ABANDONED_AFTER
+        except OSError:
+            continue
+        if stale and folder.is_dir():
+            shutil.rmtree(folder, ignore_errors=True)
+            removed.append(folder)
+    return removed
+
+
 def _build_key(payload: dict) -> str:
     return sha256_bytes(json.dumps(payload, sort_keys=True).encode())
 
@@ -143,6 +166,7 @@ def build_library(key_payload: dict, sources: list[Path], name: str, *, flags: s
         if so.exists():
             warnings.warn(f"compiled library {so} does not match its build record (modified or partial); rebuilding",
                           StaleArtefactWarning, stacklevel=3)
+        sweep_build_folders(key)
         build_dir = Path(tempfile.mkdtemp(dir=lib_root(), prefix=f".build-{key[:16]}-"))
         try:
             _compile_all(cc, fl, sources, build_dir, build_dir / name)
