@@ -1,6 +1,6 @@
 /* apexseal_dispatch.c: mode table and dispatch over the generated mode functions.
  * Rendered by apexseal from templates/apexseal_dispatch.in.c; do not edit (run `apexseal generate`).
- * Input hash: 127c27f2fad300aa01a7a56d38010c3e2d72ee3e0001c9296780d52e5e878931.
+ * Input hash: ec0fd190818a8ee8ac20cf46ef36d8d28288e702f4155e41fd70bfab6f6f1f65.
  */
 #include "apexseal_model.h"
 #include "casadi_model.h"

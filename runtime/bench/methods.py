@@ -15,7 +15,7 @@ import numpy as np
 
 from ...derive.symbols import PARAMETER_NAMES
 from ..solving.methods import make_engine
-from ..solving.settings import RunSettings
+from ..solving.settings import LIMITS, RunSettings
 from .config import MethodSpec
 from .rk4 import RK4Integrator
 
@@ -25,9 +25,15 @@ def settings_for(spec: MethodSpec, value: float, *, samples: int, span: float, f
     """RunSettings for one point (steps are per revolution, whatever the span)."""
     steps = int(value)
     kw = {"event_tol": event_tol} if event_tol is not None else {}
+    # the engine covers ``samples`` intervals of ``span``; the settings' per-revolution count is that density
+    per_revolution = max(MIN_SAMPLES, int(round(samples * 2 * math.pi / span)))
     return RunSettings(method=spec.method, rtol=float(value) if spec.sweep == "rtol" else 1e-6,
-                       steps_per_revolution=steps if spec.sweep == "steps" else RunSettings.steps_per_revolution,
-                       samples_per_revolution=samples, compile_c=compiled, flags=flags, **kw)
+                       steps_per_revolution=steps if spec.sweep == "steps" else RunSettings().steps_per_revolution,
+                       samples_per_revolution=per_revolution, compile_c=compiled, flags=flags, **kw)
+
+
+#: the fewest output samples per revolution a run allows (runtime/solving/settings.py)
+MIN_SAMPLES = int(LIMITS["samples_per_revolution"][1].ge)
 
 
 def build_engine(functions, spec: MethodSpec, value: float, *, samples: int, span: float, flags: str, compiled: bool,
@@ -84,7 +90,8 @@ class EngineCache:
 
     def settle(self, model: str, functions, rtol: float, event_tol: float):
         """Engine and settings for settling with the reference method, whole revolutions of ``samples`` each."""
-        st = RunSettings(method="erk", rtol=rtol, samples_per_revolution=self.samples, flags=self.flags,
+        per_revolution = self.samples * math.ceil(MIN_SAMPLES / self.samples)  # a multiple of the engine's samples
+        st = RunSettings(method="erk", rtol=rtol, samples_per_revolution=per_revolution, flags=self.flags,
                          event_tol=event_tol)
         if math.isclose(self.span, 2 * math.pi):
             return self.reference(model, functions, rtol, event_tol), st

@@ -2,7 +2,7 @@
 
 :class:`RunSettings` is the only place where the ranges of the run's settings live: the scene's ``[solver]``
 and ``[operation]`` tables (runtime/scenes/schema.py) take their bounds from :data:`LIMITS`, the command line
-passes its options through :meth:`RunSettings.of`, and so does ``apexseal.simulate(scene, rtol=...)``. A bad
+passes its options through ``settings_of`` (runtime/api.py), and so does ``apexseal.simulate(scene, rtol=...)``. A bad
 value raises :class:`SettingsError`, one line per field: ``rtol = nan: nan is out of range; allowed: 1e-12 <=
 value <= 0.01``.
 """

@@ -11,12 +11,14 @@ from apexseal.cli import main
 
 def test_simulate_default_scene_end_to_end(tmp_path):
     out = tmp_path / "run"
-    r = CliRunner().invoke(main, ["simulate", "--revolutions", "1", "--out", str(out), "--quiet"])
+    r = CliRunner().invoke(main, ["simulate", "--revolutions", "1", "--out", str(out), "--quiet", "--csv"])
     assert r.exit_code == 0, r.output
-    for name in ("trajectory.csv", "trajectory.npz", "result.json", "summary.json", "fig12_displacements.png",
+    for name in ("trajectory.csv", "parts/part-00000.npz", "result.json", "summary.json", "fig12_displacements.png",
                  "fig13_forces.png", "fig14_housing_spectrum.png", "mode_timeline.png"):
         assert (out / name).stat().st_size > 0, name
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]  # written beside it, renamed into place
     summary = json.loads((out / "summary.json").read_text())
+    assert summary["run_id"] == json.loads((out / "result.json").read_text())["run_id"]
     assert summary["status"] == "completed"
     assert summary["run"]["method"] == "erk"
     assert summary["events_total"] > 0

@@ -78,14 +78,14 @@ CASES = [
         {"operation.revolutions": True},
         "operation.revolutions",
         "true",
-        ["expected an integer", ">= 1"],
+        ["expected an integer", "1 <= n <= 100000"],
     ),
     (
         "integer-too-small",
         {"operation.revolutions": 0},
         "operation.revolutions",
         "0",
-        ["out of range", "allowed: >= 1"],
+        ["out of range", "allowed: 1 <= n <= 100000"],
     ),
     (
         "integer-too-large",
@@ -94,7 +94,7 @@ CASES = [
         "200000",
         ["out of range", "allowed: 36 <= n <= 100000"],
     ),
-    ("chatter-events", {"solver.chatter_events": 1}, "solver.chatter_events", "1", ["allowed: >= 2"]),
+    ("chatter-events", {"solver.chatter_events": 1}, "solver.chatter_events", "1", ["allowed: 2 <= n <= 1e+08"]),
     (
         "unknown-choice",
         {"solver.method": "cvode"},
@@ -196,14 +196,14 @@ CASES = [
         ["400 deg is out of range", "allowed: 0 < value < 360 deg"],
     ),
     ("rtol", {"solver.rtol": 0.1}, "solver.rtol", "0.1", ["allowed: 1e-12 <= value <= 0.01"]),
-    ("atol", {"solver.atol": -1e-9}, "solver.atol", "-1e-09", ["allowed: > 0"]),
-    ("event-tolerance", {"solver.event_tol": "0 rad"}, "solver.event_tol", '"0 rad"', ["allowed: > 0 rad"]),
+    ("atol", {"solver.atol": -1e-9}, "solver.atol", "-1e-09", ["allowed: 0 < value <= 1"]),
+    ("event-tolerance", {"solver.event_tol": "0 rad"}, "solver.event_tol", '"0 rad"', ["allowed: 0 < value <= 0.01 rad"]),
     (
         "chatter-window",
         {"solver.chatter_window": "-1 deg"},
         "solver.chatter_window",
         '"-1 deg"',
-        ["allowed: > 0 rad"],
+        ["allowed: 0 < value <= 6.28319 rad"],
     ),
     (
         "negative-pressure",
