@@ -1,9 +1,8 @@
 """trajectory.csv (on request): one row per sample, written part by part with one format operation per row.
 
 The first line, ``# apexseal result <run id>, <n> samples``, ties the file to its result.json (pandas:
-``read_csv(path, comment="#")``). Formatting numbers as text is what costs: about 1.8 s per 36 000 samples
-(50 revolutions at 720 samples) on the reference machine, against 20 s for the csv module value by value
-before; the binary parts (parts/*.npz) are the default format.
+``read_csv(path, comment="#")``). Formatting numbers as text is what costs (``python
+tests/runtime/measure_saving.py`` times it), so the binary parts (parts/*.npz) are the default format.
 """
 
 from __future__ import annotations
