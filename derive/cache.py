@@ -4,22 +4,21 @@ The key is a sha256 over the derivation's inputs: the source of every module of
 ``apexseal.derive``, the source of every registered submodel (a user's too), the
 effects, the assumptions and the sympy version. A hit
 loads the pickled :class:`DerivedModel` (well under a second); a miss, or an entry
-that is corrupt or not a DerivedModel, derives and
-stores it atomically (write to a temporary file, then ``os.replace``), so two
-processes deriving at once never see a half-written file.
+that is corrupt or not a DerivedModel, derives and stores it atomically
+(:func:`apexseal.files.atomic_write`), so two processes deriving at once never see
+a half-written file.
 """
 
 from __future__ import annotations
 
 import hashlib
-import json
 import os
 import pickle
-import tempfile
 from pathlib import Path
 
 import sympy
 
+from ..files import atomic_open, content_key
 from .assumptions import Assumptions
 from .effects import Effects
 
@@ -57,7 +56,7 @@ def derivation_key(effects: Effects, assumptions: Assumptions) -> str:
         "assumptions": assumptions.as_dict(),
         "sympy": sympy.__version__,
     }
-    return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()
+    return content_key(payload)
 
 
 def cached_model(effects: Effects | None = None, assumptions: Assumptions | None = None, *, refresh: bool = False):
@@ -76,9 +75,6 @@ def cached_model(effects: Effects | None = None, assumptions: Assumptions | None
         except Exception:  # a corrupt or foreign file: derive again and overwrite it
             pass  # (an entry of the wrong type, a valid pickle of something else, is treated the same way)
     model = derive_model(effects, assumptions)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
-    with os.fdopen(fd, "wb") as fh:
+    with atomic_open(path, "wb") as fh:
         pickle.dump(model, fh, protocol=pickle.HIGHEST_PROTOCOL)
-    os.replace(tmp, path)
     return model

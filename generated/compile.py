@@ -33,13 +33,14 @@ import time
 import warnings
 from collections.abc import Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 
 import casadi as ca
 
 from ..derive.cache import cache_dir
+from ..files import atomic_write, content_key, file_lock, sha256_file
 from .manifest import StaleArtefactWarning, verify
-from .store import atomic_write, file_lock, sha256_bytes, sha256_file
 
 #: flag setting -> compiler flags. -ffp-contract=off keeps gcc from fusing a*b+c into FMA
 #: instructions under -march=native, so compiled results stay those of CasADi's interpreter.
@@ -120,10 +121,6 @@ def sweep_build_folders(key: str) -> list[Path]:
     return removed
 
 
-def _build_key(payload: dict) -> str:
-    return sha256_bytes(json.dumps(payload, sort_keys=True).encode())
-
-
 def _valid(so: Path, record_path: Path, key: str) -> bool:
     try:
         record = json.loads(record_path.read_text())
@@ -155,7 +152,7 @@ def build_library(key_payload: dict, sources: list[Path], name: str, *, flags: s
     """The cached library built from ``sources`` (building it if missing or modified)."""
     cc = compiler()
     fl = flag_list(flags)
-    key = _build_key({**key_payload, "flags": list(fl), "compiler": compiler_identity(cc, fl), "cc": cc})
+    key = content_key({**key_payload, "flags": list(fl), "compiler": compiler_identity(cc, fl), "cc": cc})
     lib_dir = lib_root() / key
     so, record = lib_dir / name, lib_dir / "build.json"
     if _valid(so, record, key):
@@ -200,9 +197,38 @@ def fallback(reason: str | Exception, *, stacklevel: int = 3) -> None:
     warnings.warn(f"no compiled C: {reason}. {FALLBACK_COST}", CompilerFallbackWarning, stacklevel=stacklevel)
 
 
-def _c_stem(name: str) -> str:
-    stem = re.sub(r"\W", "_", name)
-    return "fn_" + stem
+@dataclass(frozen=True)
+class FunctionSource:
+    """The generated C of one CasADi Function and what names its compiled library in the cache."""
+
+    name: str  # the Function's name (the symbol the library exports)
+    c_file: Path
+    key_payload: dict  # build_library's key payload: kind, name and the C's sha256
+
+    @property
+    def library_name(self) -> str:
+        return self.c_file.stem + ".so"
+
+
+def function_source(fn: ca.Function, folder: Path, *, derivatives: bool = False) -> FunctionSource:
+    """Generate the C of ``fn`` (and of ``fn.jacobian()`` with ``derivatives``) into ``folder``.
+
+    The one place that decides a Function's C file and cache key: :func:`compile_function` and the
+    benchmark's parallel pre-compilation both build from it, so they fill and find the same cache entries.
+    """
+    stem = "fn_" + re.sub(r"\W", "_", fn.name())
+    cg = ca.CodeGenerator(f"{stem}.c")
+    cg.add(fn)
+    if derivatives:
+        cg.add(fn.jacobian())
+    cg.generate(str(folder) + os.sep)
+    src = Path(folder) / f"{stem}.c"
+    return FunctionSource(fn.name(), src, {"kind": "function", "name": fn.name(), "c_sha256": sha256_file(src)})
+
+
+def build_function(source: FunctionSource, *, flags: str) -> Path:
+    """The cached library of a :class:`FunctionSource` (built if missing)."""
+    return build_library(source.key_payload, [source.c_file], source.library_name, flags=flags)
 
 
 def compile_function(fn: ca.Function, *, flags: str = "optimised", derivatives: bool = False) -> ca.Function:
@@ -213,16 +239,8 @@ def compile_function(fn: ca.Function, *, flags: str = "optimised", derivatives: 
     has an exact Jacobian. With no working compiler, returns ``fn`` itself and warns.
     """
     with tempfile.TemporaryDirectory(prefix="apexseal-fn-") as tmp:
-        stem = _c_stem(fn.name())
-        cg = ca.CodeGenerator(f"{stem}.c")
-        cg.add(fn)
-        if derivatives:
-            cg.add(fn.jacobian())
-        cg.generate(tmp + os.sep)
-        src = Path(tmp) / f"{stem}.c"
-        payload = {"kind": "function", "name": fn.name(), "c_sha256": sha256_file(src)}
         try:
-            so = build_library(payload, [src], f"{stem}.so", flags=flags)
+            so = build_function(function_source(fn, Path(tmp), derivatives=derivatives), flags=flags)
         except CompilerUnavailable as exc:
             fallback(exc)
             return fn

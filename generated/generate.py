@@ -26,11 +26,11 @@ from typing import Any
 from ..derive.assumptions import Assumptions
 from ..derive.cache import cached_model
 from ..derive.effects import Effects
+from ..files import atomic_write, sha256_file
 from .codegen import write_c
 from .functions import ModelFunctions, build_functions
 from .manifest import FORMAT, MANIFEST_NAME, Manifest, hash_of, inputs_record
 from .render import render_all
-from .store import atomic_write, sha256_file
 
 #: file name patterns that generate() owns in an output folder (old ones are removed)
 OWNED_PATTERNS = ("casadi_*.c", "casadi_*.h", "apexseal_*.c", "apexseal_*.h", MANIFEST_NAME)

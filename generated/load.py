@@ -21,10 +21,10 @@ from pathlib import Path
 from ..derive.assumptions import Assumptions
 from ..derive.cache import cache_dir, cached_model
 from ..derive.effects import Effects
+from ..files import file_lock
 from .compile import compiled_or_interpreted
 from .functions import ModelFunctions, build_functions
 from .manifest import MANIFEST_NAME, Manifest, StaleArtefactError, StaleArtefactWarning, input_hash, read_manifest, verify
-from .store import file_lock
 
 DEFAULT_DIR = Path(__file__).resolve().parent / "default"
 

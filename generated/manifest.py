@@ -24,7 +24,7 @@ import sympy
 from ..derive.assumptions import Assumptions
 from ..derive.cache import source_digest
 from ..derive.effects import Effects
-from .store import sha256_bytes, sha256_file
+from ..files import content_key, sha256_bytes, sha256_file
 
 FORMAT = "apexseal-generated/1"
 MANIFEST_NAME = "manifest.json"
@@ -72,7 +72,7 @@ def inputs_record(effects: Effects, assumptions: Assumptions) -> dict[str, Any]:
 
 
 def hash_of(record: dict[str, Any]) -> str:
-    return sha256_bytes(json.dumps(record, sort_keys=True).encode())
+    return content_key(record)
 
 
 def input_hash(effects: Effects, assumptions: Assumptions) -> str:

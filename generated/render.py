@@ -13,8 +13,8 @@ from typing import Any
 
 import jinja2
 
+from ..files import atomic_write
 from .manifest import TEMPLATE_DIR, template_paths
-from .store import atomic_write
 
 
 def environment() -> jinja2.Environment:

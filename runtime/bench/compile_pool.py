@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import re
 import resource
 import tempfile
 import time
@@ -25,11 +24,6 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import casadi as ca
-
-
-def _stem(name: str) -> str:
-    # the file stem generated.compile.compile_function uses, so that its cache key is the one filled here
-    return "fn_" + re.sub(r"\W", "_", name)
 
 
 def _children_cpu() -> float:
@@ -43,8 +37,7 @@ def precompile(functions: list[ca.Function], *, flags: str, workers: int = 2, lo
     Returns the phase totals and ``builds``: one record per input Function, in order
     (C size, compile wall time in this run, ~0 when it was already cached).
     """
-    from ...generated.compile import CompilerUnavailable, build_library
-    from ...generated.store import sha256_file
+    from ...generated.compile import CompilerUnavailable, build_function, function_source
 
     tmp = tempfile.TemporaryDirectory(prefix="apexseal-bench-")
     jobs, index, seen = [], [], {}
@@ -52,27 +45,22 @@ def precompile(functions: list[ca.Function], *, flags: str, workers: int = 2, lo
         for i, fn in enumerate(functions):
             folder = Path(tmp.name) / str(i)
             folder.mkdir()
-            stem = _stem(fn.name())
-            cg = ca.CodeGenerator(f"{stem}.c")
-            cg.add(fn)
-            cg.generate(str(folder) + os.sep)
-            src = folder / f"{stem}.c"
-            payload = {"kind": "function", "name": fn.name(), "c_sha256": sha256_file(src)}
-            if payload["c_sha256"] not in seen:
-                seen[payload["c_sha256"]] = len(jobs)
-                jobs.append((fn.name(), payload, src, stem, src.stat().st_size))
-            index.append(seen[payload["c_sha256"]])
+            source = function_source(fn, folder)
+            digest = source.key_payload["c_sha256"]
+            if digest not in seen:
+                seen[digest] = len(jobs)
+                jobs.append(source)
+            index.append(seen[digest])
 
-        def build(job):
-            name, payload, src, stem, size = job
+        def build(source):
             w0 = time.perf_counter()
             try:
-                build_library(payload, [src], f"{stem}.so", flags=flags)
+                build_function(source, flags=flags)
                 err = None
             except CompilerUnavailable as exc:
                 err = str(exc)
-            return {"name": name, "c_sha256": payload["c_sha256"], "c_bytes": size, "wall_s": time.perf_counter() - w0,
-                    "error": err}
+            return {"name": source.name, "c_sha256": source.key_payload["c_sha256"],
+                    "c_bytes": source.c_file.stat().st_size, "wall_s": time.perf_counter() - w0, "error": err}
 
         w0, c0 = time.perf_counter(), _children_cpu()
         with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:

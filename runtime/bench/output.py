@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from ...files import atomic_open, atomic_write
 from .plot import work_precision
 from .report import effects_md, table_md
 
@@ -31,23 +30,14 @@ def _clean(v):
     return v
 
 
-def _write_text(path: Path, text: str) -> None:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    with os.fdopen(fd, "w", encoding="utf-8") as fh:
-        fh.write(text)
-    os.chmod(tmp, 0o644)
-    os.replace(tmp, path)
-
-
 def write_outputs(results: dict, out: Path, command: str) -> dict[str, Path]:
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     results = dict(results, command=command)
     paths = {name: out / name for name in FILES}
-    _write_text(paths["results.json"], json.dumps(_clean(results), indent=1) + "\n")
-    _write_text(paths["table.md"], table_md(results, command) + "\n")
-    _write_text(paths["effects.md"], effects_md(results, command))
-    tmp = out / ".work-precision.tmp.png"
-    work_precision(results, tmp)
-    os.replace(tmp, paths["work-precision.png"])
+    atomic_write(paths["results.json"], json.dumps(_clean(results), indent=1) + "\n")
+    atomic_write(paths["table.md"], table_md(results, command) + "\n")
+    atomic_write(paths["effects.md"], effects_md(results, command))
+    with atomic_open(paths["work-precision.png"], "wb") as fh:
+        work_precision(results, fh)
     return paths

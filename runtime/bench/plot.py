@@ -27,7 +27,7 @@ STYLE = {  # method -> (colour, line style, marker)
 }
 
 
-def work_precision(results: dict, path: Path) -> Path:
+def work_precision(results: dict, path) -> Path:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -66,6 +66,6 @@ def work_precision(results: dict, path: Path) -> Path:
     rows = (len(handles) + 3) // 4
     fig.tight_layout(rect=(0, 0.03 + 0.025 * rows / len(scenes), 1, 0.97))
     path = Path(path)
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, format="png")
     plt.close(fig)
     return path

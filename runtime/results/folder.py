@@ -22,7 +22,6 @@ same run. A mixed folder is refused with the file and the mismatch named.
 
 from __future__ import annotations
 
-import hashlib
 import io
 import json
 import os
@@ -32,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...files import atomic_open, atomic_write, sha256_bytes
 from .parts import join
 from .result import SimulationResult, StopInfo
 
@@ -65,17 +65,9 @@ def check_replaceable(target: Path) -> None:
 
 
 def _write_bytes(path: Path, data: bytes) -> None:
-    """Write through a temporary file and rename (a half-written file never carries the final name)."""
-    tmp = path.with_name(f".{path.name}.tmp")
-    try:
-        with open(tmp, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    """Write through a temporary file, flushed to the disk, and rename (a half-written file never carries the final
+    name): :func:`apexseal.files.atomic_write`."""
+    atomic_write(path, data, durable=True)
 
 
 def _json_bytes(data) -> bytes:
@@ -130,7 +122,7 @@ class ResultFolder:
         np.savez(buf, **part_arrays(part, self.run_id, index))
         data = buf.getvalue()
         self._store(name, data, "a part")
-        self.parts.append({"file": name, "samples": int(part.n), "sha256": hashlib.sha256(data).hexdigest()})
+        self.parts.append({"file": name, "samples": int(part.n), "sha256": sha256_bytes(data)})
         self.samples += part.n
         self.guard_names, self.outputs = tuple(part.guard_names), list(part.outputs)
         self.state_rows = part.state.shape[0]
@@ -160,14 +152,11 @@ class ResultFolder:
         from .csv_table import write_csv
 
         path = self.staging / "trajectory.csv"
-        tmp = path.with_name(".trajectory.csv.tmp")
         try:
-            with open(tmp, "w", newline="") as fh:
+            with atomic_open(path) as fh:
                 write_csv(fh, self.run_id, self.samples, (read_part(self.staging, p, self.run_id)
                                                           for p in self.parts), self.guard_names)
-            os.replace(tmp, path)
         except OSError as err:
-            tmp.unlink(missing_ok=True)
             raise self._storage_error(path, err, "trajectory.csv") from err
 
     def commit(self) -> Path:
@@ -258,7 +247,7 @@ def read_part(folder: Path, entry: dict, run_id: str, guards: int | None = None,
         data = path.read_bytes()
     except OSError as err:
         raise ResultFolderError(f"{path} is missing or unreadable ({err.strerror}): the folder is incomplete") from err
-    if hashlib.sha256(data).hexdigest() != entry["sha256"]:
+    if sha256_bytes(data) != entry["sha256"]:
         raise ResultFolderError(f"{path} is not the file result.json recorded (sha256 differs): the folder mixes files "
                                 "of different runs, or a file was changed")
     with np.load(io.BytesIO(data)) as d:

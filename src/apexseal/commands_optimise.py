@@ -9,6 +9,7 @@ from pathlib import Path
 import click
 
 from .cli_common import scene_and_folder
+from .files import atomic_write
 
 #: the largest min-force accepted (N): far above any contact force of a seal
 MAX_FORCE = 1e5
@@ -68,7 +69,7 @@ def optimise_preload(scene: Path | None, min_force: float, exclude, samples, nod
         b = bisect_preload(sc, min_force=min_force, exclude=exclude, samples=result.samples)
         diff = abs(b.delta_s - result.delta_s)
         payload["bisection"] = b.to_dict() | {"difference_m": diff}
-    (out / "preload.json").write_text(json.dumps(payload, indent=2, default=str) + "\n")
+    atomic_write(out / "preload.json", json.dumps(payload, indent=2, default=str) + "\n")
     click.echo(result.describe())
     if "bisection" in payload:
         click.echo(f"  bisection over full simulations: delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm "

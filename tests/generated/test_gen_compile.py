@@ -99,3 +99,17 @@ def test_no_compiler_falls_back_to_sx(monkeypatch, params, cc):
     f = _tiny("nocc")
     with pytest.warns(CompilerFallbackWarning):
         assert compile_function(f, flags="quick") is f
+
+
+def test_bench_precompile_fills_the_entry_compile_function_finds(fresh_cache):
+    """The benchmark's parallel pre-compilation and compile_function share one C file name and cache key."""
+    from apexseal.runtime.bench.compile_pool import precompile
+
+    f = _tiny("shared_key")
+    total = precompile([f, f], flags="quick", workers=1)
+    assert total["functions"] == 1 and [b["error"] for b in total["builds"]] == [None, None]
+    (record,) = (fresh_cache / "lib").glob("*/build.json")
+    stamp = record.stat().st_mtime_ns
+    g = compile_function(f, flags="quick")
+    assert list((fresh_cache / "lib").glob("*/build.json")) == [record] and record.stat().st_mtime_ns == stamp
+    assert float(g([0.5, 2.0])) == pytest.approx(np.sin(0.5) * 2 + 3, rel=1e-15)

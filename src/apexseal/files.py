@@ -1,0 +1,93 @@
+"""Files that other processes may read while we write them: content hashes, atomic writes, locks.
+
+Every file apexseal writes for someone else to read (a derivation in the cache, a generated C file and its
+manifest, a compiled library's build record, a result, a benchmark report) goes through :func:`atomic_write`
+or :func:`atomic_open`: the data is written to a uniquely named temporary file in the destination folder and
+renamed over the destination with ``os.replace``, so a reader (or a run killed half-way) sees either the old
+file or the new one, never a half-written one.
+
+Permission rule (one for every file): a file gets the permissions ``open()`` would give it, ``0o666`` minus the
+process's umask (``0o644`` under the usual umask 022), so that results and shared caches are readable by
+others exactly as any file the user writes. ``tempfile.mkstemp`` alone would leave them ``0o600``.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import json
+import os
+import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import IO, Any
+
+
+def sha256_bytes(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def sha256_file(path: Path) -> str:
+    h = hashlib.sha256()
+    with Path(path).open("rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def content_key(payload: Any) -> str:
+    """The sha256 of a JSON-able record (keys sorted): the one way apexseal names cached content."""
+    return sha256_bytes(json.dumps(payload, sort_keys=True).encode())
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+@contextmanager
+def atomic_open(path: Path, mode: str = "w", *, durable: bool = False) -> Iterator[IO]:
+    """Open a temporary file beside ``path`` for writing (``mode`` "w" or "wb"); it replaces ``path`` on success.
+
+    On an exception the temporary file is removed and ``path`` is left as it was. ``durable=True`` also flushes
+    the data to the disk (``fsync``) before the rename, for files that must survive a power loss (a result's
+    parts and records).
+    """
+    if mode not in ("w", "wb"):
+        raise ValueError(f"atomic_open: mode must be 'w' or 'wb', not {mode!r}")
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        text = {"encoding": "utf-8", "newline": ""} if mode == "w" else {}
+        with os.fdopen(fd, mode, **text) as fh:
+            yield fh
+            if durable:
+                fh.flush()
+                os.fsync(fh.fileno())
+        os.chmod(tmp, 0o666 & ~_umask())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def atomic_write(path: Path, data: bytes | str, *, durable: bool = False) -> None:
+    """Write ``data`` to ``path`` atomically (see :func:`atomic_open`)."""
+    with atomic_open(path, "w" if isinstance(data, str) else "wb", durable=durable) as fh:
+        fh.write(data)
+
+
+@contextmanager
+def file_lock(path: Path) -> Iterator[None]:
+    """An exclusive ``fcntl`` lock on ``path`` (created if needed), held for the ``with`` block."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("a+b") as fh:
+        fcntl.flock(fh.fileno(), fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh.fileno(), fcntl.LOCK_UN)

@@ -1,0 +1,53 @@
+"""apexseal.files: one atomic write with one permission rule, and one content key."""
+
+from __future__ import annotations
+
+import os
+import stat
+
+import pytest
+
+from apexseal.files import atomic_open, atomic_write, content_key
+
+
+@pytest.fixture
+def umask_027():
+    old = os.umask(0o027)
+    try:
+        yield
+    finally:
+        os.umask(old)
+
+
+def _mode(path) -> int:
+    return stat.S_IMODE(path.stat().st_mode)
+
+
+def test_atomic_write_text_and_bytes_get_the_umask_permissions(tmp_path, umask_027):
+    atomic_write(tmp_path / "a" / "t.txt", "é\n")
+    atomic_write(tmp_path / "b.bin", b"\x00\x01")
+    assert (tmp_path / "a" / "t.txt").read_bytes() == "é\n".encode()
+    assert (tmp_path / "b.bin").read_bytes() == b"\x00\x01"
+    # what open() would give under this umask (0o666 & ~0o027), not mkstemp's 0o600
+    assert _mode(tmp_path / "a" / "t.txt") == 0o640
+    assert _mode(tmp_path / "b.bin") == 0o640
+
+
+def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path):
+    target = tmp_path / "result.json"
+    atomic_write(target, "old\n")
+    with pytest.raises(RuntimeError, match="killed"), atomic_open(target) as fh:
+        fh.write("half a")
+        raise RuntimeError("killed mid-write")
+    assert target.read_text() == "old\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["result.json"]
+
+
+def test_atomic_open_refuses_modes_that_do_not_write_a_whole_file(tmp_path):
+    with pytest.raises(ValueError, match="mode must be 'w' or 'wb', not 'a'"), atomic_open(tmp_path / "x", "a"):
+        pass
+
+
+def test_content_key_ignores_key_order_and_sees_values():
+    assert content_key({"a": 1, "b": [1, 2]}) == content_key({"b": [1, 2], "a": 1})
+    assert content_key({"a": 1}) != content_key({"a": 2})
