@@ -9,8 +9,12 @@ side is smooth.
 
 from __future__ import annotations
 
+import functools
 import itertools
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+
+import numpy as np
 
 #: the nine cases of Algorithm 3: name -> (b1 closed, b2 closed, b3 closed, b4 closed)
 CASES: dict[str, tuple[bool, bool, bool, bool]] = {
@@ -38,11 +42,31 @@ def case_of(closed_b1: bool, closed_b2: bool, closed_b3: bool, closed_b4: bool) 
     return name
 
 
-def gap_width(b1: float, b2: float, b3: float, b4: float) -> float:
-    """Algorithm 4: the seal-groove gap b_gap (leakage area A_gap = b_gap H)."""
-    if b1 > 0 and b2 > 0 and b3 > 0 and b4 > 0:
-        return min(b1, b2, b3, b4)
-    return 0.0
+#: the groove gaps whose minimum is the leakage gap b_gap of Algorithm 4
+GAP_GUARDS = ("b1", "b2", "b3", "b4")
+
+
+@dataclass(frozen=True)
+class Ops:
+    """The three operations Algorithm 4 needs, for one kind of number (numpy arrays, CasADi symbols)."""
+
+    logical_and: Callable
+    minimum: Callable
+    where: Callable
+
+
+#: numpy: floats or arrays of samples
+NUMPY = Ops(np.logical_and, np.minimum, np.where)
+
+
+def gap_width(gaps: Sequence, ops: Ops = NUMPY):
+    """Algorithm 4 (Section 4.4): the seal-groove gap b_gap = min(b1..b4) while every groove contact is open, else 0.
+
+    The leakage area is A_gap = b_gap H. ``gaps`` are b1..b4 (floats, numpy arrays of samples, or, with
+    CasADi's :class:`Ops`, SX expressions); the result has their shape.
+    """
+    all_open = functools.reduce(ops.logical_and, [g > 0 for g in gaps])
+    return ops.where(all_open, functools.reduce(ops.minimum, gaps), 0.0)
 
 
 @dataclass(frozen=True)

@@ -886,7 +886,7 @@ def _structural_extra(label: str) -> str:
     if label == "A4":
         from . import modes
 
-        ok = modes.gap_width(1e-6, 2e-6, 3e-6, 4e-6) == 1e-6 and modes.gap_width(-1e-9, 2e-6, 3e-6, 4e-6) == 0.0
+        ok = modes.gap_width([1e-6, 2e-6, 3e-6, 4e-6]) == 1e-6 and modes.gap_width([-1e-9, 2e-6, 3e-6, 4e-6]) == 0.0
         return "Spot check: gap_width(1, 2, 3, 4 µm) = 1 µm, 0 with a contact closed: " + ("passed." if ok else "FAILED.")
     return ""
 

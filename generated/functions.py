@@ -21,11 +21,8 @@ import casadi as ca
 import sympy as sp
 
 from ..derive import symbols as sym
-from ..derive.modes import Mode, modes
+from ..derive.modes import GAP_GUARDS, Mode, Ops, gap_width, modes
 from .lower import Lowering
-
-#: the groove gaps whose minimum is the leakage gap b_gap of Algorithm 4
-GAP_GUARDS = ("b1", "b2", "b3", "b4")
 
 
 @dataclass
@@ -134,15 +131,8 @@ def parameter_names_of(model) -> tuple[str, ...]:
     return tuple(model.parameter_names) or sym.PARAMETER_NAMES
 
 
-def gap_width(gaps: list[ca.SX]) -> ca.SX:
-    """Algorithm 4: min(b1..b4) while every groove contact is open, else 0."""
-    all_open = gaps[0] > 0
-    for g in gaps[1:]:
-        all_open = ca.logic_and(all_open, g > 0)
-    smallest = gaps[0]
-    for g in gaps[1:]:
-        smallest = ca.fmin(smallest, g)
-    return ca.if_else(all_open, smallest, 0)
+#: CasADi's operations for Algorithm 4 (:func:`~apexseal.derive.modes.gap_width`)
+CASADI_OPS = Ops(ca.logic_and, ca.fmin, ca.if_else)
 
 
 def build_functions(model) -> ModelFunctions:
@@ -157,7 +147,7 @@ def build_functions(model) -> ModelFunctions:
     output_names = list(model.outputs)
     y = [args.lower(e) for e in model.outputs.values()]
     if all(n in model.guards for n in GAP_GUARDS):
-        y.append(gap_width([g[list(model.guards).index(n)] for n in GAP_GUARDS]))
+        y.append(gap_width([g[list(model.guards).index(n)] for n in GAP_GUARDS], CASADI_OPS))
         output_names.append("b_gap")
     y = ca.cse(ca.vertcat(*y)) if y else ca.SX(0, 1)
 

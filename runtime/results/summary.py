@@ -7,7 +7,7 @@ from collections import Counter
 
 import numpy as np
 
-from ...derive.modes import gap_width
+from ...derive.modes import GAP_GUARDS, gap_width
 from .result import SimulationResult
 
 
@@ -40,10 +40,9 @@ def spectral_peaks(w: np.ndarray, amp: np.ndarray, count: int = 5) -> list[dict]
 
 def gap_series(result: SimulationResult) -> np.ndarray:
     """Algorithm 4 at every sample: b_gap (m)."""
-    names = ("b1", "b2", "b3", "b4")
-    if not all(n in result.outputs for n in names):
+    if not all(n in result.outputs for n in GAP_GUARDS):
         return np.zeros(result.n)
-    return np.array([gap_width(*(result.outputs[n][i] for n in names)) for i in range(result.n)])
+    return gap_width([np.asarray(result.outputs[n], float) for n in GAP_GUARDS])
 
 
 def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:

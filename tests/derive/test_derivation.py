@@ -126,3 +126,18 @@ def test_cache_stores_atomically_in_its_folder(tmp_path, monkeypatch):
     model = cached_model(effects)
     assert [p.suffix for p in (tmp_path / "derive").iterdir()] == [".pkl"]
     assert cached_model(effects).forcing == model.forcing
+
+
+def test_gap_width_numpy_and_casadi():
+    """Algorithm 4: min(b1..b4) while all four groove contacts are open, else 0, for arrays and for SX."""
+    import casadi as ca
+    import numpy as np
+
+    from apexseal.derive.modes import gap_width
+    from apexseal.generated.functions import CASADI_OPS
+
+    b = np.array([[1e-6, -1e-9], [2e-6, 2e-6], [3e-6, 3e-6], [0.5e-6, 4e-6]])
+    np.testing.assert_array_equal(gap_width(list(b)), [0.5e-6, 0.0])
+    s = ca.SX.sym("b", 4)
+    f = ca.Function("b_gap", [s], [gap_width([s[i] for i in range(4)], CASADI_OPS)])
+    assert [float(f(b[:, j])) for j in range(2)] == [0.5e-6, 0.0]
