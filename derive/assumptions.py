@@ -8,7 +8,8 @@ submodel declares its choices (derive/submodels/); :class:`Assumptions` reads th
 
 from __future__ import annotations
 
-from .options import Option, OptionError, TableView, did_you_mean
+from ..suggest import did_you_mean, not_known
+from .options import Option, OptionError, TableView
 
 
 class AssumptionError(OptionError):
@@ -43,10 +44,8 @@ class Assumptions(TableView):
         for name, value in resolved.items():
             allowed = slots[name].choices
             if value not in allowed:
-                raise AssumptionError(
-                    f"assumptions.{name} = {value!r} is not allowed{did_you_mean(value, allowed)} "
-                    f"Allowed: {', '.join(allowed)}"
-                )
+                raise AssumptionError(not_known(f"assumptions.{name} = {value!r}", value, allowed, "allowed",
+                                                listing="allowed"))
         self._set(resolved)
 
     @classmethod
@@ -54,6 +53,5 @@ class Assumptions(TableView):
         slots = declared()
         for key in values:
             if key not in slots:
-                raise AssumptionError(f"assumptions.{key} is not a modelling choice{did_you_mean(key, slots)} "
-                                      f"Known: {', '.join(slots)}")
+                raise AssumptionError(not_known(f"assumptions.{key}", key, slots, "a modelling choice"))
         return cls(**values)

@@ -10,7 +10,8 @@ booleans, the way scenes write them in ``[effects]``.
 
 from __future__ import annotations
 
-from .options import NONE, Option, OptionError, TableView, did_you_mean
+from ..suggest import did_you_mean, not_known
+from .options import NONE, Option, OptionError, TableView
 
 
 def on_choice(opt: Option) -> str:
@@ -61,7 +62,7 @@ class Effects(TableView):
         slots = declared()
         for key in values:
             if key not in slots:
-                raise EffectError(f"effects.{key} is not an effect{did_you_mean(key, slots)} Known: {', '.join(slots)}")
+                raise EffectError(not_known(f"effects.{key}", key, slots, "an effect"))
         resolved: dict[str, bool] = {}
         for name, opt in slots.items():  # parents come before children
             default = opt.default != NONE and (opt.parent is None or resolved[opt.parent])

@@ -15,9 +15,10 @@ This module imports no sympy.
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
+
+from ..suggest import not_known
 
 #: the choice that switches an effect off
 NONE = "none"
@@ -80,12 +81,6 @@ def _rebuild_view(cls: type, values: dict) -> TableView:
     return cls(**values)
 
 
-def did_you_mean(word: str, known, *, cutoff: float = 0.6) -> str:
-    """'; did you mean 'x'?' for the closest of ``known``, or ''."""
-    near = difflib.get_close_matches(str(word), list(known), n=1, cutoff=cutoff)
-    return f"; did you mean '{near[0]}'?" if near else ""
-
-
 class OptionError(ValueError):
     """A set of options that names an unknown slot or choice, or breaks a parent rule."""
 
@@ -104,7 +99,7 @@ class Options(Mapping[str, str]):
         values = dict(values or {})
         for key in values:
             if key not in declared:
-                raise OptionError(f"{key} is not an option{did_you_mean(key, declared)} Known: {', '.join(declared)}")
+                raise OptionError(not_known(key, key, declared, "an option"))
         resolved: dict[str, str] = {}
         for name, opt in declared.items():  # parents are declared before their children
             parent_off = opt.parent is not None and resolved.get(opt.parent, opt.default) == NONE
@@ -157,8 +152,7 @@ def _choice(opt: Option, raw: str | bool) -> str:
             raise OptionError(f"{opt.table}.{opt.name} = {raw!r} is not allowed; allowed: {', '.join(opt.choices)}")
         return next(c for c in opt.choices if c != NONE) if raw else NONE
     if raw not in opt.choices:
-        raise OptionError(f"{opt.table}.{opt.name} = {raw!r} is not allowed{did_you_mean(raw, opt.choices)} "
-                          f"Allowed: {', '.join(opt.choices)}")
+        raise OptionError(not_known(f"{opt.table}.{opt.name} = {raw!r}", raw, opt.choices, "allowed", listing="allowed"))
     return raw
 
 

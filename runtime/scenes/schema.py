@@ -12,7 +12,6 @@ Checks that involve more than one key (aspect ratio, groove and seal sizes,
 pressure source) are in :mod:`.scene_checks`.
 """
 
-import difflib
 import functools
 import math
 from typing import Annotated, Any
@@ -20,6 +19,7 @@ from typing import Annotated, Any
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, create_model
 from pydantic_core import PydanticCustomError
 
+from ...suggest import did_you_mean
 from ..solving.methods import METHODS
 from ..solving.settings import LIMITS
 from .errors import MISSING, Problem
@@ -122,9 +122,7 @@ class Choice:
     def __call__(self, value: Any) -> str:
         if isinstance(value, str) and value in self.values:
             return value
-        near = difflib.get_close_matches(str(value), self.values, n=1) if isinstance(value, str) else []
-        hint = f" (did you mean '{near[0]}'?)" if near else ""
-        raise _fail(f"not allowed{hint}; allowed: {self.allowed()}")
+        raise _fail(f"not allowed{did_you_mean(value, self.values)}; allowed: {self.allowed()}")
 
     def allowed(self) -> str:
         return ", ".join(f'"{v}"' for v in self.values)
@@ -461,9 +459,7 @@ def raw_at(raw: Any, path: list[str]) -> Any:
 
 
 def _unknown(key: str, known: list[str], what: str = "key") -> str:
-    near = difflib.get_close_matches(key, known, n=1, cutoff=0.5)
-    hint = f" (did you mean '{near[0]}'?)" if near else ""
-    return f"unknown {what}{hint}; known: {', '.join(known)}"
+    return f"unknown {what}{did_you_mean(key, known, cutoff=0.5)}; known: {', '.join(known)}"
 
 
 def _problems(exc: ValidationError, section: str, model: type[Section], raw: Any) -> list[Problem]:

@@ -8,12 +8,13 @@ that reading a scene imports no integrator); :func:`register_method` adds a user
 
 from __future__ import annotations
 
-import difflib
 import importlib
 import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from ...suggest import not_known
 
 
 @dataclass
@@ -114,9 +115,7 @@ def method_of(method: str | type) -> Method:
 
 def check_method(name: str) -> None:
     if name not in METHODS:
-        near = difflib.get_close_matches(str(name), METHODS, n=1)
-        hint = f"; did you mean '{near[0]}'?" if near else ""
-        raise ValueError(f"solver.method = {name!r} is not a method{hint} Allowed: {', '.join(METHODS)}")
+        raise ValueError(not_known(f"solver.method = {name!r}", name, METHODS, "a method", listing="allowed"))
 
 
 def make_engine(functions, settings, *, n_samples: int | None = None, span: float = 2 * np.pi,
