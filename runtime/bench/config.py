@@ -32,7 +32,7 @@ class MethodSpec:
     id: str
     label: str
     family: str
-    #: "casadi" (runtime.simulate.make_engine), "rk4" (runtime/bench/rk4.py) or "scipy"
+    #: "casadi" (runtime.simulate.make_engine), "rk4" (runtime/solving/fixed_step.py, RK4 rule) or "scipy"
     kind: str
     #: runtime method name (runtime/solving/methods.py) or the scipy solve_ivp method
     method: str

@@ -3,7 +3,8 @@
 An engine integrates one span from ``z0`` (``run(z0, params, theta0, pressures)``);
 parameters are inputs, so the default and the stiff scene share every engine (and
 every compiled library). Event and stepper methods come from the runtime
-(``runtime.simulate.make_engine``), the switched-RHS RK4 from runtime/bench/rk4.py.
+(``runtime.simulate.make_engine``), the switched-RHS RK4 from the runtime's fixed-step engine
+(runtime/solving/fixed_step.py) with the RK4 rule.
 """
 
 from __future__ import annotations
@@ -13,11 +14,10 @@ import time
 
 import numpy as np
 
-from ...derive.symbols import PARAMETER_NAMES
+from ..solving.fixed_step import RK4Integrator
 from ..solving.methods import make_engine
 from ..solving.settings import LIMITS, RunSettings
 from .config import MethodSpec
-from .rk4 import RK4Integrator
 
 
 def settings_for(spec: MethodSpec, value: float, *, samples: int, span: float, flags: str, compiled: bool,
@@ -38,12 +38,9 @@ MIN_SAMPLES = int(LIMITS["samples_per_revolution"][1].ge)
 
 def build_engine(functions, spec: MethodSpec, value: float, *, samples: int, span: float, flags: str, compiled: bool,
                  event_tol: float | None = None):
-    if spec.kind == "rk4":
-        n_par = functions.rhs_switched.size1_in(2)
-        return RK4Integrator(functions.rhs_switched, functions.guards, n_par, PARAMETER_NAMES.index("omega"),
-                             n_samples=samples, steps=int(round(value * span / (2 * math.pi))), span=span,
-                             compile_c=compiled, flags=flags)
     st = settings_for(spec, value, samples=samples, span=span, flags=flags, compiled=compiled, event_tol=event_tol)
+    if spec.kind == "rk4":
+        return RK4Integrator.build(functions, st, method="", n_samples=samples, span=span, compile_c=compiled)
     return make_engine(functions, st, n_samples=samples, span=span)
 
 

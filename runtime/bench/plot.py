@@ -8,6 +8,7 @@ dotted: lambdify + solve_ivp; the paper's Euler in black. Failed points are coun
 from __future__ import annotations
 
 from pathlib import Path
+from typing import BinaryIO
 
 STYLE = {  # method -> (colour, line style, marker)
     "euler-C": ("black", "-", "s"),
@@ -27,7 +28,7 @@ STYLE = {  # method -> (colour, line style, marker)
 }
 
 
-def work_precision(results: dict, path) -> Path:
+def work_precision(results: dict, path: Path | BinaryIO) -> Path | BinaryIO:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -65,7 +66,6 @@ def work_precision(results: dict, path) -> Path:
                  f"samples; {m['cpu']}, casadi {m['packages'].get('casadi')}", fontsize=11)
     rows = (len(handles) + 3) // 4
     fig.tight_layout(rect=(0, 0.03 + 0.025 * rows / len(scenes), 1, 0.97))
-    path = Path(path)
-    fig.savefig(path, dpi=110, format="png")
+    fig.savefig(path, dpi=110, format="png")  # a path or an open binary file
     plt.close(fig)
     return path

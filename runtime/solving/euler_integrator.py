@@ -1,10 +1,9 @@
-"""The paper's method: explicit Euler on the switched right-hand side, fixed step.
+"""The paper's method: explicit Euler on the switched right-hand side, fixed step, and its stability.
 
-Each step evaluates the one Function that covers all modes (the activations
-computed from the gaps inside it, if_else) and advances
-z_{n+1} = z_n + h f(theta_n, z_n). Steps are chained inside CasADi with ``fold``
-(the steps of one output interval) and ``mapaccum`` (the intervals of a
-revolution), so a whole revolution is one call, and it compiles to C.
+The engine is :class:`~.fixed_step.FixedStepIntegrator` with the Euler rule
+(z_{n+1} = z_n + h f(theta_n, z_n)); this module says how many steps per
+revolution keep explicit Euler stable on each contact (:func:`contact_growth`),
+which the preflight and the run checks use.
 """
 
 from __future__ import annotations
@@ -12,13 +11,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import casadi as ca
 import numpy as np
 
 from ...derive.submodels.registry import oscillators, parameter_names
-from .layout import HybridLayout
-from .methods import Engine, RevolutionResult, fixed_steps
-from .scaling import LENGTH, scaled_rhs, state_scale
+from .fixed_step import EulerIntegrator
+
+__all__ = ["MAX_GROWTH", "ContactGrowth", "EulerIntegrator", "contact_growth"]
 
 #: the most explicit Euler may amplify a contact's oscillation over one revolution in contact
 MAX_GROWTH = 1e3
@@ -72,63 +70,3 @@ def contact_growth(params: np.ndarray, steps_per_revolution: int, names=None) ->
         needed = math.ceil(c_hw * c_hw / (2 * math.log(MAX_GROWTH) + 2 * zeta * c_hw))
         out.append(ContactGrowth(k_name, k, w, zeta, log_growth, needed))
     return sorted(out, key=lambda g: -g.log_growth)
-
-
-class EulerIntegrator(Engine):
-    """The paper's explicit Euler on the switched right-hand side, chained in C with ``fold``/``mapaccum``."""
-
-    @classmethod
-    def build(cls, functions, settings, *, method, n_samples, span, compile_c):
-        names = tuple(functions.parameter_names)
-        return cls(functions.rhs_switched, functions.guards, len(names), names.index("omega"), n_samples=n_samples,
-                   steps_per_revolution=settings.steps_per_revolution, span=span, compile_c=compile_c,
-                   flags=settings.flags)
-
-    def __init__(self, rhs_switched: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *,
-                 n_samples: int, steps_per_revolution: int, span: float = 2 * np.pi, compile_c: bool = True,
-                 flags: str = "optimised"):
-        self.layout = layout = HybridLayout.sized(rhs_switched.size1_in(1), guards.size1_out(0))
-        n_x = layout.n_x
-        self.n_samples = n_samples
-        sub = fixed_steps(steps_per_revolution, span / n_samples)  # steps per sample
-        self.h = span / (n_samples * sub)
-        self.sub = sub
-        # accumulated: [theta, z (n_x)]; per interval: [params, Pa, Pb]
-        acc = ca.SX.sym("acc", 1 + n_x)
-        q = ca.SX.sym("q", n_par + 2)
-        par, u = q[:n_par], q[n_par:]
-        omega = par[omega_index]
-        theta, z = acc[0], acc[1:]
-        X = z * state_scale(omega)
-        znew = z + self.h * scaled_rhs(rhs_switched(theta, X, par, u), omega)
-        step = ca.Function("euler_step", [acc, q], [ca.vertcat(theta + self.h, znew)])
-        interval = step.fold(sub)  # q repeated for each step of the interval
-        a0 = ca.MX.sym("a0", 1 + n_x)
-        Q = ca.MX.sym("Q", n_par + 2, n_samples)
-        qi = ca.MX.sym("qi", n_par + 2)
-        ai = ca.MX.sym("ai", 1 + n_x)
-        one = ca.Function("one_interval", [ai, qi], [interval(ai, ca.repmat(qi, 1, sub))])
-        revolution = one.mapaccum(n_samples)
-        A = revolution(a0, Q)
-        g = guards.map(n_samples)(A[0, :], A[1:, :] * ca.repmat(state_scale(Q[omega_index, 0]), 1, n_samples),
-                                  Q[:n_par, 0], Q[n_par:, :]) / LENGTH
-        self.function = ca.Function("apexseal_euler", [a0, Q], [A, g])
-        self.compiled = False
-        if compile_c:
-            from ...generated.compile import compile_function
-
-            compiled = compile_function(self.function, flags=flags)
-            self.compiled = compiled is not self.function
-            self.function = compiled
-        self.stats = {"n_steps": 0}
-
-    def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:
-        lay = self.layout
-        Q = np.vstack([np.repeat(params[:, None], self.n_samples, axis=1), pressures])
-        A, g = self.function(np.r_[theta0, z0[lay.x]], Q)
-        A, g = np.array(A), np.array(g)
-        closed = (g < 0).astype(float)
-        prev = np.c_[z0[lay.active], closed[:, :-1]]
-        counts = z0[lay.counts, None] + np.cumsum(closed != prev, axis=1)
-        self.stats = {"n_steps": self.sub * self.n_samples}
-        return RevolutionResult(np.vstack([A[1:], closed, counts]), dict(self.stats))

@@ -91,7 +91,7 @@ METHODS: dict[str, Method] = {
                  "loop"),
     "collocation": Method(_STEPPER, "collocation", "fixed-step Radau collocation, mode switches located by the event "
                           "loop"),
-    "euler": Method(".euler_integrator:EulerIntegrator", "euler", "the paper's method: explicit Euler on the "
+    "euler": Method(".fixed_step:EulerIntegrator", "euler", "the paper's method: explicit Euler on the "
                     "switched right-hand side, fixed step", locates_events=False),
 }
 

@@ -1,0 +1,120 @@
+"""Fixed-step engines on the switched right-hand side, chained in CasADi and compiled to C.
+
+Each stage evaluates the one Function that covers all modes (``rhs_switched``: the
+activations computed from the gaps inside it, ``if_else``); a :class:`StepRule`
+turns it into one step z_{n+1} = z_n + h Φ(theta_n, z_n). Steps are chained inside
+CasADi with ``fold`` (the steps of one output interval) and ``mapaccum`` (the
+intervals of a span), so a whole revolution is one call, and it compiles to C.
+Contact switches are not located: a step that straddles one loses the rule's
+order. Two rules: explicit Euler (the paper's method, ``solver.method = "euler"``)
+and classical RK4 (the benchmark's ``rk4-C``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from .layout import HybridLayout
+from .methods import Engine, RevolutionResult, fixed_steps
+from .scaling import LENGTH, scaled_rhs, state_scale
+
+
+@dataclass(frozen=True)
+class StepRule:
+    """One explicit step: ``advance(f, theta, z, h)`` is z at theta + h from z at theta (f: dz/dtheta)."""
+
+    name: str
+    stages: int  # right-hand-side evaluations per step
+    advance: Callable
+
+
+def _euler(f, theta, z, h):
+    return z + h * f(theta, z)
+
+
+def _rk4(f, theta, z, h):
+    k1 = f(theta, z)
+    k2 = f(theta + h / 2, z + h / 2 * k1)
+    k3 = f(theta + h / 2, z + h / 2 * k2)
+    k4 = f(theta + h, z + h * k3)
+    return z + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+
+EULER = StepRule("euler", 1, _euler)
+RK4 = StepRule("rk4", 4, _rk4)
+
+
+class FixedStepIntegrator(Engine):
+    """``rule`` on ``rhs_switched`` with ``steps_per_revolution`` equal steps, one compiled call per span."""
+
+    rule: StepRule = EULER
+
+    @classmethod
+    def build(cls, functions, settings, *, method, n_samples, span, compile_c):
+        names = tuple(functions.parameter_names)
+        return cls(functions.rhs_switched, functions.guards, len(names), names.index("omega"), n_samples=n_samples,
+                   steps_per_revolution=settings.steps_per_revolution, span=span, compile_c=compile_c,
+                   flags=settings.flags)
+
+    def __init__(self, rhs_switched: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *,
+                 n_samples: int, steps_per_revolution: int, span: float = 2 * np.pi, compile_c: bool = True,
+                 flags: str = "optimised"):
+        self.layout = layout = HybridLayout.sized(rhs_switched.size1_in(1), guards.size1_out(0))
+        n_x = layout.n_x
+        self.n_samples = n_samples
+        self.sub = sub = fixed_steps(steps_per_revolution, span / n_samples)  # steps per sample
+        self.h = h = span / (n_samples * sub)
+        # accumulated: [theta, z (n_x)]; per interval: [params, Pa, Pb]
+        acc = ca.SX.sym("acc", 1 + n_x)
+        q = ca.SX.sym("q", n_par + 2)
+        par, u = q[:n_par], q[n_par:]
+        omega = par[omega_index]
+        sc = state_scale(omega)
+
+        def f(theta, z):
+            return scaled_rhs(rhs_switched(theta, z * sc, par, u), omega)
+
+        theta, z = acc[0], acc[1:]
+        step = ca.Function(f"{self.rule.name}_step", [acc, q], [ca.vertcat(theta + h, self.rule.advance(f, theta, z, h))])
+        interval = step.fold(sub)  # q repeated for each step of the interval
+        ai, qi = ca.MX.sym("ai", 1 + n_x), ca.MX.sym("qi", n_par + 2)
+        one = ca.Function("one_interval", [ai, qi], [interval(ai, ca.repmat(qi, 1, sub))])
+        a0, Q = ca.MX.sym("a0", 1 + n_x), ca.MX.sym("Q", n_par + 2, n_samples)
+        A = one.mapaccum(n_samples)(a0, Q)
+        g = guards.map(n_samples)(A[0, :], A[1:, :] * ca.repmat(state_scale(Q[omega_index, 0]), 1, n_samples),
+                                  Q[:n_par, 0], Q[n_par:, :]) / LENGTH
+        self.vm = self.function = ca.Function(f"apexseal_{self.rule.name}", [a0, Q], [A, g])
+        self.compiled = False
+        if compile_c:
+            from ...generated.compile import compile_function
+
+            compiled = compile_function(self.function, flags=flags)
+            self.compiled = compiled is not self.function
+            self.function = compiled
+        self.stats = {"n_steps": sub * n_samples, "n_rhs": self.rule.stages * sub * n_samples}
+
+    def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:
+        lay = self.layout
+        Q = np.vstack([np.repeat(params[:, None], self.n_samples, axis=1), pressures])
+        A, g = self.function(np.r_[theta0, z0[lay.x]], Q)
+        A, g = np.array(A), np.array(g)
+        closed = (g < 0).astype(float)
+        prev = np.c_[z0[lay.active], closed[:, :-1]]
+        counts = z0[lay.counts, None] + np.cumsum(closed != prev, axis=1)
+        return RevolutionResult(np.vstack([A[1:], closed, counts]), dict(self.stats))
+
+
+class EulerIntegrator(FixedStepIntegrator):
+    """The paper's explicit Euler on the switched right-hand side (its stability: :mod:`.euler_integrator`)."""
+
+    rule = EULER
+
+
+class RK4Integrator(FixedStepIntegrator):
+    """Classical RK4 on the switched right-hand side (the benchmark's ``rk4-C``; erk-rk4 locates events instead)."""
+
+    rule = RK4

@@ -1,0 +1,61 @@
+"""The one fixed-step engine with its two step rules (Euler: the paper's method; RK4: the benchmark's rk4-C)."""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from apexseal.runtime.solving.fixed_step import EulerIntegrator, FixedStepIntegrator, RK4Integrator
+from apexseal.runtime.solving.scaling import to_physical, to_scaled
+
+OMEGA, K = 150.0, 4.0e6  # rad/s, 1/s^2: sqrt(K) = 2000 rad/s, about 2 periods over the 0.1 rad span
+
+
+def oscillator():
+    """Three undamped oscillators x'' = -K x in the engine's calling convention, and a guard that never closes."""
+    theta, X, p, u = ca.SX.sym("theta"), ca.SX.sym("X", 6), ca.SX.sym("p", 2), ca.SX.sym("u", 2)
+    rhs = ca.Function("rhs_switched", [theta, X, p, u], [ca.vertcat(X[3:], -p[1] * X[:3])])
+    guards = ca.Function("guards", [theta, X, p, u], [X[0] + 1.0])
+    return rhs, guards
+
+
+def final_error(engine_class, steps: int, span: float = 0.1) -> float:
+    rhs, guards = oscillator()
+    engine = engine_class(rhs, guards, 2, 0, n_samples=4, steps_per_revolution=steps, span=span, compile_c=False)
+    X0 = np.array([1e-6, 2e-6, 0.0, 0.0, 0.0, 1e-3])
+    z0 = np.r_[to_scaled(X0, OMEGA), 0.0, 0.0]
+    out = engine.run(z0, np.array([OMEGA, K]), 0.0, np.zeros((2, 4)))
+    assert out.stats == {"n_steps": engine.sub * 4, "n_rhs": engine.rule.stages * engine.sub * 4}
+    t, w = span / OMEGA, np.sqrt(K)
+    exact = np.r_[X0[:3] * np.cos(w * t) + X0[3:] / w * np.sin(w * t), -X0[:3] * w * np.sin(w * t) + X0[3:] * np.cos(w * t)]
+    got = to_physical(out.z[:6, -1], OMEGA)
+    return float(np.max(np.abs(got[:3] - exact[:3])))
+
+
+@pytest.mark.parametrize(("engine_class", "order", "steps"), [(EulerIntegrator, 1, 64_000), (RK4Integrator, 4, 2_000)])
+def test_each_rule_converges_at_its_order(engine_class, order, steps):
+    errors = [final_error(engine_class, steps * m) for m in (1, 2, 4)]
+    observed = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
+    assert np.all(np.abs(observed - order) < 0.15), (errors, observed)
+
+
+def test_the_rules_share_one_engine():
+    assert issubclass(EulerIntegrator, FixedStepIntegrator) and issubclass(RK4Integrator, FixedStepIntegrator)
+    assert "run" not in vars(EulerIntegrator) and "run" not in vars(RK4Integrator)
+    assert (EulerIntegrator.rule.stages, RK4Integrator.rule.stages) == (1, 4)
+
+
+def test_bench_rk4_and_the_paper_euler_are_built_by_the_one_engine(default_functions):
+    """The benchmark's rk4-C and euler points use the runtime's fixed-step engine, steps counted per revolution."""
+    from apexseal.runtime.bench.config import METHODS
+    from apexseal.runtime.bench.methods import build_engine
+
+    spans = {}
+    for label, cls in (("rk4-C", RK4Integrator), ("euler-C", EulerIntegrator)):
+        engine = build_engine(default_functions.sx, METHODS[label], 36_000, samples=18, span=np.pi / 2, flags="quick",
+                              compiled=False)
+        assert type(engine) is cls
+        assert engine.sub * engine.n_samples == 9_000  # a quarter revolution of 36 000 steps per revolution
+        spans[label] = engine.h * engine.sub * engine.n_samples
+    assert spans["rk4-C"] == pytest.approx(np.pi / 2, rel=1e-12) == spans["euler-C"]
