@@ -11,14 +11,13 @@ a half-written file.
 
 from __future__ import annotations
 
-import hashlib
 import os
 import pickle
 from pathlib import Path
 
 import sympy
 
-from ..files import atomic_open, content_key
+from ..files import atomic_open, content_key, files_digest
 from .assumptions import Assumptions
 from .effects import Effects
 
@@ -37,13 +36,9 @@ def cache_dir() -> Path:
 
 def source_digest() -> str:
     """sha256 of the derivation's own source files (a change to any of them invalidates the cache)."""
-    h = hashlib.sha256()
-    for path in sorted(_DERIVE_DIR.rglob("*.py")):
-        if "paper" in path.name:  # the printed forms do not change the derivation
-            continue
-        h.update(path.relative_to(_DERIVE_DIR).as_posix().encode())
-        h.update(path.read_bytes())
-    return h.hexdigest()
+    names = [p.relative_to(_DERIVE_DIR).as_posix() for p in sorted(_DERIVE_DIR.rglob("*.py"))
+             if "paper" not in p.name]  # the printed forms do not change the derivation
+    return files_digest(_DERIVE_DIR, names)
 
 
 def derivation_key(effects: Effects, assumptions: Assumptions) -> str:

@@ -24,7 +24,7 @@ import sympy
 from ..derive.assumptions import Assumptions
 from ..derive.cache import source_digest
 from ..derive.effects import Effects
-from ..files import content_key, sha256_bytes, sha256_file
+from ..files import content_key, files_digest, sha256_file
 
 FORMAT = "apexseal-generated/1"
 MANIFEST_NAME = "manifest.json"
@@ -52,7 +52,7 @@ def template_paths() -> list[Path]:
 
 
 def generator_digest() -> str:
-    return sha256_bytes(b"".join(name.encode() + (_HERE / name).read_bytes() for name in GENERATOR_MODULES))
+    return files_digest(_HERE, GENERATOR_MODULES)
 
 
 def inputs_record(effects: Effects, assumptions: Assumptions) -> dict[str, Any]:

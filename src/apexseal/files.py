@@ -18,7 +18,7 @@ import hashlib
 import json
 import os
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Any
@@ -33,6 +33,15 @@ def sha256_file(path: Path) -> str:
     with Path(path).open("rb") as fh:
         for block in iter(lambda: fh.read(1 << 20), b""):
             h.update(block)
+    return h.hexdigest()
+
+
+def files_digest(root: Path, names: Iterable[str]) -> str:
+    """The sha256 of the named files below ``root``, each as its relative name followed by its bytes, in order."""
+    h = hashlib.sha256()
+    for name in names:
+        h.update(name.encode())
+        h.update((Path(root) / name).read_bytes())
     return h.hexdigest()
 
 
