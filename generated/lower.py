@@ -7,6 +7,7 @@ then merges what sympy did not see as shared.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Mapping
 
 import casadi as ca
@@ -78,18 +79,8 @@ class Lowering:
                         out = out * b
                     return 1 / out
             return b ** self(ex)
-        if isinstance(e, sp.Max):
-            args = [self(a) for a in e.args]
-            out = args[0]
-            for a in args[1:]:
-                out = ca.fmax(out, a)
-            return out
-        if isinstance(e, sp.Min):
-            args = [self(a) for a in e.args]
-            out = args[0]
-            for a in args[1:]:
-                out = ca.fmin(out, a)
-            return out
+        if isinstance(e, sp.Max | sp.Min):
+            return functools.reduce(ca.fmax if isinstance(e, sp.Max) else ca.fmin, [self(a) for a in e.args])
         if isinstance(e, sp.Piecewise):
             pieces = list(e.args)
             value, cond = pieces[-1]

@@ -23,3 +23,17 @@ def default_functions(default_scene):
     from apexseal.generated.load import load_functions
 
     return load_functions(default_scene.effects, default_scene.assumptions, flags="quick")
+
+
+@pytest.fixture
+def artefacts(tmp_path):
+    """A private, verified copy of the committed generated/default artefacts, to corrupt at will."""
+    import shutil
+
+    from apexseal.generated.load import DEFAULT_DIR
+    from apexseal.generated.manifest import verify
+
+    dst = tmp_path / "default"
+    shutil.copytree(DEFAULT_DIR, dst)
+    verify(dst)
+    return dst

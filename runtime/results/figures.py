@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...files import atomic_open
 from .result import SimulationResult
 from .summary import housing_force, spectrum
 
@@ -17,6 +18,15 @@ def _plt():
     import matplotlib.pyplot as plt
 
     return plt
+
+
+def _save(plt, fig, path: Path) -> Path:
+    """Lay out, write atomically (PNG) and close ``fig``."""
+    fig.tight_layout()
+    with atomic_open(path, "wb") as fh:
+        fig.savefig(fh, dpi=110, format="png")
+    plt.close(fig)
+    return path
 
 
 def _ports(ax, ports: dict | None) -> None:
@@ -42,10 +52,7 @@ def fig12_displacements(result: SimulationResult, path: Path, ports: dict | None
         ax.set_title(label, pad=14)
     axes[0].legend(loc="lower left", bbox_to_anchor=(-0.25, -0.2), fontsize=8)
     fig.suptitle("Seal displacements against crank angle (cf. Fig. 12)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)
 
 
 def fig13_forces(result: SimulationResult, path: Path) -> Path:
@@ -64,10 +71,7 @@ def fig13_forces(result: SimulationResult, path: Path) -> Path:
     for ax in axes[-1]:
         ax.set_xlabel("crank angle (deg)")
     fig.suptitle("Forces on the apex seal (cf. Fig. 13)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)
 
 
 def fig14_spectrum(result: SimulationResult, path: Path) -> Path:
@@ -80,10 +84,7 @@ def fig14_spectrum(result: SimulationResult, path: Path) -> Path:
     ax.set_xlabel("angular frequency (rad/s)")
     ax.set_ylabel("|Fs5| amplitude (N)")
     ax.set_title("Spectrum of the seal-housing force (cf. Fig. 14)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)
 
 
 def mode_timeline(result: SimulationResult, path: Path) -> Path:
@@ -101,10 +102,7 @@ def mode_timeline(result: SimulationResult, path: Path) -> Path:
     ax2.set_yticks(range(len(cases)), cases)
     ax2.set_xlabel("crank angle (deg)")
     ax2.set_title("seal-groove contact case")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return _save(plt, fig, path)
 
 
 def write_figures(result: SimulationResult, folder: Path, ports: dict | None = None) -> list[Path]:

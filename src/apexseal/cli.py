@@ -12,29 +12,14 @@ def main() -> None:
 
 
 def _register() -> None:
+    from .commands_bench import bench
     from .commands_derive import derive
+    from .commands_generate import generate
+    from .commands_optimise import optimise_preload
     from .commands_simulate import simulate
 
-    main.add_command(simulate)
-    main.add_command(derive)
-    try:
-        from .commands_generate import generate
-    except ImportError:  # pragma: no cover - during development only
-        pass
-    else:
-        main.add_command(generate)
-    try:
-        from .commands_optimise import optimise_preload
-    except ImportError:  # pragma: no cover
-        pass
-    else:
-        main.add_command(optimise_preload)
-    try:
-        from .commands_bench import bench
-    except ImportError:  # pragma: no cover
-        pass
-    else:
-        main.add_command(bench)
+    for command in (simulate, derive, generate, optimise_preload, bench):
+        main.add_command(command)
 
 
 _register()

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import getpass
 import json
-import shutil
 import warnings
 from pathlib import Path
 
@@ -61,34 +60,26 @@ def test_manifest_records_inputs_outputs_modes(loaded):
     assert set(data["files"]) == set(COMMITTED) - {"manifest.json"}
 
 
-@pytest.fixture
-def copy(tmp_path) -> Path:
-    dst = tmp_path / "default"
-    shutil.copytree(DEFAULT_DIR, dst)
-    verify(dst)
-    return dst
-
-
-def test_corrupted_c_file_is_detected(copy):
-    path = copy / "casadi_modes_3.c"
+def test_corrupted_c_file_is_detected(artefacts):
+    path = artefacts / "casadi_modes_3.c"
     data = bytearray(path.read_bytes())
     data[len(data) // 2] ^= 0x01  # one flipped bit
     path.write_bytes(bytes(data))
     with pytest.raises(StaleArtefactError, match="casadi_modes_3.c differs"):
-        verify(copy)
+        verify(artefacts)
     with pytest.raises(StaleArtefactError):
-        compile_library(copy, flags="quick")
+        compile_library(artefacts, flags="quick")
 
 
-def test_missing_file_is_detected(copy):
-    (copy / "apexseal_dispatch.c").unlink()
+def test_missing_file_is_detected(artefacts):
+    (artefacts / "apexseal_dispatch.c").unlink()
     with pytest.raises(StaleArtefactError, match="apexseal_dispatch.c is missing"):
-        verify(copy)
+        verify(artefacts)
 
 
 @pytest.mark.parametrize("edit", ["hash", "effects", "derive_source", "files", "garbage"])
-def test_corrupted_manifest_is_detected(copy, edit):
-    path = copy / "manifest.json"
+def test_corrupted_manifest_is_detected(artefacts, edit):
+    path = artefacts / "manifest.json"
     data = json.loads(path.read_text())
     if edit == "hash":
         data["input_hash"] = "0" * 64
@@ -103,28 +94,28 @@ def test_corrupted_manifest_is_detected(copy, edit):
         data["files"]["casadi_model.c"] = "2" * 64
     path.write_text(json.dumps(data) if edit != "garbage" else "{ not json")
     with pytest.raises(StaleArtefactError) as info:
-        verify(copy)
+        verify(artefacts)
     if edit == "derive_source":
         assert "derive_source" in str(info.value)
 
 
-def test_stale_default_is_regenerated_into_the_cache(copy, monkeypatch):
-    (copy / "casadi_model.c").write_text("/* stale */\n")
-    monkeypatch.setattr(load, "DEFAULT_DIR", copy)
+def test_stale_default_is_regenerated_into_the_cache(artefacts, monkeypatch):
+    (artefacts / "casadi_model.c").write_text("/* stale */\n")
+    monkeypatch.setattr(load, "DEFAULT_DIR", artefacts)
     with pytest.warns(StaleArtefactWarning, match="casadi_model.c differs"):
         where = artefact_dir()
-    assert where != copy
+    assert where != artefacts
     verify(where)
     assert (where / "casadi_model.c").read_bytes() == (DEFAULT_DIR / "casadi_model.c").read_bytes()
     stamp = (where / "manifest.json").stat().st_mtime_ns
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         assert artefact_dir() == where  # the cache copy is current now: used as it is
-    assert [str(w.message).startswith(f"stale or modified generated artefacts in {copy}") for w in caught] == [True]
+    assert [str(w.message).startswith(f"stale or modified generated artefacts in {artefacts}") for w in caught] == [True]
     assert (where / "manifest.json").stat().st_mtime_ns == stamp
 
 
-def test_cli_check(monkeypatch, copy):
+def test_cli_check(monkeypatch, artefacts):
     from click.testing import CliRunner
 
     from apexseal.commands_generate import generate as command
@@ -132,8 +123,8 @@ def test_cli_check(monkeypatch, copy):
     result = CliRunner().invoke(command, ["--check"])
     assert result.exit_code == 0, result.output
     assert "current" in result.output
-    (copy / "apexseal_model.h").write_text("/* edited */\n")
-    monkeypatch.setattr(load, "DEFAULT_DIR", copy)
+    (artefacts / "apexseal_model.h").write_text("/* edited */\n")
+    monkeypatch.setattr(load, "DEFAULT_DIR", artefacts)
     result = CliRunner().invoke(command, ["--check"])
     assert result.exit_code == 1
     assert "STALE" in result.output

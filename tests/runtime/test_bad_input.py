@@ -16,7 +16,6 @@ from click.testing import CliRunner
 
 import apexseal
 from apexseal.cli import main
-from apexseal.generated.load import DEFAULT_DIR
 from apexseal.generated.manifest import StaleArtefactError, verify
 from apexseal.runtime.scenes.errors import SceneError
 from apexseal.runtime.scenes.scene import default_scene_text, load_scene
@@ -197,14 +196,6 @@ def test_cli_run_that_cannot_start_is_labelled_failed(tmp_path):
 
 
 # ---------------------------------------------------------------- generated artefacts
-@pytest.fixture
-def artefacts(tmp_path) -> Path:
-    dst = tmp_path / "default"
-    shutil.copytree(DEFAULT_DIR, dst)
-    verify(dst)
-    return dst
-
-
 def test_corrupted_generated_c_file(artefacts):
     """One flipped bit in a generated C file: detected by its sha256 (regeneration and library rebuild:
     tests/generated/test_gen_artefacts.py::test_stale_default_is_regenerated_into_the_cache,
