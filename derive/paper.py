@@ -1,8 +1,10 @@
 """The paper's printed forms as data: Eqs. 1-80 and Algorithms 1-4.
 
 Phung, Sultan, Appuhamillage, "On the apex seal analysis of limaçon positive
-displacement machines", Mech. Mach. Theory 127 (2018) 126-145, transcribed from
-/work/shared/paper/EQUATIONS.md (itself a reading of a scrambled PDF extraction).
+displacement machines", Mech. Mach. Theory 127 (2018) 126-145, transcribed
+equation by equation from the paper's Sections 2-4 (Eqs. 1-80, Algorithms 1-4;
+the PDF's text extraction scrambles equations, so each unclear one records the
+reading checked and its alternative).
 
 Each :class:`Printed` holds what the paper *prints*, as sympy in the symbols of
 :mod:`derive.symbols` (vectors as component tuples in one frame). Printed forms
@@ -86,7 +88,7 @@ class Printed:
 
     label: str  # "15.X1": equation number, then the part
     title: str
-    text: str  # the print as transcribed (EQUATIONS.md)
+    text: str  # the print as transcribed from the paper
     kind: str = CLOSED_FORM
     frame: str = "scalar"  # components: "scalar", "G" (X, Y), "S" (Xs, Ys), "R" (i, j), "list"
     printed: tuple[sp.Expr, ...] = ()
@@ -218,7 +220,8 @@ def _contact_points() -> list[Printed]:
         Printed("34", "elastic housing force (groove-axis component)", "Fw = kw xs5 if xs5 > 0, else 0",
                 printed=(sp.Piecewise((kw * xs5, xs5 > 0), (0, True)),)),
         Printed("35", "spring contact point at rest s7 / s6", "rs7 = (−x − ds2/cos ϕ − (Ws/2 − b6) sin ϕ) X̂ + "
-                "(Ws/2 − b6) cos ϕ Ŷ", kind=STRUCTURAL, reading="as EQUATIONS.md (badly scrambled; only ds2, x, Ws/2, "
+                "(Ws/2 − b6) cos ϕ Ŷ", kind=STRUCTURAL,
+                reading="as the PDF text extraction reads (badly scrambled; only ds2, x, Ws/2, "
                 "b6, sin ϕ, cos ϕ are certain)", alternative="not comparable: no reading puts the point on the back "
                 "face and on the groove axis", implemented_by="derive.contact_geometry:build (r_s6)"),
         Printed("36", "c2 to s6 along the back face", "b6 = Ws/2 + b5 − (ds1 − ao) tan ϕ − ds2 tan ϕ",

@@ -74,7 +74,7 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     pressure = scene.pressure.interval_means if scene.effects.chamber_pressure else None
     return run(functions, scene.parameter_vector(), settings, theta_start=op.start_angle, state0=initial_state(scene),
                pressure=pressure, until_periodic=op.until_periodic, periodic_tol=op.periodic_tol, progress=progress,
-               info={"scene": str(scene.source_path or "default")}, sink=sink)
+               info={"scene": scene.reference}, sink=sink)
 
 
 def initial_state(scene) -> np.ndarray:

@@ -25,7 +25,7 @@ rotor starts, chamber b is at its smallest volume and its inlet is opening.
 Table 1 does not say what its port angles (inlet −25°, outlet 140°) are measured
 from, and read as housing angles both ports would open into one chamber for tens
 of degrees per turn; so the timing above is set by the chamber volume, not by
-the port positions. Values ([estimate], CASE-STUDY.md): r = 10 mm, L = 50 mm,
+the port positions. Values ([estimate], as in the default scene): r = 10 mm, L = 50 mm,
 supply 6.0e5 Pa, exhaust 1.013e5 Pa, air with γ = 1.4.
 """
 

@@ -227,6 +227,16 @@ class Scene:
         folder = Path.cwd() if base_dir is None else Path(base_dir) if isinstance(base_dir, str) else base_dir
         return _build(raw, folder, source_path, name)
 
+    @property
+    def reference(self) -> str:
+        """How a result names this scene: "default" for the embedded default, else the file as it was given.
+
+        Never the absolute path of the installed package, so a saved result reads the same on every machine.
+        """
+        if self.source_path is None or self.source_path.name == DEFAULT_SCENE and self.name == "default":
+            return self.name
+        return self.source_path.as_posix()
+
     # -- parameters ---------------------------------------------------------
 
     @property

@@ -9,7 +9,7 @@ from apexseal.derive.symbols import PARAMETER_NAMES
 
 
 def default_parameters() -> dict[str, float]:
-    """The case-study values of /work/shared/paper/CASE-STUDY.md (derived entries computed)."""
+    """The default scene's values for the paper's case study (Section 4.5; derived entries computed)."""
     Ws, ds1, ds2, Bs, ks, delta_s, kw = 3e-3, 4e-3, 4e-3, 0.0999, 5e3, 2e-3, 6.2e7
     ms = 7200 * Ws * (ds1 + ds2) * Bs
     return dict(omega=157.08, r=0.01, L=0.05, Li=0.046, zeta0=7.1e-4, delta_w=ks * delta_s / kw, Ws=Ws, Wg=3.06e-3,

@@ -1,4 +1,4 @@
-"""The default scene (the paper's case study, CASE-STUDY.md), parameters, overrides and the content hash."""
+"""The default scene (the paper's case study, Section 4.5), parameters, overrides and the content hash."""
 
 import math
 import shutil
@@ -18,12 +18,12 @@ def scene() -> Scene:
     return load_scene()
 
 
-# values of CASE-STUDY.md, SI
+# the values chosen for the paper's case study (Section 4.5 prints only the speed and Table 1's ports), SI
 CASE_STUDY = {
     "omega": 1500 * 2 * math.pi / 60,
     "r": 0.010,
     "L": 0.050,
-    "Li": 0.046 + 5e3 * 2e-3 / 6.2e7,  # L - ds1 (CASE-STUDY.md) + delta_w, so the tip presses delta_w at rest
+    "Li": 0.046 + 5e3 * 2e-3 / 6.2e7,  # L - ds1 + delta_w, so the tip presses delta_w at rest
     "zeta0": 7.1e-4,
     "Ws": 3.0e-3,
     "Wg": 3.06e-3,

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -275,3 +278,21 @@ def test_numeric_and_generated_b_gap_are_one_formula(erk_result):
     gaps = gap_series(erk_result)
     np.testing.assert_array_equal(gaps, erk_result.outputs["b_gap"])
     assert 0 < np.count_nonzero(gaps) < erk_result.n  # both branches of Algorithm 4 are exercised
+
+
+def test_a_result_names_its_scene_the_same_on_every_machine(erk_result, tmp_path):
+    """The embedded default is "default", a scene file the path it was given (never the package's absolute path)."""
+    assert erk_result.info["scene"] == "default"
+    import shutil
+
+    from apexseal.runtime.scenes.scene import _scenes_folder, default_scene_text
+
+    (tmp_path / "mine.toml").write_text(default_scene_text())
+    shutil.copy(Path(str(_scenes_folder() / "expander-pressure.csv")), tmp_path)
+    cwd = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        assert apexseal.load_scene("mine.toml").reference == "mine.toml"
+    finally:
+        os.chdir(cwd)
+    assert apexseal.load_scene().with_overrides(**{"operation.rpm": 1000}).reference == "default"
