@@ -1,6 +1,6 @@
 /* apexseal_dispatch.c: mode table and dispatch over the generated mode functions.
  * Rendered by apexseal from templates/apexseal_dispatch.in.c; do not edit (run `apexseal generate`).
- * Input hash: ec0fd190818a8ee8ac20cf46ef36d8d28288e702f4155e41fd70bfab6f6f1f65.
+ * Input hash: 25ffe4452e9fa5964fbf6a8309d1f66ccbe200a08b80858006e693ffce70fab5.
  */
 #include "apexseal_model.h"
 #include "casadi_model.h"
