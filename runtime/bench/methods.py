@@ -27,7 +27,8 @@ def settings_for(spec: MethodSpec, value: float, *, samples: int, span: float, f
     kw = {"event_tol": event_tol} if event_tol is not None else {}
     # the engine covers ``samples`` intervals of ``span``; the settings' per-revolution count is that density
     per_revolution = max(MIN_SAMPLES, int(round(samples * 2 * math.pi / span)))
-    return RunSettings(method=spec.method, rtol=float(value) if spec.sweep == "rtol" else 1e-6,
+    method = RK4Integrator if spec.kind == "rk4" else spec.method  # rk4-C: the fixed-step engine's RK4 rule
+    return RunSettings(method=method, rtol=float(value) if spec.sweep == "rtol" else 1e-6,
                        steps_per_revolution=steps if spec.sweep == "steps" else RunSettings().steps_per_revolution,
                        samples_per_revolution=per_revolution, compile_c=compiled, flags=flags, **kw)
 
@@ -39,8 +40,6 @@ MIN_SAMPLES = int(LIMITS["samples_per_revolution"][1].ge)
 def build_engine(functions, spec: MethodSpec, value: float, *, samples: int, span: float, flags: str, compiled: bool,
                  event_tol: float | None = None):
     st = settings_for(spec, value, samples=samples, span=span, flags=flags, compiled=compiled, event_tol=event_tol)
-    if spec.kind == "rk4":
-        return RK4Integrator.build(functions, st, method="", n_samples=samples, span=span, compile_c=compiled)
     return make_engine(functions, st, n_samples=samples, span=span)
 
 

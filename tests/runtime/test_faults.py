@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from apexseal.files import sha256_bytes
 from apexseal.runtime.results import folder as folder_mod
 from apexseal.runtime.results.folder import ResultFolder, ResultFolderError, ResultStorageError
 from apexseal.runtime.results.result import SimulationResult
@@ -89,7 +90,7 @@ def _short_state(a, b):  # a state array shorter than theta, with a matching has
     arrays["state"] = arrays["state"][:, :-1]
     np.savez(p, **arrays)
     meta = json.loads((a / "result.json").read_text())
-    meta["parts"][0]["sha256"] = folder_mod.hashlib.sha256(p.read_bytes()).hexdigest()
+    meta["parts"][0]["sha256"] = sha256_bytes(p.read_bytes())
     (a / "result.json").write_text(json.dumps(meta))
 
 
