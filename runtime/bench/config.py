@@ -9,7 +9,10 @@ the work-precision diagram); its *sweep* is the setting varied along the curve
 * ``C model + Python event loop``: CasADi's SUNDIALS/collocation plugins calling the compiled model library, with
   apexseal's own event loop in Python between output intervals (runtime/solving/stepper_integrator.py);
 * ``CasADi VM``: the same integrator as ``C integrator`` but interpreted by CasADi's virtual machine;
-* ``sympy.lambdify + scipy``: what a user would otherwise write (runtime/bench/baseline_scipy.py).
+* ``sympy.lambdify + scipy``: what a user would otherwise write (runtime/bench/baseline_scipy.py);
+* ``sympy.cse + numba (peer)``: what an expert would write by hand: the same equations through ``sympy.cse`` into a
+  numba right-hand side, under scipy's LSODA or numbalsoda's LSODA and DOP853 with events
+  (runtime/bench/peer_source.py, runtime/bench/peer_numba.py); skipped with a note when numba or numbalsoda is missing.
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ FAMILY_STEPPER = "C model + Python event loop"
 FAMILY_VM = "CasADi VM"
 FAMILY_SCIPY = "sympy.lambdify + scipy"
 FAMILY_PAPER = "paper (Euler, C)"
+FAMILY_PEER = "sympy.cse + numba (peer)"
 
 
 @dataclass(frozen=True)
@@ -32,7 +36,7 @@ class MethodSpec:
     id: str
     label: str
     family: str
-    #: "casadi" (runtime.simulate.make_engine), "rk4" (runtime/bench/rk4.py) or "scipy"
+    #: "casadi" (runtime.simulate.make_engine), "rk4" (runtime/bench/rk4.py), "scipy" or "peer" (peer_numba.py)
     kind: str
     #: runtime method name (runtime/solving/methods.py) or the scipy solve_ivp method
     method: str
@@ -64,7 +68,16 @@ METHODS: dict[str, MethodSpec] = {m.id: m for m in (
     MethodSpec("scipy-RK45", "lambdify + solve_ivp RK45", FAMILY_SCIPY, "scipy", "RK45", "rtol"),
     MethodSpec("scipy-Radau", "lambdify + solve_ivp Radau", FAMILY_SCIPY, "scipy", "Radau", "rtol"),
     MethodSpec("scipy-LSODA", "lambdify + solve_ivp LSODA", FAMILY_SCIPY, "scipy", "LSODA", "rtol"),
+    MethodSpec("numba-scipy-LSODA", "numba RHS + scipy LSODA (switched)", FAMILY_PEER, "peer", "numba-scipy-LSODA",
+               "rtol"),
+    MethodSpec("numbalsoda-LSODA", "numba RHS + numbalsoda LSODA (switched)", FAMILY_PEER, "peer", "numbalsoda-LSODA",
+               "rtol"),
+    MethodSpec("numbalsoda-DOP853", "numba RHS + numbalsoda DOP853 + events", FAMILY_PEER, "peer",
+               "numbalsoda-DOP853", "rtol"),
 )}
+
+#: the peer methods that need numbalsoda (the others need numba only)
+NEEDS_NUMBALSODA = ("numbalsoda-LSODA", "numbalsoda-DOP853")
 
 
 @dataclass(frozen=True)
@@ -111,6 +124,11 @@ class BenchConfig:
         ids = {m for s in self.scenes for m in s.sweeps}
         return [m for k, m in METHODS.items() if k in ids]
 
+    def without(self, methods: tuple[str, ...]) -> BenchConfig:
+        """A copy without these methods (e.g. peers whose packages are not installed)."""
+        sc = tuple(replace(s, sweeps={k: v for k, v in s.sweeps.items() if k not in methods}) for s in self.scenes)
+        return replace(self, scenes=sc)
+
     def restricted(self, *, methods: tuple[str, ...] = (), samples: int | None = None, span_deg: float | None = None,
                    settle: int | None = None, repeats: int | None = None, scenes: tuple[str, ...] = (),
                    flags: str | None = None, effects: bool | None = None, cold_compile: bool | None = None,
@@ -152,6 +170,9 @@ def full() -> BenchConfig:
         "scipy-RK45": (1e-4, 1e-6),
         "scipy-Radau": (1e-4, 1e-6),
         "scipy-LSODA": (1e-4, 1e-6, 1e-7),
+        "numba-scipy-LSODA": (1e-4, 1e-6, 1e-8),
+        "numbalsoda-LSODA": RTOL_ERK,
+        "numbalsoda-DOP853": RTOL_ERK,
     })
     stiff = SceneSpec("stiff", {"contacts.kw": 2e9}, {
         "euler-C": (360_000, 3_600_000),
@@ -163,6 +184,8 @@ def full() -> BenchConfig:
         "scipy-RK45": (1e-4,),
         "scipy-Radau": (1e-5,),
         "scipy-LSODA": (1e-4, 1e-6),
+        "numbalsoda-LSODA": RTOL_ERK[1:-1],
+        "numbalsoda-DOP853": RTOL_ERK[1:-1],
     })
     # every point gets the full number of timed runs, however slow (the issue asks for medians of at least 5)
     return BenchConfig("full", (default, stiff), slow_run_s=math.inf)
@@ -176,6 +199,9 @@ def quick() -> BenchConfig:
         "rosenbrock-C": (1e-8,),
         "erk-VM": (1e-8,),
         "scipy-LSODA": (1e-4, 1e-6),
+        "numba-scipy-LSODA": (1e-6,),
+        "numbalsoda-LSODA": (1e-4, 1e-6, 1e-8),
+        "numbalsoda-DOP853": (1e-4, 1e-6, 1e-8),
     })
     return BenchConfig("quick", (default,), repeats=3, budget_s=20.0, cold_compile=False, effects=None)
 
