@@ -119,6 +119,9 @@ class BenchConfig:
     #: measure a cold compile (empty cache) of the best C integrator for the break-even estimate
     cold_compile: bool = True
     workers: int = 2  # parallel gcc processes while compiling (never while timing)
+    #: end to end: revolutions of the timed ``apexseal simulate`` runs (runtime/bench/e2e.py); 0 = not measured
+    e2e_revolutions: int = 0
+    e2e_repeats: int = 2
 
     def methods_used(self) -> list[MethodSpec]:
         ids = {m for s in self.scenes for m in s.sweeps}
@@ -132,7 +135,7 @@ class BenchConfig:
     def restricted(self, *, methods: tuple[str, ...] = (), samples: int | None = None, span_deg: float | None = None,
                    settle: int | None = None, repeats: int | None = None, scenes: tuple[str, ...] = (),
                    flags: str | None = None, effects: bool | None = None, cold_compile: bool | None = None,
-                   check_reference: bool | None = None) -> BenchConfig:
+                   check_reference: bool | None = None, e2e: bool | None = None) -> BenchConfig:
         """A copy with fewer methods/scenes or a smaller problem (for tests and quick looks)."""
         unknown = [m for m in methods if m not in METHODS]
         if unknown:
@@ -146,6 +149,8 @@ class BenchConfig:
         new = replace(new, **{k: v for k, v in changes.items() if v is not None})
         if effects is False:
             new = replace(new, effects=None)
+        if e2e is not None:
+            new = replace(new, e2e_revolutions=20 if e2e else 0)
         return new
 
 
@@ -188,7 +193,7 @@ def full() -> BenchConfig:
         "numbalsoda-DOP853": RTOL_ERK[1:-1],
     })
     # every point gets the full number of timed runs, however slow (the issue asks for medians of at least 5)
-    return BenchConfig("full", (default, stiff), slow_run_s=math.inf)
+    return BenchConfig("full", (default, stiff), slow_run_s=math.inf, e2e_revolutions=20)
 
 
 def quick() -> BenchConfig:

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 
+from .e2e import e2e_md
+
 
 def _t(s: float | None) -> str:
     if s is None or not math.isfinite(s):
@@ -190,6 +192,7 @@ def table_md(r: dict, command: str) -> str:
              "most accurate point is still above the target (at most 4 decades, and only for a plausible order of "
              "convergence): such values are estimates, not measurements.", "", *at_target_md(r), ""]
     lines += peer_md(r)
+    lines += e2e_md(r.get("e2e"))
     for s in r["scenes"]:
         lines += [f"## All points: {s['name']}", "",
                   "`VM run`: CPU time of the interpreted run that gave the statistics of a compiled integrator.", "",

@@ -76,6 +76,10 @@ def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
     if cfg.effects is not None:
         log("effects cost")
         results["effects"] = run_effects(base, cfg, engines, precompile=pool, log=log)
+    if cfg.e2e_revolutions:
+        from .e2e import end_to_end
+
+        results["e2e"] = end_to_end(cfg.e2e_revolutions, cfg.e2e_repeats, log=log)
     results["machine"]["load_average_at_end"] = list(os.getloadavg())
     results["elapsed_wall_s"] = time.perf_counter() - t0
     return results
