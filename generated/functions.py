@@ -145,9 +145,35 @@ def gap_width(gaps: list[ca.SX]) -> ca.SX:
     return ca.if_else(all_open, smallest, 0)
 
 
-def build_functions(model) -> ModelFunctions:
-    """Lower a derived model to SX Functions (named inputs and outputs, common subexpressions merged)."""
+def with_sympy_cse(model, args: Arguments):
+    """The model with every expression reduced by one ``sympy.cse`` over all of them (mass matrix, forcing, guards,
+    velocity guards, outputs); each temporary is lowered once, in dependency order, into ``args``.
+
+    sympy's cse finds sums and products shared across the expressions that the memoised tree walk of
+    generated/lower.py and ``casadi.cse`` do not (the same kinematics reached through differently grouped sums):
+    the default model's ``rhs`` has 481 SX instructions instead of 528 (docs/bench/levers.md)."""
+    M = model.mass_matrix
+    parts = {"mass": [M[i, j] for i in range(M.rows) for j in range(M.cols)], "forcing": list(model.forcing),
+             "guards": list(model.guards.values()), "vguards": list(model.velocity_guards.values()),
+             "outputs": list(model.outputs.values())}
+    replacements, reduced = sp.cse([e for v in parts.values() for e in v], symbols=sp.numbered_symbols("_cse"),
+                                   optimizations=None)
+    for s, e in replacements:
+        args.lower.values[s] = args.lower(e)
+    it = iter(reduced)
+    new = {k: [next(it) for _ in v] for k, v in parts.items()}
+    return replace(model, mass_matrix=sp.Matrix(M.rows, M.cols, new["mass"]), forcing=sp.Matrix(new["forcing"]),
+                   guards=dict(zip(model.guards, new["guards"], strict=True)),
+                   velocity_guards=dict(zip(model.velocity_guards, new["vguards"], strict=True)),
+                   outputs=dict(zip(model.outputs, new["outputs"], strict=True)))
+
+
+def build_functions(model, *, sympy_cse: bool = True) -> ModelFunctions:
+    """Lower a derived model to SX Functions (named inputs and outputs, common subexpressions merged: ``sympy.cse``
+    first unless ``sympy_cse`` is False, then the memoised tree walk and ``casadi.cse``)."""
     args = Arguments.for_model(model)
+    if sympy_cse:
+        model = with_sympy_cse(model, args)
     th, x, a, p, u = args.theta, args.x, args.a, args.p, args.u
     n_q = len(sym.qs)
     xdot = ca.cse(ca.vertcat(x[n_q:], _accelerations(args, model.mass_matrix, model.forcing)))
