@@ -36,7 +36,7 @@ class MethodSpec:
     id: str
     label: str
     family: str
-    #: "casadi" (runtime.simulate.make_engine), "rk4" (runtime/bench/rk4.py), "scipy" or "peer" (peer_numba.py)
+    #: "casadi" (runtime.solving.methods.make_engine), "rk4" (runtime/bench/rk4.py), "scipy" or "peer" (peer_numba.py)
     kind: str
     #: runtime method name (runtime/solving/methods.py) or the scipy solve_ivp method
     method: str

@@ -1,7 +1,7 @@
 """The hand-written peer: a numba right-hand side (runtime/bench/peer_source.py) under LSODA and DOP853.
 
 The same problem as every other method of the benchmark (runtime/bench/problem.py):
-scaled state z (runtime/scaling.py) against the crank angle since the span's start,
+scaled state z (runtime/solving/scaling.py) against the crank angle since the span's start,
 one absolute tolerance ``atol = rtol`` on z, the chamber pressures constant over
 each output interval. Three ways an expert would integrate it:
 
@@ -12,7 +12,7 @@ each output interval. Three ways an expert would integrate it:
   under numbalsoda's LSODA (C++), one call per span with the output grid;
 * ``numbalsoda-DOP853``: Hairer's DOP853 (numbalsoda's Fortran ``solve_ivp``)
   on the mode's smooth right-hand side, driven from a numba loop over the output
-  intervals. Events are the zero functions of runtime/hybrid.py, e_i = (1 - 2 s_i) g_i / l;
+  intervals. Events are the zero functions of runtime/solving/hybrid.py, e_i = (1 - 2 s_i) g_i / l;
   numbalsoda stops at the first sign change it finds in a step and locates it by
   Brent's method to 1e-8 (crank angle, rad, fixed in numbalsoda); the loop then
   toggles that contact, and every other whose zero function is already negative
@@ -33,8 +33,8 @@ import time
 import numpy as np
 
 from ...derive.symbols import PARAMETER_NAMES
-from ..event_integrator import RevolutionResult
-from ..scaling import LENGTH, state_scale, to_scaled
+from ..solving.methods import RevolutionResult
+from ..solving.scaling import LENGTH, state_scale, to_scaled
 
 N_PAR = len(PARAMETER_NAMES)
 OMEGA = PARAMETER_NAMES.index("omega")
@@ -133,7 +133,7 @@ def make_kernels(nm, layout: Layout):
 
     @numba.njit(cache=False)
     def zero_functions(t, z, d, e):
-        """e_i = (1 - 2 s_i) g_i / l (runtime/hybrid.py): positive while the mode agrees with gap i."""
+        """e_i = (1 - 2 s_i) g_i / l (runtime/solving/hybrid.py): positive while the mode agrees with gap i."""
         X = d[XO:XO + 6]
         for i in range(6):
             X[i] = z[i] * d[SC + i]

@@ -9,7 +9,7 @@ import numpy as np
 from apexseal.derive.cache import cached_model
 from apexseal.generated.functions import build_functions
 from apexseal.generated.load import load_functions
-from apexseal.runtime.scene import load_scene
+from apexseal.runtime.scenes.scene import load_scene
 
 
 def test_sympy_cse_lowering_is_the_same_model_in_fewer_instructions():

@@ -17,8 +17,9 @@ from apexseal.runtime.api import model_functions
 from apexseal.runtime.bench.config import quick
 from apexseal.runtime.bench.metrics import errors, trajectory
 from apexseal.runtime.bench.problem import make_problem
-from apexseal.runtime.scene import load_scene
-from apexseal.runtime.simulate import RunSettings, make_engine
+from apexseal.runtime.scenes.scene import load_scene
+from apexseal.runtime.solving.methods import make_engine
+from apexseal.runtime.solving.settings import RunSettings
 
 
 @pytest.fixture(scope="module")
