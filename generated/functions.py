@@ -151,7 +151,9 @@ def with_sympy_cse(model, args: Arguments):
 
     sympy's cse finds sums and products shared across the expressions that the memoised tree walk of
     generated/lower.py and ``casadi.cse`` do not (the same kinematics reached through differently grouped sums):
-    the default model's ``rhs`` has 481 SX instructions instead of 528 (docs/bench/levers.md)."""
+    the default model's ``rhs`` has 481 SX instructions instead of 528. Off by default (docs/bench/levers.md): it
+    gains 0-10 % per evaluation inside erk, and its different round-off turns the IPOPT preload study of the
+    default scene infeasible (tests/runtime/test_preload.py)."""
     M = model.mass_matrix
     parts = {"mass": [M[i, j] for i in range(M.rows) for j in range(M.cols)], "forcing": list(model.forcing),
              "guards": list(model.guards.values()), "vguards": list(model.velocity_guards.values()),
@@ -168,9 +170,9 @@ def with_sympy_cse(model, args: Arguments):
                    outputs=dict(zip(model.outputs, new["outputs"], strict=True)))
 
 
-def build_functions(model, *, sympy_cse: bool = True) -> ModelFunctions:
-    """Lower a derived model to SX Functions (named inputs and outputs, common subexpressions merged: ``sympy.cse``
-    first unless ``sympy_cse`` is False, then the memoised tree walk and ``casadi.cse``)."""
+def build_functions(model, *, sympy_cse: bool = False) -> ModelFunctions:
+    """Lower a derived model to SX Functions (named inputs and outputs, common subexpressions merged by the memoised
+    tree walk and ``casadi.cse``; with ``sympy_cse``, by one ``sympy.cse`` over every expression first)."""
     args = Arguments.for_model(model)
     if sympy_cse:
         model = with_sympy_cse(model, args)

@@ -1,4 +1,5 @@
-"""sympy.cse before lowering (generated/functions.py): the same right-hand side to round-off, in fewer instructions."""
+"""sympy.cse before lowering (generated/functions.py, an option measured in docs/bench/levers.md): the same right-hand
+side to round-off, in fewer instructions."""
 
 from __future__ import annotations
 
@@ -14,8 +15,8 @@ from apexseal.runtime.scenes.scene import load_scene
 
 def test_sympy_cse_lowering_is_the_same_model_in_fewer_instructions():
     scene = load_scene()
-    with_cse = load_functions(scene.effects, scene.assumptions, compiled=False).sx
-    without = build_functions(cached_model(scene.effects, scene.assumptions), sympy_cse=False)
+    without = load_functions(scene.effects, scene.assumptions, compiled=False).sx  # the project's lowering
+    with_cse = build_functions(cached_model(scene.effects, scene.assumptions), sympy_cse=True)
     assert with_cse.rhs.n_instructions() < without.rhs.n_instructions()
     assert with_cse.rhs_switched.n_instructions() < without.rhs_switched.n_instructions()
     p = scene.parameter_vector()
