@@ -1,6 +1,6 @@
 /* apexseal_dispatch.c: mode table and dispatch over the generated mode functions.
  * Rendered by apexseal from templates/apexseal_dispatch.in.c; do not edit (run `apexseal generate`).
- * Input hash: ec0fd190818a8ee8ac20cf46ef36d8d28288e702f4155e41fd70bfab6f6f1f65.
+ * Input hash: e65e682894cbcf743735fda14569381eccd1baf6555982033e330bd5c61f996a.
  */
 #include "apexseal_model.h"
 #include "casadi_model.h"

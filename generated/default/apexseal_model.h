@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices, mode table and mode dispatch of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: ec0fd190818a8ee8ac20cf46ef36d8d28288e702f4155e41fd70bfab6f6f1f65.
+ * Effects: all. Input hash: e65e682894cbcf743735fda14569381eccd1baf6555982033e330bd5c61f996a.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "ec0fd190818a8ee8ac20cf46ef36d8d28288e702f4155e41fd70bfab6f6f1f65"
+#define APEXSEAL_INPUT_HASH "e65e682894cbcf743735fda14569381eccd1baf6555982033e330bd5c61f996a"
 
 /* state x */
 #define APEXSEAL_NX 6
