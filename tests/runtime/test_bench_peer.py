@@ -65,7 +65,8 @@ def tiny_problem():
     f = model_functions(scene)
     span, samples = math.radians(20), 24
     problem = make_problem("default", scene, scene.effects, f, samples=samples, span=span, settle_revolutions=0)
-    st = RunSettings(method="erk", rtol=1e-12, samples_per_revolution=samples, event_tol=1e-13, compile_c=False)
+    per_rev = round(samples * 2 * math.pi / span)  # settings count samples per revolution
+    st = RunSettings(method="erk", rtol=1e-12, samples_per_revolution=per_rev, event_tol=1e-13, compile_c=False)
     out = make_engine(f, st, n_samples=samples, span=span).run(problem.z0, problem.params, problem.theta0,
                                                                 problem.pressures)
     return problem, trajectory(problem, out.z)
