@@ -1,6 +1,6 @@
 /* apexseal_dispatch.c: mode table and dispatch over the generated mode functions.
  * Rendered by apexseal from templates/apexseal_dispatch.in.c; do not edit (run `apexseal generate`).
- * Input hash: 25ffe4452e9fa5964fbf6a8309d1f66ccbe200a08b80858006e693ffce70fab5.
+ * Input hash: 497fba140774964c72fe6489e14434a36f79a8f56993ab6ae13b59ebc6614ca3.
  */
 #include "apexseal_model.h"
 #include "casadi_model.h"

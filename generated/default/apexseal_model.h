@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices, mode table and mode dispatch of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 25ffe4452e9fa5964fbf6a8309d1f66ccbe200a08b80858006e693ffce70fab5.
+ * Effects: all. Input hash: 497fba140774964c72fe6489e14434a36f79a8f56993ab6ae13b59ebc6614ca3.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "25ffe4452e9fa5964fbf6a8309d1f66ccbe200a08b80858006e693ffce70fab5"
+#define APEXSEAL_INPUT_HASH "497fba140774964c72fe6489e14434a36f79a8f56993ab6ae13b59ebc6614ca3"
 
 /* state x */
 #define APEXSEAL_NX 6

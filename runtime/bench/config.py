@@ -9,7 +9,10 @@ the work-precision diagram); its *sweep* is the setting varied along the curve
 * ``C model + Python event loop``: CasADi's SUNDIALS/collocation plugins calling the compiled model library, with
   apexseal's own event loop in Python between output intervals (runtime/solving/stepper_integrator.py);
 * ``CasADi VM``: the same integrator as ``C integrator`` but interpreted by CasADi's virtual machine;
-* ``sympy.lambdify + scipy``: what a user would otherwise write (runtime/bench/baseline_scipy.py).
+* ``sympy.lambdify + scipy``: what a user would otherwise write (runtime/bench/baseline_scipy.py);
+* ``sympy.cse + numba (peer)``: what an expert would write by hand: the same equations through ``sympy.cse`` into a
+  numba right-hand side, under scipy's LSODA or numbalsoda's LSODA and DOP853 with events
+  (runtime/bench/peer_source.py, runtime/bench/peer_numba.py); skipped with a note when numba or numbalsoda is missing.
 """
 
 from __future__ import annotations
@@ -23,6 +26,7 @@ FAMILY_STEPPER = "C model + Python event loop"
 FAMILY_VM = "CasADi VM"
 FAMILY_SCIPY = "sympy.lambdify + scipy"
 FAMILY_PAPER = "paper (Euler, C)"
+FAMILY_PEER = "sympy.cse + numba (peer)"
 
 
 @dataclass(frozen=True)
@@ -32,7 +36,8 @@ class MethodSpec:
     id: str
     label: str
     family: str
-    #: "casadi" (runtime.simulate.make_engine), "rk4" (runtime/solving/fixed_step.py, RK4 rule) or "scipy"
+    #: "casadi" (runtime.solving.methods.make_engine), "rk4" (runtime/solving/fixed_step.py, RK4 rule), "scipy" or
+    #: "peer" (peer_numba.py)
     kind: str
     #: runtime method name (runtime/solving/methods.py) or the scipy solve_ivp method
     method: str
@@ -64,7 +69,16 @@ METHODS: dict[str, MethodSpec] = {m.id: m for m in (
     MethodSpec("scipy-RK45", "lambdify + solve_ivp RK45", FAMILY_SCIPY, "scipy", "RK45", "rtol"),
     MethodSpec("scipy-Radau", "lambdify + solve_ivp Radau", FAMILY_SCIPY, "scipy", "Radau", "rtol"),
     MethodSpec("scipy-LSODA", "lambdify + solve_ivp LSODA", FAMILY_SCIPY, "scipy", "LSODA", "rtol"),
+    MethodSpec("numba-scipy-LSODA", "numba RHS + scipy LSODA (switched)", FAMILY_PEER, "peer", "numba-scipy-LSODA",
+               "rtol"),
+    MethodSpec("numbalsoda-LSODA", "numba RHS + numbalsoda LSODA (switched)", FAMILY_PEER, "peer", "numbalsoda-LSODA",
+               "rtol"),
+    MethodSpec("numbalsoda-DOP853", "numba RHS + numbalsoda DOP853 + events", FAMILY_PEER, "peer",
+               "numbalsoda-DOP853", "rtol"),
 )}
+
+#: the peer methods that need numbalsoda (the others need numba only)
+NEEDS_NUMBALSODA = ("numbalsoda-LSODA", "numbalsoda-DOP853")
 
 
 @dataclass(frozen=True)
@@ -106,15 +120,23 @@ class BenchConfig:
     #: measure a cold compile (empty cache) of the best C integrator for the break-even estimate
     cold_compile: bool = True
     workers: int = 2  # parallel gcc processes while compiling (never while timing)
+    #: end to end: revolutions of the timed ``apexseal simulate`` runs (runtime/bench/e2e.py); 0 = not measured
+    e2e_revolutions: int = 0
+    e2e_repeats: int = 2
 
     def methods_used(self) -> list[MethodSpec]:
         ids = {m for s in self.scenes for m in s.sweeps}
         return [m for k, m in METHODS.items() if k in ids]
 
+    def without(self, methods: tuple[str, ...]) -> BenchConfig:
+        """A copy without these methods (e.g. peers whose packages are not installed)."""
+        sc = tuple(replace(s, sweeps={k: v for k, v in s.sweeps.items() if k not in methods}) for s in self.scenes)
+        return replace(self, scenes=sc)
+
     def restricted(self, *, methods: tuple[str, ...] = (), samples: int | None = None, span_deg: float | None = None,
                    settle: int | None = None, repeats: int | None = None, scenes: tuple[str, ...] = (),
                    flags: str | None = None, effects: bool | None = None, cold_compile: bool | None = None,
-                   check_reference: bool | None = None) -> BenchConfig:
+                   check_reference: bool | None = None, e2e: bool | None = None) -> BenchConfig:
         """A copy with fewer methods/scenes or a smaller problem (for tests and quick looks)."""
         unknown = [m for m in methods if m not in METHODS]
         if unknown:
@@ -128,6 +150,8 @@ class BenchConfig:
         new = replace(new, **{k: v for k, v in changes.items() if v is not None})
         if effects is False:
             new = replace(new, effects=None)
+        if e2e is not None:
+            new = replace(new, e2e_revolutions=20 if e2e else 0)
         return new
 
 
@@ -152,6 +176,9 @@ def full() -> BenchConfig:
         "scipy-RK45": (1e-4, 1e-6),
         "scipy-Radau": (1e-4, 1e-6),
         "scipy-LSODA": (1e-4, 1e-6, 1e-7),
+        "numba-scipy-LSODA": (1e-4, 1e-6, 1e-8),
+        "numbalsoda-LSODA": RTOL_ERK,
+        "numbalsoda-DOP853": RTOL_ERK,
     })
     stiff = SceneSpec("stiff", {"contacts.kw": 2e9}, {
         "euler-C": (360_000, 3_600_000),
@@ -163,9 +190,11 @@ def full() -> BenchConfig:
         "scipy-RK45": (1e-4,),
         "scipy-Radau": (1e-5,),
         "scipy-LSODA": (1e-4, 1e-6),
+        "numbalsoda-LSODA": RTOL_ERK[1:-1],
+        "numbalsoda-DOP853": RTOL_ERK[1:-1],
     })
     # every point gets the full number of timed runs, however slow (the issue asks for medians of at least 5)
-    return BenchConfig("full", (default, stiff), slow_run_s=math.inf)
+    return BenchConfig("full", (default, stiff), slow_run_s=math.inf, e2e_revolutions=20)
 
 
 def quick() -> BenchConfig:
@@ -176,6 +205,9 @@ def quick() -> BenchConfig:
         "rosenbrock-C": (1e-8,),
         "erk-VM": (1e-8,),
         "scipy-LSODA": (1e-4, 1e-6),
+        "numba-scipy-LSODA": (1e-6,),
+        "numbalsoda-LSODA": (1e-4, 1e-6, 1e-8),
+        "numbalsoda-DOP853": (1e-4, 1e-6, 1e-8),
     })
     return BenchConfig("quick", (default,), repeats=3, budget_s=20.0, cold_compile=False, effects=None)
 

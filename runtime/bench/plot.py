@@ -2,7 +2,8 @@
 
 One row per scene; left the scaled state error, right the friction-power error.
 Solid lines: generated C; dashed with hollow markers: CasADi's interpreted VM;
-dotted: lambdify + solve_ivp; the paper's Euler in black. Failed points are counted in the legend.
+dotted: lambdify + solve_ivp; dash-dotted: the hand-written numba peer; the paper's Euler in black.
+Failed points are counted in the legend.
 """
 
 from __future__ import annotations
@@ -25,6 +26,9 @@ STYLE = {  # method -> (colour, line style, marker)
     "scipy-RK45": ("tab:red", ":", "o"),
     "scipy-Radau": ("tab:pink", ":", "D"),
     "scipy-LSODA": ("maroon", ":", "P"),
+    "numba-scipy-LSODA": ("indigo", "-.", "x"),
+    "numbalsoda-LSODA": ("darkviolet", "-.", "P"),
+    "numbalsoda-DOP853": ("magenta", "-.", "o"),
 }
 
 

@@ -128,3 +128,26 @@ def scipy_point(problem, ref, spec: MethodSpec, rtol: float, model, *, repeats: 
     stats["events"] = point["counted_switches"]
     point["stats"] = stats
     return point
+
+
+def peer_point(problem, ref, spec: MethodSpec, rtol: float, peer, *, repeats: int, slow_run_s: float,
+               budget_s: float | None) -> dict:
+    """A point of the hand-written numba peer (runtime/bench/peer_numba.py); its kernels are compiled beforehand."""
+    point = _base(problem, spec, rtol) | {"compiled": True, "engine_build_s": peer.build_s}
+    c0 = time.process_time()
+    try:
+        out, timing = measure(lambda: peer.run(spec.method, rtol), repeats=repeats, slow_run_s=slow_run_s,
+                              budget_s=budget_s)
+    except Exception as exc:  # noqa: BLE001
+        return _failure(point, exc, time.process_time() - c0)
+    point = _analyse(point, problem, ref, out, timing)
+    point["load_average"] = os.getloadavg()[0]
+    if "n_events" in out.stats:
+        src = "DOP853's nfev summed over its calls (one per output interval and event); events located by the driver"
+    else:
+        src = "evaluations counted inside the right-hand side (LSODA's finite-difference Jacobians included); " \
+              "events = switches seen on the output grid"
+    stats = normalise_stats(out.stats, src)
+    stats.setdefault("events", point["counted_switches"])
+    point["stats"] = stats
+    return point

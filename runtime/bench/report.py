@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import math
 
+from .e2e import e2e_md
+
 
 def _t(s: float | None) -> str:
     if s is None or not math.isfinite(s):
@@ -189,6 +191,8 @@ def table_md(r: dict, command: str) -> str:
              "Interpolated (log-log) on each method's Pareto front; *extrapolated* along its last two points when its "
              "most accurate point is still above the target (at most 4 decades, and only for a plausible order of "
              "convergence): such values are estimates, not measurements.", "", *at_target_md(r), ""]
+    lines += peer_md(r)
+    lines += e2e_md(r.get("e2e"))
     for s in r["scenes"]:
         lines += [f"## All points: {s['name']}", "",
                   "`VM run`: CPU time of the interpreted run that gave the statistics of a compiled integrator.", "",
@@ -203,6 +207,34 @@ def table_md(r: dict, command: str) -> str:
         lines.append("")
     lines += ["## Setup costs (not in the run times)", "", *setup_md(r), ""]
     return "\n".join(lines)
+
+
+def peer_md(r: dict) -> list[str]:
+    """apexseal's fastest method against the fastest hand-written numba peer, per scene and error."""
+    from .runner import peer_ratios
+
+    skipped = r.get("skipped") or []
+    note = [f"Skipped: {', '.join(x['method'] for x in skipped)} ({skipped[0]['reason']})."] if skipped else []
+    if not any(p["family"] == "sympy.cse + numba (peer)" for s in r["scenes"] for p in s["points"]):
+        return (["## Against the hand-written numba peer", "", *note, ""]) if note else []
+    lines = ["## Against the hand-written numba peer", "",
+             "The same sympy equations through `sympy.cse` into a numba right-hand side (runtime/bench/peer_source.py) "
+             "under scipy's and numbalsoda's integrators (runtime/bench/peer_numba.py); CPU per revolution at each "
+             "scaled error, interpolated on each method's Pareto front as above. `ratio` = peer / apexseal: above 1 "
+             "apexseal is faster.", "", *note, *([""] if note else []),
+             "| scene | scaled error | fastest apexseal (generated C) | fastest peer | ratio |", "|---|---|---|---|---|"]
+    for s in r["scenes"]:
+        for row in peer_ratios(r, s["name"]):
+            a = f"{row['apexseal']} {_t(row['apexseal_s'])}" if row["apexseal"] else "not reached"
+            p = f"{row['peer']} {_t(row['peer_s'])}" if row["peer"] else "not reached"
+            ratio = f"{row['ratio']:.2f}" if row["ratio"] else "–"
+            lines.append(f"| {s['name']} | {row['error']:g} | {a} | {p} | {ratio} |")
+    info = next((s["peer"] for s in r["scenes"] if s.get("peer")), None)
+    if info:
+        lines += ["", f"Peer setup (not in the run times): {info['source_lines']} lines of numba source printed in "
+                  f"{info['print_cpu_s']:.1f} s CPU (0 when cached), jit {info['jit_wall_s']:.1f} s wall, integrator "
+                  f"kernels {info['kernels_build_wall_s']:.1f} s wall; {info['options']}."]
+    return lines + [""]
 
 
 def effects_md(r: dict, command: str) -> str:

@@ -25,7 +25,7 @@ def _per_call(fn, min_s: float = 0.2, max_calls: int = 20000) -> tuple[float, in
     return total / n, n
 
 
-def rhs_costs(problem, sx, c_model, lambdified, scene_points: list[dict]) -> list[dict]:
+def rhs_costs(problem, sx, c_model, lambdified, scene_points: list[dict], peer=None) -> list[dict]:
     """Rows: form, seconds per evaluation, calls timed (or the point it was derived from)."""
     from .baseline_scipy import lambdify_model, make_rhs
 
@@ -45,9 +45,19 @@ def rhs_costs(problem, sx, c_model, lambdified, scene_points: list[dict]) -> lis
     if c_model is not None:
         t, n = _per_call(lambda: c_model.rhs_switched(th, X, p, u))
         rows.append({"form": "compiled rhs_switched (generated C) called from Python", "s": t, "n": n})
+    if peer is not None:
+        from .peer_numba import per_evaluation
+
+        rows.append({"form": "sympy.cse + numba switched RHS (the peer's), in a numba loop of 200000 calls",
+                     "s": per_evaluation(peer, "switched_rhs"), "n": 200000})
+        rows.append({"form": "sympy.cse + numba RHS of one mode (the peer's DOP853), in a numba loop of 200000 calls",
+                     "s": per_evaluation(peer, "mode_rhs"), "n": 200000})
     for mid, what in (("euler-C", "generated C inside the Euler fold (per step, 1 evaluation)"),
                       ("erk-C", "generated C inside the erk integrator (per evaluation, integrator work included)"),
-                      ("erk-VM", "CasADi VM inside the erk integrator (per evaluation, integrator work included)")):
+                      ("erk-VM", "CasADi VM inside the erk integrator (per evaluation, integrator work included)"),
+                      ("numbalsoda-LSODA", "numba RHS inside numbalsoda LSODA (per evaluation, integrator work included)"),
+                      ("numbalsoda-DOP853", "numba RHS inside numbalsoda DOP853 + events (per evaluation, integrator "
+                                            "and event work included)")):
         pts = [q for q in scene_points if q["method"] == mid and q["status"] == "ok"
                and (q.get("stats") or {}).get("rhs_evaluations")]
         if pts:

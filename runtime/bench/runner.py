@@ -10,14 +10,14 @@ from __future__ import annotations
 import math
 import os
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 
 from .compile_pool import cold_compile, precompile
 from .config import METHODS, BenchConfig
 from .effects import run_effects
 from .methods import EngineCache, compile_target
 from .metrics import time_at_error
-from .points import casadi_point, scipy_point
+from .points import casadi_point, peer_point, scipy_point
 from .problem import load_model, make_problem
 from .reference import check_reference, solve_reference
 from .rhs_cost import rhs_costs
@@ -35,7 +35,8 @@ def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
     from ..scenes.scene import load_scene
 
     t0 = time.perf_counter()
-    results: dict = {"config": _config_dict(cfg), "machine": machine_info()}
+    cfg, skipped = _available(cfg, log)
+    results: dict = {"config": _config_dict(cfg), "machine": machine_info(), "skipped": skipped}
     base = load_scene()
     log("model: deriving / loading")
     sx, derive_info = load_model(base.effects, base.assumptions)
@@ -75,9 +76,29 @@ def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
     if cfg.effects is not None:
         log("effects cost")
         results["effects"] = run_effects(base, cfg, engines, precompile=pool, log=log)
+    if cfg.e2e_revolutions:
+        from .e2e import end_to_end
+
+        results["e2e"] = end_to_end(cfg.e2e_revolutions, cfg.e2e_repeats, log=log)
     results["machine"]["load_average_at_end"] = list(os.getloadavg())
     results["elapsed_wall_s"] = time.perf_counter() - t0
     return results
+
+
+def _available(cfg: BenchConfig, log) -> tuple[BenchConfig, list[dict]]:
+    """Drop the peer methods whose packages are missing (numba; numbalsoda, which needs gfortran), with a note."""
+    from .config import NEEDS_NUMBALSODA
+    from .peer_numba import numba_available, numbalsoda_available
+
+    skipped = []
+    for spec in cfg.methods_used():
+        if spec.kind != "peer":
+            continue
+        why = numbalsoda_available() if spec.id in NEEDS_NUMBALSODA else numba_available()
+        if why:
+            skipped.append({"method": spec.id, "reason": why})
+            log(f"note: skipping {spec.id}: {why}")
+    return (cfg.without(tuple(s["method"] for s in skipped)) if skipped else cfg), skipped
 
 
 def _run_scene(ctx, s, log, *, with_rhs_cost: bool) -> dict:
@@ -108,8 +129,10 @@ def _run_scene(ctx, s, log, *, with_rhs_cost: bool) -> dict:
             _log_point(log, points[-1])
     entry = {"name": s.name, "overrides": s.overrides, "problem": problem.describe(), "reference": ref_info,
              "points": points, "lambdify": ctx.lambdify_info}
+    if problem.name in ctx.peers:
+        entry["peer"] = ctx.peer_info(problem.name)
     if with_rhs_cost:  # per-evaluation costs, once
-        entry["rhs_cost"] = rhs_costs(problem, sx, c_model, ctx.lambdified, points)
+        entry["rhs_cost"] = rhs_costs(problem, sx, c_model, ctx.lambdified, points, peer=ctx.peers.get(problem.name))
     return entry
 
 
@@ -124,10 +147,35 @@ class _Context:
     base: object  # the default scene (effects, assumptions)
     lambdified: object = None
     lambdify_info: dict | None = None
+    numba_model: object = None
+    peers: dict = field(default_factory=dict)  # problem name -> NumbaPeer
+
+    def peer(self, problem):
+        """The hand-written numba peer of this problem (its source printed and its kernels compiled once)."""
+        from .config import NEEDS_NUMBALSODA
+        from .peer_numba import NumbaPeer
+
+        if self.numba_model is None:
+            from .peer_source import numba_model
+
+            self.numba_model = numba_model(self.base.effects, self.base.assumptions)
+        if problem.name not in self.peers:
+            peer = self.peers[problem.name] = NumbaPeer(problem, self.numba_model)
+            peer.build(numbalsoda=any(m in NEEDS_NUMBALSODA for s in self.cfg.scenes for m in s.sweeps))
+        return self.peers[problem.name]
+
+    def peer_info(self, name: str) -> dict:
+        nm, peer = self.numba_model, self.peers[name]
+        return {"source_lines": sum(1 for _ in nm.path.open()), "print_cpu_s": nm.print_s, "jit_wall_s": nm.jit_s,
+                "kernels_build_wall_s": peer.build_s,
+                "options": "sympy.cse (optimizations=None), PythonCodePrinter (math), numba.njit(error_model='numpy'), "
+                           "no fastmath; integrated on the scaled state against the crank angle, atol = rtol"}
 
     def point(self, problem, ref, spec, value) -> dict:
         cfg = self.cfg
         kw = {"repeats": cfg.repeats, "slow_run_s": cfg.slow_run_s, "budget_s": cfg.budget_s}
+        if spec.kind == "peer":
+            return peer_point(problem, ref, spec, value, self.peer(problem), **kw)
         if spec.kind == "scipy":
             if self.lambdified is None:
                 from .baseline_scipy import lambdify_model
@@ -225,9 +273,46 @@ def targets_table(results: dict, cfg: BenchConfig) -> list[dict]:
         if name == "default" and tc:
             rows.append({"scene": name, "target": f"one revolution at {e:g} in < 10 ms CPU", "value": tc,
                          "text": f"{1e3 * tc:.3g} ms ({kc}, {how[kc]})", "status": "met" if tc < 0.01 else "missed"})
+    for name in results["summary"]:
+        row = next((r for r in peer_ratios(results, name) if r["error"] == e), None)
+        if row and row["ratio"] is not None:
+            rows.append({"scene": name, "target": f"best apexseal method >= 2x faster than the best numba peer at {e:g}",
+                         "value": row["ratio"], "status": "met" if row["ratio"] >= 2 else "missed",
+                         "text": f"{row['ratio']:.2f}x ({row['apexseal']} {1e3 * row['apexseal_s']:.3g} ms vs "
+                                 f"{row['peer']} {1e3 * row['peer_s']:.3g} ms)"})
     be = break_even(results)
     if be:
         rows.append(be)
+    return rows
+
+
+#: the errors at which apexseal is compared with the hand-written peer (README "What accuracy costs in time")
+PEER_ERRORS = (1e-3, 1e-4, 1e-6, 1e-8)
+
+
+def peer_ratios(results: dict, scene: str, errors=PEER_ERRORS) -> list[dict]:
+    """At each error: apexseal's fastest generated-C method, the fastest peer, and time(peer) / time(apexseal).
+
+    Times are interpolated on each method's Pareto front as for the target error (``metrics.time_at_error``);
+    a ratio below 1 means the peer is faster."""
+    s = next(x for x in results["scenes"] if x["name"] == scene)
+    curves: dict = {}
+    for p in s["points"]:
+        if p["status"] == "ok":
+            curves.setdefault(p["method"], []).append((p["timing"]["median_cpu_s"], p["error"]["state"]))
+    fam = {p["method"]: p["family"] for p in s["points"]}
+    gen = {p["method"]: p["generated_c"] for p in s["points"]}
+    rows = []
+    for e in errors:
+        def best(pred, e=e):
+            cands = [((time_at_error(c, e) or {}).get("time_s"), m) for m, c in curves.items() if pred(m)]
+            cands = [(t, m) for t, m in cands if t is not None]
+            return min(cands) if cands else (None, None)
+
+        ta, ka = best(lambda m: gen[m] and m != "euler-C")
+        tp, kp = best(lambda m: fam[m] == "sympy.cse + numba (peer)")
+        rows.append({"error": e, "apexseal": ka, "apexseal_s": ta, "peer": kp, "peer_s": tp,
+                     "ratio": tp / ta if ta and tp else None})
     return rows
 
 

@@ -64,6 +64,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     if engine is None and stop is None:  # no compiling for a run that cannot start
         m = samples_per_call(settings)
         engine = make_engine(functions, settings, n_samples=m, span=m * dth)
+    t_engine = time.perf_counter()
     m = engine.n_samples if engine is not None else N
     if N % m:
         raise ValueError(f"the engine covers {m} output intervals, which do not divide samples_per_revolution = {N}")
@@ -139,7 +140,16 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                    "compiled": bool(engine is not None and engine.compiled)}
         if signals.requested:
             info["signals"] = [int(s) for s in signals.received]
-        return sink.finish(status, stop, info)
+        t_finish = time.perf_counter()
+        result = sink.finish(status, stop, info)
+        # wall seconds: start checks and building the engine (compiling, or loading the cached library), integrating
+        # (checks between calls included), assembling the outputs (per revolution, and joining them at the end),
+        # handing each revolution to the sink (writing it, when it streams to disk)
+        assembling = part.assemble_s + time.perf_counter() - t_finish
+        result.info["timings_s"] = {"compile": t_engine - t_wall,
+                                    "integrate": t_finish - t_engine - part.assemble_s - part.save_s,
+                                    "assemble": assembling, "save": part.save_s}
+        return result
 
 
 def _up_to_stop(Z: np.ndarray, edges: np.ndarray, theta_start: float, found) -> np.ndarray:
@@ -159,6 +169,7 @@ class _Part:
         self.blocks, self.thetas, self.pressures = [], [], []
         self.theta_done = 0.0  # crank angle of the last sample, from the start
         self._last = first
+        self.assemble_s = self.save_s = 0.0  # wall seconds of flush(): assembling, then handing to the sink
 
     def add(self, Z, thetas, P) -> None:
         self.blocks.append(Z)
@@ -173,10 +184,14 @@ class _Part:
     def flush(self) -> None:
         if not self.blocks and self.first is None:
             return
+        w0 = time.perf_counter()
         part = assemble_blocks(self.functions, self.params, self.blocks, self.thetas, self.pressures,
                                self.theta_start, self.omega, first=self.first)
         self.blocks, self.thetas, self.pressures, self.first = [], [], [], None
+        w1 = time.perf_counter()
         self.sink.append(part)
+        self.assemble_s += w1 - w0
+        self.save_s += time.perf_counter() - w1
 
 
 def _pressures(pressure, edges: np.ndarray) -> np.ndarray:

@@ -14,6 +14,9 @@ def _command_line(ctx: click.Context) -> str:
     words = ["apexseal", "bench"]
     for param in ctx.command.params:
         value = ctx.params.get(param.name)
+        if value is False and isinstance(param, click.Option) and param.secondary_opts and param.default is None:
+            words.append(param.secondary_opts[0])  # an explicit --no-... of a tri-state switch
+            continue
         if not isinstance(param, click.Option) or value in (None, "", False) or value == param.default:
             continue
         words.append(param.opts[0])
@@ -35,7 +38,9 @@ def _command_line(ctx: click.Context) -> str:
 @click.option("--no-effects", is_flag=True, help="Skip the effects-cost table.")
 @click.option("--no-check", is_flag=True, help="Skip checking the reference with a second method.")
 @click.option("--flags", type=click.Choice(["optimised", "quick"]), help="C compiler flag set (default optimised).")
-def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_effects, no_check, flags) -> None:
+@click.option("--e2e/--no-e2e", default=None, help="Time the stages of a warm `apexseal simulate --revolutions 20` "
+              "with and without figures (default: in the full run only).")
+def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_effects, no_check, flags, e2e) -> None:
     """Work-precision benchmark: error against CPU time for every method, targets, effects cost."""
     from .runtime.bench.config import PRESETS
     from .runtime.bench.output import write_outputs
@@ -46,7 +51,7 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     try:
         cfg = cfg.restricted(methods=split(methods), scenes=split(scenes), samples=samples, span_deg=span_deg,
                              settle=settle, repeats=repeats, flags=flags, effects=False if no_effects else None,
-                             check_reference=False if no_check else None)
+                             check_reference=False if no_check else None, e2e=e2e)
     except ValueError as err:
         raise click.BadParameter(str(err)) from err
     command = _command_line(click.get_current_context())
@@ -56,3 +61,7 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     click.echo(f"wrote {', '.join(str(p) for p in paths.values())} in {(time.perf_counter() - t0) / 60:.1f} min")
     for t in results.get("targets", []):
         click.echo(f"  [{t['status']:>7}] {t['scene']}: {t['target']}: {t['text']}")
+    for name, v in (results.get("e2e") or {}).get("variants", {}).items():
+        parts = ", ".join(f"{k} {s:.2f}" for k, s in v["stages_s"].items())
+        click.echo(f"  end to end ({name}): {parts}; wall {v['wall_s']:.2f} s "
+                   f"(integrating {100 * v['integrate_share']:.0f} %)")

@@ -9,6 +9,7 @@ import click
 
 from .cli_common import default_folder, result_folder, scene_of
 from .runtime.solving.methods import METHODS
+from .stopwatch import Stopwatch
 
 #: run setting -> the option that sets it (a bad value is reported against the option)
 OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol"}
@@ -24,45 +25,62 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
 @click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv (text; slower than the binary parts).")
 @click.option("--no-figures", is_flag=True, help="Skip the figures.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
-def simulate(scene: Path | None, revolutions, method, rtol, out, csv, no_figures, quiet) -> None:
+@click.option("--timings", is_flag=True, help="Print where the wall time went (startup, import, scene, load, compile, "
+              "integrate, assemble, save, figures).")
+def simulate(scene: Path | None, revolutions, method, rtol, out, csv, no_figures, quiet, timings) -> None:
     """Simulate SCENE (a TOML file; default: the embedded case study of the paper).
 
     Revolutions are written to disk as they finish; the folder is written beside OUT and renamed into place at
     the end. SIGINT (Ctrl-C) and SIGTERM stop the run between integrator calls, and the revolutions completed
     are written as a result with status "interrupted" (exit code 130 or 143).
     """
-    from .runtime.api import run_scene, settings_of
-    from .runtime.results.figures import write_figures
-    from .runtime.results.folder import ResultFolder, ResultStorageError
-    from .runtime.results.summary import summarise
-    from .runtime.solving.settings import SettingsError
-    from .runtime.solving.signals import StopSignals
+    watch = Stopwatch()  # stages always timed (two clock reads each), printed with --timings
+    with watch.stage("import"):
+        from .runtime.api import model_functions, run_scene, settings_of
+        from .runtime.results.figures import write_figures
+        from .runtime.results.folder import ResultFolder, ResultStorageError
+        from .runtime.results.summary import summarise
+        from .runtime.solving.settings import SettingsError
+        from .runtime.solving.signals import StopSignals
 
-    sc = scene_of(scene)
-    try:
-        settings = settings_of(sc, revolutions=revolutions, method=method, rtol=rtol)
-    except SettingsError as err:
-        key = err.errors[0].key
-        raise click.BadParameter("\n".join(p.message for p in err.errors), param_hint=OPTIONS.get(key, key)) from err
-    out = default_folder(scene, out)
-    result_folder(out)
+        if timings:  # imported by the load stage anyway; up front, so that the split shows what importing costs
+            import casadi  # noqa: F401
+            import sympy  # noqa: F401
+
+    with watch.stage("scene"):
+        sc = scene_of(scene)
+        try:
+            settings = settings_of(sc, revolutions=revolutions, method=method, rtol=rtol)
+        except SettingsError as err:
+            key = err.errors[0].key
+            raise click.BadParameter("\n".join(p.message for p in err.errors), param_hint=OPTIONS.get(key, key)) from err
+        out = default_folder(scene, out)
+        result_folder(out)
     click.echo(f"scene {scene or '(embedded default: the paper case study)'}; method {settings.method}; "
                f"writing to {out}/")
     with StopSignals() as signals:  # a second signal during the writing is noted, not raised
         try:
-            writer = ResultFolder(out)
-            result = run_scene(sc, settings, progress=not quiet and sys.stderr.isatty(), sink=writer)
-            summary = summarise(result, {"source": str(scene or "default")})
-            writer.write_json("summary.json", summary)
-            files = ["result.json", f"parts/ ({len(writer.parts)} files)", "summary.json"]
-            if csv:
-                writer.write_csv()
-                files.append("trajectory.csv")
+            with watch.stage("load"):
+                functions = model_functions(sc)
+            with watch.stage("run"):
+                writer = ResultFolder(out)
+                result = run_scene(sc, settings, progress=not quiet and sys.stderr.isatty(), sink=writer,
+                                   functions=functions)
+            watch.split("run", result.info.get("timings_s", {}))
+            with watch.stage("save"):
+                summary = summarise(result, {"source": str(scene or "default")})
+                writer.write_json("summary.json", summary)
+                files = ["result.json", f"parts/ ({len(writer.parts)} files)", "summary.json"]
+                if csv:
+                    writer.write_csv()
+                    files.append("trajectory.csv")
             if not no_figures and result.n > 1 and not signals.requested:
-                ports = {k: {"angle_deg": v.angle_deg, "width_deg": v.width_deg}
-                         for k, v in sc.machine.ports.items()} if getattr(sc.machine, "ports", None) else None
-                files += [p.name for p in write_figures(result, writer.staging, ports)]
-            writer.commit()
+                with watch.stage("figures"):
+                    ports = {k: {"angle_deg": v.angle_deg, "width_deg": v.width_deg}
+                             for k, v in sc.machine.ports.items()} if getattr(sc.machine, "ports", None) else None
+                    files += [p.name for p in write_figures(result, writer.staging, ports)]
+            with watch.stage("save"):
+                writer.commit()
         except ResultStorageError as err:
             raise click.ClickException(str(err)) from err
     ext = summary["extremes"]
@@ -72,6 +90,8 @@ def simulate(scene: Path | None, revolutions, method, rtol, out, csv, no_figures
                f"phi {ext['phi']['min']:.3f}..{ext['phi']['max']:.3f} mrad; "
                f"friction power {summary['mean_friction_power_W'].get('total', 0.0):.2f} W")
     click.echo(f"  wrote {', '.join(files)} to {out}/")
+    if timings:
+        click.echo(watch.report())
     if not result.ok:
         click.echo(f"  {result.stop.describe()}", err=True)
         sys.exit(signals.exit_code() or 2)

@@ -1,0 +1,77 @@
+"""End to end: where a warm ``apexseal simulate --revolutions N`` spends its wall time.
+
+The command runs in a subprocess with ``--timings`` (src/apexseal/stopwatch.py),
+once to warm the caches (derivation, compiled libraries), then ``repeats`` times
+timed, with and without figures; each stage's median is kept. ``exit`` is the
+subprocess's wall time measured from outside minus the command's own total
+(interpreter shutdown).
+"""
+
+from __future__ import annotations
+
+import json
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+#: the stages in the order the command runs them
+STAGES = ("startup", "import", "scene", "load", "compile", "integrate", "assemble", "run (other)", "save", "figures",
+          "exit")
+
+
+def _once(args: list[str]) -> dict:
+    w0 = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-c", "from apexseal.cli import main; main()", *args],
+                          capture_output=True, text=True, check=False)
+    wall = time.perf_counter() - w0
+    line = next((x for x in proc.stdout.splitlines() if x.startswith("timings-json ")), None)
+    if proc.returncode != 0 or line is None:
+        raise RuntimeError(f"apexseal {' '.join(args)} failed ({proc.returncode}): {(proc.stderr or proc.stdout)[-500:]}")
+    t = json.loads(line.split(" ", 1)[1])
+    stages = dict(t["stages"])
+    stages["exit"] = max(0.0, wall - t["total_s"])
+    return {"stages": stages, "wall_s": wall}
+
+
+def end_to_end(revolutions: int = 20, repeats: int = 2, *, log=print) -> dict:
+    """Medians of the stages of ``apexseal simulate --revolutions N --timings`` without and with figures."""
+    out: dict = {"revolutions": revolutions, "repeats": repeats, "variants": {}}
+    with tempfile.TemporaryDirectory(prefix="apexseal-e2e-") as tmp:
+        for name, extra in (("no figures", ["--no-figures"]), ("with figures", [])):
+            args = ["simulate", "--revolutions", str(revolutions), "--quiet", "--timings", "--out", tmp, *extra]
+            log(f"end to end: apexseal {' '.join(a for a in args if a not in ('--out', tmp))} (1 warm-up + {repeats})")
+            _once(args)
+            runs = [_once(args) for _ in range(repeats)]
+            keys = [k for k in STAGES if any(k in r["stages"] for r in runs)]
+            med = {k: statistics.median(r["stages"].get(k, 0.0) for r in runs) for k in keys}
+            wall = statistics.median(r["wall_s"] for r in runs)
+            out["variants"][name] = {"command": "apexseal " + " ".join(a for a in args if a not in ("--out", tmp)),
+                                     "stages_s": med, "wall_s": wall, "runs": runs,
+                                     "integrate_share": med.get("integrate", 0.0) / wall}
+            log("  " + ", ".join(f"{k} {v:.2f}" for k, v in med.items()) + f"; wall {wall:.2f} s, integrating "
+                f"{100 * med.get('integrate', 0.0) / wall:.0f} %")
+    return out
+
+
+def e2e_md(e2e: dict | None) -> list[str]:
+    """The table of the split (stages as rows, the two variants as columns)."""
+    if not e2e:
+        return []
+    vs = e2e["variants"]
+    names = list(vs)
+    lines = ["## End to end: where a warm `apexseal simulate` spends its wall time", "",
+             f"`apexseal simulate --revolutions {e2e['revolutions']} --timings` in a subprocess after one warm-up run "
+             f"(caches warm), median of {e2e['repeats']} runs; wall seconds (src/apexseal/stopwatch.py; `compile` is "
+             "building the integrator, i.e. loading the cached library once warm; `exit` is interpreter shutdown).", "",
+             "| stage | " + " | ".join(names) + " |", "|---|" + "---|" * len(names)]
+    keys = [k for k in STAGES if any(k in v["stages_s"] for v in vs.values())]
+    for k in keys:
+        cells = []
+        for n in names:
+            v = vs[n]["stages_s"].get(k)
+            cells.append("–" if v is None else f"{v:.2f} s ({100 * v / vs[n]['wall_s']:.0f} %)")
+        lines.append(f"| {k} | " + " | ".join(cells) + " |")
+    lines.append("| **wall** | " + " | ".join(f"**{vs[n]['wall_s']:.2f} s**" for n in names) + " |")
+    return lines + [""]
