@@ -39,7 +39,7 @@ from pathlib import Path
 import casadi as ca
 
 from ..derive.cache import cache_dir
-from ..files import atomic_write, content_key, file_lock, sha256_file
+from ..progress import stage
 from .manifest import StaleArtefactWarning, verify
 
 #: flag setting -> compiler flags. -ffp-contract=off keeps gcc from fusing a*b+c into FMA
@@ -166,7 +166,9 @@ def build_library(key_payload: dict, sources: list[Path], name: str, *, flags: s
         sweep_build_folders(key)
         build_dir = Path(tempfile.mkdtemp(dir=lib_root(), prefix=f".build-{key[:16]}-"))
         try:
-            _compile_all(cc, fl, sources, build_dir, build_dir / name)
+            with stage(f"compiling {name} ({len(sources)} C file{'s' if len(sources) != 1 else ''}, {cc} "
+                       f"{' '.join(fl)}; first use, cached afterwards)"):
+                _compile_all(cc, fl, sources, build_dir, build_dir / name)
             lib_dir.mkdir(parents=True, exist_ok=True)
             os.replace(build_dir / name, so)
         finally:

@@ -19,9 +19,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..derive.assumptions import Assumptions
-from ..derive.cache import cache_dir, cached_model
+from ..derive.cache import cache_dir, cached_model, derivation_key
 from ..derive.effects import Effects
-from ..files import file_lock
+from ..progress import stage
 from .compile import compiled_or_interpreted
 from .functions import ModelFunctions, build_functions
 from .manifest import MANIFEST_NAME, Manifest, StaleArtefactError, StaleArtefactWarning, input_hash, read_manifest, verify
@@ -79,8 +79,17 @@ def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None
         try:
             verify(target, expected_hash=expected)  # another process generated it while we waited
         except StaleArtefactError:
-            generate(effects, assumptions, target, compile=False, echo=None)
+            with stage(f"generating C for effects {effects.label} (first use; cached afterwards)"):
+                generate(effects, assumptions, target, compile=False, echo=None)
     return target
+
+
+def _derived(effects: Effects, assumptions: Assumptions):
+    """The derived model from the cache, with a progress report when it must be derived (tens of seconds)."""
+    if (cache_dir() / "derive" / f"{derivation_key(effects, assumptions)}.pkl").exists():
+        return cached_model(effects, assumptions)
+    with stage(f"deriving the equations of motion (sympy; effects {effects.label}; first use, cached afterwards)"):
+        return cached_model(effects, assumptions)
 
 
 def load_functions(effects: Effects | None = None, assumptions: Assumptions | None = None, *, compiled: bool = True,
@@ -88,7 +97,7 @@ def load_functions(effects: Effects | None = None, assumptions: Assumptions | No
     """SX and compiled Functions of a model; generates and compiles what the cache lacks."""
     effects = effects or Effects()
     assumptions = assumptions or Assumptions()
-    sx = build_functions(cached_model(effects, assumptions))
+    sx = build_functions(_derived(effects, assumptions))
     if not compiled:
         return LoadedFunctions(sx, None, None, None, None)
     source = artefact_dir(effects, assumptions)

@@ -46,35 +46,92 @@ def scene_of(scene):
     return scene
 
 
+#: RunSettings field -> (scene key, value as the scene writes it): a run's settings written into its scene
+_SCENE_KEYS = {
+    "method": ("solver.method", str), "rtol": ("solver.rtol", float), "atol": ("solver.atol", float),
+    "samples_per_revolution": ("solver.samples_per_revolution", int),
+    "steps_per_revolution": ("solver.euler_steps_per_revolution", int), "event_tol": ("solver.event_tol", float),
+    "max_events_per_revolution": ("solver.max_events_per_revolution", int),
+    "chatter_window": ("solver.chatter_window", float), "chatter_events": ("solver.chatter_events", int),
+    "flags": ("solver.compile", lambda f: "quick" if f == "quick" else "optimised"),
+    "compile_c": ("solver.interpreted", lambda c: not c), "revolutions": ("operation.revolutions", int),
+}
+
+
+def scene_that_ran(scene, settings: RunSettings):
+    """The scene with a run's settings written into it ([solver] keys, operation.revolutions), so that loading
+    its resolved TOML re-runs the same computation. Settings that are no scene key (a wall-time budget, a
+    user's engine class) are recorded in result.json only."""
+    base = settings_of(scene)
+    over = {}
+    for name, (key, form) in _SCENE_KEYS.items():
+        value = getattr(settings, name)
+        if value == getattr(base, name) or value is None or (name == "method" and not isinstance(value, str)):
+            continue
+        over[key] = form(value)
+    if not over:
+        return scene
+    import warnings
+
+    from .scenes.units import PlausibilityWarning
+
+    with warnings.catch_warnings():  # the scene's plausibility was reported when it was loaded
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        return scene.with_overrides(**over)
+
+
+def provenance(scene) -> dict:
+    """What identifies a run's inputs: the scene as given (Scene.reference) and its content hash, the generated model's input hash
+    (the ``input_hash`` of its manifest), and the package versions."""
+    from ..generated.manifest import input_hash
+    from .results.summary import versions
+
+    return {"scene": scene.reference, "scene_hash": scene.content_hash(),
+            "model_hash": input_hash(scene.effects, scene.assumptions), "versions": versions()}
+
+
 def simulate(scene, *, revolutions: int | None = None, method: str | None = None, rtol: float | None = None,
              progress: bool = False, functions=None, out=None, **settings) -> SimulationResult:
     """Simulate a scene (see :func:`apexseal.load_scene`, or a scene file's path) and return its
     :class:`SimulationResult`.
 
-    Settings given here override the scene's and are checked with the same ranges (:class:`RunSettings`).
+    Settings given here override the scene's and are checked with the same ranges (:class:`RunSettings`); the
+    result keeps the scene that ran with them applied (``result.scene``, saved as scene.toml).
     With ``out`` (a folder) the revolutions are streamed to disk as they finish and the folder is written as
-    one unit (runtime/results/folder.py); the returned result is read back from it.
+    one unit (runtime/results/folder.py); the returned result is read back from it. ``progress=True`` reports
+    the long stages (derivation, code generation, compilation with elapsed times) and the integration on stderr.
     """
+    from .. import progress as stages
+
     scene = scene_of(scene)
     st = settings_of(scene, method=method, rtol=rtol, revolutions=revolutions, **settings)
-    if out is None:
-        return run_scene(scene, st, progress=progress, functions=functions)
-    from .results.folder import ResultFolder
+    with stages.enabled(progress):
+        if out is None:
+            return run_scene(scene, st, progress=progress, functions=functions)
+        from .results.folder import ResultFolder
 
-    sink = ResultFolder(out)
-    result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)
-    sink.commit()
-    return result
+        sink = ResultFolder(out)
+        result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)
+        sink.commit()
+        return result
 
 
 def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions=None, sink=None) -> SimulationResult:
-    """Run a loaded scene with checked settings (``sink``: where completed revolutions go, see :func:`run`)."""
+    """Run a loaded scene with checked settings (``sink``: where completed revolutions go, see :func:`run`).
+
+    The scene that ran (the settings written into its [solver] and [operation] keys) goes to the sink first
+    (scene.toml of a result folder) and is the result's ``scene``."""
+    ran = scene_that_ran(scene, settings)
+    if hasattr(sink, "write_scene"):
+        sink.write_scene(ran)
     functions = functions or model_functions(scene)
     op = scene.operation
     pressure = scene.pressure.interval_means if scene.effects.chamber_pressure else None
-    return run(functions, scene.parameter_vector(), settings, theta_start=op.start_angle, state0=initial_state(scene),
-               pressure=pressure, until_periodic=op.until_periodic, periodic_tol=op.periodic_tol, progress=progress,
-               info={"scene": scene.reference}, sink=sink)
+    result = run(functions, scene.parameter_vector(), settings, theta_start=op.start_angle,
+                 state0=initial_state(scene), pressure=pressure, until_periodic=op.until_periodic,
+                 periodic_tol=op.periodic_tol, progress=progress, info=provenance(ran), sink=sink)
+    result.scene = ran
+    return result
 
 
 def initial_state(scene) -> np.ndarray:

@@ -1,7 +1,7 @@
 """trajectory.csv (on request): one row per sample, written part by part with one format operation per row.
 
 The first line, ``# apexseal result <run id>, <n> samples``, ties the file to its result.json (pandas:
-``read_csv(path, comment="#")``). Formatting numbers as text is what costs (``python
+``read_csv(path, comment="#")``); the header carries each column's SI unit (``x [m]``, docs/outputs.md). Formatting numbers as text is what costs (``python
 tests/runtime/measure_saving.py`` times it), so the binary parts (parts/*.npz) are the default format.
 """
 
@@ -12,11 +12,14 @@ from collections.abc import Iterable
 import numpy as np
 
 from ...derive.submodels.registry import state_names
+from .outputs import header as units_header
 from .result import SimulationResult
 
 
 def header(part: SimulationResult, guard_names) -> list[str]:
-    return ["theta_deg", "time_s", *state_names(), "mode", *[f"closed_{g}" for g in guard_names], *part.outputs]
+    """The column names with their SI units (``x [m]``), from the one table of outputs (docs/outputs.md)."""
+    return units_header(["theta_deg", "time_s", *state_names(), "mode", *[f"closed_{g}" for g in guard_names],
+                         *part.outputs])
 
 
 def write_csv(fh, run_id: str, samples: int, parts: Iterable[SimulationResult], guard_names=None) -> None:

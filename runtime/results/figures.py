@@ -1,4 +1,11 @@
-"""The paper's figures for a run: Fig. 12 (polar displacements), Fig. 13 (forces), Fig. 14 (spectrum), modes."""
+"""The paper's figures for a run: Fig. 12 (polar displacements), Fig. 13 (forces), Fig. 14 (spectrum), modes.
+
+Each function returns a matplotlib :class:`~matplotlib.figure.Figure` drawn with constrained layout. Figures
+are made without pyplot (``Figure()``), so drawing never touches the user's backend or pyplot's figure list; in
+a notebook a returned Figure displays itself, in a script ``fig.savefig(path)`` writes it. ``pyplot=True``
+makes them through ``matplotlib.pyplot`` instead (for ``plt.show()`` windows). :func:`write_figures` saves the
+four figures of a run as PNG files.
+"""
 
 from __future__ import annotations
 
@@ -7,60 +14,85 @@ from pathlib import Path
 import numpy as np
 
 from ...files import atomic_open
+from .outputs import describe
 from .result import SimulationResult
-from .summary import housing_force, spectrum
+from .summary import housing_force, spectral_peaks, spectrum
+
+PORT_COLOURS = {"inlet": "tab:orange", "outlet": "tab:green"}
 
 
-def _plt():
-    import matplotlib
+def new_figure(figsize: tuple[float, float], pyplot: bool = False):
+    """An empty Figure with constrained layout (through pyplot only if asked)."""
+    if pyplot:
+        import matplotlib.pyplot as plt
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+        return plt.figure(figsize=figsize, layout="constrained")
+    from matplotlib.figure import Figure
 
-    return plt
-
-
-def _save(plt, fig, path: Path) -> Path:
-    """Lay out, write atomically (PNG) and close ``fig``."""
-    fig.tight_layout()
-    with atomic_open(path, "wb") as fh:
-        fig.savefig(fh, dpi=110, format="png")
-    plt.close(fig)
-    return path
+    return Figure(figsize=figsize, layout="constrained")
 
 
-def _ports(ax, ports: dict | None) -> None:
+def ports_of(scene) -> dict | None:
+    """``{name: {"angle_deg", "width_deg"}}`` of a scene's ports (Table 1), or None."""
+    ports = getattr(getattr(scene, "machine", None), "ports", None)
+    if not ports:
+        return None
+    return {k: {"angle_deg": v.angle_deg, "width_deg": v.width_deg} for k, v in ports.items()}
+
+
+def _ports(ax, ports: dict | None, polar: bool) -> list:
+    """Shade the ports (centred on their angle); returns the legend handles."""
+    handles = []
     for name, port in (ports or {}).items():
-        a0 = np.radians(port["angle_deg"])
-        w = np.radians(port["width_deg"])
-        ax.axvspan(a0, a0 + w, color="tab:orange" if name == "inlet" else "tab:green", alpha=0.25, label=f"{name} port")
+        a0, w = port["angle_deg"] - port["width_deg"] / 2, port["width_deg"]
+        lo, hi = (np.radians(a0), np.radians(a0 + w)) if polar else (a0 % 360, a0 % 360 + w)
+        handles.append(ax.axvspan(lo, hi, color=PORT_COLOURS.get(name, "tab:gray"), alpha=0.25, lw=0,
+                                  label=f"{name} port"))
+    return handles
 
 
-def fig12_displacements(result: SimulationResult, path: Path, ports: dict | None = None) -> Path:
-    """Fig. 12: x, y and phi against crank angle, as polar plots with the ports marked."""
-    plt = _plt()
-    fig, axes = plt.subplots(1, 3, subplot_kw={"projection": "polar"}, figsize=(13, 4.6))
+def fig12_displacements(result: SimulationResult, ports: dict | None = None, *, pyplot: bool = False):
+    """Fig. 12: x, y and phi against crank angle as polar plots (radius = value), ports shaded.
+
+    The radial axis starts below the smallest value (a hole in the middle) and the zero circle is drawn
+    dashed, so negative displacements read as "inside the dashed circle" rather than folding through the
+    centre; at most four radial ticks, labelled on a clear ray.
+    """
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import MaxNLocator
+
+    fig = new_figure((13, 5.2), pyplot)
+    axes = fig.subplots(1, 3, subplot_kw={"projection": "polar"})
     th = result.theta
-    for ax, (i, label, scale) in zip(axes, ((0, "x (µm)", 1e6), (1, "y (µm)", 1e6), (2, "ϕ (mrad)", 1e3)),
-                                     strict=True):
-        v = result.state[i] * scale
-        lo, hi = float(v.min()), float(v.max())
-        pad = 0.1 * (hi - lo or 1.0)
-        ax.plot(th, v, lw=0.8)
-        ax.set_rlim(lo - pad, hi + pad)
-        _ports(ax, ports)
-        ax.set_title(label, pad=14)
-    axes[0].legend(loc="lower left", bbox_to_anchor=(-0.25, -0.2), fontsize=8)
-    fig.suptitle("Seal displacements against crank angle (cf. Fig. 12)")
-    return _save(plt, fig, path)
+    handles = []
+    for ax, name in zip(axes, ("x", "y", "phi"), strict=True):
+        c = describe(name)
+        v = result.column(name) * c.scale
+        lo, hi = (float(v.min()), float(v.max())) if v.size else (0.0, 1.0)
+        lo, hi = min(lo, 0.0), max(hi, 0.0)
+        span = hi - lo or 1.0
+        r0 = lo - 0.05 * span
+        ax.set_rorigin(r0 - 0.35 * span)  # a hole in the middle: the smallest value does not sit on the centre
+        ax.set_rlim(r0, hi + 0.05 * span)
+        ax.yaxis.set_major_locator(MaxNLocator(4))
+        ax.set_rlabel_position(112.5)
+        ax.tick_params(axis="y", labelsize=8)
+        ax.plot(th, v, lw=0.8, color="tab:blue")
+        ax.plot(np.linspace(0, 2 * np.pi, 181), np.zeros(181), ls="--", lw=0.8, color="k")
+        handles = _ports(ax, ports, polar=True)
+        ax.set_title(c.label, pad=18)
+    zero = Line2D([], [], ls="--", lw=0.8, color="k", label="zero")
+    fig.legend(handles=[*handles, zero], loc="outside lower center", ncols=len(handles) + 1, fontsize=9)
+    fig.suptitle("Seal displacements against crank angle (cf. Fig. 12; angle = crank angle, radius = value)")
+    return fig
 
 
-def fig13_forces(result: SimulationResult, path: Path) -> Path:
-    """Fig. 13: groove contact forces Fi1, Fi2, Fc2, Fc4, spring force Fs6 and housing force Fs5."""
-    plt = _plt()
+def fig13_forces(result: SimulationResult, *, pyplot: bool = False):
+    """Fig. 13: groove contact forces Fi1, Fi2, Fc2, Fc4, spring force Fs6 and housing force Fs5 (magnitudes)."""
     deg = np.degrees(result.theta)
     names = [("i1", "F_i1"), ("i2", "F_i2"), ("c2", "F_c2"), ("c4", "F_c4"), ("spring", "F_s6"), ("housing", "F_s5")]
-    fig, axes = plt.subplots(3, 2, figsize=(12, 8), sharex=True)
+    fig = new_figure((12, 8), pyplot)
+    axes = fig.subplots(3, 2, sharex=True)
     for ax, (key, label) in zip(axes.ravel(), names, strict=True):
         if f"F_{key}_X" in result.outputs:
             F = np.hypot(result.outputs[f"F_{key}_X"], result.outputs[f"F_{key}_Y"])
@@ -71,27 +103,35 @@ def fig13_forces(result: SimulationResult, path: Path) -> Path:
     for ax in axes[-1]:
         ax.set_xlabel("crank angle (deg)")
     fig.suptitle("Forces on the apex seal (cf. Fig. 13)")
-    return _save(plt, fig, path)
+    return fig
 
 
-def fig14_spectrum(result: SimulationResult, path: Path) -> Path:
-    """Fig. 14: amplitude spectrum of the seal-housing force Fs5 against angular frequency."""
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(8, 4))
+def fig14_spectrum(result: SimulationResult, *, count: int = 5, pyplot: bool = False):
+    """Fig. 14: amplitude spectrum of the seal-housing force Fs5, on logarithmic axes, with its distinct peaks
+    (:func:`.summary.spectral_peaks`) marked and labelled."""
+    fig = new_figure((8, 4.2), pyplot)
+    ax = fig.subplots()
     if result.n > 8:
         w, amp = spectrum(housing_force(result)[1:], float(np.mean(np.diff(result.time))))
-        ax.semilogy(w, np.maximum(amp, 1e-12), lw=0.7)
+        ax.loglog(w[1:], np.maximum(amp[1:], 1e-12), lw=0.7)
+        ax.set_xlim(w[1] / 1.5, w[-1])  # room for the label of a peak at the first frequency
+        floor = max(float(amp[1:].max()) * 1e-4, 1e-12)
+        ax.set_ylim(floor, float(amp.max()) * 3)
+        for p in spectral_peaks(w, amp, count):
+            ax.plot(p["omega_rad_s"], p["amplitude_N"], "v", color="tab:red", ms=6)
+            ax.annotate(f"{p['omega_rad_s']:.3g}", (p["omega_rad_s"], p["amplitude_N"]), textcoords="offset points",
+                        xytext=(0, 7), ha="center", fontsize=8, color="tab:red")
     ax.set_xlabel("angular frequency (rad/s)")
     ax.set_ylabel("|Fs5| amplitude (N)")
-    ax.set_title("Spectrum of the seal-housing force (cf. Fig. 14)")
-    return _save(plt, fig, path)
+    ax.set_title("Spectrum of the seal-housing force (cf. Fig. 14); ▼ distinct peaks")
+    return fig
 
 
-def mode_timeline(result: SimulationResult, path: Path) -> Path:
+def mode_timeline(result: SimulationResult, *, pyplot: bool = False):
     """Which contacts are closed at each crank angle, and the contact case (Algorithm 3)."""
-    plt = _plt()
     deg = np.degrees(result.theta)
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(12, 5), sharex=True, gridspec_kw={"height_ratios": [1.2, 1]})
+    fig = new_figure((12, 5), pyplot)
+    ax1, ax2 = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [1.2, 1]})
     for i in range(len(result.guard_names)):
         ax1.fill_between(deg, i, i + 0.8 * result.closed[i], step="post", alpha=0.8)
     ax1.set_yticks(np.arange(len(result.guard_names)) + 0.4, result.guard_names)
@@ -102,12 +142,24 @@ def mode_timeline(result: SimulationResult, path: Path) -> Path:
     ax2.set_yticks(range(len(cases)), cases)
     ax2.set_xlabel("crank angle (deg)")
     ax2.set_title("seal-groove contact case")
-    return _save(plt, fig, path)
+    return fig
 
 
-def write_figures(result: SimulationResult, folder: Path, ports: dict | None = None) -> list[Path]:
+#: the figures a run writes: file name -> drawing function
+FILES = {"fig12_displacements.png": "fig12", "fig13_forces.png": "fig13", "fig14_housing_spectrum.png": "fig14",
+         "mode_timeline.png": "modes"}
+
+
+def write_figures(result: SimulationResult, folder: str | Path, ports: dict | None = None, dpi: int = 100) -> list[Path]:
+    """Draw the four figures of a run and save them as PNG files in ``folder`` (created if missing)."""
+    from .plots import figure
+
     folder = Path(folder)
-    return [fig12_displacements(result, folder / "fig12_displacements.png", ports),
-            fig13_forces(result, folder / "fig13_forces.png"),
-            fig14_spectrum(result, folder / "fig14_housing_spectrum.png"),
-            mode_timeline(result, folder / "mode_timeline.png")]
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for name, kind in FILES.items():
+        fig = figure(result, kind, ports=ports)
+        with atomic_open(folder / name, "wb") as fh:  # a half-written PNG never carries the final name
+            fig.savefig(fh, dpi=dpi, format="png")
+        paths.append(folder / name)
+    return paths

@@ -3,6 +3,8 @@
 Layout (format ``apexseal-result/2``)::
 
     <out>/result.json          run id, status, where and why it stopped, the list of parts (samples, sha256)
+    <out>/scene.toml           the scene that ran, every value explicit, run id in its first line (re-runnable)
+    <out>/pressure.csv         its pressure table (Pa), when the scene has one
     <out>/parts/part-00000.npz one per revolution (the first also holds the initial sample); run id inside
     <out>/summary.json         (CLI) the designer's numbers, with the run id
     <out>/trajectory.csv       (on request) one row per sample; first line ``# apexseal result <run id>, <n> samples``
@@ -38,7 +40,9 @@ from .result import SimulationResult, StopInfo
 FORMAT = "apexseal-result/2"
 PARTS = "parts"
 #: files and folders a result folder may hold (anything else makes :func:`check_replaceable` refuse)
-KNOWN = {"result.json", "summary.json", "trajectory.csv", "trajectory.npz", PARTS}
+KNOWN = {"result.json", "summary.json", "trajectory.csv", "trajectory.npz", PARTS, "scene.toml", "pressure.csv"}
+#: the resolved scene of a result (runtime/scenes/resolved.py)
+SCENE_FILE = "scene.toml"
 KNOWN_SUFFIXES = (".png", ".svg", ".pdf")
 
 
@@ -147,6 +151,18 @@ class ResultFolder:
         """Another JSON file of the result (summary.json), stamped with the run id."""
         self._store(name, _json_bytes({"run_id": self.run_id} | data), name)
 
+    def write_scene(self, scene) -> None:
+        """scene.toml: the scene that ran with every value explicit (and its pressure table beside it), stamped
+        with the run id, so that ``apexseal simulate <folder>/scene.toml`` re-runs this result."""
+        from ..scenes.resolved import resolved_toml
+
+        head = (f"apexseal result {self.run_id}, scene {scene.name}, content hash {scene.content_hash()}\n"
+                f"re-run: apexseal simulate {SCENE_FILE}")
+        text, extra = resolved_toml(scene, header=head)
+        for name, content in extra.items():
+            self._store(name, content.encode(), name)
+        self._store(SCENE_FILE, text.encode(), SCENE_FILE)
+
     def write_csv(self) -> None:
         """trajectory.csv from the parts on disk, part by part (memory does not grow with the run)."""
         from .csv_table import write_csv
@@ -214,6 +230,8 @@ def save(result: SimulationResult, folder: str | Path, *, csv: bool = False) -> 
     """Write an in-memory result as a result folder (one part), as one unit."""
     writer = ResultFolder(folder)
     try:
+        if result.scene is not None:
+            writer.write_scene(result.scene)
         writer.append(result)
         writer.finish(result.status, result.stop, result.info)
         if csv:
@@ -286,13 +304,17 @@ def read(folder: str | Path) -> SimulationResult:
     if not parts:
         raise ResultFolderError(f"{folder}: result.json lists no part (the run was killed before its first sample "
                                 "was written)")
-    for name in ("summary.json", "trajectory.csv"):
+    for name in ("summary.json", "trajectory.csv", SCENE_FILE):
         _check_stamp(folder / name, run_id)
     for p in parts:
         p.guard_names = tuple(guards)
     stop = StopInfo(**meta["stop"]) if meta["stop"] else None
     result = join(parts, meta["status"], stop, meta["info"])
     result.info.setdefault("run_id", run_id)
+    if (folder / SCENE_FILE).is_file():
+        from ..scenes.scene import load_scene
+
+        result.scene = load_scene(folder / SCENE_FILE)
     theta = result.theta
     if theta.size > 1 and not (np.diff(theta) > 0).all():
         raise ResultFolderError(f"{folder}: the parts do not follow each other (crank angle not increasing)")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -29,8 +30,37 @@ class StopInfo:
         return f"stopped at crank angle {np.degrees(self.theta):.3f} deg in mode {self.mode}: {self.reason}"
 
 
-@dataclass
+@dataclass(repr=False)
 class SimulationResult:
+    """The trajectory of a run, one column per output sample (``n`` samples, the first at the start state).
+
+    Fields (SI units; the meaning and unit of every column is also in ``docs/outputs.md``):
+
+    * ``theta`` (n,): crank angle in rad, measured from the scene's start angle (``operation.start_angle``);
+    * ``time`` (n,): time in s since the start (``theta / omega``);
+    * ``state`` (6, n): the seal's state in the groove frame (Eq. 10), rows in the order of
+      ``state_names()`` = x, y (m), phi (rad), xd, yd (m/s), phid (rad/s);
+    * ``closed`` (n_guards, n): True where the contact of ``guard_names[i]`` is closed (Algorithm 3);
+    * ``events`` (n_guards, n): running count of the switches of each contact (events between samples
+      included); :meth:`event_list` lists them with their crank angle and direction;
+    * ``outputs``: name -> (n,) array: forces ``F_<contact>_X/_Y`` (N, groove frame), moments ``M_<contact>``
+      (N m, about the centre of gravity), friction powers ``Pf_<contact>`` and ``Pf_total`` (W), gaps
+      ``b1..b4``, ``b_gap`` (m), housing penetration ``xs5`` (m), ``spring_compression`` (m), chamber
+      pressures ``Pa``, ``Pb`` (Pa);
+    * ``guard_names``: the contacts, e.g. ``("b1", "b2", "b3", "b4", "xs5", "spring")``;
+    * ``modes`` (n,): the contact mode at each sample (case of Algorithm 3, then ``h``/``s`` when the
+      housing/spring contact is closed);
+    * ``status``: ``completed``, ``interrupted``, ``failed`` or ``chattering``; ``stop`` says where and why a
+      run that did not complete stopped (every sample before it is kept);
+    * ``info``: method, tolerances, wall time, solver statistics (:attr:`solver_stats`), the scene's name and
+      content hash, the generated model's hash and the package versions;
+    * ``scene``: the scene that ran (overrides and run settings applied), or None for a result loaded
+      without one.
+
+    Look at it with :meth:`summary`, :meth:`plot`, :meth:`to_xarray`, :meth:`to_pandas`; compare several with
+    :func:`apexseal.plot_comparison`.
+    """
+
     theta: np.ndarray  # (n,) crank angle, rad, measured from the scene's start angle
     time: np.ndarray  # (n,) s
     state: np.ndarray  # (6, n) x, y (m), phi (rad), and their time derivatives
@@ -42,6 +72,7 @@ class SimulationResult:
     status: str = "completed"
     stop: StopInfo | None = None
     info: dict = field(default_factory=dict)  # method, tolerances, wall time, solver statistics, versions
+    scene: Any = None  # the Scene that ran (apexseal.runtime.scenes.scene.Scene), if known
 
     def __post_init__(self) -> None:
         if self.status not in STATUS:
@@ -49,20 +80,101 @@ class SimulationResult:
 
     @property
     def n(self) -> int:
+        """Number of samples."""
         return self.theta.size
 
     @property
     def ok(self) -> bool:
         return self.status == "completed"
 
+    @property
+    def revolutions(self) -> float:
+        """Revolutions covered (crank angle of the last sample / 2 pi)."""
+        return float(self.theta[-1] / (2 * np.pi)) if self.n else 0.0
+
+    @property
+    def n_events(self) -> int:
+        """Contact switches in the whole run."""
+        return int(self.events[:, -1].sum()) if self.events.size else 0
+
+    @property
+    def friction_power(self) -> float:
+        """Mean friction power of all contacts over the run, W (Pf_total; 0 without friction)."""
+        p = self.outputs.get("Pf_total")
+        return float(np.mean(p[1:] if p.size > 1 else p)) if p is not None and p.size else 0.0
+
+    @property
+    def solver_stats(self) -> dict:
+        """The integrator's statistics summed over the run (steps, rejected steps, right-hand-side calls, events,
+        engine calls; a compiled erk/rosenbrock integrator reports calls and events only)."""
+        return dict(self.info.get("solver_stats", {}))
+
     def column(self, name: str) -> np.ndarray:
+        """A state (``x`` ... ``phid``) or output by name, SI."""
         if name in state_names():
             return self.state[state_names().index(name)]
         return self.outputs[name]
 
+    # ------------------------------------------------------------------ looking at it
+    def __repr__(self) -> str:
+        method = self.info.get("method", "?")
+        return (f"SimulationResult({self.status}, {self.revolutions:.2f} rev, {self.n} samples, {self.n_events} events, "
+                f"friction power {self.friction_power:.3g} W, method {method})")
+
+    def _repr_html_(self) -> str:
+        from html import escape
+
+        rows = [("status", self.status + ("" if self.stop is None else f": {self.stop.describe()}")),
+                ("revolutions", f"{self.revolutions:.3f}"), ("samples", str(self.n)),
+                ("events", ", ".join(f"{g} {int(self.events[i, -1])}" for i, g in enumerate(self.guard_names))
+                 + f" (total {self.n_events})"),
+                ("mean friction power", f"{self.friction_power:.4g} W"),
+                ("method", f"{self.info.get('method', '?')}, rtol {self.info.get('rtol', '?')}"),
+                ("wall time", f"{self.info.get('wall_time_s', float('nan')):.3g} s"),
+                ("scene", f"{self.info.get('scene', '?')} ({str(self.info.get('scene_hash', ''))[:12]})")]
+        body = "".join(f"<tr><th style='text-align:left'>{escape(k)}</th><td style='text-align:left'>{escape(v)}</td>"
+                       "</tr>" for k, v in rows)
+        return f"<table><caption>SimulationResult</caption>{body}</table>"
+
+    def summary(self) -> dict:
+        """The numbers a designer reads first (extremes with crank angles, time in each mode, events, friction
+        power, leakage gap, housing-force spectral peaks), as written to summary.json."""
+        from .summary import summarise
+
+        return summarise(self)
+
+    def event_list(self):
+        """The contact events as a pandas DataFrame: crank angle (deg), time (s), contact, direction, switches."""
+        from .views import event_list
+
+        return event_list(self)
+
+    def to_pandas(self):
+        """One row per sample, indexed by crank angle in degrees; SI columns, units in ``df.attrs["units"]``."""
+        from .views import to_pandas
+
+        return to_pandas(self)
+
+    def to_xarray(self):
+        """An xarray Dataset (dimension ``theta``, coordinate ``time``), variables with ``units`` and
+        ``long_name``; ``.to_netcdf(path)`` writes netCDF."""
+        from .views import to_xarray
+
+        return to_xarray(self)
+
+    def plot(self, *what: str, **kw):
+        """Matplotlib Figures: the paper's ``"fig12"`` (displacements), ``"fig13"`` (forces), ``"fig14"``
+        (housing-force spectrum), ``"modes"``, or named quantities (``"x"``, ``"Pf_total"``, ``"F_housing_X"``...)
+        against crank angle in one figure. No argument: Fig. 12. One name gives a Figure, several names of
+        figures a list; see :func:`apexseal.runtime.results.plots.plot`."""
+        from .plots import plot
+
+        return plot(self, *what, **kw)
+
     # ------------------------------------------------------------------ saving
     def save(self, folder: str | Path, *, csv: bool = False) -> Path:
-        """Write the result folder (parts/*.npz, result.json; trajectory.csv with ``csv=True``) as one unit.
+        """Write the result folder (parts/*.npz, result.json, scene.toml when the scene is known; trajectory.csv
+        with ``csv=True``) as one unit.
 
         See runtime/results/folder.py: written beside ``folder`` and renamed into place, so a failed save leaves
         a previous result there intact; storage errors name the folder and what was kept.
@@ -73,7 +185,8 @@ class SimulationResult:
 
     @classmethod
     def load(cls, folder: str | Path) -> SimulationResult:
-        """The result in ``folder``, refused (ResultFolderError) unless all its files belong to one run."""
+        """The result in ``folder``, refused (ResultFolderError) unless all its files belong to one run; its
+        ``scene`` is loaded from the folder's scene.toml when there is one."""
         from .folder import read
 
         return read(folder)

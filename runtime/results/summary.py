@@ -28,14 +28,25 @@ def spectrum(signal: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
     return w, amp
 
 
-def spectral_peaks(w: np.ndarray, amp: np.ndarray, count: int = 5) -> list[dict]:
-    """The largest local maxima of a spectrum, largest first."""
-    if amp.size < 3:
+def spectral_peaks(w: np.ndarray, amp: np.ndarray, count: int = 5, *, min_prominence: float = 0.05,
+                   hump: float = 0.5) -> list[dict]:
+    """The distinct peaks of a spectrum, largest first (``scipy.signal.find_peaks`` with prominence).
+
+    A peak counts if its prominence (its height above the higher of the two valleys that separate it from
+    higher ground) is at least ``min_prominence`` times the largest amplitude and at least ``hump`` times its
+    own amplitude: a ripple on the flank of a hump rises little above its valley and is not listed apart.
+    """
+    from scipy.signal import find_peaks
+
+    if amp.size < 3 or not np.any(amp > 0):
         return []
-    inner = (amp[1:-1] > amp[:-2]) & (amp[1:-1] >= amp[2:])
-    idx = np.nonzero(inner)[0] + 1
-    idx = idx[np.argsort(amp[idx])[::-1][:count]]
-    return [{"omega_rad_s": float(w[i]), "amplitude_N": float(amp[i])} for i in idx]
+    idx, props = find_peaks(amp, prominence=min_prominence * float(amp.max()))
+    prom = props["prominences"]
+    keep = prom >= hump * amp[idx]
+    idx, prom = idx[keep], prom[keep]
+    order = np.argsort(amp[idx])[::-1][:count]
+    return [{"omega_rad_s": float(w[idx[i]]), "amplitude_N": float(amp[idx[i]]), "prominence_N": float(prom[i])}
+            for i in order]
 
 
 def gap_series(result: SimulationResult) -> np.ndarray:

@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects, declared
 from apexseal.derive.numbers import machine_numbers
@@ -23,6 +25,7 @@ from .schema import (
     Section,
     raw_at,
 )
+from .units import MIN_ABSOLUTE_PRESSURE, PLAUSIBLE, implausible
 
 #: largest aspect ratio b = r/L of a dimple-free limaçon (Eq. 4; derive.geometry.looping_free_limit)
 MAX_ASPECT_RATIO = 0.25
@@ -265,4 +268,26 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
             out += check_zeta0(m, s)
     if "pressure" in sections:
         out += check_pressure(sections["pressure"], raw)
+    return out
+
+
+def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure: Any) -> list[Problem]:
+    """Values far outside engineering practice (:data:`.units.PLAUSIBLE`), each against the key the user wrote,
+    and a pressure table whose absolute pressures are below :data:`.units.MIN_ABSOLUTE_PRESSURE`."""
+    values = {}
+    for key in PLAUSIBLE:
+        section, name = key.split(".")
+        written = raw_at(raw, [section, name])
+        if section in sections and written is not MISSING:
+            values[key] = getattr(sections[section], name, None), written
+    out = [Problem(key, raw_at(raw, key.split(".")), message) for key, _, message in implausible(values)]
+    pa, pb = getattr(pressure, "pa", None), getattr(pressure, "pb", None)
+    if getattr(pressure, "kind", "") == "table" and pa is not None and pa.size:
+        low = float(min(np.min(pa), np.min(pb)))
+        if low < MIN_ABSOLUTE_PRESSURE:
+            high = float(max(np.max(pa), np.max(pb)))
+            out.append(Problem("pressure.unit", raw_at(raw, ["pressure", "unit"]) if "unit" in raw.get("pressure", {})
+                               else "Pa", f"the table's absolute pressures span {low:.4g}..{high:.4g} Pa, below "
+                               f"{MIN_ABSOLUTE_PRESSURE:g} Pa (a vacuum far beyond engineering practice): is the table in "
+                               "another unit (unit = \"bar\" or \"kPa\")?"))
     return out

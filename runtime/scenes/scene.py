@@ -23,6 +23,7 @@ import json
 import numbers
 import re
 import tomllib
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -32,10 +33,11 @@ import numpy as np
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects
 
-from .checks import check_consistency, resolve_assumptions, resolve_effects
+from .checks import check_consistency, check_plausible, resolve_assumptions, resolve_effects
 from .errors import Problem, SceneError
 from .pressure import PressureSource, make_source
 from .schema import OperationSection, Section, SolverSection, validate_sections
+from .units import PlausibilityWarning
 
 __all__ = ["Scene", "SceneError", "load_scene", "default_scene_text", "derive_parameters"]
 
@@ -136,8 +138,11 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
         src = sections["pressure"].source if "pressure" in sections else None
         effects, more = resolve_effects(sections["effects"], src, raw)
         problems += more
-    if problems:
-        raise SceneError(problems, source=name)
+    doubtful = check_plausible(sections, raw, pressure)
+    if problems:  # an implausible value (a unit slip) is the likely cause of the rest: report it first
+        raise SceneError([p for p in doubtful if p.key not in {q.key for q in problems}] + problems, source=name)
+    for p in doubtful:
+        warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=4)
     assert pressure is not None and effects is not None
     assumptions = resolve_assumptions(sections["assumptions"])
     values = derive_parameters(sections, effects, assumptions)

@@ -2,7 +2,8 @@
 
 A value is either a TOML number, taken in the SI unit of its key (``ks = 5000``
 is 5000 N/m), or a string with a unit (``"5e3 N/m"``, ``"3 mm"``, ``"6 bar"``).
-Two exceptions remove the usual ambiguities:
+A quoted number without a unit (``delta_s = "2.0"``) is an error where the key has a
+dimension: the quotes say a unit was meant. Three exceptions remove the usual ambiguities:
 
 * angles and angular speeds need a unit (``"30 deg"``, ``"0.5 rad"``,
   ``"0 rad/s"``); a bare number is an error, never silently radians;
@@ -126,7 +127,12 @@ def parse_quantity(value: Any, unit: str, *, key: str = "", bare: str | None = N
             q = ureg.Quantity(float(q), "dimensionless")
         if tuple(q.unit_items()):  # written with a unit (pint's `unitless` is also true for "%")
             return _convert(q, unit, key, value, angular)
-        number = float(q.magnitude)  # "0.003": a plain number, treated like a TOML number
+        if unit != "1" and (not angular or bare is not None):  # "2.0" for a length: the quotes promise a unit
+            raise QuantityError(
+                key, value, f"a quoted value needs a unit (write it with one, e.g. {EXAMPLES.get(unit, unit)}, "
+                f"or as a bare TOML number in {unit}); expected {expected(unit)}"
+            )
+        number = float(q.magnitude)  # "0.1" for a plain number: the same as the TOML number
     if angular and bare is None:
         raise QuantityError(
             key,
@@ -234,3 +240,76 @@ class Range:
 
 def _g(x: float) -> str:
     return f"{x:.6g}"
+
+
+# ---------------------------------------------------------------------------
+# plausibility: magnitudes far outside engineering practice for this machine
+
+
+class PlausibilityWarning(UserWarning):
+    """A scene value that is valid but far outside engineering practice (probably a unit slip)."""
+
+
+@dataclass(frozen=True)
+class Plausible:
+    """The range of engineering practice of a key, in SI, and the unit to show it in."""
+
+    lo: float
+    hi: float
+    show: str
+
+    def describe(self) -> str:
+        f = float(registry().Quantity(1.0, _si_of(self.show)).to(self.show).magnitude)
+        return f"{_g(self.lo * f)} to {_g(self.hi * f)} {self.show}"
+
+
+def _si_of(show: str) -> str:
+    return {"mm": "m", "um": "m", "rpm": "rpm", "N/m": "N/m", "kPa": "Pa", "bar": "Pa", "g": "kg"}.get(show, show)
+
+
+#: key -> range of engineering practice for limaçon machines of rotary-engine size (docs/scenes.md,
+#: "Plausible ranges"). Outside it a scene still loads, with a :class:`PlausibilityWarning`; when the scene
+#: also has errors, the implausible keys are reported first, as the likely cause.
+PLAUSIBLE: dict[str, Plausible] = {
+    "machine.r": Plausible(0.5e-3, 0.5, "mm"),
+    "machine.L": Plausible(2e-3, 2.0, "mm"),
+    "machine.H": Plausible(2e-3, 2.0, "mm"),
+    "seal.Ws": Plausible(0.3e-3, 30e-3, "mm"),
+    "seal.Wg": Plausible(0.3e-3, 30e-3, "mm"),
+    "seal.ds1": Plausible(0.2e-3, 50e-3, "mm"),
+    "seal.ds2": Plausible(0.2e-3, 50e-3, "mm"),
+    "seal.ro": Plausible(0.2e-3, 10.0, "mm"),  # a tip radius of metres stands for a flat tip
+    "seal.Bs": Plausible(2e-3, 2.0, "mm"),
+    "seal.ms": Plausible(1e-4, 2.0, "g"),
+    "spring.delta_s": Plausible(0.0, 30e-3, "mm"),
+    "spring.ks": Plausible(1.0, 1e8, "N/m"),
+    "contacts.kw": Plausible(1e3, 1e13, "N/m"),
+    "contacts.kg1": Plausible(1e3, 1e13, "N/m"),
+    "contacts.kg2": Plausible(1e3, 1e13, "N/m"),
+    "contacts.kg3": Plausible(1e3, 1e13, "N/m"),
+    "contacts.kg4": Plausible(1e3, 1e13, "N/m"),
+    "operation.rpm": Plausible(1.0, 50000.0, "rpm"),
+    "pressure.Pa": Plausible(1e3, 1e8, "kPa"),
+    "pressure.Pb": Plausible(1e3, 1e8, "kPa"),
+}
+
+#: absolute chamber pressures of a table below this are implausible (a table in bar declared in Pa)
+MIN_ABSOLUTE_PRESSURE = 1e3
+
+
+def implausible(values: dict[str, tuple[float, Any]]) -> list[tuple[str, float, str]]:
+    """``(key, SI value, message)`` for each entry of ``values`` (key -> (SI value, value as written)) outside
+    :data:`PLAUSIBLE`; a bare number of a length that would be plausible in mm gets a "did you mean"."""
+    out = []
+    for key, (x, written) in values.items():
+        rule = PLAUSIBLE.get(key)
+        if rule is None or x is None or rule.lo <= x <= rule.hi:
+            continue
+        f = float(registry().Quantity(1.0, _si_of(rule.show)).to(rule.show).magnitude)
+        hint = ""
+        bare = isinstance(written, int | float) and not isinstance(written, bool)
+        if bare and _si_of(rule.show) == "m" and rule.lo <= x * 1e-3 <= rule.hi:
+            hint = f"; a bare number is in m: did you mean \"{_g(x)} mm\"?"
+        out.append((key, x, f"{_g(x * f)} {rule.show} is far outside engineering practice for this key "
+                            f"({rule.describe()}){hint}"))
+    return out

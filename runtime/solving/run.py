@@ -104,6 +104,10 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 failure = failure or bad
                 found = failure or check.events(Z, z, edges[1:], P, z_rev)
                 Z = _up_to_stop(Z, edges, theta_start, found)
+                stats = dict(stats)
+                stats["n_engine_calls"] = 1
+                if "n_events" not in stats and Z.shape[1]:  # a compiled integrator reports no statistics: count
+                    stats["n_events"] = int(Z[lay.counts, -1].sum() - z[lay.counts].sum())  # from the hybrid state
                 if Z.shape[1]:
                     part.add(Z, edges[1:1 + Z.shape[1]], P[:, :Z.shape[1]])
                     z = Z[:, -1].copy()
@@ -137,6 +141,9 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         info = dict(info or {}) | {"method": settings.method, "rtol": settings.rtol, "atol": settings.atol,
                                    "samples_per_revolution": N, "calls_per_revolution": calls,
                                    "revolutions_asked": revolutions, "wall_time_s": wall, "solver_stats": stats_total,
+                                   "solver_stats_note": "" if engine is None or not engine.compiled else
+                                   "a compiled integrator reports engine calls and events only; set "
+                                   "solver.interpreted = true for CasADi's step counts",
                                    "compiled": bool(engine is not None and engine.compiled)}
         if signals.requested:
             info["signals"] = [int(s) for s in signals.received]

@@ -8,25 +8,36 @@ Public API::
     scene = apexseal.load_scene()            # the embedded default (the paper's case study)
     result = apexseal.simulate(scene)        # a SimulationResult
     apexseal.Model(scene).rhs(theta, state)  # the state derivative, numpy
+    result.plot("fig12"); result.to_xarray(); result.to_pandas(); result.summary()
+    apexseal.plot_comparison([result_a, result_b], ["x", "Pf_total"])  # several results in one Figure
 """
 
 __version__ = "0.1.0"
 
 
+#: public name -> (module, attribute); imported on first use, so that importing apexseal stays cheap
+_LAZY = {
+    "load_scene": ("runtime.scenes.scene", "load_scene"),
+    "Scene": ("runtime.scenes.scene", "Scene"),
+    "SceneError": ("runtime.scenes.errors", "SceneError"),
+    "simulate": ("runtime.api", "simulate"),
+    "Model": ("runtime.api", "Model"),
+    "SimulationResult": ("runtime.results.result", "SimulationResult"),
+    "plot_comparison": ("runtime.results.plots", "plot_comparison"),
+}
+
+
 def __getattr__(name):  # lazy: importing apexseal stays cheap
-    if name == "load_scene":
-        from .runtime.scenes.scene import load_scene
+    if name in _LAZY:
+        import importlib
 
-        return load_scene
-    if name in ("simulate", "Model"):
-        from .runtime import api
-
-        return getattr(api, name)
-    if name == "SimulationResult":
-        from .runtime.results.result import SimulationResult
-
-        return SimulationResult
-    raise AttributeError(name)
+        module, attr = _LAZY[name]
+        return getattr(importlib.import_module(f".{module}", __name__), attr)
+    raise AttributeError(f"module 'apexseal' has no attribute {name!r}")
 
 
-__all__ = ["Model", "SimulationResult", "load_scene", "simulate", "__version__"]
+def __dir__():
+    return sorted({*globals(), *_LAZY})
+
+
+__all__ = sorted(["__version__", *_LAZY])

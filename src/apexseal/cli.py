@@ -16,9 +16,10 @@ def _register() -> None:
     from .commands_derive import derive
     from .commands_generate import generate
     from .commands_optimise import optimise_preload
+    from .commands_scene import scene
     from .commands_simulate import simulate
 
-    for command in (simulate, derive, generate, optimise_preload, bench):
+    for command in (simulate, scene, derive, generate, optimise_preload, bench):
         main.add_command(command)
 
 

@@ -1,4 +1,4 @@
-"""``apexseal bench``: the work-precision benchmark (runtime/bench), written to docs/bench/ by default."""
+"""``apexseal bench``: the work-precision benchmark (runtime/bench), written to ./apexseal-out/bench by default."""
 
 from __future__ import annotations
 
@@ -27,8 +27,9 @@ def _command_line(ctx: click.Context) -> str:
 
 @click.command()
 @click.option("--quick", is_flag=True, help="Smaller run (< 2 min): default scene, fewer methods, tolerances, repeats.")
-@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=Path("docs/bench"), show_default=True,
-              help="Folder for results.json, table.md, effects.md, work-precision.png.")
+@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=Path("apexseal-out/bench"),
+              show_default=True, help="Folder for results.json, table.md, effects.md, work-precision.png "
+              "(the repository's docs/bench/ only when asked: --out docs/bench).")
 @click.option("--methods", default="", help="Comma-separated method ids to keep (e.g. erk-C,scipy-RK45).")
 @click.option("--scenes", default="", help="Comma-separated scenes to keep (default, stiff).")
 @click.option("--samples", type=click.IntRange(4, 100000), help="Output samples per span (default 360).")

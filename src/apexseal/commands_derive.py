@@ -11,17 +11,21 @@ import click
 @click.command()
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--check", is_flag=True, help="Compare every derived equation with the paper's print and write the report.")
-@click.option("--report", type=click.Path(dir_okay=False, path_type=Path), default=Path("docs/paper-check.md"),
-              show_default=True, help="Where --check writes its Markdown report.")
+@click.option("--report", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Where --check writes its Markdown report [default: apexseal-out/paper-check.md].")
 @click.option("--refresh", is_flag=True, help="Ignore the derivation cache.")
-def derive(scene: Path | None, check: bool, report: Path, refresh: bool) -> None:
+def derive(scene: Path | None, check: bool, report: Path | None, refresh: bool) -> None:
     """Derive the equations of motion for SCENE's effects (default: the paper's case study), timing cold and warm."""
+    from . import progress
     from .derive.cache import cached_model
+
+    report = report or Path("apexseal-out") / "paper-check.md"
     from .runtime.scenes.scene import load_scene
 
     sc = load_scene(scene)
     t0 = time.perf_counter()
-    model = cached_model(sc.effects, sc.assumptions, refresh=refresh)
+    with progress.enabled(True), progress.stage("deriving the equations of motion (sympy)"):
+        model = cached_model(sc.effects, sc.assumptions, refresh=refresh)
     t1 = time.perf_counter()
     cached_model(sc.effects, sc.assumptions)
     t2 = time.perf_counter()
@@ -31,6 +35,7 @@ def derive(scene: Path | None, check: bool, report: Path, refresh: bool) -> None
     if check:
         from .derive.paper_check import write_report
 
+        report.parent.mkdir(parents=True, exist_ok=True)
         rows = write_report(report)
         counts: dict[str, int] = {}
         for r in rows or []:

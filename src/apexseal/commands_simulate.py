@@ -24,20 +24,28 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
               help="Output folder [default: apexseal-out/<scene name>].")
 @click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv (text; slower than the binary parts).")
 @click.option("--no-figures", is_flag=True, help="Skip the figures.")
-@click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
+@click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, progress bar).")
 @click.option("--timings", is_flag=True, help="Print where the wall time went (startup, import, scene, load, compile, "
               "integrate, assemble, save, figures).")
 def simulate(scene: Path | None, revolutions, method, rtol, out, csv, no_figures, quiet, timings) -> None:
-    """Simulate SCENE (a TOML file; default: the embedded case study of the paper).
+    """Simulate SCENE (a TOML file; default: the embedded case study of the paper; a result folder's scene.toml
+    re-runs that result).
 
     Revolutions are written to disk as they finish; the folder is written beside OUT and renamed into place at
     the end. SIGINT (Ctrl-C) and SIGTERM stop the run between integrator calls, and the revolutions completed
     are written as a result with status "interrupted" (exit code 130 or 143).
     """
+    from . import progress
+
+    with progress.enabled(not quiet):  # derivation, code generation and compilations report on stderr
+        _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, timings)
+
+
+def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, timings) -> None:
     watch = Stopwatch()  # stages always timed (two clock reads each), printed with --timings
     with watch.stage("import"):
         from .runtime.api import model_functions, run_scene, settings_of
-        from .runtime.results.figures import write_figures
+        from .runtime.results.figures import ports_of, write_figures
         from .runtime.results.folder import ResultFolder, ResultStorageError
         from .runtime.results.summary import summarise
         from .runtime.solving.settings import SettingsError
@@ -70,15 +78,15 @@ def simulate(scene: Path | None, revolutions, method, rtol, out, csv, no_figures
             with watch.stage("save"):
                 summary = summarise(result, {"source": str(scene or "default")})
                 writer.write_json("summary.json", summary)
-                files = ["result.json", f"parts/ ({len(writer.parts)} files)", "summary.json"]
+                files = ["result.json", f"parts/ ({len(writer.parts)} files)", "scene.toml", "summary.json"]
+                if (writer.staging / "pressure.csv").is_file():
+                    files.insert(3, "pressure.csv")
                 if csv:
                     writer.write_csv()
                     files.append("trajectory.csv")
             if not no_figures and result.n > 1 and not signals.requested:
                 with watch.stage("figures"):
-                    ports = {k: {"angle_deg": v.angle_deg, "width_deg": v.width_deg}
-                             for k, v in sc.machine.ports.items()} if getattr(sc.machine, "ports", None) else None
-                    files += [p.name for p in write_figures(result, writer.staging, ports)]
+                    files += [p.name for p in write_figures(result, writer.staging, ports_of(sc))]
             with watch.stage("save"):
                 writer.commit()
         except ResultStorageError as err:

@@ -3,20 +3,34 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
+import numpy as np
 from click.testing import CliRunner
 
 from apexseal.cli import main
+from apexseal.runtime.results.result import SimulationResult
 
 
 def test_simulate_default_scene_end_to_end(tmp_path):
     out = tmp_path / "run"
     r = CliRunner().invoke(main, ["simulate", "--revolutions", "1", "--out", str(out), "--quiet", "--csv"])
     assert r.exit_code == 0, r.output
-    for name in ("trajectory.csv", "parts/part-00000.npz", "result.json", "summary.json", "fig12_displacements.png",
-                 "fig13_forces.png", "fig14_housing_spectrum.png", "mode_timeline.png"):
+    for name in ("trajectory.csv", "parts/part-00000.npz", "result.json", "summary.json", "scene.toml",
+                 "pressure.csv", "fig12_displacements.png", "fig13_forces.png", "fig14_housing_spectrum.png",
+                 "mode_timeline.png"):
         assert (out / name).stat().st_size > 0, name
     assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]  # written beside it, renamed into place
+    assert "apexseal:" not in r.output  # -q: no progress lines
+    assert "Event support is experimental" not in r.output
+
+    # the saved scene re-runs the result to the same numbers
+    again = tmp_path / "again"
+    r2 = CliRunner().invoke(main, ["simulate", str(out / "scene.toml"), "--out", str(again), "--quiet", "--no-figures"])
+    assert r2.exit_code == 0, r2.output
+    a, b = SimulationResult.load(out), SimulationResult.load(again)
+    assert np.array_equal(a.state, b.state) and np.array_equal(a.events, b.events)
+    assert a.info["scene_hash"] == b.info["scene_hash"] == b.scene.content_hash()
     summary = json.loads((out / "summary.json").read_text())
     assert summary["run_id"] == json.loads((out / "result.json").read_text())["run_id"]
     assert summary["status"] == "completed"
@@ -49,3 +63,44 @@ def test_derive_reports_cold_and_cached_times():
     r = CliRunner().invoke(main, ["derive"])
     assert r.exit_code == 0, r.output
     assert "contact guards" in r.output and "cached call" in r.output
+
+
+def test_scene_default_writes_a_loadable_scene(tmp_path):
+    """The README said to copy runtime/scenes/default.toml, which a pip user does not have."""
+    from apexseal.runtime.scenes.scene import default_scene_text, load_scene
+
+    runner = CliRunner()
+    with runner.isolated_filesystem(temp_dir=tmp_path):
+        r = runner.invoke(main, ["scene", "--default"])
+        assert r.exit_code == 0 and r.stdout == default_scene_text()
+        Path("my.toml").write_text(r.stdout)
+        assert load_scene("my.toml") == load_scene()  # its pressure table was written beside it
+    r = runner.invoke(main, ["scene", "--default", "--out", str(tmp_path / "start")])
+    assert r.exit_code == 0 and load_scene(tmp_path / "start" / "default.toml") == load_scene()
+    resolved = CliRunner().invoke(main, ["scene", "--resolved"])
+    assert resolved.exit_code == 0 and 'Ws = "0.003 m"' in resolved.output
+
+
+def test_report_commands_write_under_apexseal_out_not_docs(tmp_path):
+    """derive --check and bench wrote into ./docs/ of whatever folder they ran in."""
+    from apexseal.commands_bench import bench
+
+    runner = CliRunner()
+    with runner.isolated_filesystem(temp_dir=tmp_path):
+        r = runner.invoke(main, ["derive", "--check"])
+        assert r.exit_code == 0, r.output
+        assert Path("apexseal-out/paper-check.md").is_file() and not Path("docs").exists()
+    out = next(p for p in bench.params if p.name == "out")
+    assert str(out.default) == "apexseal-out/bench"
+
+
+def test_progress_reports_stages_with_elapsed_time(capsys):
+    from apexseal import progress
+
+    with progress.enabled(True), progress.stage("compiling something"):
+        pass
+    err = capsys.readouterr().err
+    assert "apexseal: compiling something ..." in err and "compiling something: done in" in err
+    with progress.stage("silent"):  # no handler: nothing printed
+        pass
+    assert "silent" not in capsys.readouterr().err

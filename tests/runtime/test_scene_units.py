@@ -14,7 +14,7 @@ from apexseal.runtime.scenes.units import QuantityError, Range, parse_pressure_u
         ("3mm", "m", None, 0.003),
         (0.003, "m", None, 0.003),
         (3, "m", None, 3.0),
-        ("0.003", "m", None, 0.003),  # a plain number in a string is SI, like a TOML number
+        ("0.1", "1", None, 0.1),  # a quoted plain number where no unit is needed
         ("3.06 mm", "m", None, 0.00306),  # rounded to 15 digits: exactly the decimal
         ("1500 rpm", "rpm", "rpm", 1500.0),
         (1500, "rpm", "rpm", 1500.0),  # operation.rpm: bare numbers are rev/min

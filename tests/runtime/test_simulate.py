@@ -119,7 +119,8 @@ def test_saved_result_round_trip(erk_result, tmp_path):
     lines = (tmp_path / "trajectory.csv").read_text().splitlines()
     assert lines[0] == f"# apexseal result {back.info['run_id']}, {back.n} samples"
     header = lines[1].split(",")
-    assert header[:8] == ["theta_deg", "time_s", "x", "y", "phi", "xd", "yd", "phid"]
+    assert header[:8] == ["theta_deg [deg]", "time_s [s]", "x [m]", "y [m]", "phi [rad]", "xd [m/s]", "yd [m/s]",
+                          "phid [rad/s]"]
     assert len(lines) == 2 + back.n
     table = np.loadtxt(tmp_path / "trajectory.csv", delimiter=",", comments="#", skiprows=2,
                        usecols=range(8))  # the numbers as written: 10 significant digits

@@ -1,0 +1,123 @@
+"""The one table of what every column of a result means: unit, long name, and the unit shown to a reader.
+
+Every writer of results takes units and meanings from here: the CSV header (``x [m]``), the attributes of
+:meth:`SimulationResult.to_xarray`, the columns of :meth:`SimulationResult.to_pandas` and ``docs/outputs.md``
+(:func:`markdown_table`, checked by the tests). Quantities are stored in SI; ``display`` is the unit the
+summary and the figures use (the seal moves by micrometres and milliradians).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+#: the contacts and loads of the model (derive/model.py), by the suffix of their output columns
+CONTACTS: dict[str, str] = {
+    "i1": "seal-groove contact i1 (corner g1, seal's -Ys side; Algorithm 1, Eq. 63)",
+    "c2": "seal-groove contact c2 (back corner g2 on the -Y groove wall; Algorithm 1, Eq. 63)",
+    "i2": "seal-groove contact i2 (corner g3, seal's +Ys side; Algorithm 1, Eq. 63)",
+    "c4": "seal-groove contact c4 (back corner g4 on the +Y groove wall; Algorithm 1, Eq. 63)",
+    "housing": "seal-housing contact Fs5 (Algorithm 2, Eq. 68)",
+    "spring": "groove-bottom spring Fs6 (Eqs. 37-39, 73)",
+    "pressure": "chamber pressure on the seal (Eq. 75)",
+}
+
+#: guard name -> what its gap measures
+GUARDS: dict[str, str] = {
+    "b1": "gap at groove corner g1 (Algorithm 1; negative: in contact)",
+    "b2": "gap at groove corner g2 (Algorithm 1; negative: in contact)",
+    "b3": "gap at groove corner g3 (Algorithm 1; negative: in contact)",
+    "b4": "gap at groove corner g4 (Algorithm 1; negative: in contact)",
+    "xs5": "penetration of the seal tip into the housing (Algorithm 2; positive: in contact)",
+    "spring": "compression of the groove-bottom spring (Eq. 9; positive: in contact)",
+}
+
+
+@dataclass(frozen=True)
+class Column:
+    """One quantity of a result: its name, SI unit, meaning, and the unit figures and summaries show it in."""
+
+    name: str
+    unit: str
+    meaning: str
+    display: str = ""
+    scale: float = 1.0  # display value = scale * SI value
+
+    @property
+    def header(self) -> str:
+        """The CSV header cell, e.g. ``x [m]``; a plain number or a label has no bracket."""
+        return f"{self.name} [{self.unit}]" if self.unit not in ("", "1") else self.name
+
+    @property
+    def label(self) -> str:
+        """An axis label in the display unit, e.g. ``x (µm)``."""
+        unit = self.display or self.unit
+        return f"{self.name} ({unit})" if unit not in ("", "1") else self.name
+
+
+#: fixed columns, in the order of the CSV
+FIXED: dict[str, Column] = {c.name: c for c in (
+    Column("theta_deg", "deg", "crank angle since the scene's start angle (Eq. 1)"),
+    Column("time_s", "s", "time since the start of the run"),
+    Column("x", "m", "seal displacement along the groove axis Xs (Eq. 10)", "µm", 1e6),
+    Column("y", "m", "seal displacement across the groove, along Ys (Eq. 10)", "µm", 1e6),
+    Column("phi", "rad", "seal tilt angle in the groove (Eq. 10)", "mrad", 1e3),
+    Column("xd", "m/s", "time derivative of x", "mm/s", 1e3),
+    Column("yd", "m/s", "time derivative of y", "mm/s", 1e3),
+    Column("phid", "rad/s", "time derivative of phi"),
+    Column("mode", "", "contact mode: case of Algorithm 3, then h (housing) and s (spring) when closed"),
+)}
+
+_PATTERNS: tuple[tuple[str, str, str, str, float], ...] = (
+    # regex, unit, meaning template ({c}: contact meaning, {g}: guard meaning), display unit, scale
+    (r"F_(\w+)_X", "N", "X force on the seal (groove frame) from the {c}", "N", 1.0),
+    (r"F_(\w+)_Y", "N", "Y force on the seal (groove frame) from the {c}", "N", 1.0),
+    (r"M_(\w+)", "N*m", "moment about the seal's centre of gravity from the {c}", "N*mm", 1e3),
+    (r"Pf_total", "W", "friction power of all contacts", "W", 1.0),
+    (r"Pf_(\w+)", "W", "friction power dissipated at the {c}", "W", 1.0),
+    (r"closed_(\w+)", "", "1 if contact {n} is closed at this sample, else 0 (Algorithm 3)", "", 1.0),
+    (r"b_gap", "m", "leakage gap past the seal (Algorithm 4)", "µm", 1e6),
+    (r"(b[1-4]|xs5|spring)", "m", "{g}", "µm", 1e6),
+    (r"spring_compression", "m", "compression of the groove-bottom spring (Eq. 9; positive: in contact)", "mm", 1e3),
+    (r"Pa", "Pa", "pressure of chamber a, +Ys side of the seal (Eq. 75)", "bar", 1e-5),
+    (r"Pb", "Pa", "pressure of chamber b, -Ys side of the seal (Eq. 75)", "bar", 1e-5),
+)
+
+
+def describe(name: str) -> Column:
+    """The :class:`Column` of a result column name (states, outputs, ``closed_<guard>``)."""
+    if name in FIXED:
+        return FIXED[name]
+    for pattern, unit, meaning, display, scale in _PATTERNS:
+        m = re.fullmatch(pattern, name)
+        if m:
+            part = m.group(1) if m.groups() else ""
+            text = meaning.format(c=CONTACTS.get(part, part), g=GUARDS.get(part, part), n=part)
+            return Column(name, unit, text, display, scale)
+    raise KeyError(f"no description of the result column {name!r}; add it to runtime/results/outputs.py")
+
+
+def header(names: list[str] | tuple[str, ...]) -> list[str]:
+    """CSV header cells with units, e.g. ``["theta_deg [deg]", "x [m]", ..., "mode"]``."""
+    return [describe(n).header for n in names]
+
+
+def documented_names() -> list[str]:
+    """Every column of a result of the full model (the default scene), in CSV order."""
+    from ...derive.model import GUARD_OF_CONTACT
+
+    guards = list(GUARD_OF_CONTACT.values())
+    outputs = []
+    for c in CONTACTS:
+        outputs += [f"F_{c}_X", f"F_{c}_Y", f"M_{c}"] + ([f"Pf_{c}"] if c != "pressure" else [])
+    return [*FIXED, *(f"closed_{g}" for g in guards), *outputs, "Pf_total", "b_gap", *guards[:5],
+            "spring_compression", "Pa", "Pb"]
+
+
+def markdown_table() -> str:
+    """The table of docs/outputs.md: column, unit, shown in, meaning."""
+    rows = ["| column | unit (stored, SI) | shown in | meaning |", "|---|---|---|---|"]
+    for n in documented_names():
+        c = describe(n)
+        rows.append(f"| `{c.header}` | {c.unit or '-'} | {c.display or c.unit or '-'} | {c.meaning} |")
+    return "\n".join(rows) + "\n"

@@ -1,0 +1,97 @@
+"""``result.plot(...)`` and the comparison of several results in one figure (PyBaMM's ``dynamic_plot`` model).
+
+Figures come from :mod:`.figures` (never through the user's backend unless ``pyplot=True``); quantities are
+shown in the display units of :mod:`.outputs` against crank angle in degrees.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from . import figures
+from .outputs import describe
+
+#: figure names accepted by :func:`plot`
+FIGURES = ("fig12", "fig13", "fig14", "modes")
+
+
+def figure(result, kind: str, *, ports: dict | None = None, pyplot: bool = False):
+    """One of the paper's figures by name (see :data:`FIGURES`)."""
+    if kind == "fig12":
+        return figures.fig12_displacements(result, ports if ports is not None else figures.ports_of(result.scene),
+                                           pyplot=pyplot)
+    if kind == "fig13":
+        return figures.fig13_forces(result, pyplot=pyplot)
+    if kind == "fig14":
+        return figures.fig14_spectrum(result, pyplot=pyplot)
+    if kind == "modes":
+        return figures.mode_timeline(result, pyplot=pyplot)
+    raise ValueError(f"unknown figure {kind!r}; figures: {', '.join(FIGURES)}")
+
+
+def _check_quantities(result, names: Sequence[str]) -> None:
+    known = ["x", "y", "phi", "xd", "yd", "phid", *result.outputs]
+    bad = [n for n in names if n not in known]
+    if bad:
+        import difflib
+
+        hints = [f"{b!r}" + (f" (did you mean {m[0]!r}?)" if (m := difflib.get_close_matches(b, known, 1)) else "")
+                 for b in bad]
+        raise ValueError(f"cannot plot {', '.join(hints)}: not a figure ({', '.join(FIGURES)}) nor a quantity of "
+                         f"this result ({', '.join(known)})")
+
+
+def quantities(results, names: Sequence[str], labels: Sequence[str] | None = None, *, pyplot: bool = False):
+    """One panel per quantity against crank angle (deg), one line per result, a shared legend."""
+    names = list(names)
+    for r in results:
+        _check_quantities(r, names)
+    labels = list(labels) if labels is not None else [_label(r, i) for i, r in enumerate(results)]
+    if len(labels) != len(results):
+        raise ValueError(f"{len(labels)} labels for {len(results)} results")
+    fig = figures.new_figure((10, 1.2 + 2.0 * len(names)), pyplot)
+    axes = np.atleast_1d(fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0])
+    for ax, name in zip(axes, names, strict=True):
+        c = describe(name)
+        for r, label in zip(results, labels, strict=True):
+            ax.plot(np.degrees(r.theta), r.column(name) * c.scale, lw=0.8, label=label)
+        ax.set_ylabel(c.label)
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("crank angle (deg)")
+    if len(results) > 1:
+        fig.legend(*axes[0].get_legend_handles_labels(), loc="outside upper center", ncols=min(len(results), 4))
+    return fig
+
+
+def _label(result, i: int) -> str:
+    scene = result.info.get("scene") or f"result {i + 1}"
+    h = str(result.info.get("scene_hash", ""))[:8]
+    return f"{scene} {h}".strip()
+
+
+def plot(result, *what: str, ports: dict | None = None, pyplot: bool = False):
+    """The paper's figures by name (``fig12``, ``fig13``, ``fig14``, ``modes``) or quantities against crank angle.
+
+    ``result.plot()`` is Fig. 12; ``result.plot("fig14")`` a Figure; ``result.plot("fig12", "fig13")`` a list of
+    Figures; ``result.plot("x", "Pf_total")`` one Figure with a panel per quantity.
+    """
+    what = what or ("fig12",)
+    kinds = [w for w in what if w in FIGURES]
+    if kinds and len(kinds) != len(what):
+        raise ValueError("give either figure names or quantities, not both")
+    if kinds:
+        figs = [figure(result, k, ports=ports, pyplot=pyplot) for k in kinds]
+        return figs[0] if len(figs) == 1 else figs
+    return quantities([result], what, pyplot=pyplot)
+
+
+def plot_comparison(results, quantities_: Sequence[str] = ("x", "y", "phi", "Pf_total"),
+                    labels: Sequence[str] | None = None, *, pyplot: bool = False):
+    """Several results in one Figure: a panel per quantity, a line per result (labels: the scenes' names and
+    content hashes unless given)."""
+    results = list(results)
+    if not results:
+        raise ValueError("plot_comparison needs at least one result")
+    return quantities(results, quantities_, labels, pyplot=pyplot)

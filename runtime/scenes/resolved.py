@@ -1,0 +1,90 @@
+"""A scene written out in full: every key with its value and unit, overrides applied, defaults made explicit.
+
+:func:`resolved_toml` is what a saved result keeps as ``scene.toml``: loading it gives a scene with the same
+content hash as the one that ran (:meth:`Scene.content_hash`), so ``apexseal simulate folder/scene.toml``
+re-runs the result. Quantities are written in their SI unit with full precision (``"0.00306 m"``), so nothing
+is rounded; a pressure table is written beside it (``pressure.csv``, in Pa) and named relative to it.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .schema import SECTIONS, SI, Section, _sub_model, validator_of
+
+#: the file name of the pressure table written beside a resolved scene
+TABLE_FILE = "pressure.csv"
+
+
+def _quantity(value: float, unit: str) -> Any:
+    if unit == "1":
+        return float(value)
+    text = {"kg*m^2": "kg*m^2", "N*s/m": "N*s/m", "kg/m^3": "kg/m^3"}.get(unit, unit)
+    return f"{float(value)!r} {text}"
+
+
+def _values(model: Section, prefix: str) -> tuple[list[tuple[str, Any]], list[tuple[str, Section]]]:
+    """The plain keys of a section (value with unit) and its sub-tables."""
+    plain, tables = [], []
+    for name, field in type(model).model_fields.items():
+        value = getattr(model, name)
+        if _sub_model(field.annotation) is not None:
+            if value is not None:
+                tables.append((f"{prefix}.{name}", value))
+            continue
+        if value is None:
+            continue
+        spec = validator_of(type(model), name)
+        plain.append((name, _quantity(value, spec.unit) if isinstance(spec, SI) else value))
+    return plain, tables
+
+
+def _toml_value(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        return repr(v)
+    return '"' + str(v).replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def _table(name: str, items: list[tuple[str, Any]]) -> list[str]:
+    return [f"[{name}]", *(f"{k} = {_toml_value(v)}" for k, v in items), ""]
+
+
+def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:
+    """The scene as TOML text with every value explicit, and the extra files it names (file name -> text)."""
+    lines = [f"# {line}" if line else "#" for line in header.splitlines()]
+    lines += ["# every value of the scene that ran, in SI with its unit (apexseal writes this file)", ""]
+    files: dict[str, str] = {}
+
+    def walk(name: str, model: Section) -> None:
+        plain, tables = _values(model, name)
+        if plain or not tables:
+            lines.extend(_table(name, plain))
+        for sub_name, sub in tables:
+            walk(sub_name, sub)
+
+    for section in ("machine", "operation", "seal", "spring", "contacts", "friction"):
+        walk(section, getattr(scene, section))
+    p = scene.pressure
+    d = p.to_dict()
+    if d["source"] == "table":
+        lines += _table("pressure", [("source", "table"), ("file", TABLE_FILE), ("unit", "Pa")])
+        rows = "\n".join(f"{t!r},{a!r},{b!r}" for t, a, b in zip(np.asarray(p.theta_deg, float).tolist(),
+                                                                  np.asarray(p.pa, float).tolist(),
+                                                                  np.asarray(p.pb, float).tolist(), strict=True))
+        files[TABLE_FILE] = "theta_deg,Pa,Pb\n" + rows + "\n"
+    elif d["source"] == "constant":
+        lines += _table("pressure", [("source", "constant"), ("Pa", _quantity(d["Pa"], "Pa")),
+                                     ("Pb", _quantity(d["Pb"], "Pa"))])
+    else:
+        lines += _table("pressure", [("source", "none")])
+    lines += _table("effects", list(scene.effects.as_dict().items()))
+    lines += _table("assumptions", list(scene.assumptions.as_dict().items()))
+    walk("solver", scene.solver)
+    assert set(SECTIONS) >= {"machine", "pressure", "solver"}  # the sections written above
+    return "\n".join(lines), files

@@ -1,0 +1,61 @@
+"""``apexseal scene``: write a scene to start from (the embedded default), or a scene file resolved in full."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+
+@click.command()
+@click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--default", "default", is_flag=True, help="Print the embedded default scene (the paper's case study), "
+              "with its comments: `apexseal scene --default > my.toml`.")
+@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="With --default: write default.toml and its pressure table into this folder instead.")
+@click.option("--resolved", is_flag=True, help="Print SCENE (default: the embedded one) with every value explicit, in SI "
+              "with its unit, as a saved result's scene.toml has it.")
+def scene(scene: Path | None, default: bool, out: Path | None, resolved: bool) -> None:
+    """Print a scene file to start from, or check SCENE and print its content hash."""
+    from .runtime.scenes.errors import SceneError
+    from .runtime.scenes.scene import load_scene
+
+    if default and (resolved or scene):
+        raise click.UsageError("--default prints the embedded scene; give it alone")
+    if default:
+        _write_default(out)
+        return
+    try:
+        sc = load_scene(scene)
+    except SceneError as err:
+        raise click.ClickException(str(err)) from err
+    if resolved:
+        from .runtime.scenes.resolved import TABLE_FILE, resolved_toml
+
+        text, files = resolved_toml(sc, header=f"scene {sc.name}, content hash {sc.content_hash()}")
+        click.echo(text)
+        if files:
+            click.echo(f"# the pressure table is not printed: `apexseal simulate` writes it beside scene.toml as "
+                       f"{TABLE_FILE}", err=True)
+        return
+    click.echo(f"{sc.name}: valid; content hash {sc.content_hash()}; effects {sc.effects.label}")
+
+
+def _write_default(out: Path | None) -> None:
+    """The default scene on stdout (its pressure table written to the current folder, which a redirected
+    ``> my.toml`` shares) or, with ``out``, both files into that folder."""
+    from .runtime.scenes.scene import _scenes_folder, default_scene_text, load_scene
+
+    table = load_scene().pressure.file
+    table_text = _scenes_folder().joinpath(table).read_text(encoding="utf-8")
+    folder = out or Path(".")
+    folder.mkdir(parents=True, exist_ok=True)
+    if out is not None:
+        (folder / "default.toml").write_text(default_scene_text(), encoding="utf-8")
+        click.echo(f"wrote {folder / 'default.toml'} and {folder / table}")
+    else:
+        click.echo(default_scene_text(), nl=False)
+    if not (folder / table).exists():
+        (folder / table).write_text(table_text, encoding="utf-8")
+        if out is None:
+            click.echo(f"# wrote the scene's pressure table {table} to the current folder", err=True)

@@ -1,0 +1,63 @@
+"""Progress of the long stages (derivation, code generation, compilation, integration) on stderr.
+
+Stages report through the ``apexseal`` logger at INFO level: ``stage("compiling the integrator")`` logs the
+start and, at the end, the elapsed time. Nothing is printed unless a handler is installed: the command line
+installs one (``-q`` leaves it out), the API with ``simulate(..., progress=True)`` or :func:`enabled`.
+"""
+
+from __future__ import annotations
+
+import logging
+import sys
+import time
+from contextlib import contextmanager
+
+log = logging.getLogger("apexseal")
+
+
+@contextmanager
+def stage(what: str):
+    """Report ``what ...`` at the start and ``what: done in 1.2 s`` at the end (used on the cold paths only:
+    a cached derivation or library is silent)."""
+    t0 = time.perf_counter()
+    log.info("%s ...", what)
+    try:
+        yield
+    finally:
+        log.info("%s: done in %.1f s", what, time.perf_counter() - t0)
+
+
+def announce(message: str) -> None:
+    """One progress line (e.g. "compiling the erk integrator (first use; cached afterwards) ...")."""
+    log.info("%s", message)
+
+
+_handler: logging.Handler | None = None
+
+
+def enable(on: bool = True) -> None:
+    """Install (or remove) the stderr handler of the ``apexseal`` logger at INFO level."""
+    global _handler
+    if on and _handler is None:
+        _handler = logging.StreamHandler(sys.stderr)
+        _handler.setFormatter(logging.Formatter("apexseal: %(message)s"))
+        log.addHandler(_handler)
+        log.setLevel(logging.INFO)
+        log.propagate = False
+    elif not on and _handler is not None:
+        log.removeHandler(_handler)
+        _handler = None
+        log.propagate = True
+
+
+@contextmanager
+def enabled(on: bool):
+    """Progress reports on stderr inside the block when ``on`` (nothing changes when off or already on)."""
+    if not on or _handler is not None:
+        yield
+        return
+    enable(True)
+    try:
+        yield
+    finally:
+        enable(False)

@@ -1,0 +1,212 @@
+"""SimulationResult for a notebook user (issue: results a notebook user can trust and look at).
+
+Each defect of the issue has a test here: repr dumping arrays, undocumented fields, no xarray/pandas, no
+event list, empty erk statistics, internal summary, figures returning paths and switching the backend,
+Fig. 12's overlapping radial labels and clipped legend, Fig. 14's linear axis and side-lobe peaks, and a
+saved result that does not record its scene.
+"""
+
+from __future__ import annotations
+
+import itertools
+import json
+
+import matplotlib
+import numpy as np
+import pytest
+
+import apexseal
+from apexseal.runtime.results.outputs import describe, documented_names, header, markdown_table
+from apexseal.runtime.results.result import SimulationResult
+
+SAMPLES = 360  # the integrator of tests/runtime/test_simulate.py: compiled once per session
+
+
+@pytest.fixture(scope="module")
+def result(default_scene, default_functions):
+    return apexseal.simulate(default_scene, samples_per_revolution=SAMPLES, flags="quick", rtol=1e-8,
+                             functions=default_functions.sx)
+
+
+def test_repr_is_short_and_says_what_matters(result):
+    text = repr(result)
+    assert len(text) < 160 and "\n" not in text and "array" not in text
+    for part in ("completed", "1.00 rev", f"{result.n} samples", f"{result.n_events} events", "friction power"):
+        assert part in text, part
+    html = result._repr_html_()
+    assert html.startswith("<table") and "friction power" in html and "b1" in html
+
+
+def test_help_documents_every_field_with_units():
+    doc = SimulationResult.__doc__
+    for name in ("theta", "time", "state", "closed", "events", "outputs", "guard_names", "modes", "status", "stop",
+                 "info", "scene"):
+        assert f"``{name}``" in doc, name
+    assert "x, y (m), phi (rad), xd, yd (m/s), phid (rad/s)" in doc
+
+
+def test_dir_of_the_package_lists_the_api():
+    assert {"load_scene", "simulate", "SimulationResult", "plot_comparison", "Model"} <= set(dir(apexseal))
+
+
+def test_xarray_has_units_and_meanings_and_round_trips_through_netcdf(result, tmp_path):
+    ds = result.to_xarray()
+    assert ds["x"].dims == ("theta",) and ds["time"].attrs["units"] == "s"
+    for name, var in ds.data_vars.items():
+        assert var.attrs.get("long_name"), name
+        if name != "mode" and not name.startswith(("closed_", "events_")):
+            assert var.attrs["units"] == describe(name).unit, name
+    assert ds.attrs["scene_hash"] == result.scene.content_hash()
+    import xarray as xr
+
+    ds.to_netcdf(tmp_path / "r.nc", engine="scipy")
+    with xr.open_dataset(tmp_path / "r.nc", engine="scipy") as back:
+        assert np.array_equal(back["y"].values, result.state[1])
+        assert back["Pf_total"].attrs["units"] == "W"
+
+
+def test_pandas_has_every_column_with_units(result):
+    df = result.to_pandas()
+    assert df.index.name == "theta_deg" and len(df) == result.n
+    assert np.array_equal(df["phi"].to_numpy(), result.state[2])
+    assert df.attrs["units"]["x"] == "m" and df.attrs["units"]["Pf_total"] == "W"
+    assert set(df.columns) == {*(c for c in documented_names() if c != "theta_deg")}
+
+
+def test_event_list_accounts_for_every_switch(result):
+    ev = result.event_list()
+    assert list(ev.columns) == ["theta_deg", "time_s", "contact", "direction", "switches"]
+    assert ev["switches"].sum() == result.n_events > 0
+    assert (np.diff(ev["theta_deg"]) >= 0).all()
+    for _, row in ev[ev["switches"] == 1].iterrows():  # a single switch: the contact state after it matches
+        i = result.guard_names.index(row["contact"])
+        k = int(np.searchsorted(np.degrees(result.theta), row["theta_deg"]))
+        assert bool(result.closed[i, k]) == (row["direction"] == "closes")
+    assert set(ev["direction"]) <= {"closes", "opens", "closes+opens", "opens+closes"}
+
+
+@pytest.mark.parametrize("method", ["erk", "cvodes"])
+def test_solver_statistics_for_every_method(default_scene, default_functions, method, result):
+    """erk's statistics were empty: a compiled integrator reports none, so calls and events are counted."""
+    r = result if method == "erk" else apexseal.simulate(default_scene, method=method, samples_per_revolution=90,
+                                                         rtol=1e-7, functions=default_functions.sx)
+    stats = r.solver_stats
+    assert stats["n_engine_calls"] >= 1
+    assert stats["n_events"] == r.n_events > 0
+
+
+def test_summary_is_public(result):
+    s = result.summary()
+    assert s["status"] == "completed" and s["events_total"] == result.n_events
+    assert s["housing_force_spectrum_peaks"]
+
+
+def test_plots_return_figures_and_leave_the_backend_alone(result):
+    import matplotlib.pyplot as plt
+
+    backend, figs_before = matplotlib.get_backend(), plt.get_fignums()
+    from matplotlib.figure import Figure
+
+    assert isinstance(result.plot(), Figure)
+    many = result.plot("fig12", "fig13", "fig14", "modes")
+    assert len(many) == 4 and all(isinstance(f, Figure) for f in many)
+    q = result.plot("x", "Pf_total")
+    assert len(q.axes) == 2 and q.axes[1].get_ylabel() == "Pf_total (W)"
+    assert matplotlib.get_backend() == backend and plt.get_fignums() == figs_before
+    with pytest.raises(ValueError, match="did you mean 'Pf_total'"):
+        result.plot("Pf_totl")
+
+
+def _drawn(fig):
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig).draw()
+    return fig
+
+
+def _boxes(fig, artists):
+    renderer = fig.canvas.get_renderer()  # an Agg canvas (FigureCanvasAgg), attached by _drawn
+    return [a.get_window_extent(renderer) for a in artists if a.get_visible() and a.get_text()]
+
+
+def test_fig12_labels_do_not_overlap_and_the_legend_names_both_ports(result):
+    fig = _drawn(result.plot("fig12"))
+    for ax in fig.axes:
+        lo, hi = ax.get_ylim()
+        shown = [t for t, v in zip(ax.yaxis.get_ticklabels(), ax.yaxis.get_ticklocs(), strict=True) if lo <= v <= hi]
+        labels = _boxes(fig, shown)
+        assert len(labels) <= 5
+        assert not any(a.overlaps(b) for a, b in itertools.combinations(labels, 2)), ax.get_title()
+    title = _boxes(fig, [fig._suptitle])[0]
+    assert not any(title.overlaps(b) for b in _boxes(fig, [ax.title for ax in fig.axes]))
+    legend = fig.legends[0]
+    assert {t.get_text() for t in legend.get_texts()} >= {"inlet port", "outlet port", "zero"}
+    box, page = legend.get_window_extent(fig.canvas.get_renderer()), fig.bbox
+    assert page.x0 <= box.x0 and box.x1 <= page.x1 and page.y0 <= box.y0 and box.y1 <= page.y1
+
+
+def test_fig12_shows_negative_values_off_the_centre(result):
+    """Negative displacements folded through the centre of the polar plot; now the radius starts below them."""
+    fig = result.plot("fig12")
+    ax = fig.axes[1]  # y, which goes negative
+    assert result.state[1].min() < 0
+    assert ax.get_rorigin() < ax.get_rmin() <= result.state[1].min() * 1e6
+
+
+def test_fig14_uses_log_axes_and_marks_distinct_peaks(result):
+    """A 1.5e4 rad/s peak sat in the left 5 % of a linear axis up to 2.8e5 rad/s."""
+    fig = result.plot("fig14")
+    ax = fig.axes[0]
+    assert ax.get_xscale() == "log" and ax.get_yscale() == "log"
+    peaks = result.summary()["housing_force_spectrum_peaks"]
+    lo, hi = ax.get_xlim()
+    main = max(peaks, key=lambda p: p["amplitude_N"] if p["omega_rad_s"] > 1e3 else 0)["omega_rad_s"]
+    assert 0.2 < np.log(main / lo) / np.log(hi / lo) < 0.9
+
+
+def test_spectral_peaks_list_a_rippled_hump_once():
+    """Side lobes (ripples) on one hump were listed as separate peaks."""
+    from apexseal.runtime.results.summary import spectral_peaks
+
+    w = np.linspace(0, 1e5, 4001)
+    hump = 7 * np.exp(-(((w - 1.5e4) / 3e3) ** 2)) * (1 + 0.08 * np.sin(w / 300))
+    other = 2 * np.exp(-(((w - 6e4) / 2e3) ** 2))
+    peaks = spectral_peaks(w, hump + other + 0.01)
+    assert len(peaks) == 2
+    assert abs(peaks[0]["omega_rad_s"] - 1.5e4) < 1.5e3 and abs(peaks[1]["omega_rad_s"] - 6e4) < 1e3
+
+
+def test_comparison_plot_of_two_results(result, default_scene, default_functions):
+    other = apexseal.simulate(default_scene.with_overrides(**{"spring.ks": "2e4 N/m"}), samples_per_revolution=SAMPLES,
+                              flags="quick", rtol=1e-8, functions=default_functions.sx)
+    fig = apexseal.plot_comparison([result, other], ["y", "Pf_total"], labels=["a", "b"])
+    assert len(fig.axes) == 2 and all(len(ax.lines) == 2 for ax in fig.axes)
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == ["a", "b"]
+
+
+def test_saved_result_records_its_scene_and_no_machine_path(result, tmp_path):
+    """result.json named the scene by an absolute path and nothing else."""
+    import os
+
+    folder = result.save(tmp_path / "run")
+    back = SimulationResult.load(folder)
+    assert back.scene is not None and back.scene.content_hash() == result.scene.content_hash()
+    assert back.scene.solver.samples_per_revolution == SAMPLES  # the run's settings are in the scene
+    info = json.loads((folder / "result.json").read_text())["info"]
+    assert info["scene_hash"] == result.scene.content_hash() and len(info["model_hash"]) == 64
+    assert {"apexseal", "casadi", "numpy"} <= set(info["versions"])
+    for f in folder.iterdir():
+        if f.suffix in (".json", ".toml", ".csv"):
+            text = f.read_text()
+            for path in (str(tmp_path), os.getcwd(), str(apexseal.__file__).rsplit("/", 3)[0]):
+                assert path not in text, (f.name, path)
+
+
+def test_output_columns_are_documented_and_the_csv_header_carries_units(result, tmp_path):
+    from pathlib import Path
+
+    doc = (Path(apexseal.__file__).resolve().parents[2] / "docs" / "outputs.md").read_text()
+    assert markdown_table() in doc, "docs/outputs.md is stale: paste runtime.results.outputs.markdown_table()"
+    result.save(tmp_path)
+    first = (tmp_path / "trajectory.csv").read_text().splitlines()[0].split(",")
+    assert first == header(documented_names())

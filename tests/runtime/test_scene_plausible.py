@@ -1,0 +1,74 @@
+"""Units that can be silently wrong (issue: results a notebook user can trust): each defect has a test."""
+
+from __future__ import annotations
+
+import warnings
+
+import pytest
+
+from apexseal.runtime.scenes.errors import SceneError
+from apexseal.runtime.scenes.units import PLAUSIBLE, PlausibilityWarning
+
+
+def test_quoted_number_without_unit_is_an_error_naming_key_and_unit(default_scene):
+    """delta_s = "2.0" was read as 2 m and the run blew up at 2.2 deg with advice about contact stiffness."""
+    with pytest.raises(SceneError) as err:
+        default_scene.with_overrides(**{"spring.delta_s": "2.0"})
+    assert err.value.keys() == ["spring.delta_s"]
+    assert "needs a unit" in str(err.value) and "length in m" in str(err.value)
+
+
+def test_bare_numbers_keep_meaning_si(default_scene):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        scene = default_scene.with_overrides(**{"spring.delta_s": 0.002})
+    assert scene.spring.delta_s == 0.002
+
+
+def test_a_bare_length_of_metres_is_reported_against_the_key_written(default_scene):
+    """Ws = 3.0 (meant mm) was reported against Wg and ro instead of Ws."""
+    with pytest.raises(SceneError) as err:
+        default_scene.with_overrides(**{"seal.Ws": 3.0})
+    assert err.value.keys()[0] == "seal.Ws"
+    assert 'did you mean "3 mm"' in str(err.value)
+
+
+def test_a_preload_of_metres_warns(default_scene):
+    with pytest.warns(PlausibilityWarning, match=r"spring\.delta_s.*far outside engineering practice"):
+        default_scene.with_overrides(**{"spring.delta_s": 2.0})
+
+
+def test_a_pressure_table_in_bar_declared_in_pa_warns(default_scene, tmp_path):
+    """A table in bar declared unit = "Pa" completed at 1.5-9 Pa with no warning."""
+    table = tmp_path / "bar.csv"
+    table.write_text("theta_deg,Pa,Pb\n0,1.5,9\n180,9,1.5\n")
+    with pytest.warns(PlausibilityWarning, match=r"pressure\.unit.*1\.5\.\.9 Pa.*bar"):
+        default_scene.with_overrides(**{"pressure.file": str(table)})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        scene = default_scene.with_overrides(**{"pressure.file": str(table), "pressure.unit": "bar"})
+    assert scene.pressure.pa.max() == pytest.approx(9e5)
+
+
+def test_the_default_and_hard_scenes_are_plausible():
+    """Every shipped scene lies inside the documented ranges (no warning on a correct scene)."""
+    from pathlib import Path
+
+    import apexseal
+
+    hard = Path(apexseal.__file__).resolve().parents[2] / "runtime" / "scenes" / "hard"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        apexseal.load_scene()
+        for f in sorted(hard.glob("*.toml")):
+            apexseal.load_scene(f)
+
+
+def test_the_plausible_ranges_are_documented():
+    from pathlib import Path
+
+    import apexseal
+
+    doc = (Path(apexseal.__file__).resolve().parents[2] / "docs" / "scenes.md").read_text()
+    for key in PLAUSIBLE:
+        assert f"`{key}`" in doc.split("## Plausible ranges")[1], key
