@@ -1,8 +1,9 @@
 """trajectory.csv (on request): one row per sample, written part by part with one format operation per row.
 
 The first line, ``# apexseal result <run id>, <n> samples``, ties the file to its result.json (pandas:
-``read_csv(path, comment="#")``); the header carries each column's SI unit (``x [m]``, docs/outputs.md). Formatting numbers as text is what costs (``python
-tests/runtime/measure_saving.py`` times it), so the binary parts (parts/*.npz) are the default format.
+``read_csv(path, comment="#")``); the header carries each column's SI unit (``x [m]``, docs/outputs.md).
+Formatting numbers as text is what costs (``python tests/runtime/measure_saving.py`` times it), so the binary
+parts (parts/*.npz) are the default format.
 """
 
 from __future__ import annotations

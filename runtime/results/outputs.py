@@ -11,7 +11,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-#: the contacts and loads of the model (derive/model.py), by the suffix of their output columns
+#: the contacts and loads of the model (derive/submodels/), by the suffix of their output columns
 CONTACTS: dict[str, str] = {
     "i1": "seal-groove contact i1 (corner g1, seal's -Ys side; Algorithm 1, Eq. 63)",
     "c2": "seal-groove contact c2 (back corner g2 on the -Y groove wall; Algorithm 1, Eq. 63)",
@@ -22,15 +22,16 @@ CONTACTS: dict[str, str] = {
     "pressure": "chamber pressure on the seal (Eq. 75)",
 }
 
-#: guard name -> what its gap measures
-GUARDS: dict[str, str] = {
-    "b1": "gap at groove corner g1 (Algorithm 1; negative: in contact)",
-    "b2": "gap at groove corner g2 (Algorithm 1; negative: in contact)",
-    "b3": "gap at groove corner g3 (Algorithm 1; negative: in contact)",
-    "b4": "gap at groove corner g4 (Algorithm 1; negative: in contact)",
-    "xs5": "penetration of the seal tip into the housing (Algorithm 2; positive: in contact)",
-    "spring": "compression of the groove-bottom spring (Eq. 9; positive: in contact)",
-}
+def guard_outputs() -> dict[str, tuple[str, str]]:
+    """Output column of each contact's guard -> (guard name, meaning), as the submodels declare them."""
+    from ...derive.submodels.registry import guards
+
+    out = {}
+    for g in guards():
+        meaning = g.meaning.removeprefix("minus ").removeprefix("the ")
+        text = f"{meaning}; positive: in contact" if g.sign < 0 else f"{meaning}; negative: in contact"
+        out[g.output] = (g.name, text)
+    return out
 
 
 @dataclass(frozen=True)
@@ -77,8 +78,6 @@ _PATTERNS: tuple[tuple[str, str, str, str, float], ...] = (
     (r"Pf_(\w+)", "W", "friction power dissipated at the {c}", "W", 1.0),
     (r"closed_(\w+)", "", "1 if contact {n} is closed at this sample, else 0 (Algorithm 3)", "", 1.0),
     (r"b_gap", "m", "leakage gap past the seal (Algorithm 4)", "µm", 1e6),
-    (r"(b[1-4]|xs5|spring)", "m", "{g}", "µm", 1e6),
-    (r"spring_compression", "m", "compression of the groove-bottom spring (Eq. 9; positive: in contact)", "mm", 1e3),
     (r"Pa", "Pa", "pressure of chamber a, +Ys side of the seal (Eq. 75)", "bar", 1e-5),
     (r"Pb", "Pa", "pressure of chamber b, -Ys side of the seal (Eq. 75)", "bar", 1e-5),
 )
@@ -88,11 +87,15 @@ def describe(name: str) -> Column:
     """The :class:`Column` of a result column name (states, outputs, ``closed_<guard>``)."""
     if name in FIXED:
         return FIXED[name]
+    guard_cols = guard_outputs()
+    if name in guard_cols:
+        display, scale = ("mm", 1e3) if name == "spring_compression" else ("µm", 1e6)
+        return Column(name, "m", guard_cols[name][1], display, scale)
     for pattern, unit, meaning, display, scale in _PATTERNS:
         m = re.fullmatch(pattern, name)
         if m:
             part = m.group(1) if m.groups() else ""
-            text = meaning.format(c=CONTACTS.get(part, part), g=GUARDS.get(part, part), n=part)
+            text = meaning.format(c=CONTACTS.get(part, part), n=part)
             return Column(name, unit, text, display, scale)
     raise KeyError(f"no description of the result column {name!r}; add it to runtime/results/outputs.py")
 
@@ -103,15 +106,18 @@ def header(names: list[str] | tuple[str, ...]) -> list[str]:
 
 
 def documented_names() -> list[str]:
-    """Every column of a result of the full model (the default scene), in CSV order."""
-    from ...derive.model import GUARD_OF_CONTACT
+    """Every column of a result of the full model (the default scene), in CSV order: the states, the mode, the
+    closed flag of each guard, the outputs of the committed generated model (generated/default/manifest.json),
+    the guards' gap columns and the chamber pressures."""
+    import json
 
-    guards = list(GUARD_OF_CONTACT.values())
-    outputs = []
-    for c in CONTACTS:
-        outputs += [f"F_{c}_X", f"F_{c}_Y", f"M_{c}"] + ([f"Pf_{c}"] if c != "pressure" else [])
-    return [*FIXED, *(f"closed_{g}" for g in guards), *outputs, "Pf_total", "b_gap", *guards[:5],
-            "spring_compression", "Pa", "Pb"]
+    from ...derive.submodels.registry import guards
+    from ...generated.load import DEFAULT_DIR
+
+    names = json.loads((DEFAULT_DIR / "manifest.json").read_text())["names"]
+    gs = {g.name: g for g in guards()}
+    return [*FIXED, *(f"closed_{g}" for g in names["guards"]), *names["outputs"],
+            *(gs[g].output for g in names["guards"]), "Pa", "Pb"]
 
 
 def markdown_table() -> str:

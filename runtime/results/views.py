@@ -9,18 +9,14 @@ import json
 
 import numpy as np
 
-from ...derive.symbols import STATE_NAMES
-from .outputs import GUARDS, describe
-
-#: guard -> (output holding its gap, True if the contact is closed when that output is negative)
-GAP_OF_GUARD = {"b1": ("b1", True), "b2": ("b2", True), "b3": ("b3", True), "b4": ("b4", True),
-                "xs5": ("xs5", False), "spring": ("spring_compression", False)}
+from ...derive.submodels.registry import guards, state_names
+from .outputs import describe
 
 
 def columns(result) -> dict[str, np.ndarray]:
     """Every column of the result in CSV order (name -> (n,) array, SI; ``mode`` as strings)."""
     cols: dict[str, np.ndarray] = {"theta_deg": np.degrees(result.theta), "time_s": result.time}
-    cols.update({name: result.state[i] for i, name in enumerate(STATE_NAMES)})
+    cols.update({name: result.state[i] for i, name in enumerate(state_names())})
     cols["mode"] = np.asarray(result.modes, dtype=str)
     cols.update({f"closed_{g}": result.closed[i].astype(np.int8) for i, g in enumerate(result.guard_names)})
     cols.update(result.outputs)
@@ -66,7 +62,7 @@ def to_xarray(result):
         data[name] = ("theta", values, attrs)
     for i, g in enumerate(result.guard_names):
         data[f"events_{g}"] = ("theta", result.events[i].astype(np.int32),
-                               {"long_name": f"running count of switches of contact {g} ({GUARDS.get(g, g)})"})
+                               {"long_name": f"running count of switches of contact {g}"})
     attrs = {"status": result.status, "stop": "" if result.stop is None else result.stop.describe(),
              "guard_names": ",".join(result.guard_names)}
     attrs.update({k: _attr(v) for k, v in result.info.items()})
@@ -82,11 +78,11 @@ def event_list(result):
 
     rows = []
     deg = np.degrees(result.theta)
+    gap_of = {g.name: g.output for g in guards()}  # the output column of each guard
     for i, g in enumerate(result.guard_names):
         counts = result.events[i]
         jumps = np.nonzero(np.diff(counts) > 0)[0]
-        gap_name = GAP_OF_GUARD.get(g, (None, True))[0]
-        gap = result.outputs.get(gap_name)
+        gap = result.outputs.get(gap_of.get(g, ""))
         for k in jumps:
             n = int(counts[k + 1] - counts[k])
             before, after = bool(result.closed[i, k]), bool(result.closed[i, k + 1])

@@ -207,6 +207,6 @@ def test_output_columns_are_documented_and_the_csv_header_carries_units(result, 
 
     doc = (Path(apexseal.__file__).resolve().parents[2] / "docs" / "outputs.md").read_text()
     assert markdown_table() in doc, "docs/outputs.md is stale: paste runtime.results.outputs.markdown_table()"
-    result.save(tmp_path)
-    first = (tmp_path / "trajectory.csv").read_text().splitlines()[0].split(",")
+    result.save(tmp_path / "r", csv=True)
+    first = (tmp_path / "r" / "trajectory.csv").read_text().splitlines()[1].split(",")  # after the run-id line
     assert first == header(documented_names())
