@@ -39,6 +39,7 @@ from pathlib import Path
 import casadi as ca
 
 from ..derive.cache import cache_dir
+from ..files import atomic_write, content_key, file_lock, sha256_file
 from ..progress import stage
 from .manifest import StaleArtefactWarning, verify
 

@@ -21,6 +21,7 @@ from pathlib import Path
 from ..derive.assumptions import Assumptions
 from ..derive.cache import cache_dir, cached_model, derivation_key
 from ..derive.effects import Effects
+from ..files import file_lock
 from ..progress import stage
 from .compile import compiled_or_interpreted
 from .functions import ModelFunctions, build_functions

@@ -81,8 +81,8 @@ def scene_that_ran(scene, settings: RunSettings):
 
 
 def provenance(scene) -> dict:
-    """What identifies a run's inputs: the scene as given (Scene.reference) and its content hash, the generated model's input hash
-    (the ``input_hash`` of its manifest), and the package versions."""
+    """What identifies a run's inputs: the scene as given (Scene.reference) and its content hash, the generated
+    model's input hash (the ``input_hash`` of its manifest), and the package versions."""
     from ..generated.manifest import input_hash
     from .results.summary import versions
 

@@ -35,10 +35,9 @@ def _check_quantities(result, names: Sequence[str]) -> None:
     known = ["x", "y", "phi", "xd", "yd", "phid", *result.outputs]
     bad = [n for n in names if n not in known]
     if bad:
-        import difflib
+        from ...suggest import did_you_mean
 
-        hints = [f"{b!r}" + (f" (did you mean {m[0]!r}?)" if (m := difflib.get_close_matches(b, known, 1)) else "")
-                 for b in bad]
+        hints = [f"{b!r}{did_you_mean(b, known)}" for b in bad]
         raise ValueError(f"cannot plot {', '.join(hints)}: not a figure ({', '.join(FIGURES)}) nor a quantity of "
                          f"this result ({', '.join(known)})")
 
