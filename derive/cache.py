@@ -13,9 +13,8 @@ from __future__ import annotations
 
 import os
 import pickle
+from importlib.metadata import version
 from pathlib import Path
-
-import sympy
 
 from ..files import atomic_open, content_key, files_digest
 from .assumptions import Assumptions
@@ -49,7 +48,7 @@ def derivation_key(effects: Effects, assumptions: Assumptions) -> str:
         "submodels": digest(),
         "effects": effects.as_dict(),
         "assumptions": assumptions.as_dict(),
-        "sympy": sympy.__version__,
+        "sympy": version("sympy"),  # without importing sympy
     }
     return content_key(payload)
 

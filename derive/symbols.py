@@ -13,6 +13,8 @@ from collections.abc import Iterator, Mapping
 import sympy as sp
 from sympy.physics.mechanics import dynamicsymbols
 
+from .names import INPUT_NAMES, STATE_NAMES  # noqa: F401 - re-exported (sympy-free in .names)
+
 
 class _ParameterSymbols(Mapping[str, sp.Symbol]):
     """The sympy symbol of every parameter the registered submodels declare, by name (``P["kw"]``)."""
@@ -50,7 +52,6 @@ def __getattr__(name: str):
 
 #: chamber pressures: time-varying inputs, not parameters (chamber a on +Ys, b on -Ys; Eq. 75)
 Pa, Pb = sp.symbols("Pa Pb", real=True)
-INPUT_NAMES: tuple[str, ...] = ("Pa", "Pb")
 
 #: time and crank angle; theta = omega t (Eq. 13 uses d(theta)/dt = omega)
 t = sp.Symbol("t", real=True)
@@ -61,7 +62,6 @@ x, y, phi = dynamicsymbols("x y phi", real=True)
 xd, yd, phid = dynamicsymbols("x y phi", 1, real=True)
 
 #: plain symbols standing for the state in the final expressions
-STATE_NAMES: tuple[str, ...] = ("x", "y", "phi", "xd", "yd", "phid")  # the seal body's states (submodels/seal.py)
 qs = sp.symbols("x y phi", real=True)
 us = sp.symbols("xd yd phid", real=True)
 udots = sp.symbols("xdd ydd phidd", real=True)

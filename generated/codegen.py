@@ -1,12 +1,10 @@
-"""CasADi C code of the model's Functions, one file per group.
+"""CasADi C code of the model's Functions, and the same Functions serialized.
 
-Groups: ``casadi_model.c`` (rhs and its Jacobian, rhs_switched and its Jacobian,
-guards, velocity_guards, outputs) and ``casadi_modes_<k>.c`` (``MODES_PER_FILE``
-modes with their Jacobians each). Several files let the compiler work in parallel;
-their names depend only on the mode count, never on the machine. Each file gets a
-CasADi header (``with_header``) for the C dispatch of ``apexseal_dispatch.c``.
-CasADi's own internal symbols carry the file name as prefix, so the files link into
-one library without clashes.
+``casadi_model.c`` (with its header) holds what a run executes: rhs and its Jacobian,
+rhs_switched, guards, velocity_guards, outputs; it is compiled into the model library.
+``casadi_model.casadi`` holds the same SX Functions serialized by CasADi (deterministic
+text): the runtime deserializes them to build integrators without sympy, so the
+Functions an integrator embeds are the ones whose C is in the library.
 """
 
 from __future__ import annotations
@@ -18,18 +16,34 @@ import casadi as ca
 
 from .functions import ModelFunctions
 
-MODES_PER_FILE = 4
+SERIALIZED = "casadi_model.casadi"
+#: the SX Functions serialized (their Jacobian is rebuilt from them when needed)
+SERIALIZED_FUNCTIONS = ("rhs", "rhs_switched", "guards", "velocity_guards", "outputs")
 
 
 def c_groups(fns: ModelFunctions) -> dict[str, list[ca.Function]]:
     """File stem -> the Functions it holds (Jacobians right after their Function)."""
-    groups = {"casadi_model": [fns.rhs, fns.rhs_jac, fns.rhs_switched, fns.rhs_switched_jac, fns.guards,
-                               fns.velocity_guards, fns.outputs]}
-    labels = fns.mode_labels
-    for k in range(0, len(labels), MODES_PER_FILE):
-        chunk = labels[k:k + MODES_PER_FILE]
-        groups[f"casadi_modes_{k // MODES_PER_FILE}"] = [f for lab in chunk for f in (fns.modes[lab], fns.mode_jacs[lab])]
-    return groups
+    return {"casadi_model": [fns.rhs, fns.rhs_jac, fns.rhs_switched, fns.guards, fns.velocity_guards, fns.outputs]}
+
+
+def write_serialized(fns: ModelFunctions, out_dir: Path) -> str:
+    """Write the SX Functions of :data:`SERIALIZED_FUNCTIONS` into one CasADi serialization; return its name."""
+    s = ca.StringSerializer()
+    every = fns.functions()
+    for name in SERIALIZED_FUNCTIONS:
+        s.pack(every[name])
+    (Path(out_dir) / SERIALIZED).write_text(s.encode() + "\n")
+    return SERIALIZED
+
+
+def read_serialized(path: Path) -> dict[str, ca.Function]:
+    """The Functions of a file written by :func:`write_serialized`, by name."""
+    d = ca.StringDeserializer(Path(path).read_text().strip())
+    out = {}
+    for _ in SERIALIZED_FUNCTIONS:
+        f = d.unpack()
+        out[f.name()] = f
+    return out
 
 
 def write_c(fns: ModelFunctions, out_dir: Path) -> dict[str, list[str]]:

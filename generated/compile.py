@@ -39,7 +39,7 @@ from pathlib import Path
 import casadi as ca
 
 from ..derive.cache import cache_dir
-from ..files import atomic_write, content_key, file_lock, sha256_file
+from ..files import atomic_write, content_key, file_lock, sha256_bytes, sha256_file
 from ..progress import stage
 from .manifest import StaleArtefactWarning, verify
 
@@ -186,7 +186,7 @@ def compile_library(source_dir: Path | str, *, flags: str = "optimised") -> Path
     :class:`CompilerUnavailable` when no compiler works.
     """
     source_dir = Path(source_dir)
-    manifest = verify(source_dir)
+    manifest = verify(source_dir, trusted=True)
     payload = {"kind": "model", "input_hash": manifest.input_hash, "files": manifest.files}
     return build_library(payload, [source_dir / f for f in manifest.c_files], MODEL_LIBRARY, flags=flags)
 
@@ -202,7 +202,7 @@ def fallback(reason: str | Exception, *, stacklevel: int = 3) -> None:
 
 @dataclass(frozen=True)
 class FunctionSource:
-    """The generated C of one CasADi Function and what names its compiled library in the cache."""
+    """The generated C of one CasADi Function at the station and what names its compiled library in the cache."""
 
     name: str  # the Function's name (the symbol the library exports)
     c_file: Path
@@ -213,20 +213,44 @@ class FunctionSource:
         return self.c_file.stem + ".so"
 
 
-def function_source(fn: ca.Function, folder: Path, *, derivatives: bool = False) -> FunctionSource:
-    """Generate the C of ``fn`` (and of ``fn.jacobian()`` with ``derivatives``) into ``folder``.
+FUNCTION_RECORD = "function.json"
 
-    The one place that decides a Function's C file and cache key: :func:`compile_function` and the
-    benchmark's parallel pre-compilation both build from it, so they fill and find the same cache entries.
+
+def function_dir(c_sha256: str) -> Path:
+    """The station's folder of one generated run Function (an integrator, a fold, a shooting function)."""
+    return cache_dir() / "gen" / "fn" / c_sha256
+
+
+def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: str | None = None) -> FunctionSource:
+    """Generate the C of ``fn`` (and of ``fn.jacobian()`` with ``derivatives``) at the station.
+
+    The C goes to :func:`function_dir` with its record (``function.json``: the C's sha256 and the input hash
+    of the model manifest whose Functions the C embeds, ``model``), so what is compiled is always on the
+    station's record. The one place that decides a Function's C file and cache key: :func:`compile_function`
+    and the benchmark's parallel pre-compilation both build from it, so they fill and find the same entries.
     """
     stem = "fn_" + re.sub(r"\W", "_", fn.name())
-    cg = ca.CodeGenerator(f"{stem}.c")
-    cg.add(fn)
-    if derivatives:
-        cg.add(fn.jacobian())
-    cg.generate(str(folder) + os.sep)
-    src = Path(folder) / f"{stem}.c"
-    return FunctionSource(fn.name(), src, {"kind": "function", "name": fn.name(), "c_sha256": sha256_file(src)})
+    with tempfile.TemporaryDirectory(prefix="apexseal-fn-") as tmp:
+        cg = ca.CodeGenerator(f"{stem}.c")
+        cg.add(fn)
+        if derivatives:
+            cg.add(fn.jacobian())
+        cg.generate(tmp + os.sep)
+        data = (Path(tmp) / f"{stem}.c").read_bytes()
+    digest = sha256_bytes(data)
+    folder = function_dir(digest)
+    src = folder / f"{stem}.c"
+    if model_hash is None:  # a caller that does not know the model (the bench's compile pool) keeps the record's
+        try:
+            model_hash = json.loads((folder / FUNCTION_RECORD).read_text()).get("model")
+        except (OSError, ValueError, AttributeError):
+            pass
+    record = {"format": "apexseal-function/1", "name": fn.name(), "files": {src.name: digest}, "model": model_hash,
+              "derivatives": derivatives}
+    if not (src.is_file() and sha256_file(src) == digest):
+        atomic_write(src, data)
+    atomic_write(folder / FUNCTION_RECORD, json.dumps(record, indent=2) + "\n")
+    return FunctionSource(fn.name(), src, {"kind": "function", "name": fn.name(), "c_sha256": digest})
 
 
 def build_function(source: FunctionSource, *, flags: str) -> Path:
@@ -234,19 +258,19 @@ def build_function(source: FunctionSource, *, flags: str) -> Path:
     return build_library(source.key_payload, [source.c_file], source.library_name, flags=flags)
 
 
-def compile_function(fn: ca.Function, *, flags: str = "optimised", derivatives: bool = False) -> ca.Function:
-    """Generate C for any CasADi Function (e.g. an ``erk`` integrator with events), compile, return the external.
+def compile_function(fn: ca.Function, *, flags: str = "optimised", derivatives: bool = False,
+                     model_hash: str | None = None) -> ca.Function:
+    """Generate C for a run Function (e.g. an ``erk`` integrator with events) at the station, compile, load it.
 
-    The library is cached by the sha256 of the generated C, the flags and the
-    compiler. ``derivatives=True`` also generates ``fn.jacobian()`` so the external
-    has an exact Jacobian. With no working compiler, returns ``fn`` itself and warns.
+    The library is cached by the sha256 of the generated C (which embeds the model's Functions), the
+    flags and the compiler. ``derivatives=True`` also generates ``fn.jacobian()`` so the external has an
+    exact Jacobian. With no working compiler, returns ``fn`` itself and warns.
     """
-    with tempfile.TemporaryDirectory(prefix="apexseal-fn-") as tmp:
-        try:
-            so = build_function(function_source(fn, Path(tmp), derivatives=derivatives), flags=flags)
-        except CompilerUnavailable as exc:
-            fallback(exc)
-            return fn
+    try:
+        so = build_function(function_source(fn, derivatives=derivatives, model_hash=model_hash), flags=flags)
+    except CompilerUnavailable as exc:
+        fallback(exc)
+        return fn
     return ca.external(fn.name(), str(so))
 
 

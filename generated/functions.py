@@ -3,11 +3,13 @@
 ``build_functions(model)`` lowers the sympy expressions to SX once and returns a
 :class:`ModelFunctions`: the right-hand side with the contact activations as an
 input (``rhs``) and its Jacobian (``rhs_jac``, named ``jac_rhs`` so that
-``casadi.external("rhs", so)`` finds it), one smooth right-hand side per mode of
-the hybrid model with the activations fixed (``mode_<label>``, each with its
-Jacobian), the contact and velocity guards, the named outputs, and
-``rhs_switched``, which computes the activations from the guards (for fixed-step
-methods). Argument order everywhere: crank angle ``theta``, state ``x`` (6),
+``casadi.external("rhs", so)`` finds it), the contact and velocity guards, the
+named outputs, and ``rhs_switched``, which computes the activations from the
+guards (for fixed-step methods). These are the Functions a run executes; a
+mode of the hybrid model (Algorithm 3) is ``rhs`` with its activations fixed
+(:meth:`ModelFunctions.mode_rhs`), so no per-mode Function is generated
+(docs/codegen.md: per-case dispatch measured no faster, and no run used it).
+Argument order everywhere: crank angle ``theta``, state ``x`` (6),
 [activations ``a``], parameters ``p`` (named: ``parameter_names``, the submodels' declarations),
 chamber pressures ``u = [Pa, Pb]``.
 """
@@ -16,13 +18,12 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 
 import casadi as ca
-import sympy as sp
 
-from ..derive import symbols as sym
 from ..derive.modes import GAP_GUARDS, Mode, Ops, gap_width, modes
-from .lower import Lowering
+from ..derive.names import INPUT_NAMES, STATE_NAMES
 
 
 @dataclass
@@ -34,10 +35,13 @@ class Arguments:
     a: ca.SX
     p: ca.SX
     u: ca.SX
-    lower: Lowering
+    lower: object  # a .lower.Lowering
 
     @classmethod
     def for_model(cls, model) -> Arguments:
+        from ..derive import symbols as sym  # the derivation's symbols (sympy): only when lowering
+        from .lower import Lowering
+
         theta = ca.SX.sym("theta")
         x = ca.SX.sym("x", len(sym.STATE_NAMES))
         a = ca.SX.sym("a", len(model.activations))
@@ -66,24 +70,25 @@ class ModelFunctions:
     rhs: ca.Function
     rhs_jac: ca.Function
     rhs_switched: ca.Function
-    rhs_switched_jac: ca.Function
     guards: ca.Function
     velocity_guards: ca.Function
     outputs: ca.Function
-    #: mode label -> Function ``mode_<label>(theta, x, p, u) -> xdot``, in the order of ``mode_list``
-    modes: dict[str, ca.Function]
-    #: mode label -> its Jacobian ``jac_mode_<label>``
-    mode_jacs: dict[str, ca.Function]
     mode_list: tuple[Mode, ...]
-    state_names: tuple[str, ...] = sym.STATE_NAMES
-    parameter_names: tuple[str, ...] = sym.PARAMETER_NAMES
-    input_names: tuple[str, ...] = sym.INPUT_NAMES
+    state_names: tuple[str, ...] = STATE_NAMES
+    parameter_names: tuple[str, ...] = ()
+    input_names: tuple[str, ...] = INPUT_NAMES
     guard_names: tuple[str, ...] = ()
     activation_names: tuple[str, ...] = ()
     velocity_guard_names: tuple[str, ...] = ()
     output_names: tuple[str, ...] = ()
     #: Function name -> number of SX instructions (of the SX Function, also for compiled sets)
     n_instructions: dict[str, int] = field(default_factory=dict)
+    #: the SX Functions these were generated from (for compiled sets; None for an SX set, which is its own)
+    symbolic: ModelFunctions | None = None
+    #: the compiled model library the Functions come from (None: SX Functions)
+    library: Path | None = None
+    #: the input hash of the manifest of the generated model (None: built directly from a derivation)
+    model_hash: str | None = None
 
     @property
     def mode_labels(self) -> tuple[str, ...]:
@@ -91,12 +96,18 @@ class ModelFunctions:
 
     def functions(self) -> dict[str, ca.Function]:
         """Every Function by its CasADi name, in a fixed order (the order of the generated C)."""
-        out = {f.name(): f for f in (self.rhs, self.rhs_jac, self.rhs_switched, self.rhs_switched_jac,
-                                      self.guards, self.velocity_guards, self.outputs)}
-        for label in self.mode_labels:
-            out[self.modes[label].name()] = self.modes[label]
-            out[self.mode_jacs[label].name()] = self.mode_jacs[label]
-        return out
+        return {f.name(): f for f in (self.rhs, self.rhs_jac, self.rhs_switched, self.guards, self.velocity_guards,
+                                      self.outputs)}
+
+    def sx(self) -> ModelFunctions:
+        """The SX Functions (to embed in an integrator): this set, or the one it was compiled from."""
+        return self if self.symbolic is None else self.symbolic
+
+    def mode_rhs(self, label: str):
+        """``f(theta, x, p, u) -> xdot`` of one mode (Algorithm 3 label): ``rhs`` with that mode's activations."""
+        mode = next(m for m in self.mode_list if m.label == label)
+        closed = [1.0 if c else 0.0 for c in mode.closed]
+        return lambda theta, x, p, u: self.rhs(theta, x, closed, p, u)
 
     def mode_of(self, closed) -> str:
         """The label of the mode with these contacts closed (in ``guard_names`` order)."""
@@ -110,13 +121,11 @@ class ModelFunctions:
 
         return replace(
             self, rhs=pick(self.rhs), rhs_jac=pick(self.rhs_jac), rhs_switched=pick(self.rhs_switched),
-            rhs_switched_jac=pick(self.rhs_switched_jac), guards=pick(self.guards),
-            velocity_guards=pick(self.velocity_guards), outputs=pick(self.outputs),
-            modes={k: pick(f) for k, f in self.modes.items()}, mode_jacs={k: pick(f) for k, f in self.mode_jacs.items()},
+            guards=pick(self.guards), velocity_guards=pick(self.velocity_guards), outputs=pick(self.outputs),
         )
 
 
-def _accelerations(args: Arguments, mass_matrix: sp.Matrix, forcing: sp.Matrix) -> ca.SX:
+def _accelerations(args: Arguments, mass_matrix, forcing) -> ca.SX:
     """solve(M, f): elementwise division when M is diagonal (the seal's case), a symbolic solve otherwise."""
     f = args.vector(forcing)
     if mass_matrix.is_diagonal():
@@ -128,6 +137,8 @@ def _accelerations(args: Arguments, mass_matrix: sp.Matrix, forcing: sp.Matrix) 
 
 def parameter_names_of(model) -> tuple[str, ...]:
     """The parameter vector a derived model was derived with (the registry's order at the time)."""
+    from ..derive import symbols as sym
+
     return tuple(model.parameter_names) or sym.PARAMETER_NAMES
 
 
@@ -144,6 +155,8 @@ def with_sympy_cse(model, args: Arguments):
     the default model's ``rhs`` has 481 SX instructions instead of 528. Off by default (docs/bench/levers.md): it
     gains 0-10 % per evaluation inside erk, and its different round-off turns the IPOPT preload study of the
     default scene infeasible (tests/runtime/test_preload.py)."""
+    import sympy as sp
+
     M = model.mass_matrix
     parts = {"mass": [M[i, j] for i in range(M.rows) for j in range(M.cols)], "forcing": list(model.forcing),
              "guards": list(model.guards.values()), "vguards": list(model.velocity_guards.values()),
@@ -163,6 +176,8 @@ def with_sympy_cse(model, args: Arguments):
 def build_functions(model, *, sympy_cse: bool = False) -> ModelFunctions:
     """Lower a derived model to SX Functions (named inputs and outputs, common subexpressions merged by the memoised
     tree walk and ``casadi.cse``; with ``sympy_cse``, by one ``sympy.cse`` over every expression first)."""
+    from ..derive import symbols as sym  # the derivation (sympy): only when lowering
+
     args = Arguments.for_model(model)
     if sympy_cse:
         model = with_sympy_cse(model, args)
@@ -189,18 +204,10 @@ def build_functions(model, *, sympy_cse: bool = False) -> ModelFunctions:
     velocity_guards = ca.Function("velocity_guards", in4, [vg], names4, ["vg"])
     outputs = ca.Function("outputs", in5, [y], names5, ["y"])
 
-    mode_list = tuple(modes(model.guard_names))
-    mode_fns, mode_jacs = {}, {}
-    for mode in mode_list:
-        closed = ca.DM([1.0 if c else 0.0 for c in mode.closed]) if mode.closed else ca.DM(0, 1)
-        f = ca.Function(f"mode_{mode.label}", in4, [ca.cse(ca.substitute(xdot, a, closed))], names4, ["xdot"])
-        mode_fns[mode.label], mode_jacs[mode.label] = f, f.jacobian()
-
     out = ModelFunctions(
+        rhs=rhs, rhs_jac=rhs.jacobian(), rhs_switched=rhs_switched, guards=guards, velocity_guards=velocity_guards,
+        outputs=outputs, mode_list=tuple(modes(model.guard_names)), guard_names=tuple(model.guards),
         parameter_names=parameter_names_of(model),
-        rhs=rhs, rhs_jac=rhs.jacobian(), rhs_switched=rhs_switched, rhs_switched_jac=rhs_switched.jacobian(),
-        guards=guards, velocity_guards=velocity_guards, outputs=outputs, modes=mode_fns, mode_jacs=mode_jacs,
-        mode_list=mode_list, guard_names=tuple(model.guards),
         activation_names=tuple(str(s) for s in model.activations.values()),
         velocity_guard_names=tuple(model.velocity_guards), output_names=tuple(output_names),
     )

@@ -2,9 +2,14 @@
 
 ``generate(effects, assumptions, out_dir)`` writes into ``out_dir``:
 
-* ``casadi_model.c/.h`` and ``casadi_modes_<k>.c/.h``: CasADi C of every Function;
-* ``apexseal_model.h`` and ``apexseal_dispatch.c``: rendered from ``templates/``;
+* ``casadi_model.c/.h``: CasADi C of every Function a run executes (the model library);
+* ``casadi_model.casadi``: the same SX Functions serialized (integrators embed them, without sympy);
+* ``apexseal_model.h`` and ``apexseal_model.c``: rendered from ``templates/`` (names, and the record's
+  hash compiled into the library);
 * ``manifest.json``: the record of inputs and outputs (see :mod:`.manifest`).
+
+The manifest's sha256 is also recorded in the station's index (:func:`.manifest.trust`), which is what
+loaders check it against.
 
 Files are staged in a temporary folder next to ``out_dir`` and moved in one by one
 with ``os.replace``; the manifest goes last, so a reader that finds a manifest
@@ -27,13 +32,13 @@ from ..derive.assumptions import Assumptions
 from ..derive.cache import cached_model
 from ..derive.effects import Effects
 from ..files import atomic_write, sha256_file
-from .codegen import write_c
+from .codegen import write_c, write_serialized
 from .functions import ModelFunctions, build_functions
-from .manifest import FORMAT, MANIFEST_NAME, Manifest, hash_of, inputs_record
+from .manifest import FORMAT, MANIFEST_NAME, Manifest, hash_of, inputs_record, trust
 from .render import render_all
 
 #: file name patterns that generate() owns in an output folder (old ones are removed)
-OWNED_PATTERNS = ("casadi_*.c", "casadi_*.h", "apexseal_*.c", "apexseal_*.h", MANIFEST_NAME)
+OWNED_PATTERNS = ("casadi_*.c", "casadi_*.h", "casadi_*.casadi", "apexseal_*.c", "apexseal_*.h", MANIFEST_NAME)
 
 
 class StageTimer:
@@ -53,11 +58,6 @@ class StageTimer:
             self.echo(f"[apexseal generate] {stage:<8} {dt:8.2f} s")
 
 
-def _work_sizes(fns: ModelFunctions) -> dict[str, int]:
-    fs = list(fns.modes.values())
-    return {k: max((getattr(f, k)() for f in fs), default=0) for k in ("sz_arg", "sz_res", "sz_iw", "sz_w")}
-
-
 def build_record(fns: ModelFunctions, inputs: dict[str, Any], c_files: dict[str, list[str]]) -> dict[str, Any]:
     """The manifest's content except the output files' hashes (also the templates' render context)."""
     file_of = {name: file for file, names in c_files.items() for name in names}
@@ -72,8 +72,7 @@ def build_record(fns: ModelFunctions, inputs: dict[str, Any], c_files: dict[str,
             "velocity_guards": list(fns.velocity_guard_names), "outputs": list(fns.output_names),
         },
         "modes": [
-            {"index": i, "label": m.label, "function": fns.modes[m.label].name(),
-             "jacobian": fns.mode_jacs[m.label].name(), "closed": [int(c) for c in m.closed]}
+            {"index": i, "label": m.label, "closed": [int(c) for c in m.closed]}
             for i, m in enumerate(fns.mode_list)
         ],
         "functions": {
@@ -89,7 +88,7 @@ def render_context(record: dict[str, Any], fns: ModelFunctions, c_files: dict[st
     effects = Effects(**record["inputs"]["effects"])
     return {
         **names, "input_hash": record["input_hash"], "modes": record["modes"], "effects_label": effects.label,
-        "casadi_headers": [f.removesuffix(".c") + ".h" for f in c_files], "work": _work_sizes(fns),
+        "casadi_headers": [f.removesuffix(".c") + ".h" for f in c_files],
     }
 
 
@@ -116,6 +115,8 @@ def generate(effects: Effects | None = None, assumptions: Assumptions | None = N
     assumptions = assumptions or Assumptions()
     out_dir = Path(out_dir)
     timer = StageTimer(echo)
+    if echo:
+        echo(f"[apexseal generate] model {effects.label}: deriving and generating (once per model; cached)")
     with timer("derive"):
         model = cached_model(effects, assumptions)
     with timer("lower"):
@@ -125,14 +126,16 @@ def generate(effects: Effects | None = None, assumptions: Assumptions | None = N
     try:
         with timer("codegen"):
             c_files = write_c(fns, stage_dir)
+            serialized = write_serialized(fns, stage_dir)
         with timer("render"):
             record = build_record(fns, inputs_record(effects, assumptions), c_files)
             rendered = render_all(render_context(record, fns, c_files), stage_dir)
-            names = sorted({*c_files, *(f.removesuffix(".c") + ".h" for f in c_files), *rendered})
+            names = sorted({*c_files, *(f.removesuffix(".c") + ".h" for f in c_files), serialized, *rendered})
             record["files"] = {name: sha256_file(stage_dir / name) for name in names}
             manifest = Manifest(record, out_dir)
             atomic_write(stage_dir / MANIFEST_NAME, manifest.dumps())
             _install(stage_dir, out_dir, [*names, MANIFEST_NAME])
+            trust(out_dir)
     finally:
         shutil.rmtree(stage_dir, ignore_errors=True)
     if compile:

@@ -1,31 +1,38 @@
-"""The model's Functions for a scene: SX (to embed in integrators) and compiled C, built when missing.
+"""The model's Functions for a scene, from the station's artefacts: no derivation when they are current.
 
 ``load_functions(effects, assumptions)`` returns a :class:`LoadedFunctions` with
 
-* ``.sx``: the SX Functions (:class:`~.functions.ModelFunctions`), from the cached derivation;
-* ``.c``: the same Functions as ``casadi.external`` of the compiled library (or the SX ones,
+* ``.sx``: the SX Functions, deserialized from the artefacts' ``casadi_model.casadi`` (the Functions
+  whose C is ``casadi_model.c``); integrators embed these;
+* ``.c``: the same Functions as ``casadi.external`` of the compiled model library (or the SX ones,
   with a :class:`~.compile.CompilerFallbackWarning`, when no compiler works).
 
-Where the C comes from: for the default effects and assumptions, the committed
-artefacts in ``generated/default/`` if their manifest matches the current inputs
-(else a :class:`~.manifest.StaleArtefactWarning` and they are regenerated into the
-cache); otherwise ``cache_dir()/gen/<input hash>/``, generated on first use.
+Names of the state, parameters, guards, outputs and modes come from the manifest, not from the
+derivation, so a run whose artefacts are current never imports sympy.
+
+Where the artefacts come from: for the default effects and assumptions, the committed folder
+``generated/default/`` if it is current and its manifest is the one the station recorded (else a
+:class:`~.manifest.StaleArtefactWarning` and they are regenerated into the cache); otherwise
+``cache_dir()/gen/<input hash>/``, derived and generated on first use (with progress lines).
 """
 
 from __future__ import annotations
 
+import ctypes
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 from ..derive.assumptions import Assumptions
-from ..derive.cache import cache_dir, cached_model, derivation_key
+from ..derive.cache import cache_dir
 from ..derive.effects import Effects
+from ..derive.modes import Mode
 from ..files import file_lock
 from ..progress import stage
+from .codegen import SERIALIZED, read_serialized
 from .compile import compiled_or_interpreted
-from .functions import ModelFunctions, build_functions
-from .manifest import MANIFEST_NAME, Manifest, StaleArtefactError, StaleArtefactWarning, input_hash, read_manifest, verify
+from .functions import ModelFunctions
+from .manifest import MANIFEST_NAME, Manifest, StaleArtefactError, StaleArtefactWarning, input_hash, verify
 
 DEFAULT_DIR = Path(__file__).resolve().parent / "default"
 
@@ -51,7 +58,7 @@ def is_default(effects: Effects, assumptions: Assumptions) -> bool:
 
 def _current(directory: Path, expected: str) -> bool:
     try:
-        verify(directory, expected_hash=expected)
+        verify(directory, expected_hash=expected, trusted=True)
     except StaleArtefactError as exc:
         if (directory / MANIFEST_NAME).exists():
             warnings.warn(f"{exc}; regenerating", StaleArtefactWarning, stacklevel=4)
@@ -59,8 +66,8 @@ def _current(directory: Path, expected: str) -> bool:
     return True
 
 
-def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None = None) -> Path:
-    """The folder holding current C artefacts for these inputs (generating them into the cache if needed)."""
+def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None = None, *, echo=None) -> Path:
+    """The folder holding current, trusted artefacts for these inputs (deriving and generating them if needed)."""
     from .generate import generate
 
     effects = effects or Effects()
@@ -68,7 +75,7 @@ def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None
     expected = input_hash(effects, assumptions)
     if is_default(effects, assumptions):
         try:
-            verify(DEFAULT_DIR, expected_hash=expected)
+            verify(DEFAULT_DIR, expected_hash=expected, trusted=True)
             return DEFAULT_DIR
         except StaleArtefactError as exc:
             warnings.warn(f"{exc}. Using regenerated artefacts from the cache instead; refresh the committed ones "
@@ -78,30 +85,56 @@ def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None
         return target
     with file_lock(cache_dir() / "gen" / f"{expected}.lock"):
         try:
-            verify(target, expected_hash=expected)  # another process generated it while we waited
+            verify(target, expected_hash=expected, trusted=True)  # another process generated it while we waited
         except StaleArtefactError:
-            with stage(f"generating C for effects {effects.label} (first use; cached afterwards)"):
-                generate(effects, assumptions, target, compile=False, echo=None)
+            with stage(f"deriving the equations of motion and generating their C for effects {effects.label} "
+                       "(first use; cached afterwards)"):
+                generate(effects, assumptions, target, compile=False, echo=echo)
     return target
 
 
-def _derived(effects: Effects, assumptions: Assumptions):
-    """The derived model from the cache, with a progress report when it must be derived (tens of seconds)."""
-    if (cache_dir() / "derive" / f"{derivation_key(effects, assumptions)}.pkl").exists():
-        return cached_model(effects, assumptions)
-    with stage(f"deriving the equations of motion (sympy; effects {effects.label}; first use, cached afterwards)"):
-        return cached_model(effects, assumptions)
+def functions_of(directory: Path, manifest: Manifest) -> ModelFunctions:
+    """The SX Functions of a verified artefact folder, named from its manifest (no sympy)."""
+    fns = read_serialized(Path(directory) / SERIALIZED)
+    names = manifest.data["names"]
+    guards = tuple(names["guards"])
+    return ModelFunctions(
+        rhs=fns["rhs"], rhs_jac=fns["rhs"].jacobian(), rhs_switched=fns["rhs_switched"], guards=fns["guards"],
+        velocity_guards=fns["velocity_guards"], outputs=fns["outputs"],
+        mode_list=tuple(Mode(tuple(bool(c) for c in m["closed"]), guards) for m in manifest.modes),
+        state_names=tuple(names["state"]), parameter_names=tuple(names["parameters"]),
+        input_names=tuple(names["inputs"]), guard_names=guards, activation_names=tuple(names["activations"]),
+        velocity_guard_names=tuple(names["velocity_guards"]), output_names=tuple(names["outputs"]),
+        n_instructions={k: v["n_instructions"] for k, v in manifest.data["functions"].items()},
+        model_hash=manifest.input_hash,
+    )
+
+
+def check_library(library: Path, manifest: Manifest) -> None:
+    """Refuse a model library whose compiled-in generation record is not the manifest's."""
+    lib = ctypes.CDLL(str(library))
+    fn = lib.apexseal_model_input_hash
+    fn.restype = ctypes.c_char_p
+    got = fn().decode()
+    if got != manifest.input_hash:
+        raise StaleArtefactError(library, [f"the library was built from the record {got[:12]}..., not from the "
+                                           f"manifest's {manifest.input_hash[:12]}..."])
 
 
 def load_functions(effects: Effects | None = None, assumptions: Assumptions | None = None, *, compiled: bool = True,
-                   flags: str = "optimised") -> LoadedFunctions:
-    """SX and compiled Functions of a model; generates and compiles what the cache lacks."""
+                   flags: str = "optimised", echo=None) -> LoadedFunctions:
+    """SX and compiled Functions of a model from its artefacts; derives, generates and compiles what is missing."""
     effects = effects or Effects()
     assumptions = assumptions or Assumptions()
-    sx = build_functions(_derived(effects, assumptions))
+    source = artefact_dir(effects, assumptions, echo=echo)
+    manifest = verify(source, trusted=True)
+    sx = functions_of(source, manifest)
     if not compiled:
-        return LoadedFunctions(sx, None, None, None, None)
-    source = artefact_dir(effects, assumptions)
-    manifest = read_manifest(source)
+        return LoadedFunctions(sx, None, manifest, source, None)
     externals, library = compiled_or_interpreted(source, manifest.function_names, sx.functions(), flags=flags)
-    return LoadedFunctions(sx, sx.with_functions(externals), manifest, source, library)
+    if library is None:
+        return LoadedFunctions(sx, sx, manifest, source, None)
+    check_library(library, manifest)
+    c = sx.with_functions(externals)
+    c.symbolic, c.library = sx, library
+    return LoadedFunctions(sx, c, manifest, source, library)

@@ -7,6 +7,12 @@ sha256 of every file written, the modes, each Function's instruction count and t
 names of the state, parameters, guards and outputs. It holds no time stamps and no
 paths, so regenerating from the same inputs gives the same bytes.
 
+Trust: a loader never trusts the manifest beside the files alone (an edit of a C file and of its hash in
+that manifest would pass). :func:`trust` records the manifest's own sha256 in the station's index when
+the station writes it: ``index.json`` of the package's ``generated/`` folder for the committed artefacts,
+``<cache>/gen/index/`` (by folder) for any other folder; :func:`verify` with ``trusted=True`` refuses a
+manifest whose sha256 is not the recorded one.
+
 Compiler flags are not an input of the generated files (the C is the same for every
 flag set); they enter the key of the compiled library instead (see ``compile.py``).
 """
@@ -15,16 +21,16 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass, field
+from importlib.metadata import version
 from pathlib import Path
 from typing import Any
 
 import casadi
-import sympy
 
 from ..derive.assumptions import Assumptions
-from ..derive.cache import source_digest
+from ..derive.cache import cache_dir, source_digest
 from ..derive.effects import Effects
-from ..files import content_key, files_digest, sha256_file
+from ..files import content_key, files_digest, sha256_bytes, sha256_file
 
 FORMAT = "apexseal-generated/1"
 MANIFEST_NAME = "manifest.json"
@@ -32,6 +38,8 @@ TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
 _HERE = Path(__file__).resolve().parent
 #: the generator modules whose code shapes the generated files
 GENERATOR_MODULES = ("lower.py", "functions.py", "codegen.py", "render.py", "manifest.py", "generate.py")
+#: the station's index of the committed artefacts (folder name -> sha256 of its manifest)
+PACKAGE_INDEX = _HERE / "index.json"
 
 
 class StaleArtefactError(RuntimeError):
@@ -67,7 +75,7 @@ def inputs_record(effects: Effects, assumptions: Assumptions) -> dict[str, Any]:
         "assumptions": assumptions.as_dict(),
         "templates": {p.name: sha256_file(p) for p in template_paths()},
         "casadi": casadi.__version__,
-        "sympy": sympy.__version__,
+        "sympy": version("sympy"),  # the distribution's version: reading it does not import sympy
     }
 
 
@@ -127,13 +135,44 @@ def read_manifest(directory: Path) -> Manifest:
     return Manifest(json.loads(path.read_text()), Path(directory))
 
 
-def verify(directory: Path, *, expected_hash: str | None = None) -> Manifest:
+def _index_entry(directory: Path) -> tuple[Path, str]:
+    """Where the trusted sha256 of this folder's manifest is recorded, and under which key."""
+    directory = Path(directory).resolve()
+    if directory.parent == _HERE:
+        return PACKAGE_INDEX, directory.name
+    key = directory.as_posix()
+    return cache_dir() / "gen" / "index" / f"{sha256_bytes(key.encode())[:32]}.json", key
+
+
+def trust(directory: Path) -> None:
+    """Record the sha256 of ``directory``'s manifest in the station's index (called by the station only)."""
+    from ..files import atomic_write
+
+    path, key = _index_entry(directory)
+    try:
+        index = json.loads(path.read_text())
+    except (OSError, ValueError):
+        index = {}
+    index[key] = sha256_file(Path(directory) / MANIFEST_NAME)
+    atomic_write(path, json.dumps(dict(sorted(index.items())), indent=2) + "\n")
+
+
+def trusted_digest(directory: Path) -> str | None:
+    path, key = _index_entry(directory)
+    try:
+        return json.loads(path.read_text()).get(key)
+    except (OSError, ValueError, AttributeError):
+        return None
+
+
+def verify(directory: Path, *, expected_hash: str | None = None, trusted: bool = False) -> Manifest:
     """Check a folder of artefacts against its manifest and the current inputs; raise :class:`StaleArtefactError`.
 
     Detects: a missing or unreadable manifest, a manifest whose recorded hash does not
     match its own inputs record, inputs that changed since generation (derivation or
     generator source, templates, versions), other effects/assumptions than expected,
-    and files whose sha256 differs from the manifest.
+    and files whose sha256 differs from the manifest; with ``trusted=True`` also a manifest
+    whose own sha256 is not the one the station recorded (:func:`trust`).
     """
     directory = Path(directory)
     try:
@@ -148,6 +187,8 @@ def verify(directory: Path, *, expected_hash: str | None = None) -> Manifest:
     except Exception as exc:  # missing, not JSON, missing keys, unknown effect names
         raise StaleArtefactError(directory, [f"unreadable {MANIFEST_NAME} ({type(exc).__name__}: {exc})"]) from exc
     problems = []
+    if trusted and trusted_digest(directory) != sha256_file(directory / MANIFEST_NAME):
+        problems.append(f"{MANIFEST_NAME} is not the one the generator recorded in its index (edited manifest)")
     if hash_of(recorded) != data["input_hash"]:
         problems.append("the manifest's input_hash does not match its own inputs record (edited manifest)")
     current = inputs_record(effects, assumptions)

@@ -11,15 +11,19 @@ from .solving.run import run
 from .solving.settings import RunSettings
 
 
-def model_functions(scene):
-    """The SX Functions of a scene's effects and assumptions (cached derivation).
+def model_functions(scene, *, compiled: bool | None = None):
+    """The model Functions of a scene's effects and assumptions, from the generation station's artefacts.
 
-    The integrators embed these and are compiled to C whole (runtime/solving/event_integrator.py), so the
-    model library itself need not be compiled here.
+    Compiled (the default unless the scene asks for ``solver.interpreted``): ``casadi.external`` of the
+    model library, each carrying the SX Functions it was generated from (``.sx()``), which the integrators
+    embed. Derivation (sympy) happens only when the model's artefacts are missing or stale.
     """
     from ..generated.load import load_functions
 
-    return load_functions(scene.effects, scene.assumptions, compiled=False).sx
+    compiled = (not scene.solver.interpreted) if compiled is None else compiled
+    flags = "quick" if scene.solver.compile == "quick" else "optimised"
+    loaded = load_functions(scene.effects, scene.assumptions, compiled=compiled, flags=flags)
+    return loaded.c if compiled else loaded.sx
 
 
 def settings_of(scene, **overrides) -> RunSettings:

@@ -1,6 +1,6 @@
-/* apexseal_model.h: indices, mode table and mode dispatch of the generated apex-seal model.
+/* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 497fba140774964c72fe6489e14434a36f79a8f56993ab6ae13b59ebc6614ca3.
+ * Effects: all. Input hash: 3e985d2ba560d608f0309b2b6d885364e7a602d19b4895f5381c9899ac9a6a4f.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "497fba140774964c72fe6489e14434a36f79a8f56993ab6ae13b59ebc6614ca3"
+#define APEXSEAL_INPUT_HASH "3e985d2ba560d608f0309b2b6d885364e7a602d19b4895f5381c9899ac9a6a4f"
 
 /* state x */
 #define APEXSEAL_NX 6
@@ -153,19 +153,8 @@ extern "C" {
 #define APEXSEAL_MODE_P2_H0_S 34
 #define APEXSEAL_MODE_P2_H0_S0 35
 
-typedef struct {
-  const char* label;      /* mode label, e.g. "q1_h_s" */
-  const char* function;   /* the generated CasADi function of this mode */
-  unsigned char closed[APEXSEAL_NG > 0 ? APEXSEAL_NG : 1];  /* 1 = contact closed, in guard order */
-} apexseal_mode_info;
-
-extern const apexseal_mode_info apexseal_modes[APEXSEAL_NMODES];
-
-/* The mode whose closed contacts are exactly {i : g[i] < 0}; -1 if no mode has them. */
-int apexseal_mode_index(const double* g);
-
-/* xdot = mode_<label>(theta, x, p, u) of mode number `mode`; returns 0 on success, -1 for an unknown mode. */
-int apexseal_mode_rhs(int mode, double theta, const double* x, const double* p, const double* u, double* xdot);
+/* The record this library was generated from: the loader compares it with the manifest it trusts. */
+const char* apexseal_model_input_hash(void);
 
 #ifdef __cplusplus
 }

@@ -71,24 +71,6 @@ int rhs_switched_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *
 #define rhs_switched_SZ_RES 1
 #define rhs_switched_SZ_IW 0
 #define rhs_switched_SZ_W 0
-int jac_rhs_switched(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int jac_rhs_switched_checkout(void);
-void jac_rhs_switched_release(int mem);
-void jac_rhs_switched_incref(void);
-void jac_rhs_switched_decref(void);
-casadi_int jac_rhs_switched_n_in(void);
-casadi_int jac_rhs_switched_n_out(void);
-casadi_real jac_rhs_switched_default_in(casadi_int i);
-const char* jac_rhs_switched_name_in(casadi_int i);
-const char* jac_rhs_switched_name_out(casadi_int i);
-const casadi_int* jac_rhs_switched_sparsity_in(casadi_int i);
-const casadi_int* jac_rhs_switched_sparsity_out(casadi_int i);
-int jac_rhs_switched_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int jac_rhs_switched_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define jac_rhs_switched_SZ_ARG 5
-#define jac_rhs_switched_SZ_RES 4
-#define jac_rhs_switched_SZ_IW 0
-#define jac_rhs_switched_SZ_W 0
 int guards(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int guards_checkout(void);
 void guards_release(int mem);

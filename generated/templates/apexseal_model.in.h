@@ -1,4 +1,4 @@
-/* apexseal_model.h: indices, mode table and mode dispatch of the generated apex-seal model.
+/* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
  * Effects: {{ effects_label }}. Input hash: {{ input_hash }}.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
@@ -54,19 +54,8 @@ extern "C" {
 #define APEXSEAL_MODE_{{ m.label|upper }} {{ m.index }}
 {% endfor %}
 
-typedef struct {
-  const char* label;      /* mode label, e.g. "{{ modes[0].label }}" */
-  const char* function;   /* the generated CasADi function of this mode */
-  unsigned char closed[APEXSEAL_NG > 0 ? APEXSEAL_NG : 1];  /* 1 = contact closed, in guard order */
-} apexseal_mode_info;
-
-extern const apexseal_mode_info apexseal_modes[APEXSEAL_NMODES];
-
-/* The mode whose closed contacts are exactly {i : g[i] < 0}; -1 if no mode has them. */
-int apexseal_mode_index(const double* g);
-
-/* xdot = mode_<label>(theta, x, p, u) of mode number `mode`; returns 0 on success, -1 for an unknown mode. */
-int apexseal_mode_rhs(int mode, double theta, const double* x, const double* p, const double* u, double* xdot);
+/* The record this library was generated from: the loader compares it with the manifest it trusts. */
+const char* apexseal_model_input_hash(void);
 
 #ifdef __cplusplus
 }

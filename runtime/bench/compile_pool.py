@@ -39,34 +39,30 @@ def precompile(functions: list[ca.Function], *, flags: str, workers: int = 2, lo
     """
     from ...generated.compile import CompilerUnavailable, build_function, function_source
 
-    tmp = tempfile.TemporaryDirectory(prefix="apexseal-bench-")
     jobs, index, seen = [], [], {}
-    with tmp:
-        for i, fn in enumerate(functions):
-            folder = Path(tmp.name) / str(i)
-            folder.mkdir()
-            source = function_source(fn, folder)
-            digest = source.key_payload["c_sha256"]
-            if digest not in seen:
-                seen[digest] = len(jobs)
-                jobs.append(source)
-            index.append(seen[digest])
+    for fn in functions:
+        source = function_source(fn)  # at the station, under its record, as the engines do
+        digest = source.key_payload["c_sha256"]
+        if digest not in seen:
+            seen[digest] = len(jobs)
+            jobs.append(source)
+        index.append(seen[digest])
 
-        def build(source):
-            w0 = time.perf_counter()
-            try:
-                build_function(source, flags=flags)
-                err = None
-            except CompilerUnavailable as exc:
-                err = str(exc)
-            return {"name": source.name, "c_sha256": source.key_payload["c_sha256"],
-                    "c_bytes": source.c_file.stat().st_size, "wall_s": time.perf_counter() - w0, "error": err}
+    def build(source):
+        w0 = time.perf_counter()
+        try:
+            build_function(source, flags=flags)
+            err = None
+        except CompilerUnavailable as exc:
+            err = str(exc)
+        return {"name": source.name, "c_sha256": source.key_payload["c_sha256"],
+                "c_bytes": source.c_file.stat().st_size, "wall_s": time.perf_counter() - w0, "error": err}
 
-        w0, c0 = time.perf_counter(), _children_cpu()
-        with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
-            builds = list(pool.map(build, jobs))
-        total = {"functions": len(jobs), "wall_s": time.perf_counter() - w0, "compiler_cpu_s": _children_cpu() - c0,
-                 "workers": workers, "builds": [builds[i] for i in index]}
+    w0, c0 = time.perf_counter(), _children_cpu()
+    with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
+        builds = list(pool.map(build, jobs))
+    total = {"functions": len(jobs), "wall_s": time.perf_counter() - w0, "compiler_cpu_s": _children_cpu() - c0,
+             "workers": workers, "builds": [builds[i] for i in index]}
     if log:
         log(f"  compiled {len(jobs)} functions in {total['wall_s']:.1f} s wall "
             f"({total['compiler_cpu_s']:.1f} s compiler CPU, {workers} at a time; cached ones take ~0 s)")

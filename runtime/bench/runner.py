@@ -132,7 +132,8 @@ def _run_scene(ctx, s, log, *, with_rhs_cost: bool) -> dict:
     if problem.name in ctx.peers:
         entry["peer"] = ctx.peer_info(problem.name)
     if with_rhs_cost:  # per-evaluation costs, once
-        entry["rhs_cost"] = rhs_costs(problem, sx, c_model, ctx.lambdified, points, peer=ctx.peers.get(problem.name))
+        entry["rhs_cost"] = rhs_costs(problem, sx, c_model, ctx.lambdified, points, peer=ctx.peers.get(problem.name),
+                                      flags=cfg.flags)
     return entry
 
 

@@ -3,8 +3,10 @@
 The hybrid DAE (runtime/solving/hybrid.py) is integrated over one revolution in a single
 call, with the output grid of the scene; events (contact switches) are located on
 the integrator's dense output inside CasADi, so no Python runs between steps. The
-integrator itself can be generated to C and compiled (with its event logic); the
-compiled library is cached by the hash of its C source.
+integrator itself is generated to C at the generation station and compiled (with its
+event logic): it embeds the model's SX Functions deserialized from the model's
+artefacts (the Functions whose C is the model library), and its record names the
+model manifest it was built from (generated/compile.py).
 """
 
 from __future__ import annotations
@@ -46,15 +48,16 @@ class EventIntegrator(Engine):
         names = tuple(functions.parameter_names)
         # for the fixed-step variant the rtol slot carries the step in crank angle
         rtol = settings.rtol if method != "erk-rk4" else 2 * np.pi / settings.steps_per_revolution
-        return cls(functions.rhs, functions.guards, len(names), names.index("omega"), method=method, rtol=rtol,
+        sx = functions.sx()
+        return cls(sx.rhs, sx.guards, len(names), names.index("omega"), method=method, rtol=rtol,
                    atol=settings.atol, n_samples=n_samples, span=span, max_events=settings.max_events_per_revolution,
                    max_steps=settings.max_steps_per_interval, event_tol=settings.event_tol, compile_c=compile_c,
-                   flags=settings.flags)
+                   flags=settings.flags, model_hash=sx.model_hash)
 
     def __init__(self, rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *, method: str,
                  rtol: float, atol: float | None, n_samples: int, span: float = 2 * np.pi,
                  max_events: int = 10000, max_steps: int = 200000, event_tol: float = 1e-10, compile_c: bool = True,
-                 flags: str = "optimised"):
+                 flags: str = "optimised", model_hash: str | None = None):
         plugin = METHODS[method].plugin
         self.hybrid = build_hybrid_dae(rhs, guards, n_par, omega_index, event_tol=event_tol)
         self.n_samples = n_samples
@@ -76,7 +79,7 @@ class EventIntegrator(Engine):
         if compile_c:
             from ...generated.compile import compile_function
 
-            self.function = compile_function(self.vm, flags=flags)
+            self.function = compile_function(self.vm, flags=flags, model_hash=model_hash)
             self.compiled = self.function is not self.vm
 
     def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:

@@ -56,13 +56,14 @@ class FixedStepIntegrator(Engine):
     @classmethod
     def build(cls, functions, settings, *, method, n_samples, span, compile_c):
         names = tuple(functions.parameter_names)
-        return cls(functions.rhs_switched, functions.guards, len(names), names.index("omega"), n_samples=n_samples,
+        sx = functions.sx()  # the SX set (of compiled Functions too): the fold embeds it
+        return cls(sx.rhs_switched, sx.guards, len(names), names.index("omega"), n_samples=n_samples,
                    steps_per_revolution=settings.steps_per_revolution, span=span, compile_c=compile_c,
-                   flags=settings.flags)
+                   flags=settings.flags, model_hash=sx.model_hash)
 
     def __init__(self, rhs_switched: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *,
                  n_samples: int, steps_per_revolution: int, span: float = 2 * np.pi, compile_c: bool = True,
-                 flags: str = "optimised"):
+                 flags: str = "optimised", model_hash: str | None = None):
         self.layout = layout = HybridLayout.sized(rhs_switched.size1_in(1), guards.size1_out(0))
         n_x = layout.n_x
         self.n_samples = n_samples
@@ -92,7 +93,7 @@ class FixedStepIntegrator(Engine):
         if compile_c:
             from ...generated.compile import compile_function
 
-            compiled = compile_function(self.function, flags=flags)
+            compiled = compile_function(self.function, flags=flags, model_hash=model_hash)
             self.compiled = compiled is not self.function
             self.function = compiled
         self.stats = {"n_steps": sub * n_samples, "n_rhs": self.rule.stages * sub * n_samples}

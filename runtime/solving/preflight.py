@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 
-import casadi as ca
 import numpy as np
 
 from ..results.result import StopInfo
@@ -120,15 +119,13 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u) -> 
             return StopInfo(0.0, mode, worst.describe(settings.steps_per_revolution))
     if settings.method not in NEEDS_DERIVATIVES:
         return None
-    try:  # SX Functions; compiled externals may have no derivatives to check
-        seeds = [1.0, np.ones(X.size), *(np.zeros(functions.rhs.size1_in(i)) for i in (2, 3, 4))]
-        d = np.array(functions.rhs.forward(1)(theta, X, closed, params, u, xdot, *seeds)).ravel()
-        if np.isfinite(d).all():
-            return None
-        p = functions.rhs.sx_in(3)
-        J = np.array(ca.Function("jac_p", [p], [ca.jacobian(functions.rhs(theta, X, closed, p, u), p)])(params))
+    try:  # the Jacobian Function: jac_rhs of the compiled library, or of SX Functions
+        blocks = [np.array(b) for b in functions.rhs.jacobian()(theta, X, closed, params, u, xdot)]
     except (RuntimeError, NotImplementedError, TypeError):
         return None
+    if all(np.isfinite(b).all() for b in blocks):  # d xdot / d (theta, x, a, p, u)
+        return None
+    J = blocks[3]  # d xdot / d p
     culprits = names_where(functions.parameter_names, ~np.isfinite(J).all(axis=0)) or "(none found)"
     return StopInfo(0.0, mode, f"the derivative of the right-hand side is not finite at the start although its value is "
                     f"(an infinite partial derivative with respect to {culprits}, which automatic differentiation turns "

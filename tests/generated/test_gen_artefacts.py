@@ -54,6 +54,7 @@ def test_manifest_records_inputs_outputs_modes(loaded):
     assert set(data["inputs"]) == {"derive_source", "submodels", "generator_source", "effects", "assumptions",
                                    "templates", "casadi", "sympy"}
     assert [m["label"] for m in data["modes"]] == list(loaded.sx.mode_labels)
+    assert not any(name.startswith("mode_") for name in data["functions"])  # only what a run executes
     assert data["names"]["parameters"] == list(loaded.sx.parameter_names)
     assert data["names"]["outputs"] == list(loaded.sx.output_names)
     assert {k: v["n_instructions"] for k, v in data["functions"].items()} == loaded.sx.n_instructions
@@ -61,19 +62,19 @@ def test_manifest_records_inputs_outputs_modes(loaded):
 
 
 def test_corrupted_c_file_is_detected(artefacts):
-    path = artefacts / "casadi_modes_3.c"
+    path = artefacts / "casadi_model.c"
     data = bytearray(path.read_bytes())
     data[len(data) // 2] ^= 0x01  # one flipped bit
     path.write_bytes(bytes(data))
-    with pytest.raises(StaleArtefactError, match="casadi_modes_3.c differs"):
+    with pytest.raises(StaleArtefactError, match="casadi_model.c differs"):
         verify(artefacts)
     with pytest.raises(StaleArtefactError):
         compile_library(artefacts, flags="quick")
 
 
 def test_missing_file_is_detected(artefacts):
-    (artefacts / "apexseal_dispatch.c").unlink()
-    with pytest.raises(StaleArtefactError, match="apexseal_dispatch.c is missing"):
+    (artefacts / "apexseal_model.c").unlink()
+    with pytest.raises(StaleArtefactError, match="apexseal_model.c is missing"):
         verify(artefacts)
 
 
@@ -128,3 +129,41 @@ def test_cli_check(monkeypatch, artefacts):
     result = CliRunner().invoke(command, ["--check"])
     assert result.exit_code == 1
     assert "STALE" in result.output
+
+
+def test_trusted_loader_refuses_c_edited_with_its_manifest_hash(artefacts, monkeypatch):
+    """An edit of a C file together with its sha256 in the manifest beside it passes the manifest alone, not the
+    loader: the station's index holds the manifest's own sha256 (issue: a loader trusting the manifest beside the
+    edited file compiled edited C)."""
+    from apexseal.files import sha256_file
+    from apexseal.generated.manifest import trust
+
+    trust(artefacts)  # the station wrote this folder
+    verify(artefacts, trusted=True)
+    path = artefacts / "casadi_model.c"
+    path.write_text(path.read_text().replace("casadi_real", "casadi_real ", 1))
+    data = json.loads((artefacts / "manifest.json").read_text())
+    data["files"]["casadi_model.c"] = sha256_file(path)
+    (artefacts / "manifest.json").write_text(json.dumps(data, indent=2) + "\n")
+    verify(artefacts)  # consistent with the manifest beside it ...
+    with pytest.raises(StaleArtefactError, match="not the one the generator recorded"):
+        verify(artefacts, trusted=True)  # ... but not with the station's record
+    with pytest.raises(StaleArtefactError):
+        compile_library(artefacts, flags="quick")
+    monkeypatch.setattr(load, "DEFAULT_DIR", artefacts)
+    with pytest.warns(StaleArtefactWarning, match="not the one the generator recorded"):
+        assert artefact_dir() != artefacts  # the loader goes to regenerated artefacts, never the edited ones
+
+
+def test_committed_default_is_in_the_package_index():
+    verify(DEFAULT_DIR, trusted=True)
+
+
+def test_library_refuses_a_foreign_generation_record(loaded):
+    from apexseal.generated.load import check_library
+    from apexseal.generated.manifest import Manifest
+
+    check_library(loaded.library, loaded.manifest)
+    other = Manifest(dict(loaded.manifest.data, input_hash="0" * 64))
+    with pytest.raises(StaleArtefactError, match="built from the record"):
+        check_library(loaded.library, other)

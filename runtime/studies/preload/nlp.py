@@ -317,7 +317,7 @@ class _ShootingNlp:
         t = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            self.G = compile_function(G, flags=setup.flags, derivatives=True)
+            self.G = compile_function(G, flags=setup.flags, derivatives=True, model_hash=fn.model_hash)
         self.compile_s = time.perf_counter() - t
         self.V = ca.MX.sym("V", V.numel())
         self.g = self.G(self.V)

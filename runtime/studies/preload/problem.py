@@ -145,6 +145,8 @@ class PreloadSetup:
     compile_s: float = field(init=False, default=0.0)
 
     def __post_init__(self) -> None:
+        if self.functions is not None:  # the study builds CasADi expressions: the SX set (of a compiled one too)
+            self.functions = self.functions.sx()
         check_request(self.scene, self.min_force, self.samples, self.revolutions)
         self.pmap = preload_parameters(self.scene)
         self.measure_fn = contact_measure(self.functions)
