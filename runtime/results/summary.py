@@ -90,11 +90,13 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
 
 
 def versions() -> dict:
+    from importlib.metadata import version
+
     import casadi
     import numpy
-    import sympy
 
     from ... import __version__
 
-    return {"apexseal": __version__, "casadi": casadi.__version__, "sympy": sympy.__version__,
+    # sympy's version from its distribution: reading it does not import sympy (1 s) into a run
+    return {"apexseal": __version__, "casadi": casadi.__version__, "sympy": version("sympy"),
             "numpy": numpy.__version__, "python": platform.python_version(), "machine": platform.machine()}
