@@ -1,0 +1,167 @@
+"""The design of experiments: which scenes a sweep runs.
+
+* ``grid``: every combination of the parameters' values (``values``, or ``points`` from ``from`` to ``to``,
+  evenly spaced, or evenly spaced in log for ``scale = "log"``);
+* ``sobol``, ``halton``, ``lhs``: a low-discrepancy or Latin-hypercube design (``scipy.stats.qmc``, scrambled
+  with ``design.seed``) of ``design.points`` points in the box ``from``-``to`` (log scale in log space);
+* ``random``: uniform random points (numpy's generator seeded with ``design.seed``).
+
+A parameter given by ``values`` in a sampled design is categorical: the sample picks one of its values.
+Values are in the scene key's SI unit, so every point is a set of scene overrides.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from typing import Any
+
+import numpy as np
+
+from ...scene_errors import Problem
+from ...scene_units import QuantityError, parse_quantity, registry
+
+
+def key_validator(key: str):
+    """The scene's validator of a dotted key (SI / Int / Choice / Flag / Text), or None if no such key."""
+    from ...scene_schema import SECTIONS, model_at, validator_of
+
+    parts = key.split(".")
+    if len(parts) < 2 or parts[0] not in SECTIONS:
+        return None
+    model = model_at(SECTIONS[parts[0]][0], parts[1:-1])
+    if model is None or parts[-1] not in model.model_fields:
+        return None
+    return validator_of(model, parts[-1])
+
+
+def _unit_written(value: Any) -> str:
+    """The unit a value was written with ("3 mm" -> "mm"), "" for bare numbers."""
+    if not isinstance(value, str):
+        return ""
+    try:
+        q = registry().Quantity(value.strip())
+    except Exception:  # noqa: BLE001 - reported by parse_quantity
+        return ""
+    return f"{q.units:~}" if hasattr(q, "units") and tuple(q.unit_items()) else ""
+
+
+def parameter_of(key: str, ps) -> tuple[Any, list[Problem]]:
+    """A :class:`~.study.Parameter` from a ``[parameters."<key>"]`` table, and the problems found."""
+    from ...scene_schema import key_paths
+    from .study import Parameter
+
+    where = f"parameters.{key}"
+    v = key_validator(key)
+    if v is None:
+        import difflib
+
+        known = key_paths()
+        near = difflib.get_close_matches(key, known, n=1, cutoff=0.6)
+        return None, [Problem(where, "", "not a scene key" + (f" (did you mean '{near[0]}'?)" if near else "")
+                              + "; any key of docs/scenes.md, e.g. spring.ks, spring.delta_s, operation.rpm")]
+    unit = getattr(v, "unit", None) or ("1" if type(v).__name__ == "Int" else "")
+    problems: list[Problem] = []
+    ranged = ps.from_ is not None or ps.to is not None or ps.points is not None
+    if ps.values is not None and ranged:
+        problems.append(Problem(where, "values and from/to/points", "give either values or from, to and points"))
+    if ps.values is None and not ranged:
+        problems.append(Problem(where, "{}", "give values = [...] or from, to and points"))
+    if problems:
+        return None, problems
+
+    def number(x: Any, sub: str) -> float | None:
+        if unit in ("", "1"):
+            if isinstance(x, bool) or not isinstance(x, int | float):
+                problems.append(Problem(f"{where}.{sub}", x, "expected a number"))
+                return None
+            return x
+        try:
+            return parse_quantity(x, unit, key=f"{where}.{sub}", bare=getattr(v, "bare", None))
+        except QuantityError as exc:
+            problems.append(Problem(f"{where}.{sub}", x, exc.reason))
+            return None
+
+    display = ""
+    if ps.values is not None:
+        if not ps.values:
+            return None, [Problem(f"{where}.values", [], "give at least one value")]
+        if unit == "":
+            values = tuple(ps.values)  # words and flags: the scene checks them
+        else:
+            values = tuple(number(x, f"values[{i}]") for i, x in enumerate(ps.values))
+            display = _unit_written(ps.values[0])
+        nums = [x for x in values if isinstance(x, int | float) and not isinstance(x, bool)]
+        low, high = (min(nums), max(nums)) if nums and len(nums) == len(values) else (None, None)
+        return (None if problems else Parameter(key, unit, values, low, high, ps.scale, display, listed=True)), problems
+
+    if unit == "":
+        return None, [Problem(where, ps.from_, "a key of words or flags takes values = [...], not from/to")]
+    for sub, x in (("from", ps.from_), ("to", ps.to), ("points", ps.points)):
+        if x is None:
+            problems.append(Problem(f"{where}.{sub}", "(missing)", "from, to and points go together"))
+    if problems:
+        return None, problems
+    low, high = number(ps.from_, "from"), number(ps.to, "to")
+    if problems:
+        return None, problems
+    if not low < high:
+        problems.append(Problem(where, f"from {ps.from_} to {ps.to}", "from must be below to"))
+    if ps.scale == "log" and low <= 0:
+        problems.append(Problem(f"{where}.from", ps.from_, "a log scale needs from > 0"))
+    if problems:
+        return None, problems
+    if ps.scale == "log":
+        grid = np.geomspace(low, high, ps.points)
+    else:
+        grid = np.linspace(low, high, ps.points)
+    if unit == "1" and type(v).__name__ == "Int":
+        grid = np.unique(np.round(grid).astype(int))
+        values = tuple(int(x) for x in grid)
+    else:
+        values = tuple(float(f"{x:.12g}") for x in grid)  # 12 digits, as scenes hash them
+    return Parameter(key, unit, values, low, high, ps.scale, _unit_written(ps.from_)), problems
+
+
+def _scaled(u: np.ndarray, p) -> list[Any]:
+    """Unit-cube samples ``u`` (in [0, 1)) mapped onto a parameter's box or values."""
+    if p.listed:
+        idx = np.minimum((u * len(p.values)).astype(int), len(p.values) - 1)
+        return [p.values[i] for i in idx]
+    if p.scale == "log":
+        x = np.exp(np.log(p.low) + u * (np.log(p.high) - np.log(p.low)))
+    else:
+        x = p.low + u * (p.high - p.low)
+    if p.unit == "1" and isinstance(p.values[0], int):
+        return [int(round(v)) for v in x]
+    return [float(f"{v:.12g}") for v in x]
+
+
+def design_points(study) -> list[dict[str, Any]]:
+    """The points of a study, in order: each a dict of scene key -> value (SI)."""
+    pars = study.parameters
+    if study.design == "grid":
+        return [dict(zip((p.key for p in pars), combo, strict=True))
+                for combo in itertools.product(*(p.values for p in pars))]
+    n, d = study.points, len(pars)
+    if study.design == "random":
+        u = np.random.default_rng(study.seed).random((n, d))
+    else:
+        from scipy.stats import qmc
+
+        engine = {"sobol": qmc.Sobol, "halton": qmc.Halton, "lhs": qmc.LatinHypercube}[study.design]
+        u = engine(d=d, scramble=True, seed=study.seed).random(n) if study.design != "lhs" else \
+            engine(d=d, seed=study.seed).random(n)
+    columns = [_scaled(u[:, j], p) for j, p in enumerate(pars)]
+    return [{p.key: columns[j][i] for j, p in enumerate(pars)} for i in range(n)]
+
+
+def grid_shape(study) -> tuple[int, ...] | None:
+    """The shape of a grid design (None for sampled designs)."""
+    if study.design != "grid":
+        return None
+    return tuple(len(p.values) for p in study.parameters)
+
+
+def is_log(p) -> bool:
+    return p.scale == "log" and p.low is not None and p.low > 0 and math.isfinite(p.high or math.nan)

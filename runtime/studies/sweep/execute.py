@@ -1,0 +1,200 @@
+"""Run a sweep: serially in this process, or on Dask (a LocalCluster on all cores, or a running cluster).
+
+The scenes of all points are built and checked here first (a bad value stops the sweep before any work, naming
+the point, the key, the value and the allowed range). Points whose part-file exists are skipped (resume). The
+others run through :func:`.point.run_point`, at most a few per worker in flight, and each row is written by this
+process as soon as it arrives. Dask reschedules the points of a worker that dies, so a killed worker costs only
+the points it was running. Ctrl-C stops after writing every finished point; the same command resumes.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import signal
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from .design import design_points
+from .point import run_point
+from .store import Store
+from .study import Study, StudyError
+
+
+@dataclass
+class SweepReport:
+    """What a sweep did: the table of every finished point, and counts of this run."""
+
+    table: pd.DataFrame
+    folder: Path
+    total: int  # points of the study
+    skipped: int  # already done (resumed)
+    computed: int  # finished in this run
+    failed: int  # of all finished points: status other than completed
+    wall_time_s: float
+    interrupted: bool
+    workers: int
+    where: str  # "serial", "LocalCluster", or the scheduler address
+
+    @property
+    def complete(self) -> bool:
+        return len(self.table) == self.total
+
+    def describe(self) -> str:
+        rate = self.computed / self.wall_time_s if self.wall_time_s > 0 else 0.0
+        head = "interrupted" if self.interrupted else "done"
+        return (f"{head}: {len(self.table)} of {self.total} points in {self.folder}/ ({self.computed} computed now, "
+                f"{self.skipped} resumed, {self.failed} not completed); {self.wall_time_s:.1f} s, {rate:.2f} points/s "
+                f"on {self.workers} worker{'s' if self.workers != 1 else ''} ({self.where})")
+
+
+def scenes_of(study: Study) -> list[tuple[int, Any, dict[str, Any]]]:
+    """(point, scene, overrides) of every point, each scene checked; a bad point raises :class:`StudyError`."""
+    from ...scene_errors import SceneError
+
+    out, problems = [], []
+    for i, overrides in enumerate(design_points(study)):
+        try:
+            out.append((i, study.scene.with_overrides(**overrides), overrides))
+        except SceneError as err:
+            problems += [(f"parameters.{p.key}", p.value, f"{p.message} (point {i})") for p in err.errors]
+            if len(problems) >= 10:
+                break
+    if problems:
+        raise StudyError(problems, source=study.source)
+    return out
+
+
+def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, scheduler: str | None = None,
+              client=None, resume: bool = True, quiet: bool = False,
+              on_row: Callable[[dict], None] | None = None) -> SweepReport:
+    """Run every point of ``study`` not yet in ``out`` and return the table of all finished points.
+
+    ``workers``: processes of the default LocalCluster (default: every core; 1 runs serially in this process).
+    ``scheduler``: address of a running Dask scheduler (``tcp://host:8786``) to use instead. ``client``: a
+    ``dask.distributed.Client`` to use as it is. ``resume=False`` discards earlier results in ``out``.
+    """
+    from tqdm.auto import tqdm
+
+    t0 = time.perf_counter()
+    points = scenes_of(study)
+    store = Store(out)
+    done = store.open(study, resume=resume)
+    todo = [p for p in points if p[0] not in done]
+    skipped = len(points) - len(todo)
+    n = workers or os.cpu_count() or 1
+    serial = client is None and scheduler is None and n == 1
+    bar = tqdm(total=len(points), initial=skipped, unit="pt", disable=quiet, desc=study.name, dynamic_ncols=True)
+    failed = [0]
+
+    def record(row: dict) -> None:
+        store.write(row)
+        failed[0] += row["status"] != "completed"
+        bar.update(1)
+        bar.set_postfix(failed=failed[0], refresh=False)
+        if on_row is not None:
+            on_row(row)
+
+    args = (study.quantities, study.max_wall_time)
+    try:
+        if serial:
+            where, interrupted = "serial", _serial(todo, args, record)
+        else:
+            where, n, interrupted = _dask(todo, args, record, study, n, scheduler, client)
+    finally:
+        bar.close()
+    table = store.consolidate(study)
+    return SweepReport(table=table, folder=Path(out), total=len(points), skipped=skipped,
+                       computed=len(table) - skipped, failed=int((table["status"] != "completed").sum()),
+                       wall_time_s=time.perf_counter() - t0, interrupted=interrupted, workers=n, where=where)
+
+
+def _serial(todo, args, record) -> bool:
+    """Points one after the other in this process. Ctrl-C finishes the running point, then stops."""
+    stop = threading.Event()
+    main = threading.current_thread() is threading.main_thread()
+    previous = signal.getsignal(signal.SIGINT) if main else None
+
+    def on_sigint(signum, frame):
+        if stop.is_set():  # a second Ctrl-C: stop at once (the running point is lost, nothing else)
+            raise KeyboardInterrupt
+        stop.set()
+
+    if main:
+        signal.signal(signal.SIGINT, on_sigint)
+    try:
+        for i, scene, overrides in todo:
+            if stop.is_set():
+                return True
+            row = run_point(i, scene, overrides, *args)
+            if stop.is_set() and row["status"] == "interrupted" and "Ctrl-C" in row["stop"]:
+                return True  # the second Ctrl-C cut this point short: not a result
+            record(row)
+        return stop.is_set()
+    except KeyboardInterrupt:
+        return True
+    finally:
+        if main:
+            signal.signal(signal.SIGINT, previous)
+
+
+def local_cluster(workers: int):
+    """A LocalCluster of ``workers`` processes with one thread each (the model is single-threaded C)."""
+    from dask.distributed import LocalCluster
+
+    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                        silence_logs=logging.ERROR)
+
+
+def _dask(todo, args, record, study, n, scheduler, client):
+    from dask.distributed import Client, as_completed
+
+    own_cluster = own_client = None
+    try:
+        if client is None:
+            if scheduler:
+                client = own_client = Client(scheduler)
+            else:
+                own_cluster = local_cluster(n)
+                client = own_client = Client(own_cluster)
+        where = scheduler or ("LocalCluster" if own_cluster is not None else str(client.scheduler.address))
+        n = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})) or n)
+        tag = study.content_hash()[:12]
+        queue = iter(todo)
+
+        def submit(point):
+            i, scene, overrides = point
+            return client.submit(run_point, i, scene, overrides, *args, key=f"apexseal-sweep-{tag}-{i}", pure=False)
+
+        flight = as_completed([submit(p) for p in _take(queue, 2 * n)])
+        try:
+            for fut in flight:
+                record(fut.result())
+                fut.release()
+                for p in _take(queue, 1):
+                    flight.add(submit(p))
+        except KeyboardInterrupt:
+            flight.clear()
+            return where, n, True
+        return where, n, False
+    finally:
+        if own_client is not None:
+            own_client.close()
+        if own_cluster is not None:
+            own_cluster.close()
+
+
+def _take(it, k: int) -> list:
+    out = []
+    for _ in range(k):
+        try:
+            out.append(next(it))
+        except StopIteration:
+            break
+    return out

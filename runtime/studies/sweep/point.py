@@ -1,0 +1,40 @@
+"""One point of a sweep: simulate a scene within a wall-time budget and keep a row of numbers, whatever happens.
+
+This is what a worker runs. It uses only the public API (``apexseal.simulate``) and the run summary, so a point
+gives exactly what ``apexseal simulate`` of the same scene gives. A point never raises: a run that fails, chatters
+or uses up its budget is a row with its status and stop reason (and the quantities of what it computed); an
+exception is a row with status ``error`` and the exception's text.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import socket
+import time
+from typing import Any
+
+#: statuses of a point: those of a run (SimulationResult.status), and "error" (the run raised)
+STATUSES = ("completed", "interrupted", "failed", "chattering", "error")
+
+
+def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[str, ...],
+              max_wall_time: float) -> dict[str, Any]:
+    """Simulate ``scene`` (the study's base scene with ``overrides`` applied) and return its row."""
+    import apexseal
+
+    from .quantities import collect
+
+    t0 = time.perf_counter()
+    row: dict[str, Any] = {"point": int(index), "scene_hash": scene.content_hash(), **overrides}
+    try:
+        result = apexseal.simulate(scene, max_wall_time=max_wall_time)
+        values = collect(result, quantities)
+        row.update(status=result.status, stop="" if result.stop is None else result.stop.describe())
+    except Exception as err:  # noqa: BLE001 - a point records its failure, the sweep goes on
+        values = dict.fromkeys(quantities, math.nan)
+        row.update(status="error", stop=f"{type(err).__name__}: {err}")
+    row.update(values)
+    row["wall_time_s"] = time.perf_counter() - t0
+    row["worker"] = f"{socket.gethostname()}:{os.getpid()}"
+    return row

@@ -1,0 +1,76 @@
+"""The quantities a sweep can collect: named scalars, with units, read from a run's summary.
+
+Every quantity comes from the summary a single run writes (``summary.json`` of ``apexseal simulate``), so a sweep
+point and a single run report the same numbers. A quantity a model does not have (friction at a contact whose
+effect is off) is NaN.
+"""
+
+from __future__ import annotations
+
+import math
+
+#: friction contacts of the model (derive/model.py names their powers Pf_<contact>) and the event guards
+CONTACTS = ("total", "housing", "spring", "i1", "c2", "i2", "c4")
+GUARDS = ("total", "xs5", "spring", "b1", "b2", "b3", "b4")
+_EXTREMES = {"x": "um", "y": "um", "phi": "mrad"}
+
+#: name -> (unit, meaning); units as pint spells them ("1": a plain number or a count)
+QUANTITY_HELP: dict[str, tuple[str, str]] = {
+    **{f"friction_power.{c}": ("W", f"mean friction power, {c} contact" if c != "total" else
+                               "mean friction power, all contacts") for c in CONTACTS},
+    "liftoff_fraction": ("1", "fraction of the samples with the seal tip off the housing (modes *_h0_*)"),
+    "housing_force.mean": ("N", "mean seal-housing contact force |Fs5| (Eq. 68)"),
+    "housing_force.max": ("N", "largest seal-housing contact force"),
+    "housing_force.max_at": ("deg", "crank angle of the largest housing force"),
+    **{f"{s}.{e}": (u, f"{e}imum of {s}") for s, u in _EXTREMES.items() for e in ("min", "max")},
+    **{f"{s}.{e}_at": ("deg", f"crank angle of the {e}imum of {s}") for s in _EXTREMES for e in ("min", "max")},
+    "gap.open_fraction": ("1", "fraction of the samples with a seal-groove leakage gap (Algorithm 4)"),
+    "gap.mean": ("um", "mean seal-groove leakage gap b_gap"),
+    "gap.max": ("um", "largest seal-groove leakage gap b_gap"),
+    **{f"events.{g}": ("1", f"contact switches of guard {g}" if g != "total" else "contact switches, all guards")
+       for g in GUARDS},
+    "revolutions": ("rev", "revolutions computed (less than asked when a point stopped early)"),
+}
+
+
+def quantity_unit(name: str) -> str | None:
+    """The unit of a quantity, or None if there is no such quantity."""
+    entry = QUANTITY_HELP.get(name)
+    return entry[0] if entry else None
+
+
+def summarise(result) -> dict:
+    """The summary of a run. The one place the sweep imports the summary function (lazily: workers import it)."""
+    from apexseal.runtime.summary import summarise as summary_of
+
+    return summary_of(result)
+
+
+def _get(summary: dict, name: str) -> float:
+    head, _, tail = name.partition(".")
+    if name == "liftoff_fraction":
+        modes = summary["mode_fraction"]
+        if not any("h" in m.split("_") or "h0" in m.split("_") for m in modes):
+            return math.nan  # no housing contact in this model
+        return float(sum(f for m, f in modes.items() if "h0" in m.split("_")))
+    if name == "revolutions":
+        return float(summary["revolutions"])
+    if head == "friction_power":
+        return float(summary["mean_friction_power_W"].get(tail, math.nan))
+    if head == "events":
+        return float(summary["events_total"] if tail == "total" else summary["events"].get(tail, math.nan))
+    if head == "housing_force":
+        return float(summary["housing_force_N"]["max_at_deg" if tail == "max_at" else tail])
+    if head == "gap":
+        return float(summary["leakage_gap"]["open_fraction" if tail == "open_fraction" else f"{tail}_um"])
+    if head in _EXTREMES:
+        return float(summary["extremes"][head][tail.replace("_at", "_at_deg")])
+    raise KeyError(name)  # pragma: no cover - names are checked when the study is loaded
+
+
+def collect(result, names: tuple[str, ...]) -> dict[str, float]:
+    """The named quantities of a run (NaN for all when the run has no samples to summarise)."""
+    if result.n < 2:
+        return dict.fromkeys(names, math.nan)
+    summary = summarise(result)
+    return {n: _get(summary, n) for n in names}

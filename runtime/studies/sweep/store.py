@@ -1,0 +1,130 @@
+"""The results of a sweep on disk: one Parquet part-file per finished point, one table at the end.
+
+Layout of the output folder::
+
+    study.json               the study (its hash decides whether a folder can be resumed)
+    points/point-000012.parquet   one row per finished point, written atomically as the point finishes
+    results.parquet          every finished point, sorted, with units in the column metadata
+    results.csv              the same table for spreadsheets
+
+Only the process that runs the sweep writes (workers return rows), so a part-file is complete or absent:
+a killed worker, Ctrl-C or a crashed machine loses at most the points that were running, and a resumed sweep
+recomputes exactly the points without a part-file.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import tempfile
+from pathlib import Path
+
+import pandas as pd
+
+#: columns every row has, before the parameters and quantities, with their units
+HEAD = {"point": "", "scene_hash": "", "status": "", "stop": ""}
+TAIL = {"wall_time_s": "s", "worker": ""}
+_PART = re.compile(r"^point-(\d+)\.parquet$")
+
+
+class StoreError(RuntimeError):
+    """An output folder that cannot be used for this study (it holds another one)."""
+
+
+class Store:
+    def __init__(self, folder: str | Path):
+        self.folder = Path(folder)
+        self.parts = self.folder / "points"
+
+    # ------------------------------------------------------------------ opening
+    def open(self, study, *, resume: bool = True) -> set[int]:
+        """Prepare the folder for ``study``; returns the points already done (empty unless resuming)."""
+        self.folder.mkdir(parents=True, exist_ok=True)
+        record = self.folder / "study.json"
+        digest = study.content_hash()
+        if record.exists() and resume:
+            try:
+                old = json.loads(record.read_text()).get("hash")
+            except (OSError, ValueError):
+                old = None
+            if old != digest and self.done():
+                raise StoreError(f"{self.folder} holds the results of another study (or of this study before it "
+                                 "was edited); use --fresh to discard them, or another --out folder")
+        if not resume:
+            shutil.rmtree(self.parts, ignore_errors=True)
+            for name in ("results.parquet", "results.csv"):
+                (self.folder / name).unlink(missing_ok=True)
+        self.parts.mkdir(exist_ok=True)
+        _atomic_text(record, json.dumps({"name": study.name, "hash": digest, "source": study.source,
+                                         "study": study.raw, "units": study.units()}, indent=2, default=str) + "\n")
+        return self.done()
+
+    def done(self) -> set[int]:
+        if not self.parts.is_dir():
+            return set()
+        return {int(m[1]) for p in self.parts.iterdir() if (m := _PART.match(p.name))}
+
+    # ------------------------------------------------------------------ writing
+    def write(self, row: dict) -> Path:
+        """Write one point's row (atomically: a temporary file renamed into place)."""
+        path = self.parts / f"point-{int(row['point']):06d}.parquet"
+        fd, tmp = tempfile.mkstemp(dir=self.parts, prefix=".point-", suffix=".tmp")
+        os.close(fd)
+        try:
+            pd.DataFrame([row]).to_parquet(tmp, index=False)
+            os.replace(tmp, path)
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
+        return path
+
+    def table(self, study) -> pd.DataFrame:
+        """Every finished point, sorted by point, columns in a fixed order (parameters, then quantities)."""
+        files = sorted(p for p in self.parts.iterdir() if _PART.match(p.name)) if self.parts.is_dir() else []
+        order = [*HEAD, *(p.key for p in study.parameters), *study.quantities, *TAIL]
+        if not files:
+            return pd.DataFrame(columns=order)
+        df = pd.concat([pd.read_parquet(f) for f in files], ignore_index=True)
+        df = df.sort_values("point", kind="stable").reset_index(drop=True)
+        return df[[c for c in order if c in df.columns]]
+
+    def consolidate(self, study) -> pd.DataFrame:
+        """Write results.parquet (units in each column's metadata) and results.csv from the part-files."""
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        df = self.table(study)
+        units = {**HEAD, **study.units(), **TAIL}
+        table = pa.Table.from_pandas(df, preserve_index=False)
+        fields = [f.with_metadata({"unit": units.get(f.name, "")}) for f in table.schema]
+        meta = dict(table.schema.metadata or {})
+        meta[b"apexseal.sweep"] = json.dumps({"study": study.name, "hash": study.content_hash(), "units": units,
+                                             "constraints": [vars(c) for c in study.constraints]}).encode()
+        table = table.cast(pa.schema(fields, metadata=meta))
+        tmp = self.folder / ".results.parquet.tmp"
+        pq.write_table(table, tmp)
+        os.replace(tmp, self.folder / "results.parquet")
+        _atomic_text(self.folder / "results.csv", df.to_csv(index=False))
+        df.attrs["units"] = units
+        return df
+
+
+def read_results(folder_or_file: str | Path) -> pd.DataFrame:
+    """A sweep's results.parquet as a DataFrame; ``df.attrs["units"]`` maps each column to its unit."""
+    import pyarrow.parquet as pq
+
+    path = Path(folder_or_file)
+    if path.is_dir():
+        path = path / "results.parquet"
+    table = pq.read_table(path)
+    df = table.to_pandas()
+    df.attrs["units"] = {f.name: (f.metadata or {}).get(b"unit", b"").decode() for f in table.schema}
+    return df
+
+
+def _atomic_text(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.tmp")
+    tmp.write_text(text)
+    os.replace(tmp, path)

@@ -1,0 +1,343 @@
+"""The study file of a sweep: a base scene, the parameters to vary, the design, what to collect, the constraints.
+
+A study is a TOML file (``docs/sweeps.md`` lists every key)::
+
+    [study]
+    name = "preload-map"
+    scene = "default"                      # the embedded default scene, or a scene file relative to this file
+
+    [scene]                                # overrides of the base scene (its dotted keys, as in with_overrides)
+    "operation.revolutions" = 1
+
+    [parameters."spring.delta_s"]          # a scene key to vary: from/to/points (scale linear or log) or values
+    from = "0.5 mm"
+    to = "4 mm"
+    points = 8
+
+    [design]
+    kind = "grid"                          # grid, random, sobol, halton or lhs
+    points = 64                            # random and low-discrepancy designs only
+    seed = 0
+
+    [collect]
+    quantities = ["friction_power.total", "liftoff_fraction"]
+
+    [run]
+    max_wall_time = "120 s"                # wall-time budget of each point
+
+    [feasible]                             # the constraints whose region the figures show
+    liftoff_fraction = { max = 0 }
+    "friction_power.total" = { max = "35 W" }
+
+Every problem of a study file is reported at once in one :class:`StudyError`, each naming the key,
+the value given and what is allowed; values of the scene keys are also checked by the scene itself
+(:meth:`Scene.with_overrides`), so the scene's ranges apply.
+"""
+
+from __future__ import annotations
+
+import difflib
+import hashlib
+import json
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from ...scene_errors import Problem, show_value
+from .quantities import QUANTITY_HELP, quantity_unit
+
+#: the designs of experiments (design.py)
+DESIGNS = ("grid", "random", "sobol", "halton", "lhs")
+#: the most points a study may ask for (a typo guard: 1e6 points is days on any cluster)
+MAX_POINTS = 1_000_000
+
+
+class StudyError(ValueError):
+    """A study file that cannot be used; ``errors`` lists every ``(key, value, message)``."""
+
+    def __init__(self, errors: list[tuple[str, Any, str]], source: str | None = None) -> None:
+        self.errors = [Problem(*e) for e in errors]
+        self.source = source
+        head = f"study {source}: " if source else "study: "
+        head += f"{len(self.errors)} problem{'s' if len(self.errors) != 1 else ''}"
+        super().__init__("\n".join([head, *(f"  {p}" for p in self.errors)]))
+
+    def keys(self) -> list[str]:
+        return [p.key for p in self.errors]
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", populate_by_name=True)
+
+
+class StudySection(_Model):
+    name: str = "sweep"
+    scene: str = "default"
+    description: str = ""
+
+
+class ParameterSection(_Model):
+    values: list[Any] | None = None
+    from_: Any = Field(None, alias="from")
+    to: Any = None
+    points: int | None = Field(None, ge=2, le=100_000)
+    scale: Literal["linear", "log"] = "linear"
+
+
+class DesignSection(_Model):
+    kind: Literal["grid", "random", "sobol", "halton", "lhs"] = "grid"
+    points: int | None = Field(None, ge=1, le=MAX_POINTS)
+    seed: int = Field(0, ge=0)
+
+
+class CollectSection(_Model):
+    quantities: list[str] = Field(default_factory=lambda: ["friction_power.total", "liftoff_fraction"])
+
+
+class RunSection(_Model):
+    max_wall_time: Any = "600 s"
+
+
+class Bound(_Model):
+    min: Any = None
+    max: Any = None
+
+
+class StudyFile(_Model):
+    study: StudySection = Field(default_factory=StudySection)
+    scene: dict[str, Any] = Field(default_factory=dict)
+    parameters: dict[str, ParameterSection]
+    design: DesignSection = Field(default_factory=DesignSection)
+    collect: CollectSection = Field(default_factory=CollectSection)
+    run: RunSection = Field(default_factory=RunSection)
+    feasible: dict[str, Bound] = Field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One varied scene key: its values (grid) or bounds (sampled designs), in the key's SI unit."""
+
+    key: str
+    unit: str  # SI unit of the key (pint syntax), "1" for plain numbers, "" for words and flags
+    values: tuple[Any, ...] | None  # explicit values, or the grid of from/to/points
+    low: float | None = None
+    high: float | None = None
+    scale: str = "linear"
+    display_unit: str = ""  # the unit the study file wrote the values in (for figures)
+    listed: bool = False  # values listed in the study file (a sampled design picks among them)
+
+    @property
+    def numeric(self) -> bool:
+        return self.unit != ""
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """``min <= column <= max`` (either bound may be absent), in the column's unit."""
+
+    column: str
+    unit: str
+    min: float | None
+    max: float | None
+
+    def describe(self) -> str:
+        u = "" if self.unit in ("", "1") else f" {self.unit}"
+        if self.min is not None and self.max is not None:
+            return f"{self.min:g}{u} <= {self.column} <= {self.max:g}{u}"
+        if self.min is not None:
+            return f"{self.column} >= {self.min:g}{u}"
+        return f"{self.column} <= {self.max:g}{u}"
+
+
+@dataclass(frozen=True)
+class Study:
+    """A checked study: base scene (with the [scene] overrides applied), parameters, design and settings."""
+
+    name: str
+    description: str
+    scene: Any  # apexseal Scene
+    parameters: tuple[Parameter, ...]
+    design: str
+    points: int | None
+    seed: int
+    quantities: tuple[str, ...]
+    max_wall_time: float
+    constraints: tuple[Constraint, ...]
+    source: str = "<string>"
+    raw: dict = field(default_factory=dict, repr=False)
+
+    def content_hash(self) -> str:
+        """sha256 of what decides the points and their results (not of where the file lives)."""
+        content = {"scene": self.scene.content_hash(), "parameters": [vars(p) for p in self.parameters],
+                   "design": self.design, "points": self.points, "seed": self.seed,
+                   "quantities": list(self.quantities), "max_wall_time": self.max_wall_time}
+        text = json.dumps(content, sort_keys=True, default=str, separators=(",", ":"))
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    def units(self) -> dict[str, str]:
+        """Column -> unit of every parameter and quantity column."""
+        out = {p.key: p.unit for p in self.parameters}
+        out.update({q: quantity_unit(q) or "" for q in self.quantities})
+        return out
+
+
+def load_study(path: str | Path) -> Study:
+    """Read and check a study file (TOML); raises :class:`StudyError` listing every problem."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise StudyError([("study", str(path), f"cannot read: {getattr(exc, 'strerror', None) or exc}")],
+                         source=str(path)) from None
+    return study_from_toml(text, base_dir=p.parent, source=str(path))
+
+
+def study_from_toml(text: str, *, base_dir: str | Path | None = None, source: str = "<string>") -> Study:
+    """Check a study given as TOML text; scene paths are relative to ``base_dir`` (default: current folder)."""
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise StudyError([("toml", "", f"malformed TOML: {exc}")], source=source) from None
+    return study_from_dict(raw, base_dir=Path(base_dir) if base_dir is not None else Path.cwd(), source=source)
+
+
+def _pydantic_problems(exc: ValidationError, raw: dict) -> list[Problem]:
+    out = []
+    for err in exc.errors():
+        loc = [str(x) for x in err["loc"]]
+        key = ".".join(loc) or "study"
+        value: Any = raw
+        for part in err["loc"]:
+            value = value.get(part, "(missing)") if isinstance(value, dict) else "(missing)"
+        msg = err["msg"]
+        if err["type"] == "extra_forbidden":
+            parent = _known_keys(loc[:-1])
+            near = difflib.get_close_matches(loc[-1], parent, n=1, cutoff=0.5)
+            msg = "unknown key" + (f" (did you mean '{near[0]}'?)" if near else "") + (
+                f"; known: {', '.join(parent)}" if parent else "")
+        elif err["type"] == "literal_error":
+            msg = "not allowed; allowed: " + err["ctx"]["expected"]
+        out.append(Problem(key, value, msg))
+    return out
+
+
+def _known_keys(loc: list[str]) -> list[str]:
+    model: Any = StudyFile
+    sections = {"study": StudySection, "design": DesignSection, "collect": CollectSection, "run": RunSection}
+    if not loc:
+        return [f.alias or n for n, f in model.model_fields.items()]
+    if loc[0] in sections and len(loc) == 1:
+        return list(sections[loc[0]].model_fields)
+    if loc[0] == "parameters" and len(loc) == 2:
+        return ["values", "from", "to", "points", "scale"]
+    if loc[0] == "feasible" and len(loc) == 2:
+        return ["min", "max"]
+    return []
+
+
+def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> Study:
+    """Check a parsed study (see the module docstring for the keys)."""
+    import apexseal
+    from apexseal.runtime.scene_errors import SceneError
+
+    try:
+        spec = StudyFile.model_validate(raw)
+    except ValidationError as exc:
+        raise StudyError(_pydantic_problems(exc, raw), source=source) from None
+    problems: list[Problem] = []
+
+    # base scene and its fixed overrides
+    scene = None
+    try:
+        base = apexseal.load_scene(None if spec.study.scene == "default" else base_dir / spec.study.scene)
+        scene = base.with_overrides(**spec.scene) if spec.scene else base
+    except SceneError as exc:
+        where = "study.scene" if not spec.scene else "scene"
+        problems += [Problem(f"{where}.{p.key}" if where == "scene" else where,
+                             p.value if where == "scene" else spec.study.scene, p.message) for p in exc.errors]
+
+    from .design import parameter_of  # the units and kinds of scene keys
+
+    parameters = []
+    for key, ps in spec.parameters.items():
+        par, more = parameter_of(key, ps)
+        problems += more
+        if par is not None:
+            parameters.append(par)
+    if not spec.parameters:
+        problems.append(Problem("parameters", "(none)", "vary at least one scene key, e.g. [parameters.\"spring.ks\"]"))
+
+    d = spec.design
+    if d.kind == "grid":
+        if d.points is not None:
+            problems.append(Problem("design.points", d.points, "a grid has the product of the parameters' points; "
+                                    "remove design.points or choose kind = \"sobol\", \"lhs\", \"halton\" or \"random\""))
+        n = math.prod(len(p.values or ()) for p in parameters) if parameters else 0
+        if n > MAX_POINTS:
+            problems.append(Problem("parameters", n, f"the grid has {n} points; allowed: at most {MAX_POINTS}"))
+    else:
+        if d.points is None:
+            problems.append(Problem("design.points", "(missing)", f"a {d.kind} design needs the number of points, "
+                                    f"an integer >= 1 and <= {MAX_POINTS}"))
+        for p in parameters:
+            if p.low is None and not p.values:
+                problems.append(Problem(f"parameters.{p.key}", "", "give from/to (or values) to sample"))
+        if d.kind == "sobol" and d.points is not None and d.points & (d.points - 1):
+            problems.append(Problem("design.points", d.points, "a Sobol design needs a power of 2 (balance "
+                                    "properties); allowed: 1, 2, 4, ..., e.g. 64 or 128"))
+
+    for q in spec.collect.quantities:
+        if quantity_unit(q) is None:
+            near = difflib.get_close_matches(q, list(QUANTITY_HELP), n=1, cutoff=0.5)
+            problems.append(Problem("collect.quantities", q, "unknown quantity" + (
+                f" (did you mean '{near[0]}'?)" if near else "") + f"; known: {', '.join(QUANTITY_HELP)}"))
+    if not spec.collect.quantities:
+        problems.append(Problem("collect.quantities", [], "collect at least one quantity"))
+
+    from ...scene_units import QuantityError, parse_quantity
+
+    try:
+        budget = parse_quantity(spec.run.max_wall_time, "s", key="run.max_wall_time")
+        if not 0 < budget <= 7 * 86400:
+            problems.append(Problem("run.max_wall_time", spec.run.max_wall_time,
+                                    f"{budget:g} s is out of range; allowed: > 0 s and <= 604800 s (a week)"))
+    except QuantityError as exc:
+        problems.append(Problem("run.max_wall_time", spec.run.max_wall_time, exc.reason))
+        budget = math.nan
+
+    columns = {q: quantity_unit(q) for q in spec.collect.quantities if quantity_unit(q) is not None}
+    columns.update({p.key: p.unit for p in parameters if p.numeric})
+    constraints = []
+    for col, b in spec.feasible.items():
+        if col not in columns:
+            problems.append(Problem(f"feasible.{col}", show_value(b.model_dump()), "not a collected quantity or a "
+                                    f"numeric varied parameter; allowed: {', '.join(columns) or '(none)'}"))
+            continue
+        if b.min is None and b.max is None:
+            problems.append(Problem(f"feasible.{col}", "{}", "give min, max or both"))
+            continue
+        bounds = {}
+        for side in ("min", "max"):
+            v = getattr(b, side)
+            if v is None:
+                bounds[side] = None
+                continue
+            try:
+                bounds[side] = parse_quantity(v, columns[col] or "1", key=f"feasible.{col}.{side}")
+            except QuantityError as exc:
+                problems.append(Problem(f"feasible.{col}.{side}", v, exc.reason))
+                bounds[side] = None
+        if bounds["min"] is not None and bounds["max"] is not None and bounds["min"] > bounds["max"]:
+            problems.append(Problem(f"feasible.{col}", f"min {bounds['min']:g} > max {bounds['max']:g}",
+                                    "min must not exceed max"))
+        constraints.append(Constraint(col, columns[col] or "1", bounds["min"], bounds["max"]))
+
+    if problems:
+        raise StudyError(problems, source=source)
+    return Study(name=spec.study.name, description=spec.study.description, scene=scene, parameters=tuple(parameters),
+                 design=d.kind, points=d.points, seed=d.seed, quantities=tuple(spec.collect.quantities),
+                 max_wall_time=budget, constraints=tuple(constraints), source=source, raw=raw)
