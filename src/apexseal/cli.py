@@ -18,8 +18,9 @@ def _register() -> None:
     from .commands_optimise import optimise_preload
     from .commands_scene import scene
     from .commands_simulate import simulate
+    from .commands_sweep import sweep
 
-    for command in (simulate, scene, derive, generate, optimise_preload, bench):
+    for command in (simulate, scene, derive, generate, optimise_preload, bench, sweep):
         main.add_command(command)
 
 

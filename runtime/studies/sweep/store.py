@@ -6,6 +6,7 @@ Layout of the output folder::
     points/point-000012.parquet   one row per finished point, written atomically as the point finishes
     results.parquet          every finished point, sorted, with units in the column metadata
     results.csv              the same table for spreadsheets
+    (``feasible``: a last column when the study states constraints: completed and every constraint met)
 
 Only the process that runs the sweep writes (workers return rows), so a part-file is complete or absent:
 a killed worker, Ctrl-C or a crashed machine loses at most the points that were running, and a resumed sweep
@@ -97,6 +98,9 @@ class Store:
 
         df = self.table(study)
         units = {**HEAD, **study.units(), **TAIL}
+        if study.constraints:
+            df["feasible"] = study.feasible(df)
+            units["feasible"] = ""
         table = pa.Table.from_pandas(df, preserve_index=False)
         fields = [f.with_metadata({"unit": units.get(f.name, "")}) for f in table.schema]
         meta = dict(table.schema.metadata or {})

@@ -144,6 +144,18 @@ class Constraint:
     min: float | None
     max: float | None
 
+    def holds(self, values):
+        """Elementwise: the values (array or Series) that meet the bounds (NaN never does)."""
+        import numpy as np
+
+        v = np.asarray(values, float)
+        ok = np.isfinite(v)
+        if self.min is not None:
+            ok &= v >= self.min
+        if self.max is not None:
+            ok &= v <= self.max
+        return ok
+
     def describe(self) -> str:
         u = "" if self.unit in ("", "1") else f" {self.unit}"
         if self.min is not None and self.max is not None:
@@ -177,6 +189,13 @@ class Study:
                    "quantities": list(self.quantities), "max_wall_time": self.max_wall_time}
         text = json.dumps(content, sort_keys=True, default=str, separators=(",", ":"))
         return hashlib.sha256(text.encode()).hexdigest()
+
+    def feasible(self, table):
+        """Per row of a results table: completed and every constraint met (all completed rows if none)."""
+        ok = (table["status"] == "completed").to_numpy()
+        for c in self.constraints:
+            ok = ok & c.holds(table[c.column])
+        return ok
 
     def units(self) -> dict[str, str]:
         """Column -> unit of every parameter and quantity column."""

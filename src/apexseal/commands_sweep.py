@@ -1,0 +1,110 @@
+"""``apexseal sweep``: run a design study (a scene varied over a design of experiments) on all cores or Dask."""
+
+from __future__ import annotations
+
+import importlib.resources
+import json
+import sys
+from pathlib import Path
+
+import click
+
+from .cli_common import writable
+
+EXAMPLES = ("preload-map",)
+
+
+def example_path(name: str) -> Path:
+    """The shipped example study ``name`` (runtime/studies/sweep/examples/<name>.toml)."""
+    res = importlib.resources.files("apexseal.runtime.studies.sweep").joinpath("examples", f"{name}.toml")
+    return Path(str(res))
+
+
+def _quantities(ctx, param, value) -> None:
+    if not value or ctx.resilient_parsing:
+        return
+    from .runtime.studies.sweep.quantities import QUANTITY_HELP
+
+    for name, (unit, meaning) in QUANTITY_HELP.items():
+        click.echo(f"{name:24s} {unit:5s} {meaning}")
+    ctx.exit()
+
+
+@click.command()
+@click.argument("study", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--example", type=click.Choice(EXAMPLES), help="Run a study shipped with apexseal instead of STUDY "
+              "(preload-map: the design map of the default machine over spring preload and stiffness).")
+@click.option("--workers", "-w", type=click.IntRange(1, 4096),
+              help="Worker processes of the local Dask cluster [default: every core]; 1 runs serially here.")
+@click.option("--scheduler", metavar="ADDRESS",
+              help="Address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786) to send the points to.")
+@click.option("--out", type=click.Path(file_okay=False, path_type=Path),
+              help="Output folder [default: apexseal-out/<study name>].")
+@click.option("--resume/--fresh", default=True, show_default=True,
+              help="Keep the points already in --out and compute only the others, or discard them.")
+@click.option("--figures/--no-figures", default=True, show_default=True, help="Write the figures at the end.")
+@click.option("--bench", is_flag=True, help="Measure throughput instead: serial vs every core vs a 2-worker "
+              "LocalCluster, each over the whole study (results in temporary folders); writes throughput.md/json.")
+@click.option("--repeats", type=click.IntRange(1, 20), default=3, show_default=True, help="Repeats of --bench.")
+@click.option("--list-quantities", is_flag=True, expose_value=False, is_eager=True, callback=_quantities,
+              help="List the quantities a study can collect, and exit.")
+@click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
+def sweep(study, example, workers, scheduler, out, resume, figures, bench, repeats, quiet) -> None:
+    """Run the design study STUDY (a TOML file, docs/sweeps.md): every point simulated, one row each in
+    <out>/results.parquet, figures of each quantity and of the feasible region. Rerun to resume."""
+    from .runtime.studies.sweep import StudyError, load_study, run_sweep
+    from .runtime.studies.sweep.store import StoreError
+
+    if (study is None) == (example is None):
+        raise click.UsageError("give a STUDY file or --example NAME (e.g. apexseal sweep --example preload-map)")
+    if scheduler and workers:
+        raise click.UsageError("--workers sizes the local cluster; with --scheduler the cluster's workers are used")
+    path = example_path(example) if example else study
+    try:
+        st = load_study(path)
+    except StudyError as err:
+        raise click.ClickException(str(err)) from None
+    out = out or Path("apexseal-out") / st.name
+    writable(out)
+    if bench:
+        _bench(st, out, repeats)
+        return
+    click.echo(f"study {st.name} ({path if study else f'example {example}'}): {len(st.parameters)} parameters, "
+               f"{st.design} design; writing to {out}/")
+    try:
+        report = run_sweep(st, out, workers=workers, scheduler=scheduler, resume=resume, quiet=quiet)
+    except StudyError as err:
+        raise click.ClickException(str(err)) from None
+    except StoreError as err:
+        raise click.ClickException(str(err)) from None
+    except OSError as err:  # e.g. no scheduler at the address
+        raise click.ClickException(f"cannot run the sweep: {err}") from None
+    click.echo(report.describe())
+    bad = report.table[report.table["status"] != "completed"]
+    for _, row in bad.head(5).iterrows():
+        click.echo(f"  point {row['point']}: {row['status']}: {row['stop']}", err=True)
+    if len(bad) > 5:
+        click.echo(f"  ... {len(bad) - 5} more (see the status and stop columns)", err=True)
+    if figures and not report.table.empty:
+        from .runtime.studies.sweep.figures import sweep_figures
+
+        paths = sweep_figures(st, report.table, out)
+        click.echo(f"  wrote results.parquet, results.csv and {len(paths)} figures to {out}/")
+    if st.constraints and "feasible" in report.table:
+        click.echo(f"  feasible ({'; '.join(c.describe() for c in st.constraints)}): "
+                   f"{int(report.table['feasible'].sum())} of {len(report.table)} points")
+    if report.interrupted:
+        click.echo("  interrupted: run the same command again to compute the remaining points", err=True)
+        sys.exit(130)
+
+
+def _bench(st, out: Path, repeats: int) -> None:
+    from .runtime.studies.sweep.throughput import measure, table
+
+    click.echo(f"throughput of study {st.name}: serial vs every core vs a 2-worker LocalCluster, {repeats} repeats")
+    result = measure(st, repeats=repeats, log=lambda m: click.echo(m, err=True))
+    text = table(result)
+    (out / "throughput.json").write_text(json.dumps(result, indent=2) + "\n")
+    (out / "throughput.md").write_text(text + "\n")
+    click.echo(text)
+    click.echo(f"  wrote throughput.md and throughput.json to {out}/")
