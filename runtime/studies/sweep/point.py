@@ -8,11 +8,18 @@ exception is a row with status ``error`` and the exception's text.
 
 from __future__ import annotations
 
+import contextlib
+import io
 import math
 import os
 import socket
+import sys
 import time
 from typing import Any
+
+#: CasADi's notice printed by every construction of an event integrator: said once per sweep, not once per point
+_REPEATED_NOTICE = "Event support is experimental"
+_noticed = False
 
 #: statuses of a point: those of a run (SimulationResult.status), and "error" (the run raised)
 STATUSES = ("completed", "interrupted", "failed", "chattering", "error")
@@ -28,7 +35,8 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
     t0 = time.perf_counter()
     row: dict[str, Any] = {"point": int(index), "scene_hash": scene.content_hash(), **overrides}
     try:
-        result = apexseal.simulate(scene, max_wall_time=max_wall_time)
+        with _quiet_notice():
+            result = apexseal.simulate(scene, max_wall_time=max_wall_time)
         values = collect(result, quantities)
         row.update(status=result.status, stop="" if result.stop is None else result.stop.describe())
     except Exception as err:  # noqa: BLE001 - a point records its failure, the sweep goes on
@@ -38,3 +46,18 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
     row["wall_time_s"] = time.perf_counter() - t0
     row["worker"] = f"{socket.gethostname()}:{os.getpid()}"
     return row
+
+
+@contextlib.contextmanager
+def _quiet_notice():
+    """Pass on what the run writes to stderr, except CasADi's repeated notice after its first time."""
+    global _noticed
+    buf = io.StringIO()
+    try:
+        with contextlib.redirect_stderr(buf):
+            yield
+    finally:
+        lines = buf.getvalue().splitlines(keepends=True)
+        keep = [ln for ln in lines if _REPEATED_NOTICE not in ln or not _noticed]
+        _noticed = _noticed or len(keep) < len(lines) or any(_REPEATED_NOTICE in ln for ln in lines)
+        sys.stderr.write("".join(keep))

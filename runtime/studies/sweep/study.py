@@ -333,8 +333,10 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
     constraints = []
     for col, b in spec.feasible.items():
         if col not in columns:
-            problems.append(Problem(f"feasible.{col}", show_value(b.model_dump()), "not a collected quantity or a "
-                                    f"numeric varied parameter; allowed: {', '.join(columns) or '(none)'}"))
+            nested = isinstance(b.min, dict) or isinstance(b.max, dict)
+            hint = f' (quote a dotted name: "{col}.{next(iter(b.max or b.min))}" = {{ max = ... }})' if nested else ""
+            problems.append(Problem(f"feasible.{col}", show_value(raw["feasible"][col]), "not a collected quantity "
+                                    f"or a numeric varied parameter{hint}; allowed: {', '.join(columns) or '(none)'}"))
             continue
         if b.min is None and b.max is None:
             problems.append(Problem(f"feasible.{col}", "{}", "give min, max or both"))

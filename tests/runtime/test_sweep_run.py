@@ -1,0 +1,185 @@
+"""Sweeps end to end: serial and LocalCluster agree digit by digit, nothing is lost or computed twice when a sweep
+is interrupted or a worker is killed, failed points are recorded, one compiled library serves every point."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from sweep_helpers import LIGHT, light_study, stable
+
+from apexseal.runtime.studies.sweep import read_results, run_sweep
+
+
+@pytest.fixture(scope="module")
+def serial(tmp_path_factory):
+    """The light study run serially in this process: the reference table."""
+    out = tmp_path_factory.mktemp("serial") / "out"
+    report = run_sweep(light_study(), out, workers=1, quiet=True)
+    assert report.complete and report.computed == 16 and not report.interrupted
+    return report
+
+
+def test_serial_sweep_writes_one_row_per_point_with_units_and_scene_hashes(serial):
+    df = read_results(serial.folder)
+    assert list(df["point"]) == list(range(16))
+    assert (df["status"] == "completed").all(), df[["status", "stop"]]
+    units = df.attrs["units"]
+    assert units["spring.ks"] == "N/m" and units["spring.delta_s"] == "m" and units["friction_power.total"] == "W"
+    assert units["housing_force.max"] == "N" and units["x.max_at"] == "deg" and units["wall_time_s"] == "s"
+    st = light_study()
+    row = df.iloc[5]
+    scene = st.scene.with_overrides(**{"spring.ks": row["spring.ks"], "spring.delta_s": row["spring.delta_s"]})
+    assert row["scene_hash"] == scene.content_hash()
+    assert df["scene_hash"].nunique() == 16
+    assert (df["revolutions"] == 1.0).all()
+    # the quantities are those of the run summary of the same scene
+    import apexseal
+    from apexseal.runtime.summary import summarise
+
+    s = summarise(apexseal.simulate(scene, max_wall_time=60))
+    assert row["friction_power.total"] == s["mean_friction_power_W"]["total"]
+    assert row["housing_force.max"] == s["housing_force_N"]["max"]
+    assert row["events.total"] == s["events_total"]
+    # the design varies what it should: preload raises friction power at fixed stiffness
+    fixed = df[df["spring.ks"] == df["spring.ks"].max()].sort_values("spring.delta_s")
+    assert fixed["friction_power.total"].is_monotonic_increasing
+    assert df["feasible"].dtype == bool
+    assert df["feasible"].tolist() == list((df["liftoff_fraction"] <= 0) & (df["friction_power.total"] <= 35))
+
+
+def test_local_cluster_with_two_workers_gives_the_serial_table_to_the_last_digit(serial, tmp_path):
+    report = run_sweep(light_study(), tmp_path / "dask", workers=2, quiet=True)
+    assert report.where == "LocalCluster" and report.workers == 2 and report.complete
+    assert report.table["worker"].nunique() == 2  # both workers did points
+    pd.testing.assert_frame_equal(stable(report.table), stable(serial.table), check_exact=True)
+
+
+def test_a_killed_worker_loses_nothing_and_no_point_is_written_twice(serial, tmp_path):
+    from dask.distributed import Client
+
+    from apexseal.runtime.studies.sweep.execute import local_cluster
+
+    rows: list[int] = []
+    with local_cluster(2) as cluster, Client(cluster) as client:
+        pids = client.run(os.getpid)
+        victim = next(iter(pids.values()))
+
+        def on_row(row):
+            rows.append(row["point"])
+            if len(rows) == 3:
+                os.kill(victim, signal.SIGKILL)  # mid-sweep: points are in flight on both workers
+
+        report = run_sweep(light_study(), tmp_path / "killed", client=client, quiet=True, on_row=on_row)
+        assert victim not in client.run(os.getpid).values()  # the worker really died (the nanny restarted it)
+    assert sorted(rows) == list(range(16))  # every point arrived exactly once
+    assert report.complete and report.computed == 16
+    pd.testing.assert_frame_equal(stable(report.table), stable(serial.table), check_exact=True)
+
+
+def test_an_interrupted_sweep_resumes_without_recomputing_or_losing_anything(serial, tmp_path):
+    study = tmp_path / "light.toml"
+    study.write_text(LIGHT)
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-c", "from apexseal.cli import main; main()", "sweep", str(study), "--workers", "1",
+           "--out", str(out), "-q"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    parts = out / "points"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if parts.is_dir() and len(list(parts.glob("point-*.parquet"))) >= 4:
+            break
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGINT)  # Ctrl-C
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 130, stdout + stderr
+    assert "interrupted" in stdout + stderr
+    before = {p.name: (p.stat().st_mtime_ns, p.read_bytes()) for p in parts.glob("point-*.parquet")}
+    assert 4 <= len(before) < 16
+    partial = read_results(out)  # the table written at the interruption holds every finished point
+    assert len(partial) == len(before) and not list(parts.glob(".*.tmp"))
+
+    report = run_sweep(light_study(), out, workers=1, quiet=True)
+    assert report.skipped == len(before) and report.computed == 16 - len(before)
+    after = {p.name: (p.stat().st_mtime_ns, p.read_bytes()) for p in parts.glob("point-*.parquet")}
+    assert {k: after[k] for k in before} == before  # nothing done was recomputed or rewritten
+    pd.testing.assert_frame_equal(stable(report.table), stable(serial.table), check_exact=True)
+    again = run_sweep(light_study(), out, workers=1, quiet=True)
+    assert again.computed == 0 and again.skipped == 16
+
+
+def test_resume_refuses_a_folder_of_another_study_and_fresh_recomputes(serial, tmp_path):
+    from apexseal.runtime.studies.sweep.store import StoreError
+
+    out = tmp_path / "out"
+    run_sweep(light_study(**{"points = 4": "points = 2"}), out, workers=1, quiet=True)
+    with pytest.raises(StoreError, match="another study"):
+        run_sweep(light_study(**{"points = 4": "points = 3"}), out, workers=1, quiet=True)
+    report = run_sweep(light_study(**{"points = 4": "points = 3"}), out, workers=1, resume=False, quiet=True)
+    assert report.computed == 12 and report.skipped == 0 and len(report.table) == 12
+
+
+def test_failed_points_are_recorded_with_their_reason_and_the_sweep_goes_on(tmp_path, monkeypatch):
+    import apexseal.runtime.api as api
+
+    real = api.simulate
+
+    def flaky(scene, **kw):
+        if scene.spring.ks > 1.5e4:
+            raise RuntimeError("solver blew up (test)")
+        return real(scene, **kw)
+
+    monkeypatch.setattr(api, "simulate", flaky)
+    report = run_sweep(light_study(), tmp_path / "flaky", workers=1, quiet=True)
+    df = report.table
+    bad = df[df["spring.ks"] > 1.5e4]
+    assert len(df) == 16 and len(bad) == 4 and report.failed == 4
+    assert (bad["status"] == "error").all() and bad["stop"].str.contains("solver blew up").all()
+    assert bad["friction_power.total"].isna().all() and not bad["feasible"].any()
+    assert (df.drop(bad.index)["status"] == "completed").all()
+
+    monkeypatch.undo()
+    budget = run_sweep(light_study(**{'max_wall_time = "60 s"': 'max_wall_time = "1e-6 s"', "points = 4": "points = 2"}),
+                       tmp_path / "budget", workers=1, quiet=True)
+    assert len(budget.table) == 8 and (budget.table["status"] == "interrupted").all()
+    assert budget.table["stop"].str.contains("wall-time budget used up").all()
+
+
+def test_a_sweep_over_parameters_compiles_one_library(tmp_path, monkeypatch):
+    """Empty cache, 2 workers, 8 points: exactly one compiled library (the integrator), built once."""
+    cache = tmp_path / "cache"
+    monkeypatch.setenv("APEXSEAL_CACHE", str(cache))  # the LocalCluster's worker processes inherit it
+    report = run_sweep(light_study(**{"points = 4": "points = 2"}), tmp_path / "out", workers=2, quiet=True)
+    assert report.complete and (report.table["status"] == "completed").all()
+    libs = [p for p in (cache / "lib").iterdir() if p.is_dir() and not p.name.startswith(".")]
+    assert len(libs) == 1, libs
+    assert len(list(libs[0].glob("*.so"))) == 1
+
+
+def test_cli_sweep_writes_table_and_figures(serial, tmp_path):
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+
+    study = tmp_path / "light.toml"
+    study.write_text(LIGHT)
+    out = Path(serial.folder)  # resumed: nothing to compute, the figures and tables are rewritten
+    r = CliRunner().invoke(main, ["sweep", str(study), "--workers", "1", "--out", str(out), "-q"])
+    assert r.exit_code == 0, r.output
+    assert "0 computed now, 16 resumed" in r.output
+    for name in ("results.parquet", "results.csv", "study.json", "feasible.png", "friction_power.total.png",
+                 "liftoff_fraction.png"):
+        assert (out / name).stat().st_size > 0, name
+    assert "feasible (liftoff_fraction <= 0; friction_power.total <= 35 W)" in r.output
+    bad = tmp_path / "bad.toml"
+    bad.write_text(LIGHT.replace('"revolutions"]', '"revolution"]'))
+    r = CliRunner().invoke(main, ["sweep", str(bad), "--out", str(tmp_path / "b")])
+    assert r.exit_code == 1 and "collect.quantities" in r.output and "did you mean 'revolutions'" in r.output
+    r = CliRunner().invoke(main, ["sweep", "--list-quantities"])
+    assert r.exit_code == 0 and "friction_power.total" in r.output and "liftoff_fraction" in r.output

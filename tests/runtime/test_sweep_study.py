@@ -1,0 +1,99 @@
+"""Study files of sweeps: what a good one gives (points, units, designs) and how a bad one is refused."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from sweep_helpers import LIGHT, light_study
+
+from apexseal.runtime.studies.sweep import StudyError, study_from_toml
+from apexseal.runtime.studies.sweep.design import design_points
+from apexseal.runtime.studies.sweep.execute import scenes_of
+
+
+def test_grid_points_are_si_values_in_order():
+    st = light_study()
+    pts = design_points(st)
+    assert len(pts) == 16
+    ks = sorted({p["spring.ks"] for p in pts})
+    assert ks[0] == 3000.0 and ks[-1] == 20000.0
+    assert np.allclose(np.diff(np.log(ks)), np.log(20 / 3) / 3)  # log spacing
+    assert sorted({p["spring.delta_s"] for p in pts}) == [0.001, 0.002, 0.003, 0.004]  # mm -> m
+    assert pts[0] == {"spring.ks": 3000.0, "spring.delta_s": 0.001}
+    assert pts[1]["spring.delta_s"] == 0.002  # the last parameter varies fastest
+    assert st.units()["spring.ks"] == "N/m" and st.units()["friction_power.total"] == "W"
+
+
+@pytest.mark.parametrize("kind", ["sobol", "halton", "lhs", "random"])
+def test_sampled_designs_stay_in_the_box_and_repeat_with_the_seed(kind):
+    st = light_study(**{"[collect]": f'[design]\nkind = "{kind}"\npoints = 32\nseed = 7\n\n[collect]',
+                        'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'from = "1 mm"\nto = "4 mm"\npoints = 2'})
+    a, b = design_points(st), design_points(st)
+    assert a == b and len(a) == 32
+    ks = np.array([p["spring.ks"] for p in a])
+    ds = np.array([p["spring.delta_s"] for p in a])
+    assert ks.min() >= 3000 and ks.max() <= 20000 and ds.min() >= 0.001 and ds.max() <= 0.004
+    assert len(set(ks)) == 32  # continuous, not snapped to the grid
+    assert (np.log(ks) < np.log(3000 * 20000) / 2).sum() in range(8, 25)  # log scale: spread in log space
+
+
+def test_listed_values_are_categorical_in_a_sampled_design():
+    st = light_study(**{"[collect]": '[design]\nkind = "lhs"\npoints = 40\n\n[collect]'})
+    assert {p["spring.delta_s"] for p in design_points(st)} <= {0.001, 0.002, 0.003, 0.004}
+
+
+BAD = [
+    ({'[parameters."spring.ks"]': '[parameters."spring.kss"]'}, "parameters.spring.kss", "did you mean 'spring.ks'"),
+    ({'from = "3e3 N/m"': 'from = "3e3 kg"'}, "parameters.spring.ks.from", "wrong unit"),
+    ({"points = 4": "points = 1"}, "parameters.spring.ks.points", "greater than or equal to 2"),
+    ({'from = "3e3 N/m"': 'from = "-3e3 N/m"'}, "parameters.spring.ks.from", "log scale needs from > 0"),
+    ({'to = "2e4 N/m"': 'to = "2e3 N/m"'}, "parameters.spring.ks", "from must be below to"),
+    ({'"revolutions"]': '"revolution"]'}, "collect.quantities", "did you mean 'revolutions'"),
+    ({"[collect]": '[design]\nkind = "sobbol"\n\n[collect]'}, "design.kind", "allowed"),
+    ({"[collect]": '[design]\nkind = "sobol"\npoints = 30\n\n[collect]'}, "design.points", "power of 2"),
+    ({"[collect]": '[design]\npoints = 30\n\n[collect]'}, "design.points", "a grid has the product"),
+    ({'max_wall_time = "60 s"': 'max_wall_time = "-1 s"'}, "run.max_wall_time", "out of range"),
+    ({'"friction_power.total" = { max = "35 W" }': '"gap.max" = { max = "1 um" }'}, "feasible.gap.max",
+     "not a collected quantity"),
+    ({'"friction_power.total" = { max = "35 W" }': 'gap.max = { max = "1 um" }'}, "feasible.gap",
+     'quote a dotted name: "gap.max"'),
+    ({'{ max = "35 W" }': '{ max = "35 N" }'}, "feasible.friction_power.total.max", "wrong unit"),
+    ({"[run]": "[runn]"}, "runn", "unknown key (did you mean 'run'?)"),
+    ({'"solver.rtol" = 1e-4': '"solver.rtol" = 5'}, "scene.solver.rtol", "out of range"),
+]
+
+
+@pytest.mark.parametrize(("replace", "key", "message"), BAD, ids=[b[1] for b in BAD])
+def test_bad_study_files_are_refused_naming_key_value_and_range(replace, key, message):
+    with pytest.raises(StudyError) as info:
+        light_study(**replace)
+    assert key in info.value.keys(), str(info.value)
+    assert message in str(info.value)
+
+
+def test_a_point_outside_the_scene_range_is_refused_before_any_work():
+    """A value the scene refuses (delta_s < 0) names the point, the key, the value and the allowed range."""
+    st = light_study(**{'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'values = ["1 mm", "-2 mm"]'})
+    with pytest.raises(StudyError) as info:
+        scenes_of(st)
+    text = str(info.value)
+    assert "parameters.spring.delta_s" in info.value.keys()
+    assert "-0.002" in text and "out of range" in text and ">= 0" in text and "(point 1)" in text
+
+
+def test_malformed_toml_and_missing_parameters():
+    with pytest.raises(StudyError, match="malformed TOML"):
+        study_from_toml("[study\nname = 1")
+    with pytest.raises(StudyError) as info:
+        study_from_toml(LIGHT.split("[parameters")[0])
+    assert "parameters" in info.value.keys()
+
+
+def test_the_shipped_example_is_the_200_point_design_map():
+    from apexseal.commands_sweep import example_path
+    from apexseal.runtime.studies.sweep import load_study
+
+    st = load_study(example_path("preload-map"))
+    assert len(design_points(st)) == 200
+    assert [p.key for p in st.parameters] == ["spring.delta_s", "spring.ks"]
+    assert {c.column for c in st.constraints} == {"liftoff_fraction", "friction_power.total"}
