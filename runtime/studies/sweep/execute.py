@@ -89,7 +89,7 @@ def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, sche
     todo = [p for p in points if p[0] not in done]
     skipped = len(points) - len(todo)
     n = workers or os.cpu_count() or 1
-    serial = client is None and scheduler is None and n == 1
+    serial = (client is None and scheduler is None and n == 1) or not todo  # nothing to do: no cluster
     bar = tqdm(total=len(points), initial=skipped, unit="pt", disable=quiet, desc=study.name, dynamic_ncols=True)
     failed = [0]
 
@@ -104,7 +104,7 @@ def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, sche
     args = (study.quantities, study.max_wall_time)
     try:
         if serial:
-            where, interrupted = "serial", _serial(todo, args, record)
+            where, interrupted = "serial" if todo else "nothing left to compute", _serial(todo, args, record)
         else:
             where, n, interrupted = _dask(todo, args, record, study, n, scheduler, client)
     finally:
