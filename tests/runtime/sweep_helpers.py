@@ -33,7 +33,7 @@ liftoff_fraction = { max = 0 }
 """
 
 #: columns that differ between two runs of the same point (timing, which process)
-VOLATILE = ["wall_time_s", "worker"]
+VOLATILE = ["wall_time_s", "run_time_s", "worker"]
 
 
 def light_study(**replace: str):

@@ -97,3 +97,14 @@ def test_the_shipped_example_is_the_200_point_design_map():
     assert len(design_points(st)) == 200
     assert [p.key for p in st.parameters] == ["spring.delta_s", "spring.ks"]
     assert {c.column for c in st.constraints} == {"liftoff_fraction", "friction_power.total"}
+
+
+def test_docs_list_every_quantity_and_design():
+    from pathlib import Path
+
+    from apexseal.runtime.studies.sweep.quantities import QUANTITY_HELP
+    from apexseal.runtime.studies.sweep.study import DESIGNS
+
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "sweeps.md").read_text(encoding="utf-8")
+    assert [q for q in QUANTITY_HELP if f"`{q}`" not in docs] == []
+    assert [d for d in DESIGNS if f'`"{d}"`' not in docs] == []

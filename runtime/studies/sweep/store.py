@@ -26,7 +26,7 @@ import pandas as pd
 
 #: columns every row has, before the parameters and quantities, with their units
 HEAD = {"point": "", "scene_hash": "", "status": "", "stop": ""}
-TAIL = {"wall_time_s": "s", "worker": ""}
+TAIL = {"wall_time_s": "s", "run_time_s": "s", "worker": ""}
 _PART = re.compile(r"^point-(\d+)\.parquet$")
 
 
