@@ -149,7 +149,7 @@ def local_cluster(workers: int):
     from dask.distributed import LocalCluster
 
     return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                        silence_logs=logging.ERROR)
+                        silence_logs=logging.CRITICAL)  # shutdown races of dask print ERRORs
 
 
 def _dask(todo, args, record, study, n, scheduler, client):
