@@ -41,7 +41,7 @@ def test_serial_sweep_writes_one_row_per_point_with_units_and_scene_hashes(seria
     assert (df["revolutions"] == 1.0).all()
     # the quantities are those of the run summary of the same scene
     import apexseal
-    from apexseal.runtime.summary import summarise
+    from apexseal.runtime.results.summary import summarise
 
     s = summarise(apexseal.simulate(scene, max_wall_time=60))
     assert row["friction_power.total"] == s["mean_friction_power_W"]["total"]

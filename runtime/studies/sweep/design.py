@@ -18,13 +18,13 @@ from typing import Any
 
 import numpy as np
 
-from ...scene_errors import Problem
-from ...scene_units import QuantityError, parse_quantity, registry
+from ...scenes.errors import Problem
+from ...scenes.units import QuantityError, parse_quantity, registry
 
 
 def key_validator(key: str):
     """The scene's validator of a dotted key (SI / Int / Choice / Flag / Text), or None if no such key."""
-    from ...scene_schema import SECTIONS, model_at, validator_of
+    from ...scenes.schema import SECTIONS, model_at, validator_of
 
     parts = key.split(".")
     if len(parts) < 2 or parts[0] not in SECTIONS:
@@ -48,7 +48,7 @@ def _unit_written(value: Any) -> str:
 
 def parameter_of(key: str, ps) -> tuple[Any, list[Problem]]:
     """A :class:`~.study.Parameter` from a ``[parameters."<key>"]`` table, and the problems found."""
-    from ...scene_schema import key_paths
+    from ...scenes.schema import key_paths
     from .study import Parameter
 
     where = f"parameters.{key}"

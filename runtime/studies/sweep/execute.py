@@ -56,7 +56,7 @@ class SweepReport:
 
 def scenes_of(study: Study) -> list[tuple[int, Any, dict[str, Any]]]:
     """(point, scene, overrides) of every point, each scene checked; a bad point raises :class:`StudyError`."""
-    from ...scene_errors import SceneError
+    from ...scenes.errors import SceneError
 
     out, problems = [], []
     for i, overrides in enumerate(design_points(study)):

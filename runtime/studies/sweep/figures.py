@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ...figures import _plt
-from ...scene_units import registry
+from ...results.figures import _plt
+from ...scenes.units import registry
 from .quantities import QUANTITY_HELP
 
 

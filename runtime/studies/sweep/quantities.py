@@ -41,7 +41,7 @@ def quantity_unit(name: str) -> str | None:
 
 def summarise(result) -> dict:
     """The summary of a run. The one place the sweep imports the summary function (lazily: workers import it)."""
-    from apexseal.runtime.summary import summarise as summary_of
+    from apexseal.runtime.results.summary import summarise as summary_of
 
     return summary_of(result)
 

@@ -47,7 +47,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from ...scene_errors import Problem, show_value
+from ...scenes.errors import Problem, show_value
 from .quantities import QUANTITY_HELP, quantity_unit
 
 #: the designs of experiments (design.py)
@@ -261,7 +261,7 @@ def _known_keys(loc: list[str]) -> list[str]:
 def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> Study:
     """Check a parsed study (see the module docstring for the keys)."""
     import apexseal
-    from apexseal.runtime.scene_errors import SceneError
+    from apexseal.runtime.scenes.errors import SceneError
 
     try:
         spec = StudyFile.model_validate(raw)
@@ -317,7 +317,7 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
     if not spec.collect.quantities:
         problems.append(Problem("collect.quantities", [], "collect at least one quantity"))
 
-    from ...scene_units import QuantityError, parse_quantity
+    from ...scenes.units import QuantityError, parse_quantity
 
     try:
         budget = parse_quantity(spec.run.max_wall_time, "s", key="run.max_wall_time")
