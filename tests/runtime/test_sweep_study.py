@@ -108,3 +108,27 @@ def test_docs_list_every_quantity_and_design():
     docs = (Path(__file__).resolve().parents[2] / "docs" / "sweeps.md").read_text(encoding="utf-8")
     assert [q for q in QUANTITY_HELP if f"`{q}`" not in docs] == []
     assert [d for d in DESIGNS if f'`"{d}"`' not in docs] == []
+
+
+@pytest.mark.parametrize("design", ["grid-1", "grid-2", "sobol"])
+def test_figures_of_each_design_shape(design, tmp_path):
+    """Line plot (one parameter), heat map (grid), coloured points (sampled), each with the feasible region."""
+    from apexseal.runtime.studies.sweep.figures import sweep_figures
+
+    if design == "grid-1":
+        st = study_from_toml(LIGHT.replace('[parameters."spring.delta_s"]\nvalues = ["1 mm", "2 mm", "3 mm", "4 mm"]',
+                                           ""))
+    elif design == "grid-2":
+        st = light_study()
+    else:
+        st = light_study(**{"[collect]": '[design]\nkind = "sobol"\npoints = 16\n\n[collect]'})
+    pts = design_points(st)
+    rng = np.random.default_rng(1)
+    import pandas as pd
+
+    table = pd.DataFrame([{"point": i, "status": "completed" if i != 3 else "failed", **p,
+                           **{q: rng.random() for q in st.quantities}} for i, p in enumerate(pts)])
+    paths = sweep_figures(st, table, tmp_path)
+    names = {p.name for p in paths}
+    assert names == {f"{q}.png" for q in st.quantities} | {"feasible.png"}
+    assert all(p.stat().st_size > 5000 for p in paths)
