@@ -54,11 +54,9 @@ def parameter_of(key: str, ps) -> tuple[Any, list[Problem]]:
     where = f"parameters.{key}"
     v = key_validator(key)
     if v is None:
-        import difflib
+        from apexseal.suggest import did_you_mean
 
-        known = key_paths()
-        near = difflib.get_close_matches(key, known, n=1, cutoff=0.6)
-        return None, [Problem(where, "", "not a scene key" + (f" (did you mean '{near[0]}'?)" if near else "")
+        return None, [Problem(where, "", "not a scene key" + did_you_mean(key, key_paths())
                               + "; any key of docs/scenes.md, e.g. spring.ks, spring.delta_s, operation.rpm")]
     unit = getattr(v, "unit", None) or ("1" if type(v).__name__ == "Int" else "")
     problems: list[Problem] = []

@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import logging
 import os
-import signal
-import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -116,32 +114,26 @@ def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, sche
 
 
 def _serial(todo, args, record) -> bool:
-    """Points one after the other in this process. Ctrl-C finishes the running point, then stops."""
-    stop = threading.Event()
-    main = threading.current_thread() is threading.main_thread()
-    previous = signal.getsignal(signal.SIGINT) if main else None
+    """Points one after the other in this process.
 
-    def on_sigint(signum, frame):
-        if stop.is_set():  # a second Ctrl-C: stop at once (the running point is lost, nothing else)
-            raise KeyboardInterrupt
-        stop.set()
+    SIGINT (Ctrl-C) and SIGTERM are caught for the whole loop by the run's own :class:`StopSignals` (each
+    ``simulate`` joins it): the running point stops at its next integrator call and is dropped (a point cut short
+    by a signal is not a result; the resumed sweep computes it), every finished point is kept.
+    """
+    from ...solving.signals import StopSignals
 
-    if main:
-        signal.signal(signal.SIGINT, on_sigint)
     try:
-        for i, scene, overrides in todo:
-            if stop.is_set():
-                return True
-            row = run_point(i, scene, overrides, *args)
-            if stop.is_set() and row["status"] == "interrupted" and "Ctrl-C" in row["stop"]:
-                return True  # the second Ctrl-C cut this point short: not a result
-            record(row)
-        return stop.is_set()
-    except KeyboardInterrupt:
+        with StopSignals() as signals:
+            for i, scene, overrides in todo:
+                if signals.requested:
+                    return True
+                row = run_point(i, scene, overrides, *args)
+                if signals.requested and row["status"] != "completed":
+                    return True
+                record(row)
+            return signals.requested
+    except KeyboardInterrupt:  # outside the main thread signals are not caught
         return True
-    finally:
-        if main:
-            signal.signal(signal.SIGINT, previous)
 
 
 def local_cluster(workers: int):

@@ -15,14 +15,15 @@ recomputes exactly the points without a part-file.
 
 from __future__ import annotations
 
+import io
 import json
-import os
 import re
 import shutil
-import tempfile
 from pathlib import Path
 
 import pandas as pd
+
+from apexseal.files import atomic_write
 
 #: columns every row has, before the parameters and quantities, with their units
 HEAD = {"point": "", "scene_hash": "", "status": "", "stop": ""}
@@ -58,7 +59,7 @@ class Store:
             for name in ("results.parquet", "results.csv"):
                 (self.folder / name).unlink(missing_ok=True)
         self.parts.mkdir(exist_ok=True)
-        _atomic_text(record, json.dumps({"name": study.name, "hash": digest, "source": study.source,
+        atomic_write(record, json.dumps({"name": study.name, "hash": digest, "source": study.source,
                                          "study": study.raw, "units": study.units()}, indent=2, default=str) + "\n")
         return self.done()
 
@@ -71,14 +72,9 @@ class Store:
     def write(self, row: dict) -> Path:
         """Write one point's row (atomically: a temporary file renamed into place)."""
         path = self.parts / f"point-{int(row['point']):06d}.parquet"
-        fd, tmp = tempfile.mkstemp(dir=self.parts, prefix=".point-", suffix=".tmp")
-        os.close(fd)
-        try:
-            pd.DataFrame([row]).to_parquet(tmp, index=False)
-            os.replace(tmp, path)
-        except BaseException:
-            Path(tmp).unlink(missing_ok=True)
-            raise
+        buf = io.BytesIO()
+        pd.DataFrame([row]).to_parquet(buf, index=False)
+        atomic_write(path, buf.getvalue(), durable=True)
         return path
 
     def table(self, study) -> pd.DataFrame:
@@ -107,10 +103,10 @@ class Store:
         meta[b"apexseal.sweep"] = json.dumps({"study": study.name, "hash": study.content_hash(), "units": units,
                                              "constraints": [vars(c) for c in study.constraints]}).encode()
         table = table.cast(pa.schema(fields, metadata=meta))
-        tmp = self.folder / ".results.parquet.tmp"
-        pq.write_table(table, tmp)
-        os.replace(tmp, self.folder / "results.parquet")
-        _atomic_text(self.folder / "results.csv", df.to_csv(index=False))
+        buf = io.BytesIO()
+        pq.write_table(table, buf)
+        atomic_write(self.folder / "results.parquet", buf.getvalue())
+        atomic_write(self.folder / "results.csv", df.to_csv(index=False))
         df.attrs["units"] = units
         return df
 
@@ -127,8 +123,3 @@ def read_results(folder_or_file: str | Path) -> pd.DataFrame:
     df.attrs["units"] = {f.name: (f.metadata or {}).get(b"unit", b"").decode() for f in table.schema}
     return df
 
-
-def _atomic_text(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.tmp")
-    tmp.write_text(text)
-    os.replace(tmp, path)

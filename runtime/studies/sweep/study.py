@@ -36,7 +36,6 @@ the value given and what is allowed; values of the scene keys are also checked b
 
 from __future__ import annotations
 
-import difflib
 import hashlib
 import json
 import math
@@ -46,6 +45,8 @@ from pathlib import Path
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from apexseal.suggest import did_you_mean
 
 from ...scenes.errors import Problem, show_value
 from .quantities import QUANTITY_HELP, quantity_unit
@@ -235,8 +236,7 @@ def _pydantic_problems(exc: ValidationError, raw: dict) -> list[Problem]:
         msg = err["msg"]
         if err["type"] == "extra_forbidden":
             parent = _known_keys(loc[:-1])
-            near = difflib.get_close_matches(loc[-1], parent, n=1, cutoff=0.5)
-            msg = "unknown key" + (f" (did you mean '{near[0]}'?)" if near else "") + (
+            msg = "unknown key" + did_you_mean(loc[-1], parent, cutoff=0.5) + (
                 f"; known: {', '.join(parent)}" if parent else "")
         elif err["type"] == "literal_error":
             msg = "not allowed; allowed: " + err["ctx"]["expected"]
@@ -311,9 +311,8 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
 
     for q in spec.collect.quantities:
         if quantity_unit(q) is None:
-            near = difflib.get_close_matches(q, list(QUANTITY_HELP), n=1, cutoff=0.5)
-            problems.append(Problem("collect.quantities", q, "unknown quantity" + (
-                f" (did you mean '{near[0]}'?)" if near else "") + f"; known: {', '.join(QUANTITY_HELP)}"))
+            problems.append(Problem("collect.quantities", q, "unknown quantity" + did_you_mean(
+                q, QUANTITY_HELP, cutoff=0.5) + f"; known: {', '.join(QUANTITY_HELP)}"))
     if not spec.collect.quantities:
         problems.append(Problem("collect.quantities", [], "collect at least one quantity"))
 
