@@ -16,7 +16,9 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ...results.figures import _plt
+from apexseal.files import atomic_open
+
+from ...results.figures import new_figure
 from ...scenes.units import registry
 from .quantities import QUANTITY_HELP
 
@@ -90,10 +92,10 @@ def _numeric(study) -> bool:
 
 def quantity_figure(study, table: pd.DataFrame, column: str, path: Path, *, ax=None, feasible=None) -> Path | None:
     """One quantity against the first one or two varied parameters (heat map, scatter or line)."""
-    plt = _plt()
     own = ax is None
     if own:
-        fig, ax = plt.subplots(figsize=(6.4, 4.8))
+        fig = new_figure((6.4, 4.8))
+        ax = fig.add_subplot()
     unit = study.units().get(column, "")
     ok = table["status"] == "completed"
     title = QUANTITY_HELP.get(column, (unit, column))[1]
@@ -120,7 +122,7 @@ def quantity_figure(study, table: pd.DataFrame, column: str, path: Path, *, ax=N
         x, y, z = _grid(study, table.assign(**{column: values}), column)
         xe, ye = _edges(x, p1.scale == "log"), _edges(y, p2.scale == "log")
         mesh = ax.pcolormesh(xe, ye, z, cmap="viridis")
-        plt.colorbar(mesh, ax=ax, label=_label(column, unit))
+        ax.figure.colorbar(mesh, ax=ax, label=_label(column, unit))
         if feasible is not None:
             _, _, m = _grid(study, table.assign(_feasible=feasible.astype(float)), "_feasible", agg="min")
             _region(ax, xe, ye, np.nan_to_num(m) >= 0.5)
@@ -130,7 +132,7 @@ def quantity_figure(study, table: pd.DataFrame, column: str, path: Path, *, ax=N
         p1, p2 = study.parameters[:2]
         sc = ax.scatter(table[p1.key] * _scale(p1)[0], table[p2.key] * _scale(p2)[0], c=table[column].where(ok),
                         cmap="viridis", s=18)
-        plt.colorbar(sc, ax=ax, label=_label(column, unit))
+        ax.figure.colorbar(sc, ax=ax, label=_label(column, unit))
         if feasible is not None:
             ax.scatter(table[p1.key][~feasible] * _scale(p1)[0], table[p2.key][~feasible] * _scale(p2)[0],
                        marker="x", c="k", s=14, label="infeasible")
@@ -141,9 +143,7 @@ def quantity_figure(study, table: pd.DataFrame, column: str, path: Path, *, ax=N
         title += f" (mean over {', '.join(p.key for p in study.parameters[2:])})"
     ax.set_title(title, fontsize=9)
     if own:
-        fig.tight_layout()
-        fig.savefig(path, dpi=120)
-        plt.close(fig)
+        _save(fig, path)
         return path
     return None
 
@@ -152,19 +152,22 @@ def feasible_figure(study, table: pd.DataFrame, path: Path) -> Path | None:
     """The constrained quantities side by side, the infeasible points hatched, the region's border drawn."""
     if not study.constraints or table.empty:
         return None
-    plt = _plt()
     feasible = study.feasible(table)
     columns = [c.column for c in study.constraints if c.column in study.quantities]
-    fig, axes = plt.subplots(1, max(1, len(columns)), figsize=(6.0 * max(1, len(columns)), 4.8), squeeze=False)
+    fig = new_figure((6.0 * max(1, len(columns)), 4.8))
+    axes = fig.subplots(1, max(1, len(columns)), squeeze=False)
     for ax, col in zip(axes[0], columns, strict=False):
         quantity_figure(study, table, col, path, ax=ax, feasible=feasible)
     rule = "; ".join(c.describe() for c in study.constraints)
     fig.suptitle(f"{study.name}: feasible region (unhatched, white border) where {rule} "
                  f"- {int(feasible.sum())} of {len(table)} points", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    _save(fig, path)
     return path
+
+
+def _save(fig, path: Path) -> None:
+    with atomic_open(path, "wb") as fh:  # a half-written PNG never carries the final name
+        fig.savefig(fh, dpi=120, format="png")
 
 
 def sweep_figures(study, table: pd.DataFrame, folder: str | Path) -> list[Path]:
