@@ -82,3 +82,33 @@ def test_coupled_model_with_leakage_off_equals_the_uncoupled_one():
     assert a.ok and b.ok
     np.testing.assert_allclose(b.state, a.state, rtol=1e-9, atol=1e-15)
     assert np.all(b.outputs["mdot_leak_groove"] == 0) and np.all(b.outputs["mdot_leak_tip"] == 0)
+
+
+def test_the_scene_that_ran_keeps_the_gas_model(tmp_path):
+    """A result's scene.toml (the resolved scene) keeps pressure.source and the [gas] keys: reloading it gives
+    the same scene, so a gas result re-runs."""
+    from apexseal.runtime.scenes.resolved import resolved_toml
+    from apexseal.runtime.scenes.scene import load_scene
+
+    scene = apexseal.load_scene().with_overrides(**{**CHAMBER, "pressure.source": "chamber+leakage", "gas.Cd_leak": 0.5})
+    text, files = resolved_toml(scene)
+    (tmp_path / "scene.toml").write_text(text)
+    for name, content in files.items():
+        (tmp_path / name).write_text(content)
+    again = load_scene(tmp_path / "scene.toml")
+    assert again.pressure.to_dict() == {"source": "chamber+leakage"}
+    assert again.content_hash() == scene.content_hash()
+    assert np.array_equal(again.parameter_vector(), scene.parameter_vector())
+
+
+def test_gas_columns_have_units_and_the_gas_figures_draw(closed, tmp_path):
+    """The gas states and outputs are in the one table of outputs (CSV header, pandas units) and a gas run
+    writes the Fig. 11 pressures and the p-V diagram besides the paper's four figures."""
+    from apexseal.runtime.results.figures import write_figures
+
+    df = closed.to_pandas()
+    assert {"ma", "Ub", "Va", "mdot_leak_tip"} <= set(df.columns)
+    assert df.attrs["units"]["ma"] == "kg" and df.attrs["units"]["mdot_in_a"] == "kg/s"
+    names = {p.name for p in write_figures(closed, tmp_path)}
+    assert {"fig11_pressures.png", "pv_diagram.png", "fig12_displacements.png"} <= names
+    assert all((tmp_path / n).stat().st_size > 0 for n in names)
