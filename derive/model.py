@@ -19,8 +19,8 @@ from .effects import Effects
 from .kinematics import plain
 from .options import Options, options_of
 from .submodels.base import ContactModel, Context
-from .submodels.registry import guard, parameter_names, submodels
-from .symbols import P, Pa, Pb
+from .submodels.registry import guard, parameter_names, state_names, submodels
+from .symbols import STATE_NAMES, P, Pa, Pb, state_symbol
 
 
 @dataclass
@@ -41,6 +41,12 @@ class DerivedModel:
     quantities: dict[str, sp.Expr] = field(default_factory=dict)
     #: the parameter vector's names, in order (the registry's at derivation time)
     parameter_names: tuple[str, ...] = ()
+    #: the continuous states, in the order of the state vector: the seal body's six, then the active submodels' own
+    state_names: tuple[str, ...] = STATE_NAMES
+    #: time derivatives of the submodels' own states (the seal body's follow from Eq. 80), by state name
+    rates: dict[str, sp.Expr] = field(default_factory=dict)
+    #: Pa, Pb as expressions of the states when a submodel computes them (then the input u is not used)
+    pressures: dict[str, sp.Expr] = field(default_factory=dict)
 
     @property
     def guard_names(self) -> tuple[str, ...]:
@@ -51,15 +57,42 @@ class DerivedModel:
         return options_of(self.effects, self.assumptions)
 
 
+def _context(k, g, options: Options) -> Context:
+    names = state_names(options)
+    return Context(k, g, options, P, Pa, Pb, {n: state_symbol(n) for n in names})
+
+
 def _contacts(k, g, options: Options) -> list[ContactModel]:
-    ctx = Context(k, g, options, P, Pa, Pb)
+    ctx = _context(k, g, options)
     return [c for cls in submodels() if cls.active(options) for c in cls().contacts(ctx)]
+
+
+def _own_states(k, g, options: Options) -> tuple[dict, dict, dict]:
+    """The submodels' own state derivatives, the chamber pressures they compute, and their extra outputs."""
+    ctx = _context(k, g, options)
+    rates, pressures, outputs = {}, {}, {}
+    for cls in submodels():
+        if not cls.active(options):
+            continue
+        model = cls()
+        rates.update({n: plain(e) for n, e in model.rates(ctx).items()})
+        pa_pb = model.chamber_pressures(ctx)
+        if pa_pb is not None:
+            if pressures:
+                raise ValueError(f"two submodels compute the chamber pressures ({cls.name!r} is the second)")
+            pressures = {"Pa": plain(pa_pb[0]), "Pb": plain(pa_pb[1])}
+        outputs.update({n: plain(e) for n, e in model.outputs(ctx).items()})
+    own = [n for n in state_names(options) if n not in STATE_NAMES]
+    missing = sorted(set(own) - set(rates))
+    if missing:
+        raise ValueError(f"states without a rate: {', '.join(missing)} (a submodel's rates() must give each)")
+    return {n: rates[n] for n in own}, pressures, outputs
 
 
 def submodel_contacts(name: str, k, g, options: Options | None = None) -> list[ContactModel]:
     """The contacts of one registered submodel (e.g. for the paper check), whether or not it is switched on."""
     cls = next(c for c in submodels() if c.name == name)
-    return cls().contacts(Context(k, g, options or options_of(Effects(), Assumptions()), P, Pa, Pb))
+    return cls().contacts(_context(k, g, options or options_of(Effects(), Assumptions())))
 
 
 def derive_model(effects: Effects | None = None, assumptions: Assumptions | None = None) -> DerivedModel:
@@ -89,10 +122,12 @@ def derive_model(effects: Effects | None = None, assumptions: Assumptions | None
             outputs[f"Pf_{c.name}"] = plain(sum((load.friction_power for load in c.loads), sp.S.Zero))
     pf = [e for n, e in outputs.items() if n.startswith("Pf_")]
     outputs["Pf_total"] = sum(pf, sp.S.Zero)
+    rates, pressures, own_outputs = _own_states(k, g, options)
+    outputs.update(own_outputs)
 
     quantities = _quantities(k, g)
     return DerivedModel(effects, assumptions, eq.mass_matrix, eq.forcing, guards, activations, vguards,
-                        outputs, quantities, parameter_names())
+                        outputs, quantities, parameter_names(opts=options), (*STATE_NAMES, *rates), rates, pressures)
 
 
 def _quantities(k, g) -> dict[str, sp.Expr]:

@@ -39,3 +39,34 @@ def machine_numbers(embodiment: str, r_: float, L_: float, Wg_: float, Cr_: floa
     Rlc = math.sqrt((L_ - Cr_) ** 2 + k_**2)
     z = L_ - Cr_ - math.sqrt(Rlc**2 - (k_ + Wg_ / 2) ** 2)
     return MachineNumbers(r_ / L_, z, None)
+
+
+def lobe_area(embodiment: str, r_: float, L_: float, Cr_: float = 0.0, k_: float = 0.0) -> float:
+    """Area between the chord and one rotor lobe (the numeric form of ``derive.chambers.lobe_area``)."""
+    if embodiment == "limacon-to-limacon":  # 1/2 integral of (L - Cr - 2 r sin a)^2 over [0, pi]
+        a = L_ - Cr_
+        return 0.5 * (math.pi * a * a - 8 * r_ * a + 2 * math.pi * r_ * r_)
+    R = math.sqrt((L_ - Cr_) ** 2 + k_**2)
+    return segment_area(R, k_)
+
+
+def segment_area(R: float, h: float) -> float:
+    """Area of a disc of radius R beyond a line at signed distance h from its centre."""
+    return R * R * math.acos(h / R) - h * math.sqrt(max(R * R - h * h, 0.0))
+
+
+def housing_radius(circle: bool, r_: float, L_: float, psi: float) -> float:
+    """Distance from the pole to the housing at polar angle psi: Eq. 2, or the circolimaçon's circle."""
+    s = math.sin(psi)
+    return 2 * r_ * s + (math.sqrt(L_**2 + 4 * r_**2 * s * s) if circle else L_)
+
+
+def chamber_volume(side: int, theta: float, *, r: float, L: float, H: float, A_lobe: float,
+                   housing_circle: float) -> float:
+    """Va (side=1) or Vb (side=-1) at crank angle theta (the numeric form of ``derive.chambers.chamber_volumes``)."""
+    if housing_circle:
+        R = math.sqrt(L * L + 4 * r * r)
+        area = math.pi * R * R - segment_area(R, side * 2 * r * math.cos(theta))
+    else:
+        area = math.pi * r * r + math.pi * L * L / 2 + side * 4 * r * L * math.cos(theta)
+    return H * (area - A_lobe)

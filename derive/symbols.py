@@ -67,6 +67,13 @@ us = sp.symbols("xd yd phid", real=True)
 udots = sp.symbols("xdd ydd phidd", real=True)
 
 
+def state_symbol(name: str) -> sp.Symbol:
+    """The plain symbol of a continuous state by name (the seal body's x ... phid, or a submodel's own)."""
+    if name in STATE_NAMES:
+        return (qs + us)[STATE_NAMES.index(name)]
+    return sp.Symbol(name, real=True)
+
+
 def to_plain(expr: sp.Expr) -> sp.Expr:
     """Replace x(t), x'(t), ... by the plain state symbols (derivatives first)."""
     from sympy.physics.mechanics import msubs

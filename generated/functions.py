@@ -9,9 +9,10 @@ guards (for fixed-step methods). These are the Functions a run executes; a
 mode of the hybrid model (Algorithm 3) is ``rhs`` with its activations fixed
 (:meth:`ModelFunctions.mode_rhs`), so no per-mode Function is generated
 (docs/codegen.md: per-case dispatch measured no faster, and no run used it).
-Argument order everywhere: crank angle ``theta``, state ``x`` (6),
-[activations ``a``], parameters ``p`` (named: ``parameter_names``, the submodels' declarations),
-chamber pressures ``u = [Pa, Pb]``.
+Argument order everywhere: crank angle ``theta``, state ``x`` (the seal body's six, then the
+active submodels' own states, ``state_names``), [activations ``a``], parameters ``p`` (named:
+``parameter_names``, the submodels' declarations), chamber pressures ``u = [Pa, Pb]`` (unused when a
+submodel computes Pa, Pb from its states: the chamber gas model).
 """
 
 from __future__ import annotations
@@ -43,16 +44,22 @@ class Arguments:
         from .lower import Lowering
 
         theta = ca.SX.sym("theta")
-        x = ca.SX.sym("x", len(sym.STATE_NAMES))
+        states = state_names_of(model)
+        x = ca.SX.sym("x", len(states))
         a = ca.SX.sym("a", len(model.activations))
         names = parameter_names_of(model)
         p = ca.SX.sym("p", len(names))
         u = ca.SX.sym("u", len(sym.INPUT_NAMES))
         values = {sym.theta: theta, sym.Pa: u[0], sym.Pb: u[1]}
-        values.update({s: x[i] for i, s in enumerate(sym.qs + sym.us)})
+        values.update({sym.state_symbol(n): x[i] for i, n in enumerate(states)})
         values.update({sym.P[n]: p[i] for i, n in enumerate(names)})
         values.update({s: a[i] for i, s in enumerate(model.activations.values())})
-        return cls(theta, x, a, p, u, Lowering(values))
+        lower = Lowering(values)
+        pressures = getattr(model, "pressures", None) or {}
+        if pressures:  # the chamber gas model: Pa, Pb from its states, not from u
+            pa, pb = lower(pressures["Pa"]), lower(pressures["Pb"])
+            lower = Lowering({**values, sym.Pa: pa, sym.Pb: pb})
+        return cls(theta, x, a, p, u, lower)
 
     def vector(self, exprs) -> ca.SX:
         exprs = list(exprs)
@@ -135,6 +142,11 @@ def _accelerations(args: Arguments, mass_matrix, forcing) -> ca.SX:
     return ca.solve(M, f)
 
 
+def state_names_of(model) -> tuple[str, ...]:
+    """The state vector a derived model was derived with (the seal body's six, then the submodels' own)."""
+    return tuple(getattr(model, "state_names", ()) or STATE_NAMES)
+
+
 def parameter_names_of(model) -> tuple[str, ...]:
     """The parameter vector a derived model was derived with (the registry's order at the time)."""
     from ..derive import symbols as sym
@@ -182,8 +194,10 @@ def build_functions(model, *, sympy_cse: bool = False) -> ModelFunctions:
     if sympy_cse:
         model = with_sympy_cse(model, args)
     th, x, a, p, u = args.theta, args.x, args.a, args.p, args.u
-    n_q = len(sym.qs)
-    xdot = ca.cse(ca.vertcat(x[n_q:], _accelerations(args, model.mass_matrix, model.forcing)))
+    n_q, n_u = len(sym.qs), len(sym.us)
+    rates = getattr(model, "rates", None) or {}
+    xdot = ca.cse(ca.vertcat(x[n_q:n_q + n_u], _accelerations(args, model.mass_matrix, model.forcing),
+                             args.vector(rates[n] for n in state_names_of(model)[n_q + n_u:])))
     g = ca.cse(args.vector(model.guards.values()))
     vg = ca.cse(args.vector(model.velocity_guards.values()))
 
@@ -207,7 +221,7 @@ def build_functions(model, *, sympy_cse: bool = False) -> ModelFunctions:
     out = ModelFunctions(
         rhs=rhs, rhs_jac=rhs.jacobian(), rhs_switched=rhs_switched, guards=guards, velocity_guards=velocity_guards,
         outputs=outputs, mode_list=tuple(modes(model.guard_names)), guard_names=tuple(model.guards),
-        parameter_names=parameter_names_of(model),
+        parameter_names=parameter_names_of(model), state_names=state_names_of(model),
         activation_names=tuple(str(s) for s in model.activations.values()),
         velocity_guard_names=tuple(model.velocity_guards), output_names=tuple(output_names),
     )

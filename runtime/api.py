@@ -132,18 +132,30 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     op = scene.operation
     pressure = scene.pressure.interval_means if scene.effects.chamber_pressure else None
     result = run(functions, scene.parameter_vector(), settings, theta_start=op.start_angle,
-                 state0=initial_state(scene), pressure=pressure, until_periodic=op.until_periodic,
+                 state0=initial_state(scene, functions), pressure=pressure, until_periodic=op.until_periodic,
                  periodic_tol=op.periodic_tol, progress=progress, info=provenance(ran), sink=sink)
     result.scene = ran
     return result
 
 
-def initial_state(scene) -> np.ndarray:
-    """The scene's initial state (x, y, phi, xd, yd, phid), SI."""
-    return np.array([getattr(scene.operation.initial_state, k) for k in STATE_KEYS], float)
-
-
 STATE_KEYS = ("x", "y", "phi", "xd", "yd", "phid")
+
+
+def initial_state(scene, functions=None) -> np.ndarray:
+    """The physical initial state in ``functions.state_names`` order (default: the seal's six, SI): the seal's
+    from [operation.initial_state], a submodel's own states from its ``initial_state`` (the chamber gas: both
+    chambers at the exhaust state)."""
+    from ..derive.options import options_of
+    from ..derive.submodels.registry import submodels
+
+    opts = options_of(scene.effects, scene.assumptions)
+    op = scene.operation
+    values = {k: float(getattr(op.initial_state, k)) for k in STATE_KEYS}
+    for cls in submodels():
+        if cls.states and cls.active(opts):
+            values.update(cls.initial_state(scene.parameters, op.start_angle))
+    names = functions.state_names if functions is not None else STATE_KEYS
+    return np.array([values[n] for n in names], float)
 
 
 class Model:

@@ -28,8 +28,10 @@ class State:
     name: str
     unit: str
     meaning: str
-    #: integrators see state / scale (of order 1); velocities are scaled by omega times their position's scale
+    #: integrators see state / scale (of order 1)
     scale: float = 1.0
+    #: a rate of the rotor-driven motion (the seal's velocities): integrated in units of scale * omega
+    rate: bool = False
 
 
 @dataclass(frozen=True)
@@ -87,6 +89,8 @@ class Context:
     #: chamber pressures (sympy symbols Pa, Pb: chamber a on +Ys, b on -Ys; Eq. 75)
     Pa: Any
     Pb: Any
+    #: the symbols of the continuous states, by name (the seal body's and every active submodel's own)
+    X: Mapping[str, Any] = field(default_factory=dict)
 
     def activation(self, guard: Guard):
         """The activation symbol of a guard (1 = closed)."""
@@ -107,6 +111,8 @@ class Submodel:
     states: ClassVar[tuple[State, ...]] = ()
     #: the option slot that switches the submodel on (None: always on)
     switch: ClassVar[str | None] = None
+    #: its parameters join the parameter vector only while it is on (so a model without it keeps its vector)
+    own_vector: ClassVar[bool] = False
     #: (stiffness, damping) parameter names of the oscillators it adds (explicit-Euler stability check)
     oscillators: ClassVar[tuple[tuple[str, str], ...]] = ()
     #: one line for the docs
@@ -124,3 +130,20 @@ class Submodel:
     def contacts(self, ctx: Context) -> list[ContactModel]:
         """The contacts and loads it puts on the seal."""
         return []
+
+    def rates(self, ctx: Context) -> dict[str, Any]:
+        """The time derivatives of its own states (by state name; the seal body's come from Eq. 80)."""
+        return {}
+
+    def chamber_pressures(self, ctx: Context) -> tuple[Any, Any] | None:
+        """Pa, Pb as expressions of its states, when it computes them (then they replace the input u)."""
+        return None
+
+    def outputs(self, ctx: Context) -> dict[str, Any]:
+        """Named outputs besides the loads' forces and moments (e.g. chamber volumes, mass flows)."""
+        return {}
+
+    @classmethod
+    def initial_state(cls, values: Mapping[str, float], theta: float) -> dict[str, float]:
+        """Initial values of its own states at crank angle ``theta`` from the parameter values (by name)."""
+        return {}

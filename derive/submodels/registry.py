@@ -26,7 +26,7 @@ from .base import Guard, State, Submodel
 
 #: the built-in submodels, in registration order
 BUILTIN = (".seal:SealBody", ".housing:HousingContact", ".groove:GrooveContacts", ".spring:SpringContact",
-           ".pressure:ChamberPressure")
+           ".pressure:ChamberPressure", ".gas:ChamberGas")
 
 _registry: dict[str, type[Submodel]] = {}
 _loaded = False
@@ -54,7 +54,8 @@ def register(cls: type[Submodel]) -> type[Submodel]:
         raise RegistryError(f"a submodel named {cls.name!r} is registered already")
     for what, mine, theirs in (("parameter", [p.name for p in cls.parameters], parameter_names(all_inputs=True)),
                                ("option", [o.name for o in cls.options], list(options())),
-                               ("guard", [g.name for g in cls.guards], [g.name for g in guards()])):
+                               ("guard", [g.name for g in cls.guards], [g.name for g in guards()]),
+                               ("state", [s.name for s in cls.states], list(state_names()))):
         clash = sorted(set(mine) & set(theirs))
         if clash:
             raise RegistryError(f"submodel {cls.name!r} declares {what}s that exist already: {', '.join(clash)}")
@@ -92,14 +93,19 @@ def submodels() -> tuple[type[Submodel], ...]:
     return tuple(_registry.values())
 
 
-def parameters(*, all_inputs: bool = False) -> tuple[Parameter, ...]:
-    """Every declared parameter in order (``all_inputs``: also the scene inputs outside the vector)."""
-    return tuple(p for cls in submodels() for p in cls.parameters if all_inputs or p.in_vector)
+def parameters(*, all_inputs: bool = False, opts=None) -> tuple[Parameter, ...]:
+    """Every declared parameter in order (``all_inputs``: also the scene inputs outside the vector). The
+    parameters of a submodel with ``own_vector`` are in the vector only while ``opts`` switch it on."""
+
+    def in_vector(cls, p) -> bool:
+        return p.in_vector and (not cls.own_vector or (opts is not None and cls.active(opts)))
+
+    return tuple(p for cls in submodels() for p in cls.parameters if all_inputs or in_vector(cls, p))
 
 
-def parameter_names(*, all_inputs: bool = False) -> tuple[str, ...]:
-    """The names of the parameter vector of the generated Functions, in order."""
-    return tuple(p.name for p in parameters(all_inputs=all_inputs))
+def parameter_names(*, all_inputs: bool = False, opts=None) -> tuple[str, ...]:
+    """The names of the parameter vector of the generated Functions, in order (for the options ``opts``)."""
+    return tuple(p.name for p in parameters(all_inputs=all_inputs, opts=opts))
 
 
 def parameter(name: str) -> Parameter:
@@ -114,13 +120,21 @@ def options() -> dict[str, Option]:
     return {o.name: o for cls in submodels() for o in cls.options}
 
 
-def states() -> tuple[State, ...]:
-    """The continuous states, in the order of the state vector."""
-    return tuple(s for cls in submodels() for s in cls.states)
+def states(opts=None) -> tuple[State, ...]:
+    """The continuous states, in the order of the state vector (of the active submodels; all with ``opts`` None)."""
+    return tuple(s for cls in submodels() if opts is None or cls.active(opts) for s in cls.states)
 
 
-def state_names() -> tuple[str, ...]:
-    return tuple(s.name for s in states())
+def state_names(opts=None) -> tuple[str, ...]:
+    return tuple(s.name for s in states(opts))
+
+
+def state(name: str) -> State:
+    """The declaration of a state by name."""
+    for s in states():
+        if s.name == name:
+            return s
+    raise KeyError(f"no submodel declares a state {name!r}")
 
 
 def guards() -> tuple[Guard, ...]:

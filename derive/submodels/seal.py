@@ -55,9 +55,9 @@ class SealBody(Submodel):
         State("x", "m", "the seal's centre of gravity along the groove axis Xg, out of the groove (Eq. 10)", 1e-6),
         State("y", "m", "the seal's centre of gravity across the groove, along Yg (Eq. 10)", 1e-6),
         State("phi", "rad", "the seal's tilt from the groove axis (Eq. 10)", 1e-3),
-        State("xd", "m/s", "dx/dt", 1e-6),
-        State("yd", "m/s", "dy/dt", 1e-6),
-        State("phid", "rad/s", "dphi/dt", 1e-3),
+        State("xd", "m/s", "dx/dt", 1e-6, rate=True),
+        State("yd", "m/s", "dy/dt", 1e-6, rate=True),
+        State("phid", "rad/s", "dphi/dt", 1e-3, rate=True),
     )
     options = (
         Option("inertia", (ON, NONE), "rotor-motion inertial loads on the seal: centrifugal, Coriolis, chord "

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 3e985d2ba560d608f0309b2b6d885364e7a602d19b4895f5381c9899ac9a6a4f.
+ * Effects: all. Input hash: 035175ffdc7128327799fa72681720e3894b67c384a041c674183f48cc0fad2f.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "3e985d2ba560d608f0309b2b6d885364e7a602d19b4895f5381c9899ac9a6a4f"
+#define APEXSEAL_INPUT_HASH "035175ffdc7128327799fa72681720e3894b67c384a041c674183f48cc0fad2f"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -36,7 +36,7 @@ def assemble(functions, params, Z, theta, U, theta_start, omega) -> SimulationRe
     over the samples in one call; the guards give the gaps and penetrations.
     """
     lay = HybridLayout.of(functions)
-    X = to_physical(Z[lay.x], omega)
+    X = to_physical(Z[lay.x], omega, lay.state_names)
     closed = lay.closed(Z)
     events = Z[lay.counts]
     n = theta.size
@@ -47,12 +47,13 @@ def assemble(functions, params, Z, theta, U, theta_start, omega) -> SimulationRe
     for i, name in enumerate(functions.guard_names):  # each guard's declared output: a gap, a penetration, ...
         declared = guard(name)
         outputs[declared.output] = declared.sign * g[i]
-    outputs["Pa"], outputs["Pb"] = U[0], U[1]
+    if "Pa" not in outputs:  # the chamber gas model gives them as outputs, else they are the input u
+        outputs["Pa"], outputs["Pb"] = U[0], U[1]
     patterns, which = np.unique(closed, axis=1, return_inverse=True) if n else (closed, np.zeros(0, int))
     labels = [lay.mode(c) for c in patterns.T]  # a few contact cases, many samples
     modes = [labels[i] for i in np.ravel(which)]
     return SimulationResult(theta - theta_start, (theta - theta_start) / omega, X, closed, events, outputs,
-                            lay.guard_names, modes)
+                            lay.guard_names, modes, info={"state_names": list(lay.state_names)})
 
 
 def assemble_blocks(functions, params, blocks, thetas, pressures, theta_start, omega, first=None) -> SimulationResult:

@@ -12,14 +12,13 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from ...derive.submodels.registry import state_names
 from .outputs import header as units_header
 from .result import SimulationResult
 
 
 def header(part: SimulationResult, guard_names) -> list[str]:
     """The column names with their SI units (``x [m]``), from the one table of outputs (docs/outputs.md)."""
-    return units_header(["theta_deg", "time_s", *state_names(), "mode", *[f"closed_{g}" for g in guard_names],
+    return units_header(["theta_deg", "time_s", *part.state_names, "mode", *[f"closed_{g}" for g in guard_names],
                          *part.outputs])
 
 

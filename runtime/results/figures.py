@@ -148,16 +148,21 @@ def mode_timeline(result: SimulationResult, *, pyplot: bool = False):
 #: the figures a run writes: file name -> drawing function
 FILES = {"fig12_displacements.png": "fig12", "fig13_forces.png": "fig13", "fig14_housing_spectrum.png": "fig14",
          "mode_timeline.png": "modes"}
+#: the figures a run with the chamber gas model writes besides
+GAS_FILES = {"fig11_pressures.png": "fig11", "pv_diagram.png": "pv"}
 
 
 def write_figures(result: SimulationResult, folder: str | Path, ports: dict | None = None, dpi: int = 100) -> list[Path]:
-    """Draw the four figures of a run and save them as PNG files in ``folder`` (created if missing)."""
+    """Draw the four figures of a run (six with the chamber gas model: Fig. 11 pressures and the p-V diagram)
+    and save them as PNG files in ``folder`` (created if missing)."""
+    from .gas import has_gas
     from .plots import figure
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     paths = []
-    for name, kind in FILES.items():
+    files = FILES | (GAS_FILES if has_gas(result) and result.n > 2 else {})
+    for name, kind in files.items():
         fig = figure(result, kind, ports=ports)
         with atomic_open(folder / name, "wb") as fh:  # a half-written PNG never carries the final name
             fig.savefig(fh, dpi=dpi, format="png")

@@ -14,7 +14,7 @@ from . import figures
 from .outputs import describe
 
 #: figure names accepted by :func:`plot`
-FIGURES = ("fig12", "fig13", "fig14", "modes")
+FIGURES = ("fig12", "fig13", "fig14", "modes", "fig11", "pv")
 
 
 def figure(result, kind: str, *, ports: dict | None = None, pyplot: bool = False):
@@ -28,11 +28,18 @@ def figure(result, kind: str, *, ports: dict | None = None, pyplot: bool = False
         return figures.fig14_spectrum(result, pyplot=pyplot)
     if kind == "modes":
         return figures.mode_timeline(result, pyplot=pyplot)
+    if kind in ("fig11", "pv"):
+        from . import gas
+
+        if not gas.has_gas(result):
+            raise ValueError(f"figure {kind!r} needs the chamber gas model (pressure.source = \"chamber\" or "
+                             f"\"chamber+leakage\")")
+        return gas.fig11_pressures(result, pyplot=pyplot) if kind == "fig11" else gas.pv_diagram(result, pyplot=pyplot)
     raise ValueError(f"unknown figure {kind!r}; figures: {', '.join(FIGURES)}")
 
 
 def _check_quantities(result, names: Sequence[str]) -> None:
-    known = ["x", "y", "phi", "xd", "yd", "phid", *result.outputs]
+    known = [*result.state_names, *result.outputs]
     bad = [n for n in names if n not in known]
     if bad:
         from ...suggest import did_you_mean

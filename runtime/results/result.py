@@ -63,7 +63,7 @@ class SimulationResult:
 
     theta: np.ndarray  # (n,) crank angle, rad, measured from the scene's start angle
     time: np.ndarray  # (n,) s
-    state: np.ndarray  # (6, n) x, y (m), phi (rad), and their time derivatives
+    state: np.ndarray  # (n_x, n) x, y (m), phi (rad), their time derivatives, then the submodels' own states
     closed: np.ndarray  # (n_guards, n) bool
     events: np.ndarray  # (n_guards, n) running count of switches of each guard
     outputs: dict[str, np.ndarray]  # name -> (n,)
@@ -82,6 +82,12 @@ class SimulationResult:
     def n(self) -> int:
         """Number of samples."""
         return self.theta.size
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """The names of the state's rows (the seal body's six, then the submodels' own, e.g. the chamber gas)."""
+        names = self.info.get("state_names")
+        return tuple(names) if names else state_names()[: self.state.shape[0]]
 
     @property
     def ok(self) -> bool:
@@ -110,9 +116,9 @@ class SimulationResult:
         return dict(self.info.get("solver_stats", {}))
 
     def column(self, name: str) -> np.ndarray:
-        """A state (``x`` ... ``phid``) or output by name, SI."""
-        if name in state_names():
-            return self.state[state_names().index(name)]
+        """A state (``x`` ... ``phid``, a submodel's own) or output by name, SI."""
+        if name in self.state_names:
+            return self.state[self.state_names.index(name)]
         return self.outputs[name]
 
     # ------------------------------------------------------------------ looking at it

@@ -82,6 +82,10 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     if result.n > 8:
         w, amp = spectrum(F[1:], float(np.mean(np.diff(result.time))))
         out["housing_force_spectrum_peaks"] = spectral_peaks(w, amp)
+    from .gas import gas_summary, has_gas
+
+    if has_gas(result) and result.n > 2:
+        out["gas"] = gas_summary(result)
     out["run"] = dict(result.info)
     out["versions"] = versions()
     if scene_info:

@@ -9,14 +9,14 @@ import json
 
 import numpy as np
 
-from ...derive.submodels.registry import guards, state_names
+from ...derive.submodels.registry import guards
 from .outputs import describe
 
 
 def columns(result) -> dict[str, np.ndarray]:
     """Every column of the result in CSV order (name -> (n,) array, SI; ``mode`` as strings)."""
     cols: dict[str, np.ndarray] = {"theta_deg": np.degrees(result.theta), "time_s": result.time}
-    cols.update({name: result.state[i] for i, name in enumerate(state_names())})
+    cols.update({name: result.state[i] for i, name in enumerate(result.state_names)})
     cols["mode"] = np.asarray(result.modes, dtype=str)
     cols.update({f"closed_{g}": result.closed[i].astype(np.int8) for i, g in enumerate(result.guard_names)})
     cols.update(result.outputs)

@@ -181,7 +181,7 @@ def check_zeta0(m: MachineSection, s: SealSection) -> list[Problem]:
 
 def check_pressure(p: PressureSection, raw: dict[str, Any]) -> list[Problem]:
     """What each source needs, and no keys that the chosen source would ignore."""
-    needs = {"none": (), "constant": ("Pa", "Pb"), "table": ("file",)}
+    needs = {"none": (), "constant": ("Pa", "Pb"), "table": ("file",), "chamber": (), "chamber+leakage": ()}
     out = []
     for key in ("Pa", "Pb", "file"):
         given = getattr(p, key) is not None
@@ -250,8 +250,12 @@ def resolve_effects(
     return Effects.from_mapping(values), []
 
 
-def resolve_assumptions(given: Section) -> Assumptions:
-    return Assumptions.from_mapping(given.model_dump())
+def resolve_assumptions(given: Section, pressure_source: str | None = None) -> Assumptions:
+    """The assumptions of [assumptions]; ``pressure_model`` follows ``pressure.source`` (the chamber gas model)."""
+    values = given.model_dump()
+    if pressure_source is not None and "pressure_model" in values:
+        values["pressure_model"] = pressure_source if pressure_source in ("chamber", "chamber+leakage") else "input"
+    return Assumptions.from_mapping(values)
 
 
 def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list[Problem]:

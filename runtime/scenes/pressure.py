@@ -9,6 +9,8 @@ Sources (``[pressure] source``):
 
 * ``"none"``: zero pressure; the scene then switches the chamber_pressure effect off;
 * ``"constant"``: ``Pa``, ``Pb`` fixed;
+* ``"chamber"``, ``"chamber+leakage"``: the chamber gas model (derive/submodels/gas.py) computes them from
+  its own states; nothing is fed in;
 * ``"table"``: a CSV file ``theta_deg,Pa,Pb`` (one revolution, angles strictly
   increasing within [0, 360) or [-180, 180); pressures absolute, in ``unit``),
   interpolated linearly and periodically. Lines starting with ``#`` are comments.
@@ -112,6 +114,17 @@ class NoPressure(ConstantPressure):
 
     def to_dict(self) -> dict[str, Any]:
         return {"source": self.kind}
+
+
+@dataclass(frozen=True)
+class GasModelPressure(NoPressure):
+    """The chamber gas model's pressures: states of the model, so nothing is fed in (u = 0)."""
+
+    source: str = "chamber"
+    kind: ClassVar[str] = "chamber"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"source": self.source}
 
 
 class PeriodicLinear:
@@ -323,4 +336,6 @@ def make_source(section: Any, base_dir: Any) -> PressureSource:
         return ConstantPressure(section.Pa, section.Pb)
     if section.source == "table":
         return load_table(section.file, base_dir, section.unit)
+    if section.source in ("chamber", "chamber+leakage"):
+        return GasModelPressure(source=section.source)
     return NoPressure()

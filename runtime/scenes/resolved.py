@@ -81,6 +81,11 @@ def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:
     elif d["source"] == "constant":
         lines += _table("pressure", [("source", "constant"), ("Pa", _quantity(d["Pa"], "Pa")),
                                      ("Pb", _quantity(d["Pb"], "Pa"))])
+    elif d["source"] in ("chamber", "chamber+leakage"):  # the chamber gas model: its [gas] keys follow
+        lines += _table("pressure", [("source", d["source"])])
+        gas = getattr(scene, "_sections", {}).get("gas")
+        if gas is not None:
+            walk("gas", gas)
     else:
         lines += _table("pressure", [("source", "none")])
     lines += _table("effects", list(scene.effects.as_dict().items()))

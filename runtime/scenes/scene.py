@@ -101,8 +101,9 @@ def derive_parameters(sections: dict[str, Section], effects: Effects,
     from apexseal.derive.options import options_of
     from apexseal.derive.submodels.registry import parameters
 
-    values = parameter_values(sections, options_of(effects, assumptions or Assumptions()))
-    names = parameters()
+    options = options_of(effects, assumptions or Assumptions())
+    values = parameter_values(sections, options)
+    names = parameters(opts=options)
     missing = [p.name for p in names if values.get(p.name) is None]
     if missing:  # pragma: no cover - a submodel declares a parameter that nothing computes
         raise RuntimeError(f"the scene gives no value for parameters {missing}: a submodel's derived() must")
@@ -144,7 +145,7 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
     for p in doubtful:
         warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=4)
     assert pressure is not None and effects is not None
-    assumptions = resolve_assumptions(sections["assumptions"])
+    assumptions = resolve_assumptions(sections["assumptions"], sections["pressure"].source)
     values = derive_parameters(sections, effects, assumptions)
     return Scene(
         machine=sections["machine"],
@@ -276,8 +277,9 @@ class Scene:
         if unknown:
             raise KeyError(f"no parameters {unknown}; known: {', '.join(self.parameters)}")
         sym = {n: ca.SX.sym(n) for n in names}
-        values = parameter_values(self._sections, options_of(self.effects, self.assumptions), **sym)
-        p = ca.vertcat(*[values[q.name] for q in parameters()])
+        options = options_of(self.effects, self.assumptions)
+        values = parameter_values(self._sections, options, **sym)
+        p = ca.vertcat(*[values[q.name] for q in parameters(opts=options)])
         return ca.Function("parameters_of_" + "_".join(names), list(sym.values()), [p], list(names), ["p"])
 
     @property

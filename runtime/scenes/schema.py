@@ -240,6 +240,9 @@ class Ports(Section):
 
     inlet: Port
     outlet: Port
+    datum: _q("rad", show="deg") = Field(
+        0.0, description="housing angle (from the Xo axis, counter-clockwise) from which the ports' angles are "
+        "measured; Table 1 does not say")
 
     def items(self) -> tuple[tuple[str, Port], ...]:
         return (("inlet", self.inlet), ("outlet", self.outlet))
@@ -279,7 +282,8 @@ class OperationSection(Section):
 class PressureSection(Section):
     """[pressure]: where the chamber pressures Pa(theta), Pb(theta) come from (Eq. 75)."""
 
-    source: _v(Choice("none", "constant", "table"), str) = "none"
+    source: _v(Choice("none", "constant", "table", "chamber", "chamber+leakage"), str) = Field(
+        "none", description="none, constant, table, or the chamber gas model (with the leakage past the seal)")
     Pa: _q("Pa", ge=0, optional=True) = Field(None, description="chamber a (+Ys side), source = constant")
     Pb: _q("Pa", ge=0, optional=True) = Field(None, description="chamber b (-Ys side), source = constant")
     file: _v(Text(optional=True), str | None) = Field(
@@ -322,8 +326,8 @@ _EXTRA_FIELDS: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
 #: within a section, keys are listed stiffnesses first, then damping, coefficients, the rest (stable otherwise)
 _KIND_ORDER = {"N/m": 0, "N*s/m": 1, "1": 2}
 #: the built-in sections, in the order scenes and docs list them
-_ORDER = ("machine", "operation", "seal", "spring", "contacts", "friction", "pressure", "effects", "assumptions",
-          "solver")
+_ORDER = ("machine", "operation", "seal", "spring", "contacts", "friction", "pressure", "gas", "effects",
+          "assumptions", "solver")
 _DOCS = {"machine": "[machine]: the limaçon machine (Eqs. 1-8).", "seal": "[seal]: the apex seal (Eqs. 16-31, 76, 80).",
          "spring": "[spring]: the groove-bottom spring (Eqs. 37-39).",
          "contacts": "[contacts]: contact stiffness and damping (Eqs. 34, 55, 62, 67, 73, Algorithm 1).",

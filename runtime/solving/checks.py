@@ -77,7 +77,7 @@ class RunChecks:
     def missed_event(self, Z, thetas, P) -> tuple | None:
         """A contact the integrator holds open while its gap is negative: a lost event (the seal would pass the wall)."""
         lay, n = self.layout, Z.shape[1]
-        X = to_physical(Z[lay.x], self.omega)
+        X = to_physical(Z[lay.x], self.omega, lay.state_names)
         g = np.array(self.functions.guards.map(n)(thetas[None, :], X, np.repeat(self.params[:, None], n, 1), P))
         bad = (Z[lay.active] < 0.5) & (g / LENGTH < -MISSED_EVENT_UM)
         if not bad.any():

@@ -100,8 +100,9 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
     z_end, head = _longest_head(functions, settings, params, z, theta, dth, u, deadline, make)
     if not _finite_ahead(functions, z_end, theta + head, params, u):
         omega = _omega(functions, params)
-        x, y, phi = to_physical(z_end[lay.x], omega)[:3]
-        g = np.array(functions.guards(theta + head, to_physical(z_end[lay.x], omega), params, u)).ravel()
+        x, y, phi = to_physical(z_end[lay.x], omega, lay.state_names)[:3]
+        g = np.array(functions.guards(theta + head, to_physical(z_end[lay.x], omega, lay.state_names), params,
+                                      u)).ravel()
         g[[i for i, name in enumerate(functions.guard_names) if declared_guard(name).closed_at_rest]] = np.inf
         deepest = int(np.argmin(g))
         return "failed", (f"the state leaves the model's domain at {np.degrees(theta + head - theta_start):.3f} deg: "
@@ -119,7 +120,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
 def _finite_ahead(functions, z, theta, params, u) -> bool:
     """The right-hand side is finite at z and along its direction a little ahead (1e-9 .. 1e-7 s)."""
     lay = HybridLayout.of(functions)
-    X = to_physical(z[lay.x], _omega(functions, params))
+    X = to_physical(z[lay.x], _omega(functions, params), lay.state_names)
     xdot = np.array(functions.rhs(theta, X, z[lay.active], params, u)).ravel()
     if not (np.isfinite(z).all() and np.isfinite(xdot).all()):
         return False

@@ -52,14 +52,14 @@ class EventIntegrator(Engine):
         return cls(sx.rhs, sx.guards, len(names), names.index("omega"), method=method, rtol=rtol,
                    atol=settings.atol, n_samples=n_samples, span=span, max_events=settings.max_events_per_revolution,
                    max_steps=settings.max_steps_per_interval, event_tol=settings.event_tol, compile_c=compile_c,
-                   flags=settings.flags, model_hash=sx.model_hash)
+                   flags=settings.flags, model_hash=sx.model_hash, state_names=functions.state_names)
 
     def __init__(self, rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *, method: str,
                  rtol: float, atol: float | None, n_samples: int, span: float = 2 * np.pi,
                  max_events: int = 10000, max_steps: int = 200000, event_tol: float = 1e-10, compile_c: bool = True,
-                 flags: str = "optimised", model_hash: str | None = None):
+                 flags: str = "optimised", model_hash: str | None = None, state_names=None):
         plugin = METHODS[method].plugin
-        self.hybrid = build_hybrid_dae(rhs, guards, n_par, omega_index, event_tol=event_tol)
+        self.hybrid = build_hybrid_dae(rhs, guards, n_par, omega_index, event_tol=event_tol, state_names=state_names)
         self.n_samples = n_samples
         self.grid = np.linspace(0.0, span, n_samples + 1)[1:]
         opts = {"transition": self.hybrid.transition, "reltol": rtol, "abstol": atol if atol is not None else rtol,

@@ -59,11 +59,11 @@ class FixedStepIntegrator(Engine):
         sx = functions.sx()  # the SX set (of compiled Functions too): the fold embeds it
         return cls(sx.rhs_switched, sx.guards, len(names), names.index("omega"), n_samples=n_samples,
                    steps_per_revolution=settings.steps_per_revolution, span=span, compile_c=compile_c,
-                   flags=settings.flags, model_hash=sx.model_hash)
+                   flags=settings.flags, model_hash=sx.model_hash, state_names=functions.state_names)
 
     def __init__(self, rhs_switched: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *,
                  n_samples: int, steps_per_revolution: int, span: float = 2 * np.pi, compile_c: bool = True,
-                 flags: str = "optimised", model_hash: str | None = None):
+                 flags: str = "optimised", model_hash: str | None = None, state_names=None):
         self.layout = layout = HybridLayout.sized(rhs_switched.size1_in(1), guards.size1_out(0))
         n_x = layout.n_x
         self.n_samples = n_samples
@@ -74,10 +74,10 @@ class FixedStepIntegrator(Engine):
         q = ca.SX.sym("q", n_par + 2)
         par, u = q[:n_par], q[n_par:]
         omega = par[omega_index]
-        sc = state_scale(omega)
+        sc = state_scale(omega, state_names)
 
         def f(theta, z):
-            return scaled_rhs(rhs_switched(theta, z * sc, par, u), omega)
+            return scaled_rhs(rhs_switched(theta, z * sc, par, u), omega, state_names)
 
         theta, z = acc[0], acc[1:]
         step = ca.Function(f"{self.rule.name}_step", [acc, q], [ca.vertcat(theta + h, self.rule.advance(f, theta, z, h))])
@@ -86,7 +86,7 @@ class FixedStepIntegrator(Engine):
         one = ca.Function("one_interval", [ai, qi], [interval(ai, ca.repmat(qi, 1, sub))])
         a0, Q = ca.MX.sym("a0", 1 + n_x), ca.MX.sym("Q", n_par + 2, n_samples)
         A = one.mapaccum(n_samples)(a0, Q)
-        g = guards.map(n_samples)(A[0, :], A[1:, :] * ca.repmat(state_scale(Q[omega_index, 0]), 1, n_samples),
+        g = guards.map(n_samples)(A[0, :], A[1:, :] * ca.repmat(state_scale(Q[omega_index, 0], state_names), 1, n_samples),
                                   Q[:n_par, 0], Q[n_par:, :]) / LENGTH
         self.vm = self.function = ca.Function(f"apexseal_{self.rule.name}", [a0, Q], [A, g])
         self.compiled = False

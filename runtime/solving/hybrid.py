@@ -1,7 +1,7 @@
 """The hybrid seal model for event-locating integrators (CasADi's erk and rosenbrock).
 
 Within a mode (a set of closed contacts) the right-hand side is smooth. The
-integrator's state carries the mode: z = [scaled state (6), activation s_i of each
+integrator's state carries the mode: z = [scaled state, activation s_i of each
 contact (1 = closed), event count of each contact]. Each contact i has a zero
 function e_i = (1 - 2 s_i) g_i / l: positive while the mode is consistent with the
 gap g_i, it crosses from + to - exactly when the contact closes (s_i = 0, g_i
@@ -46,7 +46,7 @@ BLIND_WINDOW = 20
 
 
 def build_hybrid_dae(rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *,
-                     event_tol: float = 1e-10) -> HybridDae:
+                     event_tol: float = 1e-10, state_names=None) -> HybridDae:
     """The DAE dict and transition Function of the hybrid model (see the module docstring).
 
     ``event_tol`` (crank angle, rad) is the tolerance the integrator locates events
@@ -62,10 +62,10 @@ def build_hybrid_dae(rhs: ca.Function, guards: ca.Function, n_par: int, omega_in
     omega = par[omega_index]
     theta = theta0 + tau
     zs, s, counts = z[lay.x], z[lay.active], z[lay.counts]
-    X = zs * state_scale(omega)
+    X = zs * state_scale(omega, state_names)
     xdot = rhs(theta, X, s, par, u)
     g = guards(theta, X, par, u) / LENGTH
-    ode = ca.vertcat(scaled_rhs(xdot, omega), ca.SX.zeros(2 * n_g))
+    ode = ca.vertcat(scaled_rhs(xdot, omega, state_names), ca.SX.zeros(2 * n_g))
     zero = (1 - 2 * s) * g
     dae = {"x": z, "t": tau, "p": p, "u": u, "ode": ode, "zero": zero}
 

@@ -57,7 +57,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     t_wall = time.perf_counter()
     deadline = t_wall + settings.max_wall_time if settings.max_wall_time else math.inf
     u0 = _pressures(pressure, theta_start + np.array([0.0, dth]))[:, 0]
-    z = lay.pack(to_scaled(state0, omega), initial_activations(functions, theta_start, state0, params, u0))
+    z = lay.pack(to_scaled(state0, omega, lay.state_names), initial_activations(functions, theta_start, state0, params, u0))
     part = _Part(functions, params, theta_start, omega, sink, first=z.copy())
     stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0)
     status = "completed" if stop is None else "failed"
@@ -138,8 +138,9 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         except ResultStorageError as err:
             status, stop = "failed", StopInfo(part.theta_done, lay.mode(part.last_active(lay)), str(err))
         wall = time.perf_counter() - t_wall
-        info = dict(info or {}) | {"method": settings.method, "rtol": settings.rtol, "atol": settings.atol,
-                                   "samples_per_revolution": N, "calls_per_revolution": calls,
+        info = dict(info or {}) | {"state_names": list(lay.state_names), "method": settings.method,
+                                   "rtol": settings.rtol, "atol": settings.atol, "samples_per_revolution": N,
+                                   "calls_per_revolution": calls,
                                    "revolutions_asked": revolutions, "wall_time_s": wall, "solver_stats": stats_total,
                                    "solver_stats_note": "" if engine is None or not engine.compiled else
                                    "a compiled integrator reports engine calls and events only; set "

@@ -45,12 +45,13 @@ class StepperIntegrator(Engine):
         return cls(functions.rhs, functions.guards, len(names), names.index("omega"), method=method,
                    rtol=settings.rtol, atol=settings.atol, n_samples=n_samples, span=span,
                    steps_per_revolution=settings.steps_per_revolution, event_tol=settings.event_tol,
-                   max_events=settings.max_events_per_revolution, max_steps=settings.max_steps_per_interval)
+                   max_events=settings.max_events_per_revolution, max_steps=settings.max_steps_per_interval,
+                   state_names=functions.state_names)
 
     def __init__(self, rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *, method: str,
                  rtol: float, atol: float | None, n_samples: int, span: float = 2 * np.pi, steps_per_revolution: int = 20000,
                  event_tol: float = 1e-9, max_events: int = 10000, max_steps: int = 200000,
-                 check_step: float = np.radians(0.05)):
+                 check_step: float = np.radians(0.05), state_names=None):
         plugin = METHODS[method].plugin
         self.layout = layout = HybridLayout.of_functions(rhs, guards)
         n_x, n_g = layout.n_x, layout.n_g
@@ -66,8 +67,8 @@ class StepperIntegrator(Engine):
         theta0, H, u = P[n_par + n_g], P[n_par + n_g + 1], P[n_par + n_g + 2:]
         omega = par[omega_index]
         theta = theta0 + sigma * H
-        X = z * state_scale(omega)
-        ode = H * scaled_rhs(rhs(theta, X, act, par, u), omega)
+        X = z * state_scale(omega, state_names)
+        ode = H * scaled_rhs(rhs(theta, X, act, par, u), omega, state_names)
         dae = {"x": z, "t": sigma, "p": P, "ode": ode}
         opts: dict = {}
         self.elements = None  # fixed-step methods: finite elements per output interval
@@ -93,11 +94,12 @@ class StepperIntegrator(Engine):
         Pm = ca.MX.sym("P", P.size1())
         Z = F(x0=zs, p=Pm)["xf"]  # n_x x m, at the sub-grid
         theta_sub = Pm[n_par + n_g] + Pm[n_par + n_g + 1] * ca.DM(self.sub).T
-        Xs = Z * ca.repmat(state_scale(Pm[omega_index]), 1, m)
+        Xs = Z * ca.repmat(state_scale(Pm[omega_index], state_names), 1, m)
         g = guards.map(m)(theta_sub, Xs, Pm[:n_par], Pm[n_par + n_g + 2:]) / LENGTH
         e = ca.repmat(1 - 2 * Pm[n_par:n_par + n_g], 1, m) * g
         self.step = ca.Function("step", [zs, Pm], [Z, e])
-        g0 = guards(Pm[n_par + n_g], zs * state_scale(Pm[omega_index]), Pm[:n_par], Pm[n_par + n_g + 2:]) / LENGTH
+        X0 = zs * state_scale(Pm[omega_index], state_names)
+        g0 = guards(Pm[n_par + n_g], X0, Pm[:n_par], Pm[n_par + n_g + 2:]) / LENGTH
         self.zero = ca.Function("zero", [zs, Pm], [(1 - 2 * Pm[n_par:n_par + n_g]) * g0])
         self.integrator = F
         self.n_par = n_par
