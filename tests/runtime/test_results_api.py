@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import itertools
 import json
+from pathlib import Path
 
 import matplotlib
 import numpy as np
@@ -20,6 +21,9 @@ from apexseal.runtime.results.outputs import describe, documented_names, header,
 from apexseal.runtime.results.result import SimulationResult
 
 SAMPLES = 360  # the integrator of tests/runtime/test_simulate.py: compiled once per session
+
+#: the repository (the tests run from a checkout; the package itself may be installed elsewhere)
+REPO = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -203,9 +207,8 @@ def test_saved_result_records_its_scene_and_no_machine_path(result, tmp_path):
 
 
 def test_output_columns_are_documented_and_the_csv_header_carries_units(result, tmp_path):
-    from pathlib import Path
 
-    doc = (Path(apexseal.__file__).resolve().parents[2] / "docs" / "outputs.md").read_text()
+    doc = (REPO / "docs" / "outputs.md").read_text()
     assert markdown_table() in doc, "docs/outputs.md is stale: paste runtime.results.outputs.markdown_table()"
     result.save(tmp_path / "r", csv=True)
     first = (tmp_path / "r" / "trajectory.csv").read_text().splitlines()[1].split(",")  # after the run-id line

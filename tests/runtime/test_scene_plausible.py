@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
 
 import pytest
 
 from apexseal.runtime.scenes.errors import SceneError
 from apexseal.runtime.scenes.units import PLAUSIBLE, PlausibilityWarning
+
+#: the repository (the tests run from a checkout; the package itself may be installed elsewhere)
+REPO = Path(__file__).resolve().parents[2]
 
 
 def test_quoted_number_without_unit_is_an_error_naming_key_and_unit(default_scene):
@@ -52,23 +56,16 @@ def test_a_pressure_table_in_bar_declared_in_pa_warns(default_scene, tmp_path):
 
 def test_the_default_and_hard_scenes_are_plausible():
     """Every shipped scene lies inside the documented ranges (no warning on a correct scene)."""
-    from pathlib import Path
-
     import apexseal
 
-    hard = Path(apexseal.__file__).resolve().parents[2] / "runtime" / "scenes" / "hard"
+    hard = REPO / "runtime" / "scenes" / "hard"
     with warnings.catch_warnings():
         warnings.simplefilter("error", PlausibilityWarning)
         apexseal.load_scene()
         for f in sorted(hard.glob("*.toml")):
             apexseal.load_scene(f)
 
-
 def test_the_plausible_ranges_are_documented():
-    from pathlib import Path
-
-    import apexseal
-
-    doc = (Path(apexseal.__file__).resolve().parents[2] / "docs" / "scenes.md").read_text()
+    doc = (REPO / "docs" / "scenes.md").read_text()
     for key in PLAUSIBLE:
         assert f"`{key}`" in doc.split("## Plausible ranges")[1], key
