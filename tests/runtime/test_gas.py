@@ -13,7 +13,7 @@ CHAMBER = {"pressure.source": "chamber", "pressure.file": None, "pressure.unit":
 
 
 def _scene(**more):
-    return apexseal.load_scene().with_overrides(**CHAMBER, **more)
+    return apexseal.load_scene().with_overrides(**{**CHAMBER, **more})
 
 
 @pytest.fixture(scope="module")
