@@ -3,7 +3,8 @@
 * :func:`tip_half_angle` - beta_o, Eq. 24 (a derived parameter: no derivative passes through asin at ro = Ws/2);
 * :func:`machine_numbers` - aspect ratio and groove truncation, Eqs. 4-8;
 * :func:`initial_wall_deflection` - delta_w from the rest balance ks delta_s = kw delta_w, Eq. 9 (the symbolic
-  form, checked against this one by the tests, is ``derive.geometry.initial_wall_deflection``).
+  form, checked against this one by the tests, is ``derive.geometry.initial_wall_deflection``);
+* :func:`damping_of_ratio` - a contact's damping coefficient from its damping ratio, c = 2 zeta sqrt(k ms).
 """
 
 from __future__ import annotations
@@ -20,6 +21,15 @@ def tip_half_angle(Ws: float, ro: float) -> float:
 def initial_wall_deflection(ks, delta_s, kw):
     """Eq. 9: delta_w = ks delta_s / kw (works on numbers and on CasADi symbols alike)."""
     return ks * delta_s / kw
+
+
+def damping_of_ratio(zeta, k, ms):
+    """c = 2 zeta sqrt(k ms): zeta times the critical damping of the seal's mass on a contact of stiffness k.
+
+    (Eqs. 55, 62, 67, 73 take the damping coefficient as given; the ratio is how a scene states it so that a
+    changed stiffness keeps its damping ratio.) Works on numbers and on CasADi symbols alike.
+    """
+    return 2 * zeta * (k * ms) ** 0.5
 
 
 @dataclass(frozen=True)

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
 
+from .results.plausibility import PenetrationWarning, describe, penetration_check, side_clearance
 from .results.result import SimulationResult
 from .solving.run import run
 from .solving.settings import RunSettings
@@ -104,6 +106,8 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
     With ``out`` (a folder) the revolutions are streamed to disk as they finish and the folder is written as
     one unit (runtime/results/folder.py); the returned result is read back from it. ``progress=True`` reports
     the long stages (derivation, code generation, compilation with elapsed times) and the integration on stderr.
+    Warns with :class:`PenetrationWarning` when a contact sinks into its wall by more than a stated fraction of
+    the side clearance (:mod:`apexseal.runtime.results.plausibility`).
     """
     from .. import progress as stages
 
@@ -131,10 +135,15 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     functions = functions or model_functions(scene)
     op = scene.operation
     pressure = scene.pressure.interval_means if scene.effects.chamber_pressure else None
+    clearance = side_clearance(scene.seal.Ws, scene.seal.Wg)
     result = run(functions, scene.parameter_vector(), settings, theta_start=op.start_angle,
                  state0=initial_state(scene, functions), pressure=pressure, until_periodic=op.until_periodic,
-                 periodic_tol=op.periodic_tol, progress=progress, info=provenance(ran), sink=sink)
+                 periodic_tol=op.periodic_tol, progress=progress, info=provenance(ran) | {"side_clearance_m": clearance},
+                 sink=sink)
     result.scene = ran
+    check = penetration_check(result, clearance)
+    if not check["ok"]:
+        warnings.warn(describe(check), PenetrationWarning, stacklevel=3)
     return result
 
 

@@ -115,6 +115,9 @@ class Submodel:
     own_vector: ClassVar[bool] = False
     #: (stiffness, damping) parameter names of the oscillators it adds (explicit-Euler stability check)
     oscillators: ClassVar[tuple[tuple[str, str], ...]] = ()
+    #: pairs of scene keys that state one thing two ways (a damping coefficient or its damping ratio): a scene
+    #: gives at most one of each pair (an error names both), and an override of one replaces the other
+    alternatives: ClassVar[tuple[tuple[str, str], ...]] = ()
     #: one line for the docs
     summary: ClassVar[str] = ""
 

@@ -20,7 +20,10 @@ class HousingContact(Submodel):
     switch = "housing_contact"
     parameters = (
         Parameter("kw", "N/m", "equivalent housing stiffness along the groove axis (Eq. 34)", key="contacts.kw", gt=0),
-        Parameter("cw", "N*s/m", "housing contact damping (Eq. 67)", key="contacts.cw", ge=0),
+        Parameter("cw", "N*s/m", "housing contact damping (Eq. 67); default 2 zeta_w sqrt(kw ms)", key="contacts.cw",
+                  ge=0, optional=True),
+        Parameter("zeta_w", "1", "damping ratio of the housing contact: cw = 2 zeta_w sqrt(kw ms) unless "
+                  "contacts.cw is given", key="contacts.zeta_w", default=0.1, ge=0, le=5, in_vector=False),
         Parameter("mu1", "1", "seal-housing friction coefficient (Algorithm 2)", key="friction.mu1", ge=0, lt=1),
     )
     options = (
@@ -34,6 +37,16 @@ class HousingContact(Submodel):
     guards = (Guard("xs5", "s_h", "minus the tip's penetration into the housing wall (Eq. 33)", output="xs5",
                     sign=-1, closed_label="h", open_label="h0"),)
     oscillators = (("kw", "cw"),)
+    alternatives = (("contacts.cw", "contacts.zeta_w"),)
+
+    @classmethod
+    def derived(cls, values, inputs, options):
+        """cw = 2 zeta_w sqrt(kw ms) unless the scene gives cw."""
+        from ..numbers import damping_of_ratio
+
+        if values.get("cw") is not None:
+            return {}
+        return {"cw": damping_of_ratio(values["zeta_w"], values["kw"], values["ms"])}
 
     def contacts(self, ctx: Context) -> list[ContactModel]:
         """Fs5 = Fs5x + Fs5y at s5 (Eq. 68); its moment follows from where it acts."""

@@ -161,6 +161,11 @@ def oscillators(opts=None) -> tuple[tuple[str, str], ...]:
     return tuple(pair for cls in submodels() if opts is None or cls.active(opts) for pair in cls.oscillators)
 
 
+def alternatives() -> tuple[tuple[str, str], ...]:
+    """The pairs of scene keys of which a scene gives at most one (e.g. ``contacts.cw`` and ``contacts.zeta_w``)."""
+    return tuple(pair for cls in submodels() for pair in cls.alternatives)
+
+
 def digest() -> str:
     """sha256 over the source of every registered submodel (part of the derivation's cache key)."""
     h = hashlib.sha256()

@@ -20,7 +20,10 @@ class SpringContact(Submodel):
     parameters = (
         Parameter("ks", "N/m", "spring stiffness (Eq. 39)", key="spring.ks", gt=0),
         Parameter("delta_s", "m", "spring preload deflection (Eq. 9)", key="spring.delta_s", ge=0, sign="real"),
-        Parameter("cs", "N*s/m", "seal-spring contact damping (Eq. 73)", key="contacts.cs", ge=0),
+        Parameter("cs", "N*s/m", "seal-spring contact damping (Eq. 73); default 2 zeta_s sqrt(ks ms)",
+                  key="contacts.cs", ge=0, optional=True),
+        Parameter("zeta_s", "1", "damping ratio of the seal-spring contact: cs = 2 zeta_s sqrt(ks ms) unless "
+                  "contacts.cs is given", key="contacts.zeta_s", default=0.1, ge=0, le=5, in_vector=False),
         Parameter("mus", "1", "seal-spring friction coefficient (Eq. 73)", key="friction.mus", ge=0, lt=1),
     )
     options = (
@@ -31,6 +34,16 @@ class SpringContact(Submodel):
     guards = (Guard("spring", "s_sp", "minus the spring's compression (Eq. 38)", output="spring_compression",
                     sign=-1, closed_label="s", open_label="s0", closed_at_rest=True),)
     oscillators = (("ks", "cs"),)
+    alternatives = (("contacts.cs", "contacts.zeta_s"),)
+
+    @classmethod
+    def derived(cls, values, inputs, options):
+        """cs = 2 zeta_s sqrt(ks ms) unless the scene gives cs."""
+        from ..numbers import damping_of_ratio
+
+        if values.get("cs") is not None:
+            return {}
+        return {"cs": damping_of_ratio(values["zeta_s"], values["ks"], values["ms"])}
 
     def contacts(self, ctx: Context) -> list[ContactModel]:
         """Fs6 = Fsp X + Fd_s6 + Ff_s6 (Eq. 74)."""

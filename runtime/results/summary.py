@@ -8,6 +8,7 @@ from collections import Counter
 import numpy as np
 
 from ...derive.modes import GAP_GUARDS, gap_width
+from .plausibility import penetration_check
 from .result import SimulationResult
 
 
@@ -86,6 +87,8 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
 
     if has_gas(result) and result.n > 2:
         out["gas"] = gas_summary(result)
+    if result.info.get("side_clearance_m") is not None:
+        out["plausibility"] = penetration_check(result)
     out["run"] = dict(result.info)
     out["versions"] = versions()
     if scene_info:

@@ -258,9 +258,22 @@ def resolve_assumptions(given: Section, pressure_source: str | None = None) -> A
     return Assumptions.from_mapping(values)
 
 
+def check_alternatives(raw: dict[str, Any]) -> list[Problem]:
+    """A scene states a damping coefficient or its damping ratio, never both (the submodels' ``alternatives``)."""
+    from apexseal.derive.submodels.registry import alternatives
+
+    out = []
+    for first, second in alternatives():
+        a, b = raw_at(raw, first.split(".")), raw_at(raw, second.split("."))
+        if a is not MISSING and b is not MISSING:
+            out.append(Problem(first, a, f"given together with {second} = {b!r}, which states the same damping as a "
+                                         f"ratio of critical damping; allowed: one of {first} or {second}"))
+    return out
+
+
 def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list[Problem]:
     """Every cross-key check whose sections are valid."""
-    out: list[Problem] = []
+    out: list[Problem] = check_alternatives(raw)
     m, s = sections.get("machine"), sections.get("seal")
     if m is not None:
         out += check_machine(m, raw)

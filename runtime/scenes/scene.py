@@ -293,9 +293,18 @@ class Scene:
         """A new, checked scene with keys replaced, e.g. ``**{"contacts.kw": 2e9, "operation.rpm": 6000}``.
 
         Values are written as in the TOML (numbers in SI, or strings with units);
-        ``None`` removes a key, restoring its default.
+        ``None`` removes a key, restoring its default. Setting one key of a pair that states one thing two ways
+        (``contacts.cw`` or the damping ratio ``contacts.zeta_w``, ...) removes the other, unless both are given.
         """
+        from apexseal.derive.submodels.registry import alternatives
+
         raw = copy.deepcopy(self._raw)
+        for pair in alternatives():
+            for mine, other in (pair, pair[::-1]):
+                if dotted.get(mine) is not None and other not in dotted:
+                    section, leaf = other.split(".", 1)
+                    if isinstance(raw.get(section), dict):
+                        raw[section].pop(leaf, None)
         problems = []
         for key, value in dotted.items():
             parts = key.split(".")

@@ -13,6 +13,7 @@ def main() -> None:
 
 def _register() -> None:
     from .commands_bench import bench
+    from .commands_calibrate import calibrate
     from .commands_derive import derive
     from .commands_generate import generate
     from .commands_optimise import optimise_preload
@@ -20,7 +21,7 @@ def _register() -> None:
     from .commands_simulate import simulate
     from .commands_sweep import sweep
 
-    for command in (simulate, scene, derive, generate, optimise_preload, bench, sweep):
+    for command in (simulate, scene, derive, generate, optimise_preload, bench, sweep, calibrate):
         main.add_command(command)
 
 

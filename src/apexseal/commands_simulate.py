@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+import warnings
 from pathlib import Path
 
 import click
@@ -47,6 +48,7 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
         from .runtime.api import model_functions, run_scene, settings_of
         from .runtime.results.figures import ports_of, write_figures
         from .runtime.results.folder import ResultFolder, ResultStorageError
+        from .runtime.results.plausibility import PenetrationWarning, describe
         from .runtime.results.summary import summarise
         from .runtime.solving.settings import SettingsError
         from .runtime.solving.signals import StopSignals
@@ -72,8 +74,10 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
                 functions = model_functions(sc)
             with watch.stage("run"):
                 writer = ResultFolder(out)
-                result = run_scene(sc, settings, progress=not quiet and sys.stderr.isatty(), sink=writer,
-                                   functions=functions)
+                with warnings.catch_warnings():  # the penetration check is printed below, with the summary
+                    warnings.simplefilter("ignore", PenetrationWarning)
+                    result = run_scene(sc, settings, progress=not quiet and sys.stderr.isatty(), sink=writer,
+                                       functions=functions)
             watch.split("run", result.info.get("timings_s", {}))
             with watch.stage("save"):
                 summary = summarise(result, {"source": str(scene or "default")})
@@ -97,6 +101,12 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
     click.echo(f"  x {ext['x']['min']:.3f}..{ext['x']['max']:.3f} µm, y {ext['y']['min']:.2f}..{ext['y']['max']:.2f} µm, "
                f"phi {ext['phi']['min']:.3f}..{ext['phi']['max']:.3f} mrad; "
                f"friction power {summary['mean_friction_power_W'].get('total', 0.0):.2f} W")
+    check = summary.get("plausibility")
+    if check is not None and check["penetration_um"]:
+        depth = ", ".join(f"{c} {d:.3g}" for c, d in check["penetration_um"].items())
+        click.echo(f"  deepest penetration (µm): {depth}; side clearance {check['side_clearance_um']:.3g} µm")
+        if not check["ok"]:
+            click.echo(f"  warning: {describe(check)}", err=True)
     click.echo(f"  wrote {', '.join(files)} to {out}/")
     if timings:
         click.echo(watch.report())

@@ -32,7 +32,7 @@ SCENE_FILES = [
     ("toml-duplicate-key", ('L = "50 mm"', 'L = "50 mm"\nL = "60 mm"'), ["malformed TOML"]),
     ("toml-unclosed-table", ("[spring]", "[spring"), ["malformed TOML"]),
     ("empty-file", (TEXT, ""), ["required section [machine] is missing"]),
-    ("unknown-key", ('cw = "207 N*s/m"', 'cw = "207 N*s/m"\ncww = 1'), ["contacts.cww", "unknown key", "'cw'"]),
+    ("unknown-key", ('kw = "1e9 N/m"', 'kw = "1e9 N/m"\ncww = 1'), ["contacts.cww", "unknown key", "'cw'"]),
     ("unknown-section", ("[friction]", "[fricton]"), ["unknown section", "'friction'"]),
     ("wrong-unit", ('ks = "5e3 N/m"', 'ks = "5e3 mm"'), ["spring.ks", "wrong unit", "N/m"]),
     ("angle-without-unit", ('start_angle = "0 deg"', "start_angle = 30"), ["operation.start_angle", "give a unit"]),
@@ -40,7 +40,7 @@ SCENE_FILES = [
     ("unknown-unit", ('Ws = "3.0 mm"', 'Ws = "3.0 mmm"'), ["seal.Ws", "unknown unit 'mmm'"]),
     ("decimal-comma", ('Ws = "3.0 mm"', 'Ws = "3,0 mm"'), ["seal.Ws", "decimal point"]),
     ("nan-value", ('Ws = "3.0 mm"', "Ws = nan"), ["seal.Ws", "must be finite"]),
-    ("negative-stiffness", ('kw = "6.2e7 N/m"', "kw = -5"), ["contacts.kw", "out of range", "> 0 N/m"]),
+    ("negative-stiffness", ('kw = "1e9 N/m"', "kw = -5"), ["contacts.kw", "out of range", "> 0 N/m"]),
     ("friction-of-one", ("mu1 = 0.10", "mu1 = 1.0"), ["friction.mu1", "0 <= value < 1"]),
     ("zero-speed", ('rpm = "1500 rpm"', "rpm = 0"), ["operation.rpm", "out of range"]),
     ("too-many-samples", ("samples_per_revolution = 3600", "samples_per_revolution = 200000"),
@@ -171,7 +171,7 @@ def test_cli_output_folder_cannot_be_created(tmp_path):
 
 
 def test_cli_bad_scene_writes_nothing(tmp_path):
-    path = _write_scene(tmp_path, 'kw = "6.2e7 N/m"', "kw = -5")
+    path = _write_scene(tmp_path, 'kw = "1e9 N/m"', "kw = -5")
     r = CliRunner().invoke(main, ["simulate", str(path), "--out", str(tmp_path / "o"), "-q"])
     assert r.exit_code != 0 and "contacts.kw" in r.output
     assert not (tmp_path / "o").exists()

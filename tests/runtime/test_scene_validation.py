@@ -218,7 +218,7 @@ CASES = [
         {"contacts.kww": 1},
         "contacts.kww",
         "1",
-        ["unknown key (did you mean 'kw'?); known: kw, kg1, kg2, kg3, kg4, cw, cr, cs"],
+        ["unknown key (did you mean 'kw'?); known: kw, kg1, kg2, kg3, kg4, cw, cr, cs, zeta_w, zeta_g, zeta_s"],
     ),
     (
         "unknown-nested-key",

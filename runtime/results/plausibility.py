@@ -1,0 +1,63 @@
+"""Is a run physically plausible? Each contact's deepest penetration against the seal's side clearance.
+
+A penalty contact (Eqs. 34, 39, Algorithm 1) lets the seal sink into a wall by force / stiffness. With metal
+stiffnesses that is a fraction of a micrometre; a penetration that is a large part of the clearance means the
+stiffness is not a metal's (or the load is not a machine's), and the kinematics of the contacts (which corner
+touches which wall, Algorithm 3) are then no longer those of the real seal.
+
+The check compares the deepest penetration of the housing contact (the output ``xs5``, Eq. 33) and of each
+seal-groove contact (minus the gaps ``b1..b4`` of Eqs. 40-43) with ``PENETRATION_FRACTION`` of the side
+clearance ``(Wg - Ws) / 2`` (Eq. 17), the smallest fit of the seal. The spring is left out: it is compressed by
+design. :func:`apexseal.simulate` records the clearance in the result, warns with
+:class:`PenetrationWarning` when the check fails, and ``summary.json`` carries the check as ``plausibility``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..scenes.units import PlausibilityWarning
+
+#: a contact whose penetration exceeds this fraction of the side clearance (Wg - Ws)/2 is implausible
+PENETRATION_FRACTION = 0.25
+
+#: contact -> (output, sign that turns it into a penetration)
+PENETRATIONS = {"housing": ("xs5", 1.0), "i1": ("b1", -1.0), "c2": ("b2", -1.0), "i2": ("b3", -1.0),
+                "c4": ("b4", -1.0)}
+
+
+class PenetrationWarning(PlausibilityWarning):
+    """A run whose contacts sink further into their walls than a metal contact can (a kind of the scene's
+    :class:`~apexseal.runtime.scenes.units.PlausibilityWarning`: filtering that one filters this one too)."""
+
+
+def side_clearance(Ws: float, Wg: float) -> float:
+    """(Wg - Ws) / 2: the seal's clearance on each side of its groove (Eq. 17), m."""
+    return (Wg - Ws) / 2
+
+
+def penetration_check(result, clearance: float | None = None, fraction: float = PENETRATION_FRACTION) -> dict:
+    """Deepest penetration of each contact (µm), the limit, and the contacts beyond it.
+
+    ``clearance`` (m) defaults to the side clearance :func:`apexseal.simulate` recorded in ``result.info``.
+    """
+    if clearance is None:
+        clearance = result.info.get("side_clearance_m")
+    if clearance is None:
+        raise ValueError("the result records no side clearance (run it with apexseal.simulate, or pass clearance)")
+    limit = fraction * clearance
+    depths = {}
+    for contact, (name, sign) in PENETRATIONS.items():
+        if name in result.outputs and result.n:
+            depths[contact] = max(0.0, float(np.max(sign * np.asarray(result.outputs[name], float))))
+    beyond = sorted(c for c, d in depths.items() if d > limit)
+    return {"side_clearance_um": clearance * 1e6, "fraction": fraction, "limit_um": limit * 1e6,
+            "penetration_um": {c: d * 1e6 for c, d in depths.items()}, "beyond_limit": beyond, "ok": not beyond}
+
+
+def describe(check: dict) -> str:
+    """One line for a warning: which contacts, how deep, against what."""
+    worst = ", ".join(f"{c} {check['penetration_um'][c]:.3g} µm" for c in check["beyond_limit"])
+    return (f"implausible penetration: {worst} into the wall, more than {check['fraction']:g} of the side clearance "
+            f"(Wg - Ws)/2 = {check['side_clearance_um']:.3g} µm (limit {check['limit_um']:.3g} µm); the contact "
+            "stiffness is far below a metal contact's (docs/scene-estimates.md gives plausible values)")

@@ -1,0 +1,90 @@
+"""The features of the paper's case study (Section 4.5, Figs. 12-14) measured on a run.
+
+The paper prints no parameter values, only what it saw:
+
+* Fig. 14 and the text after it: the spectrum of the seal-housing force |Fs5| "centres at around 6 x 10^4 rad/s",
+  with smaller peaks near 0.01, 0.05 and 0.78 x 10^4 rad/s;
+* Fig. 12a and the text: the displacement x (out of the groove, into the housing) "is of significant magnitude"
+  near 270 deg, where the seal digs into the housing wall.
+
+:func:`features` measures the same things on the last whole revolution of a result (the start transient left
+out): the frequency of the largest peak of the |Fs5| spectrum above ``MIN_CONTACT_HARMONIC`` times the rotor
+speed (below it lie the rotor's own harmonics), the largest peak in each band around the paper's smaller
+peaks, the crank angle of the largest x, and the housing force's mean and maximum.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from ...results.summary import housing_force, spectrum
+
+#: the paper's Fig. 14 peaks, rad/s (text after Fig. 14): the main one, then the smaller ones
+PAPER_MAIN_PEAK = 6.0e4
+PAPER_SMALL_PEAKS = (1.0e2, 5.0e2, 7.8e3)
+#: the crank angle where the paper's x is largest (text after Fig. 14: "approximately at 3 pi/2")
+PAPER_X_ANGLE_DEG = 270.0
+#: peaks below this multiple of the rotor speed are the rotor's harmonics, not a contact's mode
+MIN_CONTACT_HARMONIC = 20
+#: the spectrum is smoothed over this many bins (one bin = the rotor speed) before its peak is taken
+SMOOTH_BINS = 5
+
+
+@dataclass(frozen=True)
+class Features:
+    main_peak_rad_s: float  # largest peak of the |Fs5| spectrum above MIN_CONTACT_HARMONIC omega
+    small_peaks_rad_s: tuple[float, ...]  # largest peak in a band of a factor 2 around each of PAPER_SMALL_PEAKS
+    x_max_deg: float  # crank angle of the largest x (into the housing)
+    x_max_um: float
+    housing_force_mean_N: float
+    housing_force_max_N: float
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def last_revolution(result) -> slice:
+    """The samples of the last whole revolution (the whole run if it is shorter than one revolution)."""
+    turns = (result.theta - result.theta[0]) / (2 * np.pi)
+    whole = int(np.floor(turns[-1] + 1e-9))
+    if whole < 1:
+        return slice(0, result.n)
+    start = int(np.searchsorted(turns, whole - 1 - 1e-9))
+    return slice(start, result.n)
+
+
+def force_spectrum(result, window: slice | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The amplitude spectrum of |Fs5| over ``window`` (default: the last revolution), smoothed."""
+    window = window or last_revolution(result)
+    F = housing_force(result)[window]
+    dt = float(np.mean(np.diff(result.time[window])))
+    w, amp = spectrum(F, dt)
+    kernel = np.ones(SMOOTH_BINS) / SMOOTH_BINS
+    return w, np.convolve(amp, kernel, mode="same")
+
+
+def _peak_in(w: np.ndarray, amp: np.ndarray, lo: float, hi: float) -> float:
+    band = (w >= lo) & (w <= hi)
+    if not band.any():
+        return float("nan")
+    return float(w[band][np.argmax(amp[band])])
+
+
+def features(result, omega: float) -> Features:
+    """The paper's features measured on the last whole revolution of ``result`` (rotor speed ``omega``, rad/s)."""
+    window = last_revolution(result)
+    w, amp = force_spectrum(result, window)
+    main = _peak_in(w, amp, MIN_CONTACT_HARMONIC * omega, w[-1])
+    small = tuple(_peak_in(w, amp, p / 2, p * 2) for p in PAPER_SMALL_PEAKS)
+    x = result.state[0][window]
+    deg = np.degrees(result.theta[window]) % 360
+    F = housing_force(result)[window]
+    return Features(main, small, float(deg[np.argmax(x)]), float(x.max() * 1e6), float(F.mean()), float(F.max()))
+
+
+def angle_error_deg(a: float, b: float) -> float:
+    """The smallest difference of two crank angles, degrees (0..180)."""
+    d = abs(a - b) % 360
+    return min(d, 360 - d)

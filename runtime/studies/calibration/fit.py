@@ -1,0 +1,193 @@
+"""Fit the parameters the paper does not print to the features it reports (Section 4.5, Figs. 12-14).
+
+The unknowns are the contact stiffnesses (kw; kg1..kg4 together as kg) and the damping ratios (zeta_w, zeta_g),
+each within the range a metal contact of this size allows (:data:`PLAUSIBLE`, reasoned in
+docs/scene-estimates.md). Each candidate is one :func:`apexseal.simulate` of ``revolutions`` revolutions with the
+compiled integrator of the scene (compiled once; the parameters are inputs), and the features of its last
+revolution (:mod:`.features`) are compared with the paper's:
+
+    J = (ln(f_main / 6e4 rad/s))^2 + (angle error of the largest x / 180 deg)^2
+
+over a coarse grid (``grid`` points per unknown, in log stiffness and log ratio), then polished by bounded
+Nelder-Mead (scipy.optimize.minimize) from the best grid point. The report says the fit, its residuals, and, per
+feature, whether a plausible parameter set reaches it and if not, why.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import time
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .features import PAPER_MAIN_PEAK, PAPER_X_ANGLE_DEG, Features, angle_error_deg, features
+
+#: unknown -> (low, high): plausible range (docs/scene-estimates.md)
+PLAUSIBLE = {"kw": (3e8, 1e10), "kg": (3e8, 1e10), "zeta_w": (0.02, 0.5), "zeta_g": (0.02, 0.5)}
+#: a feature within this of the paper counts as matched: 15 % in frequency, 20 deg in crank angle
+FREQUENCY_MATCH = 0.15
+ANGLE_MATCH_DEG = 20.0
+
+
+class CalibrationError(ValueError):
+    """A request the study cannot run (an unknown name, a range outside the plausible one)."""
+
+
+def overrides(values: dict[str, float]) -> dict[str, float]:
+    """Scene overrides of the unknowns (kg sets kg1..kg4; ratios go to contacts.zeta_*)."""
+    out = {}
+    for name, v in values.items():
+        if name == "kg":
+            out.update({f"contacts.kg{i}": v for i in range(1, 5)})
+        else:
+            out[f"contacts.{name}"] = v
+    return out
+
+
+@dataclass
+class Evaluation:
+    values: dict[str, float]
+    features: Features | None
+    cost: float
+    status: str
+
+    def to_dict(self) -> dict:
+        return {"values": self.values, "cost": self.cost, "status": self.status,
+                "features": None if self.features is None else self.features.to_dict()}
+
+
+@dataclass
+class Calibration:
+    best: Evaluation
+    evaluations: list[Evaluation] = field(default_factory=list)
+    ranges: dict[str, tuple[float, float]] = field(default_factory=dict)
+    revolutions: int = 2
+    wall_time_s: float = 0.0
+    mass: float = float("nan")  # the seal's mass ms, kg (for the stiffness a feature would need)
+
+    def residuals(self) -> dict:
+        f = self.best.features
+        return {"main_peak_ln_ratio": math.log(f.main_peak_rad_s / PAPER_MAIN_PEAK),
+                "x_max_angle_deg": angle_error_deg(f.x_max_deg, PAPER_X_ANGLE_DEG)}
+
+    def verdicts(self) -> dict:
+        """Per feature: matched by the best plausible set, or not, with the reason found in the evaluations."""
+        ok = [e for e in self.evaluations if e.features is not None]
+        peaks = np.array([e.features.main_peak_rad_s for e in ok])
+        angles = np.array([e.features.x_max_deg for e in ok])
+        f = self.best.features
+        main_ok = abs(f.main_peak_rad_s / PAPER_MAIN_PEAK - 1) <= FREQUENCY_MATCH
+        angle_ok = angle_error_deg(f.x_max_deg, PAPER_X_ANGLE_DEG) <= ANGLE_MATCH_DEG
+        kw_needed = PAPER_MAIN_PEAK**2 * self.mass
+        return {
+            "main_peak": {
+                "paper_rad_s": PAPER_MAIN_PEAK, "fit_rad_s": f.main_peak_rad_s, "matched": bool(main_ok),
+                "range_over_evaluations_rad_s": [float(peaks.min()), float(peaks.max())],
+                "reason": "matched" if main_ok else
+                (f"over the plausible ranges the main peak stays within {peaks.min():.3g}..{peaks.max():.3g} rad/s; "
+                 f"the housing mode sqrt(kw/ms) is at 6e4 rad/s only for kw = {kw_needed:.3g} N/m, below the "
+                 f"plausible {self.ranges['kw'][0]:.3g} N/m of a metal line contact"),
+            },
+            "x_max_angle": {
+                "paper_deg": PAPER_X_ANGLE_DEG, "fit_deg": f.x_max_deg, "matched": bool(angle_ok),
+                "range_over_evaluations_deg": [float(angles.min()), float(angles.max())],
+                "reason": "matched" if angle_ok else
+                ("the largest x follows the loads, not the contact parameters: with the estimated chamber pressures "
+                 "(the paper's Fig. 11 is not tabulated) it falls at a chamber switch (docs/paper-findings.md)"),
+            },
+        }
+
+    def to_dict(self) -> dict:
+        return {"best": self.best.to_dict(), "residuals": self.residuals(), "verdicts": self.verdicts(),
+                "ranges": {k: list(v) for k, v in self.ranges.items()}, "revolutions": self.revolutions,
+                "evaluations": [e.to_dict() for e in self.evaluations], "wall_time_s": self.wall_time_s}
+
+    def describe(self) -> str:
+        b = self.best
+        lines = ["best plausible set: " + ", ".join(f"{k} = {v:.3g}" for k, v in b.values.items())
+                 + f" (cost {b.cost:.3g}, {len(self.evaluations)} simulations, {self.wall_time_s:.1f} s)"]
+        for name, v in self.verdicts().items():
+            paper = v.get("paper_rad_s", v.get("paper_deg"))
+            fit = v.get("fit_rad_s", v.get("fit_deg"))
+            lines.append(f"  {name}: paper {paper:.4g}, fit {fit:.4g}: "
+                         + ("reproduced" if v["matched"] else f"not matched: {v['reason']}"))
+        return "\n".join(lines)
+
+
+def cost_of(f: Features) -> float:
+    """J: squared log frequency ratio of the main peak plus the squared angle error over 180 deg."""
+    return math.log(f.main_peak_rad_s / PAPER_MAIN_PEAK) ** 2 + (angle_error_deg(f.x_max_deg, PAPER_X_ANGLE_DEG)
+                                                                 / 180) ** 2
+
+
+def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, grid: int = 3, revolutions: int = 2,
+              polish: int = 20, samples: int | None = None,
+              progress: Callable[[str], None] | None = None) -> Calibration:
+    """Fit the unknowns within ``ranges`` (default :data:`PLAUSIBLE`) to the paper's features (module docstring).
+
+    ``grid``: points per unknown (log-spaced); ``polish``: Nelder-Mead evaluations after the grid (0: none);
+    ``samples``: samples per revolution (default: the scene's).
+    """
+    from scipy.optimize import minimize
+
+    from ...api import model_functions, simulate
+
+    ranges = dict(PLAUSIBLE if ranges is None else ranges)
+    for name, (lo, hi) in ranges.items():
+        if name not in PLAUSIBLE:
+            raise CalibrationError(f"unknown = {name!r}: not an unknown of the study; allowed: {', '.join(PLAUSIBLE)}")
+        plo, phi = PLAUSIBLE[name]
+        if not (plo <= lo < hi <= phi):
+            raise CalibrationError(f"{name} = {lo:g}..{hi:g}: allowed: a range inside the plausible {plo:g}..{phi:g}")
+    if grid < 1 or revolutions < 2:
+        raise CalibrationError("grid must be >= 1 and revolutions >= 2 (the first revolution is the start transient)")
+    say = progress or (lambda _: None)
+    names = list(ranges)
+    lo = np.log([ranges[n][0] for n in names])
+    hi = np.log([ranges[n][1] for n in names])
+    functions = model_functions(scene)
+    evaluations: list[Evaluation] = []
+    start = time.perf_counter()
+    if samples is None:  # Nyquist above the stiffest contact's mode, so that no candidate's peak is aliased
+        p = scene.parameters
+        stiffest = max(ranges["kw"][1] if "kw" in ranges else p["kw"],
+                       ranges["kg"][1] if "kg" in ranges else max(p[f"kg{i}"] for i in range(1, 5)))
+        fastest = math.sqrt(stiffest / p["ms"])
+        samples = max(scene.solver.samples_per_revolution, 360 * math.ceil(2.4 * fastest / scene.omega / 360))
+    extra = {"samples_per_revolution": samples}
+
+    def evaluate(u: np.ndarray) -> float:
+        values = {n: float(np.exp(v)) for n, v in zip(names, np.clip(u, lo, hi), strict=True)}
+        sc = scene.with_overrides(**overrides(values))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            r = simulate(sc, revolutions=revolutions, functions=functions, **extra)
+        if not r.ok:
+            ev = Evaluation(values, None, float("inf"), r.status)
+        else:
+            f = features(r, sc.omega)
+            ev = Evaluation(values, f, cost_of(f), r.status)
+        evaluations.append(ev)
+        shown = ", ".join(f"{k} {v:.3g}" for k, v in values.items())
+        tail = f"main peak {ev.features.main_peak_rad_s:.3g} rad/s, x largest at {ev.features.x_max_deg:.0f} deg" \
+            if ev.features else ev.status
+        say(f"[{len(evaluations)}] {shown}: {tail}; cost {ev.cost:.3g}")
+        return ev.cost
+
+    axes = [np.linspace(a, b, grid) if grid > 1 else np.array([(a + b) / 2]) for a, b in zip(lo, hi, strict=True)]
+    for point in itertools.product(*axes):
+        evaluate(np.array(point))
+    finite = [e for e in evaluations if math.isfinite(e.cost)]
+    if not finite:
+        raise CalibrationError("no candidate completed; see the statuses of the evaluations")
+    best = min(finite, key=lambda e: e.cost)
+    if polish > 0:
+        u0 = np.log([best.values[n] for n in names])
+        minimize(evaluate, u0, method="Nelder-Mead", bounds=list(zip(lo, hi, strict=True)),
+                 options={"maxfev": polish, "xatol": 0.05, "fatol": 1e-3})
+        best = min((e for e in evaluations if math.isfinite(e.cost)), key=lambda e: e.cost)
+    return Calibration(best, evaluations, ranges, revolutions, time.perf_counter() - start, mass=scene.parameters["ms"])

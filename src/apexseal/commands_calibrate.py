@@ -1,0 +1,39 @@
+"""``apexseal calibrate``: fit the contact parameters the paper does not print to the features it reports."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+
+from .cli_common import scene_and_folder
+
+
+@click.command()
+@click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@click.option("--grid", type=click.IntRange(1, 9), default=3, show_default=True,
+              help="Grid points per unknown (log-spaced over its plausible range).")
+@click.option("--polish", type=click.IntRange(0, 500), default=20, show_default=True,
+              help="Nelder-Mead simulations after the grid (0: none).")
+@click.option("--revolutions", "-n", type=click.IntRange(2, 50), default=2, show_default=True,
+              help="Revolutions per simulation; the last one is analysed.")
+@click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Output folder for calibration.json [default: apexseal-out/<scene name>].")
+def calibrate(scene: Path | None, grid, polish, revolutions, out) -> None:
+    """Fit kw, kg (kg1..kg4), zeta_w and zeta_g of SCENE (default: the embedded case study) within their plausible
+    ranges to the paper's Fig. 14 main peak and the crank angle of the largest x (Fig. 12a), and say which
+    features no plausible set matches and why."""
+    from .runtime.studies.calibration import CalibrationError
+    from .runtime.studies.calibration import calibrate as run_study
+
+    sc, out = scene_and_folder(scene, out)
+    click.echo(f"scene {scene or '(embedded default: the paper case study)'}; grid {grid}, polish {polish}, "
+               f"{revolutions} revolutions per simulation; writing to {out}/")
+    try:
+        result = run_study(sc, grid=grid, polish=polish, revolutions=revolutions, progress=click.echo)
+    except CalibrationError as err:
+        raise click.BadParameter(str(err)) from None
+    (out / "calibration.json").write_text(json.dumps(result.to_dict(), indent=2) + "\n")
+    click.echo(result.describe())
+    click.echo(f"  wrote calibration.json to {out}/")

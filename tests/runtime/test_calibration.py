@@ -1,0 +1,60 @@
+"""The calibration study: features of a run, and a tiny fit (the full one is `apexseal calibrate`)."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import apexseal
+from apexseal.runtime.studies.calibration import PLAUSIBLE, CalibrationError, calibrate, features
+from apexseal.runtime.studies.calibration.features import angle_error_deg, last_revolution
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return apexseal.load_scene()
+
+
+def test_without_pressure_the_main_peak_is_the_housing_mode(scene, default_functions):
+    """The paper's main peak is the tip-housing mode: with the chamber pressure off, the largest peak of |Fs5| above
+    the rotor harmonics lies at sqrt(kw / ms) (kw = 6.2e7 N/m puts it at the paper's 6e4 rad/s)."""
+    for kw in (6.2e7, 1e9):
+        s = scene.with_overrides(**{"effects.chamber_pressure": False, "contacts.kw": kw})
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            r = apexseal.simulate(s, revolutions=2, functions=default_functions.sx)
+        f = features(r, s.omega)
+        assert f.main_peak_rad_s == pytest.approx(math.sqrt(kw / s.parameters["ms"]), rel=0.06), kw
+        assert f.small_peaks_rad_s[0] == pytest.approx(s.omega, rel=1e-3)  # one bin of the spectrum; the paper's 0.01e4 peak: the rotor speed
+        assert 80 <= f.x_max_deg <= 100  # inertia alone: the seal digs in where the chord's sliding reverses
+
+
+def test_last_revolution_and_angles(scene, default_functions):
+    r = apexseal.simulate(scene, revolutions=2, functions=default_functions.sx, samples_per_revolution=72)
+    w = last_revolution(r)
+    assert r.theta[w][-1] - r.theta[w][0] == pytest.approx(2 * np.pi)
+    assert angle_error_deg(350, 10) == 20 and angle_error_deg(90, 270) == 180
+
+
+def test_a_tiny_calibration(scene):
+    ranges = {"kw": (3e8, 1e9), "zeta_w": (0.05, 0.2)}
+    lines = []
+    cal = calibrate(scene, ranges=ranges, grid=2, polish=2, revolutions=2, samples=720, progress=lines.append)
+    assert len(cal.evaluations) == 6 and len(lines) == 6  # 2 x 2 grid, then 2 Nelder-Mead evaluations
+    assert all(math.isfinite(e.cost) for e in cal.evaluations)
+    assert cal.best.cost == min(e.cost for e in cal.evaluations)
+    for name, (lo, hi) in ranges.items():
+        assert lo * (1 - 1e-9) <= cal.best.values[name] <= hi * (1 + 1e-9)
+    d = cal.to_dict()
+    assert set(d["verdicts"]) == {"main_peak", "x_max_angle"}
+    assert d["residuals"]["main_peak_ln_ratio"] == pytest.approx(math.log(cal.best.features.main_peak_rad_s / 6e4))
+    assert "best plausible set: kw = " in cal.describe()
+
+
+@pytest.mark.parametrize("ranges, fragment", [({"kw": (1e7, 1e9)}, r"inside the plausible 3e\+08\.\.1e\+10"),
+                                              ({"mu1": (0.1, 0.2)}, "not an unknown of the study")])
+def test_bad_ranges_are_refused(scene, ranges, fragment):
+    with pytest.raises(CalibrationError, match=fragment):
+        calibrate(scene, ranges=ranges)
+    assert set(PLAUSIBLE) == {"kw", "kg", "zeta_w", "zeta_g"}

@@ -1,0 +1,94 @@
+"""Damping stated as a ratio of critical damping, and the penetration check after a run."""
+
+import math
+import warnings
+
+import pytest
+
+import apexseal
+from apexseal.runtime.results.plausibility import PENETRATION_FRACTION, PenetrationWarning, penetration_check
+from apexseal.runtime.results.summary import summarise
+from apexseal.runtime.scenes.scene import Scene, SceneError, default_scene_text, load_scene
+
+SAMPLES = 720
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return load_scene()
+
+
+def test_a_changed_stiffness_keeps_its_damping_ratio(scene):
+    stiff = scene.with_overrides(**{"contacts.kw": 4e9, "contacts.kg2": 3e9, "spring.ks": 2e4})
+    p, ms = stiff.parameters, stiff.parameters["ms"]
+    assert p["cw"] == pytest.approx(2 * 0.1 * math.sqrt(4e9 * ms), rel=1e-12)
+    assert p["cr"] == pytest.approx(2 * 0.1 * math.sqrt((3 * 1e9 + 3e9) / 4 * ms), rel=1e-12)  # the mean kg
+    assert p["cs"] == pytest.approx(2 * 0.1 * math.sqrt(2e4 * ms), rel=1e-12)
+    half = scene.with_overrides(**{"contacts.zeta_w": 0.05})
+    assert half.parameters["cw"] == pytest.approx(scene.parameters["cw"] / 2, rel=1e-12)
+
+
+def test_an_explicit_coefficient_replaces_the_ratio(scene):
+    s = scene.with_overrides(**{"contacts.cw": 50.0})
+    assert s.parameters["cw"] == 50.0 and s.parameters["cr"] == scene.parameters["cr"]
+    assert s.with_overrides(**{"contacts.kw": 2e9}).parameters["cw"] == 50.0  # no ratio left to follow kw
+    back = s.with_overrides(**{"contacts.zeta_w": 0.1})
+    assert back.parameters["cw"] == pytest.approx(scene.parameters["cw"], rel=1e-12)
+
+
+@pytest.mark.parametrize("pair", [("cw", "zeta_w"), ("cr", "zeta_g"), ("cs", "zeta_s")])
+def test_a_scene_giving_both_is_an_error_naming_both(pair):
+    coefficient, ratio = pair
+    text = default_scene_text().replace(f"{ratio} = 0.1", f"{ratio} = 0.1\n{coefficient} = \"5 N*s/m\"")
+    with pytest.raises(SceneError) as err:
+        Scene.from_toml_string(text, load_scene()._base_dir)
+    assert len(err.value.errors) == 1
+    message = str(err.value)
+    assert f"contacts.{coefficient}" in message and f"contacts.{ratio}" in message and "allowed: one of" in message
+    with pytest.raises(SceneError, match="contacts.zeta_w"):
+        load_scene().with_overrides(**{"contacts.cw": 5.0, "contacts.zeta_w": 0.2})
+
+
+def test_a_ratio_out_of_range_names_its_range(scene):
+    with pytest.raises(SceneError, match=r"contacts.zeta_g = -0.1: .*allowed: 0 <= value <= 5"):
+        scene.with_overrides(**{"contacts.zeta_g": -0.1})
+
+
+def test_hard_scenes_keep_their_explicit_damping():
+    s = load_scene(load_scene().source_path.parent / "hard" / "stiff-groove-1e9.toml")
+    assert {k: s.parameters[k] for k in ("cw", "cr", "cs")} == {"cw": 207.0, "cr": 27.0, "cs": 1.9}
+
+
+def test_the_default_scene_is_plausible(scene, default_functions):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PenetrationWarning)
+        r = apexseal.simulate(scene, functions=default_functions.sx, samples_per_revolution=SAMPLES)
+    check = summarise(r)["plausibility"]
+    assert check["ok"] and check["beyond_limit"] == []
+    assert check["side_clearance_um"] == pytest.approx(30.0)
+    assert check["limit_um"] == pytest.approx(PENETRATION_FRACTION * 30.0)
+    assert set(check["penetration_um"]) == {"housing", "i1", "c2", "i2", "c4"}
+    # metal contacts: the tip sinks by a fraction of a micrometre; the groove contacts by about 2 um at the
+    # chamber switches, where the seal crosses its clearance and strikes the far wall with a few kN
+    assert 0 < check["penetration_um"]["housing"] < 1.0
+    assert 0.5 < max(check["penetration_um"].values()) < check["limit_um"]
+
+
+def test_a_soft_groove_is_flagged(scene, default_functions):
+    soft = scene.with_overrides(**{f"contacts.kg{i}": 1.05e6 for i in range(1, 5)} | {"contacts.cr": 27.0})
+    with pytest.warns(PenetrationWarning, match=r"more than 0.25 of the side clearance \(Wg - Ws\)/2 = 30 µm") as w:
+        r = apexseal.simulate(soft, functions=default_functions.sx, samples_per_revolution=SAMPLES)
+    check = penetration_check(r)
+    assert not check["ok"] and set(check["beyond_limit"]) <= {"i1", "c2", "i2", "c4"} and check["beyond_limit"]
+    assert all(check["penetration_um"][c] > 7.5 for c in check["beyond_limit"])
+    assert str(w[0].message).startswith("implausible penetration: ")
+    assert summarise(r)["plausibility"] == check
+
+
+def test_the_check_needs_a_clearance(scene, default_functions):
+    r = apexseal.simulate(scene, functions=default_functions.sx, samples_per_revolution=72)
+    r.info.pop("side_clearance_m")
+    with pytest.raises(ValueError, match="no side clearance"):
+        penetration_check(r)
+    assert "plausibility" not in summarise(r)
+    assert penetration_check(r, clearance=1e-9, fraction=0.5)["beyond_limit"]  # a 1 nm fit: every contact is too deep
