@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 035175ffdc7128327799fa72681720e3894b67c384a041c674183f48cc0fad2f.
+ * Effects: all. Input hash: e9263884725ebbfa9005d24cec6a4c6ade9aa999a6218cc1f93dfe60467ae957.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "035175ffdc7128327799fa72681720e3894b67c384a041c674183f48cc0fad2f"
+#define APEXSEAL_INPUT_HASH "e9263884725ebbfa9005d24cec6a4c6ade9aa999a6218cc1f93dfe60467ae957"
 
 /* state x */
 #define APEXSEAL_NX 6
