@@ -1,0 +1,79 @@
+"""The numbers of docs/paper-findings.md: the paper's features on the default scene, with and without the chamber
+pressure, by erk and by the paper's explicit Euler at several steps.
+
+    python -m apexseal.runtime.studies.calibration.findings        # about a minute on one core
+
+Each run is two revolutions from rest; the features are those of the last one (:mod:`.features`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+
+import numpy as np
+
+from .features import force_spectrum, last_revolution
+from .features import features as features_of
+
+#: (label, method, Euler steps per revolution)
+RUNS = (("erk", "erk", None), ("euler 1e6", "euler", 1_000_000), ("euler 2e5", "euler", 200_000),
+        ("euler 6e4", "euler", 60_000))
+#: frequencies (rad/s) whose spectral amplitude is printed: the rotor's 2nd and 3rd harmonics, the spring mode
+PROBES = (314.16, 471.24, 538.2)
+
+
+def run_all(scene=None, revolutions: int = 2) -> list[dict]:
+    import apexseal
+    from apexseal.runtime.api import model_functions
+    from apexseal.runtime.results.plausibility import penetration_check
+
+    base = scene or apexseal.load_scene()
+    rows = []
+    for pressure in (True, False):
+        sc = base if pressure else base.with_overrides(**{"effects.chamber_pressure": False})
+        fns = model_functions(sc)
+        for label, method, steps in RUNS:
+            start = time.perf_counter()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                extra = {} if steps is None else {"steps_per_revolution": steps}
+                r = apexseal.simulate(sc, revolutions=revolutions, method=method, functions=fns, **extra)
+            row = {"pressure": pressure, "run": label, "status": r.status, "wall_s": time.perf_counter() - start}
+            if not r.ok:
+                row["stop"] = r.stop.describe()
+                rows.append(row)
+                continue
+            f = features_of(r, sc.omega)
+            w = last_revolution(r)
+            x, y = r.state[0][w] * 1e6, r.state[1][w] * 1e6
+            om, amp = force_spectrum(r, w)
+            row.update(f.to_dict())
+            row.update({"x_um": (float(x.min()), float(x.max())), "y_um": (float(y.min()), float(y.max())),
+                        "penetration_um": penetration_check(r)["penetration_um"],
+                        "events": int(r.events[:, -1].sum() - r.events[:, int(w.start)].sum()),
+                        "probes_N": {p: float(np.interp(p, om, amp)) for p in PROBES},
+                        "housing_mode_rad_s": math.sqrt(sc.parameters["kw"] / sc.parameters["ms"])})
+            rows.append(row)
+    return rows
+
+
+def main() -> None:
+    for row in run_all():
+        head = f"pressure {'on ' if row['pressure'] else 'off'} | {row['run']:9s} | {row['wall_s']:5.1f} s | "
+        if row["status"] != "completed":
+            print(head + row["status"] + ": " + row["stop"][:160])
+            continue
+        pen = max(row["penetration_um"].values())
+        probes = ", ".join(f"{a:.3g} N at {p:.0f}" for p, a in row["probes_N"].items())
+        print(head + f"x {row['x_um'][0]:.3f}..{row['x_um'][1]:.3f} um (largest at {row['x_max_deg']:.1f} deg), "
+              f"y {row['y_um'][0]:.2f}..{row['y_um'][1]:.2f} um | main peak {row['main_peak_rad_s']:.3g} rad/s "
+              f"(sqrt(kw/ms) {row['housing_mode_rad_s']:.3g}), small-peak bands "
+              + ", ".join(f"{v:.3g}" for v in row["small_peaks_rad_s"])
+              + f" | |Fs5| mean {row['housing_force_mean_N']:.1f} N, max {row['housing_force_max_N']:.0f} N | "
+              f"deepest penetration {pen:.2f} um | {row['events']} switches | smoothed spectrum: {probes}")
+
+
+if __name__ == "__main__":
+    main()
