@@ -37,3 +37,14 @@ def artefacts(tmp_path):
     shutil.copytree(DEFAULT_DIR, dst)
     verify(dst)
     return dst
+
+
+@pytest.fixture(scope="session")
+def soft_scene():
+    """The embedded soft-contacts scene (kw = 6.2e7, kg = 1.05e6 N/m, the first default): the scene of the numerical
+    tests written for it (convergence orders, method agreement) and of the preload study's numbers. Same effects
+    as the default, so ``default_functions`` serve it; its runs warn (implausible penetrations)."""
+    import apexseal
+    from apexseal.runtime.scenes.scene import embedded_scene_path
+
+    return apexseal.load_scene(embedded_scene_path("soft-contacts.toml"))

@@ -39,7 +39,7 @@ from .pressure import PressureSource, make_source
 from .schema import OperationSection, Section, SolverSection, validate_sections
 from .units import PlausibilityWarning
 
-__all__ = ["Scene", "SceneError", "load_scene", "default_scene_text", "derive_parameters"]
+__all__ = ["Scene", "SceneError", "load_scene", "default_scene_text", "derive_parameters", "embedded_scene_path"]
 
 DEFAULT_SCENE = "default.toml"
 #: bump when the meaning of a scene's content changes (it enters the content hash)
@@ -49,6 +49,14 @@ SCENE_FORMAT = 1
 def _scenes_folder() -> Any:
     """The folder of embedded scenes (an importlib resource; a Path in ordinary installs)."""
     return importlib.resources.files("apexseal.runtime.scenes")
+
+
+def embedded_scene_path(name: str) -> Path:
+    """The path of an embedded scene file, e.g. ``"soft-contacts.toml"`` or ``"hard/speed-6000.toml"``."""
+    path = Path(str(_scenes_folder().joinpath(name)))
+    if not path.is_file():
+        raise SceneError([("scene", name, "no such embedded scene")], source=name)
+    return path
 
 
 def default_scene_text() -> str:

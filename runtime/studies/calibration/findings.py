@@ -14,8 +14,8 @@ import warnings
 
 import numpy as np
 
-from .features import force_spectrum, last_revolution
 from .features import features as features_of
+from .features import force_spectrum, last_revolution
 
 #: (label, method, Euler steps per revolution)
 RUNS = (("erk", "erk", None), ("euler 1e6", "euler", 1_000_000), ("euler 2e5", "euler", 200_000),
