@@ -61,8 +61,14 @@ def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:
     lines += ["# every value of the scene that ran, in SI with its unit (apexseal writes this file)", ""]
     files: dict[str, str] = {}
 
+    from apexseal.derive.submodels.registry import alternatives
+
     def walk(name: str, model: Section) -> None:
         plain, tables = _values(model, name)
+        given = {f"{name}.{k}" for k, _ in plain}
+        # a damping coefficient given explicitly replaces its ratio, whose default is then not written either
+        dropped = {b for a, b in alternatives() if a in given and b in given}
+        plain = [(k, v) for k, v in plain if f"{name}.{k}" not in dropped]
         if plain or not tables:
             lines.extend(_table(name, plain))
         for sub_name, sub in tables:

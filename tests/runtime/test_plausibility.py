@@ -92,3 +92,18 @@ def test_the_check_needs_a_clearance(scene, default_functions):
         penetration_check(r)
     assert "plausibility" not in summarise(r)
     assert penetration_check(r, clearance=1e-9, fraction=0.5)["beyond_limit"]  # a 1 nm fit: every contact is too deep
+
+
+@pytest.mark.parametrize("explicit", [False, True])
+def test_a_resolved_scene_states_the_damping_once(scene, tmp_path, explicit):
+    """A result's scene.toml gives the ratio, or the coefficient the scene gave instead, never both, and reloads."""
+    from apexseal.runtime.scenes.resolved import resolved_toml
+
+    sc = scene.with_overrides(**{"contacts.cw": 207.0}) if explicit else scene
+    text, files = resolved_toml(sc)
+    for name, content in files.items():
+        (tmp_path / name).write_text(content)
+    (tmp_path / "scene.toml").write_text(text)
+    back = load_scene(tmp_path / "scene.toml")
+    assert back.content_hash() == sc.content_hash() and back.parameters["cw"] == sc.parameters["cw"]
+    assert ("\ncw = " in text) == explicit and ("\nzeta_w = " in text) != explicit and "\nzeta_g = " in text

@@ -55,7 +55,7 @@ def test_modes_agree_with_gaps_at_samples(erk_result):
         assert not mismatch.any(), (g, np.nonzero(mismatch))
 
 
-@pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PlausibilityWarning")
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")
 def test_spring_contact_opens_and_closes(soft_scene, default_functions):
     """With almost no preload the spring loses and regains contact: the spring guard switches both ways.
 
@@ -89,7 +89,7 @@ def test_erk_and_cvodes_agree(default_scene, default_functions):
     assert np.max(np.abs(a.state[:3] - b.state[:3]).max(axis=1) / scale) < 1e-4
 
 
-@pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PlausibilityWarning")
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")
 def test_euler_converges_at_first_order(soft_scene, default_functions):
     """The paper's explicit Euler: halving the step halves the error against a tight erk run.
 
@@ -225,7 +225,7 @@ def test_solver_failure_keeps_samples_and_says_where(default_scene, default_func
     assert np.isfinite(r.state).all()
 
 
-@pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PlausibilityWarning")
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")
 def test_friction_regularisation_converges_as_the_width_shrinks(soft_scene, default_functions):
     """tanh(v / v_eps) friction: shrinking v_eps 4x at a time, the cycle's friction power converges.
 
@@ -272,7 +272,7 @@ def test_fixed_steps_count_per_revolution_whatever_the_calls(default_scene, defa
             assert engine.elements * SAMPLES == steps
 
 
-@pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PlausibilityWarning")
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")
 def test_collocation_runs_a_revolution_and_agrees_with_erk(soft_scene, default_functions):
     """Collocation (Radau, fixed steps) completes a revolution; its Newton tolerance sits above round-off.
 
