@@ -4,6 +4,7 @@ import math
 import warnings
 
 import pytest
+from hard_helpers import HARD_DIR
 
 import apexseal
 from apexseal.runtime.results.plausibility import PENETRATION_FRACTION, PenetrationWarning, penetration_check
@@ -55,7 +56,7 @@ def test_a_ratio_out_of_range_names_its_range(scene):
 
 
 def test_hard_scenes_keep_their_explicit_damping():
-    s = load_scene(load_scene().source_path.parent / "hard" / "stiff-groove-1e9.toml")
+    s = load_scene(HARD_DIR / "stiff-groove-1e9.toml")
     assert {k: s.parameters[k] for k in ("cw", "cr", "cs")} == {"cw": 207.0, "cr": 27.0, "cs": 1.9}
 
 
