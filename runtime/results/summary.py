@@ -31,18 +31,18 @@ def spectrum(signal: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
 
 def spectral_peaks(w: np.ndarray, amp: np.ndarray, count: int = 5, *, min_prominence: float = 0.05,
                    hump: float = 0.5) -> list[dict]:
-    """The distinct peaks of a spectrum, largest first (``scipy.signal.find_peaks`` with prominence).
+    """The distinct peaks of a spectrum, largest first (``scipy.signal.find_peaks`` with prominence; computed by
+    :func:`.peaks.find_peaks`, which gives the same peaks without importing ``scipy.signal``).
 
     A peak counts if its prominence (its height above the higher of the two valleys that separate it from
     higher ground) is at least ``min_prominence`` times the largest amplitude and at least ``hump`` times its
     own amplitude: a ripple on the flank of a hump rises little above its valley and is not listed apart.
     """
-    from scipy.signal import find_peaks
+    from .peaks import find_peaks
 
     if amp.size < 3 or not np.any(amp > 0):
         return []
-    idx, props = find_peaks(amp, prominence=min_prominence * float(amp.max()))
-    prom = props["prominences"]
+    idx, prom = find_peaks(amp, prominence=min_prominence * float(amp.max()))
     keep = prom >= hump * amp[idx]
     idx, prom = idx[keep], prom[keep]
     order = np.argsort(amp[idx])[::-1][:count]
