@@ -14,6 +14,7 @@ new or changed submodel is never served an old derivation.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import importlib
 import inspect
@@ -171,8 +172,15 @@ def digest() -> str:
     h = hashlib.sha256()
     for cls in submodels():
         h.update(cls.name.encode())
-        try:
-            h.update(inspect.getsource(cls).encode())
-        except (OSError, TypeError):  # defined where no source is available: its declarations stand in
-            h.update(repr((cls.parameters, cls.options, cls.guards, cls.switch)).encode())
+        h.update(_source(cls).encode())
     return h.hexdigest()
+
+
+@functools.lru_cache(maxsize=None)
+def _source(cls) -> str:
+    """A submodel's source (read once per class and process: a run asks for the digest several times, and
+    ``inspect.getsource`` tokenizes the whole file each time)."""
+    try:
+        return inspect.getsource(cls)
+    except (OSError, TypeError):  # defined where no source is available: its declarations stand in
+        return repr((cls.parameters, cls.options, cls.guards, cls.switch))

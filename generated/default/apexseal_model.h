@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: e9263884725ebbfa9005d24cec6a4c6ade9aa999a6218cc1f93dfe60467ae957.
+ * Effects: all. Input hash: efaa30e57ccce70cfa3d830b1f48c77f5525a06ab19c35116e45ddbcde19c6f6.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "e9263884725ebbfa9005d24cec6a4c6ade9aa999a6218cc1f93dfe60467ae957"
+#define APEXSEAL_INPUT_HASH "efaa30e57ccce70cfa3d830b1f48c77f5525a06ab19c35116e45ddbcde19c6f6"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -19,9 +19,12 @@ import math
 import re
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import pint
+from . import unit_memo
+
+if TYPE_CHECKING:
+    import pint
 
 
 class QuantityError(ValueError):
@@ -40,6 +43,8 @@ def registry() -> pint.UnitRegistry:
     pint parses its definition files on every start (~0.5 s); with a cache folder (in the project's cache,
     ``$APEXSEAL_CACHE/pint``) it loads them parsed (~0.08 s). An unwritable cache falls back to parsing.
     """
+    import pint
+
     from apexseal.derive.cache import cache_dir
 
     try:
@@ -109,9 +114,21 @@ def parse_quantity(value: Any, unit: str, *, key: str = "", bare: str | None = N
     string with a unit. Angles and angular speeds refuse bare numbers unless
     ``bare`` is given. Raises :class:`QuantityError` naming ``key``, the value and
     the expected unit. The result is rounded to 15 significant digits, so that
-    ``"3.06 mm"`` gives exactly ``0.00306``.
+    ``"3.06 mm"`` gives exactly ``0.00306``. A conversion pint made before (in any process) is
+    remembered (:mod:`.unit_memo`): pint is imported only for text never read before.
     """
-    ureg = registry()
+    plain = isinstance(value, int | float) and not isinstance(value, bool) and (bare is None or bare == unit)
+    if plain or not isinstance(value, int | float | str):
+        return _parse_quantity(value, unit, key, bare)
+    memo = unit_memo.key_of(value, unit, bare)
+    x = unit_memo.lookup(memo)
+    if x is None:
+        x = _parse_quantity(value, unit, key, bare)
+        unit_memo.remember(memo, x)
+    return x
+
+
+def _parse_quantity(value: Any, unit: str, key: str, bare: str | None) -> float:
     angular = unit in ANGULAR
     if isinstance(value, bool) or not isinstance(value, int | float | str):
         raise QuantityError(key, value, f"expected {expected(unit)}, got {type(value).__name__}")
@@ -122,6 +139,9 @@ def parse_quantity(value: Any, unit: str, *, key: str = "", bare: str | None = N
             raise QuantityError(key, value, f"use a decimal point, not a comma; expected {expected(unit)}")
         if not NUMBER_FIRST.match(text):
             raise QuantityError(key, value, f"needs a number first, then the unit; expected {expected(unit)}")
+        import pint
+
+        ureg = registry()
         try:
             q = ureg.Quantity(text)
         except pint.UndefinedUnitError as exc:
@@ -150,11 +170,13 @@ def parse_quantity(value: Any, unit: str, *, key: str = "", bare: str | None = N
         )
     number = float(number)
     if bare is not None and bare != unit:
-        return _convert(ureg.Quantity(number, bare), unit, key, value, angular)
+        return _convert(registry().Quantity(number, bare), unit, key, value, angular)
     return _round(_finite(number, key, value, unit))
 
 
 def _convert(q: pint.Quantity, unit: str, key: str, raw: Any, angular: bool) -> float:
+    import pint
+
     ureg = registry()
     try:
         out = float(q.to(ureg.Quantity(1, unit).units).magnitude)
@@ -184,9 +206,21 @@ def _round(x: float) -> float:
 
 
 def parse_pressure_unit(text: Any, *, key: str = "pressure.unit") -> float:
-    """The factor from ``text`` (a pressure unit such as ``"Pa"``, ``"bar"``, ``"kPa"``) to Pa."""
+    """The factor from ``text`` (a pressure unit such as ``"Pa"``, ``"bar"``, ``"kPa"``) to Pa (remembered like
+    :func:`parse_quantity`'s conversions)."""
     if not isinstance(text, str):
         raise QuantityError(key, text, 'expected a pressure unit such as "Pa", "kPa" or "bar"')
+    memo = unit_memo.key_of(text, "pressure unit")
+    x = unit_memo.lookup(memo)
+    if x is None:
+        x = _pressure_factor(text, key)
+        unit_memo.remember(memo, x)
+    return x
+
+
+def _pressure_factor(text: str, key: str) -> float:
+    import pint
+
     ureg = registry()
     try:
         units = ureg.parse_units(text.strip())

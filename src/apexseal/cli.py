@@ -1,28 +1,42 @@
-"""The ``apexseal`` command: one sub-command per job, each in its own module."""
+"""The ``apexseal`` command: one sub-command per job, each in its own module.
+
+A sub-command's module is imported only when that command runs (or ``--help`` lists them all), so that
+``apexseal simulate`` does not pay for the imports of ``bench``, ``sweep`` or ``generate``.
+"""
 
 from __future__ import annotations
 
+import importlib
+
 import click
 
+#: command name -> "module:function" of its click command (modules of this package)
+COMMANDS = {
+    "simulate": "commands_simulate:simulate",
+    "scene": "commands_scene:scene",
+    "derive": "commands_derive:derive",
+    "generate": "commands_generate:generate",
+    "optimise-preload": "commands_optimise:optimise_preload",
+    "bench": "commands_bench:bench",
+    "sweep": "commands_sweep:sweep",
+    "calibrate": "commands_calibrate:calibrate",
+}
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+
+class LazyGroup(click.Group):
+    """A group whose commands are imported on first use (click's documented lazy-loading pattern)."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted({*COMMANDS, *self.commands})
+
+    def get_command(self, ctx: click.Context, name: str) -> click.Command | None:
+        if name not in self.commands and name in COMMANDS:
+            module, attr = COMMANDS[name].split(":")
+            self.add_command(getattr(importlib.import_module(f"{__package__}.{module}"), attr), name)
+        return self.commands.get(name)
+
+
+@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="apexseal")
 def main() -> None:
     """Derive, generate and run the apex-seal model of limaçon machines (Phung et al. 2018)."""
-
-
-def _register() -> None:
-    from .commands_bench import bench
-    from .commands_calibrate import calibrate
-    from .commands_derive import derive
-    from .commands_generate import generate
-    from .commands_optimise import optimise_preload
-    from .commands_scene import scene
-    from .commands_simulate import simulate
-    from .commands_sweep import sweep
-
-    for command in (simulate, scene, derive, generate, optimise_preload, bench, sweep, calibrate):
-        main.add_command(command)
-
-
-_register()
