@@ -176,7 +176,7 @@ def digest() -> str:
     return h.hexdigest()
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _source(cls) -> str:
     """A submodel's source (read once per class and process: a run asks for the digest several times, and
     ``inspect.getsource`` tokenizes the whole file each time)."""

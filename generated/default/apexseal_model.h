@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: efaa30e57ccce70cfa3d830b1f48c77f5525a06ab19c35116e45ddbcde19c6f6.
+ * Effects: all. Input hash: 9dadcce19667862a62fcf8b6fdf1586e8e932c17f98d9815158dca358eea2daa.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "efaa30e57ccce70cfa3d830b1f48c77f5525a06ab19c35116e45ddbcde19c6f6"
+#define APEXSEAL_INPUT_HASH "9dadcce19667862a62fcf8b6fdf1586e8e932c17f98d9815158dca358eea2daa"
 
 /* state x */
 #define APEXSEAL_NX 6
