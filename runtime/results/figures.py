@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ...files import atomic_open
+from .decimate import columns_of, envelope, envelope_index, step_changes
 from .outputs import describe
 from .result import SimulationResult
 from .summary import housing_force, spectral_peaks, spectrum
@@ -87,16 +88,21 @@ def fig12_displacements(result: SimulationResult, ports: dict | None = None, *, 
     return fig
 
 
-def fig13_forces(result: SimulationResult, *, pyplot: bool = False):
-    """Fig. 13: groove contact forces Fi1, Fi2, Fc2, Fc4, spring force Fs6 and housing force Fs5 (magnitudes)."""
+def fig13_forces(result: SimulationResult, *, pyplot: bool = False, save_dpi: float | None = None):
+    """Fig. 13: groove contact forces Fi1, Fi2, Fc2, Fc4, spring force Fs6 and housing force Fs5 (magnitudes).
+
+    With ``save_dpi`` (the figure is to be saved at that resolution) each line is reduced to its envelope over
+    the pixel columns (:func:`.decimate.envelope`); without it every sample is drawn.
+    """
     deg = np.degrees(result.theta)
     names = [("i1", "F_i1"), ("i2", "F_i2"), ("c2", "F_c2"), ("c4", "F_c4"), ("spring", "F_s6"), ("housing", "F_s5")]
     fig = new_figure((12, 8), pyplot)
+    columns = None if save_dpi is None else columns_of(fig, save_dpi)
     axes = fig.subplots(3, 2, sharex=True)
     for ax, (key, label) in zip(axes.ravel(), names, strict=True):
         if f"F_{key}_X" in result.outputs:
             F = np.hypot(result.outputs[f"F_{key}_X"], result.outputs[f"F_{key}_Y"])
-            ax.plot(deg, F, lw=0.7)
+            ax.plot(*((deg, F) if columns is None else envelope(deg, F, columns)), lw=0.7)
         else:
             ax.text(0.5, 0.5, "effect off", ha="center", va="center", transform=ax.transAxes)
         ax.set_ylabel(f"|{label}| (N)")
@@ -106,14 +112,18 @@ def fig13_forces(result: SimulationResult, *, pyplot: bool = False):
     return fig
 
 
-def fig14_spectrum(result: SimulationResult, *, count: int = 5, pyplot: bool = False):
+def fig14_spectrum(result: SimulationResult, *, count: int = 5, pyplot: bool = False, save_dpi: float | None = None):
     """Fig. 14: amplitude spectrum of the seal-housing force Fs5, on logarithmic axes, with its distinct peaks
-    (:func:`.summary.spectral_peaks`) marked and labelled."""
+    (:func:`.summary.spectral_peaks`, from every frequency) marked and labelled; with ``save_dpi`` the line is
+    its envelope over the pixel columns of the logarithmic axis (:func:`.decimate.envelope_index`)."""
     fig = new_figure((8, 4.2), pyplot)
     ax = fig.subplots()
     if result.n > 8:
         w, amp = spectrum(housing_force(result)[1:], float(np.mean(np.diff(result.time))))
-        ax.loglog(w[1:], np.maximum(amp[1:], 1e-12), lw=0.7)
+        line = np.maximum(amp[1:], 1e-12)
+        keep = (slice(None) if save_dpi is None else
+                envelope_index(np.log(w[1:]), line, columns_of(fig, save_dpi)))
+        ax.loglog(w[1:][keep], line[keep], lw=0.7)
         ax.set_xlim(w[1] / 1.5, w[-1])  # room for the label of a peak at the first frequency
         floor = max(float(amp[1:].max()) * 1e-4, 1e-12)
         ax.set_ylim(floor, float(amp.max()) * 3)
@@ -127,18 +137,23 @@ def fig14_spectrum(result: SimulationResult, *, count: int = 5, pyplot: bool = F
     return fig
 
 
-def mode_timeline(result: SimulationResult, *, pyplot: bool = False):
-    """Which contacts are closed at each crank angle, and the contact case (Algorithm 3)."""
+def mode_timeline(result: SimulationResult, *, pyplot: bool = False, save_dpi: float | None = None):
+    """Which contacts are closed at each crank angle, and the contact case (Algorithm 3).
+
+    Both are steps, drawn through the samples where they change (:func:`.decimate.step_changes`: the same
+    steps, without the repeated vertices). ``save_dpi`` is accepted like the other figures' and changes nothing.
+    """
     deg = np.degrees(result.theta)
     fig = new_figure((12, 5), pyplot)
     ax1, ax2 = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [1.2, 1]})
     for i in range(len(result.guard_names)):
-        ax1.fill_between(deg, i, i + 0.8 * result.closed[i], step="post", alpha=0.8)
+        x, closed = step_changes(deg, np.asarray(result.closed[i], float))
+        ax1.fill_between(x, i, i + 0.8 * closed, step="post", alpha=0.8)
     ax1.set_yticks(np.arange(len(result.guard_names)) + 0.4, result.guard_names)
     ax1.set_title("closed contacts")
     cases = sorted(set(m.split("_")[0] for m in result.modes))
     idx = np.array([cases.index(m.split("_")[0]) for m in result.modes])
-    ax2.step(deg, idx, where="post", lw=0.8)
+    ax2.step(*step_changes(deg, idx), where="post", lw=0.8)
     ax2.set_yticks(range(len(cases)), cases)
     ax2.set_xlabel("crank angle (deg)")
     ax2.set_title("seal-groove contact case")
@@ -163,7 +178,7 @@ def write_figures(result: SimulationResult, folder: str | Path, ports: dict | No
     paths = []
     files = FILES | (GAS_FILES if has_gas(result) and result.n > 2 else {})
     for name, kind in files.items():
-        fig = figure(result, kind, ports=ports)
+        fig = figure(result, kind, ports=ports, save_dpi=dpi)
         with atomic_open(folder / name, "wb") as fh:  # a half-written PNG never carries the final name
             fig.savefig(fh, dpi=dpi, format="png")
         paths.append(folder / name)
