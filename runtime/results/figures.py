@@ -167,19 +167,30 @@ FILES = {"fig12_displacements.png": "fig12", "fig13_forces.png": "fig13", "fig14
 GAS_FILES = {"fig11_pressures.png": "fig11", "pv_diagram.png": "pv"}
 
 
-def write_figures(result: SimulationResult, folder: str | Path, ports: dict | None = None, dpi: int = 100) -> list[Path]:
-    """Draw the four figures of a run (six with the chamber gas model: Fig. 11 pressures and the p-V diagram)
-    and save them as PNG files in ``folder`` (created if missing)."""
+def figure_files(result: SimulationResult) -> dict[str, str]:
+    """The figures a run writes, file name -> figure name: :data:`FILES`, and :data:`GAS_FILES` with the chamber
+    gas model."""
     from .gas import has_gas
+
+    return FILES | (GAS_FILES if has_gas(result) and result.n > 2 else {})
+
+
+def write_figure(result: SimulationResult, folder: Path, name: str, kind: str, ports: dict | None = None,
+                 dpi: int = 100) -> Path:
+    """Draw one figure (long lines as their envelope at ``dpi``) and save it as the PNG file ``folder/name``."""
     from .plots import figure
 
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    paths = []
-    files = FILES | (GAS_FILES if has_gas(result) and result.n > 2 else {})
-    for name, kind in files.items():
-        fig = figure(result, kind, ports=ports, save_dpi=dpi)
-        with atomic_open(folder / name, "wb") as fh:  # a half-written PNG never carries the final name
-            fig.savefig(fh, dpi=dpi, format="png")
-        paths.append(folder / name)
-    return paths
+    fig = figure(result, kind, ports=ports, save_dpi=dpi)
+    with atomic_open(folder / name, "wb") as fh:  # a half-written PNG never carries the final name
+        fig.savefig(fh, dpi=dpi, format="png")
+    return folder / name
+
+
+def write_figures(result: SimulationResult, folder: str | Path, ports: dict | None = None, dpi: int = 100,
+                  *, fork: bool = False) -> list[Path]:
+    """Draw the four figures of a run (six with the chamber gas model: Fig. 11 pressures and the p-V diagram)
+    and save them as PNG files in ``folder`` (created if missing). ``fork=True`` draws some of them in a second
+    process (:class:`.figure_job.FigureJob`; ``apexseal simulate`` starts one before it writes the result)."""
+    from .figure_job import FigureJob
+
+    return FigureJob(result, folder, ports, dpi, fork=fork).start().finish()

@@ -46,7 +46,8 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
     watch = Stopwatch()  # stages always timed (two clock reads each), printed with --timings
     with watch.stage("import"):
         from .runtime.api import model_functions, run_scene, settings_of
-        from .runtime.results.figures import ports_of, write_figures
+        from .runtime.results.figure_job import FigureJob
+        from .runtime.results.figures import ports_of
         from .runtime.results.folder import ResultFolder, ResultStorageError
         from .runtime.results.plausibility import PenetrationWarning, describe
         from .runtime.results.summary import summarise
@@ -79,6 +80,10 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
                     result = run_scene(sc, settings, progress=not quiet and sys.stderr.isatty(), sink=writer,
                                        functions=functions)
             watch.split("run", result.info.get("timings_s", {}))
+            figures = None
+            if not no_figures and result.n > 1 and not signals.requested:
+                with watch.stage("figures"):  # a second process draws some while this one writes the result
+                    figures = FigureJob(result, writer.staging, ports_of(sc)).start()
             with watch.stage("save"):
                 summary = summarise(result, {"source": str(scene or "default")})
                 writer.write_json("summary.json", summary)
@@ -88,9 +93,9 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
                 if csv:
                     writer.write_csv()
                     files.append("trajectory.csv")
-            if not no_figures and result.n > 1 and not signals.requested:
+            if figures is not None:
                 with watch.stage("figures"):
-                    files += [p.name for p in write_figures(result, writer.staging, ports_of(sc))]
+                    files += [p.name for p in figures.finish()]
             with watch.stage("save"):
                 writer.commit()
         except ResultStorageError as err:

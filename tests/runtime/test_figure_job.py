@@ -1,0 +1,52 @@
+"""A run's figures drawn partly in a forked process: the same files as drawn in one process, and none lost
+when the child fails."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+import apexseal
+from apexseal.runtime.results import figure_job
+from apexseal.runtime.results.figures import figure_files, ports_of, write_figures
+
+
+@pytest.fixture(scope="module")
+def result(default_scene, default_functions):
+    return apexseal.simulate(default_scene, samples_per_revolution=360, flags="quick", rtol=1e-8,
+                             functions=default_functions.sx)
+
+
+def _forkable():
+    if not figure_job.can_fork():  # checked when the test runs: earlier tests may have left threads running
+        pytest.skip("forking is not safe here (not Linux, or other threads running)")
+
+
+def test_forked_drawing_writes_the_same_files(result, default_scene, tmp_path):
+    _forkable()
+    ports = ports_of(default_scene)
+    alone = write_figures(result, tmp_path / "one", ports, fork=False)
+    forked = write_figures(result, tmp_path / "two", ports, fork=True)
+    assert [p.name for p in alone] == [p.name for p in forked] == list(figure_files(result))
+    for a, b in zip(alone, forked, strict=True):
+        assert a.read_bytes() == b.read_bytes(), a.name
+
+
+def test_a_failing_child_costs_no_figure(result, default_scene, tmp_path, monkeypatch, capfd):
+    _forkable()
+    parent = os.getpid()
+    draw = figure_job.write_figure
+
+    def only_in_the_parent(*args, **kw):
+        if os.getpid() != parent:
+            raise RuntimeError("the child fails")
+        return draw(*args, **kw)
+
+    monkeypatch.setattr(figure_job, "write_figure", only_in_the_parent)
+    job = figure_job.FigureJob(result, tmp_path, ports_of(default_scene), fork=True).start()
+    assert job.pid is not None
+    paths = job.finish()
+    assert all(p.is_file() and p.stat().st_size > 0 for p in paths)
+    assert {p.name for p in paths} >= set(figure_job.CHILD_SHARE) & set(figure_files(result))
+    assert "the child fails" in capfd.readouterr().err
