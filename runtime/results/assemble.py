@@ -19,13 +19,26 @@ _MAPPED: dict[tuple[int, int], tuple] = {}
 
 
 def mapped(f, n: int):
-    """``f.map(n)``, built once per Function and size (building a map costs more than evaluating it)."""
+    """``f`` mapped over ``n`` samples, built once per Function and size (building a map costs more than
+    evaluating it). The parameter vector (input ``p``) is shared by all samples, not repeated: converting
+    ``n`` copies of it into CasADi cost more than evaluating the outputs."""
     key = (id(f), n)
     if key not in _MAPPED:
         if len(_MAPPED) > 64:
             _MAPPED.clear()
-        _MAPPED[key] = (f, f.map(n))
+        shared = [f.name_in().index("p")] if "p" in f.name_in() else []
+        _MAPPED[key] = (f, f.map(f"{f.name()}_map", "serial", n, shared, []))
     return _MAPPED[key][1]
+
+
+def contact_patterns(closed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct columns of ``closed`` (n_guards, n) and, for each sample, the index of its column
+    (``np.unique(closed, axis=1, return_inverse=True)``, on the columns packed into integers: 40x faster)."""
+    if not closed.size:
+        return closed, np.zeros(closed.shape[1], int)
+    codes = (closed.astype(np.int64) << np.arange(closed.shape[0], dtype=np.int64)[:, None]).sum(0)
+    _, first, which = np.unique(codes, return_index=True, return_inverse=True)
+    return closed[:, first], np.ravel(which)
 
 
 def assemble(functions, params, Z, theta, U, theta_start, omega) -> SimulationResult:
@@ -40,18 +53,18 @@ def assemble(functions, params, Z, theta, U, theta_start, omega) -> SimulationRe
     closed = lay.closed(Z)
     events = Z[lay.counts]
     n = theta.size
-    P = np.repeat(params[:, None], n, 1)
-    Y = np.array(mapped(functions.outputs, n)(theta[None, :], X, closed.astype(float), P, U))
+    P = np.asarray(params, float)
+    Y = mapped(functions.outputs, n)(theta[None, :], X, closed.astype(float), P, U).full()
     outputs = {name: Y[i] for i, name in enumerate(functions.output_names)}
-    g = np.array(mapped(functions.guards, n)(theta[None, :], X, P, U))
+    g = mapped(functions.guards, n)(theta[None, :], X, P, U).full()
     for i, name in enumerate(functions.guard_names):  # each guard's declared output: a gap, a penetration, ...
         declared = guard(name)
         outputs[declared.output] = declared.sign * g[i]
     if "Pa" not in outputs:  # the chamber gas model gives them as outputs, else they are the input u
         outputs["Pa"], outputs["Pb"] = U[0], U[1]
-    patterns, which = np.unique(closed, axis=1, return_inverse=True) if n else (closed, np.zeros(0, int))
+    patterns, which = contact_patterns(closed)
     labels = [lay.mode(c) for c in patterns.T]  # a few contact cases, many samples
-    modes = [labels[i] for i in np.ravel(which)]
+    modes = [labels[i] for i in which]
     return SimulationResult(theta - theta_start, (theta - theta_start) / omega, X, closed, events, outputs,
                             lay.guard_names, modes, info={"state_names": list(lay.state_names)})
 
