@@ -44,6 +44,9 @@ KNOWN = {"result.json", "summary.json", "trajectory.csv", "trajectory.npz", PART
 #: the resolved scene of a result (runtime/scenes/resolved.py)
 SCENE_FILE = "scene.toml"
 KNOWN_SUFFIXES = (".png", ".svg", ".pdf")
+#: parts of a run kept in memory up to this many bytes (about 150 revolutions of the default scene), so that
+#: :meth:`ResultFolder.finish` joins them instead of reading the folder back; a longer run is read back
+KEEP_BYTES = 256 * 2**20
 
 
 class ResultFolderError(ValueError):
@@ -116,6 +119,8 @@ class ResultFolder:
         self.info: dict = {}
         self.final = False
         self.error: ResultStorageError | None = None  # the first storage error, if any
+        self.kept: list[SimulationResult] | None = []  # the parts written, while they fit in KEEP_BYTES
+        self.kept_bytes = 0
 
     # ------------------------------------------------------------------ writing
     def append(self, part: SimulationResult) -> None:
@@ -127,6 +132,9 @@ class ResultFolder:
         data = buf.getvalue()
         self._store(name, data, "a part")
         self.parts.append({"file": name, "samples": int(part.n), "sha256": sha256_bytes(data)})
+        self.kept_bytes += len(data)
+        if self.kept is not None:
+            self.kept = self.kept + [part] if self.kept_bytes <= KEEP_BYTES else None
         self.samples += part.n
         self.guard_names, self.outputs = tuple(part.guard_names), list(part.outputs)
         self.state_rows = part.state.shape[0]
@@ -137,15 +145,23 @@ class ResultFolder:
         self._store("result.json", _json_bytes(self._record("interrupted", stop)), "the progress record")
 
     def finish(self, status: str, stop: StopInfo | None, info: dict) -> SimulationResult:
-        """Write the final result.json and return the whole result, read back from the folder."""
+        """Write the final result.json and return the whole result: the parts written, joined (the same arrays
+        and record as reading the folder back, which is done when they did not fit in :data:`KEEP_BYTES`)."""
         self.info = dict(info) | {"run_id": self.run_id}
         if not self.parts:
             raise ResultStorageError(self.error.errno if self.error else None,
                                      str(self.error) if self.error else f"no part of the result was written to "
                                      f"{self.staging}")
-        self._store("result.json", _json_bytes(self._record(status, stop)), "the final record")
+        record = self._record(status, stop)
+        data = _json_bytes(record)
+        self._store("result.json", data, "the final record")
         self.final = True
-        return read(self.staging)
+        if self.kept is None:
+            return read(self.staging)
+        meta = json.loads(data)  # the record as read() would see it (JSON types)
+        result = join(self.kept, meta["status"], StopInfo(**meta["stop"]) if meta["stop"] else None, meta["info"])
+        self.kept = None
+        return result
 
     def write_json(self, name: str, data: dict) -> None:
         """Another JSON file of the result (summary.json), stamped with the run id."""

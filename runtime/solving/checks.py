@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..results.assemble import mapped
 from ..results.result import StopInfo
 from .euler_integrator import contact_growth
 from .layout import HybridLayout
@@ -78,7 +79,7 @@ class RunChecks:
         """A contact the integrator holds open while its gap is negative: a lost event (the seal would pass the wall)."""
         lay, n = self.layout, Z.shape[1]
         X = to_physical(Z[lay.x], self.omega, lay.state_names)
-        g = np.array(self.functions.guards.map(n)(thetas[None, :], X, np.repeat(self.params[:, None], n, 1), P))
+        g = mapped(self.functions.guards, n)(thetas[None, :], X, self.params, P).full()  # map built once per size
         bad = (Z[lay.active] < 0.5) & (g / LENGTH < -MISSED_EVENT_UM)
         if not bad.any():
             return None

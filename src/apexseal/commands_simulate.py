@@ -56,7 +56,6 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
 
         if timings:  # imported by the load stage anyway; up front, so that the split shows what importing costs
             import casadi  # noqa: F401
-            import sympy  # noqa: F401
 
     with watch.stage("scene"):
         sc = scene_of(scene)

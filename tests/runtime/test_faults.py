@@ -64,6 +64,24 @@ def test_in_memory_and_streamed_runs_agree(default_scene, default_functions, two
     assert all(np.array_equal(streamed.outputs[k], v) for k, v in mem.outputs.items())
 
 
+@pytest.mark.parametrize("keep", [folder_mod.KEEP_BYTES, 0])
+def test_finish_returns_what_reading_the_folder_gives(default_scene, default_functions, tmp_path, monkeypatch, keep):
+    """finish() joins the parts it wrote (within KEEP_BYTES) instead of reading the folder back: the same result
+    (the run adds its stage timings to the returned info afterwards)."""
+    monkeypatch.setattr(folder_mod, "KEEP_BYTES", keep)
+    sink = ResultFolder(tmp_path / "o")
+    r = _run(default_scene, default_functions, 2, sink=sink, info={"note": ("a", 1)})
+    assert (sink.kept is None) and sink.final
+    back = folder_mod.read(sink.staging)
+    for name in ("theta", "time", "state", "closed", "events"):
+        assert np.array_equal(getattr(r, name), getattr(back, name)), name
+    assert r.outputs.keys() == back.outputs.keys() and all(np.array_equal(r.outputs[k], back.outputs[k]) for k in r.outputs)
+    assert r.modes == back.modes and r.guard_names == back.guard_names
+    assert (r.status, r.stop) == (back.status, back.stop)
+    assert set(r.info) - {"timings_s"} <= set(back.info)
+    assert r.info["note"] == ["a", 1] and r.info["run_id"] == back.info["run_id"]
+
+
 def _mixed(tmp_path, two_results, edit) -> Path:
     a, b = tmp_path / "a", tmp_path / "b"
     two_results[0].save(a, csv=True)
