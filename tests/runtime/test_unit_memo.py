@@ -1,0 +1,60 @@
+"""Unit conversions remembered between processes: a warm scene load gives the same scene without pint, and a
+damaged memo file is ignored and rewritten."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+LOAD = textwrap.dedent("""
+    import sys
+    import apexseal
+
+    scene = apexseal.load_scene()
+    print(scene.content_hash(), "pint" in sys.modules)
+""")
+
+
+def _load(cache) -> tuple[str, bool]:
+    env = dict(os.environ, APEXSEAL_CACHE=str(cache))
+    proc = subprocess.run([sys.executable, "-c", LOAD], capture_output=True, text=True, timeout=300, env=env)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    digest, pint = proc.stdout.split()
+    return digest, pint == "True"
+
+
+def test_second_load_reads_no_unit_with_pint_and_gives_the_same_scene(tmp_path):
+    first, pint_first = _load(tmp_path)
+    files = list((tmp_path / "units").glob("conversions-*.json"))
+    assert pint_first and len(files) == 1
+    memo = json.loads(files[0].read_text())
+    assert json.dumps(["str", "3.06 mm", "m", None]) in memo and memo[json.dumps(["str", "3.06 mm", "m", None])] == 0.00306
+    second, pint_second = _load(tmp_path)
+    assert second == first and not pint_second
+
+
+def test_a_damaged_memo_is_ignored_and_rewritten(tmp_path):
+    first, _ = _load(tmp_path)
+    (path,) = (tmp_path / "units").glob("conversions-*.json")
+    path.write_text("{ not json")
+    again, pint = _load(tmp_path)
+    assert again == first and pint  # read with pint again ...
+    assert isinstance(json.loads(path.read_text()), dict)  # ... and remembered anew
+    assert _load(tmp_path) == (first, False)
+
+
+def test_a_rejected_value_is_not_remembered():
+    """Only conversions that succeed are kept: an error is always pint's current message."""
+    from apexseal.runtime.scenes import unit_memo
+    from apexseal.runtime.scenes.units import QuantityError, parse_quantity
+
+    with pytest.raises(QuantityError, match="wrong unit"):
+        parse_quantity("3 kg", "m", key="seal.Ws")
+    assert unit_memo.lookup(unit_memo.key_of("3 kg", "m", None)) is None
+    assert parse_quantity("3 mm", "m") == 0.003
+    assert unit_memo.lookup(unit_memo.key_of("3 mm", "m", None)) == 0.003
