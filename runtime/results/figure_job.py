@@ -14,6 +14,7 @@ forked child could inherit a lock held by one of them; tqdm's monitor thread exc
 from __future__ import annotations
 
 import os
+import signal
 import sys
 import threading
 import traceback
@@ -71,12 +72,26 @@ class FigureJob:
         self.pid = pid
         return self
 
+    def cancel(self) -> None:
+        """Stop the child, if any, and wait for it (the result is not being written after all)."""
+        if self.pid is not None:
+            try:
+                os.kill(self.pid, signal.SIGKILL)
+                os.waitpid(self.pid, 0)
+            except (ProcessLookupError, ChildProcessError):
+                pass
+            self.pid = None
+
     def finish(self) -> list[Path]:
         """Draw the figures not given to the child, wait for it, draw any it did not write; the paths in the
         order of :func:`.figures.figure_files`."""
         mine = [n for n in self.files if self.pid is None or n not in CHILD_SHARE]
-        for name in mine:
-            write_figure(self.result, self.folder, name, self.files[name], self.ports, self.dpi)
+        try:
+            for name in mine:
+                write_figure(self.result, self.folder, name, self.files[name], self.ports, self.dpi)
+        except BaseException:
+            self.cancel()
+            raise
         if self.pid is not None:
             os.waitpid(self.pid, 0)
             self.pid = None

@@ -49,8 +49,8 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
         from .runtime.results.figure_job import FigureJob
         from .runtime.results.figures import ports_of
         from .runtime.results.folder import ResultFolder, ResultStorageError
-        from .runtime.results.plausibility import PenetrationWarning, describe
-        from .runtime.results.summary import summarise
+        from .runtime.results.plausibility import PenetrationWarning
+        from .runtime.results.summary import summarise  # noqa: F401  (timed here; used by _save)
         from .runtime.solving.settings import SettingsError
         from .runtime.solving.signals import StopSignals
 
@@ -83,15 +83,12 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
             if not no_figures and result.n > 1 and not signals.requested:
                 with watch.stage("figures"):  # a second process draws some while this one writes the result
                     figures = FigureJob(result, writer.staging, ports_of(sc)).start()
-            with watch.stage("save"):
-                summary = summarise(result, {"source": str(scene or "default")})
-                writer.write_json("summary.json", summary)
-                files = ["result.json", f"parts/ ({len(writer.parts)} files)", "scene.toml", "summary.json"]
-                if (writer.staging / "pressure.csv").is_file():
-                    files.insert(3, "pressure.csv")
-                if csv:
-                    writer.write_csv()
-                    files.append("trajectory.csv")
+            try:
+                summary, files = _save(watch, writer, result, scene, csv)
+            except BaseException:
+                if figures is not None:
+                    figures.cancel()
+                raise
             if figures is not None:
                 with watch.stage("figures"):
                     files += [p.name for p in figures.finish()]
@@ -99,6 +96,29 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
                 writer.commit()
         except ResultStorageError as err:
             raise click.ClickException(str(err)) from err
+    _report(result, summary, files, out, timings, watch, signals)
+
+
+def _save(watch, writer, result, scene, csv) -> tuple[dict, list[str]]:
+    """summary.json and, on request, trajectory.csv (result.json and the parts are written by the run)."""
+    from .runtime.results.summary import summarise
+
+    with watch.stage("save"):
+        summary = summarise(result, {"source": str(scene or "default")})
+        writer.write_json("summary.json", summary)
+        files = ["result.json", f"parts/ ({len(writer.parts)} files)", "scene.toml", "summary.json"]
+        if (writer.staging / "pressure.csv").is_file():
+            files.insert(3, "pressure.csv")
+        if csv:
+            writer.write_csv()
+            files.append("trajectory.csv")
+    return summary, files
+
+
+def _report(result, summary, files, out, timings, watch, signals) -> None:
+    """What the run gave, on the console (and where the time went, with --timings); exit code of a failed run."""
+    from .runtime.results.plausibility import describe
+
     ext = summary["extremes"]
     click.echo(f"{result.status}: {summary['revolutions']:.2f} revolutions, {summary['events_total']} contact switches, "
                f"wall {result.info['wall_time_s']:.2f} s")
