@@ -139,7 +139,7 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     result = run(functions, scene.parameter_vector(), settings, theta_start=op.start_angle,
                  state0=initial_state(scene, functions), pressure=pressure, until_periodic=op.until_periodic,
                  periodic_tol=op.periodic_tol, progress=progress, info=provenance(ran) | {"side_clearance_m": clearance},
-                 sink=sink)
+                 sink=sink, pressure_values=scene.pressure if pressure is not None else None)
     result.scene = ran
     check = penetration_check(result, clearance)
     if not check["ok"]:

@@ -33,6 +33,7 @@ def locate_failure(functions, settings, params, z, edges, P, err, deadline, thet
     """
     lay = HybridLayout.of(functions)
     dth = edges[1] - edges[0]
+    linear = int(P.shape[1] == edges.size)  # pressure = "linear": the values at the edges, one more than intervals
     single = make(functions, settings, n_samples=1, span=dth, compile_c=False)
     single.deadline = deadline
     cols = []
@@ -43,7 +44,7 @@ def locate_failure(functions, settings, params, z, edges, P, err, deadline, thet
                                         f"interval by interval; the call failed with: {_last_line(err)}")
             return _cols(cols, z), ("interrupted", where)
         try:
-            out = single.run(z, params, edges[k], P[:, k:k + 1])
+            out = single.run(z, params, edges[k], P[:, k:k + 1 + linear])
         except WallTimeExceeded:
             where.reason = out_of_time(settings, deadline - settings.max_wall_time, ", while re-running a failed call "
                                         "interval by interval")

@@ -19,7 +19,7 @@ import warnings
 import casadi as ca
 import numpy as np
 
-from .hybrid import build_hybrid_dae
+from .hybrid import build_hybrid_dae, linear_controls
 from .methods import METHODS, Engine, RevolutionResult
 
 #: what CasADi 3.8 prints whenever an integrator with events is built; apexseal's tests cover crossings in
@@ -52,14 +52,17 @@ class EventIntegrator(Engine):
         return cls(sx.rhs, sx.guards, len(names), names.index("omega"), method=method, rtol=rtol,
                    atol=settings.atol, n_samples=n_samples, span=span, max_events=settings.max_events_per_revolution,
                    max_steps=settings.max_steps_per_interval, event_tol=settings.event_tol, compile_c=compile_c,
-                   flags=settings.flags, model_hash=sx.model_hash, state_names=functions.state_names)
+                   flags=settings.flags, model_hash=sx.model_hash, state_names=functions.state_names,
+                   pressure=settings.pressure)
 
     def __init__(self, rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *, method: str,
                  rtol: float, atol: float | None, n_samples: int, span: float = 2 * np.pi,
                  max_events: int = 10000, max_steps: int = 200000, event_tol: float = 1e-10, compile_c: bool = True,
-                 flags: str = "optimised", model_hash: str | None = None, state_names=None):
+                 flags: str = "optimised", model_hash: str | None = None, state_names=None, pressure: str = "steps"):
         plugin = METHODS[method].plugin
-        self.hybrid = build_hybrid_dae(rhs, guards, n_par, omega_index, event_tol=event_tol, state_names=state_names)
+        self.hybrid = build_hybrid_dae(rhs, guards, n_par, omega_index, event_tol=event_tol, state_names=state_names,
+                                       pressure=pressure)
+        self.pressure = pressure
         self.n_samples = n_samples
         self.grid = np.linspace(0.0, span, n_samples + 1)[1:]
         opts = {"transition": self.hybrid.transition, "reltol": rtol, "abstol": atol if atol is not None else rtol,
@@ -83,8 +86,10 @@ class EventIntegrator(Engine):
             self.compiled = self.function is not self.vm
 
     def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:
-        """Integrate from z0 at crank angle theta0; pressures is (2, n_samples), one column per output interval."""
-        out = self.function(x0=z0, p=np.r_[params, theta0], u=pressures)
+        """Integrate from z0 at crank angle theta0; pressures is (2, n_samples), one column per output interval
+        (``pressure = "steps"``), or (2, n_samples + 1), the values at the intervals' ends ("linear")."""
+        u = pressures if self.pressure == "steps" else linear_controls(pressures, self.grid)
+        out = self.function(x0=z0, p=np.r_[params, theta0], u=u)
         stats = {}
         try:
             stats = dict(self.function.stats())

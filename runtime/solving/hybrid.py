@@ -21,7 +21,12 @@ contact switches at most a window early, never late.
 
 The independent variable is the crank angle since the start of the call; the
 parameters are [physical parameters, crank angle at the start]; the controls u
-are the chamber pressures [Pa, Pb], constant over each output interval.
+are the chamber pressures [Pa, Pb], constant over each output interval (``pressure = "steps"``), or,
+with ``pressure = "linear"``, [Pa, Pb] at tau = 0 and their slopes d/dtau, so that the pressures are
+continuous and linear over each interval: P(tau) = u[:2] + u[2:] tau (see :func:`linear_controls`).
+A pressure that jumps at every output interval strikes the stiff metal contacts 3600 times a
+revolution; each strike rings at their natural frequency, and resolving that ringing is what costs an
+adaptive integrator its steps on the default scene (docs/bench/levers.md).
 """
 
 from __future__ import annotations
@@ -29,6 +34,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import casadi as ca
+import numpy as np
 
 from .layout import HybridLayout
 from .scaling import LENGTH, scaled_rhs, state_scale
@@ -41,30 +47,54 @@ class HybridDae:
     layout: HybridLayout
 
 
+#: how the chamber pressures vary over an output interval: held at their interval means, or linear between the
+#: values at the interval's ends (continuous)
+PRESSURE_PROFILES = ("steps", "linear")
+
+
+def linear_controls(edge_values: np.ndarray, grid: np.ndarray) -> np.ndarray:
+    """Controls of the "linear" profile from the pressures at the output edges.
+
+    ``edge_values`` is (2, n + 1): [Pa, Pb] at tau = 0 and at each of the n output times ``grid`` (tau, rad);
+    the result is (4, n): per interval, the intercept at tau = 0 and the slope of the line through its two ends.
+    """
+    P = np.asarray(edge_values, float)
+    tau = np.r_[0.0, np.asarray(grid, float)]
+    if P.ndim != 2 or P.shape != (2, tau.size):
+        raise ValueError(f"pressures: expected the values at the {tau.size} interval edges, shape (2, {tau.size}), "
+                         f"not shape {P.shape}")
+    slope = np.diff(P, axis=1) / np.diff(tau)
+    return np.vstack([P[:, :-1] - slope * tau[:-1], slope])
+
+
 #: after an event CasADi's erk and rosenbrock ignore crossings for 10 event_tol (measured); the margin covers it
 BLIND_WINDOW = 20
 
 
 def build_hybrid_dae(rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *,
-                     event_tol: float = 1e-10, state_names=None) -> HybridDae:
+                     event_tol: float = 1e-10, state_names=None, pressure: str = "steps") -> HybridDae:
     """The DAE dict and transition Function of the hybrid model (see the module docstring).
 
     ``event_tol`` (crank angle, rad) is the tolerance the integrator locates events
     to; the transition switches the contacts that cross within ``BLIND_WINDOW`` of it.
+    ``pressure`` is one of :data:`PRESSURE_PROFILES`: what the controls u mean.
     """
+    if pressure not in PRESSURE_PROFILES:
+        raise ValueError(f"pressure = {pressure!r}: expected one of {', '.join(PRESSURE_PROFILES)}")
     lay = HybridLayout.of_functions(rhs, guards)
     n_g = lay.n_g
     z = ca.SX.sym("z", lay.size)
     tau = ca.SX.sym("tau")
     p = ca.SX.sym("p", n_par + 1)
-    u = ca.SX.sym("u", 2)
+    u = ca.SX.sym("u", 2 if pressure == "steps" else 4)
     par, theta0 = p[:n_par], p[n_par]
     omega = par[omega_index]
     theta = theta0 + tau
+    P = u if pressure == "steps" else u[:2] + u[2:] * tau
     zs, s, counts = z[lay.x], z[lay.active], z[lay.counts]
     X = zs * state_scale(omega, state_names)
-    xdot = rhs(theta, X, s, par, u)
-    g = guards(theta, X, par, u) / LENGTH
+    xdot = rhs(theta, X, s, par, P)
+    g = guards(theta, X, par, P) / LENGTH
     ode = ca.vertcat(scaled_rhs(xdot, omega, state_names), ca.SX.zeros(2 * n_g))
     zero = (1 - 2 * s) * g
     dae = {"x": z, "t": tau, "p": p, "u": u, "ode": ode, "zero": zero}

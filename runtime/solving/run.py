@@ -36,13 +36,16 @@ from .signals import StopSignals
 
 def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: float, state0: np.ndarray,
         revolutions: int | None = None, pressure=None, until_periodic: bool = False, periodic_tol: float = 1e-6,
-        progress: bool = False, engine=None, info: dict | None = None, sink=None) -> SimulationResult:
+        progress: bool = False, engine=None, info: dict | None = None, sink=None,
+        pressure_values=None) -> SimulationResult:
     """Integrate ``revolutions`` (default ``settings.revolutions``) revolutions from ``state0`` (physical) at crank
     angle ``theta_start``.
 
     ``engine`` (optional) must cover a whole number of output intervals that divides a revolution. ``sink``
     receives each completed revolution as it is assembled (default: kept in memory; a
-    :class:`~..results.folder.ResultFolder` writes it to disk and keeps none in memory).
+    :class:`~..results.folder.ResultFolder` writes it to disk and keeps none in memory). ``pressure`` gives the
+    chamber pressures' means over intervals (``pressure(edges)``, None: no chamber pressure); with
+    ``settings.pressure = "linear"``, ``pressure_values(theta)`` gives their values at crank angles.
     """
     from tqdm.auto import tqdm
 
@@ -56,7 +59,10 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     dth = 2 * np.pi / N
     t_wall = time.perf_counter()
     deadline = t_wall + settings.max_wall_time if settings.max_wall_time else math.inf
-    u0 = _pressures(pressure, theta_start + np.array([0.0, dth]))[:, 0]
+    if settings.pressure == "linear" and pressure is not None and pressure_values is None:
+        raise ValueError("pressure = 'linear' needs pressure_values, the chamber pressures at given crank angles")
+    values = pressure_values if settings.pressure == "linear" else None
+    u0 = _pressures(pressure, theta_start + np.array([0.0, dth]), values)[:, 0]
     z = lay.pack(to_scaled(state0, omega, lay.state_names), initial_activations(functions, theta_start, state0, params, u0))
     part = _Part(functions, params, theta_start, omega, sink, first=z.copy())
     stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0)
@@ -86,10 +92,11 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                                            out_of_time(settings, t_wall))
                     break
                 edges = theta_start + rev * 2 * np.pi + dth * (c * m + np.arange(m + 1))
-                P = _pressures(pressure, edges)
+                P_in = _pressures(pressure, edges, values)
+                P = P_in if settings.pressure == "steps" else P_in[:, 1:]  # the pressures at the samples
                 engine.deadline = deadline if not signals.requested else -math.inf
                 try:
-                    out = engine.run(z, params, edges[0], P)
+                    out = engine.run(z, params, edges[0], P_in)
                     Z, stats, failure = out.z, out.stats, None
                 except WallTimeExceeded as late:
                     Z, stats = late.partial, {}
@@ -97,7 +104,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                     why = signals.reason() if signals.requested else out_of_time(settings, t_wall)
                     failure = "interrupted", StopInfo(edges[Z.shape[1]] - theta_start, lay.mode(last), why)
                 except RuntimeError as err:
-                    Z, failure = locate_failure(functions, settings, params, z, edges, P, err, deadline, theta_start,
+                    Z, failure = locate_failure(functions, settings, params, z, edges, P_in, err, deadline, theta_start,
                                                 make_engine)
                     stats = {"n_recovered_calls": 1} if failure is None else {}
                 Z, bad = check.finite(Z, edges[1:])
@@ -202,7 +209,9 @@ class _Part:
         self.save_s += time.perf_counter() - w1
 
 
-def _pressures(pressure, edges: np.ndarray) -> np.ndarray:
+def _pressures(pressure, edges: np.ndarray, values=None) -> np.ndarray:
+    """What the engine takes: (2, n) interval means (``pressure(edges)``), or, when ``values`` (the pressures
+    at given crank angles) is given, the (2, n + 1) values at the edges (``pressure = "linear"``)."""
     if pressure is None:
-        return np.zeros((2, edges.size - 1))
-    return np.asarray(pressure(edges), float)
+        return np.zeros((2, edges.size - (values is None)))
+    return np.asarray(pressure(edges) if values is None else values(edges), float)

@@ -108,6 +108,17 @@ def _flags(value: Any) -> str:
     raise _fail(f"not allowed; allowed: {', '.join(FLAGS)}")
 
 
+#: how the chamber pressures vary over an output interval (runtime/solving/hybrid.py): "steps" = held at the
+#: interval's mean; "linear" = linear between the values at the interval's ends (event methods only)
+PRESSURE_PROFILES = ("steps", "linear")
+
+
+def _pressure(value: Any) -> str:
+    if value in PRESSURE_PROFILES:
+        return value
+    raise _fail(f"not allowed; allowed: {', '.join(PRESSURE_PROFILES)}")
+
+
 def _flag(value: Any) -> bool:
     if isinstance(value, bool):
         return value
@@ -135,12 +146,16 @@ class RunSettings(BaseModel):
     max_wall_time: _ranged("max_wall_time", float | None) = None  # s, checked between integrator calls; None: no budget
     calls_per_revolution: _ranged("calls_per_revolution", int | None) = None  # None: 1, or 36 with a wall-time budget
     revolutions: _ranged("revolutions", int) = 1
+    pressure: Annotated[str, BeforeValidator(_pressure)] = "steps"
 
     def __init__(self, **values: Any) -> None:
         try:
             super().__init__(**values)
         except ValidationError as exc:
             raise settings_error(exc) from None
+        if self.pressure == "linear" and not _events_engine(self.method):
+            raise SettingsError([("pressure", self.pressure, f"needs an event method (erk, erk-rk4, rosenbrock); "
+                                  f"method {self.method!r} holds the pressures per interval: use pressure = 'steps'")])
 
     def replace(self, **changes: Any) -> RunSettings:
         """A copy with ``changes`` (validated like the original; ``None`` values are ignored)."""
@@ -161,6 +176,12 @@ def settings_error(exc: ValidationError) -> SettingsError:
         else:
             out.append((name, err.get("input"), err["msg"]))
     return SettingsError(out)
+
+
+def _events_engine(method: Any) -> bool:
+    from .methods import method_of
+
+    return method_of(method).engine_class().__name__ == "EventIntegrator"
 
 
 def samples_per_call(settings: RunSettings) -> int:
