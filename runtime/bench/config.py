@@ -123,6 +123,9 @@ class BenchConfig:
     #: end to end: revolutions of the timed ``apexseal simulate`` runs (runtime/bench/e2e.py); 0 = not measured
     e2e_revolutions: int = 0
     e2e_repeats: int = 2
+    #: the chamber pressures over an output interval: "steps" (interval means, every method) or "linear"
+    #: (continuous; the event methods and the numba peer only, others are skipped with a note)
+    pressure: str = "steps"
 
     def methods_used(self) -> list[MethodSpec]:
         ids = {m for s in self.scenes for m in s.sweeps}
@@ -136,7 +139,8 @@ class BenchConfig:
     def restricted(self, *, methods: tuple[str, ...] = (), samples: int | None = None, span_deg: float | None = None,
                    settle: int | None = None, repeats: int | None = None, scenes: tuple[str, ...] = (),
                    flags: str | None = None, effects: bool | None = None, cold_compile: bool | None = None,
-                   check_reference: bool | None = None, e2e: bool | None = None) -> BenchConfig:
+                   check_reference: bool | None = None, e2e: bool | None = None,
+                   pressure: str | None = None) -> BenchConfig:
         """A copy with fewer methods/scenes or a smaller problem (for tests and quick looks)."""
         unknown = [m for m in methods if m not in METHODS]
         if unknown:
@@ -146,7 +150,8 @@ class BenchConfig:
             sc = tuple(replace(s, sweeps={k: v for k, v in s.sweeps.items() if k in methods}) for s in sc)
         new = replace(self, scenes=sc, mode=self.mode if not (methods or scenes) else self.mode + "-restricted")
         changes = {"samples": samples, "span_deg": span_deg, "settle_revolutions": settle, "repeats": repeats,
-                   "flags": flags, "cold_compile": cold_compile, "check_reference": check_reference}
+                   "flags": flags, "cold_compile": cold_compile, "check_reference": check_reference,
+                   "pressure": pressure}
         new = replace(new, **{k: v for k, v in changes.items() if v is not None})
         if effects is False:
             new = replace(new, effects=None)

@@ -65,7 +65,7 @@ def run_effects(scene, cfg, engines, *, precompile, log) -> list[dict]:
             settle_engine, settle_settings = engines.settle(label, functions, *ref_tols)
             problem = make_problem(label, scene, effects, functions, samples=cfg.samples, span=math.radians(cfg.span_deg),
                                    settle_revolutions=cfg.settle_revolutions, settle_engine=settle_engine,
-                                   settle_settings=settle_settings)
+                                   settle_settings=settle_settings, pressure_profile=cfg.pressure)
             ref, ref_info = solve_reference(problem, ref_engine)
         except Exception as exc:  # noqa: BLE001 - a model that cannot be run is a row too
             rows.append(row | {"status": "failed", "reason": f"{type(exc).__name__}: {str(exc)[-200:]}"})

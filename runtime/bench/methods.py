@@ -21,10 +21,12 @@ from .config import MethodSpec
 
 
 def settings_for(spec: MethodSpec, value: float, *, samples: int, span: float, flags: str, compiled: bool,
-                 event_tol: float | None = None) -> RunSettings:
+                 event_tol: float | None = None, pressure: str = "steps") -> RunSettings:
     """RunSettings for one point (steps are per revolution, whatever the span)."""
     steps = int(value)
     kw = {"event_tol": event_tol} if event_tol is not None else {}
+    if pressure != "steps":
+        kw["pressure"] = pressure
     # the engine covers ``samples`` intervals of ``span``; the settings' per-revolution count is that density
     per_revolution = max(MIN_SAMPLES, int(round(samples * 2 * math.pi / span)))
     method = RK4Integrator if spec.kind == "rk4" else spec.method  # rk4-C: the fixed-step engine's RK4 rule
@@ -38,8 +40,9 @@ MIN_SAMPLES = int(LIMITS["samples_per_revolution"][1].ge)
 
 
 def build_engine(functions, spec: MethodSpec, value: float, *, samples: int, span: float, flags: str, compiled: bool,
-                 event_tol: float | None = None):
-    st = settings_for(spec, value, samples=samples, span=span, flags=flags, compiled=compiled, event_tol=event_tol)
+                 event_tol: float | None = None, pressure: str = "steps"):
+    st = settings_for(spec, value, samples=samples, span=span, flags=flags, compiled=compiled, event_tol=event_tol,
+                      pressure=pressure)
     return make_engine(functions, st, n_samples=samples, span=span)
 
 
@@ -60,8 +63,8 @@ def normalise_stats(raw: dict, source: str) -> dict:
 class EngineCache:
     """Engines keyed by (model, method, setting, compiled, grid); also records their build times."""
 
-    def __init__(self, *, samples: int, span: float, flags: str):
-        self.samples, self.span, self.flags = samples, span, flags
+    def __init__(self, *, samples: int, span: float, flags: str, pressure: str = "steps"):
+        self.samples, self.span, self.flags, self.pressure = samples, span, flags, pressure
         self._engines: dict = {}
         self.build_s: dict = {}
 
@@ -73,7 +76,8 @@ class EngineCache:
         if k not in self._engines:
             w0 = time.perf_counter()
             self._engines[k] = build_engine(functions, spec, value, samples=self.samples, span=self.span,
-                                            flags=self.flags, compiled=compiled, event_tol=event_tol)
+                                            flags=self.flags, compiled=compiled, event_tol=event_tol,
+                                            pressure=self.pressure)
             self.build_s[k] = time.perf_counter() - w0
         return self._engines[k]
 
@@ -88,7 +92,7 @@ class EngineCache:
         """Engine and settings for settling with the reference method, whole revolutions of ``samples`` each."""
         per_revolution = self.samples * math.ceil(MIN_SAMPLES / self.samples)  # a multiple of the engine's samples
         st = RunSettings(method="erk", rtol=rtol, samples_per_revolution=per_revolution, flags=self.flags,
-                         event_tol=event_tol)
+                         event_tol=event_tol, pressure=self.pressure)
         if math.isclose(self.span, 2 * math.pi):
             return self.reference(model, functions, rtol, event_tol), st
         return make_engine(functions, st), st

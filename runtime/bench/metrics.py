@@ -41,7 +41,7 @@ def trajectory(problem, z: np.ndarray) -> Trajectory:
     events = z[lay.counts, -1] - problem.z0[lay.counts]
     if "Pf_total" in fns.output_names:
         Y = np.array(fns.outputs.map(N)(problem.theta[None, :], X, closed, np.repeat(problem.params[:, None], N, 1),
-                                        problem.pressures))
+                                        problem.sample_pressures))
         pf = Y[list(fns.output_names).index("Pf_total")]
     else:
         pf = np.zeros(N)

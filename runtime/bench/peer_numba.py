@@ -67,7 +67,7 @@ def numbalsoda_available() -> str | None:
 class Layout:
     """Offsets in the float64 data array every numba function reads (parameters, grid, pressures, scratch)."""
 
-    def __init__(self, n_guards: int, samples: int):
+    def __init__(self, n_guards: int, samples: int, linear: bool = False):
         self.n_g, self.N = n_guards, samples
         self.TH0 = N_PAR  # crank angle at the span's start
         self.DTH = N_PAR + 1  # output interval (rad)
@@ -79,8 +79,10 @@ class Layout:
         self.X = self.CNT + 1  # scratch: physical state (6), accelerations (3), gaps (n_g)
         self.ACC = self.X + 6
         self.GAP = self.ACC + 3
-        self.TAB = self.GAP + max(n_guards, 1)  # Pa (N), then Pb (N)
-        self.size = self.TAB + 2 * samples
+        self.TAB = self.GAP + max(n_guards, 1)  # Pa (N), then Pb (N); with linear pressures N + 1 edge values each
+        self.linear = linear
+        self.NP = samples + linear  # pressure values per chamber
+        self.size = self.TAB + 2 * self.NP
 
     def data(self, problem) -> np.ndarray:
         d = np.zeros(self.size)
@@ -88,8 +90,8 @@ class Layout:
         d[self.TH0] = problem.theta0
         d[self.DTH] = problem.span / problem.samples
         d[self.SC:self.SC + 6] = state_scale(problem.omega)
-        d[self.TAB:self.TAB + self.N] = problem.pressures[0]
-        d[self.TAB + self.N:] = problem.pressures[1]
+        d[self.TAB:self.TAB + self.NP] = problem.pressures[0]
+        d[self.TAB + self.NP:] = problem.pressures[1]
         return d
 
 
@@ -102,17 +104,35 @@ def make_kernels(nm, layout: Layout):
     TH0, DTH, SC, PA, S, OFF, CNT = layout.TH0, layout.DTH, layout.SC, layout.PA, layout.S, layout.OFF, layout.CNT
     XO, ACC, GAP, TAB, SIZE = layout.X, layout.ACC, layout.GAP, layout.TAB, layout.size
     inv_l = 1.0 / LENGTH
+    LIN, NP = layout.linear, layout.NP
+
+    @numba.njit(cache=False)
+    def table_pressures(t, d):
+        """The pressures at t: of the output interval holding t, or linear between its ends (layout.linear)."""
+        k = min(max(int(np.ceil(t / d[DTH])) - 1, 0), N - 1)
+        if LIN:
+            w = t / d[DTH] - k
+            return (d[TAB + k] + w * (d[TAB + k + 1] - d[TAB + k]),
+                    d[TAB + NP + k] + w * (d[TAB + NP + k + 1] - d[TAB + NP + k]))
+        return d[TAB + k], d[TAB + NP + k]
+
+    @numba.njit(cache=False)
+    def mode_pressures(t, d):
+        """The pressures the event driver set for the current interval, or linear in t (layout.linear)."""
+        if LIN:
+            return table_pressures(t, d)
+        return d[PA], d[PA + 1]
 
     @numba.njit(cache=False)
     def switched_rhs(t, z, d, dz):
         """dz/dtheta with the contacts switched inside; pressures of the output interval holding t."""
         om = d[OMEGA]
-        k = min(max(int(np.ceil(t / d[DTH])) - 1, 0), N - 1)
         X = d[XO:XO + 6]
         for i in range(6):
             X[i] = z[i] * d[SC + i]
         acc = d[ACC:ACC + 3]
-        switched(d[TH0] + t, X, d[:N_PAR], d[TAB + k], d[TAB + N + k], acc)
+        pa, pb = table_pressures(t, d)
+        switched(d[TH0] + t, X, d[:N_PAR], pa, pb, acc)
         for i in range(3):
             dz[i] = X[3 + i] / (d[SC + i] * om)
             dz[3 + i] = acc[i] / (d[SC + 3 + i] * om)
@@ -126,7 +146,8 @@ def make_kernels(nm, layout: Layout):
         for i in range(6):
             X[i] = z[i] * d[SC + i]
         acc = d[ACC:ACC + 3]
-        accelerations(d[TH0] + t, X, d[S:S + n_g], d[:N_PAR], d[PA], d[PA + 1], acc)
+        pa, pb = mode_pressures(t, d)
+        accelerations(d[TH0] + t, X, d[S:S + n_g], d[:N_PAR], pa, pb, acc)
         for i in range(3):
             dz[i] = X[3 + i] / (d[SC + i] * om)
             dz[3 + i] = acc[i] / (d[SC + 3 + i] * om)
@@ -138,7 +159,8 @@ def make_kernels(nm, layout: Layout):
         for i in range(6):
             X[i] = z[i] * d[SC + i]
         g = d[GAP:GAP + n_g]
-        guards(d[TH0] + t, X, d[:N_PAR], d[PA], d[PA + 1], g)
+        pa, pb = mode_pressures(t, d)
+        guards(d[TH0] + t, X, d[:N_PAR], pa, pb, g)
         for i in range(n_g):
             e[i] = (1.0 - 2.0 * d[S + i]) * g[i] * inv_l
 
@@ -149,7 +171,7 @@ def make_kernels(nm, layout: Layout):
         for j in range(n_g):
             d[S + j] = 0.0  # with every contact open the zero functions are the gaps themselves
         for k in range(N):
-            d[PA], d[PA + 1] = d[TAB + k], d[TAB + N + k]
+            d[PA], d[PA + 1] = d[TAB + k], d[TAB + NP + k]
             zero_functions((k + 1) * d[DTH], Zs[:, k].copy(), d, e)
             for j in range(n_g):
                 closed[j, k] = 1.0 if e[j] < 0.0 else 0.0
@@ -185,6 +207,7 @@ def make_dop853_driver(zero_functions, layout: Layout):
     from numbalsoda import solve_ivp
 
     n_g, N, DTH, PA, S, OFF, TAB = layout.n_g, layout.N, layout.DTH, layout.PA, layout.S, layout.OFF, layout.TAB
+    NP = layout.NP
 
     @numba.njit(cache=False)
     def drive(rhs_ptr, ev_ptr, z0, d, rtol, atol):
@@ -203,7 +226,7 @@ def make_dop853_driver(zero_functions, layout: Layout):
         span = np.empty(2)
         for k in range(N):
             d[PA] = d[TAB + k]
-            d[PA + 1] = d[TAB + N + k]
+            d[PA + 1] = d[TAB + NP + k]
             t, t_end = k * dth, (k + 1) * dth
             teval[0] = t_end
             zero_functions(t, z, d, e0)
@@ -255,7 +278,7 @@ class NumbaPeer:
 
     def __init__(self, problem, nm):
         self.problem, self.nm = problem, nm
-        self.layout = Layout(nm.n_guards, problem.samples)
+        self.layout = Layout(nm.n_guards, problem.samples, linear=problem.pressure == "linear")
         self.data = self.layout.data(problem)
         self.kernels = None
         self.dop853 = None

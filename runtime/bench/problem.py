@@ -4,6 +4,9 @@ The chamber pressures enter every integrator as constants per output interval
 (their exact interval means), so the output grid is part of the problem: every
 method, the reference and the scipy baseline use the same ``samples`` intervals.
 
+With ``pressure = "linear"`` (the run setting of runtime/solving/settings.py) the pressures are instead
+linear over each interval between their values at its ends, continuous: the engine input is (2, samples + 1).
+
 "Settled start": ``settle_revolutions`` revolutions are run from the scene's
 initial state (at its start angle) with the reference method; the state at the
 start of the last of them is the benchmark's initial state (x, y, phi and speeds,
@@ -37,6 +40,7 @@ class Problem:
     X0: np.ndarray  # physical state (6,)
     closed0: np.ndarray  # (n_guards,) 1.0 = closed
     settle: dict = field(default_factory=dict)
+    pressure: str = "steps"  # "steps" (interval means) or "linear" (values at the edges, linear in between)
 
     @property
     def omega(self) -> float:
@@ -57,10 +61,21 @@ class Problem:
 
     @property
     def pressures(self) -> np.ndarray:
-        """(2, samples): [Pa, Pb] held over each output interval (zeros without chamber pressure)."""
+        """The engines' pressure input: (2, samples) [Pa, Pb] held over each output interval, or with
+        ``pressure = "linear"`` (2, samples + 1), their values at the interval edges (zeros without chamber
+        pressure)."""
+        linear = self.pressure == "linear"
         if not self.effects.chamber_pressure:
-            return np.zeros((2, self.samples))
+            return np.zeros((2, self.samples + linear))
+        if linear:
+            return np.asarray(self.scene.pressure(self.edges), float)
         return np.asarray(self.scene.pressure.interval_means(self.edges), float)
+
+    @property
+    def sample_pressures(self) -> np.ndarray:
+        """(2, samples): the pressures the model sees at each output sample (for its outputs there)."""
+        P = self.pressures
+        return P[:, 1:] if self.pressure == "linear" else P
 
     @property
     def z0(self) -> np.ndarray:
@@ -73,11 +88,13 @@ class Problem:
                 "initial_state": dict(zip(("x", "y", "phi", "xd", "yd", "phid"), map(float, self.X0), strict=True)),
                 "initial_closed": dict(zip(self.functions.guard_names, map(bool, self.closed0 > 0.5), strict=True)),
                 "settle": self.settle, "guards": list(self.functions.guard_names),
-                "pressure_grid": f"{self.samples} intervals over {np.degrees(self.span):g} deg, interval means"}
+                "pressure_grid": f"{self.samples} intervals over {np.degrees(self.span):g} deg, "
+                                 + ("linear between the values at the edges" if self.pressure == "linear"
+                                    else "interval means")}
 
 
 def make_problem(name: str, scene, effects: Effects, functions, *, samples: int, span: float, settle_revolutions: int,
-                 settle_engine=None, settle_settings: RunSettings | None = None) -> Problem:
+                 settle_engine=None, settle_settings: RunSettings | None = None, pressure_profile: str = "steps") -> Problem:
     """Settle the scene (``settle_revolutions`` revolutions with ``settle_engine``) and build the problem."""
     params = scene.parameter_vector()
     op = scene.operation
@@ -88,7 +105,8 @@ def make_problem(name: str, scene, effects: Effects, functions, *, samples: int,
     if settle_revolutions > 0:
         c0 = time.process_time()
         res = run(functions, params, settle_settings, theta_start=theta, state0=X, revolutions=settle_revolutions,
-                  pressure=pressure, engine=settle_engine)
+                  pressure=pressure, engine=settle_engine,
+                  pressure_values=scene.pressure if effects.chamber_pressure else None)
         info.update(method=settle_settings.method, rtol=settle_settings.rtol, status=res.status,
                     cpu_s=time.process_time() - c0)
         if not res.ok:
@@ -100,7 +118,7 @@ def make_problem(name: str, scene, effects: Effects, functions, *, samples: int,
         u0 = (np.zeros(2) if pressure is None
               else np.asarray(pressure(np.array([theta, theta + span / samples])), float)[:, 0])
         closed = initial_activations(functions, theta, X, params, u0)
-    return Problem(name, scene, effects, functions, params, samples, span, theta, X, closed, info)
+    return Problem(name, scene, effects, functions, params, samples, span, theta, X, closed, info, pressure_profile)
 
 
 def load_model(effects: Effects, assumptions):

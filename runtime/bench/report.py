@@ -65,11 +65,18 @@ def problem_lines(r: dict) -> list[str]:
             line += (f" Check ({chk['method']}, rtol {chk['rtol']:g}, events to {chk['event_tol']:g} rad): state "
                      f"{_e(d.get('state'))}, friction power {_e(d.get('friction_power'))}, events "
                      f"{'identical' if chk['events_match'] else 'differ'}.")
+        elif chk.get("status") == "skipped":
+            line += f" Check skipped: {chk.get('reason')}."
         elif chk:
             line += f" Check failed: {chk.get('reason')}."
         out.append(line)
-    out.append(f"- Grid: {cfg['samples']} output samples per span; the chamber pressures are their interval means, "
-               "constant per interval, for every method (so the grid is part of the problem).")
+    if cfg.get("pressure", "steps") == "linear":
+        out.append(f"- Grid: {cfg['samples']} output samples per span; the chamber pressures are linear over each "
+                   "interval between their values at its ends (continuous), for every method (so the grid is part of "
+                   "the problem).")
+    else:
+        out.append(f"- Grid: {cfg['samples']} output samples per span; the chamber pressures are their interval "
+                   "means, constant per interval, for every method (so the grid is part of the problem).")
     return out
 
 

@@ -49,7 +49,7 @@ def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
         results["model"]["library_load_wall_s"] = time.perf_counter() - w0  # includes its compile when not cached
         results["model"]["library_load_cpu_s"] = time.process_time() - c0
 
-    engines = EngineCache(samples=cfg.samples, span=math.radians(cfg.span_deg), flags=cfg.flags)
+    engines = EngineCache(samples=cfg.samples, span=math.radians(cfg.span_deg), flags=cfg.flags, pressure=cfg.pressure)
 
     def pool(functions):
         return precompile(functions, flags=cfg.flags, workers=cfg.workers, log=log)
@@ -85,6 +85,11 @@ def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
     return results
 
 
+def _takes_linear_pressure(spec) -> bool:
+    """Event methods (erk, erk-rk4, rosenbrock) and the numba peer take pressures linear over each interval."""
+    return spec.kind == "peer" or (spec.kind == "casadi" and spec.method in ("erk", "erk-rk4", "rosenbrock"))
+
+
 def _available(cfg: BenchConfig, log) -> tuple[BenchConfig, list[dict]]:
     """Drop the peer methods whose packages are missing (numba; numbalsoda, which needs gfortran), with a note."""
     from .config import NEEDS_NUMBALSODA
@@ -92,6 +97,11 @@ def _available(cfg: BenchConfig, log) -> tuple[BenchConfig, list[dict]]:
 
     skipped = []
     for spec in cfg.methods_used():
+        if cfg.pressure != "steps" and not _takes_linear_pressure(spec):
+            why = f"pressure = {cfg.pressure!r}: this method holds the pressures per output interval"
+            skipped.append({"method": spec.id, "reason": why})
+            log(f"note: skipping {spec.id}: {why}")
+            continue
         if spec.kind != "peer":
             continue
         why = numbalsoda_available() if spec.id in NEEDS_NUMBALSODA else numba_available()
@@ -110,10 +120,13 @@ def _run_scene(ctx, s, log, *, with_rhs_cost: bool) -> dict:
     settle_engine, settle_settings = engines.settle(MODEL, sx, *ref_tols)
     problem = make_problem(s.name, scene, base.effects, sx, samples=cfg.samples, span=math.radians(cfg.span_deg),
                            settle_revolutions=cfg.settle_revolutions, settle_engine=settle_engine,
-                           settle_settings=settle_settings)
+                           settle_settings=settle_settings, pressure_profile=cfg.pressure)
     ref, ref_info = solve_reference(problem, engines.reference(MODEL, sx, *ref_tols))
     ref_info |= {"rtol": cfg.reference_rtol, "atol_scaled": cfg.reference_rtol, "event_tol": cfg.reference_event_tol}
-    if cfg.check_reference:
+    if cfg.check_reference and cfg.pressure != "steps":
+        ref_info["check"] = {"status": "skipped", "reason": "cvodes holds the pressures per interval"}
+        log("  reference: check vs cvodes skipped (pressures linear over each interval)")
+    elif cfg.check_reference:
         fns, key = (c_model, MODEL_C) if c_model is not None else (sx, MODEL)
         eng = engines.get(key, fns, METHODS["cvodes-C"], cfg.reference_rtol, compiled=False,
                           event_tol=cfg.reference_event_tol)

@@ -41,7 +41,11 @@ def _command_line(ctx: click.Context) -> str:
 @click.option("--flags", type=click.Choice(["optimised", "quick"]), help="C compiler flag set (default optimised).")
 @click.option("--e2e/--no-e2e", default=None, help="Time the stages of a warm `apexseal simulate --revolutions 20` "
               "with and without figures (default: in the full run only).")
-def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_effects, no_check, flags, e2e) -> None:
+@click.option("--pressure", type=click.Choice(["steps", "linear"]), help="Chamber pressures over an output interval: "
+              "held at their means (steps, default) or linear between the values at its ends (event methods and the "
+              "numba peer only).")
+def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_effects, no_check, flags, e2e,
+          pressure) -> None:
     """Work-precision benchmark: error against CPU time for every method, targets, effects cost."""
     from .runtime.bench.config import PRESETS
     from .runtime.bench.output import write_outputs
@@ -52,7 +56,7 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     try:
         cfg = cfg.restricted(methods=split(methods), scenes=split(scenes), samples=samples, span_deg=span_deg,
                              settle=settle, repeats=repeats, flags=flags, effects=False if no_effects else None,
-                             check_reference=False if no_check else None, e2e=e2e)
+                             check_reference=False if no_check else None, e2e=e2e, pressure=pressure)
     except ValueError as err:
         raise click.BadParameter(str(err)) from err
     command = _command_line(click.get_current_context())
