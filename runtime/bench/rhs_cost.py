@@ -90,7 +90,7 @@ def integrator_before_after(problem, *, flags: str, repeats: int = 5) -> list[di
     for label, f in forms.items():
         e = EventIntegrator(f.rhs, f.guards, len(names), names.index("omega"), method="erk", rtol=1e-6, atol=1e-6,
                             n_samples=problem.samples, span=problem.span, compile_c=True, flags=flags,
-                            model_hash=f.model_hash)
+                            model_hash=f.model_hash, pressure=problem.pressure)
         engines[label], sources[label] = e, function_source(e.vm).key_payload["c_sha256"]
     args = (problem.z0, problem.params, problem.theta0, problem.pressures)
     per: dict[str, list[float]] = {k: [] for k in engines}
@@ -101,7 +101,8 @@ def integrator_before_after(problem, *, flags: str, repeats: int = 5) -> list[di
             e.run(*args)
             per[label].append(time.process_time() - c0)
     for label, e in engines.items():  # the statistics come from the interpreted run of the same integrator
-        e.vm(x0=args[0], p=np.r_[args[1], args[2]], u=args[3])
+        e.function = e.vm
+        e.run(*args)
         evals[label] = e.vm.stats().get("n_rhs")
     same = len(set(sources.values())) == 1
     if not all(e.compiled for e in engines.values()):

@@ -147,6 +147,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         wall = time.perf_counter() - t_wall
         info = dict(info or {}) | {"state_names": list(lay.state_names), "method": settings.method,
                                    "rtol": settings.rtol, "atol": settings.atol, "samples_per_revolution": N,
+                                   "pressure": settings.pressure,
                                    "calls_per_revolution": calls,
                                    "revolutions_asked": revolutions, "wall_time_s": wall, "solver_stats": stats_total,
                                    "solver_stats_note": "" if engine is None or not engine.compiled else

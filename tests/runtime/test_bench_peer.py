@@ -58,18 +58,24 @@ def test_numba_rhs_equals_casadi_rhs_at_random_states_and_modes(numba_model):
         assert ((gap < 0) == (ref_g < 0)).all()
 
 
-@pytest.fixture(scope="module")
-def tiny_problem():
+def _tiny(pressure: str):
     """20 degrees of the default scene from its initial state, 24 output intervals, reference erk at 1e-12."""
     scene = load_scene()
     f = model_functions(scene)
     span, samples = math.radians(20), 24
-    problem = make_problem("default", scene, scene.effects, f, samples=samples, span=span, settle_revolutions=0)
+    problem = make_problem("default", scene, scene.effects, f, samples=samples, span=span, settle_revolutions=0,
+                           pressure_profile=pressure)
     per_rev = round(samples * 2 * math.pi / span)  # settings count samples per revolution
-    st = RunSettings(method="erk", rtol=1e-12, samples_per_revolution=per_rev, event_tol=1e-13, compile_c=False)
+    st = RunSettings(method="erk", rtol=1e-12, samples_per_revolution=per_rev, event_tol=1e-13, compile_c=False,
+                     pressure=pressure)
     out = make_engine(f, st, n_samples=samples, span=span).run(problem.z0, problem.params, problem.theta0,
                                                                 problem.pressures)
     return problem, trajectory(problem, out.z)
+
+
+@pytest.fixture(scope="module")
+def tiny_problem():
+    return _tiny("steps")
 
 
 @pytest.mark.parametrize("method", ["numba-scipy-LSODA", "numbalsoda-LSODA", "numbalsoda-DOP853"])
@@ -93,6 +99,35 @@ def test_peer_trajectory_agrees_with_erk_at_tight_tolerance(numba_model, tiny_pr
         np.testing.assert_array_equal(traj.closed, ref.closed)
     looser = trajectory(problem, peer.run(method, 1e-5).z)
     assert errors(looser, ref)["state"] > err["state"]  # the tolerance is what sets the error
+
+
+def test_peer_interpolates_linear_pressures_inside_an_interval(numba_model):
+    """With ``bench --pressure linear`` the peer's right-hand sides see the line through the pressures at the
+    interval's ends (as the hybrid DAE does, tests/runtime/test_pressure_profile.py), not the interval's mean."""
+    from apexseal.runtime.bench.peer_numba import NumbaPeer
+    from apexseal.runtime.solving.scaling import scaled_rhs
+
+    scene, nm = numba_model
+    f = model_functions(scene)
+    span, samples = math.radians(20), 24
+    problem = make_problem("default", scene, scene.effects, f, samples=samples, span=span, settle_revolutions=0,
+                           pressure_profile="linear")
+    peer = NumbaPeer(problem, nm)
+    peer.build(numbalsoda=False)
+    P = problem.pressures
+    assert P.shape == (2, samples + 1)
+    k = int(np.argmax(np.abs(np.diff(P, axis=1)).max(axis=0)))  # the interval where a pressure changes most
+    w = 0.25  # a quarter into it
+    t = (k + w) * span / samples
+    Pt = P[:, k] + w * (P[:, k + 1] - P[:, k])
+    assert np.abs(Pt - P[:, k]).max() > 1e3  # the pressure changes over the interval: the test can see the difference
+    X = np.array([0.2e-6, -30e-6, 1e-3, 1e-3, 0.01, 0.5])
+    z = X / peer.data[peer.layout.SC:peer.layout.SC + 6]
+    dz = np.empty(6)
+    peer.kernels["switched_rhs"](t, z.copy(), peer.data.copy(), dz)
+    omega = problem.omega
+    want = np.array(scaled_rhs(f.rhs_switched(problem.theta0 + t, X, problem.params, Pt), omega)).ravel()
+    np.testing.assert_allclose(dz, want, rtol=1e-9, atol=1e-9 * np.abs(want).max())
 
 
 def test_missing_numbalsoda_skips_its_methods_with_a_note(monkeypatch):
