@@ -61,8 +61,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     deadline = t_wall + settings.max_wall_time if settings.max_wall_time else math.inf
     if settings.pressure == "linear" and pressure is not None and pressure_values is None:
         raise ValueError("pressure = 'linear' needs pressure_values, the chamber pressures at given crank angles")
-    values = pressure_values if settings.pressure == "linear" else None
-    u0 = _pressures(pressure, theta_start + np.array([0.0, dth]), values)[:, 0]
+    values, linear = pressure_values, settings.pressure == "linear"
+    u0 = _pressures(pressure, theta_start + np.array([0.0, dth]), values, linear)[:, 0]
     z = lay.pack(to_scaled(state0, omega, lay.state_names), initial_activations(functions, theta_start, state0, params, u0))
     part = _Part(functions, params, theta_start, omega, sink, first=z.copy())
     stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0)
@@ -92,7 +92,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                                            out_of_time(settings, t_wall))
                     break
                 edges = theta_start + rev * 2 * np.pi + dth * (c * m + np.arange(m + 1))
-                P_in = _pressures(pressure, edges, values)
+                P_in = _pressures(pressure, edges, values, linear)
                 P = P_in if settings.pressure == "steps" else P_in[:, 1:]  # the pressures at the samples
                 engine.deadline = deadline if not signals.requested else -math.inf
                 try:
@@ -210,9 +210,9 @@ class _Part:
         self.save_s += time.perf_counter() - w1
 
 
-def _pressures(pressure, edges: np.ndarray, values=None) -> np.ndarray:
-    """What the engine takes: (2, n) interval means (``pressure(edges)``), or, when ``values`` (the pressures
-    at given crank angles) is given, the (2, n + 1) values at the edges (``pressure = "linear"``)."""
+def _pressures(pressure, edges: np.ndarray, values=None, linear: bool = False) -> np.ndarray:
+    """What the engine takes: (2, n) interval means (``pressure(edges)``), or with ``linear`` the (2, n + 1)
+    values at the edges (``values(edges)``, the pressures at given crank angles)."""
     if pressure is None:
-        return np.zeros((2, edges.size - (values is None)))
-    return np.asarray(pressure(edges) if values is None else values(edges), float)
+        return np.zeros((2, edges.size - (not linear)))
+    return np.asarray(values(edges) if linear else pressure(edges), float)

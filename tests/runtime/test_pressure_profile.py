@@ -105,3 +105,16 @@ def test_simulate_with_linear_pressures_records_it_and_differs_from_steps_by_lit
     pf = {p: float(r.friction_power) for p, r in runs.items()}
     assert pf["linear"] != pf["steps"]
     assert abs(pf["linear"] - pf["steps"]) < 0.03 * abs(pf["steps"])
+
+
+def test_linear_run_without_chamber_pressure_integrates_zero_pressures():
+    """No pressure source (the chamber-pressure effect off): the linear engine still gets its (2, n + 1) zeros."""
+    from apexseal.runtime.api import initial_state
+    from apexseal.runtime.solving.run import run
+
+    scene = load_scene()
+    f = model_functions(scene)
+    st = RunSettings(method="erk", rtol=1e-6, samples_per_revolution=36, pressure="linear")
+    res = run(f, scene.parameter_vector(), st, theta_start=0.0, state0=initial_state(scene, f), revolutions=1)
+    assert res.status == "completed", res.stop
+    assert res.info["pressure"] == "linear"
