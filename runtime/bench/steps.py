@@ -1,6 +1,7 @@
 """What limits erk's steps on the benchmark's problem: step counts with one thing changed at a time.
 
-Made by ``python -m apexseal.runtime.bench.steps [--rtol 1e-8] [--inert]`` (a few minutes; docs/bench/levers.md).
+Made by ``python -m apexseal.runtime.bench.steps [--rtol 1e-8] [--inert] [--compare]`` (a few minutes;
+docs/bench/levers.md).
 erk (RK45 + events, interpreted, for its statistics; the step sequence is the compiled integrator's) integrates
 one revolution of the benchmark's problem (runtime/bench/problem.py: default scene, 360 output intervals,
 settled start) with each variant: scene parameters changed (contact stiffness, friction regularisation width,
@@ -9,6 +10,7 @@ friction coefficients), effects left out (runtime/bench/effects.py), the chamber
 
 ``--inert`` also times the compiled erk with and without the event counters in the integrated state (interleaved
 rounds, medians): the cost of the inert entries the hybrid state carries (runtime/solving/layout.py).
+``--compare`` runs the default scene with each pressure profile and states how far apart the results are.
 """
 
 from __future__ import annotations
@@ -134,7 +136,38 @@ def inert_entries(rtols=(1e-6, 1e-8), rounds: int = 7, log=print) -> list[dict]:
     return rows
 
 
-def markdown(rows: list[dict], inert: list[dict], rtol: float) -> str:
+def profile_difference(samples=(360, 3600), revolutions: int = 3, log=print) -> list[dict]:
+    """The default scene run with each pressure profile (erk, rtol 1e-8): how far apart the results are, and the
+    integration wall time of each (one run each, after a warm-up of the same run)."""
+    import warnings
+
+    from ..api import simulate
+    from ..scenes.scene import load_scene
+
+    scene = load_scene()
+    rows = []
+    for n in samples:
+        runs, wall = {}, {}
+        for profile in PROFILES:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                for _ in range(2):  # the first compiles (or loads) the integrator
+                    runs[profile] = simulate(scene, revolutions=revolutions, samples_per_revolution=n, rtol=1e-8,
+                                             pressure=profile)
+            wall[profile] = runs[profile].info["timings_s"]["integrate"]
+        a, b = runs["steps"], runs["linear"]
+        last = slice(-n, None)  # the last revolution
+        Xa, Xb = np.asarray(a.state)[:, last], np.asarray(b.state)[:, last]
+        rows.append({"samples": n, "pf_steps": float(np.mean(a.outputs["Pf_total"][last])),
+                     "pf_linear": float(np.mean(b.outputs["Pf_total"][last])),
+                     "dx_um": 1e6 * float(np.abs(Xa[0] - Xb[0]).max()), "x_range_um": 1e6 * float(np.ptp(Xa[0])),
+                     "dy_um": 1e6 * float(np.abs(Xa[1] - Xb[1]).max()), "events": (a.n_events, b.n_events),
+                     "wall_steps_s": wall["steps"], "wall_linear_s": wall["linear"]})
+        log(rows[-1])
+    return rows
+
+
+def markdown(rows: list[dict], inert: list[dict], rtol: float, diff: list[dict] = ()) -> str:
     out = [f"erk at rtol {rtol:g}, one revolution of the benchmark's problem (360 intervals, settled start):", "",
            "| what | pressures | steps | RHS evaluations | rejected | events |", "|---|---|---|---|---|---|"]
     for r in rows:
@@ -143,6 +176,14 @@ def markdown(rows: list[dict], inert: list[dict], rtol: float) -> str:
         else:
             out.append(f"| {r['what']} | {r['pressure']} | {r['n_steps']:,} | {r['n_rhs']:,} | {r['n_reject']:,} | "
                        f"{r['n_events']} |")
+    if diff:
+        out += ["", f"The default scene, erk at rtol 1e-8, last of {diff[0].get('revolutions', 3)} revolutions, each "
+                "profile:", "",
+                "| samples / rev | mean friction power: steps / linear | max abs(x difference) (x range) | "
+                "max abs(y difference) | events | integration wall, 3 rev: steps / linear |", "|---|---|---|---|---|---|"]
+        out += [f"| {r['samples']} | {r['pf_steps']:.4g} / {r['pf_linear']:.4g} W | {r['dx_um']:.3g} µm "
+                f"({r['x_range_um']:.3g} µm) | {r['dy_um']:.3g} µm | {r['events'][0]} / {r['events'][1]} | "
+                f"{r['wall_steps_s']:.2f} / {r['wall_linear_s']:.2f} s |" for r in diff]
     if inert:
         out += ["", "| rtol | integrated state | CPU / rev | steps | µs / step |", "|---|---|---|---|---|"]
         out += [f"| {r['rtol']:g} | {r['state']} | {r['cpu_ms']:.1f} ms | {r['n_steps']:,} | {r['us_per_step']:.2f} |"
@@ -154,11 +195,14 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rtol", type=float, default=1e-8)
     ap.add_argument("--inert", action="store_true", help="also time erk without the event counters in its state")
+    ap.add_argument("--compare", action="store_true", help="also compare the two pressure profiles' results")
+    ap.add_argument("--no-counts", action="store_true", help="skip the step counts")
     a = ap.parse_args(argv)
     quiet = lambda *_: None  # noqa: E731
-    rows = step_counts(a.rtol, log=quiet)
+    rows = [] if a.no_counts else step_counts(a.rtol, log=quiet)
     inert = inert_entries(log=quiet) if a.inert else []
-    print(markdown(rows, inert, a.rtol))
+    diff = profile_difference(log=quiet) if a.compare else []
+    print(markdown(rows, inert, a.rtol, diff))
 
 
 if __name__ == "__main__":

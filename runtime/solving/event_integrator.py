@@ -43,6 +43,8 @@ def events_tested():
 class EventIntegrator(Engine):
     """Integrates the hybrid model over `span` of crank angle with `n_samples` outputs."""
 
+    pressure_profiles = ("steps", "linear")
+
     @classmethod
     def build(cls, functions, settings, *, method, n_samples, span, compile_c):
         names = tuple(functions.parameter_names)

@@ -38,6 +38,7 @@ import numpy as np
 
 from .layout import HybridLayout
 from .scaling import LENGTH, scaled_rhs, state_scale
+from .settings import PRESSURE_PROFILES
 
 
 @dataclass(frozen=True)
@@ -45,11 +46,6 @@ class HybridDae:
     dae: dict
     transition: ca.Function
     layout: HybridLayout
-
-
-#: how the chamber pressures vary over an output interval: held at their interval means, or linear between the
-#: values at the interval's ends (continuous)
-PRESSURE_PROFILES = ("steps", "linear")
 
 
 def linear_controls(edge_values: np.ndarray, grid: np.ndarray) -> np.ndarray:

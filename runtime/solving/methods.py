@@ -31,7 +31,9 @@ class Engine:
     ``build(functions, settings, method=..., n_samples=..., span=..., compile_c=...)`` makes one that covers
     ``n_samples`` equal output intervals of ``span`` rad of crank angle; ``run(z0, params, theta0, pressures)``
     integrates from the hybrid state ``z0`` at crank angle ``theta0`` with the physical parameter vector
-    ``params`` and the chamber pressures ``pressures`` (2, n_samples), and returns a :class:`RevolutionResult`.
+    ``params`` and the chamber pressures ``pressures`` (2, n_samples), or, for an engine that lists "linear" in
+    ``pressure_profiles`` and was built with ``settings.pressure = "linear"``, their values at the n_samples + 1
+    interval edges; it returns a :class:`RevolutionResult`.
     It raises :class:`WallTimeExceeded` (with the samples done) past ``deadline`` (a ``time.perf_counter()``
     value; engines that cannot stop inside a call may ignore it) and ``RuntimeError`` when the solver fails.
     """
@@ -39,6 +41,8 @@ class Engine:
     n_samples: int
     compiled: bool = False
     deadline: float = math.inf
+    #: the settings' pressure profiles this engine can integrate (runtime/solving/settings.py)
+    pressure_profiles: tuple[str, ...] = ("steps",)
 
     @classmethod
     def build(cls, functions, settings, *, method: str, n_samples: int, span: float, compile_c: bool) -> Engine:

@@ -153,7 +153,7 @@ class RunSettings(BaseModel):
             super().__init__(**values)
         except ValidationError as exc:
             raise settings_error(exc) from None
-        if self.pressure == "linear" and not _events_engine(self.method):
+        if self.pressure != "steps" and self.pressure not in _profiles_of(self.method):  # imports the engine
             raise SettingsError([("pressure", self.pressure, f"needs an event method (erk, erk-rk4, rosenbrock); "
                                   f"method {self.method!r} holds the pressures per interval: use pressure = 'steps'")])
 
@@ -178,10 +178,11 @@ def settings_error(exc: ValidationError) -> SettingsError:
     return SettingsError(out)
 
 
-def _events_engine(method: Any) -> bool:
+def _profiles_of(method: Any) -> tuple[str, ...]:
+    """The pressure profiles the engine of ``method`` integrates (``Engine.pressure_profiles``)."""
     from .methods import method_of
 
-    return method_of(method).engine_class().__name__ == "EventIntegrator"
+    return method_of(method).engine_class().pressure_profiles
 
 
 def samples_per_call(settings: RunSettings) -> int:
