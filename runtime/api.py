@@ -36,7 +36,8 @@ def settings_of(scene, **overrides) -> RunSettings:
                 steps_per_revolution=s.euler_steps_per_revolution, event_tol=s.event_tol,
                 max_events_per_revolution=s.max_events_per_revolution, chatter_window=s.chatter_window,
                 chatter_events=s.chatter_events, compile_c=not s.interpreted,
-                flags="quick" if s.compile == "quick" else "optimised", revolutions=scene.operation.revolutions)
+                flags="quick" if s.compile == "quick" else "optimised", revolutions=scene.operation.revolutions,
+                pressure=s.pressure)
     return RunSettings(**(base | {k: v for k, v in overrides.items() if v is not None}))
 
 
@@ -61,6 +62,7 @@ _SCENE_KEYS = {
     "chatter_window": ("solver.chatter_window", float), "chatter_events": ("solver.chatter_events", int),
     "flags": ("solver.compile", lambda f: "quick" if f == "quick" else "optimised"),
     "compile_c": ("solver.interpreted", lambda c: not c), "revolutions": ("operation.revolutions", int),
+    "pressure": ("solver.pressure", str),
 }
 
 

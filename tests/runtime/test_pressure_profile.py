@@ -118,3 +118,16 @@ def test_linear_run_without_chamber_pressure_integrates_zero_pressures():
     res = run(f, scene.parameter_vector(), st, theta_start=0.0, state0=initial_state(scene, f), revolutions=1)
     assert res.status == "completed", res.stop
     assert res.info["pressure"] == "linear"
+
+
+def test_the_scene_key_reaches_the_run_settings_and_a_run_writes_it_back():
+    from apexseal.runtime.api import scene_that_ran, settings_of
+
+    scene = load_scene()
+    assert settings_of(scene).pressure == "steps"
+    linear = scene.with_overrides(**{"solver.pressure": "linear"})
+    assert settings_of(linear).pressure == "linear"
+    ran = scene_that_ran(scene, settings_of(scene, pressure="linear"))
+    assert ran.solver.pressure == "linear" and ran.content_hash() == linear.content_hash()
+    with pytest.raises(Exception, match="solver.pressure"):
+        scene.with_overrides(**{"solver.pressure": "ramp"})
