@@ -65,8 +65,6 @@ def problem_lines(r: dict) -> list[str]:
             line += (f" Check ({chk['method']}, rtol {chk['rtol']:g}, events to {chk['event_tol']:g} rad): state "
                      f"{_e(d.get('state'))}, friction power {_e(d.get('friction_power'))}, events "
                      f"{'identical' if chk['events_match'] else 'differ'}.")
-        elif chk.get("status") == "skipped":
-            line += f" Check skipped: {chk.get('reason')}."
         elif chk:
             line += f" Check failed: {chk.get('reason')}."
         out.append(line)
