@@ -17,7 +17,8 @@ and the compiler flag sets below, each on the project's lowering (without ``symp
 the baseline). A
 variant's results are compared with the baseline's (the largest difference of the scaled
 state over the revolution, in the benchmark's scaled-error metric) so that a flag that changes more than
-round-off shows; for scale, erk's own scaled error at rtol 1e-8 is ~6e-7 (docs/bench/table.md).
+round-off shows; for scale, erk's own scaled error at rtol 1e-8 was ~6e-7 on the soft-contact first
+default (docs/bench/soft-contacts/table.md).
 """
 
 from __future__ import annotations
