@@ -168,8 +168,10 @@ def profile_difference(samples=(360, 3600), revolutions: int = 3, log=print) -> 
 
 
 def markdown(rows: list[dict], inert: list[dict], rtol: float, diff: list[dict] = ()) -> str:
-    out = [f"erk at rtol {rtol:g}, one revolution of the benchmark's problem (360 intervals, settled start):", "",
-           "| what | pressures | steps | RHS evaluations | rejected | events |", "|---|---|---|---|---|---|"]
+    out = []
+    if rows:
+        out += [f"erk at rtol {rtol:g}, one revolution of the benchmark's problem (360 intervals, settled start):", "",
+                "| what | pressures | steps | RHS evaluations | rejected | events |", "|---|---|---|---|---|---|"]
     for r in rows:
         if "failed" in r:
             out.append(f"| {r['what']} | {r['pressure']} | failed: {r['failed']} | | | |")
