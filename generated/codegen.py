@@ -1,7 +1,9 @@
 """CasADi C code of the model's Functions, and the same Functions serialized.
 
 ``casadi_model.c`` (with its header) holds what a run executes: rhs and its Jacobian,
-rhs_switched, guards, velocity_guards, outputs; it is compiled into the model library.
+rhs_switched, guards, velocity_guards, outputs, and the hybrid DAE's ``hybrid_ode`` and ``hybrid_zero``
+with their first derivatives (the compiled event integrators call them); ``casadi_model_events.c`` their
+second derivatives (evaluated at events only). Both are compiled into the model library.
 ``casadi_model.casadi`` holds the same SX Functions serialized by CasADi (deterministic
 text): the runtime deserializes them to build integrators without sympy, so the
 Functions an integrator embeds are the ones whose C is in the library.
@@ -14,16 +16,11 @@ from pathlib import Path
 
 import casadi as ca
 
-from .functions import ModelFunctions
+from .functions import ModelFunctions, library_groups
 
 SERIALIZED = "casadi_model.casadi"
 #: the SX Functions serialized (their Jacobian is rebuilt from them when needed)
 SERIALIZED_FUNCTIONS = ("rhs", "rhs_switched", "guards", "velocity_guards", "outputs")
-
-
-def c_groups(fns: ModelFunctions) -> dict[str, list[ca.Function]]:
-    """File stem -> the Functions it holds (Jacobians right after their Function)."""
-    return {"casadi_model": [fns.rhs, fns.rhs_jac, fns.rhs_switched, fns.guards, fns.velocity_guards, fns.outputs]}
 
 
 def write_serialized(fns: ModelFunctions, out_dir: Path) -> str:
@@ -51,7 +48,7 @@ def write_c(fns: ModelFunctions, out_dir: Path) -> dict[str, list[str]]:
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     written = {}
-    for stem, functions in c_groups(fns).items():
+    for stem, functions in library_groups(fns).items():
         # CodeGenerator.generate(prefix) writes prefix + file name; Function.generate with a path asserts
         cg = ca.CodeGenerator(f"{stem}.c", {"with_header": True})
         for f in functions:

@@ -49,7 +49,9 @@ FLAG_SETS: dict[str, tuple[str, ...]] = {
     "quick": ("-O1",),
     "optimised": ("-O3", "-march=native", "-ffp-contract=off"),
 }
-MODEL_LIBRARY = "libapexseal_model.so"
+#: the model library's file name; unique per cache key, because an integrator that links against it finds it by
+#: that name, and a process that loaded one model's library would otherwise hand it to another model's integrator
+MODEL_LIBRARY = "libapexseal_model_{key}.so"
 
 FALLBACK_COST = (
     "CasADi's interpreted SX Functions are used instead, which are about 4-10x slower per evaluation: an Euler step "
@@ -130,8 +132,9 @@ def _valid(so: Path, record_path: Path, key: str) -> bool:
     return record.get("key") == key and so.is_file() and sha256_file(so) == record.get("so_sha256")
 
 
-def _compile_all(cc: str, flags: tuple[str, ...], sources: list[Path], build_dir: Path, target: Path) -> None:
-    """Compile every source to an object in parallel, then link them into ``target``."""
+def _compile_all(cc: str, flags: tuple[str, ...], sources: list[Path], build_dir: Path, target: Path,
+                 link: Sequence[str] = ()) -> None:
+    """Compile every source to an object in parallel, then link them (and the ``link`` arguments) into ``target``."""
     sources = sorted(sources, key=lambda p: -p.stat().st_size)  # biggest first: better load balance
     includes = sorted({f"-I{p.parent}" for p in sources})
 
@@ -144,16 +147,27 @@ def _compile_all(cc: str, flags: tuple[str, ...], sources: list[Path], build_dir
 
     with ThreadPoolExecutor(max_workers=max(1, min(len(sources), os.cpu_count() or 1))) as pool:
         objects = list(pool.map(one, sources))
-    out = _run([cc, "-shared", *[str(o) for o in objects], "-o", str(target), "-lm"])
+    out = _run([cc, "-shared", *[str(o) for o in objects], "-o", str(target), *link, "-lm"])
     if out.returncode != 0:
         raise CompilerUnavailable(f"{cc} failed to link {target.name}: {out.stderr.strip()[-600:]}")
 
 
-def build_library(key_payload: dict, sources: list[Path], name: str, *, flags: str) -> Path:
-    """The cached library built from ``sources`` (building it if missing or modified)."""
+def link_arguments(library: Path, lib_dir: Path) -> list[str]:
+    """Linker arguments for a library that calls ``library`` (the model library of the cache): found at load time
+    through a run path relative to the caller's own folder, so the cache still works after it moved."""
+    stem = library.name.removeprefix("lib").removesuffix(".so")
+    rel = os.path.relpath(library.parent, lib_dir)
+    return [f"-L{library.parent}", f"-l{stem}", f"-Wl,-rpath,$ORIGIN/{rel}"]
+
+
+def build_library(key_payload: dict, sources: list[Path], name: str, *, flags: str, link: Path | None = None) -> Path:
+    """The cached library built from ``sources`` (building it if missing or modified), linked against the
+    library ``link`` when given (its sha256 must be in ``key_payload``); ``{key}`` in ``name`` becomes the
+    start of the cache key."""
     cc = compiler()
     fl = flag_list(flags)
     key = content_key({**key_payload, "flags": list(fl), "compiler": compiler_identity(cc, fl), "cc": cc})
+    name = name.format(key=key[:16])
     lib_dir = lib_root() / key
     so, record = lib_dir / name, lib_dir / "build.json"
     if _valid(so, record, key):
@@ -169,7 +183,8 @@ def build_library(key_payload: dict, sources: list[Path], name: str, *, flags: s
         try:
             with stage(f"compiling {name} ({len(sources)} C file{'s' if len(sources) != 1 else ''}, {cc} "
                        f"{' '.join(fl)}; first use, cached afterwards)"):
-                _compile_all(cc, fl, sources, build_dir, build_dir / name)
+                _compile_all(cc, fl, sources, build_dir, build_dir / name,
+                             link_arguments(link, lib_dir) if link is not None else ())
             lib_dir.mkdir(parents=True, exist_ok=True)
             os.replace(build_dir / name, so)
         finally:
@@ -206,7 +221,8 @@ class FunctionSource:
 
     name: str  # the Function's name (the symbol the library exports)
     c_file: Path
-    key_payload: dict  # build_library's key payload: kind, name and the C's sha256
+    key_payload: dict  # build_library's key payload: kind, name, the C's sha256 (and the linked library's)
+    link: Path | None = None  # the compiled model library whose symbols the C declares extern
 
     @property
     def library_name(self) -> str:
@@ -221,23 +237,65 @@ def function_dir(c_sha256: str) -> Path:
     return cache_dir() / "gen" / "fn" / c_sha256
 
 
-def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: str | None = None) -> FunctionSource:
+def generate_c(fn: ca.Function, stem: str, folder: str, *, derivatives: bool = False) -> Path:
+    """Write the CasADi C of ``fn`` (and ``fn.jacobian()``) to ``folder/stem.c``.
+
+    CasADi 3.8.2 cannot generate an integrator whose DAE calls a ``casadi.external`` as it stands: the
+    integrator's reference counting names every Function it holds, among them ``daeF``, which its C never
+    calls, and ``FunctionInternal::codegen_name`` raises "Function 'daeF' not found" for a Function that was
+    not added to the generator (casadi/core/function_internal.cpp; docs/codegen.md). Such a Function is added
+    first, and generation is retried, until CasADi finds every one.
+    """
+    extra: list[ca.Function] = []
+    while True:
+        cg = ca.CodeGenerator(f"{stem}.c")
+        for f in extra:
+            cg.add(f)
+        try:
+            cg.add(fn)
+            if derivatives:
+                cg.add(fn.jacobian())
+        except RuntimeError as exc:
+            missing = re.search(r"Function '(\w+)' not found", str(exc))
+            name = missing.group(1) if missing else None
+            if name is None or not fn.has_function(name) or name in {f.name() for f in extra}:
+                raise
+            extra.append(fn.get_function(name))
+        else:
+            cg.generate(folder + os.sep)
+            return Path(folder) / f"{stem}.c"
+
+
+#: the comment CasADi writes above the declarations of the symbols a generated C file calls but does not define
+EXTERN_BLOCK = "/* External functions */"
+
+
+def extern_symbols(c_source: str) -> list[str]:
+    """The functions a CasADi C file declares without defining them (those of a linked library)."""
+    if EXTERN_BLOCK not in c_source:
+        return []
+    block = c_source.split(EXTERN_BLOCK, 1)[1].split("\n\n", 1)[0]
+    return re.findall(r"^int (\w+)\(const casadi_real\*\* arg", block, re.M)
+
+
+def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: str | None = None,
+                    link: Path | None = None) -> FunctionSource:
     """Generate the C of ``fn`` (and of ``fn.jacobian()`` with ``derivatives``) at the station.
 
-    The C goes to :func:`function_dir` with its record (``function.json``: the C's sha256 and the input hash
-    of the model manifest whose Functions the C embeds, ``model``), so what is compiled is always on the
+    The C goes to :func:`function_dir` with its record (``function.json``: the C's sha256, the input hash
+    of the model manifest whose Functions the C embeds or calls, ``model``, and with ``link``, the compiled
+    model library it calls and the symbols it declares extern), so what is compiled is always on the
     station's record. The one place that decides a Function's C file and cache key: :func:`compile_function`
     and the benchmark's parallel pre-compilation both build from it, so they fill and find the same entries.
+    A C file that calls symbols it does not define needs ``link``.
     """
     stem = "fn_" + re.sub(r"\W", "_", fn.name())
     with tempfile.TemporaryDirectory(prefix="apexseal-fn-") as tmp:
-        cg = ca.CodeGenerator(f"{stem}.c")
-        cg.add(fn)
-        if derivatives:
-            cg.add(fn.jacobian())
-        cg.generate(tmp + os.sep)
-        data = (Path(tmp) / f"{stem}.c").read_bytes()
+        data = generate_c(fn, stem, tmp, derivatives=derivatives).read_bytes()
     digest = sha256_bytes(data)
+    externs = extern_symbols(data.decode())
+    if externs and link is None:
+        raise ValueError(f"the C of {fn.name()} calls {', '.join(externs[:3])}... of a library: pass link=")
     folder = function_dir(digest)
     src = folder / f"{stem}.c"
     if model_hash is None:  # a caller that does not know the model (the bench's compile pool) keeps the record's
@@ -247,27 +305,34 @@ def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: s
             pass
     record = {"format": "apexseal-function/1", "name": fn.name(), "files": {src.name: digest}, "model": model_hash,
               "derivatives": derivatives}
+    payload = {"kind": "function", "name": fn.name(), "c_sha256": digest}
+    if link is not None:
+        linked = {"library": link.name, "so_sha256": sha256_file(link), "extern": externs}
+        record["links"] = linked
+        payload["links"] = {"library": link.name, "so_sha256": linked["so_sha256"]}
     if not (src.is_file() and sha256_file(src) == digest):
         atomic_write(src, data)
     atomic_write(folder / FUNCTION_RECORD, json.dumps(record, indent=2) + "\n")
-    return FunctionSource(fn.name(), src, {"kind": "function", "name": fn.name(), "c_sha256": digest})
+    return FunctionSource(fn.name(), src, payload, link)
 
 
 def build_function(source: FunctionSource, *, flags: str) -> Path:
     """The cached library of a :class:`FunctionSource` (built if missing)."""
-    return build_library(source.key_payload, [source.c_file], source.library_name, flags=flags)
+    return build_library(source.key_payload, [source.c_file], source.library_name, flags=flags, link=source.link)
 
 
 def compile_function(fn: ca.Function, *, flags: str = "optimised", derivatives: bool = False,
-                     model_hash: str | None = None) -> ca.Function:
+                     model_hash: str | None = None, link: Path | None = None) -> ca.Function:
     """Generate C for a run Function (e.g. an ``erk`` integrator with events) at the station, compile, load it.
 
-    The library is cached by the sha256 of the generated C (which embeds the model's Functions), the
-    flags and the compiler. ``derivatives=True`` also generates ``fn.jacobian()`` so the external has an
-    exact Jacobian. With no working compiler, returns ``fn`` itself and warns.
+    The library is cached by the sha256 of the generated C (which embeds the model's Functions or, with
+    ``link``, calls those of the compiled model library ``link`` and links against it), the flags and the
+    compiler. ``derivatives=True`` also generates ``fn.jacobian()`` so the external has an exact Jacobian.
+    With no working compiler, returns ``fn`` itself and warns.
     """
     try:
-        so = build_function(function_source(fn, derivatives=derivatives, model_hash=model_hash), flags=flags)
+        so = build_function(function_source(fn, derivatives=derivatives, model_hash=model_hash, link=link),
+                            flags=flags)
     except CompilerUnavailable as exc:
         fallback(exc)
         return fn

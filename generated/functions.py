@@ -96,6 +96,10 @@ class ModelFunctions:
     library: Path | None = None
     #: the input hash of the manifest of the generated model (None: built directly from a derivation)
     model_hash: str | None = None
+    #: the hybrid DAE of the event integrators, ``(t, z, p, u) -> ode`` and ``-> zero``
+    #: (runtime/solving/hybrid.py); in the model library with the derivatives the integrators call
+    hybrid_ode: ca.Function | None = None
+    hybrid_zero: ca.Function | None = None
 
     @property
     def mode_labels(self) -> tuple[str, ...]:
@@ -103,8 +107,20 @@ class ModelFunctions:
 
     def functions(self) -> dict[str, ca.Function]:
         """Every Function by its CasADi name, in a fixed order (the order of the generated C)."""
-        return {f.name(): f for f in (self.rhs, self.rhs_jac, self.rhs_switched, self.guards, self.velocity_guards,
-                                      self.outputs)}
+        fns = (self.rhs, self.rhs_jac, self.rhs_switched, self.guards, self.velocity_guards, self.outputs,
+               self.hybrid_ode, self.hybrid_zero)
+        return {f.name(): f for f in fns if f is not None}
+
+    def event_derivatives(self) -> dict[str, list[ca.Function]]:
+        """The derivatives of the hybrid Functions that a compiled event integrator calls, by how often.
+
+        ``"step"``: ``fwd1_*`` (the transition's look-ahead) and ``jac_*`` (rosenbrock's Jacobian);
+        ``"event"``: ``fwd1_fwd1_*``, which CasADi's erk and rosenbrock need to be built with a DAE that
+        calls a library, and evaluate only at events. SX sets only (a compiled set finds them by name).
+        """
+        hybrid = [f for f in (self.hybrid_ode, self.hybrid_zero) if f is not None]
+        return {"step": [d for f in hybrid for d in (f.forward(1), f.jacobian())],
+                "event": [f.forward(1).forward(1) for f in hybrid]}
 
     def sx(self) -> ModelFunctions:
         """The SX Functions (to embed in an integrator): this set, or the one it was compiled from."""
@@ -129,6 +145,7 @@ class ModelFunctions:
         return replace(
             self, rhs=pick(self.rhs), rhs_jac=pick(self.rhs_jac), rhs_switched=pick(self.rhs_switched),
             guards=pick(self.guards), velocity_guards=pick(self.velocity_guards), outputs=pick(self.outputs),
+            hybrid_ode=self.hybrid_ode and pick(self.hybrid_ode), hybrid_zero=self.hybrid_zero and pick(self.hybrid_zero),
         )
 
 
@@ -225,5 +242,26 @@ def build_functions(model, *, sympy_cse: bool = False) -> ModelFunctions:
         activation_names=tuple(str(s) for s in model.activations.values()),
         velocity_guard_names=tuple(model.velocity_guards), output_names=tuple(output_names),
     )
-    out.n_instructions = {name: f.n_instructions() for name, f in out.functions().items()}
+    with_hybrid(out)
+    out.n_instructions = {f.name(): f.n_instructions() for fs in library_groups(out).values() for f in fs}
     return out
+
+
+def with_hybrid(fns: ModelFunctions) -> ModelFunctions:
+    """Set ``fns.hybrid_ode`` and ``fns.hybrid_zero`` from its rhs and guards (SX; a few ms, no sympy)."""
+    from ..runtime.solving.hybrid import hybrid_functions
+
+    names = list(fns.parameter_names)
+    fns.hybrid_ode, fns.hybrid_zero = hybrid_functions(fns.rhs, fns.guards, len(names), names.index("omega"),
+                                                       state_names=fns.state_names)
+    return fns
+
+
+def library_groups(fns: ModelFunctions) -> dict[str, list[ca.Function]]:
+    """C file stem -> the Functions it holds: the model library, in two files that compile in parallel.
+
+    ``casadi_model``: every Function a run or a Python-side evaluation calls, and the hybrid Functions'
+    first derivatives; ``casadi_model_events``: the second derivatives, evaluated only at events.
+    """
+    d = fns.event_derivatives()
+    return {"casadi_model": [*fns.functions().values(), *d["step"]], "casadi_model_events": d["event"]}

@@ -33,7 +33,7 @@ from ..derive.cache import cached_model
 from ..derive.effects import Effects
 from ..files import atomic_write, sha256_file
 from .codegen import write_c, write_serialized
-from .functions import ModelFunctions, build_functions
+from .functions import ModelFunctions, build_functions, library_groups
 from .manifest import FORMAT, MANIFEST_NAME, Manifest, hash_of, inputs_record, trust
 from .render import render_all
 
@@ -61,7 +61,7 @@ class StageTimer:
 def build_record(fns: ModelFunctions, inputs: dict[str, Any], c_files: dict[str, list[str]]) -> dict[str, Any]:
     """The manifest's content except the output files' hashes (also the templates' render context)."""
     file_of = {name: file for file, names in c_files.items() for name in names}
-    all_fns = fns.functions()
+    all_fns = {f.name(): f for group in library_groups(fns).values() for f in group}
     return {
         "format": FORMAT,
         "input_hash": hash_of(inputs),

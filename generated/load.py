@@ -31,7 +31,7 @@ from ..files import file_lock
 from ..progress import stage
 from .codegen import SERIALIZED, read_serialized
 from .compile import compiled_or_interpreted
-from .functions import ModelFunctions
+from .functions import ModelFunctions, with_hybrid
 from .manifest import MANIFEST_NAME, Manifest, StaleArtefactError, StaleArtefactWarning, input_hash, verify
 
 DEFAULT_DIR = Path(__file__).resolve().parent / "default"
@@ -94,11 +94,12 @@ def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None
 
 
 def functions_of(directory: Path, manifest: Manifest) -> ModelFunctions:
-    """The SX Functions of a verified artefact folder, named from its manifest (no sympy)."""
+    """The SX Functions of a verified artefact folder, named from its manifest (no sympy); the hybrid Functions
+    are rebuilt from rhs and guards (the same SX as the station's, whose C is in the library)."""
     fns = read_serialized(Path(directory) / SERIALIZED)
     names = manifest.data["names"]
     guards = tuple(names["guards"])
-    return ModelFunctions(
+    return with_hybrid(ModelFunctions(
         rhs=fns["rhs"], rhs_jac=fns["rhs"].jacobian(), rhs_switched=fns["rhs_switched"], guards=fns["guards"],
         velocity_guards=fns["velocity_guards"], outputs=fns["outputs"],
         mode_list=tuple(Mode(tuple(bool(c) for c in m["closed"]), guards) for m in manifest.modes),
@@ -107,7 +108,7 @@ def functions_of(directory: Path, manifest: Manifest) -> ModelFunctions:
         velocity_guard_names=tuple(names["velocity_guards"]), output_names=tuple(names["outputs"]),
         n_instructions={k: v["n_instructions"] for k, v in manifest.data["functions"].items()},
         model_hash=manifest.input_hash,
-    )
+    ))
 
 
 def check_library(library: Path, manifest: Manifest) -> None:

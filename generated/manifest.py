@@ -19,6 +19,7 @@ flag set); they enter the key of the compiled library instead (see ``compile.py`
 
 from __future__ import annotations
 
+import importlib.util
 import json
 from dataclasses import dataclass, field
 from importlib.metadata import version
@@ -38,6 +39,9 @@ TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
 _HERE = Path(__file__).resolve().parent
 #: the generator modules whose code shapes the generated files
 GENERATOR_MODULES = ("lower.py", "functions.py", "codegen.py", "render.py", "manifest.py", "generate.py")
+#: modules of ``apexseal.runtime.solving`` whose code shapes the generated files too: the hybrid DAE's
+#: Functions compiled into the model library (hybrid_ode, hybrid_zero)
+SOLVING_MODULES = ("hybrid.py", "layout.py", "scaling.py")
 #: the station's index of the committed artefacts (folder name -> sha256 of its manifest)
 PACKAGE_INDEX = _HERE / "index.json"
 
@@ -60,7 +64,8 @@ def template_paths() -> list[Path]:
 
 
 def generator_digest() -> str:
-    return files_digest(_HERE, GENERATOR_MODULES)
+    solving = Path(importlib.util.find_spec("apexseal.runtime.solving").origin).parent
+    return content_key([files_digest(_HERE, GENERATOR_MODULES), files_digest(solving, SOLVING_MODULES)])
 
 
 def inputs_record(effects: Effects, assumptions: Assumptions) -> dict[str, Any]:

@@ -4,9 +4,12 @@ The hybrid DAE (runtime/solving/hybrid.py) is integrated over one revolution in 
 call, with the output grid of the scene; events (contact switches) are located on
 the integrator's dense output inside CasADi, so no Python runs between steps. The
 integrator itself is generated to C at the generation station and compiled (with its
-event logic): it embeds the model's SX Functions deserialized from the model's
-artefacts (the Functions whose C is the model library), and its record names the
-model manifest it was built from (generated/compile.py).
+event logic). With a compiled model library (a run's usual case) its DAE calls the
+library's ``hybrid_ode`` and ``hybrid_zero``: the integrator's C declares them extern
+and is linked against the library, so it holds the integrator and nothing of the
+model. Without one (interpreted model, no compiler, or Functions built directly from a
+derivation) it embeds the SX Functions instead. Its record names the model manifest
+and the library it was built from (generated/compile.py).
 """
 
 from __future__ import annotations
@@ -55,15 +58,25 @@ class EventIntegrator(Engine):
                    atol=settings.atol, n_samples=n_samples, span=span, max_events=settings.max_events_per_revolution,
                    max_steps=settings.max_steps_per_interval, event_tol=settings.event_tol, compile_c=compile_c,
                    flags=settings.flags, model_hash=sx.model_hash, state_names=functions.state_names,
-                   pressure=settings.pressure)
+                   pressure=settings.pressure, library=functions if compile_c else None)
 
     def __init__(self, rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *, method: str,
                  rtol: float, atol: float | None, n_samples: int, span: float = 2 * np.pi,
                  max_events: int = 10000, max_steps: int = 200000, event_tol: float = 1e-10, compile_c: bool = True,
-                 flags: str = "optimised", model_hash: str | None = None, state_names=None, pressure: str = "steps"):
+                 flags: str = "optimised", model_hash: str | None = None, state_names=None, pressure: str = "steps",
+                 library=None):
+        """``library``: model Functions (:class:`~apexseal.generated.functions.ModelFunctions`); when they are the
+        compiled model library's and the pressure profile is "steps" (the library's hybrid Functions take its
+        controls), the DAE calls its hybrid Functions and the compiled integrator links against it
+        (``self.link``); otherwise (or None) the DAE embeds the SX Functions built from ``rhs`` and ``guards``."""
         plugin = METHODS[method].plugin
+        #: the compiled model library the integrator's DAE calls (None: the DAE embeds the model's SX)
+        linked = (pressure == "steps" and library is not None and library.hybrid_ode is not None
+                  and library.hybrid_ode.is_a("External"))
+        self.link = library.library if linked else None
+        externals = (library.hybrid_ode, library.hybrid_zero) if self.link is not None else None
         self.hybrid = build_hybrid_dae(rhs, guards, n_par, omega_index, event_tol=event_tol, state_names=state_names,
-                                       pressure=pressure)
+                                       pressure=pressure, library=externals)
         self.pressure = pressure
         self.n_samples = n_samples
         self.grid = np.linspace(0.0, span, n_samples + 1)[1:]
@@ -84,7 +97,7 @@ class EventIntegrator(Engine):
         if compile_c:
             from ...generated.compile import compile_function
 
-            self.function = compile_function(self.vm, flags=flags, model_hash=model_hash)
+            self.function = compile_function(self.vm, flags=flags, model_hash=model_hash, link=self.link)
             self.compiled = self.function is not self.vm
 
     def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:

@@ -65,37 +65,74 @@ def linear_controls(edge_values: np.ndarray, grid: np.ndarray) -> np.ndarray:
 
 #: after an event CasADi's erk and rosenbrock ignore crossings for 10 event_tol (measured); the margin covers it
 BLIND_WINDOW = 20
+#: names of the hybrid DAE's two Functions in the model library (generated/functions.py)
+HYBRID_FUNCTIONS = ("hybrid_ode", "hybrid_zero")
+
+
+def hybrid_functions(rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *,
+                     state_names=None, pressure: str = "steps") -> tuple[ca.Function, ca.Function]:
+    """The hybrid DAE's right-hand side and zero functions as SX Functions of ``(t, z, p, u)``.
+
+    ``hybrid_ode(t, z, p, u) -> ode`` is dz/dtau (the scaled state's rate, zero for activations and counts);
+    ``hybrid_zero(t, z, p, u) -> zero`` is e_i = (1 - 2 s_i) g_i / l (see the module docstring); ``t`` is the
+    crank angle since the start of the call, ``p = [physical parameters, crank angle at the start]``. The station
+    compiles both into the model library (with the derivatives the integrators need), and the compiled event
+    integrator calls them there.
+    """
+    lay = HybridLayout.of_functions(rhs, guards)
+    z = ca.SX.sym("z", lay.size)
+    tau = ca.SX.sym("t")
+    p = ca.SX.sym("p", n_par + 1)
+    n_u = rhs.size1_in(4)
+    u = ca.SX.sym("u", n_u if pressure == "steps" else 2 * n_u)
+    P = u if pressure == "steps" else u[:n_u] + u[n_u:] * tau  # the "linear" profile: intercepts, then slopes
+    par, theta0 = p[:n_par], p[n_par]
+    omega = par[omega_index]
+    theta = theta0 + tau
+    zs, s = z[lay.x], z[lay.active]
+    X = zs * state_scale(omega, state_names)
+    xdot = rhs(theta, X, s, par, P)
+    ode = ca.vertcat(scaled_rhs(xdot, omega, state_names), ca.SX.zeros(2 * lay.n_g))
+    zero = (1 - 2 * s) * guards(theta, X, par, P) / LENGTH
+    names = ["t", "z", "p", "u"]
+    return (ca.Function(HYBRID_FUNCTIONS[0], [tau, z, p, u], [ode], names, ["ode"]),
+            ca.Function(HYBRID_FUNCTIONS[1], [tau, z, p, u], [zero], names, ["zero"]))
 
 
 def build_hybrid_dae(rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *,
-                     event_tol: float = 1e-10, state_names=None, pressure: str = "steps") -> HybridDae:
+                     event_tol: float = 1e-10, state_names=None, pressure: str = "steps",
+                     library=None) -> HybridDae:
     """The DAE dict and transition Function of the hybrid model (see the module docstring).
 
     ``event_tol`` (crank angle, rad) is the tolerance the integrator locates events
     to; the transition switches the contacts that cross within ``BLIND_WINDOW`` of it.
     ``pressure`` is one of :data:`PRESSURE_PROFILES`: what the controls u mean.
+
+    Without ``library`` the DAE is SX: the hybrid Functions built from ``rhs`` and ``guards`` are expanded
+    into it, and generating the integrator's C embeds the model. With ``library`` (the pair ``(hybrid_ode,
+    hybrid_zero)`` as ``casadi.external`` of the compiled model library, generated for the "steps" profile) the
+    DAE is MX and calls them, so the integrator's C declares the library's symbols ``extern`` and links against
+    it (docs/codegen.md).
     """
     if pressure not in PRESSURE_PROFILES:
         raise ValueError(f"pressure = {pressure!r}: expected one of {', '.join(PRESSURE_PROFILES)}")
     lay = HybridLayout.of_functions(rhs, guards)
     n_g = lay.n_g
-    z = ca.SX.sym("z", lay.size)
-    tau = ca.SX.sym("tau")
-    p = ca.SX.sym("p", n_par + 1)
-    u = ca.SX.sym("u", 2 if pressure == "steps" else 4)
-    par, theta0 = p[:n_par], p[n_par]
-    omega = par[omega_index]
-    theta = theta0 + tau
-    P = u if pressure == "steps" else u[:2] + u[2:] * tau
-    zs, s, counts = z[lay.x], z[lay.active], z[lay.counts]
-    X = zs * state_scale(omega, state_names)
-    xdot = rhs(theta, X, s, par, P)
-    g = guards(theta, X, par, P) / LENGTH
-    ode = ca.vertcat(scaled_rhs(xdot, omega, state_names), ca.SX.zeros(2 * n_g))
-    zero = (1 - 2 * s) * g
+    if library is not None and pressure != "steps":
+        raise ValueError(f"pressure = {pressure!r}: the model library's hybrid Functions take the 'steps' "
+                         "controls; embed the model (library=None) for another profile")
+    ode_fn, zero_fn = library or hybrid_functions(rhs, guards, n_par, omega_index, state_names=state_names,
+                                                  pressure=pressure)
+    sym = ca.MX if library else ca.SX
+    z = sym.sym("z", lay.size)
+    tau = sym.sym("tau")
+    p = sym.sym("p", n_par + 1)
+    u = sym.sym("u", ode_fn.size1_in(3))
+    ode, zero = ode_fn(tau, z, p, u), zero_fn(tau, z, p, u)
     dae = {"x": z, "t": tau, "p": p, "u": u, "ode": ode, "zero": zero}
 
-    idx = ca.SX.sym("index")
+    s, counts = z[lay.active], z[lay.counts]
+    idx = sym.sym("index")
     new_s, new_counts = [], []
     # every zero function at the end of the blind window, extrapolated along the motion
     ahead = zero + BLIND_WINDOW * event_tol * ca.jtimes(zero, ca.vertcat(z, tau), ca.vertcat(ode, 1))
@@ -103,7 +140,7 @@ def build_hybrid_dae(rhs: ca.Function, guards: ca.Function, n_par: int, omega_in
         switch = ca.logic_or(idx == i, ahead[i] < 0)
         new_s.append(ca.if_else(switch, 1 - s[i], s[i]))
         new_counts.append(counts[i] + switch)
-    post = ca.vertcat(zs, *new_s, *new_counts)
+    post = ca.vertcat(z[lay.x], *new_s, *new_counts)
     transition = ca.Function("transition", {"index": idx, "t": tau, "x": z, "p": p, "u": u, "post_x": post},
                              ca.event_in(), ca.event_out())
     return HybridDae(dae, transition, lay)
