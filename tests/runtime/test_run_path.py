@@ -15,7 +15,7 @@ from apexseal.generated.manifest import read_manifest
 
 
 def test_compiled_integrator_is_on_the_station_record(default_scene, default_functions):
-    """The erk integrator a run compiles embeds the model's artefact Functions, and its record says which."""
+    """The erk integrator a run compiles calls the model's artefact Functions, and its record says which."""
     from apexseal.runtime.api import settings_of
     from apexseal.runtime.solving.methods import make_engine
 
@@ -26,7 +26,8 @@ def test_compiled_integrator_is_on_the_station_record(default_scene, default_fun
     st = settings_of(default_scene, flags="quick")
     engine = make_engine(fns, st, n_samples=36, span=0.6283185307179586)
     assert engine.compiled
-    source = function_source(engine.vm, model_hash=fns.sx().model_hash)  # what the engine compiled: same C and place
+    # what the engine compiled: same C and place
+    source = function_source(engine.vm, model_hash=fns.sx().model_hash, link=engine.link)
     src = source.c_file
     record = json.loads((function_dir(src.parent.name) / "function.json").read_text())
     assert record["model"] == manifest.input_hash
