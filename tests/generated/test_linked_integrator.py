@@ -16,8 +16,7 @@ import numpy as np
 import pytest
 
 from apexseal.files import sha256_file
-from apexseal.generated.compile import (build_function, build_library, compile_function, extern_symbols,
-                                        function_source)
+from apexseal.generated.compile import build_function, build_library, compile_function, extern_symbols, function_source
 from apexseal.generated.load import DEFAULT_DIR
 from apexseal.generated.manifest import read_manifest
 
