@@ -49,6 +49,8 @@ def write_c(fns: ModelFunctions, out_dir: Path) -> dict[str, list[str]]:
     out_dir.mkdir(parents=True, exist_ok=True)
     written = {}
     for stem, functions in library_groups(fns).items():
+        if not functions:
+            continue
         # CodeGenerator.generate(prefix) writes prefix + file name; Function.generate with a path asserts
         cg = ca.CodeGenerator(f"{stem}.c", {"with_header": True})
         for f in functions:

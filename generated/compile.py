@@ -194,14 +194,15 @@ def build_library(key_payload: dict, sources: list[Path], name: str, *, flags: s
     return so
 
 
-def compile_library(source_dir: Path | str, *, flags: str = "optimised") -> Path:
+def compile_library(source_dir: Path | str, *, flags: str = "optimised", manifest=None) -> Path:
     """Compile a folder written by :func:`.generate.generate` (after :func:`.manifest.verify`) into the cache.
 
     Raises :class:`.manifest.StaleArtefactError` for stale or modified artefacts and
-    :class:`CompilerUnavailable` when no compiler works.
+    :class:`CompilerUnavailable` when no compiler works. ``manifest``: the folder's manifest as the caller
+    verified it (trusted) already.
     """
     source_dir = Path(source_dir)
-    manifest = verify(source_dir, trusted=True)
+    manifest = manifest or verify(source_dir, trusted=True)
     payload = {"kind": "model", "input_hash": manifest.input_hash, "files": manifest.files}
     return build_library(payload, [source_dir / f for f in manifest.c_files], MODEL_LIBRARY, flags=flags)
 

@@ -13,6 +13,8 @@ import time
 
 import numpy as np
 
+from .linking import integrator_before_after
+
 
 def _per_call(fn, min_s: float = 0.2, max_calls: int = 20000) -> tuple[float, int]:
     fn()
@@ -67,47 +69,3 @@ def rhs_costs(problem, sx, c_model, lambdified, scene_points: list[dict], peer=N
             rows.append({"form": what, "s": per, "n": f"{mid} at {q['value']:g}"})
     rows += integrator_before_after(problem, flags=flags)
     return [r | {"s": float(np.float64(r["s"]))} for r in rows]
-
-
-def integrator_before_after(problem, *, flags: str, repeats: int = 5) -> list[dict]:
-    """One rhs evaluation inside the compiled erk integrator, built as before and after the generation station.
-
-    Before: the integrator embedded SX Functions lowered from the derivation at run time (sympy). After: it
-    embeds the SX Functions deserialized from the model's artefacts, the ones whose C is the model library.
-    Both are compiled and run over the problem's span, interleaved ``repeats`` times; CPU per revolution /
-    rhs evaluations, medians. Also reports whether the two integrators' C is the same file.
-    """
-    from ...derive.cache import cached_model
-    from ...generated.compile import function_source
-    from ...generated.functions import build_functions
-    from ..solving.event_integrator import EventIntegrator
-
-    forms = {"before (SX lowered from the derivation)": build_functions(cached_model(problem.effects,
-                                                                                      problem.scene.assumptions)),
-             "after (SX of the model's artefacts)": problem.functions.sx()}
-    names = tuple(problem.functions.parameter_names)
-    engines, sources = {}, {}
-    for label, f in forms.items():
-        e = EventIntegrator(f.rhs, f.guards, len(names), names.index("omega"), method="erk", rtol=1e-6, atol=1e-6,
-                            n_samples=problem.samples, span=problem.span, compile_c=True, flags=flags,
-                            model_hash=f.model_hash, pressure=problem.pressure)
-        engines[label], sources[label] = e, function_source(e.vm).key_payload["c_sha256"]
-    args = (problem.z0, problem.params, problem.theta0, problem.pressures)
-    per: dict[str, list[float]] = {k: [] for k in engines}
-    evals = {}
-    for _ in range(repeats):
-        for label, e in engines.items():
-            c0 = time.process_time()
-            e.run(*args)
-            per[label].append(time.process_time() - c0)
-    for label, e in engines.items():  # the statistics come from the interpreted run of the same integrator
-        e.function = e.vm
-        e.run(*args)
-        evals[label] = e.vm.stats().get("n_rhs")
-    same = len(set(sources.values())) == 1
-    if not all(e.compiled for e in engines.values()):
-        return []  # no compiler: nothing compiled to compare
-    return [{"form": f"erk integrator (compiled, rtol 1e-6), rhs evaluation, {label}; integrator C "
-             f"{'identical' if same else 'different'} (sha256 {sources[label][:12]})",
-             "s": float(np.median(per[label])) / max(1, int(evals[label] or 1)), "n": f"{repeats} runs"}
-            for label in engines]
