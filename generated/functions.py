@@ -112,15 +112,14 @@ class ModelFunctions:
         return {f.name(): f for f in fns if f is not None}
 
     def event_derivatives(self) -> dict[str, list[ca.Function]]:
-        """The derivatives of the hybrid Functions that a compiled event integrator calls, by how often.
+        """The derivatives of the hybrid Functions that a compiled erk integrator calls (SX sets only; a compiled
+        set finds them in the library by name).
 
-        ``"step"``: ``fwd1_*`` (the transition's look-ahead) and ``jac_*`` (rosenbrock's Jacobian);
-        ``"event"``: ``fwd1_fwd1_*``, which CasADi's erk and rosenbrock need to be built with a DAE that
-        calls a library, and evaluate only at events. SX sets only (a compiled set finds them by name).
+        ``"first"``: ``fwd1_*`` (the transition's look-ahead); ``"second"``: ``fwd1_fwd1_*``. CasADi's erk needs
+        both to be built with a DAE that calls a library, and evaluates them only at events (docs/codegen.md).
         """
         hybrid = [f for f in (self.hybrid_ode, self.hybrid_zero) if f is not None]
-        return {"step": [d for f in hybrid for d in (f.forward(1), f.jacobian())],
-                "event": [f.forward(1).forward(1) for f in hybrid]}
+        return {"first": [f.forward(1) for f in hybrid], "second": [f.forward(1).forward(1) for f in hybrid]}
 
     def sx(self) -> ModelFunctions:
         """The SX Functions (to embed in an integrator): this set, or the one it was compiled from."""
@@ -261,7 +260,7 @@ def library_groups(fns: ModelFunctions) -> dict[str, list[ca.Function]]:
     """C file stem -> the Functions it holds: the model library, in two files that compile in parallel.
 
     ``casadi_model``: every Function a run or a Python-side evaluation calls, and the hybrid Functions'
-    first derivatives; ``casadi_model_events``: the second derivatives, evaluated only at events.
+    first derivatives; ``casadi_model_events``: their second derivatives (about as many instructions).
     """
     d = fns.event_derivatives()
-    return {"casadi_model": [*fns.functions().values(), *d["step"]], "casadi_model_events": d["event"]}
+    return {"casadi_model": [*fns.functions().values(), *d["first"]], "casadi_model_events": d["second"]}

@@ -132,7 +132,8 @@ def load_functions(effects: Effects | None = None, assumptions: Assumptions | No
     sx = functions_of(source, manifest)
     if not compiled:
         return LoadedFunctions(sx, None, manifest, source, None)
-    externals, library = compiled_or_interpreted(source, manifest.function_names, sx.functions(), flags=flags)
+    # the derivatives in the library are found by name from their Function's external
+    externals, library = compiled_or_interpreted(source, list(sx.functions()), sx.functions(), flags=flags)
     if library is None:
         return LoadedFunctions(sx, sx, manifest, source, None)
     check_library(library, manifest)

@@ -4,11 +4,11 @@ The hybrid DAE (runtime/solving/hybrid.py) is integrated over one revolution in 
 call, with the output grid of the scene; events (contact switches) are located on
 the integrator's dense output inside CasADi, so no Python runs between steps. The
 integrator itself is generated to C at the generation station and compiled (with its
-event logic). With a compiled model library (a run's usual case) its DAE calls the
-library's ``hybrid_ode`` and ``hybrid_zero``: the integrator's C declares them extern
-and is linked against the library, so it holds the integrator and nothing of the
-model. Without one (interpreted model, no compiler, or Functions built directly from a
-derivation) it embeds the SX Functions instead. Its record names the model manifest
+event logic). For erk with a compiled model library (a run's usual case) its DAE calls
+the library's ``hybrid_ode`` and ``hybrid_zero``: the integrator's C declares them
+extern and is linked against the library, so it holds the integrator and nothing of
+the model. Otherwise (rosenbrock, interpreted model, no compiler, or Functions built
+directly from a derivation) it embeds the SX Functions. Its record names the model manifest
 and the library it was built from (generated/compile.py).
 """
 
@@ -71,7 +71,9 @@ class EventIntegrator(Engine):
         (``self.link``); otherwise (or None) the DAE embeds the SX Functions built from ``rhs`` and ``guards``."""
         plugin = METHODS[method].plugin
         #: the compiled model library the integrator's DAE calls (None: the DAE embeds the model's SX)
-        linked = (pressure == "steps" and library is not None and library.hybrid_ode is not None
+        # rosenbrock would need the hybrid Functions' Jacobians in the library too (without them it built its
+        # Jacobian column by column: 3.2x slower), which would add 40 % to the library's instructions; it embeds
+        linked = (plugin == "erk" and pressure == "steps" and library is not None and library.hybrid_ode is not None
                   and library.hybrid_ode.is_a("External"))
         self.link = library.library if linked else None
         externals = (library.hybrid_ode, library.hybrid_zero) if self.link is not None else None

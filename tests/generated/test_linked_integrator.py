@@ -38,13 +38,13 @@ def _engine(default_scene, functions, **kw):
 
 
 def test_manifest_lists_the_hybrid_functions_and_their_derivatives():
-    """The model library holds what the integrators call: each hybrid Function, its first derivatives (called
-    every step) in casadi_model.c, its second derivatives (events only) in casadi_model_events.c."""
+    """The model library holds what the erk integrator calls: each hybrid Function and its first derivative in
+    casadi_model.c, its second derivative (events only) in casadi_model_events.c."""
     fns = read_manifest(DEFAULT_DIR).data["functions"]
     for name in HYBRID:
         assert fns[name]["file"] == "casadi_model.c"
         assert fns[name]["inputs"] == ["t", "z", "p", "u"]
-        assert fns[f"fwd1_{name}"]["file"] == fns[f"jac_{name}"]["file"] == "casadi_model.c"
+        assert fns[f"fwd1_{name}"]["file"] == "casadi_model.c"
         assert fns[f"fwd1_fwd1_{name}"]["file"] == "casadi_model_events.c"
     c = (DEFAULT_DIR / "casadi_model.c").read_text()
     assert "int hybrid_ode(const casadi_real** arg" in c and "int fwd1_hybrid_zero(const casadi_real** arg" in c
@@ -71,6 +71,20 @@ def test_compiled_integrator_declares_the_library_extern_and_links_it(default_sc
     built = json.loads((so.parent / "build.json").read_text())
     assert built["sources"]["links"] == {"library": fns.library.name, "so_sha256": sha256_file(fns.library)}
     assert fns.library.name.encode() in so.read_bytes()  # DT_NEEDED: the loader resolves it through the run path
+
+
+def test_erk_links_and_rosenbrock_embeds(default_functions):
+    """erk calls the library; rosenbrock would need the hybrid Functions' Jacobians there too, so it embeds."""
+    from apexseal.runtime.solving.event_integrator import EventIntegrator
+
+    fns = default_functions.c
+    names = list(fns.parameter_names)
+    built = {m: EventIntegrator(fns.sx().rhs, fns.sx().guards, len(names), names.index("omega"), method=m, rtol=1e-6,
+                                atol=None, n_samples=4, span=0.1, compile_c=False, library=fns)
+             for m in ("erk", "erk-rk4", "rosenbrock")}
+    assert built["erk"].link == built["erk-rk4"].link == fns.library and built["rosenbrock"].link is None
+    assert built["erk"].vm.get_function("daeF").is_a("MXFunction")  # the DAE calls the externals
+    assert built["rosenbrock"].vm.get_function("daeF").is_a("SXFunction")
 
 
 def test_linked_and_embedded_integrators_give_the_same_trajectory(default_scene, default_functions):
