@@ -2,8 +2,8 @@
 
 ``casadi_model.c`` (with its header) holds what a run executes: rhs and its Jacobian,
 rhs_switched, guards, velocity_guards, outputs, and the hybrid DAE's ``hybrid_ode`` and ``hybrid_zero``
-with their first derivatives (the compiled event integrators call them); ``casadi_model_events.c`` their
-second derivatives (evaluated at events only). Both are compiled into the model library.
+(the compiled erk integrator calls them); ``casadi_model_events.c`` the derivatives of those that it calls at
+events only. Both are compiled into the model library.
 ``casadi_model.casadi`` holds the same SX Functions serialized by CasADi (deterministic
 text): the runtime deserializes them to build integrators without sympy, so the
 Functions an integrator embeds are the ones whose C is in the library.

@@ -208,8 +208,11 @@ def compile_library(source_dir: Path | str, *, flags: str = "optimised", manifes
 
 
 def load_externals(library: Path, names: Sequence[str]) -> dict[str, ca.Function]:
-    """One ``casadi.external`` per Function name, all from the same library (Jacobians are found by name)."""
-    return {name: ca.external(name, str(library)) for name in names}
+    """One ``casadi.external`` per Function name, all from the same library (Jacobians are found by name), with
+    the options :data:`.functions.EXTERNAL_OPTIONS` gives it."""
+    from .functions import EXTERNAL_OPTIONS
+
+    return {name: ca.external(name, str(library), EXTERNAL_OPTIONS.get(name, {})) for name in names}
 
 
 def fallback(reason: str | Exception, *, stacklevel: int = 3) -> None:

@@ -161,42 +161,6 @@ int hybrid_zero_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *s
 #define hybrid_zero_SZ_RES 1
 #define hybrid_zero_SZ_IW 0
 #define hybrid_zero_SZ_W 0
-int fwd1_hybrid_ode(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int fwd1_hybrid_ode_checkout(void);
-void fwd1_hybrid_ode_release(int mem);
-void fwd1_hybrid_ode_incref(void);
-void fwd1_hybrid_ode_decref(void);
-casadi_int fwd1_hybrid_ode_n_in(void);
-casadi_int fwd1_hybrid_ode_n_out(void);
-casadi_real fwd1_hybrid_ode_default_in(casadi_int i);
-const char* fwd1_hybrid_ode_name_in(casadi_int i);
-const char* fwd1_hybrid_ode_name_out(casadi_int i);
-const casadi_int* fwd1_hybrid_ode_sparsity_in(casadi_int i);
-const casadi_int* fwd1_hybrid_ode_sparsity_out(casadi_int i);
-int fwd1_hybrid_ode_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int fwd1_hybrid_ode_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define fwd1_hybrid_ode_SZ_ARG 9
-#define fwd1_hybrid_ode_SZ_RES 1
-#define fwd1_hybrid_ode_SZ_IW 0
-#define fwd1_hybrid_ode_SZ_W 0
-int fwd1_hybrid_zero(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int fwd1_hybrid_zero_checkout(void);
-void fwd1_hybrid_zero_release(int mem);
-void fwd1_hybrid_zero_incref(void);
-void fwd1_hybrid_zero_decref(void);
-casadi_int fwd1_hybrid_zero_n_in(void);
-casadi_int fwd1_hybrid_zero_n_out(void);
-casadi_real fwd1_hybrid_zero_default_in(casadi_int i);
-const char* fwd1_hybrid_zero_name_in(casadi_int i);
-const char* fwd1_hybrid_zero_name_out(casadi_int i);
-const casadi_int* fwd1_hybrid_zero_sparsity_in(casadi_int i);
-const casadi_int* fwd1_hybrid_zero_sparsity_out(casadi_int i);
-int fwd1_hybrid_zero_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int fwd1_hybrid_zero_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define fwd1_hybrid_zero_SZ_ARG 9
-#define fwd1_hybrid_zero_SZ_RES 1
-#define fwd1_hybrid_zero_SZ_IW 0
-#define fwd1_hybrid_zero_SZ_W 0
 void casadi_model_casadi_version(int* major, int* minor, int* patch);
 int casadi_model_casadi_int_size(void);
 int casadi_model_casadi_real_size(void);
