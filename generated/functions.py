@@ -142,13 +142,13 @@ class ModelFunctions:
     def with_functions(self, replacement: Mapping[str, ca.Function]) -> ModelFunctions:
         """A copy whose Functions are replaced by name (e.g. by compiled externals)."""
 
-        def pick(f: ca.Function) -> ca.Function:
-            return replacement.get(f.name(), f)
+        def pick(f: ca.Function | None) -> ca.Function | None:
+            return None if f is None else replacement.get(f.name(), f)
 
         return replace(
             self, rhs=pick(self.rhs), rhs_jac=pick(self.rhs_jac), rhs_switched=pick(self.rhs_switched),
             guards=pick(self.guards), velocity_guards=pick(self.velocity_guards), outputs=pick(self.outputs),
-            hybrid_ode=self.hybrid_ode and pick(self.hybrid_ode), hybrid_zero=self.hybrid_zero and pick(self.hybrid_zero),
+            hybrid_ode=pick(self.hybrid_ode), hybrid_zero=pick(self.hybrid_zero),
         )
 
 
