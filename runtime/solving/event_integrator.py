@@ -70,11 +70,11 @@ class EventIntegrator(Engine):
         controls), the DAE calls its hybrid Functions and the compiled integrator links against it
         (``self.link``); otherwise (or None) the DAE embeds the SX Functions built from ``rhs`` and ``guards``."""
         plugin = METHODS[method].plugin
-        #: the compiled model library the integrator's DAE calls (None: the DAE embeds the model's SX)
         # rosenbrock would need the hybrid Functions' Jacobians in the library too (without them it built its
         # Jacobian column by column: 3.2x slower), which would add 40 % to the library's instructions; it embeds
         linked = (plugin == "erk" and pressure == "steps" and library is not None and library.hybrid_ode is not None
                   and library.hybrid_ode.is_a("External"))
+        #: the compiled model library the integrator's DAE calls (None: the DAE embeds the model's SX)
         self.link = library.library if linked else None
         externals = (library.hybrid_ode, library.hybrid_zero) if self.link is not None else None
         self.hybrid = build_hybrid_dae(rhs, guards, n_par, omega_index, event_tol=event_tol, state_names=state_names,
