@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 9dadcce19667862a62fcf8b6fdf1586e8e932c17f98d9815158dca358eea2daa.
+ * Effects: all. Input hash: 207547d7dccf82fffc258d229242fd4847fe55bf5d63d8f00f38a72dc20757cb.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "9dadcce19667862a62fcf8b6fdf1586e8e932c17f98d9815158dca358eea2daa"
+#define APEXSEAL_INPUT_HASH "207547d7dccf82fffc258d229242fd4847fe55bf5d63d8f00f38a72dc20757cb"
 
 /* state x */
 #define APEXSEAL_NX 6
