@@ -5,6 +5,8 @@
 * :func:`initial_wall_deflection` - delta_w from the rest balance ks delta_s = kw delta_w, Eq. 9 (the symbolic
   form, checked against this one by the tests, is ``derive.geometry.initial_wall_deflection``);
 * :func:`damping_of_ratio` - a contact's damping coefficient from its damping ratio, c = 2 zeta sqrt(k ms).
+* :func:`chamber_volume`, :func:`smallest_chamber_volume`, :func:`smallest_lobe_offset` - chamber volumes, Eqs. 1-8
+  (the symbolic forms are in ``derive.chambers``), their minimum over a revolution and the circular lobes' bound on k.
 """
 
 from __future__ import annotations
@@ -80,3 +82,41 @@ def chamber_volume(side: int, theta: float, *, r: float, L: float, H: float, A_l
     else:
         area = math.pi * r * r + math.pi * L * L / 2 + side * 4 * r * L * math.cos(theta)
     return H * (area - A_lobe)
+
+
+def smallest_chamber_volume(embodiment: str, r_: float, L_: float, H_: float, Cr_: float = 0.0, k_: float = 0.0,
+                            samples: int = 360) -> tuple[float, float, str]:
+    """The smallest of Va, Vb over a revolution, the crank angle where it occurs and the chamber ("a" or "b").
+
+    Samples :func:`chamber_volume` (Eqs. 1-8) every 360/samples deg; the smallest volumes of the three embodiments
+    lie at theta = 0 or pi (the chord along the Xo axis), which the grid contains for even ``samples``.
+    """
+    A = lobe_area(embodiment, r_, L_, Cr_, k_)
+    circle = 1.0 if embodiment == "circolimacon" else 0.0
+    best = (math.inf, 0.0, "a")
+    for i in range(samples):
+        th = 2 * math.pi * i / samples
+        for side, name in ((1, "a"), (-1, "b")):
+            V = chamber_volume(side, th, r=r_, L=L_, H=H_, A_lobe=A, housing_circle=circle)
+            if V < best[0]:
+                best = (V, th, name)
+    return best
+
+
+def smallest_lobe_offset(embodiment: str, r_: float, L_: float, H_: float, Cr_: float = 0.0) -> float:
+    """The lobe-centre offset k (Eq. 5) below which a circular lobe leaves no positive chamber volume: the lobe's
+    area falls as k grows (the circle through the apices flattens), so the bound is found by bisection."""
+    def positive(k_: float) -> bool:
+        return smallest_chamber_volume(embodiment, r_, L_, H_, Cr_, k_)[0] > 0
+
+    lo, hi = -L_, L_
+    while positive(lo):
+        lo *= 2
+    while not positive(hi):
+        lo, hi = hi, 2 * hi
+        if hi > 1e3 * L_:
+            return math.inf
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if positive(mid) else (mid, hi)
+    return hi

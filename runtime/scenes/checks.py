@@ -15,7 +15,7 @@ import numpy as np
 
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects, declared
-from apexseal.derive.numbers import machine_numbers
+from apexseal.derive.numbers import machine_numbers, smallest_chamber_volume, smallest_lobe_offset
 
 from .errors import MISSING, Problem
 from .schema import (
@@ -70,6 +70,35 @@ def check_machine(m: MachineSection, raw: dict[str, Any]) -> list[Problem]:
                     )
                 )
     return out
+
+
+#: the pressure sources that integrate the chamber gas model, whose pressure is (gamma - 1) U / V
+GAS_SOURCES = ("chamber", "chamber+leakage")
+
+
+def check_chamber_volumes(m: MachineSection, p: PressureSection, raw: dict[str, Any]) -> list[Problem]:
+    """Both chamber volumes (Eqs. 1-8, ``derive.chambers``) positive all the revolution, for the gas model.
+
+    The chamber gas model divides by the volume, so a rotor lobe that reaches the housing (a volume <= 0 somewhere
+    on the revolution) is refused: on ``machine.k`` for the circular lobes (Eq. 5: the smaller k, the rounder and
+    larger the lobe), on ``machine.Cr`` for the limaçon lobe (whose clearance volume is H Cr (pi L - 4 r - pi Cr / 2),
+    positive for 0 < Cr < 2 L - 8 r / pi). The other pressure sources do not use the volumes.
+    """
+    if p.source not in GAS_SOURCES or m.embodiment != "limacon-to-limacon" and m.Cr >= m.L:
+        return []  # no gas model, or a lobe clearance already refused by check_machine
+    V, th, chamber = smallest_chamber_volume(m.embodiment, m.r, m.L, m.H, m.Cr, m.k)
+    if V > 0:
+        return []
+    where = (f"chamber {chamber}'s volume reaches {V * 1e6:.4g} cm^3 (<= 0) at theta = {math.degrees(th):.4g} deg "
+             f"(Eqs. 1-8): the rotor lobe reaches the housing, and pressure.source = \"{p.source}\" needs a "
+             "positive volume all the revolution")
+    if m.embodiment == "limacon-to-limacon":
+        return [Problem("machine.Cr", raw_at(raw, ["machine", "Cr"]),
+                        f"{where}; allowed: 0 < Cr < 2 L - 8 r / pi = {_mm(2 * m.L - 8 * m.r / math.pi)}")]
+    k_min = smallest_lobe_offset(m.embodiment, m.r, m.L, m.H, m.Cr)
+    return [Problem("machine.k", raw_at(raw, ["machine", "k"]),
+                    f"{where}; allowed: k > {_mm(k_min)} for machine.r = {_mm(m.r)}, machine.L = {_mm(m.L)}, "
+                    f"machine.Cr = {_mm(m.Cr)} (Eq. 5; or a larger Cr)")]
 
 
 def tip_numbers(s: SealSection) -> tuple[float, float]:
@@ -285,6 +314,8 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
             out += check_zeta0(m, s)
     if "pressure" in sections:
         out += check_pressure(sections["pressure"], raw)
+        if m is not None:
+            out += check_chamber_volumes(m, sections["pressure"], raw)
     return out
 
 

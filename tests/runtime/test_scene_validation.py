@@ -22,6 +22,9 @@ CONSTANT = {
     "pressure.Pb": "1 bar",
 }
 
+#: the pressure section switched to the chamber gas model (which needs positive chamber volumes)
+GAS = {"pressure.source": "chamber", "pressure.file": None, "pressure.unit": None}
+
 # id, overrides, key, value as shown, fragments of the message (the last ones state what is allowed)
 CASES = [
     # units and types
@@ -274,6 +277,21 @@ CASES = [
         "machine.Cr",
         '"60 mm"',
         ["Eq. 5", "allowed: 0 <= Cr < L = 50 mm"],
+    ),
+    (
+        "circular-lobe-reaches-the-housing",
+        {"machine.embodiment": "circolimacon", "machine.k": "10 mm", **GAS},
+        "machine.k",
+        '"10 mm"',
+        ["chamber b's volume reaches -60.53 cm^3 (<= 0) at theta = 0 deg", "Eqs. 1-8",
+         "allowed: k > 19.7732 mm for machine.r = 10 mm, machine.L = 50 mm, machine.Cr = 0.1 mm"],
+    ),
+    (
+        "limacon-lobe-without-clearance",
+        {"machine.Cr": "0 mm", **GAS},
+        "machine.Cr",
+        '"0 mm"',
+        ["volume reaches 0 cm^3 (<= 0)", "allowed: 0 < Cr < 2 L - 8 r / pi = 74.5352 mm"],
     ),
     (
         "port-longer-than-machine",
