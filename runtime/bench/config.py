@@ -126,6 +126,8 @@ class BenchConfig:
     #: the chamber pressures over an output interval: "steps" (interval means, every method) or "linear"
     #: (continuous; the event methods and the numba peer only, others are skipped with a note)
     pressure: str = "steps"
+    #: the gas states' cost: revolutions of each timed run (runtime/bench/gas_cost.py); 0 = not measured
+    gas_revolutions: int = 0
 
     def methods_used(self) -> list[MethodSpec]:
         ids = {m for s in self.scenes for m in s.sweeps}
@@ -140,7 +142,7 @@ class BenchConfig:
                    settle: int | None = None, repeats: int | None = None, scenes: tuple[str, ...] = (),
                    flags: str | None = None, effects: bool | None = None, cold_compile: bool | None = None,
                    check_reference: bool | None = None, e2e: bool | None = None,
-                   pressure: str | None = None) -> BenchConfig:
+                   pressure: str | None = None, gas: bool | None = None) -> BenchConfig:
         """A copy with fewer methods/scenes or a smaller problem (for tests and quick looks)."""
         unknown = [m for m in methods if m not in METHODS]
         if unknown:
@@ -157,6 +159,8 @@ class BenchConfig:
             new = replace(new, effects=None)
         if e2e is not None:
             new = replace(new, e2e_revolutions=20 if e2e else 0)
+        if gas is not None:
+            new = replace(new, gas_revolutions=2 if gas else 0)
         return new
 
 
@@ -199,7 +203,8 @@ def full() -> BenchConfig:
         "numbalsoda-DOP853": RTOL_ERK[1:-1],
     })
     # every point gets the full number of timed runs, however slow (the issue asks for medians of at least 5)
-    return BenchConfig("full", (default, stiff), slow_run_s=math.inf, e2e_revolutions=20)
+    return BenchConfig("full", (default, stiff), slow_run_s=math.inf, e2e_revolutions=20,
+                       gas_revolutions=2)
 
 
 def quick() -> BenchConfig:

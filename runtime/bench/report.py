@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 
 from .e2e import e2e_md
+from .gas_cost import gas_md
 
 
 def _t(s: float | None) -> str:
@@ -198,6 +199,7 @@ def table_md(r: dict, command: str) -> str:
              "convergence): such values are estimates, not measurements.", "", *at_target_md(r), ""]
     lines += peer_md(r)
     lines += e2e_md(r.get("e2e"))
+    lines += gas_md(r.get("gas"))
     for s in r["scenes"]:
         lines += [f"## All points: {s['name']}", "",
                   "`VM run`: CPU time of the interpreted run that gave the statistics of a compiled integrator.", "",

@@ -80,6 +80,10 @@ def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
         from .e2e import end_to_end
 
         results["e2e"] = end_to_end(cfg.e2e_revolutions, cfg.e2e_repeats, log=log)
+    if cfg.gas_revolutions:
+        from .gas_cost import gas_cost
+
+        results["gas"] = gas_cost(cfg.gas_revolutions, cfg.repeats, log=log)
     results["machine"]["load_average_at_end"] = list(os.getloadavg())
     results["elapsed_wall_s"] = time.perf_counter() - t0
     return results

@@ -44,8 +44,10 @@ def _command_line(ctx: click.Context) -> str:
 @click.option("--pressure", type=click.Choice(["steps", "linear"]), help="Chamber pressures over an output interval: "
               "held at their means (steps, default) or linear between the values at its ends (event methods and the "
               "numba peer only).")
+@click.option("--gas/--no-gas", default=None, help="Time the pressure table, the chamber gas model and the gas model with "
+              "leakage on the expander-gas scene (default: in the full run only).")
 def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_effects, no_check, flags, e2e,
-          pressure) -> None:
+          pressure, gas) -> None:
     """Work-precision benchmark: error against CPU time for every method, targets, effects cost."""
     from .runtime.bench.config import PRESETS
     from .runtime.bench.output import write_outputs
@@ -56,7 +58,8 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     try:
         cfg = cfg.restricted(methods=split(methods), scenes=split(scenes), samples=samples, span_deg=span_deg,
                              settle=settle, repeats=repeats, flags=flags, effects=False if no_effects else None,
-                             check_reference=False if no_check else None, e2e=e2e, pressure=pressure)
+                             check_reference=False if no_check else None, e2e=e2e, pressure=pressure,
+                             gas=gas)
     except ValueError as err:
         raise click.BadParameter(str(err)) from err
     command = _command_line(click.get_current_context())
@@ -70,3 +73,6 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
         parts = ", ".join(f"{k} {s:.2f}" for k, s in v["stages_s"].items())
         click.echo(f"  end to end ({name}): {parts}; wall {v['wall_s']:.2f} s "
                    f"(integrating {100 * v['integrate_share']:.0f} %)")
+    for name, v in (results.get("gas") or {}).get("variants", {}).items():
+        click.echo(f"  gas states ({name}): {1e3 * v['integrate_per_rev_s']:.0f} ms integrating per revolution "
+                   f"(x{v['integrate_ratio']:.2f} the table's), {v['rhs_evaluations']} RHS evaluations")
