@@ -88,26 +88,35 @@ def fig12_displacements(result: SimulationResult, ports: dict | None = None, *, 
     return fig
 
 
+def force_panels(outputs) -> list[str]:
+    """The contacts and loads whose force a result carries (the ``F_<name>_X``/``F_<name>_Y`` outputs the model
+    derives for every contact model of its active submodels), in the model's order: one Fig. 13 panel each. A
+    contact whose effect is off is never derived, so it has no panel; a registered extra contact gets one."""
+    return [n[2:-2] for n in outputs if n.startswith("F_") and n.endswith("_X") and n[:-2] + "_Y" in outputs]
+
+
 def fig13_forces(result: SimulationResult, *, pyplot: bool = False, save_dpi: float | None = None):
-    """Fig. 13: groove contact forces Fi1, Fi2, Fc2, Fc4, spring force Fs6 and housing force Fs5 (magnitudes).
+    """Fig. 13: the magnitude of every force on the seal the run's model has (:func:`force_panels`): for the
+    full model the groove contacts Fi1, Fc2, Fi2, Fc4, the spring Fs6, the housing Fs5 and the chamber pressure.
 
     With ``save_dpi`` (the figure is to be saved at that resolution) each line is reduced to its envelope over
     the pixel columns (:func:`.decimate.envelope`); without it every sample is drawn.
     """
     deg = np.degrees(result.theta)
-    names = [("i1", "F_i1"), ("i2", "F_i2"), ("c2", "F_c2"), ("c4", "F_c4"), ("spring", "F_s6"), ("housing", "F_s5")]
-    fig = new_figure((12, 8), pyplot)
+    names = force_panels(result.outputs)
+    rows = max(1, -(-len(names) // 2))
+    fig = new_figure((12, 1.2 + 2.3 * rows), pyplot)
     columns = None if save_dpi is None else columns_of(fig, save_dpi)
-    axes = fig.subplots(3, 2, sharex=True)
-    for ax, (key, label) in zip(axes.ravel(), names, strict=True):
-        if f"F_{key}_X" in result.outputs:
-            F = np.hypot(result.outputs[f"F_{key}_X"], result.outputs[f"F_{key}_Y"])
-            ax.plot(*((deg, F) if columns is None else envelope(deg, F, columns)), lw=0.7)
-        else:
-            ax.text(0.5, 0.5, "effect off", ha="center", va="center", transform=ax.transAxes)
-        ax.set_ylabel(f"|{label}| (N)")
-    for ax in axes[-1]:
+    axes = np.atleast_1d(fig.subplots(rows, 2, sharex=True, squeeze=False)).ravel()
+    for ax, key in zip(axes[:len(names)], names, strict=True):
+        F = np.hypot(result.outputs[f"F_{key}_X"], result.outputs[f"F_{key}_Y"])
+        ax.plot(*((deg, F) if columns is None else envelope(deg, F, columns)), lw=0.7)
+        ax.set_ylabel(f"|F {key}| (N)")
+    for ax in axes[len(names):]:
+        ax.set_axis_off()
+    for ax in axes[max(0, len(names) - 2):len(names)]:  # the lowest panel of each column
         ax.set_xlabel("crank angle (deg)")
+        ax.xaxis.set_tick_params(labelbottom=True)
     fig.suptitle("Forces on the apex seal (cf. Fig. 13)")
     return fig
 

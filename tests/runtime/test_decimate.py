@@ -102,3 +102,19 @@ def test_fig13_saved_from_the_envelope_draws_the_same_extent_and_the_spike():
     assert np.mean(np.abs(top_a - top_b)[drawn] <= 1) > 0.99
     assert np.mean(np.abs(bottom_a - bottom_b)[drawn] <= 1) > 0.99
     assert np.nanmin(top_a) == np.nanmin(top_b)  # the spike's top pixel
+
+
+def test_fig13_has_one_panel_per_force_the_model_derived():
+    """Fig. 13's panels come from the result's force outputs (the model's contacts, as the registry built it): a
+    contact that is off has none, a registered extra contact gets one, and nothing else is drawn."""
+    from apexseal.runtime.results.figures import force_panels
+    from apexseal.runtime.results.plots import figure
+
+    result = _long_result()
+    n = result.n
+    result.outputs.update({"F_cushion_X": np.ones(n), "F_cushion_Y": np.zeros(n), "M_cushion": np.zeros(n)})
+    assert force_panels(result.outputs) == ["i1", "cushion"]
+    fig = figure(result, "fig13")
+    drawn = [ax for ax in fig.axes if ax.axison]
+    assert [ax.get_ylabel() for ax in drawn] == ["|F i1| (N)", "|F cushion| (N)"]
+    assert all(ax.get_xlabel() == "crank angle (deg)" for ax in drawn)
