@@ -1,15 +1,14 @@
-"""``apexseal optimise-preload``: the smallest spring preload that keeps the seal tip on the housing (IPOPT)."""
+"""``apexseal optimise-preload``: the preload (constant, or a schedule over the revolution) that costs least friction
+while the seal tip stays on the housing (IPOPT)."""
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
 import click
 
 from .cli_common import scene_and_folder
-from .files import atomic_write
 
 #: the largest min-force accepted (N): far above any contact force of a seal
 MAX_FORCE = 1e5
@@ -36,44 +35,81 @@ def _windows(ctx, param, values) -> tuple:
         raise click.BadParameter(str(err).replace("exclude = ", "")) from None
 
 
+def _rate(ctx, param, value):
+    if value is None:
+        return None
+    if not (value > 0):
+        raise click.BadParameter(f"{value!r}: allowed: a rate > 0 mm per degree of crank angle, e.g. 0.05")
+    return value * 1e-3
+
+
 @click.command("optimise-preload")
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--min-force", default="5 N", show_default=True, callback=_force,
-              help="Smallest contact force of the tip on the housing at every check sample (a force, e.g. 5N).")
+              help="Smallest contact force of the tip on the housing, everywhere outside --exclude (a force, e.g. 5N).")
 @click.option("--exclude", "exclude", multiple=True, callback=_windows, metavar="START:END",
-              help="Crank-angle window in degrees where the force is not checked (repeatable), e.g. 180:200.")
+              help="Crank-angle window in degrees where the force is not required (repeatable, up to 4), e.g. 180:200.")
+@click.option("--schedule", "knots", type=click.IntRange(2, 72), default=None, metavar="KNOTS",
+              help="Also optimise a periodic piecewise-linear preload schedule with KNOTS knots, started from the "
+                   "constant optimum.")
+@click.option("--max-rate", type=float, default=None, callback=_rate, metavar="MM_PER_DEG",
+              help="Bound on |d delta_s / d theta| of the schedule in mm per degree [default: none].")
+@click.option("--objective", type=click.Choice(["friction", "preload"]), default="friction", show_default=True,
+              help="Minimise the cycle-mean friction power, or the (mean) preload.")
 @click.option("--samples", type=click.IntRange(36, 100000),
-              help="Check (output) samples per revolution [default: the scene's samples_per_revolution].")
+              help="Output samples per revolution [default: the scene's samples_per_revolution].")
 @click.option("--nodes", type=click.IntRange(2, 64), default=4, show_default=True,
-              help="Shooting nodes over the revolution (must divide the samples).")
+              help="Shooting nodes over the revolution (with the knots, their least common multiple must divide "
+                   "the samples).")
 @click.option("--check/--no-check", "check", default=True, show_default=True,
-              help="Also run the derivative-free bisection over full simulations and compare.")
+              help="Also run the derivative-free bisection of the constant preload over full simulations.")
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Output folder for preload.json [default: apexseal-out/<scene name>].")
-def optimise_preload(scene: Path | None, min_force: float, exclude, samples, nodes, check, out) -> None:
-    """Find the smallest spring preload delta_s of SCENE (default: the embedded case study) for which the
-    seal tip stays pressed on the housing with at least --min-force over the periodic revolution."""
+              help="Output folder for preload.json, preload.md, preload.png [default: apexseal-out/<scene name>].")
+def optimise_preload(scene: Path | None, min_force: float, exclude, knots, max_rate, objective, samples, nodes, check,
+                     out) -> None:
+    """Optimise the spring preload delta_s of SCENE (default: the embedded case study): the least friction power
+    (or preload) for which the seal tip stays pressed on the housing with at least --min-force everywhere on the
+    periodic revolution (between samples too), as a constant and, with --schedule, as a schedule delta_s(theta)."""
+    from .runtime.api import model_functions
     from .runtime.studies.preload.bisect import bisect_preload
     from .runtime.studies.preload.nlp import optimise_preload as run_study
-    from .runtime.studies.preload.problem import MM, PreloadStudyError
+    from .runtime.studies.preload.problem import MM, PreloadSetup, PreloadStudyError
+    from .runtime.studies.preload.report import write_report
+    from .stopwatch import Stopwatch
 
     sc, out = scene_and_folder(scene, out)
     click.echo(f"scene {scene or '(embedded default: the paper case study)'}; min force {min_force:g} N; "
                f"writing to {out}/")
+    watch = Stopwatch()
+    results = {"constant": None}
     try:
-        result = run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes, samples=samples)
+        setup = PreloadSetup(sc, model_functions(sc), min_force, tuple(exclude), samples)
+        with watch.stage("constant"):
+            results["constant"] = run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes, objective=objective,
+                                            setup=setup)
+        click.echo(results["constant"].describe())
+        if knots and results["constant"].ok:
+            with watch.stage("schedule"):
+                results["schedule"] = run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes, knots=knots,
+                                                objective=objective, max_rate=max_rate, start=results["constant"],
+                                                setup=setup)
+            click.echo(results["schedule"].describe())
     except PreloadStudyError as err:
         raise click.BadParameter(str(err)) from None
-    payload = {"scene": str(scene or "default"), "ipopt": result.to_dict()}
-    if result.ok and check:
-        b = bisect_preload(sc, min_force=min_force, exclude=exclude, samples=result.samples)
-        diff = abs(b.delta_s - result.delta_s)
-        payload["bisection"] = b.to_dict() | {"difference_m": diff}
-    atomic_write(out / "preload.json", json.dumps(payload, indent=2, default=str) + "\n")
-    click.echo(result.describe())
-    if "bisection" in payload:
+    b = None
+    c = results["constant"]
+    if c.ok and check:
+        with watch.stage("bisection"):
+            b = bisect_preload(sc, min_force=min_force, exclude=exclude, setup=setup, nodes=nodes,
+                               upper=c.start_delta_s)
         click.echo(f"  bisection over full simulations: delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm "
-                   f"({b.simulations} simulations, {b.wall_time_s:.1f} s); IPOPT differs by {diff / MM:.4f} mm")
-    click.echo(f"  wrote preload.json to {out}/")
-    if not result.ok:
+                   f"({b.simulations} simulations, {b.wall_time_s:.1f} s); IPOPT differs by "
+                   f"{abs(b.delta_s - c.delta_s) / MM:.4f} mm")
+    s = results.get("schedule")
+    if s is not None and s.ok and c.ok:
+        click.echo(f"schedule saves {c.friction_power - s.friction_power:.3f} W of friction power against the best "
+                   f"constant preload ({s.friction_power:.3f} vs {c.friction_power:.3f} W)")
+    paths = write_report(out, sc, str(scene or "default"), results, b, min_force)
+    click.echo(f"  wrote {', '.join(p.name for p in paths)} to {out}/ ({watch.report()})")
+    if not c.ok or (s is not None and not s.ok):
         sys.exit(2)

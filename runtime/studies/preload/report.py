@@ -1,0 +1,112 @@
+"""The preload study's report: ``preload.json``, ``preload.md`` and ``preload.png`` in one folder.
+
+The figure has four panels: delta_s(theta) of the scene, the constant optimum and the schedule beside the
+chamber pressure difference Pa - Pb; the tip's contact force along the periodic revolution with the
+minimum force and its smallest value marked; the cycle-mean friction power of each contact for the three
+designs.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from ....files import atomic_open, atomic_write
+from .problem import MM
+
+
+def _designs(results: dict) -> list[tuple[str, object, object]]:
+    """(label, result, simulation) of the scene's preload, the constant optimum and the schedule, as present."""
+    out = []
+    first = next((r for r in results.values() if r is not None), None)
+    if first is not None and "scene_simulation" in first.__dict__:
+        out.append((f"scene ({first.scene_delta_s / MM:.3g} mm)", None, first.__dict__["scene_simulation"]))
+    for key, label in (("constant", "constant optimum"), ("schedule", "schedule optimum")):
+        r = results.get(key)
+        if r is not None and r.ok:
+            out.append((label, r, r.__dict__.get("simulation")))
+    return out
+
+
+def markdown(scene_name: str, results: dict, bisection=None) -> str:
+    lines = [f"# Preload study of {scene_name}", ""]
+    for key, r in results.items():
+        if r is None:
+            continue
+        lines += [f"## {key}", "", "```", r.describe(), "```", ""]
+    if bisection is not None:
+        b = bisection
+        lines += ["## derivative-free check (bisection over full simulations)", "",
+                  f"delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm ({b.simulations} simulations, "
+                  f"{b.wall_time_s:.1f} s, monotone: {b.monotone})", ""]
+    c, s = results.get("constant"), results.get("schedule")
+    if c is not None and c.ok and s is not None and s.ok:
+        lines += ["## schedule against the best constant preload", "",
+                  f"friction power {s.friction_power:.3f} W vs {c.friction_power:.3f} W: saved "
+                  f"{c.friction_power - s.friction_power:.3f} W "
+                  f"({100 * (c.friction_power - s.friction_power) / c.friction_power:.2f} %)", ""]
+    return "\n".join(lines)
+
+
+def figure(scene, results: dict, min_force: float):
+    from ...results.figures import new_figure
+
+    designs = _designs(results)
+    fig = new_figure((11, 7.5))
+    ax = fig.subplots(2, 2)
+    a1, a2, a3, a4 = ax[0, 0], ax[0, 1], ax[1, 0], ax[1, 1]
+    for label, _r, sim in designs:
+        if sim is None:
+            continue
+        deg = np.degrees(sim.thetas) % 360.0
+        order = np.argsort(deg)
+        a1.plot(deg[order], sim.delta_s[order] / MM, label=label)
+        a3.plot(deg[order], sim.measure[order], lw=0.8, label=label)
+        j = int(np.argmin(sim.measure))
+        a3.plot(deg[j], sim.measure[j], "o", ms=5, color=a3.lines[-1].get_color())
+    a1.set(xlabel="crank angle (deg)", ylabel="delta_s (mm)", title="preload delta_s(theta)")
+    a1.legend(fontsize=8)
+    sim = next((d[2] for d in designs if d[2] is not None), None)
+    if sim is not None:
+        deg = np.degrees(sim.thetas) % 360.0
+        order = np.argsort(deg)
+        a2.plot(deg[order], (sim.pressures[0] - sim.pressures[1])[order] / 1e5, color="tab:gray")
+    a2.set(xlabel="crank angle (deg)", ylabel="Pa - Pb (bar)", title="chamber pressure difference")
+    a3.axhline(min_force, color="k", ls="--", lw=0.8, label=f"min force {min_force:g} N")
+    a3.set(xlabel="crank angle (deg)", ylabel="tip contact force (N; < 0: lift-off)",
+           title="tip force on the housing (dots: minimum)")
+    lo = min([min_force] + [float(np.min(d[2].measure)) for d in designs if d[2] is not None])
+    a3.set_ylim(max(lo, -5 * min_force) - 1, None)
+    a3.legend(fontsize=8)
+    contacts = None
+    width = 0.8 / max(1, len(designs))
+    for i, (label, r, sim_) in enumerate(designs):
+        powers = r.contact_friction_power if r is not None else next(
+            (x.scene_contact_friction_power for x in results.values() if x is not None), {})
+        contacts = contacts or list(powers)
+        a4.bar(np.arange(len(contacts)) + i * width, [powers.get(k, 0.0) for k in contacts], width, label=label)
+    if contacts:
+        a4.set_xticks(np.arange(len(contacts)) + 0.4 - width / 2, contacts)
+    a4.set(ylabel="cycle-mean friction power (W)", title="friction power per contact")
+    a4.legend(fontsize=8)
+    return fig
+
+
+def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=None, min_force: float = 5.0) -> list:
+    """Write preload.json, preload.md and preload.png; return their paths."""
+    folder = Path(folder)
+    payload = {"scene": scene_name} | {k: (r.to_dict() if r is not None else None) for k, r in results.items()}
+    if bisection is not None:
+        payload["bisection"] = bisection.to_dict()
+    c, s = results.get("constant"), results.get("schedule")
+    if c is not None and c.ok and s is not None and s.ok:
+        payload["saved_friction_power_W"] = c.friction_power - s.friction_power
+    paths = [folder / "preload.json", folder / "preload.md", folder / "preload.png"]
+    atomic_write(paths[0], json.dumps(payload, indent=2, default=str) + "\n")
+    atomic_write(paths[1], markdown(scene_name, results, bisection) + "\n")
+    fig = figure(scene, results, min_force)
+    with atomic_open(paths[2], "wb") as fh:
+        fig.savefig(fh, format="png", dpi=100)
+    return paths

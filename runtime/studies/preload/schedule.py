@@ -1,0 +1,206 @@
+"""The preload schedule delta_s(theta) and the segment grid the study integrates it on.
+
+A schedule is periodic and piecewise linear in crank angle with K equally spaced knots (K = 1 is the
+constant preload: one formulation for both designs). The revolution is cut into ``S = lcm(K, nodes)``
+segments of ``samples / S`` output samples, starting at ``theta_first`` (the first shooting node): every
+knot and every shooting node is a segment boundary, so on each segment delta_s is affine,
+``delta_s = d_s + slope_s (theta - psi_s)``, and one call of the compiled interval integrator
+(runtime/studies/preload/shooting.py) integrates it. The segment values are linear in the knot values:
+``d = Lseg @ knots``, ``slope = Mseg @ knots``.
+
+:func:`simulate_schedule` chains the segments over several revolutions from the scene's initial state:
+the re-simulation of an optimum (and the derivative-free check) with the same hybrid model and event
+integrator as the simulator, which also measures the force deficit between samples.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from .problem import DELTA_S, MM
+from .shooting import TWO_PI, q_layout, window_vector
+
+
+@dataclass(frozen=True)
+class Schedule:
+    """delta_s(theta): periodic, piecewise linear through ``values`` (m) at ``angles`` (deg, increasing)."""
+
+    angles: tuple[float, ...]
+    values: tuple[float, ...]
+
+    def __call__(self, theta_deg):
+        if len(self.values) == 1:
+            return np.full(np.shape(theta_deg), self.values[0])
+        a = np.r_[self.angles, self.angles[0] + 360.0]
+        v = np.r_[self.values, self.values[0]]
+        x = (np.asarray(theta_deg, float) - self.angles[0]) % 360.0 + self.angles[0]
+        return np.interp(x, a, v)
+
+    def to_dict(self) -> dict:
+        return {"angles_deg": list(self.angles), "delta_s_m": list(self.values)}
+
+
+@dataclass
+class SegmentGrid:
+    """Segments of one revolution from ``theta_first`` (see the module docstring)."""
+
+    samples: int
+    nodes: int
+    knots: int
+    theta_first: float  # rad, the first node (a segment and knot boundary)
+    dth: float
+
+    def __post_init__(self) -> None:
+        self.segments = math.lcm(self.nodes, self.knots)
+        self.m = self.samples // self.segments
+        s = np.arange(self.segments)
+        self.psi = self.theta_first + self.dth * self.m * s  # segment starts
+        per_knot = self.segments // self.knots
+        K = self.knots
+        self.Lseg = np.zeros((self.segments, K))
+        self.Mseg = np.zeros((self.segments, K))
+        span = TWO_PI / K
+        for j in s:
+            i = j // per_knot
+            frac = (j % per_knot) / per_knot
+            self.Lseg[j, i] += 1 - frac
+            self.Lseg[j, (i + 1) % K] += frac
+            if K > 1:
+                self.Mseg[j, i] -= 1 / span
+                self.Mseg[j, (i + 1) % K] += 1 / span
+
+    @property
+    def per_node(self) -> int:
+        return self.segments // self.nodes
+
+    @property
+    def knot_angles_deg(self) -> np.ndarray:
+        return np.degrees(self.theta_first + TWO_PI * np.arange(self.knots) / self.knots)
+
+    def edges(self) -> np.ndarray:
+        return self.theta_first + self.dth * np.arange(self.samples + 1)
+
+    def q_columns(self, setup, knots_m, min_force: float, exclude, rev: int = 0):
+        """The integrator parameters of every segment (n_q x S), numeric or CasADi (knots in m)."""
+        L = q_layout(setup.pmap.p0.size)
+        d = self.Lseg @ knots_m if isinstance(knots_m, np.ndarray) else ca.mtimes(ca.DM(self.Lseg), knots_m)
+        slope = self.Mseg @ knots_m if isinstance(knots_m, np.ndarray) else ca.mtimes(ca.DM(self.Mseg), knots_m)
+        S = self.segments
+        p = ca.repmat(ca.DM(setup.pmap.p0), 1, S) + ca.mtimes(ca.DM(setup.pmap.dp), ca.reshape(d, 1, S))
+        rest = ca.DM(np.r_[[min_force], window_vector(exclude)])
+        Q = ca.vertcat(p, ca.DM(self.psi + rev * TWO_PI).T, ca.reshape(slope, 1, S), ca.repmat(rest, 1, S))
+        assert Q.size1() == L["size"]
+        return np.array(Q) if isinstance(knots_m, np.ndarray) else Q
+
+
+def chain_function(sf, grid: SegmentGrid, n_z: int, *, derivatives: bool, nd: int = 0) -> ca.Function:
+    """One shooting interval (``grid.per_node`` segments chained) as a Function, to be mapped over the nodes.
+
+    Inputs: z0 (n_z), Q (n_q x per_node), U (2 x m per_node) and, with ``derivatives``, the seeds of z0
+    (n_z x nd) and of Q (n_q x per_node nd). Outputs: the end state, the two quadratures summed, and the
+    samples (n_z x m per_node) or, with ``derivatives``, their forward derivatives in the nd directions.
+    """
+    from .shooting import CHUNK
+
+    k, m = grid.per_node, grid.m
+    nq = sf.interval.size1_in(sf.interval.index_in("p"))
+    z0, Q, U = ca.MX.sym("z0", n_z), ca.MX.sym("Q", nq, k), ca.MX.sym("U", 2, m * k)
+    ins = [z0, Q, U]
+    x, qs, samples = z0, ca.MX.zeros(2), []
+    if derivatives:
+        dz0, dQ = ca.MX.sym("dz0", n_z, nd), ca.MX.sym("dQ", nq, k * nd)
+        ins += [dz0, dQ]
+        dx, dq = dz0, ca.MX.zeros(2, nd)
+    for j in range(k):
+        Uj = U[:, j * m:(j + 1) * m]
+        r = sf.interval(x0=x, p=Q[:, j], u=Uj)
+        if derivatives:
+            cols_x, cols_q = [], []
+            for c in range(0, nd, CHUNK):
+                f = sf.forward(x0=x, p=Q[:, j], u=Uj, fwd_x0=dx[:, c:c + CHUNK],
+                               fwd_p=dQ[:, j * nd + c:j * nd + c + CHUNK], fwd_u=ca.MX.zeros(2, m * CHUNK))
+                ends = [i * m + m - 1 for i in range(CHUNK)]
+                cols_x.append(f["fwd_xf"][:, ends])
+                cols_q.append(f["fwd_qf"][:, ends])
+            dx = ca.horzcat(*cols_x)
+            dq = dq + ca.horzcat(*cols_q)
+        else:
+            samples.append(r["xf"])
+        x = r["xf"][:, -1]
+        qs = qs + r["qf"][:, -1]
+    outs = [x, qs] + ([dx, dq] if derivatives else [ca.horzcat(*samples)])
+    return ca.Function("preload_chain" + ("_fwd" if derivatives else ""), ins, outs)
+
+
+@dataclass
+class Resimulation:
+    """A periodic revolution of a schedule, chained from the scene's initial state (see the module docstring)."""
+
+    thetas: np.ndarray  # (samples,) rad, absolute crank angle of the last revolution's samples
+    z: np.ndarray  # (n_z, samples + 1) its hybrid states, the start included
+    deficit: float  # the force-deficit quadrature over the revolution (N^2 rad, outside the windows)
+    friction_power: float  # W, cycle mean (quadrature)
+    change: float  # change of the scaled state over the last revolution
+    measure: np.ndarray  # (samples,) tip contact measure at the samples (N)
+    pressures: np.ndarray  # (2, samples)
+    delta_s: np.ndarray  # (samples,) m, the preload at each sample
+
+
+def simulate_schedule(setup, sf, grid: SegmentGrid, knots_m, min_force: float, exclude,
+                      revolutions: int | None = None, z_start: np.ndarray | None = None) -> Resimulation:
+    """Chain the segments over ``revolutions`` revolutions from the scene's initial state at the first node."""
+    from ...solving.preflight import initial_activations
+    from ...solving.scaling import to_scaled
+    from .problem import _scale
+
+    knots_m = np.asarray(knots_m, float)
+    revolutions = revolutions or setup.revolutions
+    ng = setup.n_guards
+    U = setup.pressures(grid.edges())
+    if z_start is None:
+        op = setup.scene.operation
+        X = np.array([getattr(op.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float)
+        Q0 = grid.q_columns(setup, knots_m, min_force, exclude)
+        p = Q0[:setup.pmap.p0.size, 0]
+        act = initial_activations(setup.functions, grid.theta_first, X, p, U[:, 0])
+        z_start = np.r_[to_scaled(X, float(p[_omega()])), act, np.zeros(ng)]
+    z = np.asarray(z_start, float)
+    m = grid.m
+    starts = [z.copy()]
+    for rev in range(revolutions):
+        Q = grid.q_columns(setup, knots_m, min_force, exclude, rev)
+        cols, qsum = [], np.zeros(2)
+        for s in range(grid.segments):
+            r = sf.interval(x0=z, p=Q[:, s], u=U[:, s * m:(s + 1) * m])
+            xf = np.array(r["xf"])
+            cols.append(xf)
+            qsum += np.array(r["qf"])[:, -1]
+            z = xf[:, -1].copy()
+        z0_rev = starts[-1]
+        z[6 + ng:] = 0.0
+        starts.append(z.copy())
+    Z = np.concatenate([z0_rev[:, None], np.concatenate(cols, axis=1)], axis=1)
+    Z[6 + ng:, 0] = 0.0
+    if not np.isfinite(Z).all():
+        raise RuntimeError("the re-simulation of the schedule turned non-finite")
+    thetas = grid.edges()[1:] + (revolutions - 1) * TWO_PI
+    change = float(np.max(np.abs(starts[-1][:6] - starts[-2][:6]) / np.maximum(1.0, np.abs(starts[-1][:6]))))
+    # the physical parameters at each sample (delta_s varies along the segment)
+    d_at = Schedule(tuple(grid.knot_angles_deg), tuple(knots_m))(np.degrees(thetas))
+    P = setup.pmap.p0[:, None] + setup.pmap.dp[:, None] * d_at[None, :]
+    X = Z[:6, 1:] * _scale(setup.pmap.p0)[:, None]  # the scale depends on omega only
+    meas = np.array(setup.measure_fn.map(thetas.size)(thetas[None, :], X, Z[6:6 + ng, 1:], P, U)).ravel()
+    return Resimulation(thetas, Z, float(qsum[1]), float(qsum[0] / TWO_PI), change, meas, U, d_at)
+
+
+def _omega() -> int:
+    from ....derive.symbols import PARAMETER_NAMES
+
+    return PARAMETER_NAMES.index("omega")
+
+
+__all__ = ["DELTA_S", "MM", "Resimulation", "Schedule", "SegmentGrid", "chain_function", "simulate_schedule"]

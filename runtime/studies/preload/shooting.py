@@ -1,0 +1,152 @@
+"""The preload study's compiled pieces: the hybrid DAE with a scheduled preload and two quadratures.
+
+The DAE is the simulator's (runtime/solving/hybrid.py: contact switches as events, the same model
+Functions), with three additions, all inside the DAE so the adaptive steps and the located events
+resolve them (nothing depends on the output grid but the pressure means, which the simulator shares):
+
+* **Scheduled preload.** The integrator's parameters are ``q = [p, theta0, slope, f_min, windows]``:
+  the physical parameter vector p at the interval's start, and along the interval delta_s grows
+  by ``slope`` (m per rad of crank angle), so the model sees ``p + dp slope tau`` where ``dp`` is
+  d p / d delta_s of the scene (delta_s, delta_w of Eq. 9 and Li of Eq. 12 move together,
+  runtime/studies/preload/problem.py). A piecewise-linear delta_s(theta) is one interval per
+  knot stretch; the constant design is slope 0.
+* **Friction power** quadrature: the simulator's output ``Pf_total`` (W, every contact, Eqs. 70-73)
+  integrated over crank angle; divided by 2 pi it is the cycle-mean friction power.
+* **Force-deficit** quadrature: ``(max(0, f_min - F) / F_REF)^2`` integrated over crank angle, where F
+  is the tip's contact measure (the contact force of Eq. 34 with Eq. 67's damping in contact,
+  ``kw xs5 < 0`` in lift-off), outside the excluded crank-angle windows. It is zero exactly when the
+  force stays >= f_min everywhere on the trajectory outside the windows, and it is smooth (C1) in
+  the decision variables, so it is the study's grid-independent constraint.
+
+Compiled at the generation station (generated/compile.py) as two small C libraries built in parallel and
+cached by content: the interval integrator and its forward derivative in ``CHUNK`` directions (a Jacobian
+takes ``DIRECTIONS / CHUNK`` calls: 6 states, the preload at the interval start, its slope).
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from ...solving.event_integrator import events_tested
+from ...solving.hybrid import build_hybrid_dae
+from ...solving.scaling import state_scale
+
+#: the deficit quadrature is in units of F_REF (N)
+F_REF = 1.0
+#: excluded crank-angle windows the compiled functions take as parameters (unused ones are empty)
+MAX_WINDOWS = 4
+#: forward directions of the interval integrator: the 6 states at the node, the preload there, its slope
+DIRECTIONS = 8
+#: directions per call of the compiled forward derivative (its C grows with them: 8 took 39 s of gcc -O1, measured)
+CHUNK = 2
+TWO_PI = 2 * np.pi
+
+
+@dataclass
+class StudyFunctions:
+    """The compiled interval integrator, its forward derivative and the one-revolution integrator."""
+
+    interval: ca.Function  # (x0, p=q, u) -> xf (n_z x m), qf (2 x m): [friction energy, deficit] cumulative
+    forward: ca.Function  # interval.forward(CHUNK): called DIRECTIONS / CHUNK times for a Jacobian
+    n_par: int
+    m: int  # samples per shooting interval
+    compile_s: float
+    compiled: bool
+
+
+def q_layout(n_par: int) -> dict[str, int | slice]:
+    """Where each part lives in the integrator parameter vector q."""
+    return {"p": slice(0, n_par), "theta0": n_par, "slope": n_par + 1, "f_min": n_par + 2,
+            "windows": slice(n_par + 3, n_par + 3 + 2 * MAX_WINDOWS), "size": n_par + 3 + 2 * MAX_WINDOWS}
+
+
+def window_vector(exclude) -> np.ndarray:
+    """The excluded windows (deg) as the parameters of the compiled functions: [start, end] rad pairs."""
+    if len(exclude) > MAX_WINDOWS:
+        from .problem import PreloadStudyError
+
+        raise PreloadStudyError(f"exclude = {list(exclude)}: at most {MAX_WINDOWS} windows")
+    w = np.zeros(2 * MAX_WINDOWS)
+    for i, (a, b) in enumerate(exclude):
+        w[2 * i:2 * i + 2] = np.radians([a, b])
+    return w
+
+
+def _mod2pi(x):
+    return ca.fmod(ca.fmod(x, TWO_PI) + TWO_PI, TWO_PI)
+
+
+def study_dae(functions, dp: np.ndarray, measure_fn: ca.Function, settings):
+    """The DAE dict and transition of the study (see the module docstring)."""
+    names = tuple(functions.parameter_names)
+    n_par, omega_i = len(names), names.index("omega")
+    hy = build_hybrid_dae(functions.rhs, functions.guards, n_par, omega_i, event_tol=settings.event_tol,
+                          state_names=functions.state_names)
+    dae, lay = hy.dae, hy.layout
+    z, tau, p, u = dae["x"], dae["t"], dae["p"], dae["u"]
+    L = q_layout(n_par)
+    q = ca.SX.sym("q", L["size"])
+    par = q[L["p"]] + ca.DM(dp) * q[L["slope"]] * tau
+    p_sub = ca.vertcat(par, q[L["theta0"]])
+    ode, zero = ca.substitute([dae["ode"], dae["zero"]], [p], [p_sub])
+    theta = q[L["theta0"]] + tau
+    X = z[lay.x] * state_scale(par[omega_i], functions.state_names)
+    a = z[lay.active]
+    out_names = tuple(functions.output_names)
+    power = functions.outputs(theta, X, a, par, u)[out_names.index("Pf_total")]
+    deficit = ca.fmax(0.0, q[L["f_min"]] - measure_fn(theta, X, a, par, u)) / F_REF
+    w = q[L["windows"]]
+    outside = 1
+    for i in range(MAX_WINDOWS):
+        start, end = w[2 * i], w[2 * i + 1]
+        outside = outside * ca.if_else(_mod2pi(theta - start) <= _mod2pi(end - start), 0, 1)
+    new = {"x": z, "t": tau, "p": q, "u": u, "ode": ode, "zero": zero, "quad": ca.vertcat(power, outside * deficit**2)}
+    idx, t_ev = ca.SX.sym("index"), ca.SX.sym("t")
+    par_ev = q[L["p"]] + ca.DM(dp) * q[L["slope"]] * t_ev
+    post = hy.transition(index=idx, t=t_ev, x=z, p=ca.vertcat(par_ev, q[L["theta0"]]), u=u)["post_x"]
+    transition = ca.Function("transition", {"index": idx, "t": t_ev, "x": z, "p": q, "u": u, "post_x": post},
+                             ca.event_in(), ca.event_out())
+    return new, transition
+
+
+def _integrator(name, dae, transition, settings, rtol, n_out, span):
+    grid = np.linspace(0.0, span, n_out + 1)[1:]
+    opts = {"transition": transition, "reltol": rtol, "abstol": settings.atol if settings.atol is not None else rtol,
+            "max_events": int(settings.max_events_per_revolution), "max_num_steps": int(settings.max_steps_per_interval),
+            "event_tol": float(settings.event_tol), "show_eval_warnings": False}
+    with warnings.catch_warnings(), events_tested():
+        warnings.simplefilter("ignore")
+        return ca.integrator(name, "erk", dae, 0.0, grid, opts)
+
+
+def study_functions(setup, m: int, *, compile_c: bool = True) -> StudyFunctions:
+    """The study's interval integrator for shooting intervals of ``m`` samples and its forward derivative,
+    each compiled into its own cached library (in parallel: both cores)."""
+    import time
+    from concurrent.futures import ThreadPoolExecutor
+
+    from ....generated.compile import CompilerUnavailable, build_function, fallback, function_source
+    from ....progress import stage
+
+    st = setup.settings()
+    t = time.perf_counter()
+    dae, tr = study_dae(setup.functions, setup.pmap.dp, setup.measure_fn, st)
+    interval = _integrator("apexseal_preload_interval", dae, tr, st, setup.rtol, m, m * setup.dth)
+    fwd = interval.forward(CHUNK)
+    n_par = setup.pmap.p0.size
+    if not compile_c:
+        return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False)
+    with stage(f"generating the preload study's C (interval integrator, its forward derivative in {CHUNK} directions)"):
+        sources = [function_source(f, model_hash=setup.functions.model_hash) for f in (interval, fwd)]
+    try:
+        with ThreadPoolExecutor(2) as pool:
+            libs = list(pool.map(lambda s: build_function(s, flags=setup.flags), sources))
+    except CompilerUnavailable as exc:
+        fallback(exc)
+        return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False)
+    E, Ef = (ca.external(f.name(), str(so)) for f, so in zip((interval, fwd), libs, strict=True))
+    return StudyFunctions(E, Ef, n_par, m, time.perf_counter() - t, True)
