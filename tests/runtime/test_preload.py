@@ -65,7 +65,7 @@ def test_segments_reproduce_the_schedule():
     h = 1e-3  # deg: the slope (m per rad) from the schedule's own difference quotient inside each segment
     fd = (sched(psi_deg + 2 * h) - sched(psi_deg + h)) / np.radians(h)
     np.testing.assert_allclose(g.Mseg @ knots, fd, rtol=1e-6)
-    assert np.all(g.Mseg @ np.full(3, 4e-3) == 0)  # a constant is the schedule with equal knots
+    np.testing.assert_allclose(g.Mseg @ np.full(3, 4e-3), 0.0, atol=1e-15)  # a constant: equal knots
     one = SegmentGrid(720, 4, 1, 0.0, 2 * np.pi / 720)
     np.testing.assert_array_equal(one.Lseg @ [7e-3], np.full(4, 7e-3))
     assert not one.Mseg.any()
@@ -73,19 +73,25 @@ def test_segments_reproduce_the_schedule():
 
 
 def test_force_deficit_is_grid_independent_where_sample_checks_are_not(soft_scene, functions):
-    """At 6.75 mm the tip rings after the chamber switch: the smallest force at the samples depends on the grid,
-    the deficit quadrature (resolved by the adaptive steps and the events) and the friction power do not."""
+    """At 6.75 mm the tip rings after the chamber switch: the smallest force at the samples depends on the output
+    grid, the deficit quadrature (resolved by the adaptive steps and the events) and the friction power do not.
+    Both grids get the same chamber pressures (the 1-degree means, held over two 0.5-degree samples): the pressure
+    input is the model's, the output grid is the question."""
     out = {}
+    coarse = _setup(soft_scene, functions, 360)
     for samples in (360, 720):
         setup = _setup(soft_scene, functions, samples)
+        if samples == 720:
+            setup.pressures = lambda edges: np.repeat(coarse.pressures(edges[::2]), 2, axis=1)
         sf = study_functions(setup, samples // 4, compile_c=False)
         sim = simulate_schedule(setup, sf, SegmentGrid(samples, 4, 1, setup.theta_start, setup.dth),
                                 np.array([6.75 * MM]), MIN_FORCE, ())
         out[samples] = sim
     a, b = out[360], out[720]
     assert a.deficit > 100 * DEFICIT_TOL  # the dips are real: this preload is infeasible between samples
-    assert b.deficit == pytest.approx(a.deficit, rel=0.05)
-    assert b.friction_power == pytest.approx(a.friction_power, rel=2e-3)
+    print(a.deficit, b.deficit, a.friction_power, b.friction_power, a.measure.min(), b.measure.min())
+    assert b.deficit == pytest.approx(a.deficit, rel=1e-3)
+    assert b.friction_power == pytest.approx(a.friction_power, rel=1e-4)
     assert abs(a.measure.min() - b.measure.min()) > 1.0  # what the sample checks saw differs by > 1 N
     assert a.change < 1e-5 and b.change < 1e-5  # the third revolution is the periodic one
 

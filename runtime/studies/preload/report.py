@@ -82,7 +82,7 @@ def figure(scene, results: dict, min_force: float):
     a3.legend(fontsize=8)
     contacts = None
     width = 0.8 / max(1, len(designs))
-    for i, (label, r, sim_) in enumerate(designs):
+    for i, (label, r, _sim) in enumerate(designs):
         powers = r.contact_friction_power if r is not None else next(
             (x.scene_contact_friction_power for x in results.values() if x is not None), {})
         contacts = contacts or list(powers)
