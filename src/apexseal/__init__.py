@@ -24,6 +24,7 @@ _LAZY = {
     "Model": ("runtime.api", "Model"),
     "SimulationResult": ("runtime.results.result", "SimulationResult"),
     "plot_comparison": ("runtime.results.plots", "plot_comparison"),
+    "optimise_preload": ("runtime.studies.preload.nlp", "optimise_preload"),
 }
 
 

@@ -65,11 +65,19 @@ def _rate(ctx, param, value):
               help="Also run the derivative-free bisection of the constant preload over full simulations.")
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder for preload.json, preload.md, preload.png [default: apexseal-out/<scene name>].")
+@click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, IPOPT iterations).")
 def optimise_preload(scene: Path | None, min_force: float, exclude, knots, max_rate, objective, samples, nodes, check,
-                     out) -> None:
+                     out, quiet) -> None:
     """Optimise the spring preload delta_s of SCENE (default: the embedded case study): the least friction power
     (or preload) for which the seal tip stays pressed on the housing with at least --min-force everywhere on the
     periodic revolution (between samples too), as a constant and, with --schedule, as a schedule delta_s(theta)."""
+    from . import progress
+
+    with progress.enabled(not quiet):  # generation, compilation (elapsed time) and IPOPT iterations on stderr
+        _optimise(scene, min_force, exclude, knots, max_rate, objective, samples, nodes, check, out)
+
+
+def _optimise(scene, min_force, exclude, knots, max_rate, objective, samples, nodes, check, out) -> None:
     from .runtime.api import model_functions
     from .runtime.studies.preload.bisect import bisect_preload
     from .runtime.studies.preload.nlp import optimise_preload as run_study
@@ -110,6 +118,7 @@ def optimise_preload(scene: Path | None, min_force: float, exclude, knots, max_r
         click.echo(f"schedule saves {c.friction_power - s.friction_power:.3f} W of friction power against the best "
                    f"constant preload ({s.friction_power:.3f} vs {c.friction_power:.3f} W)")
     paths = write_report(out, sc, str(scene or "default"), results, b, min_force)
-    click.echo(f"  wrote {', '.join(p.name for p in paths)} to {out}/ ({watch.report()})")
+    click.echo(f"  wrote {', '.join(p.name for p in paths)} to {out}/; wall time "
+               + ", ".join(f"{k} {v:.1f} s" for k, v in watch.stages.items()))
     if not c.ok or (s is not None and not s.ok):
         sys.exit(2)

@@ -136,7 +136,9 @@ def study_functions(setup, m: int, *, compile_c: bool = True) -> StudyFunctions:
     t = time.perf_counter()
     dae, tr = study_dae(setup.functions, setup.pmap.dp, setup.measure_fn, st)
     interval = _integrator("apexseal_preload_interval", dae, tr, st, setup.rtol, m, m * setup.dth)
-    fwd = interval.forward(CHUNK)
+    with warnings.catch_warnings(), events_tested():  # the derivative is an integrator with events too
+        warnings.simplefilter("ignore")
+        fwd = interval.forward(CHUNK)
     n_par = setup.pmap.p0.size
     if not compile_c:
         return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False)
