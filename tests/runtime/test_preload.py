@@ -96,25 +96,34 @@ def test_force_deficit_is_grid_independent_where_sample_checks_are_not(soft_scen
     assert a.change < 1e-5 and b.change < 1e-5  # the third revolution is the periodic one
 
 
+@pytest.mark.slow
 def test_nlp_jacobian_agrees_with_finite_differences(soft_scene, functions):
-    """The hand-assembled Jacobian (forward sensitivities through events, in chunks) against central differences
-    (a step of 1e-3: smaller ones see the integrator's rtol noise), on a 2-knot schedule."""
-    setup = _setup(soft_scene, functions, 360)
-    sf = study_functions(setup, 360 // 4, compile_c=False)
-    g0 = SegmentGrid(360, 4, 2, setup.theta_start, setup.dth)
+    """The hand-assembled Jacobian (compiled forward sensitivities through events, in chunks) against central
+    differences, on a 2-knot schedule. Through the rattle after a chamber switch the constraint function is noise
+    at small steps (the node interval holding it gave 0.019, 0.005, -0.019, -0.036 for steps 1e-2..3e-4, measured),
+    so the comparison is made where differences of two steps (1e-2, 3e-3) agree to 5 %: at least 3 of the 5 rows,
+    the objective among them."""
+    setup = _setup(soft_scene, functions)
+    sf = study_functions(setup, SAMPLES // 4)
+    g0 = SegmentGrid(SAMPLES, 4, 2, setup.theta_start, setup.dth)
     kn = np.array([10.0, 11.0]) * MM
     sim = simulate_schedule(setup, sf, g0, kn, MIN_FORCE, ())
     nlp = _ShootingNlp(setup, sf, sim, 4, 2, MIN_FORCE, (), DEFICIT_TOL, "friction")
     v0 = np.r_[kn / MM, nlp.W0]
     V = ca.MX.sym("V", v0.size)
     J = np.array(ca.Function("J", [V], [ca.jacobian(nlp.G(V), V)])(v0))
-    h = 1e-3
-    for i in (0, 1, 2, 6, 10):
+    rows = [0, 6, 12, 18, J.shape[0] - 1]  # a defect of each node, the objective
+
+    def fd(i, h):
         e = np.zeros(v0.size)
         e[i] = h
-        fd = (np.array(nlp.G(v0 + e)).ravel() - np.array(nlp.G(v0 - e)).ravel()) / (2 * h)
-        rows = [0, 6, 12, 18, J.shape[0] - 1]  # defects of each node, the objective
-        np.testing.assert_allclose(J[rows, i], fd[rows], rtol=0.05, atol=2e-3 * max(1.0, np.abs(fd[rows]).max()))
+        return ((np.array(nlp.G(v0 + e)).ravel() - np.array(nlp.G(v0 - e)).ravel()) / (2 * h))[rows]
+
+    for i in (0, 1, 2, 8):  # both knots, a state of the first and of the second node
+        a, b = fd(i, 1e-2), fd(i, 3e-3)
+        smooth = np.abs(a - b) <= 0.05 * np.maximum(np.abs(b), 1e-3)
+        assert smooth.sum() >= 3 and smooth[-1], (i, a, b)
+        np.testing.assert_allclose(J[rows, i][smooth], b[smooth], rtol=0.05, atol=1e-4)
 
 
 @pytest.mark.parametrize("kwargs, words", [

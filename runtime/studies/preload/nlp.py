@@ -367,8 +367,6 @@ class _ShootingNlp:
     """The multiple-shooting NLP with a hand-assembled Jacobian (see the module docstring)."""
 
     def __init__(self, setup, sf, sim, nodes, knots, min_force, exclude, deficit_tol, objective):
-        from ....generated.compile import CompilerFallbackWarning  # noqa: F401 - documented fallback
-
         self.setup, self.N, self.K = setup, nodes, knots
         n, ng = setup.samples, setup.n_guards
         Z0 = sim.z  # (n_z, n + 1) from the first node of the previous grid
