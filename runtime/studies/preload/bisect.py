@@ -58,8 +58,8 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
     preloads below the answer (islands) are kept in ``probes`` and flagged by ``monotone = False``.
     """
     from ...api import model_functions
-    from .nlp import DEFICIT_TOL
-    from .schedule import SegmentGrid, simulate_schedule
+    from .nlp import DEFICIT_TOL, _periodic
+    from .schedule import SegmentGrid
     from .shooting import study_functions
 
     deficit_tol = DEFICIT_TOL if deficit_tol is None else deficit_tol
@@ -75,8 +75,8 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
     sf = study_functions(setup, setup.samples // nodes)  # the IPOPT study's (same cache entry)
     grid = SegmentGrid(setup.samples, nodes, 1, setup.theta_start, setup.dth)
 
-    def simulate(d):
-        return simulate_schedule(setup, sf, grid, np.array([d]), min_force, setup.exclude)
+    def simulate(d):  # until periodic, as the IPOPT study re-simulates its optimum
+        return _periodic(setup, sf, grid, np.array([d]), min_force, setup.exclude)
 
     t = time.perf_counter()
     seen: list[tuple[float, float]] = []
