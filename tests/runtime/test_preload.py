@@ -222,3 +222,34 @@ def test_bisection_with_a_window_excluded_needs_less_preload(soft_scene, functio
     relaxed = bisect_preload(soft_scene, min_force=MIN_FORCE, tol=0.02 * MM, scan_step=0.2 * MM, setup=window)
     assert relaxed.delta_s < full.delta_s - 0.1 * MM
     assert relaxed.deficit <= DEFICIT_TOL and full.deficit <= DEFICIT_TOL
+
+
+def default_scene_table(deltas_mm=(2, 4, 8, 16, 32, 64), samples=SAMPLES, exclude=()) -> str:
+    """The default (metal-contact) scene's force deficit, smallest force and friction power at several constant
+    preloads (docs/preload.md): periodic revolutions re-simulated with the study's integrator."""
+    import apexseal
+    from apexseal.runtime.api import model_functions
+    from apexseal.runtime.studies.preload.nlp import _periodic
+
+    sc = apexseal.load_scene(embedded_scene_path("default.toml"))
+    setup = PreloadSetup(sc, model_functions(sc), MIN_FORCE, exclude, samples)
+    sf = study_functions(setup, samples // 4)
+    grid = SegmentGrid(samples, 4, 1, setup.theta_start, setup.dth)
+    rows = []
+    for d in deltas_mm:
+        sim = _periodic(setup, sf, grid, np.array([d * MM]), MIN_FORCE, exclude)
+        keep = setup.mask(sim.thetas)
+        j = int(np.argmin(np.where(keep, sim.measure, np.inf)))
+        rows.append((d, sim.deficit, sim.measure[j], np.degrees(sim.thetas[j]) % 360, sim.friction_power))
+    return "\n".join(["| δs (mm) | " + " | ".join(f"{r[0]:g}" for r in rows) + " |", "|---|" + "---|" * len(rows),
+                      "| force deficit (N² rad) | " + " | ".join(f"{r[1]:.3g}" for r in rows) + " |",
+                      "| smallest force at the samples (N) | " + " | ".join(f"{r[2]:.3g} at {r[3]:.1f}°" for r in rows)
+                      + " |",
+                      "| friction power (W) | " + " | ".join(f"{r[4]:.1f}" for r in rows) + " |"])
+
+
+if __name__ == "__main__":  # python tests/runtime/test_preload.py: the default-scene table of docs/preload.md
+    import warnings
+
+    warnings.simplefilter("ignore")
+    print(default_scene_table())
