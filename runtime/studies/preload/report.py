@@ -52,8 +52,11 @@ def markdown(scene_name: str, results: dict, bisection=None) -> str:
 
 def figure(scene, results: dict, min_force: float):
     from ...results.figures import new_figure
+    from .problem import check_mask
 
     designs = _designs(results)
+    first = next((r for r in results.values() if r is not None), None)
+    windows = [tuple(w) for w in first.exclude_deg] if first is not None else []
     fig = new_figure((11, 7.5))
     ax = fig.subplots(2, 2)
     a1, a2, a3, a4 = ax[0, 0], ax[0, 1], ax[1, 0], ax[1, 1]
@@ -64,8 +67,11 @@ def figure(scene, results: dict, min_force: float):
         order = np.argsort(deg)
         a1.plot(deg[order], sim.delta_s[order] / MM, label=label)
         a3.plot(deg[order], sim.measure[order], lw=0.8, label=label)
-        j = int(np.argmin(sim.measure))
+        j = int(np.argmin(np.where(check_mask(sim.thetas, windows), sim.measure, np.inf)))
         a3.plot(deg[j], sim.measure[j], "o", ms=5, color=a3.lines[-1].get_color())
+    for start, end in windows:  # excluded: no force required there
+        for lo, hi in ([(start, end)] if end > start else [(start, 360.0), (0.0, end)]):
+            a3.axvspan(lo, hi, color="0.9", zorder=0)
     a1.set(xlabel="crank angle (deg)", ylabel="delta_s (mm)", title="preload delta_s(theta)")
     a1.legend(fontsize=8)
     sim = next((d[2] for d in designs if d[2] is not None), None)
@@ -76,7 +82,7 @@ def figure(scene, results: dict, min_force: float):
     a2.set(xlabel="crank angle (deg)", ylabel="Pa - Pb (bar)", title="chamber pressure difference")
     a3.axhline(min_force, color="k", ls="--", lw=0.8, label=f"min force {min_force:g} N")
     a3.set(xlabel="crank angle (deg)", ylabel="tip contact force (N; < 0: lift-off)",
-           title="tip force on the housing (dots: minimum)")
+           title="tip force on the housing (dots: minimum; grey: excluded)")
     lo = min([min_force] + [float(np.min(d[2].measure)) for d in designs if d[2] is not None])
     a3.set_ylim(max(lo, -5 * min_force) - 1, None)
     a3.legend(fontsize=8)
