@@ -17,7 +17,9 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
 * **Grid independence.** The constraint is a quadrature inside the integrator, so the adaptive steps
   and located events resolve every dip between samples; the output grid enters only through the
   chamber-pressure means (the simulator's). With checks at samples the answer moved from 6.08 to
-  8.95 mm between 0.5 and 0.1 deg grids; the quadrature gives the same answer on both (test).
+  8.95 mm between 0.5 and 0.1 deg grids; with the quadrature and the same pressures, 360 and 720 samples
+  give the same answer (slow test). The pressure means are a model input the answer does depend on
+  (8.47 mm with 1 deg means, 8.89 mm with 0.5 deg means on the soft-contacts scene).
   ``deficit_tol`` (default (0.2 N)^2 x 0.1 deg) keeps the constraint's gradient non-zero at the
   optimum (a zero tolerance makes LICQ fail) and bounds what it allows: e.g. a 0.2 N shortfall
   lasting 0.1 deg, or a 2 N one lasting 0.001 deg.
