@@ -145,6 +145,11 @@ def test_bad_input_names_the_option_value_and_range(soft_scene, functions, kwarg
         assert w in str(err.value), str(err.value)
 
 
+def test_study_integrates_the_steps_pressure_profile_only(default_scene):
+    with pytest.raises(PreloadStudyError, match="solver.pressure = 'linear'"):
+        PreloadSetup(default_scene.with_overrides(**{"solver.pressure": "linear"}), None, MIN_FORCE)
+
+
 def test_study_needs_the_spring_and_the_housing_contact(default_scene):
     sc = default_scene.with_overrides(**{"effects.spring": False, "effects.spring_damping": False,
                                          "effects.spring_friction": False})

@@ -277,6 +277,10 @@ def check_request(scene, min_force, samples, revolutions) -> None:
         problems.append(f"samples = {samples!r}: must be an integer in 36..100000 (samples per revolution)")
     if not (isinstance(revolutions, int) and 2 <= revolutions <= 50):
         problems.append(f"revolutions = {revolutions!r}: must be an integer in 2..50")
+    profile = getattr(scene.solver, "pressure", "steps")
+    if profile != "steps":
+        problems.append(f"solver.pressure = {profile!r}: the preload study integrates the 'steps' profile (pressures "
+                        "held at their mean over each output interval); set solver.pressure = \"steps\"")
     eff = scene.effects
     if not (eff.spring and eff.housing_contact):
         problems.append("effects: the preload study needs both 'spring' and 'housing_contact' on (the spring presses "
