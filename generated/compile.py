@@ -56,7 +56,7 @@ MODEL_LIBRARY = "libapexseal_model_{key}.so"
 FALLBACK_COST = (
     "CasADi's interpreted SX Functions are used instead, which are about 4-10x slower per evaluation: an Euler step "
     "of this model's rhs_switched costs ~2.1 us interpreted vs ~0.35-0.55 us compiled (docs/codegen.md), and a "
-    "revolution of the default scene with erk ~360 vs ~45 ms (docs/bench/table.md). Install "
+    "revolution of the default scene at scaled error 1e-6 with erk ~3.5 s vs ~0.47 s CPU (docs/bench/table.md). Install "
     "gcc or point APEXSEAL_CC at a working C compiler."
 )
 
