@@ -109,6 +109,9 @@ class Submodel:
     guards: ClassVar[tuple[Guard, ...]] = ()
     #: continuous states it owns (the seal body: x, y, phi and their rates)
     states: ClassVar[tuple[State, ...]] = ()
+    #: names of the contacts it declares (the prefixes of their outputs F_<c>_X, F_<c>_Y, M_<c>, Pf_<c>), when they
+    #: differ from ``name`` (one submodel, several contacts)
+    contact_names: ClassVar[tuple[str, ...]] = ()
     #: the option slot that switches the submodel on (None: always on)
     switch: ClassVar[str | None] = None
     #: its parameters join the parameter vector only while it is on (so a model without it keeps its vector)

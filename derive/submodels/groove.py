@@ -30,6 +30,7 @@ class GrooveContacts(Submodel):
     name = "groove"
     summary = "the seal's corners and sides on the groove walls at g1..g4 (Algorithm 1, Eqs. 48-63)"
     switch = "groove_contact"
+    contact_names = tuple(_CONTACTS)
     parameters = (
         *(Parameter(f"kg{i}", "N/m", f"groove stiffness at g{i} (Algorithm 1)", key=f"contacts.kg{i}", gt=0)
           for i in range(1, 5)),

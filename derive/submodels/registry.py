@@ -94,6 +94,15 @@ def submodels() -> tuple[type[Submodel], ...]:
     return tuple(_registry.values())
 
 
+def contact_names(name: str) -> tuple[str, ...]:
+    """The contacts submodel ``name`` declares (their output prefixes): its ``contact_names``, or its own name."""
+    _ensure()
+    if name not in _registry:
+        raise RegistryError(f"no submodel named {name!r}; registered: {', '.join(_registry)}")
+    cls = _registry[name]
+    return tuple(cls.contact_names) or (cls.name,)
+
+
 def parameters(*, all_inputs: bool = False, opts=None) -> tuple[Parameter, ...]:
     """Every declared parameter in order (``all_inputs``: also the scene inputs outside the vector). The
     parameters of a submodel with ``own_vector`` are in the vector only while ``opts`` switch it on."""

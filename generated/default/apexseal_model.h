@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 7347df07efbb396e35e548b2fe8bdbbb4760c111cb4a409f1f650a356cd990d7.
+ * Effects: all. Input hash: ae69383f8d1dc39b89de15bd773a2973377bc03ad82c8eeaaa9280a17ab68d92.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "7347df07efbb396e35e548b2fe8bdbbb4760c111cb4a409f1f650a356cd990d7"
+#define APEXSEAL_INPUT_HASH "ae69383f8d1dc39b89de15bd773a2973377bc03ad82c8eeaaa9280a17ab68d92"
 
 /* state x */
 #define APEXSEAL_NX 6

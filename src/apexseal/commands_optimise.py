@@ -14,11 +14,14 @@ from .cli_common import scene_and_folder
 MAX_FORCE = 1e5
 
 
-def _force(ctx, param, value) -> float:
+def _force(ctx, param, value) -> float | None:
     from .runtime.scenes.units import QuantityError, parse_quantity
 
+    if value is None:  # an optional force (--max-groove-force): no bound
+        return None
+    key = "--" + param.name.replace("_", "-")
     try:
-        f = parse_quantity(value, "N", key="--min-force")
+        f = parse_quantity(value, "N", key=key)
     except QuantityError as err:
         raise click.BadParameter(f"{value!r}: {err}; allowed: a force > 0 and <= {MAX_FORCE:g} N, e.g. 5N") from None
     if not (0 < f <= MAX_FORCE):
@@ -47,6 +50,9 @@ def _rate(ctx, param, value):
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--min-force", default="5 N", show_default=True, callback=_force,
               help="Smallest contact force of the tip on the housing, everywhere outside --exclude (a force, e.g. 5N).")
+@click.option("--max-groove-force", default=None, callback=_force, metavar="FORCE",
+              help="Bound on every seal-groove contact force (Eq. 63), everywhere on the revolution, between samples "
+                   "too (a force, e.g. 400N) [default: none].")
 @click.option("--exclude", "exclude", multiple=True, callback=_windows, metavar="START:END",
               help="Crank-angle window in degrees where the force is not required (repeatable, up to 4), e.g. 180:200.")
 @click.option("--schedule", "knots", type=click.IntRange(2, 72), default=None, metavar="KNOTS",
@@ -66,18 +72,19 @@ def _rate(ctx, param, value):
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder for preload.json, preload.md, preload.png [default: apexseal-out/<scene name>].")
 @click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, IPOPT iterations).")
-def optimise_preload(scene: Path | None, min_force: float, exclude, knots, max_rate, objective, samples, nodes, check,
-                     out, quiet) -> None:
+def optimise_preload(scene: Path | None, min_force: float, max_groove_force, exclude, knots, max_rate, objective,
+                     samples, nodes, check, out, quiet) -> None:
     """Optimise the spring preload delta_s of SCENE (default: the embedded case study): the least friction power
     (or preload) for which the seal tip stays pressed on the housing with at least --min-force everywhere on the
     periodic revolution (between samples too), as a constant and, with --schedule, as a schedule delta_s(theta)."""
     from . import progress
 
     with progress.enabled(not quiet):  # generation, compilation (elapsed time) and IPOPT iterations on stderr
-        _optimise(scene, min_force, exclude, knots, max_rate, objective, samples, nodes, check, out)
+        _optimise(scene, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes, check, out)
 
 
-def _optimise(scene, min_force, exclude, knots, max_rate, objective, samples, nodes, check, out) -> None:
+def _optimise(scene, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes, check,
+              out) -> None:
     from .runtime.api import model_functions
     from .runtime.studies.preload.bisect import bisect_preload
     from .runtime.studies.preload.nlp import optimise_preload as run_study
@@ -86,12 +93,14 @@ def _optimise(scene, min_force, exclude, knots, max_rate, objective, samples, no
     from .stopwatch import Stopwatch
 
     sc, out = scene_and_folder(scene, out)
-    click.echo(f"scene {scene or '(embedded default: the paper case study)'}; min force {min_force:g} N; "
+    bound = f"; groove forces <= {max_groove_force:g} N" if max_groove_force is not None else ""
+    click.echo(f"scene {scene or '(embedded default: the paper case study)'}; min force {min_force:g} N{bound}; "
                f"writing to {out}/")
     watch = Stopwatch()
     results = {"constant": None}
     try:
-        setup = PreloadSetup(sc, model_functions(sc), min_force, tuple(exclude), samples)
+        setup = PreloadSetup(sc, model_functions(sc), min_force, tuple(exclude), samples,
+                             max_groove_force=max_groove_force)
         with watch.stage("constant"):
             results["constant"] = run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes, objective=objective,
                                             setup=setup)

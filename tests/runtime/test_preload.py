@@ -137,6 +137,8 @@ def test_nlp_jacobian_agrees_with_finite_differences(soft_scene, functions):
     ({"objective": "wear"}, ["objective", "friction, preload"]),
     ({"max_rate": -1.0}, ["max_rate", "> 0"]),
     ({"exclude": [(0.0, 360.0 - 1e-9)]}, ["exclude", "every sample"]),
+    ({"max_groove_force": -3.0}, ["max_groove_force", "-3.0", "> 0"]),
+    ({"max_groove_force": float("inf")}, ["max_groove_force", "inf", "finite"]),
 ])
 def test_bad_input_names_the_option_value_and_range(soft_scene, functions, kwargs, words):
     args = {"min_force": MIN_FORCE, "samples": SAMPLES, "functions": functions} | kwargs
@@ -149,6 +151,13 @@ def test_bad_input_names_the_option_value_and_range(soft_scene, functions, kwarg
 def test_study_integrates_the_steps_pressure_profile_only(default_scene):
     with pytest.raises(PreloadStudyError, match="solver.pressure = 'linear'"):
         PreloadSetup(default_scene.with_overrides(**{"solver.pressure": "linear"}), None, MIN_FORCE)
+
+
+def test_a_groove_force_bound_needs_the_groove_contacts(default_scene):
+    sc = default_scene.with_overrides(**{"effects.groove_contact": False, "effects.groove_damping": False,
+                                         "effects.groove_friction": False})
+    with pytest.raises(PreloadStudyError, match="max_groove_force = 400.0: the scene's groove contacts are off"):
+        PreloadSetup(sc, None, MIN_FORCE, max_groove_force=400.0)
 
 
 def test_study_needs_the_spring_and_the_housing_contact(default_scene):
@@ -166,6 +175,8 @@ def test_study_needs_the_spring_and_the_housing_contact(default_scene):
     (["--samples", "10"], ["--samples", "10"]),
     (["--schedule", "1"], ["--schedule", "1"]),
     (["--max-rate", "-2"], ["--max-rate", "-2", "> 0"]),
+    (["--max-groove-force", "-3N"], ["--max-groove-force", "-3N", "> 0"]),
+    (["--max-groove-force", "3 m"], ["--max-groove-force", "3 m"]),
 ])
 def test_cli_bad_input(tmp_path, args, words):
     r = CliRunner().invoke(main, ["optimise-preload", *args, "--out", str(tmp_path / "o")])

@@ -4,8 +4,9 @@ Each probe is a full simulation of the scene from its initial state (``revolutio
 study's compiled ``erk`` interval integrator chained over the revolution: the simulator's hybrid model
 with the friction-power and force-deficit quadratures, runtime/studies/preload/shooting.py), at a
 parameter vector in which only delta_s (and what the scene derives from it, problem.py) changes. A
-preload passes when the last (periodic) revolution's force deficit is within the study's bound: the
-same grid-independent question the IPOPT study asks, with no derivative.
+preload passes when the last (periodic) revolution's force deficit (and, with a groove-force bound, its
+groove-force excess) is within the study's bound: the same grid-independent question the IPOPT study
+asks, with no derivative.
 
 The checks need not be monotone in delta_s: after a chamber switch the tip rings on the housing, and
 the lowest force of that ringing rises and falls with the preload (with checks at 3600 samples of the
@@ -89,7 +90,8 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
         n_sim += len(ds)
         change = max([change] + [s.change for s in sims])
         seen.extend((float(d), s.deficit) for d, s in zip(ds, sims, strict=True))
-        return np.array([s.deficit <= deficit_tol for s in sims])
+        # with a groove-force bound (setup.max_groove_force) its excess must be within the same bound too
+        return np.array([s.deficit <= deficit_tol and s.groove_excess <= deficit_tol for s in sims])
 
     scene_ds = float(scene.parameter_vector()[_DS])
     if upper is None:

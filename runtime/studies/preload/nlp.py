@@ -8,6 +8,8 @@ while the seal tip stays pressed on the housing everywhere on the trajectory.
     subject to  the seal's motion over one revolution is periodic (the machine's steady state),
                 the squared force deficit  int max(0, min_force - F)^2 dtheta  <= deficit_tol
                 (outside the excluded windows; F the tip's contact measure, problem.py),
+                optionally the groove-force excess  int sum_c max(0, |F_c| - max_groove_force)^2 dtheta
+                <= deficit_tol  (every seal-groove contact c, Eq. 63; shooting.py),
                 0 <= delta_s <= max_preload and |d delta_s / d theta| <= max_rate (schedules),
 
 where delta_s(theta) is periodic and piecewise linear through ``knots`` values (1 knot: the constant
@@ -106,6 +108,9 @@ class PreloadResult:
     scene_contact_friction_power: dict = field(default_factory=dict)  # W, the same at the scene's preload
     deficit: float | None = None  # N^2 rad, the force-deficit quadrature of the re-simulation
     deficit_tol: float = DEFICIT_TOL
+    max_groove_force: float | None = None  # N, the bound on every seal-groove contact force (None: none)
+    groove_excess: float | None = None  # N^2 rad, the groove-force excess quadrature of the re-simulation
+    groove_peak: float | None = None  # N, the largest seal-groove contact force at the samples (re-simulation)
     min_measure: float | None = None  # N, the smallest contact force at the samples (re-simulation)
     min_measure_angle: float | None = None  # deg, where
     periodic_change: float | None = None  # change of the scaled state over the re-simulation's last revolution
@@ -144,6 +149,9 @@ class PreloadResult:
             f"  force deficit int max(0, {self.min_force:g} N - F)^2 dtheta = {self.deficit:.3g} N^2 rad "
             f"(bound {self.deficit_tol:.3g})" + (
                 f", excluded: {', '.join(f'{a:g}..{b:g} deg' for a, b in self.exclude_deg)}" if self.exclude_deg else ""),
+            *([f"  groove forces: excess int sum max(0, |F| - {self.max_groove_force:g} N)^2 dtheta = "
+               f"{self.groove_excess:.3g} N^2 rad (bound {self.deficit_tol:.3g}); largest at the samples "
+               f"{self.groove_peak:.4g} N"] if self.max_groove_force is not None else []),
             f"  smallest contact force at the samples: {self.min_measure:.4f} N at {self.min_measure_angle:.1f} deg "
             f"(re-simulation, {self.samples} samples)",
             f"  friction power {self.friction_power:.3f} W vs {self.scene_friction_power:.3f} W at the scene's preload "
@@ -160,20 +168,23 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
                      deficit_tol: float = DEFICIT_TOL, max_rate: float | None = None, functions=None,
                      max_iter: int = 100, revolutions: int = 3, max_preload: float = 0.1, flags: str = "quick",
                      rounds: int = 3, start: PreloadResult | None = None, verbose: bool = False,
-                     ipopt_options: dict | None = None, setup: PreloadSetup | None = None) -> PreloadResult:
+                     ipopt_options: dict | None = None, setup: PreloadSetup | None = None,
+                     max_groove_force: float | None = None) -> PreloadResult:
     """The preload design (constant for ``knots = 1``, else a periodic piecewise-linear schedule).
 
     ``exclude``: crank-angle windows ``(start_deg, end_deg)`` where the force is not required;
     ``samples``: output samples per revolution (default the scene's); ``nodes``: shooting nodes;
     ``max_rate``: bound on |d delta_s / d theta| in m per degree (schedules); ``start``: a previous
-    result (e.g. the constant optimum) to start a schedule from. See the module docstring.
+    result (e.g. the constant optimum) to start a schedule from; ``max_groove_force`` (N): bound every
+    seal-groove contact force between samples too (the excess quadrature within ``deficit_tol``; with a
+    ``setup``, its own bound is used). See the module docstring.
     """
     from ...api import model_functions
 
     _check(knots, nodes, objective, deficit_tol, max_rate, rounds)
     exclude = tuple((float(a), float(b)) for a, b in exclude)
     setup = setup or PreloadSetup(scene, functions or model_functions(scene), float(min_force), exclude, samples,
-                                  rtol, revolutions, flags)
+                                  rtol, revolutions, flags, max_groove_force)
     S = np.lcm(nodes, knots)
     if setup.samples % S:
         raise PreloadStudyError(f"nodes = {nodes}, knots = {knots}: their least common multiple {S} must divide the "
@@ -186,7 +197,7 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     scene_ds = float(scene.parameter_vector()[_DS])
     res = PreloadResult(False, "", float(min_force), [list(w) for w in exclude], objective=objective,
                         scene_delta_s=scene_ds, deficit_tol=float(deficit_tol), nodes=nodes, samples=setup.samples,
-                        rtol=setup.rtol)
+                        rtol=setup.rtol, max_groove_force=setup.max_groove_force)
 
     # 1. the compiled pieces (cached by content: another min_force, windows or knots reuse them)
     t = time.perf_counter()
@@ -228,14 +239,14 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
             return res
         x_knots = nlp.knots_m
         sim = _periodic(setup, sf, nlp.grid, x_knots, min_force, exclude)
-        if sim.deficit <= deficit_tol * 1.05:
+        if sim.deficit <= deficit_tol * 1.05 and sim.groove_excess <= deficit_tol * 1.05:
             break
-        announce(f"re-simulation: deficit {sim.deficit:.3g} (bound {deficit_tol:.3g}): solving again from the "
-                 "re-simulated revolution")
+        announce(f"re-simulation: deficit {sim.deficit:.3g}, groove excess {sim.groove_excess:.3g} (bound "
+                 f"{deficit_tol:.3g}): solving again from the re-simulated revolution")
     else:
-        res.message = (f"after {rounds} rounds the re-simulated optimum still violates the force-deficit bound "
-                       f"({sim.deficit:.3g} > {deficit_tol:.3g} N^2 rad): raise rounds, use more samples or a "
-                       "smaller rtol")
+        res.message = (f"after {rounds} rounds the re-simulated optimum still violates a bound: force deficit "
+                       f"{sim.deficit:.3g}, groove-force excess {sim.groove_excess:.3g} (bound {deficit_tol:.3g} "
+                       "N^2 rad): raise rounds, use more samples or a smaller rtol")
         _fill(res, setup, nlp.grid, x_knots, sim)
         res.ok = False
         return res
@@ -275,6 +286,8 @@ def _fill(res, setup, grid, knots_m, sim) -> None:
     res.deficit = sim.deficit
     res.min_measure, res.min_measure_angle = float(m[j]), float(np.degrees(sim.thetas[j]) % 360.0)
     res.periodic_change = sim.change
+    if setup.max_groove_force is not None:
+        res.groove_excess, res.groove_peak = sim.groove_excess, sim.groove_peak
     res.contact_friction_power = contact_powers(setup, sim)
     res.__dict__["simulation"] = sim  # not a field: kept for the figures, not written to JSON
 
@@ -309,7 +322,11 @@ def _check(knots, nodes, objective, deficit_tol, max_rate, rounds) -> None:
         raise PreloadStudyError("; ".join(problems))
 
 
-def _advice(status: str) -> str:
+def _advice(status: str, groove: bool = False) -> str:
+    if status == "Infeasible_Problem_Detected" and groove:
+        return ("No preload in the allowed range keeps the force deficit and the groove-force excess within their "
+                "bound with a periodic motion: raise max_groove_force (the groove forces between samples can exceed "
+                "those at the samples), lower min_force, or try a schedule (--schedule).")
     return {
         "Infeasible_Problem_Detected": "No preload in the allowed range keeps the force deficit within its bound with a "
                                        "periodic motion: lower min_force, exclude the crank-angle windows where the tip "
@@ -348,9 +365,9 @@ def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, defici
 class _Progress(ca.Callback):
     """IPOPT's iterations as progress lines (objective, constraint violation)."""
 
-    def __init__(self, nx: int, ng: int, n_def: int):
+    def __init__(self, nx: int, ng: int, n_def: int, groove: bool = False):
         ca.Callback.__init__(self)
-        self.nx, self.ng, self.k, self.n_def = nx, ng, 0, n_def
+        self.nx, self.ng, self.k, self.n_def, self.groove = nx, ng, 0, n_def, groove
         self.construct("preload_progress", {})
 
     def get_n_in(self):
@@ -378,8 +395,9 @@ class _Progress(ca.Callback):
     def eval(self, arg):
         self.k += 1
         g = np.array(arg[2]).ravel()
+        groove = f", groove-force excess {g[self.n_def + 1]:.3g} x its bound" if self.groove else ""
         announce(f"  IPOPT iteration {self.k}: objective {float(arg[1]):.6g}, force deficit {g[self.n_def]:.3g} x its "
-                 f"bound, largest node defect {np.abs(g[:self.n_def]).max():.2g}")
+                 f"bound{groove}, largest node defect {np.abs(g[:self.n_def]).max():.2g}")
         return [0]
 
 
@@ -431,7 +449,9 @@ class _ShootingNlp:
         deficit = ca.sum2(qs[1, :]) / self.deficit_tol
         power = ca.sum2(qs[0, :]) / TWO_PI
         obj = power if objective == "friction" else ca.sum1(V[:knots]) / knots
-        G_out = ca.vertcat(defects, deficit, obj)
+        self.groove = sf.groove
+        groove = [ca.sum2(qs[2, :]) / self.deficit_tol] if sf.groove else []  # the groove-force excess
+        G_out = ca.vertcat(defects, deficit, *groove, obj)
 
         # the Jacobian, from the compiled forward derivative (seeds: node states, knot values)
         full = chain_function(sf, g, nz, derivatives=True, nd=nd)
@@ -466,17 +486,19 @@ class _ShootingNlp:
         dqk = [dq[:, k * nd:k * nd + 6 + knots] for k in range(nodes)]
         dsum = sum(d[:, 6:] for d in dqk)
         row_def = ca.horzcat(dsum[1, :], *[d[1, :6] for d in dqk]) / self.deficit_tol
+        row_groove = [ca.horzcat(dsum[2, :], *[d[2, :6] for d in dqk]) / self.deficit_tol] if sf.groove else []
         if objective == "friction":
             row_obj = ca.horzcat(dsum[0, :], *[d[0, :6] for d in dqk]) / TWO_PI
         else:
             row_obj = ca.DM(np.r_[np.full(knots, 1.0 / knots), np.zeros(6 * nodes)]).T
-        J = ca.vertcat(*rows, row_def, row_obj)
+        J = ca.vertcat(*rows, row_def, *row_groove, row_obj)
         Vj, Oj = ca.MX.sym("V", V.numel()), ca.MX.sym("out", G_out.numel())
         jac = ca.Function("jac_preload_g", [Vj, Oj], [ca.substitute(J, V, Vj)])
         self.G = ca.Function("preload_g", [V], [G_out], {"custom_jacobian": jac, "jac_penalty": 0,
                                                           "never_inline": True})
         self.nominal = ca.Function("preload_nominal", [V], [zend, qs])
         self.n_def = 6 * nodes
+        self.n_con = self.n_def + 1 + len(groove)  # defects, deficit (, groove excess): the objective follows
         W0 = Z0[:6, idx] / S[:, None]
         self.W0 = W0.ravel(order="F")
         self.V = V
@@ -485,9 +507,9 @@ class _ShootingNlp:
         K, N = self.K, self.N
         V = ca.MX.sym("V", K + 6 * N)
         out = self.G(V)
-        g = [out[:self.n_def + 1]]
-        lbg = list(np.zeros(self.n_def)) + [-np.inf]
-        ubg = list(np.zeros(self.n_def)) + [1.0]
+        g = [out[:self.n_con]]
+        lbg = list(np.zeros(self.n_def)) + [-np.inf] * (self.n_con - self.n_def)
+        ubg = list(np.zeros(self.n_def)) + [1.0] * (self.n_con - self.n_def)
         if K > 1 and max_rate is not None:
             span_deg = 360.0 / K
             diffs = ca.vertcat(*[V[(i + 1) % K] - V[i] for i in range(K)])
@@ -495,7 +517,7 @@ class _ShootingNlp:
             lim = max_rate / MM * span_deg
             lbg += [-lim] * K
             ubg += [lim] * K
-        prog = _Progress(V.numel(), int(sum(gi.numel() for gi in g)), self.n_def)
+        prog = _Progress(V.numel(), int(sum(gi.numel() for gi in g)), self.n_def, self.groove)
         opts = {"ipopt.hessian_approximation": "limited-memory", "ipopt.tol": 1e-3, "ipopt.constr_viol_tol": 1e-3,
                 "ipopt.acceptable_tol": 1e10, "ipopt.acceptable_constr_viol_tol": 2e-2, "ipopt.acceptable_iter": 3,
                 "ipopt.acceptable_obj_change_tol": 1e-4,
@@ -527,9 +549,11 @@ class _ShootingNlp:
         qs = np.array(self.nominal(v)[1])
         res.nlp_friction_power = float(qs[0].sum() / TWO_PI)
         if res.ipopt_status not in SOLVED:
+            groove = f", groove-force excess {gv[self.n_def + 1]:.3g} x its bound" if self.groove else ""
             res.message = (f"IPOPT returned {res.ipopt_status} after {res.ipopt_iterations} iterations at knots "
-                           f"{', '.join(f'{x:.4g}' for x in v[:K])} mm; force deficit {gv[self.n_def]:.3g} x its bound, "
-                           f"largest node defect {res.max_defect:.3g}. " + _advice(res.ipopt_status))
+                           f"{', '.join(f'{x:.4g}' for x in v[:K])} mm; force deficit {gv[self.n_def]:.3g} x its bound"
+                           f"{groove}, largest node defect {res.max_defect:.3g}. "
+                           + _advice(res.ipopt_status, self.groove))
             return False
         return True
 

@@ -140,6 +140,7 @@ class PreloadSetup:
     rtol: float | None = None  # None: the scene's
     revolutions: int = 3  # of every full simulation (the last one is the periodic revolution)
     flags: str = "quick"
+    max_groove_force: float | None = None  # N: bound on every seal-groove contact force (None: no bound)
     pmap: PreloadMap = field(init=False)
     measure_fn: ca.Function = field(init=False)
     compile_s: float = field(init=False, default=0.0)
@@ -147,7 +148,7 @@ class PreloadSetup:
     def __post_init__(self) -> None:
         if self.functions is not None:  # the study builds CasADi expressions: the SX set (of a compiled one too)
             self.functions = self.functions.sx()
-        check_request(self.scene, self.min_force, self.samples, self.revolutions)
+        check_request(self.scene, self.min_force, self.samples, self.revolutions, self.max_groove_force)
         self.pmap = preload_parameters(self.scene)
         self.measure_fn = contact_measure(self.functions)
         self.samples = int(self.samples or self.scene.solver.samples_per_revolution)
@@ -268,9 +269,16 @@ def _scale(p: np.ndarray) -> np.ndarray:
     return state_scale(float(p[PARAMETER_NAMES.index("omega")]))
 
 
-def check_request(scene, min_force, samples, revolutions) -> None:
+def check_request(scene, min_force, samples, revolutions, max_groove_force=None) -> None:
     """Reject what the study cannot answer, naming the option, its value and the allowed range."""
     problems = []
+    if max_groove_force is not None:
+        if not (isinstance(max_groove_force, int | float) and math.isfinite(max_groove_force) and max_groove_force > 0):
+            problems.append(f"max_groove_force = {max_groove_force!r}: must be a force > 0 N (finite), or None "
+                            "(no bound)")
+        elif not scene.effects.groove_contact:
+            problems.append(f"max_groove_force = {max_groove_force!r}: the scene's groove contacts are off "
+                            "(effects.groove_contact); there is no groove force to bound")
     if not (isinstance(min_force, int | float) and math.isfinite(min_force) and min_force > 0):
         problems.append(f"min_force = {min_force!r}: must be a force > 0 N (finite)")
     if samples is not None and not (isinstance(samples, int) and 36 <= samples <= 100000):

@@ -91,7 +91,8 @@ class SegmentGrid:
         slope = self.Mseg @ knots_m if isinstance(knots_m, np.ndarray) else ca.mtimes(ca.DM(self.Mseg), knots_m)
         S = self.segments
         p = ca.repmat(ca.DM(setup.pmap.p0), 1, S) + ca.mtimes(ca.DM(setup.pmap.dp), ca.reshape(d, 1, S))
-        rest = ca.DM(np.r_[[min_force], window_vector(exclude)])
+        f_max = setup.max_groove_force if setup.max_groove_force is not None else 0.0  # unused without the bound
+        rest = ca.DM(np.r_[[min_force, f_max], window_vector(exclude)])
         Q = ca.vertcat(p, ca.DM(self.psi + rev * TWO_PI).T, ca.reshape(slope, 1, S), ca.repmat(rest, 1, S))
         assert Q.size1() == L["size"]
         return np.array(Q) if isinstance(knots_m, np.ndarray) else Q
@@ -110,11 +111,11 @@ def chain_function(sf, grid: SegmentGrid, n_z: int, *, derivatives: bool, nd: in
     nq = sf.interval.size1_in(sf.interval.index_in("p"))
     z0, Q, U = ca.MX.sym("z0", n_z), ca.MX.sym("Q", nq, k), ca.MX.sym("U", 2, m * k)
     ins = [z0, Q, U]
-    x, qs, samples = z0, ca.MX.zeros(2), []
+    x, qs, samples = z0, ca.MX.zeros(sf.n_quad), []
     if derivatives:
         dz0, dQ = ca.MX.sym("dz0", n_z, nd), ca.MX.sym("dQ", nq, k * nd)
         ins += [dz0, dQ]
-        dx, dq = dz0, ca.MX.zeros(2, nd)
+        dx, dq = dz0, ca.MX.zeros(sf.n_quad, nd)
     for j in range(k):
         Uj = U[:, j * m:(j + 1) * m]
         r = sf.interval(x0=x, p=Q[:, j], u=Uj)
@@ -148,6 +149,8 @@ class Resimulation:
     measure: np.ndarray  # (samples,) tip contact measure at the samples (N)
     pressures: np.ndarray  # (2, samples)
     delta_s: np.ndarray  # (samples,) m, the preload at each sample
+    groove_excess: float = 0.0  # N^2 rad, the groove-force excess quadrature (a study with a groove-force bound)
+    groove_peak: float | None = None  # N, the largest seal-groove contact force at the samples (idem)
 
 
 def simulate_schedule(setup, sf, grid: SegmentGrid, knots_m, min_force: float, exclude,
@@ -173,7 +176,7 @@ def simulate_schedule(setup, sf, grid: SegmentGrid, knots_m, min_force: float, e
     starts = [z.copy()]
     for rev in range(revolutions):
         Q = grid.q_columns(setup, knots_m, min_force, exclude, rev)
-        cols, qsum = [], np.zeros(2)
+        cols, qsum = [], np.zeros(sf.n_quad)
         for s in range(grid.segments):
             r = sf.interval(x0=z, p=Q[:, s], u=U[:, s * m:(s + 1) * m])
             xf = np.array(r["xf"])
@@ -194,7 +197,14 @@ def simulate_schedule(setup, sf, grid: SegmentGrid, knots_m, min_force: float, e
     P = setup.pmap.p0[:, None] + setup.pmap.dp[:, None] * d_at[None, :]
     X = Z[:6, 1:] * _scale(setup.pmap.p0)[:, None]  # the scale depends on omega only
     meas = np.array(setup.measure_fn.map(thetas.size)(thetas[None, :], X, Z[6:6 + ng, 1:], P, U)).ravel()
-    return Resimulation(thetas, Z, float(qsum[1]), float(qsum[0] / TWO_PI), change, meas, U, d_at)
+    sim = Resimulation(thetas, Z, float(qsum[1]), float(qsum[0] / TWO_PI), change, meas, U, d_at)
+    if sf.groove:
+        from .shooting import groove_forces
+
+        Y = np.array(setup.functions.outputs.map(thetas.size)(thetas[None, :], X, Z[6:6 + ng, 1:], P, U))
+        sim.groove_excess = float(qsum[2])
+        sim.groove_peak = float(max(np.hypot(Y[ix], Y[iy]).max() for ix, iy in groove_forces(setup.functions)))
+    return sim
 
 
 def _omega() -> int:

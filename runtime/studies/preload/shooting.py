@@ -17,6 +17,11 @@ resolve them (nothing depends on the output grid but the pressure means, which t
   ``kw xs5 < 0`` in lift-off), outside the excluded crank-angle windows. It is zero exactly when the
   force stays >= f_min everywhere on the trajectory outside the windows, and it is smooth (C1) in
   the decision variables, so it is the study's grid-independent constraint.
+* **Groove-force excess** quadrature (only when the study bounds the groove forces; otherwise it is not
+  built and the compiled units are those without it): ``sum_c (max(0, |F_c| - f_max) / F_REF)^2``
+  integrated over crank angle, F_c the force of each seal-groove contact (Eq. 63: normal force, damping and
+  friction; the contacts the groove submodel declares), everywhere on the revolution. Zero exactly when no
+  groove contact force exceeds f_max, between samples too.
 
 Compiled at the generation station (generated/compile.py) as two small C libraries built in parallel and
 cached by content: the interval integrator and its forward derivative in ``CHUNK`` directions (a Jacobian
@@ -37,6 +42,8 @@ from ...solving.scaling import state_scale
 
 #: the deficit quadrature is in units of F_REF (N)
 F_REF = 1.0
+#: regularises the size of a groove contact force at zero (N): |F| is overstated by at most F_EPS
+F_EPS = 1e-3
 #: excluded crank-angle windows the compiled functions take as parameters (unused ones are empty)
 MAX_WINDOWS = 4
 #: forward directions of the interval integrator: the 6 states at the node, the preload there, its slope
@@ -50,18 +57,33 @@ TWO_PI = 2 * np.pi
 class StudyFunctions:
     """The compiled interval integrator, its forward derivative and the one-revolution integrator."""
 
-    interval: ca.Function  # (x0, p=q, u) -> xf (n_z x m), qf (2 x m): [friction energy, deficit] cumulative
+    interval: ca.Function  # (x0, p=q, u) -> xf (n_z x m), qf (n_quad x m): [friction energy, deficit(, groove)]
     forward: ca.Function  # interval.forward(CHUNK): called DIRECTIONS / CHUNK times for a Jacobian
     n_par: int
     m: int  # samples per shooting interval
     compile_s: float
     compiled: bool
+    groove: bool = False  # the groove-force excess is the third quadrature
+
+    @property
+    def n_quad(self) -> int:
+        return 3 if self.groove else 2
 
 
 def q_layout(n_par: int) -> dict[str, int | slice]:
     """Where each part lives in the integrator parameter vector q."""
-    return {"p": slice(0, n_par), "theta0": n_par, "slope": n_par + 1, "f_min": n_par + 2,
-            "windows": slice(n_par + 3, n_par + 3 + 2 * MAX_WINDOWS), "size": n_par + 3 + 2 * MAX_WINDOWS}
+    return {"p": slice(0, n_par), "theta0": n_par, "slope": n_par + 1, "f_min": n_par + 2, "f_max": n_par + 3,
+            "windows": slice(n_par + 4, n_par + 4 + 2 * MAX_WINDOWS), "size": n_par + 4 + 2 * MAX_WINDOWS}
+
+
+def groove_forces(functions) -> tuple[tuple[int, int], ...]:
+    """Indices of (F_c_X, F_c_Y) in the model's outputs for each seal-groove contact c (the contacts the groove
+    submodel declares, Eq. 63); empty when the groove contacts are off."""
+    from ....derive.submodels.registry import contact_names
+
+    names = tuple(functions.output_names)
+    return tuple((names.index(f"F_{c}_X"), names.index(f"F_{c}_Y")) for c in contact_names("groove")
+                 if f"F_{c}_X" in names)
 
 
 def window_vector(exclude) -> np.ndarray:
@@ -80,8 +102,9 @@ def _mod2pi(x):
     return ca.fmod(ca.fmod(x, TWO_PI) + TWO_PI, TWO_PI)
 
 
-def study_dae(functions, dp: np.ndarray, measure_fn: ca.Function, settings):
-    """The DAE dict and transition of the study (see the module docstring)."""
+def study_dae(functions, dp: np.ndarray, measure_fn: ca.Function, settings, *, groove: bool = False):
+    """The DAE dict and transition of the study (see the module docstring); ``groove``: with the groove-force
+    excess quadrature."""
     names = tuple(functions.parameter_names)
     n_par, omega_i = len(names), names.index("omega")
     hy = build_hybrid_dae(functions.rhs, functions.guards, n_par, omega_i, event_tol=settings.event_tol,
@@ -104,7 +127,14 @@ def study_dae(functions, dp: np.ndarray, measure_fn: ca.Function, settings):
     for i in range(MAX_WINDOWS):
         start, end = w[2 * i], w[2 * i + 1]
         outside = outside * ca.if_else(_mod2pi(theta - start) <= _mod2pi(end - start), 0, 1)
-    new = {"x": z, "t": tau, "p": q, "u": u, "ode": ode, "zero": zero, "quad": ca.vertcat(power, outside * deficit**2)}
+    quad = [power, outside * deficit**2]
+    if groove:
+        Y = functions.outputs(theta, X, a, par, u)
+        # |F| as sqrt(Fx^2 + Fy^2 + F_EPS^2): the events' forward derivatives of the DAE pass through open contacts
+        # (F = 0), where hypot's derivative is NaN and CasADi's erk stops ("Evaluation failed", measured)
+        size = [ca.sqrt(Y[ix] ** 2 + Y[iy] ** 2 + F_EPS**2) for ix, iy in groove_forces(functions)]
+        quad.append(sum(ca.fmax(0.0, f - q[L["f_max"]]) ** 2 for f in size) / F_REF**2)
+    new = {"x": z, "t": tau, "p": q, "u": u, "ode": ode, "zero": zero, "quad": ca.vertcat(*quad)}
     idx, t_ev = ca.SX.sym("index"), ca.SX.sym("t")
     par_ev = q[L["p"]] + ca.DM(dp) * q[L["slope"]] * t_ev
     post = hy.transition(index=idx, t=t_ev, x=z, p=ca.vertcat(par_ev, q[L["theta0"]]), u=u)["post_x"]
@@ -125,7 +155,8 @@ def _integrator(name, dae, transition, settings, rtol, n_out, span):
 
 def study_functions(setup, m: int, *, compile_c: bool = True) -> StudyFunctions:
     """The study's interval integrator for shooting intervals of ``m`` samples and its forward derivative,
-    each compiled into its own cached library (in parallel: both cores)."""
+    each compiled into its own cached library (in parallel: both cores); with the groove-force excess
+    quadrature when the setup bounds the groove forces (``setup.max_groove_force``)."""
     import time
     from concurrent.futures import ThreadPoolExecutor
 
@@ -134,14 +165,19 @@ def study_functions(setup, m: int, *, compile_c: bool = True) -> StudyFunctions:
 
     st = setup.settings()
     t = time.perf_counter()
-    dae, tr = study_dae(setup.functions, setup.pmap.dp, setup.measure_fn, st)
+    groove = setup.max_groove_force is not None
+    if groove and not groove_forces(setup.functions):
+        from .problem import PreloadStudyError
+
+        raise PreloadStudyError("max_groove_force: the scene has no groove contacts (effects.groove_contact is off)")
+    dae, tr = study_dae(setup.functions, setup.pmap.dp, setup.measure_fn, st, groove=groove)
     interval = _integrator("apexseal_preload_interval", dae, tr, st, setup.rtol, m, m * setup.dth)
     with warnings.catch_warnings(), events_tested():  # the derivative is an integrator with events too
         warnings.simplefilter("ignore")
         fwd = interval.forward(CHUNK)
     n_par = setup.pmap.p0.size
     if not compile_c:
-        return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False)
+        return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False, groove)
     with stage(f"generating the preload study's C (interval integrator, its forward derivative in {CHUNK} directions)"):
         sources = [function_source(f, model_hash=setup.functions.model_hash) for f in (interval, fwd)]
     try:
@@ -149,6 +185,6 @@ def study_functions(setup, m: int, *, compile_c: bool = True) -> StudyFunctions:
             libs = list(pool.map(lambda s: build_function(s, flags=setup.flags), sources))
     except CompilerUnavailable as exc:
         fallback(exc)
-        return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False)
+        return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False, groove)
     E, Ef = (ca.external(f.name(), str(so)) for f, so in zip((interval, fwd), libs, strict=True))
-    return StudyFunctions(E, Ef, n_par, m, time.perf_counter() - t, True)
+    return StudyFunctions(E, Ef, n_par, m, time.perf_counter() - t, True, groove)
