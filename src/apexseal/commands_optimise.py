@@ -67,24 +67,28 @@ def _rate(ctx, param, value):
 @click.option("--nodes", type=click.IntRange(2, 64), default=4, show_default=True,
               help="Shooting nodes over the revolution (with the knots, their least common multiple must divide "
                    "the samples).")
+@click.option("--vary-stiffness", is_flag=True,
+              help="Also re-simulate the constant optimum's spring force ks*delta_s at 0.25-4 x the scene's ks: the "
+                   "design over (delta_s, ks) together is the curve ks*delta_s = optimal force (docs/preload.md).")
 @click.option("--check/--no-check", "check", default=True, show_default=True,
               help="Also run the derivative-free bisection of the constant preload over full simulations.")
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder for preload.json, preload.md, preload.png [default: apexseal-out/<scene name>].")
 @click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, IPOPT iterations).")
 def optimise_preload(scene: Path | None, min_force: float, max_groove_force, exclude, knots, max_rate, objective,
-                     samples, nodes, check, out, quiet) -> None:
+                     samples, nodes, vary_stiffness, check, out, quiet) -> None:
     """Optimise the spring preload delta_s of SCENE (default: the embedded case study): the least friction power
     (or preload) for which the seal tip stays pressed on the housing with at least --min-force everywhere on the
     periodic revolution (between samples too), as a constant and, with --schedule, as a schedule delta_s(theta)."""
     from . import progress
 
     with progress.enabled(not quiet):  # generation, compilation (elapsed time) and IPOPT iterations on stderr
-        _optimise(scene, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes, check, out)
+        _optimise(scene, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes,
+                  vary_stiffness, check, out)
 
 
-def _optimise(scene, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes, check,
-              out) -> None:
+def _optimise(scene, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes,
+              vary_stiffness, check, out) -> None:
     from .runtime.api import model_functions
     from .runtime.studies.preload.bisect import bisect_preload
     from .runtime.studies.preload.nlp import optimise_preload as run_study
@@ -122,11 +126,18 @@ def _optimise(scene, min_force, max_groove_force, exclude, knots, max_rate, obje
         click.echo(f"  bisection over full simulations: delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm "
                    f"({b.simulations} simulations, {b.wall_time_s:.1f} s); IPOPT differs by "
                    f"{abs(b.delta_s - c.delta_s) / MM:.4f} mm")
+    valley = None
+    if c.ok and vary_stiffness:
+        from .runtime.studies.preload.stiffness import describe, stiffness_valley
+
+        with watch.stage("stiffness"):
+            valley = stiffness_valley(setup, c, nodes=nodes)
+        click.echo(describe(valley, c.deficit_tol))
     s = results.get("schedule")
     if s is not None and s.ok and c.ok:
         click.echo(f"schedule saves {c.friction_power - s.friction_power:.3f} W of friction power against the best "
                    f"constant preload ({s.friction_power:.3f} vs {c.friction_power:.3f} W)")
-    paths = write_report(out, sc, str(scene or "default"), results, b, min_force)
+    paths = write_report(out, sc, str(scene or "default"), results, b, min_force, valley)
     click.echo(f"  wrote {', '.join(p.name for p in paths)} to {out}/; wall time "
                + ", ".join(f"{k} {v:.1f} s" for k, v in watch.stages.items()))
     if not c.ok or (s is not None and not s.ok):

@@ -18,7 +18,7 @@ import pytest
 
 from apexseal.runtime.studies.preload.bisect import bisect_preload
 from apexseal.runtime.studies.preload.nlp import DEFICIT_TOL, SOLVED, _ShootingNlp, optimise_preload
-from apexseal.runtime.studies.preload.problem import MM, PreloadSetup
+from apexseal.runtime.studies.preload.problem import MM, PreloadSetup, PreloadStudyError
 from apexseal.runtime.studies.preload.schedule import SegmentGrid, simulate_schedule
 from apexseal.runtime.studies.preload.shooting import study_functions
 
@@ -99,6 +99,45 @@ def test_a_groove_force_bound_no_preload_can_meet_is_reported_infeasible(studies
     assert "max_groove_force" in tight.message
 
 
+def test_the_design_over_delta_s_and_ks_is_the_curve_of_one_spring_force(studies, light):
+    """The same spring force ks delta_s at a quarter to four times the scene's ks gives the same friction power and
+    force deficit (to within the ks s and spring-damping terms): the joint optimum is the curve ks delta_s = F0*."""
+    from apexseal.runtime.studies.preload.stiffness import stiffness_valley
+
+    c = studies[0]
+    points = stiffness_valley(_setup(light), c, nodes=NODES, factors=(0.25, 1.0, 4.0))
+    assert [p.ks for p in points] == pytest.approx([1250.0, 5000.0, 20000.0])
+    assert all(p.ks * p.delta_s == pytest.approx(c.spring_force, rel=1e-3) for p in points)
+    assert points[1].friction_power == pytest.approx(c.friction_power, rel=1e-6)  # the optimum itself
+    for p in points:
+        assert p.friction_power == pytest.approx(c.friction_power, rel=1e-3)
+        assert p.deficit == pytest.approx(c.deficit, rel=0.05)
+    with pytest.raises(PreloadStudyError, match="constant-preload"):
+        stiffness_valley(_setup(light), studies[2])
+
+
+def test_cli_writes_the_report_with_the_groove_bound_and_the_stiffness_valley(light, tmp_path):
+    import json
+
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+    from apexseal.runtime.scenes.resolved import resolved_toml
+
+    text, files = resolved_toml(light[0])
+    (tmp_path / "light.toml").write_text(text)
+    for name, content in files.items():  # the pressure table it names (unused: the chamber pressure is off)
+        (tmp_path / name).write_text(content)
+    r = CliRunner().invoke(main, ["optimise-preload", str(tmp_path / "light.toml"), "--min-force", "10 N",
+                                  "--samples", str(SAMPLES), "--max-groove-force", f"{GROOVE_MAX} N",
+                                  "--vary-stiffness", "--no-check", "--quiet", "--out", str(tmp_path / "out")])
+    assert r.exit_code == 0, r.output
+    data = json.loads((tmp_path / "out" / "preload.json").read_text())
+    assert data["constant"]["max_groove_force"] == GROOVE_MAX and data["constant"]["groove_excess"] == 0.0
+    assert len(data["stiffness_valley"]) == 5 and "spring force ks*delta_s" in r.output
+    assert "the same spring force at other stiffnesses" in (tmp_path / "out" / "preload.md").read_text()
+
+
 def test_groove_excess_is_zero_exactly_when_the_bound_holds_between_samples(light):
     """The quadrature against the force at the samples: zero for a bound far above, positive below the peak at the
     samples, and falling as the bound rises (interpreted integrators, no compile)."""
@@ -161,3 +200,6 @@ if __name__ == "__main__":  # python tests/runtime/test_preload_small.py: the nu
         print(f"## {name}\n{r.describe()}\n")
     print(f"bisection over full simulations: [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm ({b.simulations} "
           f"simulations); schedule saves {c.friction_power - s.friction_power:.3f} W; total {time.perf_counter() - t0:.1f} s")
+    from apexseal.runtime.studies.preload.stiffness import describe, stiffness_valley
+
+    print(describe(stiffness_valley(_setup(pair), c, nodes=NODES), c.deficit_tol))

@@ -30,7 +30,7 @@ def _designs(results: dict) -> list[tuple[str, object, object]]:
     return out
 
 
-def markdown(scene_name: str, results: dict, bisection=None) -> str:
+def markdown(scene_name: str, results: dict, bisection=None, valley=None) -> str:
     lines = [f"# Preload study of {scene_name}", ""]
     for key, r in results.items():
         if r is None:
@@ -41,6 +41,11 @@ def markdown(scene_name: str, results: dict, bisection=None) -> str:
         lines += ["## derivative-free check (bisection over full simulations)", "",
                   f"delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm ({b.simulations} simulations, "
                   f"{b.wall_time_s:.1f} s, monotone: {b.monotone})", ""]
+    if valley:
+        from .stiffness import describe
+
+        lines += ["## the design over (delta_s, ks): the same spring force at other stiffnesses", "", "```",
+                  describe(valley, results["constant"].deficit_tol), "```", ""]
     c, s = results.get("constant"), results.get("schedule")
     if c is not None and c.ok and s is not None and s.ok:
         lines += ["## schedule against the best constant preload", "",
@@ -100,18 +105,24 @@ def figure(scene, results: dict, min_force: float):
     return fig
 
 
-def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=None, min_force: float = 5.0) -> list:
-    """Write preload.json, preload.md and preload.png; return their paths."""
+def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=None, min_force: float = 5.0,
+                 valley=None) -> list:
+    """Write preload.json, preload.md and preload.png; return their paths. ``valley``: the constant optimum's
+    spring force at other stiffnesses (runtime/studies/preload/stiffness.py)."""
     folder = Path(folder)
     payload = {"scene": scene_name} | {k: (r.to_dict() if r is not None else None) for k, r in results.items()}
     if bisection is not None:
         payload["bisection"] = bisection.to_dict()
+    if valley:
+        from dataclasses import asdict
+
+        payload["stiffness_valley"] = [asdict(p) for p in valley]
     c, s = results.get("constant"), results.get("schedule")
     if c is not None and c.ok and s is not None and s.ok:
         payload["saved_friction_power_W"] = c.friction_power - s.friction_power
     paths = [folder / "preload.json", folder / "preload.md", folder / "preload.png"]
     atomic_write(paths[0], json.dumps(payload, indent=2, default=str) + "\n")
-    atomic_write(paths[1], markdown(scene_name, results, bisection) + "\n")
+    atomic_write(paths[1], markdown(scene_name, results, bisection, valley) + "\n")
     fig = figure(scene, results, min_force)
     with atomic_open(paths[2], "wb") as fh:
         fig.savefig(fh, format="png", dpi=100)

@@ -1,0 +1,75 @@
+"""The constant design over (delta_s, ks) together: the optimum is a curve, ks delta_s = the optimal spring force.
+
+The spring presses the seal outward with ks times its compression, delta_s at rest less the outward travel s of
+the seal's back face (Eqs. 38-39); s is micrometres while delta_s is millimetres, so the force is ks delta_s to
+within ks s (a few mN at ks = 5e3 N/m). Everything else that follows ks is as small: the
+housing contact's rest deflection delta_w = ks delta_s / kw (Eq. 9) depends on the product too, and only the
+spring's damping cs = 2 zeta_s sqrt(ks ms) (when the scene gives its damping ratio) and the ks s term change
+along the curve. So friction power and the force deficit are functions of the spring force F0 = ks delta_s alone,
+to within what those terms move: the joint problem is degenerate (its optimum is the curve ks delta_s = F0*),
+and IPOPT over (delta_s, ks) would wander along the valley. The study therefore optimises delta_s at the scene's
+ks and shows the valley: :func:`stiffness_valley` re-simulates the optimum's spring force at other stiffnesses
+(delta_s = F0* / ks), each a full periodic simulation with the study's integrator and both quadratures, so any
+(delta_s, ks) pair on the curve can be chosen for other reasons (space, fatigue, tolerance of delta_s).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .problem import MM, PreloadSetup, PreloadStudyError
+
+#: the stiffnesses tried, as factors of the scene's ks
+FACTORS = (0.25, 0.5, 1.0, 2.0, 4.0)
+
+
+@dataclass(frozen=True)
+class ValleyPoint:
+    ks: float  # N/m
+    delta_s: float  # m, F0* / ks
+    spring_force: float  # N, ks delta_s (the same at every point)
+    friction_power: float  # W, cycle mean of the periodic revolution
+    deficit: float  # N^2 rad, the force-deficit quadrature
+    groove_excess: float  # N^2 rad (0 without a groove-force bound)
+
+
+def stiffness_valley(setup: PreloadSetup, result, *, nodes: int = 4, factors=FACTORS) -> list[ValleyPoint]:
+    """Re-simulate the constant optimum's spring force ``ks delta_s`` at the stiffnesses ``factors`` x the scene's.
+
+    Uses the study's compiled interval integrator (the same cache entry as the study: for a constant preload the
+    integrator's built-in d p / d delta_s multiplies a zero slope, so the scene's units serve every ks).
+    """
+    from ....derive.symbols import PARAMETER_NAMES
+    from .nlp import _periodic
+    from .schedule import SegmentGrid
+    from .shooting import study_functions
+
+    if result.knots is None or len(result.knots) != 1:
+        raise PreloadStudyError("stiffness_valley: needs a solved constant-preload result (knots = 1)")
+    if not all(isinstance(f, int | float) and 0 < f <= 100 for f in factors):
+        raise PreloadStudyError(f"factors = {list(factors)!r}: each must be in (0, 100] (times the scene's ks)")
+    ks0 = float(setup.pmap.p0[PARAMETER_NAMES.index("ks")])
+    force = ks0 * float(result.knots[0])
+    sf = study_functions(setup, setup.samples // nodes)
+    grid = SegmentGrid(setup.samples, nodes, 1, setup.theta_start, setup.dth)
+    points = []
+    for f in factors:
+        scene = setup.scene.with_overrides(**{"spring.ks": ks0 * f})
+        s = PreloadSetup(scene, setup.functions, setup.min_force, setup.exclude, setup.samples, setup.rtol,
+                         setup.revolutions, setup.flags, setup.max_groove_force)
+        d = force / (ks0 * f)
+        sim = _periodic(s, sf, grid, np.array([d]), s.min_force, s.exclude)
+        points.append(ValleyPoint(ks0 * f, d, force, sim.friction_power, sim.deficit, sim.groove_excess))
+    return points
+
+
+def describe(points: list[ValleyPoint], deficit_tol: float) -> str:
+    """The valley as a table: the same spring force at each stiffness."""
+    lines = [f"  the same spring force ks*delta_s = {points[0].spring_force:.3f} N at other stiffnesses (periodic "
+             "re-simulations):",
+             "    ks (N/m)   delta_s (mm)   friction power (W)   force deficit (x bound)"]
+    lines += [f"    {p.ks:9.4g}   {p.delta_s / MM:12.4f}   {p.friction_power:18.3f}   {p.deficit / deficit_tol:10.3f}"
+              for p in points]
+    return "\n".join(lines)
