@@ -57,9 +57,9 @@ def signed_flow(cd_area, p1, T1, p2, T2, gamma, R):
 
 def enthalpy_flow(mdot, T1, T2, cp):
     """Enthalpy carried from side 1 to side 2 by ``mdot`` (from 1 to 2 when positive), at its source's T."""
-    import sympy as sp
+    from .laws import Max_, Min_
 
-    return cp * (T1 * sp.Max(mdot, 0) + T2 * sp.Min(mdot, 0))
+    return cp * (T1 * Max_(mdot, 0) + T2 * Min_(mdot, 0))
 
 
 class ChamberGas(Submodel):
@@ -192,16 +192,15 @@ class ChamberGas(Submodel):
     @staticmethod
     def _gaps(ctx: Context):
         """b_gap of Algorithm 4 (0 while any groove contact is closed) and the tip's lift-off (0 while it touches)."""
-        import sympy as sp
-
+        from .laws import Max_, Min_
         from .registry import guard
 
         g, opts = ctx.g, ctx.options
-        b_gap = sp.Max(sp.Min(*[g.gaps[n] for n in ("b1", "b2", "b3", "b4")]), 0)
+        b_gap = Max_(Min_(*[g.gaps[n] for n in ("b1", "b2", "b3", "b4")]), 0)
         if opts.on("groove_contact"):
             for n in ("b1", "b2", "b3", "b4"):
                 b_gap = b_gap * (1 - ctx.activation(guard(n)))
-        b_tip = sp.Max(-g.xs5, 0)
+        b_tip = Max_(-g.xs5, 0)
         if opts.on("housing_contact"):
             b_tip = b_tip * (1 - ctx.activation(guard("xs5")))
         return b_gap, b_tip

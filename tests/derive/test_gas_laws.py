@@ -65,3 +65,28 @@ def test_choked_flow_does_not_depend_on_the_downstream_pressure():
     f = [float(orifice_flow(1.0, 6e5, 300.0, sp.Float(p), sp.Float(1.4), 287.0)) for p in (1e4, 1e5, 3e5)]
     assert f[0] == pytest.approx(f[1], rel=1e-12) and f[1] == pytest.approx(f[2], rel=1e-12)
     assert float(orifice_flow(1.0, 6e5, 300.0, sp.Float(6e5), sp.Float(1.4), 287.0)) == 0.0
+
+
+def test_unevaluated_max_and_min_survive_substitution_and_lower_to_fmax_fmin():
+    """The gas model's Max_/Min_ are never evaluated, also when a substitution rebuilds them (sympy's Max compares
+    its arguments pairwise, which cost most of the leakage model's cold derivation), evaluate to numbers, and lower
+    like Max/Min."""
+    import casadi as ca
+
+    from apexseal.derive.submodels.laws import Max_, Min_
+    from apexseal.generated.lower import Lowering
+
+    a, b, c = sp.symbols("a b c", real=True)
+    e = Max_(Min_(a, b, a + 1), 0)  # Min(a, a + 1) would drop a + 1 if evaluated
+
+    def inner(m):
+        return next(x for x in m.args if isinstance(x, Min_))
+
+    assert len(inner(e).args) == 3
+    r = e.subs(b, c)
+    assert isinstance(r, Max_) and len(inner(r).args) == 3
+    assert float(r.subs({a: -2.0, c: 0.5})) == 0.0 and float(r.subs({a: 0.2, c: 0.5})) == 0.2
+    x = ca.SX.sym("x", 3)
+    low = Lowering({a: x[0], b: x[1], c: x[2]})(e)
+    f = ca.Function("f", [x], [low])
+    assert float(f([0.3, 0.7, 0.0])) == pytest.approx(0.3) and float(f([-1.0, 0.7, 0.0])) == 0.0

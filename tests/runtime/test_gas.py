@@ -50,7 +50,6 @@ def test_chambers_are_pi_out_of_phase_for_the_symmetric_machine():
     assert Pa.max() > 5e5 and Pa.min() < 1.1e5  # filled from the supply and emptied to the exhaust
 
 
-@pytest.mark.slow  # the chamber+leakage model's cold derivation takes 70 s (sympy's Min/Max of the 4 gap expressions)
 def test_leakage_is_zero_while_every_seal_contact_is_closed():
     s = apexseal.load_scene().with_overrides(**{**CHAMBER, "pressure.source": "chamber+leakage"})
     f = model_functions(s, compiled=False)  # evaluated at a few states: no compile needed

@@ -199,7 +199,8 @@ if __name__ == "__main__":  # python tests/runtime/test_preload_small.py: the nu
                     (f"constant, groove forces <= {GROOVE_TIGHT:g} N", tight)):
         print(f"## {name}\n{r.describe()}\n")
     print(f"bisection over full simulations: [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm ({b.simulations} "
-          f"simulations); schedule saves {c.friction_power - s.friction_power:.3f} W; total {time.perf_counter() - t0:.1f} s")
+          f"simulations); schedule saves {c.friction_power - s.friction_power:.3f} W; "
+          f"total {time.perf_counter() - t0:.1f} s")
     from apexseal.runtime.studies.preload.stiffness import describe, stiffness_valley
 
     print(describe(stiffness_valley(_setup(pair), c, nodes=NODES), c.deficit_tol))
