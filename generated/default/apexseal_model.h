@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: ec92e0ec631ecb435d7c6a7e19781674f019d9c8da094cf9bb55d95220132db1.
+ * Effects: all. Input hash: b49f9a3d276515e915ff76d2d1961db052289d53a70134c4bec51db8464f2aa4.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "ec92e0ec631ecb435d7c6a7e19781674f019d9c8da094cf9bb55d95220132db1"
+#define APEXSEAL_INPUT_HASH "b49f9a3d276515e915ff76d2d1961db052289d53a70134c4bec51db8464f2aa4"
 
 /* state x */
 #define APEXSEAL_NX 6
