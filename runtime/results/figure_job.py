@@ -95,7 +95,12 @@ class FigureJob:
         if self.pid is not None:
             os.waitpid(self.pid, 0)
             self.pid = None
-            for name in self.files:  # the child failed or was killed: its figures are drawn here
-                if not (self.folder / name).is_file():
-                    write_figure(self.result, self.folder, name, self.files[name], self.ports, self.dpi)
+            return self.draw_missing()  # the child failed or was killed: its figures are drawn here
+        return [self.folder / n for n in self.files]
+
+    def draw_missing(self) -> list[Path]:
+        """Draw, in this process, every figure not in the folder yet; the paths of all of them."""
+        for name in self.files:
+            if not (self.folder / name).is_file():
+                write_figure(self.result, self.folder, name, self.files[name], self.ports, self.dpi)
         return [self.folder / n for n in self.files]

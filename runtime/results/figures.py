@@ -33,6 +33,17 @@ def new_figure(figsize: tuple[float, float], pyplot: bool = False):
     return Figure(figsize=figsize, layout="constrained")
 
 
+def crank_angle_ticks(ax, value_ticks: int | None = 4) -> None:
+    """At most five crank-angle ticks (x, deg) at multiples of 90 deg (of 1.5 or 4.5 times a power of ten on
+    longer runs), and at most ``value_ticks`` on the value axis (None: left as they are): every tick costs
+    matplotlib a line and a text laid out in each pass of constrained layout (docs/performance.md)."""
+    from matplotlib.ticker import MaxNLocator
+
+    ax.xaxis.set_major_locator(MaxNLocator(nbins=5, steps=[1, 1.5, 3, 4.5, 9, 10]))
+    if value_ticks is not None:
+        ax.yaxis.set_major_locator(MaxNLocator(nbins=value_ticks))
+
+
 def ports_of(scene) -> dict | None:
     """``{name: {"angle_deg", "width_deg"}}`` of a scene's ports (Table 1), or None."""
     ports = getattr(getattr(scene, "machine", None), "ports", None)
@@ -57,7 +68,7 @@ def fig12_displacements(result: SimulationResult, ports: dict | None = None, *, 
 
     The radial axis starts below the smallest value (a hole in the middle) and the zero circle is drawn
     dashed, so negative displacements read as "inside the dashed circle" rather than folding through the
-    centre; at most four radial ticks, labelled on a clear ray.
+    centre; at most four radial ticks, labelled on a clear ray; angle labels every 90 deg.
     """
     from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator
@@ -77,6 +88,7 @@ def fig12_displacements(result: SimulationResult, ports: dict | None = None, *, 
         ax.set_rlim(r0, hi + 0.05 * span)
         ax.yaxis.set_major_locator(MaxNLocator(4))
         ax.set_rlabel_position(112.5)
+        ax.set_thetagrids([0, 90, 180, 270])  # four angle labels, not eight: each costs a text layout per pass
         ax.tick_params(axis="y", labelsize=8)
         ax.plot(th, v, lw=0.8, color="tab:blue")
         ax.plot(np.linspace(0, 2 * np.pi, 181), np.zeros(181), ls="--", lw=0.8, color="k")
@@ -112,6 +124,7 @@ def fig13_forces(result: SimulationResult, *, pyplot: bool = False, save_dpi: fl
         F = np.hypot(result.outputs[f"F_{key}_X"], result.outputs[f"F_{key}_Y"])
         ax.plot(*((deg, F) if columns is None else envelope(deg, F, columns)), lw=0.7)
         ax.set_ylabel(f"|F {key}| (N)")
+        crank_angle_ticks(ax)
     for ax in axes[len(names):]:
         ax.set_axis_off()
     for ax in axes[max(0, len(names) - 2):len(names)]:  # the lowest panel of each column
@@ -119,6 +132,35 @@ def fig13_forces(result: SimulationResult, *, pyplot: bool = False, save_dpi: fl
         ax.xaxis.set_tick_params(labelbottom=True)
     fig.suptitle("Forces on the apex seal (cf. Fig. 13)")
     return fig
+
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079")
+
+
+def decade_label(value: float, _pos=None) -> str:
+    """``10³`` for a power of ten (Unicode superscripts, plain text), "" for anything else."""
+    if not value > 0:
+        return ""
+    e = float(np.log10(value))
+    return f"10{str(int(round(e))).translate(_SUPERSCRIPT)}" if abs(e - round(e)) < 1e-9 else ""
+
+
+def plain_log_ticks(ax) -> None:
+    """Logarithmic axes labelled at the decades in plain text, minor ticks at 2 and 5 without labels.
+
+    matplotlib's default labels (``$\\mathdefault{10^{3}}$``) go through its mathtext parser and its minor
+    locator puts 8 ticks in each decade: together about half of Fig. 14's drawing time (docs/performance.md).
+    An axis whose limits hold fewer than two decades keeps matplotlib's ticks (it labels minor ticks there).
+    Call it after the limits are set.
+    """
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+    for axis, (lo, hi) in ((ax.xaxis, ax.get_xlim()), (ax.yaxis, ax.get_ylim())):
+        lo, hi = sorted((lo, hi))
+        if axis.get_scale() == "log" and lo > 0 and np.floor(np.log10(hi)) - np.ceil(np.log10(lo)) >= 1:
+            axis.set_major_formatter(FuncFormatter(decade_label))
+            axis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
+            axis.set_minor_formatter(NullFormatter())
 
 
 def fig14_spectrum(result: SimulationResult, *, count: int = 5, pyplot: bool = False, save_dpi: float | None = None):
@@ -136,6 +178,7 @@ def fig14_spectrum(result: SimulationResult, *, count: int = 5, pyplot: bool = F
         ax.set_xlim(w[1] / 1.5, w[-1])  # room for the label of a peak at the first frequency
         floor = max(float(amp[1:].max()) * 1e-4, 1e-12)
         ax.set_ylim(floor, float(amp.max()) * 3)
+        plain_log_ticks(ax)
         for p in spectral_peaks(w, amp, count):
             ax.plot(p["omega_rad_s"], p["amplitude_N"], "v", color="tab:red", ms=6)
             ax.annotate(f"{p['omega_rad_s']:.3g}", (p["omega_rad_s"], p["amplitude_N"]), textcoords="offset points",
@@ -165,6 +208,7 @@ def mode_timeline(result: SimulationResult, *, pyplot: bool = False, save_dpi: f
     ax2.step(*step_changes(deg, idx), where="post", lw=0.8)
     ax2.set_yticks(range(len(cases)), cases)
     ax2.set_xlabel("crank angle (deg)")
+    crank_angle_ticks(ax2, value_ticks=None)
     ax2.set_title("seal-groove contact case")
     return fig
 

@@ -44,59 +44,66 @@ def simulate(scene: Path | None, revolutions, method, rtol, out, csv, no_figures
 
 def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, timings) -> None:
     watch = Stopwatch()  # stages always timed (two clock reads each), printed with --timings
-    with watch.stage("import"):
-        from .runtime.api import model_functions, run_scene, settings_of
-        from .runtime.results.figure_job import FigureJob
-        from .runtime.results.figures import ports_of
-        from .runtime.results.folder import ResultFolder, ResultStorageError
-        from .runtime.results.plausibility import PenetrationWarning
-        from .runtime.results.summary import summarise  # noqa: F401  (timed here; used by _save)
-        from .runtime.solving.settings import SettingsError
-        from .runtime.solving.signals import StopSignals
+    from .runtime.results.figure_worker import FigureWorker  # light: matplotlib is imported by the worker
 
-        if timings:  # imported by the load stage anyway; up front, so that the split shows what importing costs
-            import casadi  # noqa: F401
+    # a second process imports matplotlib while this one imports, reads the scene and integrates; stopped unless the
+    # result is handed to it
+    with FigureWorker.started(not no_figures) as worker:
+        with watch.stage("import"):
+            from .runtime.api import model_functions, run_scene, settings_of
+            from .runtime.results.figure_job import FigureJob
+            from .runtime.results.figures import ports_of
+            from .runtime.results.folder import ResultFolder, ResultStorageError
+            from .runtime.results.plausibility import PenetrationWarning
+            from .runtime.results.summary import summarise  # noqa: F401  (timed here; used by _save)
+            from .runtime.solving.settings import SettingsError
+            from .runtime.solving.signals import StopSignals
 
-    with watch.stage("scene"):
-        sc = scene_of(scene)
-        try:
-            settings = settings_of(sc, revolutions=revolutions, method=method, rtol=rtol)
-        except SettingsError as err:
-            key = err.errors[0].key
-            raise click.BadParameter("\n".join(p.message for p in err.errors), param_hint=OPTIONS.get(key, key)) from err
-        out = default_folder(scene, out)
-        result_folder(out)
-    click.echo(f"scene {scene or '(embedded default: the paper case study)'}; method {settings.method}; "
-               f"writing to {out}/")
-    with StopSignals() as signals:  # a second signal during the writing is noted, not raised
-        try:
-            with watch.stage("load"):
-                functions = model_functions(sc)
-            with watch.stage("run"):
-                writer = ResultFolder(out)
-                with warnings.catch_warnings():  # the penetration check is printed below, with the summary
-                    warnings.simplefilter("ignore", PenetrationWarning)
-                    result = run_scene(sc, settings, progress=not quiet and sys.stderr.isatty(), sink=writer,
-                                       functions=functions)
-            watch.split("run", result.info.get("timings_s", {}))
-            figures = None
-            if not no_figures and result.n > 1 and not signals.requested:
-                with watch.stage("figures"):  # a second process draws some while this one writes the result
-                    figures = FigureJob(result, writer.staging, ports_of(sc)).start()
+            if timings:  # imported by the load stage anyway; up front, so that the split shows what importing costs
+                import casadi  # noqa: F401
+
+        with watch.stage("scene"):
+            sc = scene_of(scene)
             try:
-                summary, files = _save(watch, writer, result, scene, csv)
-            except BaseException:
+                settings = settings_of(sc, revolutions=revolutions, method=method, rtol=rtol)
+            except SettingsError as err:
+                key = err.errors[0].key
+                raise click.BadParameter("\n".join(p.message for p in err.errors),
+                                         param_hint=OPTIONS.get(key, key)) from err
+            out = default_folder(scene, out)
+            result_folder(out)
+        click.echo(f"scene {scene or '(embedded default: the paper case study)'}; method {settings.method}; "
+                   f"writing to {out}/")
+        with StopSignals() as signals:  # a second signal during the writing is noted, not raised
+            try:
+                with watch.stage("load"):
+                    functions = model_functions(sc)
+                with watch.stage("run"):
+                    writer = ResultFolder(out)
+                    with warnings.catch_warnings():  # the penetration check is printed below, with the summary
+                        warnings.simplefilter("ignore", PenetrationWarning)
+                        result = run_scene(sc, settings, progress=not quiet and sys.stderr.isatty(), sink=writer,
+                                           functions=functions)
+                watch.split("run", result.info.get("timings_s", {}))
+                figures = None
+                if not no_figures and result.n > 1 and not signals.requested:
+                    with watch.stage("figures"):  # other processes draw while this one writes the result
+                        figures = (FigureJob(result, writer.staging, ports_of(sc)).start() if worker is None else
+                                   worker.submit(result, writer.staging, ports_of(sc)))
+                try:
+                    summary, files = _save(watch, writer, result, scene, csv)
+                except BaseException:
+                    if figures is not None:
+                        figures.cancel()
+                    raise
                 if figures is not None:
-                    figures.cancel()
-                raise
-            if figures is not None:
-                with watch.stage("figures"):
-                    files += [p.name for p in figures.finish()]
-            with watch.stage("save"):
-                writer.commit()
-        except ResultStorageError as err:
-            raise click.ClickException(str(err)) from err
-    _report(result, summary, files, out, timings, watch, signals)
+                    with watch.stage("figures"):
+                        files += [p.name for p in figures.finish()]
+                with watch.stage("save"):
+                    writer.commit()
+            except ResultStorageError as err:
+                raise click.ClickException(str(err)) from err
+        _report(result, summary, files, out, timings, watch, signals)
 
 
 def _save(watch, writer, result, scene, csv) -> tuple[dict, list[str]]:

@@ -1,0 +1,58 @@
+"""Ticks of the saved figures: plain-text decades on logarithmic axes, few crank-angle ticks."""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from apexseal.runtime.results.figures import crank_angle_ticks, decade_label, plain_log_ticks
+
+
+def test_decade_labels_are_plain_text():
+    assert decade_label(1e3) == "10³"
+    assert decade_label(1e-2) == "10⁻²"
+    assert decade_label(1.0) == "10⁰"
+    assert decade_label(2e3) == "" and decade_label(0.0) == "" and decade_label(-10.0) == ""
+
+
+def _labels(fig, axis):
+    fig.canvas.draw()
+    return [t.get_text() for t in axis.get_ticklabels() if t.get_text()]
+
+
+def test_log_axes_over_several_decades_get_plain_labels_and_fewer_minor_ticks():
+    fig = Figure()
+    ax = fig.subplots()
+    ax.loglog([10.0, 3e5], [1e-3, 30.0])
+    ax.set_xlim(10.0, 3e5)
+    ax.set_ylim(1e-3, 30.0)
+    plain_log_ticks(ax)
+    labels = _labels(fig, ax.xaxis)
+    assert labels and all("$" not in t and t.startswith("10") for t in labels)
+    lo, hi = ax.get_xlim()
+    minor = [t for t in ax.xaxis.get_minorticklocs() if lo <= t <= hi]
+    decades = np.log10(hi) - np.log10(lo)
+    assert len(minor) <= 2 * (decades + 1)  # 2 and 5 in each decade, not 2..9
+
+
+def test_a_log_axis_within_one_decade_keeps_matplotlibs_ticks():
+    fig = Figure()
+    ax = fig.subplots()
+    ax.loglog([2.0, 8.0], [2.0, 8.0])
+    ax.set_xlim(2.0, 8.0)
+    formatter = ax.xaxis.get_major_formatter()
+    plain_log_ticks(ax)
+    assert ax.xaxis.get_major_formatter() is formatter
+
+
+def test_crank_angle_ticks():
+    fig = Figure()
+    ax = fig.subplots()
+    ax.plot([0.0, 360.0], [0.0, 1.0])
+    ax.set_xlim(0.0, 360.0)
+    crank_angle_ticks(ax)
+    ticks = [t for t in ax.get_xticks() if 0.0 <= t <= 360.0]
+    assert ticks == [0.0, 90.0, 180.0, 270.0, 360.0]
+    ax.set_xlim(0.0, 7200.0)  # 20 revolutions
+    assert len([t for t in ax.get_xticks() if 0.0 <= t <= 7200.0]) <= 6
+    assert len([t for t in ax.get_yticks() if 0.0 <= t <= 1.0]) <= 5

@@ -1,0 +1,100 @@
+"""The early figure process of ``apexseal simulate``: the same files as drawn in one process, none lost when the
+worker dies, nothing left behind when the run ends without figures."""
+
+from __future__ import annotations
+
+import os
+import signal
+
+import pytest
+
+import apexseal
+from apexseal.runtime.results import figure_job
+from apexseal.runtime.results.figure_worker import FigureWorker
+from apexseal.runtime.results.figures import FILES, figure_files, ports_of, write_figures
+
+
+@pytest.fixture(scope="module")
+def result(default_scene, default_functions):
+    return apexseal.simulate(default_scene, samples_per_revolution=360, flags="quick", rtol=1e-8,
+                             functions=default_functions.sx)
+
+
+def _worker() -> FigureWorker:
+    worker = FigureWorker.start()  # checked when the test runs: earlier tests may have left threads running
+    if worker is None:
+        pytest.skip("forking is not safe here (not Linux, or other threads running)")
+    return worker
+
+
+def _gone(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    return False
+
+
+def test_the_worker_draws_the_same_files(result, default_scene, tmp_path):
+    ports = ports_of(default_scene)
+    alone = write_figures(result, tmp_path / "one", ports, fork=False)
+    worker = _worker()
+    pid = worker.pid
+    drawn = worker.submit(result, tmp_path / "two", ports).finish()
+    assert [p.name for p in alone] == [p.name for p in drawn] == list(figure_files(result))
+    for a, b in zip(alone, drawn, strict=True):
+        assert a.read_bytes() == b.read_bytes(), a.name
+    assert _gone(pid) and not worker.path.exists()
+
+
+def test_a_killed_worker_costs_no_figure(result, default_scene, tmp_path):
+    worker = _worker()
+    os.kill(worker.pid, signal.SIGKILL)
+    paths = worker.submit(result, tmp_path, ports_of(default_scene)).finish()  # drawn here instead
+    assert [p.name for p in paths] == list(figure_files(result))
+    assert all(p.is_file() and p.stat().st_size > 0 for p in paths)
+
+
+def test_a_run_without_figures_stops_the_worker(tmp_path):
+    with FigureWorker.started() as worker:
+        if worker is None:
+            pytest.skip("forking is not safe here")
+        pid, path = worker.pid, worker.path
+        assert path.exists()
+    assert _gone(pid) and not path.exists()
+
+
+def test_the_worker_ends_when_the_pipe_closes():
+    """What happens when the run's process dies: the worker reads the end of the pipe and exits by itself."""
+    worker = _worker()
+    pid, path = worker.pid, worker.path
+    worker._close()  # as the death of this process would
+    _, status = os.waitpid(pid, 0)
+    assert os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0
+    assert not path.exists()
+    worker.pid = None
+
+
+def test_the_cli_draws_through_the_worker(tmp_path, monkeypatch):
+    """``apexseal simulate`` hands its result to a worker and writes the four figures."""
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+    from apexseal.runtime.results import figure_worker
+
+    if not figure_job.can_fork():
+        pytest.skip("forking is not safe here")
+    submitted = []
+    submit = figure_worker.FigureWorker.submit
+
+    def spy(self, *args, **kw):
+        submitted.append(self.pid)
+        return submit(self, *args, **kw)
+
+    monkeypatch.setattr(figure_worker.FigureWorker, "submit", spy)
+    out = tmp_path / "run"
+    res = CliRunner().invoke(main, ["simulate", "--out", str(out), "-q", "--revolutions", "1"])
+    assert res.exit_code == 0, res.output
+    assert len(submitted) == 1
+    for name in FILES:
+        assert (out / name).stat().st_size > 0, name
