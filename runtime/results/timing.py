@@ -1,5 +1,10 @@
 """How long a default run's figures take against its simulation: ``python -m apexseal.runtime.results.timing``.
 
+``python -m apexseal.runtime.results.timing 7 --cli`` times whole ``apexseal simulate --timings`` runs of the
+default scene instead (each in a new process, as a user runs it: the figure worker of :mod:`.figure_worker`
+imports matplotlib while the run integrates) and prints the medians of the figures stage against the stages
+that simulate (scene, load, compile, integrate, assemble) and against the integration alone.
+
 Runs the default scene once to warm the caches (derivation, compiled libraries), then ``repeats`` times:
 ``apexseal.simulate(scene)`` (wall time of the call: integrator set-up from the cache plus integration; and
 the integration alone, ``result.info["wall_time_s"]``) and :func:`.figures.write_figures` (draw and save the four
@@ -13,18 +18,20 @@ import statistics
 import sys
 import tempfile
 import time
+from pathlib import Path
 
 
 def measure(repeats: int = 5) -> dict:
     import apexseal
 
-    from .figures import ports_of, write_figures
+    from .figures import figure_files, ports_of, write_figure, write_figures
 
     scene = apexseal.load_scene()
     result = apexseal.simulate(scene)  # warm-up: derivation and compilation come from the caches afterwards
     with tempfile.TemporaryDirectory() as tmp:
         write_figures(result, tmp, ports_of(scene))
         call, integration, figures, alone = [], [], [], []
+        each: dict[str, list[float]] = {name: [] for name in figure_files(result)}
         for _ in range(repeats):
             t0 = time.perf_counter()
             result = apexseal.simulate(scene)
@@ -36,21 +43,58 @@ def measure(repeats: int = 5) -> dict:
             t0 = time.perf_counter()
             write_figures(result, tmp, ports_of(scene), fork=False)
             alone.append(time.perf_counter() - t0)
+            for name, kind in figure_files(result).items():
+                t0 = time.perf_counter()
+                write_figure(result, Path(tmp), name, kind, ports_of(scene))
+                each[name].append(time.perf_counter() - t0)
     med = {k: statistics.median(v) for k, v in (("simulate_call_s", call), ("integration_s", integration),
                                                   ("figures_s", figures), ("figures_one_process_s", alone))}
     med["figures_over_simulate_call"] = med["figures_s"] / med["simulate_call_s"]
     med["figures_over_integration"] = med["figures_s"] / med["integration_s"]
     med["repeats"] = repeats
+    med["each_s"] = {name: statistics.median(v) for name, v in each.items()}
+    return med
+
+
+#: the stages of ``apexseal simulate --timings`` that make the result
+SIMULATION_STAGES = ("scene", "load", "compile", "integrate", "assemble")
+
+
+def measure_cli(repeats: int = 7) -> dict:
+    """Medians of ``repeats`` whole ``apexseal simulate --timings -q`` runs (after one to warm the caches)."""
+    import json
+    import subprocess
+
+    stages = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for k in range(repeats + 1):
+            cmd = [sys.executable, "-c", "from apexseal.cli import main; main()", "simulate", "--out", f"{tmp}/run{k}"]
+            run = subprocess.run([*cmd, "-q", "--timings"], capture_output=True, text=True, check=True)
+            line = next(x for x in run.stdout.splitlines() if x.startswith("timings-json "))
+            if k:
+                stages.append(json.loads(line.split(" ", 1)[1]))
+    med = {"figures_s": statistics.median(s["stages"].get("figures", 0.0) for s in stages),
+           "simulation_s": statistics.median(sum(s["stages"].get(k, 0.0) for k in SIMULATION_STAGES) for s in stages),
+           "integrate_s": statistics.median(s["stages"]["integrate"] for s in stages),
+           "total_s": statistics.median(s["total_s"] for s in stages), "repeats": repeats}
+    med["figures_over_simulation"] = med["figures_s"] / med["simulation_s"]
     return med
 
 
 def main() -> None:
     repeats = int(sys.argv[1]) if len(sys.argv) > 1 else 5
+    if "--cli" in sys.argv[2:]:
+        m = measure_cli(repeats)
+        print(f"apexseal simulate (default scene), medians of {repeats} runs: figures {m['figures_s']:.2f} s, "
+              f"simulation (scene, load, compile, integrate, assemble) {m['simulation_s']:.2f} s, ratio "
+              f"{m['figures_over_simulation']:.2f}; integration {m['integrate_s']:.2f} s; whole run {m['total_s']:.2f} s")
+        return
     m = measure(repeats)
     print(f"default scene, medians of {repeats} runs: simulate() {m['simulate_call_s']:.2f} s (integration "
           f"{m['integration_s']:.2f} s); four figures {m['figures_s']:.2f} s = {m['figures_over_simulate_call']:.2f} x "
           f"the simulate() call, {m['figures_over_integration']:.1f} x the integration (in one process: "
           f"{m['figures_one_process_s']:.2f} s)")
+    print("each figure: " + ", ".join(f"{name} {t:.3f} s" for name, t in m["each_s"].items()))
 
 
 if __name__ == "__main__":
