@@ -251,12 +251,13 @@ def build_functions(model, *, sympy_cse: bool = False) -> ModelFunctions:
 
 
 def with_hybrid(fns: ModelFunctions) -> ModelFunctions:
-    """Set ``fns.hybrid_ode`` and ``fns.hybrid_zero`` from its rhs and guards (SX; a few ms, no sympy)."""
-    from ..runtime.solving.hybrid import hybrid_functions
+    """Set ``fns.hybrid_ode`` and ``fns.hybrid_zero`` from its rhs and guards (SX; a few ms, no sympy), with the
+    controls of either pressure profile (``LIBRARY_PROFILE``, runtime/solving/hybrid.py)."""
+    from ..runtime.solving.hybrid import LIBRARY_PROFILE, hybrid_functions
 
     names = list(fns.parameter_names)
     fns.hybrid_ode, fns.hybrid_zero = hybrid_functions(fns.rhs, fns.guards, len(names), names.index("omega"),
-                                                       state_names=fns.state_names)
+                                                       state_names=fns.state_names, pressure=LIBRARY_PROFILE)
     return fns
 
 

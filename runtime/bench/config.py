@@ -124,7 +124,7 @@ class BenchConfig:
     e2e_revolutions: int = 0
     e2e_repeats: int = 2
     #: the chamber pressures over an output interval: "steps" (interval means, every method) or "linear"
-    #: (continuous; the event methods and the numba peer only, others are skipped with a note)
+    #: (continuous; apexseal's engines and the numba peer; the lambdify baselines are skipped with a note)
     pressure: str = "steps"
     #: the gas states' cost: revolutions of each timed run (runtime/bench/gas_cost.py); 0 = not measured
     gas_revolutions: int = 0

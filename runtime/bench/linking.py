@@ -35,7 +35,8 @@ def _integrator(sx, problem, *, flags: str, library=None):
     names = tuple(sx.parameter_names)
     return EventIntegrator(sx.rhs, sx.guards, len(names), names.index("omega"), method="erk", rtol=1e-6, atol=1e-6,
                            n_samples=problem.samples, span=problem.span, compile_c=False, flags=flags,
-                           model_hash=sx.model_hash, state_names=sx.state_names, library=library)
+                           model_hash=sx.model_hash, state_names=sx.state_names, library=library,
+                           pressure=problem.pressure)
 
 
 def _compile(engine, *, flags: str, model_hash: str | None) -> float:
@@ -67,8 +68,6 @@ def integrator_before_after(problem, *, flags: str, repeats: int = 5) -> list[di
     Both are compiled and run over the problem's span, interleaved ``repeats`` times; CPU per revolution /
     rhs evaluations, medians. Rows as :func:`.rhs_cost.rhs_costs` gives them (form, seconds, what was timed).
     """
-    if problem.pressure != "steps":
-        return []  # the library's hybrid Functions take the "steps" controls: a "linear" run embeds the model
     loaded = _compiled_library(problem, flags)
     if loaded is None:
         return []  # no compiler: nothing compiled to compare
@@ -85,8 +84,10 @@ def integrator_before_after(problem, *, flags: str, repeats: int = 5) -> list[di
             e.run(*args)
             per[label].append(time.process_time() - c0)
     rows = []
+    from ..solving.hybrid import controls
+
     for label, e in engines.items():  # the statistics come from the interpreted run of the same integrator
-        e.vm(x0=args[0], p=np.r_[args[1], args[2]], u=args[3])
+        e.vm(x0=args[0], p=np.r_[args[1], args[2]], u=controls(args[3], e.grid, e.pressure, e.hybrid.dae["u"].size1()))
         evals = max(1, int(e.vm.stats().get("n_rhs") or 1))
         rows.append({"form": f"erk integrator (compiled, rtol 1e-6), rhs evaluation, {label}",
                      "s": float(np.median(per[label])) / evals, "n": f"{repeats} runs, interleaved",

@@ -90,8 +90,16 @@ def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
 
 
 def _takes_linear_pressure(spec) -> bool:
-    """Event methods (erk, erk-rk4, rosenbrock) and the numba peer take pressures linear over each interval."""
-    return spec.kind == "peer" or (spec.kind == "casadi" and spec.method in ("erk", "erk-rk4", "rosenbrock"))
+    """The numba peer and every apexseal engine that lists "linear" in its ``pressure_profiles`` (all of apexseal's
+    own) take pressures linear over each interval; the lambdify baselines hold them per interval."""
+    from ..solving.fixed_step import RK4Integrator
+    from ..solving.methods import method_of
+
+    if spec.kind == "peer":
+        return True
+    engine = {"rk4": RK4Integrator}.get(spec.kind) or (method_of(spec.method).engine_class()
+                                                       if spec.kind == "casadi" else None)
+    return engine is not None and "linear" in engine.pressure_profiles
 
 
 def _available(cfg: BenchConfig, log) -> tuple[BenchConfig, list[dict]]:
@@ -128,15 +136,10 @@ def _run_scene(ctx, s, log, *, with_rhs_cost: bool) -> dict:
     ref, ref_info = solve_reference(problem, engines.reference(MODEL, sx, *ref_tols))
     ref_info |= {"rtol": cfg.reference_rtol, "atol_scaled": cfg.reference_rtol, "event_tol": cfg.reference_event_tol}
     if cfg.check_reference:
-        if cfg.pressure == "steps":
-            fns, key = (c_model, MODEL_C) if c_model is not None else (sx, MODEL)
-            eng = engines.get(key, fns, METHODS["cvodes-C"], cfg.reference_rtol, compiled=False,
-                              event_tol=cfg.reference_event_tol)
-            how = "cvodes (BDF), apexseal event loop"
-        else:  # cvodes holds the pressures per interval: the other event method, implicit, checks instead
-            eng = engines.get(MODEL, sx, METHODS["rosenbrock-C"], cfg.reference_rtol, compiled=True,
-                              event_tol=cfg.reference_event_tol)
-            how = "rosenbrock (Rosenbrock 5(4), events on dense output), compiled C"
+        fns, key = (c_model, MODEL_C) if c_model is not None else (sx, MODEL)
+        eng = engines.get(key, fns, METHODS["cvodes-C"], cfg.reference_rtol, compiled=False,
+                          event_tol=cfg.reference_event_tol)
+        how = "cvodes (BDF), apexseal event loop"
         ref_info["check"] = check_reference(problem, ref, eng, method=how, rtol=cfg.reference_rtol,
                                             event_tol=cfg.reference_event_tol)
         d = ref_info["check"].get("difference", {})

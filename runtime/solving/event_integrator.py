@@ -22,7 +22,7 @@ import warnings
 import casadi as ca
 import numpy as np
 
-from .hybrid import build_hybrid_dae, linear_controls
+from .hybrid import build_hybrid_dae, controls
 from .methods import METHODS, Engine, RevolutionResult
 
 #: what CasADi 3.8 prints whenever an integrator with events is built; apexseal's tests cover crossings in
@@ -66,13 +66,13 @@ class EventIntegrator(Engine):
                  flags: str = "optimised", model_hash: str | None = None, state_names=None, pressure: str = "steps",
                  library=None):
         """``library``: model Functions (:class:`~apexseal.generated.functions.ModelFunctions`); when they are the
-        compiled model library's and the pressure profile is "steps" (the library's hybrid Functions take its
-        controls), the DAE calls its hybrid Functions and the compiled integrator links against it
-        (``self.link``); otherwise (or None) the DAE embeds the SX Functions built from ``rhs`` and ``guards``."""
+        compiled model library's, the DAE calls its hybrid Functions and the compiled integrator links against it
+        (``self.link``; either pressure profile: the library takes the controls of both, :func:`.hybrid.controls`);
+        otherwise (or None) the DAE embeds the SX Functions built from ``rhs`` and ``guards``."""
         plugin = METHODS[method].plugin
         # rosenbrock would need the hybrid Functions' Jacobians in the library too (without them it built its
         # Jacobian column by column: 3.2x slower), which would add 40 % to the library's instructions; it embeds
-        linked = (plugin == "erk" and pressure == "steps" and library is not None and library.hybrid_ode is not None
+        linked = (plugin == "erk" and library is not None and library.hybrid_ode is not None
                   and library.hybrid_ode.is_a("External"))
         #: the compiled model library the integrator's DAE calls (None: the DAE embeds the model's SX)
         self.link = library.library if linked else None
@@ -105,7 +105,7 @@ class EventIntegrator(Engine):
     def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:
         """Integrate from z0 at crank angle theta0; pressures is (2, n_samples), one column per output interval
         (``pressure = "steps"``), or (2, n_samples + 1), the values at the intervals' ends ("linear")."""
-        u = pressures if self.pressure == "steps" else linear_controls(pressures, self.grid)
+        u = controls(pressures, self.grid, self.pressure, self.hybrid.dae["u"].size1())
         out = self.function(x0=z0, p=np.r_[params, theta0], u=u)
         stats = {}
         try:

@@ -52,6 +52,7 @@ class FixedStepIntegrator(Engine):
     """``rule`` on ``rhs_switched`` with ``steps_per_revolution`` equal steps, one compiled call per span."""
 
     rule: StepRule = EULER
+    pressure_profiles = ("steps", "linear")
 
     @classmethod
     def build(cls, functions, settings, *, method, n_samples, span, compile_c):
@@ -59,35 +60,41 @@ class FixedStepIntegrator(Engine):
         sx = functions.sx()  # the SX set (of compiled Functions too): the fold embeds it
         return cls(sx.rhs_switched, sx.guards, len(names), names.index("omega"), n_samples=n_samples,
                    steps_per_revolution=settings.steps_per_revolution, span=span, compile_c=compile_c,
-                   flags=settings.flags, model_hash=sx.model_hash, state_names=functions.state_names)
+                   flags=settings.flags, model_hash=sx.model_hash, state_names=functions.state_names,
+                   pressure=settings.pressure)
 
     def __init__(self, rhs_switched: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *,
                  n_samples: int, steps_per_revolution: int, span: float = 2 * np.pi, compile_c: bool = True,
-                 flags: str = "optimised", model_hash: str | None = None, state_names=None):
+                 flags: str = "optimised", model_hash: str | None = None, state_names=None, pressure: str = "steps"):
+        self.pressure = pressure
         self.layout = layout = HybridLayout.sized(rhs_switched.size1_in(1), guards.size1_out(0))
         n_x = layout.n_x
         self.n_samples = n_samples
         self.sub = sub = fixed_steps(steps_per_revolution, span / n_samples)  # steps per sample
         self.h = h = span / (n_samples * sub)
-        # accumulated: [theta, z (n_x)]; per interval: [params, Pa, Pb]
+        # accumulated: [theta, z (n_x)]; per interval: [params, [Pa, Pb] at its start theta_k, their slopes d/dtheta
+        # (zero for the "steps" profile: P + 0 is P exactly), theta_k]
+        n_u = rhs_switched.size1_in(3)
+        n_q = n_par + 2 * n_u + 1
         acc = ca.SX.sym("acc", 1 + n_x)
-        q = ca.SX.sym("q", n_par + 2)
-        par, u = q[:n_par], q[n_par:]
+        q = ca.SX.sym("q", n_q)
+        par, u0, du, theta_k = q[:n_par], q[n_par:n_par + n_u], q[n_par + n_u:-1], q[-1]
         omega = par[omega_index]
         sc = state_scale(omega, state_names)
 
         def f(theta, z):
-            return scaled_rhs(rhs_switched(theta, z * sc, par, u), omega, state_names)
+            return scaled_rhs(rhs_switched(theta, z * sc, par, u0 + du * (theta - theta_k)), omega, state_names)
 
         theta, z = acc[0], acc[1:]
         step = ca.Function(f"{self.rule.name}_step", [acc, q], [ca.vertcat(theta + h, self.rule.advance(f, theta, z, h))])
         interval = step.fold(sub)  # q repeated for each step of the interval
-        ai, qi = ca.MX.sym("ai", 1 + n_x), ca.MX.sym("qi", n_par + 2)
+        ai, qi = ca.MX.sym("ai", 1 + n_x), ca.MX.sym("qi", n_q)
         one = ca.Function("one_interval", [ai, qi], [interval(ai, ca.repmat(qi, 1, sub))])
-        a0, Q = ca.MX.sym("a0", 1 + n_x), ca.MX.sym("Q", n_par + 2, n_samples)
+        a0, Q = ca.MX.sym("a0", 1 + n_x), ca.MX.sym("Q", n_q, n_samples)
         A = one.mapaccum(n_samples)(a0, Q)
+        u_end = Q[n_par:n_par + n_u, :] + Q[n_par + n_u:-1, :] * ca.repmat(A[0, :] - Q[-1, :], n_u, 1)
         g = guards.map(n_samples)(A[0, :], A[1:, :] * ca.repmat(state_scale(Q[omega_index, 0], state_names), 1, n_samples),
-                                  Q[:n_par, 0], Q[n_par:, :]) / LENGTH
+                                  Q[:n_par, 0], u_end) / LENGTH
         self.vm = self.function = ca.Function(f"apexseal_{self.rule.name}", [a0, Q], [A, g])
         self.compiled = False
         if compile_c:
@@ -100,7 +107,10 @@ class FixedStepIntegrator(Engine):
 
     def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:
         lay = self.layout
-        Q = np.vstack([np.repeat(params[:, None], self.n_samples, axis=1), pressures])
+        n, dth = self.n_samples, self.h * self.sub
+        P = np.asarray(pressures, float)
+        slope = np.zeros((P.shape[0], n)) if self.pressure == "steps" else np.diff(P, axis=1) / dth
+        Q = np.vstack([np.repeat(params[:, None], n, axis=1), P[:, :n], slope, theta0 + dth * np.arange(n)])
         A, g = self.function(np.r_[theta0, z0[lay.x]], Q)
         A, g = np.array(A), np.array(g)
         closed = (g < 0).astype(float)

@@ -63,6 +63,21 @@ def linear_controls(edge_values: np.ndarray, grid: np.ndarray) -> np.ndarray:
     return np.vstack([P[:, :-1] - slope * tau[:-1], slope])
 
 
+#: the controls the model library's hybrid Functions take (generated/functions.py ``with_hybrid``): the "linear"
+#: form, so that one library serves both profiles ("steps" is the line of zero slope: P + 0 tau is P exactly)
+LIBRARY_PROFILE = "linear"
+
+
+def controls(pressures: np.ndarray, grid: np.ndarray, profile: str, rows: int) -> np.ndarray:
+    """The controls u of an integrator call whose DAE takes ``rows`` of them, from the engine's ``pressures``:
+    (2, n) interval means for ``profile = "steps"`` (with 4 rows: zero slopes below them), (2, n + 1) values at
+    the edges of the n intervals of ``grid`` for "linear" (:func:`linear_controls`)."""
+    if profile == "linear":
+        return linear_controls(pressures, grid)
+    P = np.asarray(pressures, float)
+    return P if rows == P.shape[0] else np.vstack([P, np.zeros_like(P)])
+
+
 #: after an event CasADi's erk and rosenbrock ignore crossings for 10 event_tol (measured); the margin covers it
 BLIND_WINDOW = 20
 #: names of the hybrid DAE's two Functions in the model library (generated/functions.py)
@@ -110,17 +125,14 @@ def build_hybrid_dae(rhs: ca.Function, guards: ca.Function, n_par: int, omega_in
 
     Without ``library`` the DAE is SX: the hybrid Functions built from ``rhs`` and ``guards`` are expanded
     into it, and generating the integrator's C embeds the model. With ``library`` (the pair ``(hybrid_ode,
-    hybrid_zero)`` as ``casadi.external`` of the compiled model library, generated for the "steps" profile) the
-    DAE is MX and calls them, so the integrator's C declares the library's symbols ``extern`` and links against
-    it (docs/codegen.md).
+    hybrid_zero)`` as ``casadi.external`` of the compiled model library, which take the :data:`LIBRARY_PROFILE`
+    controls whatever ``pressure`` is: :func:`controls`) the DAE is MX and calls them, so the integrator's C
+    declares the library's symbols ``extern`` and links against it (docs/codegen.md).
     """
     if pressure not in PRESSURE_PROFILES:
         raise ValueError(f"pressure = {pressure!r}: expected one of {', '.join(PRESSURE_PROFILES)}")
     lay = HybridLayout.of_functions(rhs, guards)
     n_g = lay.n_g
-    if library is not None and pressure != "steps":
-        raise ValueError(f"pressure = {pressure!r}: the model library's hybrid Functions take the 'steps' "
-                         "controls; embed the model (library=None) for another profile")
     ode_fn, zero_fn = library or hybrid_functions(rhs, guards, n_par, omega_index, state_names=state_names,
                                                   pressure=pressure)
     sym = ca.MX if library else ca.SX

@@ -154,8 +154,9 @@ class RunSettings(BaseModel):
         except ValidationError as exc:
             raise settings_error(exc) from None
         if self.pressure != "steps" and self.pressure not in _profiles_of(self.method):  # imports the engine
-            raise SettingsError([("pressure", self.pressure, f"needs an event method (erk, erk-rk4, rosenbrock); "
-                                  f"method {self.method!r} holds the pressures per interval: use pressure = 'steps'")])
+            allowed = ", ".join(_profiles_of(self.method))
+            raise SettingsError([("pressure", self.pressure, f"method {self.method!r} integrates the pressure "
+                                  f"profiles {allowed} (its engine's pressure_profiles)")])
 
     def replace(self, **changes: Any) -> RunSettings:
         """A copy with ``changes`` (validated like the original; ``None`` values are ignored)."""

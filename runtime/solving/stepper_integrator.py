@@ -39,6 +39,8 @@ _NOISE = 1e-9
 class StepperIntegrator(Engine):
     """One integrator call per output interval with the mode fixed; switches located by apexseal (see above)."""
 
+    pressure_profiles = ("steps", "linear")
+
     @classmethod
     def build(cls, functions, settings, *, method, n_samples, span, compile_c):
         names = tuple(functions.parameter_names)
@@ -46,13 +48,14 @@ class StepperIntegrator(Engine):
                    rtol=settings.rtol, atol=settings.atol, n_samples=n_samples, span=span,
                    steps_per_revolution=settings.steps_per_revolution, event_tol=settings.event_tol,
                    max_events=settings.max_events_per_revolution, max_steps=settings.max_steps_per_interval,
-                   state_names=functions.state_names)
+                   state_names=functions.state_names, pressure=settings.pressure)
 
     def __init__(self, rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *, method: str,
                  rtol: float, atol: float | None, n_samples: int, span: float = 2 * np.pi, steps_per_revolution: int = 20000,
                  event_tol: float = 1e-9, max_events: int = 10000, max_steps: int = 200000,
-                 check_step: float = np.radians(0.05), state_names=None):
+                 check_step: float = np.radians(0.05), state_names=None, pressure: str = "steps"):
         plugin = METHODS[method].plugin
+        self.pressure = pressure
         self.layout = layout = HybridLayout.of_functions(rhs, guards)
         n_x, n_g = layout.n_x, layout.n_g
         self.n_samples = n_samples
@@ -62,13 +65,16 @@ class StepperIntegrator(Engine):
         # MX, so that compiled (external) right-hand sides can be used as well as SX ones
         z = ca.MX.sym("z", n_x)
         sigma = ca.MX.sym("sigma")
-        P = ca.MX.sym("P", n_par + n_g + 4)  # params, activations, theta0, H, Pa, Pb
+        n_u = rhs.size1_in(4)
+        # params, activations, theta0, H, the pressures [Pa, Pb] at theta0 and their slopes d/dtheta (zero for
+        # the "steps" profile: P + 0 is P exactly)
+        P = ca.MX.sym("P", n_par + n_g + 2 + 2 * n_u)
         par, act = P[:n_par], P[n_par:n_par + n_g]
-        theta0, H, u = P[n_par + n_g], P[n_par + n_g + 1], P[n_par + n_g + 2:]
+        theta0, H, u0, du = P[n_par + n_g], P[n_par + n_g + 1], P[n_par + n_g + 2:-n_u], P[-n_u:]
         omega = par[omega_index]
         theta = theta0 + sigma * H
         X = z * state_scale(omega, state_names)
-        ode = H * scaled_rhs(rhs(theta, X, act, par, u), omega, state_names)
+        ode = H * scaled_rhs(rhs(theta, X, act, par, u0 + du * (sigma * H)), omega, state_names)
         dae = {"x": z, "t": sigma, "p": P, "ode": ode}
         opts: dict = {}
         self.elements = None  # fixed-step methods: finite elements per output interval
@@ -93,13 +99,15 @@ class StepperIntegrator(Engine):
         zs = ca.MX.sym("z", n_x)
         Pm = ca.MX.sym("P", P.size1())
         Z = F(x0=zs, p=Pm)["xf"]  # n_x x m, at the sub-grid
-        theta_sub = Pm[n_par + n_g] + Pm[n_par + n_g + 1] * ca.DM(self.sub).T
+        h_sub = Pm[n_par + n_g + 1] * ca.DM(self.sub).T
+        theta_sub = Pm[n_par + n_g] + h_sub
         Xs = Z * ca.repmat(state_scale(Pm[omega_index], state_names), 1, m)
-        g = guards.map(m)(theta_sub, Xs, Pm[:n_par], Pm[n_par + n_g + 2:]) / LENGTH
+        u_sub = ca.repmat(Pm[n_par + n_g + 2:-n_u], 1, m) + Pm[-n_u:] @ h_sub
+        g = guards.map(m)(theta_sub, Xs, Pm[:n_par], u_sub) / LENGTH
         e = ca.repmat(1 - 2 * Pm[n_par:n_par + n_g], 1, m) * g
         self.step = ca.Function("step", [zs, Pm], [Z, e])
         X0 = zs * state_scale(Pm[omega_index], state_names)
-        g0 = guards(Pm[n_par + n_g], X0, Pm[:n_par], Pm[n_par + n_g + 2:]) / LENGTH
+        g0 = guards(Pm[n_par + n_g], X0, Pm[:n_par], Pm[n_par + n_g + 2:-n_u]) / LENGTH
         self.zero = ca.Function("zero", [zs, Pm], [(1 - 2 * Pm[n_par:n_par + n_g]) * g0])
         self.integrator = F
         self.n_par = n_par
@@ -107,19 +115,25 @@ class StepperIntegrator(Engine):
         self.deadline = math.inf  # time.perf_counter() value past which a call stops (set by the caller)
         self._done = layout.empty()
 
-    def _advance_all(self, z, params, act, theta0, H, u):
-        """States and zero functions at the sub-grid points of [theta0, theta0 + H]."""
+    @staticmethod
+    def _controls(line, theta0):
+        """[pressures at theta0, their slopes] on the interval's line ``(theta_k, P_k, slope_k)``."""
+        t_k, P_k, slope = line
+        return np.r_[P_k + slope * (theta0 - t_k), slope]
+
+    def _advance_all(self, z, params, act, theta0, H, line):
+        """States and zero functions at the sub-grid points of [theta0, theta0 + H] (pressures on ``line``)."""
         if time.perf_counter() > self.deadline:
             raise WallTimeExceeded(self._done)
         self.stats["n_calls"] += 1
-        Z, e = self.step(z, np.r_[params, act, theta0, H, u])
+        Z, e = self.step(z, np.r_[params, act, theta0, H, self._controls(line, theta0)])
         return np.array(Z), np.array(e)
 
-    def _advance(self, z, params, act, theta0, H, u):
-        Z, e = self._advance_all(z, params, act, theta0, H, u)
+    def _advance(self, z, params, act, theta0, H, line):
+        Z, e = self._advance_all(z, params, act, theta0, H, line)
         return Z[:, -1], e[:, -1]
 
-    def _locate(self, z, params, act, theta0, H, u, i, e0, e1) -> float:
+    def _locate(self, z, params, act, theta0, H, line, i, e0, e1) -> float:
         """Illinois method on h in (0, H] for the crossing of zero function i (e0 > 0 >= e1)."""
         a, b, fa, fb = 0.0, H, e0, e1
         side = 0
@@ -127,7 +141,7 @@ class StepperIntegrator(Engine):
             c = (a * fb - b * fa) / (fb - fa) if fb != fa else 0.5 * (a + b)
             if not a < c < b:
                 c = 0.5 * (a + b)
-            _, ec = self._advance(z, params, act, theta0, c, u)
+            _, ec = self._advance(z, params, act, theta0, c, line)
             fc = ec[i]
             if fc > 0:
                 a, fa = c, fc
@@ -140,6 +154,15 @@ class StepperIntegrator(Engine):
                     fa *= 0.5
                 side = 1
         return b
+
+    def _line(self, pressures: np.ndarray, k: int, t_k: float):
+        """Interval k's pressures as a line ``(theta_k, P at theta_k, slope)``: the interval's mean and zero slope
+        (``pressure = "steps"``, ``pressures`` (2, n_samples)), or through the values at its ends ("linear",
+        (2, n_samples + 1))."""
+        if self.pressure == "steps":
+            P = pressures[:, k]
+            return t_k, P, np.zeros_like(P)
+        return t_k, pressures[:, k], (pressures[:, k + 1] - pressures[:, k]) / self.dtheta
 
     def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray):
         """See :class:`~.methods.Engine`: hybrid states (:mod:`.layout`) at each sample."""
@@ -154,10 +177,10 @@ class StepperIntegrator(Engine):
         for k in range(self.n_samples):
             t = theta0 + k * self.dtheta
             left = self.dtheta
-            u = pressures[:, k]
-            e_start = np.array(self.zero(z, np.r_[params, act, t, 0.0, u])).ravel()
+            line = self._line(pressures, k, t)
+            e_start = np.array(self.zero(z, np.r_[params, act, t, 0.0, self._controls(line, t)])).ravel()
             while True:
-                Z, E = self._advance_all(z, params, act, t, left, u)
+                Z, E = self._advance_all(z, params, act, t, left, line)
                 below = E < -_NOISE  # a zero function below 0: the mode no longer fits the gap
                 cols = np.nonzero(below.any(axis=0))[0]
                 if cols.size == 0:
@@ -167,16 +190,16 @@ class StepperIntegrator(Engine):
                 h_lo = 0.0 if j == 0 else self.sub[j - 1] * left
                 z_lo, e_lo = (z, e_start) if j == 0 else (Z[:, j - 1], E[:, j - 1])
                 fired = np.nonzero(below[:, j])[0]
-                hits = {i: h_lo + self._locate(z_lo, params, act, t + h_lo, self.sub[j] * left - h_lo, u, i,
+                hits = {i: h_lo + self._locate(z_lo, params, act, t + h_lo, self.sub[j] * left - h_lo, line, i,
                                                max(e_lo[i], 0.0), E[i, j]) for i in fired}
                 i = min(hits, key=hits.get)
                 h = hits[i]
-                z_new, e_new = self._advance(z, params, act, t, h, u)
+                z_new, e_new = self._advance(z, params, act, t, h, line)
                 nudge = self.event_tol
                 while e_new[i] > 0 and h + nudge < left:  # land just past the crossing, never before it
                     h += nudge
                     nudge *= 2
-                    z_new, e_new = self._advance(z, params, act, t, h, u)
+                    z_new, e_new = self._advance(z, params, act, t, h, line)
                 z, e_start = z_new, e_new
                 act[i] = 1 - act[i]
                 counts[i] += 1
