@@ -419,7 +419,7 @@ class _ShootingNlp:
         nz = Z0.shape[0]
         self.nz = nz
         per = g.per_node
-        U = setup.pressures(g.edges())
+        U = setup.controls(g.edges(), g.m)  # (4, n): each segment's call from its start
         omega = float(setup.pmap.p0[PARAMETER_NAMES.index("omega")])
         sc = state_scale(omega)
         nd = 6 + knots + (6 + knots) % CHUNK
@@ -436,7 +436,7 @@ class _ShootingNlp:
         for k in range(nodes):
             p_k = Q[:setup.pmap.p0.size, node_seg[k]]
             X_k = Z[:, k] * ca.DM(sc)
-            act.append(setup.functions.guards(g.psi[node_seg[k]], X_k, p_k, ca.DM(U[:, node_seg[k] * g.m])) < 0)
+            act.append(setup.functions.guards(g.psi[node_seg[k]], X_k, p_k, ca.DM(U[:2, node_seg[k] * g.m])) < 0)
         x0 = ca.vertcat(Z, ca.horzcat(*act), ca.MX.zeros(ng, nodes))
         nq = Q.size1()
         Un = ca.DM(U)  # node k takes the columns of its segments, in order

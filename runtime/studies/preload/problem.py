@@ -40,6 +40,7 @@ import casadi as ca
 import numpy as np
 
 from ....derive.symbols import PARAMETER_NAMES
+from ...solving.hybrid import controls as engine_controls
 from ...solving.preflight import initial_activations
 from ...solving.scaling import LENGTH, to_scaled
 
@@ -169,10 +170,36 @@ class PreloadSetup:
     def n_guards(self) -> int:
         return self.functions.guards.size1_out(0)
 
-    def pressures(self, edges: np.ndarray) -> np.ndarray:
+    @property
+    def profile(self) -> str:
+        """The scene's pressure profile (``solver.pressure``): "steps" or "linear"."""
+        return self.scene.solver.pressure
+
+    def engine_pressures(self, edges: np.ndarray) -> np.ndarray:
+        """The chamber pressures as the simulator's engines take them over the intervals between ``edges``:
+        (2, n) interval means ("steps") or (2, n + 1) values at the edges ("linear"); zeros without them."""
+        linear = self.profile == "linear"
         if not self.scene.effects.chamber_pressure:
-            return np.zeros((2, edges.size - 1))
-        return np.asarray(self.scene.pressure.interval_means(edges), float)
+            return np.zeros((2, edges.size - 1 + linear))
+        return np.asarray(self.scene.pressure(edges) if linear else self.scene.pressure.interval_means(edges), float)
+
+    def pressures(self, edges: np.ndarray) -> np.ndarray:
+        """The chamber pressures at the samples ``edges[1:]`` as the run's outputs see them: the mean of the
+        interval a sample ends ("steps") or the value at it ("linear"); (2, n)."""
+        P = self.engine_pressures(edges)
+        return P if self.profile == "steps" else P[:, 1:]
+
+    def controls(self, edges: np.ndarray, per_call: int) -> np.ndarray:
+        """The study integrators' controls over the n intervals between ``edges``, for calls of ``per_call``
+        intervals from ``edges[0]``: (4, n), the pressures at each call's tau = 0 along the interval's line and
+        their slopes (zero for "steps"; runtime/solving/hybrid.py). Column j's first two rows at the first
+        interval of a call are the pressures at the call's start."""
+        P = self.engine_pressures(edges)
+        if self.profile == "steps":
+            return np.vstack([P, np.zeros_like(P)])
+        slope = np.diff(P, axis=1) / self.dth
+        tau0 = (np.arange(P.shape[1] - 1) % per_call) * self.dth
+        return np.vstack([P[:, :-1] - slope * tau0, slope])
 
     def settings(self):
         from ...api import settings_of
@@ -206,7 +233,7 @@ class PreloadSetup:
         op = self.scene.operation
         X = np.array([getattr(op.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float)
         p = self.pmap(delta_s)
-        u0 = self.pressures(self.theta_start + np.array([0.0, self.dth]))[:, 0]
+        u0 = self.engine_pressures(self.theta_start + np.array([0.0, self.dth]))[:, 0]  # the run's start
         act = initial_activations(self.functions, self.theta_start, X, p, u0)
         return np.r_[to_scaled(X, float(p[PARAMETER_NAMES.index("omega")])), act, np.zeros(self.n_guards)]
 
@@ -222,9 +249,11 @@ class PreloadSetup:
         for rev in range(self.revolutions):
             edges = self.theta_start + rev * 2 * np.pi + self.dth * np.arange(N + 1)
             U = self.pressures(edges)
+            engine = self.engine()
+            u = engine_controls(self.engine_pressures(edges), engine.grid, self.profile, engine.hybrid.dae["u"].size1())
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                out = F(x0=z, p=np.r_[P, np.full((1, n), edges[0])], u=np.tile(U, (1, n)))
+                out = F(x0=z, p=np.r_[P, np.full((1, n), edges[0])], u=np.tile(u, (1, n)))
             Z = np.array(out["xf"]).reshape(z.shape[0], n, N)  # column i N + j: preload i, sample j
             z0 = z
             z = Z[:, :, -1].copy()
@@ -285,10 +314,6 @@ def check_request(scene, min_force, samples, revolutions, max_groove_force=None)
         problems.append(f"samples = {samples!r}: must be an integer in 36..100000 (samples per revolution)")
     if not (isinstance(revolutions, int) and 2 <= revolutions <= 50):
         problems.append(f"revolutions = {revolutions!r}: must be an integer in 2..50")
-    profile = getattr(scene.solver, "pressure", "steps")
-    if profile != "steps":
-        problems.append(f"solver.pressure = {profile!r}: the preload study integrates the 'steps' profile (pressures "
-                        "held at their mean over each output interval); set solver.pressure = \"steps\"")
     eff = scene.effects
     if not (eff.spring and eff.housing_contact):
         problems.append("effects: the preload study needs both 'spring' and 'housing_contact' on (the spring presses "

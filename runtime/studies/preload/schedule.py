@@ -101,7 +101,7 @@ class SegmentGrid:
 def chain_function(sf, grid: SegmentGrid, n_z: int, *, derivatives: bool, nd: int = 0) -> ca.Function:
     """One shooting interval (``grid.per_node`` segments chained) as a Function, to be mapped over the nodes.
 
-    Inputs: z0 (n_z), Q (n_q x per_node), U (2 x m per_node) and, with ``derivatives``, the seeds of z0
+    Inputs: z0 (n_z), Q (n_q x per_node), U (the controls, 4 x m per_node: PreloadSetup.controls) and, with ``derivatives``, the seeds of z0
     (n_z x nd) and of Q (n_q x per_node nd). Outputs: the end state, the two quadratures summed, and the
     samples (n_z x m per_node) or, with ``derivatives``, their forward derivatives in the nd directions.
     """
@@ -109,7 +109,8 @@ def chain_function(sf, grid: SegmentGrid, n_z: int, *, derivatives: bool, nd: in
 
     k, m = grid.per_node, grid.m
     nq = sf.interval.size1_in(sf.interval.index_in("p"))
-    z0, Q, U = ca.MX.sym("z0", n_z), ca.MX.sym("Q", nq, k), ca.MX.sym("U", 2, m * k)
+    n_u = sf.interval.size1_in(sf.interval.index_in("u"))
+    z0, Q, U = ca.MX.sym("z0", n_z), ca.MX.sym("Q", nq, k), ca.MX.sym("U", n_u, m * k)
     ins = [z0, Q, U]
     x, qs, samples = z0, ca.MX.zeros(sf.n_quad), []
     if derivatives:
@@ -123,7 +124,7 @@ def chain_function(sf, grid: SegmentGrid, n_z: int, *, derivatives: bool, nd: in
             cols_x, cols_q = [], []
             for c in range(0, nd, CHUNK):
                 f = sf.forward(x0=x, p=Q[:, j], u=Uj, fwd_x0=dx[:, c:c + CHUNK],
-                               fwd_p=dQ[:, j * nd + c:j * nd + c + CHUNK], fwd_u=ca.MX.zeros(2, m * CHUNK))
+                               fwd_p=dQ[:, j * nd + c:j * nd + c + CHUNK], fwd_u=ca.MX.zeros(n_u, m * CHUNK))
                 ends = [i * m + m - 1 for i in range(CHUNK)]
                 cols_x.append(f["fwd_xf"][:, ends])
                 cols_q.append(f["fwd_qf"][:, ends])
@@ -147,7 +148,7 @@ class Resimulation:
     friction_power: float  # W, cycle mean (quadrature)
     change: float  # change of the scaled state over the last revolution
     measure: np.ndarray  # (samples,) tip contact measure at the samples (N)
-    pressures: np.ndarray  # (2, samples)
+    pressures: np.ndarray  # (2, samples), at the samples
     delta_s: np.ndarray  # (samples,) m, the preload at each sample
     groove_excess: float = 0.0  # N^2 rad, the groove-force excess quadrature (a study with a groove-force bound)
     groove_peak: float | None = None  # N, the largest seal-groove contact force at the samples (idem)
@@ -163,13 +164,14 @@ def simulate_schedule(setup, sf, grid: SegmentGrid, knots_m, min_force: float, e
     knots_m = np.asarray(knots_m, float)
     revolutions = revolutions or setup.revolutions
     ng = setup.n_guards
-    U = setup.pressures(grid.edges())
+    C = setup.controls(grid.edges(), grid.m)  # each segment's call from its start
+    U = setup.pressures(grid.edges())  # at the samples, as the outputs see them
     if z_start is None:
         op = setup.scene.operation
         X = np.array([getattr(op.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float)
         Q0 = grid.q_columns(setup, knots_m, min_force, exclude)
         p = Q0[:setup.pmap.p0.size, 0]
-        act = initial_activations(setup.functions, grid.theta_first, X, p, U[:, 0])
+        act = initial_activations(setup.functions, grid.theta_first, X, p, C[:2, 0])
         z_start = np.r_[to_scaled(X, float(p[_omega()])), act, np.zeros(ng)]
     z = np.asarray(z_start, float)
     m = grid.m
@@ -178,7 +180,7 @@ def simulate_schedule(setup, sf, grid: SegmentGrid, knots_m, min_force: float, e
         Q = grid.q_columns(setup, knots_m, min_force, exclude, rev)
         cols, qsum = [], np.zeros(sf.n_quad)
         for s in range(grid.segments):
-            r = sf.interval(x0=z, p=Q[:, s], u=U[:, s * m:(s + 1) * m])
+            r = sf.interval(x0=z, p=Q[:, s], u=C[:, s * m:(s + 1) * m])
             xf = np.array(r["xf"])
             cols.append(xf)
             qsum += np.array(r["qf"])[:, -1]

@@ -108,9 +108,11 @@ def study_dae(functions, dp: np.ndarray, measure_fn: ca.Function, settings, *, g
     names = tuple(functions.parameter_names)
     n_par, omega_i = len(names), names.index("omega")
     hy = build_hybrid_dae(functions.rhs, functions.guards, n_par, omega_i, event_tol=settings.event_tol,
-                          state_names=functions.state_names)
+                          state_names=functions.state_names, pressure="linear")  # both profiles: zero slopes for steps
     dae, lay = hy.dae, hy.layout
     z, tau, p, u = dae["x"], dae["t"], dae["p"], dae["u"]
+    n_u = u.size1() // 2
+    pressure = u[:n_u] + u[n_u:] * tau  # the chamber pressures along the interval's line (PreloadSetup.controls)
     L = q_layout(n_par)
     q = ca.SX.sym("q", L["size"])
     par = q[L["p"]] + ca.DM(dp) * q[L["slope"]] * tau
@@ -120,8 +122,8 @@ def study_dae(functions, dp: np.ndarray, measure_fn: ca.Function, settings, *, g
     X = z[lay.x] * state_scale(par[omega_i], functions.state_names)
     a = z[lay.active]
     out_names = tuple(functions.output_names)
-    power = functions.outputs(theta, X, a, par, u)[out_names.index("Pf_total")]
-    deficit = ca.fmax(0.0, q[L["f_min"]] - measure_fn(theta, X, a, par, u)) / F_REF
+    power = functions.outputs(theta, X, a, par, pressure)[out_names.index("Pf_total")]
+    deficit = ca.fmax(0.0, q[L["f_min"]] - measure_fn(theta, X, a, par, pressure)) / F_REF
     w = q[L["windows"]]
     outside = 1
     for i in range(MAX_WINDOWS):
@@ -129,7 +131,7 @@ def study_dae(functions, dp: np.ndarray, measure_fn: ca.Function, settings, *, g
         outside = outside * ca.if_else(_mod2pi(theta - start) <= _mod2pi(end - start), 0, 1)
     quad = [power, outside * deficit**2]
     if groove:
-        Y = functions.outputs(theta, X, a, par, u)
+        Y = functions.outputs(theta, X, a, par, pressure)
         # |F| as sqrt(Fx^2 + Fy^2 + F_EPS^2): the events' forward derivatives of the DAE pass through open contacts
         # (F = 0), where hypot's derivative is NaN and CasADi's erk stops ("Evaluation failed", measured)
         size = [ca.sqrt(Y[ix] ** 2 + Y[iy] ** 2 + F_EPS**2) for ix, iy in groove_forces(functions)]
