@@ -136,12 +136,12 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
         sink.write_scene(ran)
     functions = functions or model_functions(scene)
     op = scene.operation
-    pressure = scene.pressure.interval_means if scene.effects.chamber_pressure else None
+    pressure = scene.pressure if scene.effects.chamber_pressure else None
     clearance = side_clearance(scene.seal.Ws, scene.seal.Wg)
     result = run(functions, scene.parameter_vector(), settings, theta_start=op.start_angle,
                  state0=initial_state(scene, functions), pressure=pressure, until_periodic=op.until_periodic,
                  periodic_tol=op.periodic_tol, progress=progress, info=provenance(ran) | {"side_clearance_m": clearance},
-                 sink=sink, pressure_values=scene.pressure if pressure is not None else None)
+                 sink=sink)
     result.scene = ran
     check = penetration_check(result, clearance)
     if not check["ok"]:

@@ -8,8 +8,8 @@ guards), the same scene, initial state and pressure grid as the CasADi methods:
   more, so this is the favourable choice for the baseline);
 * contacts switch inside the right-hand side (activation = guard < 0), as a user
   would write it without event location;
-* the chamber pressures are the same interval means, looked up per output
-  interval of the crank angle;
+* the chamber pressures are the engines' (interval means, or linear between the values at the edges), looked
+  up per output interval of the crank angle;
 * physical states in time; ``atol = rtol * (1 µm, 1 µm, 1 mrad, and the same
   per 1/omega)``, i.e. the same scaled absolute tolerance as the CasADi methods.
 
@@ -58,13 +58,19 @@ def make_rhs(model: LambdifiedModel, problem):
     omega, N = problem.omega, problem.samples
     th0, dth = problem.theta0, problem.span / N
     P = problem.pressures
+    linear = problem.pressure == "linear"
     pars = [float(v) for v in problem.params]
     f, g = model.accelerations, model.guards
 
     def rhs(t, X):
         th = th0 + omega * t
-        k = min(max(int(np.ceil((th - th0) / dth)) - 1, 0), N - 1)  # interval (t_k-1, t_k] holds P[:, k]
-        pa, pb = P[0, k], P[1, k]
+        if linear:  # between the values at the interval's ends
+            k = min(max(int(np.floor((th - th0) / dth)), 0), N - 1)
+            w = (th - th0) / dth - k
+            pa, pb = P[0, k] + w * (P[0, k + 1] - P[0, k]), P[1, k] + w * (P[1, k + 1] - P[1, k])
+        else:
+            k = min(max(int(np.ceil((th - th0) / dth)) - 1, 0), N - 1)  # interval (t_k-1, t_k] holds P[:, k]
+            pa, pb = P[0, k], P[1, k]
         act = [1.0 if v < 0 else 0.0 for v in g(th, *X, *pars, pa, pb)]
         return np.r_[X[3:], np.ravel(f(th, *X, *act, *pars, pa, pb))]
 
@@ -82,7 +88,7 @@ def solve(model: LambdifiedModel, problem, method: str, rtol: float) -> Revoluti
 
     omega, N = problem.omega, problem.samples
     th0, dth = problem.theta0, problem.span / N
-    P = problem.pressures
+    P = problem.sample_pressures
     pars = [float(v) for v in problem.params]
     g = model.guards
     rhs = make_rhs(model, problem)

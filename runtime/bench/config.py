@@ -123,9 +123,9 @@ class BenchConfig:
     #: end to end: revolutions of the timed ``apexseal simulate`` runs (runtime/bench/e2e.py); 0 = not measured
     e2e_revolutions: int = 0
     e2e_repeats: int = 2
-    #: the chamber pressures over an output interval: "steps" (interval means, every method) or "linear"
-    #: (continuous; apexseal's engines and the numba peer; the lambdify baselines are skipped with a note)
-    pressure: str = "steps"
+    #: the chamber pressures over an output interval: "linear" (continuous, the run default) or "steps" (interval
+    #: means); every method takes both
+    pressure: str = "linear"
     #: the gas states' cost: revolutions of each timed run (runtime/bench/gas_cost.py); 0 = not measured
     gas_revolutions: int = 0
 

@@ -16,23 +16,22 @@ import numpy as np
 
 from ..solving.fixed_step import RK4Integrator
 from ..solving.methods import make_engine
-from ..solving.settings import LIMITS, RunSettings
+from ..solving.settings import DEFAULT_PRESSURE, LIMITS, RunSettings
 from .config import MethodSpec
 
 
 def settings_for(spec: MethodSpec, value: float, *, samples: int, span: float, flags: str, compiled: bool,
-                 event_tol: float | None = None, pressure: str = "steps") -> RunSettings:
+                 event_tol: float | None = None, pressure: str = DEFAULT_PRESSURE) -> RunSettings:
     """RunSettings for one point (steps are per revolution, whatever the span)."""
     steps = int(value)
     kw = {"event_tol": event_tol} if event_tol is not None else {}
-    if pressure != "steps":
-        kw["pressure"] = pressure
     # the engine covers ``samples`` intervals of ``span``; the settings' per-revolution count is that density
     per_revolution = max(MIN_SAMPLES, int(round(samples * 2 * math.pi / span)))
     method = RK4Integrator if spec.kind == "rk4" else spec.method  # rk4-C: the fixed-step engine's RK4 rule
     return RunSettings(method=method, rtol=float(value) if spec.sweep == "rtol" else 1e-6,
                        steps_per_revolution=steps if spec.sweep == "steps" else RunSettings().steps_per_revolution,
-                       samples_per_revolution=per_revolution, compile_c=compiled, flags=flags, **kw)
+                       samples_per_revolution=per_revolution, compile_c=compiled, flags=flags, pressure=pressure,
+                       **kw)
 
 
 #: the fewest output samples per revolution a run allows (runtime/solving/settings.py)
@@ -40,7 +39,7 @@ MIN_SAMPLES = int(LIMITS["samples_per_revolution"][1].ge)
 
 
 def build_engine(functions, spec: MethodSpec, value: float, *, samples: int, span: float, flags: str, compiled: bool,
-                 event_tol: float | None = None, pressure: str = "steps"):
+                 event_tol: float | None = None, pressure: str = DEFAULT_PRESSURE):
     st = settings_for(spec, value, samples=samples, span=span, flags=flags, compiled=compiled, event_tol=event_tol,
                       pressure=pressure)
     return make_engine(functions, st, n_samples=samples, span=span)
@@ -63,7 +62,7 @@ def normalise_stats(raw: dict, source: str) -> dict:
 class EngineCache:
     """Engines keyed by (model, method, setting, compiled, grid); also records their build times."""
 
-    def __init__(self, *, samples: int, span: float, flags: str, pressure: str = "steps"):
+    def __init__(self, *, samples: int, span: float, flags: str, pressure: str = DEFAULT_PRESSURE):
         self.samples, self.span, self.flags, self.pressure = samples, span, flags, pressure
         self._engines: dict = {}
         self.build_s: dict = {}

@@ -25,6 +25,7 @@ from ...derive.symbols import PARAMETER_NAMES
 from ..solving.preflight import initial_activations
 from ..solving.run import RunSettings, run
 from ..solving.scaling import to_scaled
+from ..solving.settings import DEFAULT_PRESSURE
 
 
 @dataclass
@@ -40,7 +41,7 @@ class Problem:
     X0: np.ndarray  # physical state (6,)
     closed0: np.ndarray  # (n_guards,) 1.0 = closed
     settle: dict = field(default_factory=dict)
-    pressure: str = "steps"  # "steps" (interval means) or "linear" (values at the edges, linear in between)
+    pressure: str = DEFAULT_PRESSURE  # "steps" (interval means) or "linear" (values at the edges, linear in between)
 
     @property
     def omega(self) -> float:
@@ -94,19 +95,19 @@ class Problem:
 
 
 def make_problem(name: str, scene, effects: Effects, functions, *, samples: int, span: float, settle_revolutions: int,
-                 settle_engine=None, settle_settings: RunSettings | None = None, pressure_profile: str = "steps") -> Problem:
+                 settle_engine=None, settle_settings: RunSettings | None = None,
+                 pressure_profile: str = DEFAULT_PRESSURE) -> Problem:
     """Settle the scene (``settle_revolutions`` revolutions with ``settle_engine``) and build the problem."""
     params = scene.parameter_vector()
     op = scene.operation
     X = np.array([getattr(op.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float)
     theta = float(op.start_angle)
     info: dict = {"revolutions": settle_revolutions, "from": "scene initial state", "start_angle_rad": theta}
-    pressure = scene.pressure.interval_means if effects.chamber_pressure else None
+    pressure = scene.pressure if effects.chamber_pressure else None  # the source: means and values
     if settle_revolutions > 0:
         c0 = time.process_time()
         res = run(functions, params, settle_settings, theta_start=theta, state0=X, revolutions=settle_revolutions,
-                  pressure=pressure, engine=settle_engine,
-                  pressure_values=scene.pressure if effects.chamber_pressure else None)
+                  pressure=pressure, engine=settle_engine)
         info.update(method=settle_settings.method, rtol=settle_settings.rtol, status=res.status,
                     cpu_s=time.process_time() - c0)
         if not res.ok:
@@ -115,8 +116,9 @@ def make_problem(name: str, scene, effects: Effects, functions, *, samples: int,
         X, theta = res.state[:, i].copy(), theta + float(res.theta[i])
         closed = res.closed[:, i].astype(float)
     else:
-        u0 = (np.zeros(2) if pressure is None
-              else np.asarray(pressure(np.array([theta, theta + span / samples])), float)[:, 0])
+        first = np.array([theta, theta + span / samples])  # as the run starts: the value at theta, or the mean
+        u0 = (np.zeros(2) if pressure is None else np.asarray(
+            pressure(first) if pressure_profile == "linear" else pressure.interval_means(first), float)[:, 0])
         closed = initial_activations(functions, theta, X, params, u0)
     return Problem(name, scene, effects, functions, params, samples, span, theta, X, closed, info, pressure_profile)
 

@@ -21,7 +21,7 @@ from pydantic_core import PydanticCustomError
 
 from ...suggest import did_you_mean
 from ..solving.methods import METHODS
-from ..solving.settings import LIMITS, PRESSURE_PROFILES
+from ..solving.settings import DEFAULT_PRESSURE, LIMITS, PRESSURE_PROFILES
 from .errors import MISSING, Problem
 from .units import QuantityError, Range, expected, parse_pressure_unit, parse_quantity, registry
 
@@ -310,7 +310,7 @@ class SolverSection(Section):
     chatter_events: _v(_int("chatter_events"), int) = 50
     compile: _v(Choice("quick", "optimised"), str) = "optimised"
     interpreted: _v(Flag(), bool) = False
-    pressure: _v(Choice(*PRESSURE_PROFILES), str) = "steps"
+    pressure: _v(Choice(*PRESSURE_PROFILES), str) = DEFAULT_PRESSURE
 
 
 # ---------------------------------------------------------------------------

@@ -50,8 +50,8 @@ def locate_failure(functions, settings, params, z, edges, P, err, deadline, thet
                                         "interval by interval")
             return _cols(cols, z), ("interrupted", where)
         except RuntimeError as e:
-            status, where.reason = _diagnose(functions, settings, single, e, z, edges[k], dth, params, P[:, k],
-                                             theta_start, deadline, make)
+            status, where.reason = _diagnose(functions, settings, single, e, z, edges[k], dth, params,
+                                             P[:, k:k + 1 + linear], theta_start, deadline, make)
             return _cols(cols, z), (status, where)
         z = out.z[:, -1]
         cols.append(z.copy())
@@ -67,9 +67,12 @@ def _last_line(err) -> str:
     return text.splitlines()[-1] if text else repr(err)
 
 
-def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, params, u,
+def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, params, P,
               theta_start: float, deadline: float = math.inf, make=make_engine) -> tuple[str, str]:
     """(status, reason) of one output interval that failed, from the interpreted integrator's statistics.
+
+    ``P`` is the interval's pressure input as the engine takes it: (2, 1), its mean, or (2, 2), its values at
+    the two ends (``pressure = "linear"``).
 
     Compiled integrators only say 'Evaluation failed'; the interpreted one counts
     its steps, rejections and events, which tell an event limit (chattering) and a
@@ -79,6 +82,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
     wall-time ``deadline`` with what it has found.
     """
     msg = _last_line(err)
+    u = P[:, 0]  # the pressures at the interval's start, as the run sees them
     try:
         stats = dict(engine.function.stats())
     except Exception:  # noqa: BLE001 - the stepper engines have no single function
@@ -88,7 +92,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
     if not _finite_ahead(functions, z, theta, params, u):
         return "failed", f"the right-hand side is not finite at {where}: {msg}"
     if "max_events" in str(err) or stats.get("n_events", 0) >= settings.max_events_per_revolution:
-        z_end, _ = _longest_head(functions, settings, params, z, theta, dth, u, deadline, make)
+        z_end, _ = _longest_head(functions, settings, params, z, theta, dth, P, deadline, make)
         switches = z_end[lay.counts] - z[lay.counts]
         guard = functions.guard_names[int(np.argmax(switches))] if switches.any() else "(unknown)"
         c = Chattering(guard, theta - theta_start, int(switches.max()), f"in {np.degrees(dth):.3g} deg or less (more "
@@ -98,7 +102,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
         return "failed", (f"step limit: more than max_steps_per_interval = {settings.max_steps_per_interval} steps in "
                           f"one output interval; the problem is too stiff for {settings.method!r} here: use method "
                           "'rosenbrock' (stiff contacts, a small friction.v_eps) or a larger friction.v_eps")
-    z_end, head = _longest_head(functions, settings, params, z, theta, dth, u, deadline, make)
+    z_end, head = _longest_head(functions, settings, params, z, theta, dth, P, deadline, make)
     if not _finite_ahead(functions, z_end, theta + head, params, u):
         omega = _omega(functions, params)
         x, y, phi = to_physical(z_end[lay.x], omega, lay.state_names)[:3]
@@ -129,19 +133,20 @@ def _finite_ahead(functions, z, theta, params, u) -> bool:
                for h in (1e-9, 1e-8, 1e-7))
 
 
-def _longest_head(functions, settings: RunSettings, params, z, theta, dth, u,
+def _longest_head(functions, settings: RunSettings, params, z, theta, dth, P,
                   deadline: float = math.inf, make=make_engine) -> tuple[np.ndarray, float]:
     """The state at the end of the longest head of a failing interval that the interpreted integrator passes,
     and the head's length: bisection on the length, 12 halvings or until the deadline (z itself and 0 when no
-    head passes)."""
+    head passes). ``P``: the interval's pressure input (see :func:`_diagnose`); a head of a "linear" interval
+    ends at the value on the interval's line."""
     lo, hi, end = 0.0, dth, z
     for _ in range(12):
         if time.perf_counter() > deadline:
             break
         mid = 0.5 * (lo + hi)
         try:
-            out = make(functions, settings, n_samples=1, span=mid, compile_c=False).run(
-                z, params, theta, u[:, None])
+            head = P if P.shape[1] == 1 else np.c_[P[:, 0], P[:, 0] + (P[:, 1] - P[:, 0]) * (mid / dth)]
+            out = make(functions, settings, n_samples=1, span=mid, compile_c=False).run(z, params, theta, head)
         except RuntimeError:
             hi = mid
             continue

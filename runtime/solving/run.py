@@ -43,9 +43,11 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
 
     ``engine`` (optional) must cover a whole number of output intervals that divides a revolution. ``sink``
     receives each completed revolution as it is assembled (default: kept in memory; a
-    :class:`~..results.folder.ResultFolder` writes it to disk and keeps none in memory). ``pressure`` gives the
-    chamber pressures' means over intervals (``pressure(edges)``, None: no chamber pressure); with
-    ``settings.pressure = "linear"``, ``pressure_values(theta)`` gives their values at crank angles.
+    :class:`~..results.folder.ResultFolder` writes it to disk and keeps none in memory). ``pressure`` is the
+    scene's pressure source (``scene.pressure``: its ``interval_means(edges)`` and its values ``pressure(theta)``,
+    whichever ``settings.pressure`` integrates), or a function giving the means over intervals (``pressure(edges)``)
+    with ``pressure_values(theta)`` giving the values at crank angles for ``settings.pressure = "linear"``; None:
+    no chamber pressure.
     """
     from tqdm.auto import tqdm
 
@@ -59,6 +61,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     dth = 2 * np.pi / N
     t_wall = time.perf_counter()
     deadline = t_wall + settings.max_wall_time if settings.max_wall_time else math.inf
+    if hasattr(pressure, "interval_means"):  # a pressure source: its means and its values
+        pressure, pressure_values = pressure.interval_means, pressure_values or pressure
     if settings.pressure == "linear" and pressure is not None and pressure_values is None:
         raise ValueError("pressure = 'linear' needs pressure_values, the chamber pressures at given crank angles")
     values, linear = pressure_values, settings.pressure == "linear"

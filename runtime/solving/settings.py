@@ -109,8 +109,11 @@ def _flags(value: Any) -> str:
 
 
 #: how the chamber pressures vary over an output interval (runtime/solving/hybrid.py): "steps" = held at the
-#: interval's mean; "linear" = linear between the values at the interval's ends (event methods only)
+#: interval's mean; "linear" = linear between the values at the interval's ends (continuous: the default; every
+#: engine of apexseal's, a user's engine lists what it takes in ``pressure_profiles``)
 PRESSURE_PROFILES = ("steps", "linear")
+#: the default profile (docs/bench/levers.md: the pressure steps make the metal contacts ring)
+DEFAULT_PRESSURE = "linear"
 
 
 def _pressure(value: Any) -> str:
@@ -146,7 +149,7 @@ class RunSettings(BaseModel):
     max_wall_time: _ranged("max_wall_time", float | None) = None  # s, checked between integrator calls; None: no budget
     calls_per_revolution: _ranged("calls_per_revolution", int | None) = None  # None: 1, or 36 with a wall-time budget
     revolutions: _ranged("revolutions", int) = 1
-    pressure: Annotated[str, BeforeValidator(_pressure)] = "steps"
+    pressure: Annotated[str, BeforeValidator(_pressure)] = DEFAULT_PRESSURE
 
     def __init__(self, **values: Any) -> None:
         try:
@@ -156,7 +159,8 @@ class RunSettings(BaseModel):
         if self.pressure != "steps" and self.pressure not in _profiles_of(self.method):  # imports the engine
             allowed = ", ".join(_profiles_of(self.method))
             raise SettingsError([("pressure", self.pressure, f"method {self.method!r} integrates the pressure "
-                                  f"profiles {allowed} (its engine's pressure_profiles)")])
+                                  f"profiles {allowed} (its engine's pressure_profiles): set solver.pressure = "
+                                  f"\"steps\" (pressure=\"steps\")")])
 
     def replace(self, **changes: Any) -> RunSettings:
         """A copy with ``changes`` (validated like the original; ``None`` values are ignored)."""

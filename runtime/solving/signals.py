@@ -59,6 +59,14 @@ class StopSignals:
         for engine in self._engines:  # engines that check their deadline inside a call stop at the next check
             engine.deadline = -math.inf
 
+    def ignore_after(self) -> None:
+        """On leaving, ignore further SIGINT/SIGTERM instead of restoring the previous handlers: for a process that
+        exits once its interrupted run is written (the CLI), so that a Ctrl-C pressed again while it reports and
+        exits cannot turn its exit code 130 into a death by signal."""
+        target = self._outer or self
+        for s in target._previous:
+            target._previous[s] = signal.SIG_IGN
+
     def watch(self, engine) -> None:
         """Stop ``engine`` at its next deadline check when a signal arrives."""
         if engine is not None:

@@ -42,8 +42,7 @@ def _command_line(ctx: click.Context) -> str:
 @click.option("--e2e/--no-e2e", default=None, help="Time the stages of a warm `apexseal simulate --revolutions 20` "
               "with and without figures (default: in the full run only).")
 @click.option("--pressure", type=click.Choice(["steps", "linear"]), help="Chamber pressures over an output interval: "
-              "held at their means (steps, default) or linear between the values at its ends (apexseal's methods and "
-              "the numba peer; the lambdify baselines are skipped).")
+              "linear between the values at its ends (linear, default: as a run) or held at their means (steps).")
 @click.option("--gas/--no-gas", default=None, help="Time the pressure table, the chamber gas model and the gas model with "
               "leakage on the expander-gas scene (default: in the full run only).")
 def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_effects, no_check, flags, e2e,

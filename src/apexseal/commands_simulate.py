@@ -90,6 +90,8 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
                     with watch.stage("figures"):  # other processes draw while this one writes the result
                         figures = (FigureJob(result, writer.staging, ports_of(sc)).start() if worker is None else
                                    worker.submit(result, writer.staging, ports_of(sc)))
+                elif worker is not None:  # stopped here, where a further Ctrl-C is still only noted
+                    worker.cancel()
                 try:
                     summary, files = _save(watch, writer, result, scene, csv)
                 except BaseException:
@@ -101,6 +103,8 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
                         files += [p.name for p in figures.finish()]
                 with watch.stage("save"):
                     writer.commit()
+                if signals.requested:  # the process ends with 128 + signal: a further Ctrl-C changes nothing
+                    signals.ignore_after()
             except ResultStorageError as err:
                 raise click.ClickException(str(err)) from err
         _report(result, summary, files, out, timings, watch, signals)

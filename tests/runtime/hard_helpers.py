@@ -42,9 +42,10 @@ def short_run(scene, functions, method: str, degrees: float, *, rtol: float = 1e
     m = int(round(degrees * samples / 360))
     th0 = scene.operation.start_angle
     edges = th0 + np.linspace(0.0, 2 * np.pi, samples + 1)[:m + 1]
-    P = (np.asarray(scene.pressure.interval_means(edges), float) if scene.effects.chamber_pressure
-         else np.zeros((2, m)))
     st = RunSettings(method=method, rtol=rtol, samples_per_revolution=samples, **settings)
+    linear = st.pressure == "linear"  # the engine takes the values at the edges, else the interval means
+    P = (np.asarray(scene.pressure(edges) if linear else scene.pressure.interval_means(edges), float)
+         if scene.effects.chamber_pressure else np.zeros((2, m + linear)))
     engine = make_engine(functions, st, n_samples=m, span=edges[-1] - th0, compile_c=False)
     Z = engine.run(initial_z(scene, functions, P), scene.parameter_vector(), th0, P).z
     lay = HybridLayout.of(functions)

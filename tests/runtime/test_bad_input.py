@@ -149,7 +149,7 @@ def test_nan_parameter_through_the_api(default_scene, default_functions):
     p = default_scene.parameter_vector()
     p[3] = np.nan
     r = sim.run(default_functions.sx, p, sim.RunSettings(compile_c=False), theta_start=0.0, state0=np.zeros(6),
-                revolutions=1, pressure=default_scene.pressure.interval_means)
+                revolutions=1, pressure=default_scene.pressure)
     assert r.status == "failed" and r.n == 1 and "not finite" in r.stop.reason
 
 

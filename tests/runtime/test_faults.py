@@ -33,7 +33,7 @@ SAMPLES = 72
 def _run(scene, functions, revolutions=2, **kw):
     st = sim.RunSettings(samples_per_revolution=SAMPLES, compile_c=False, revolutions=revolutions)
     return sim.run(functions.sx, scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6),
-                   pressure=scene.pressure.interval_means, **kw)
+                   pressure=scene.pressure, **kw)
 
 
 @pytest.fixture(scope="module")

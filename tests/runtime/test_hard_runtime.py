@@ -142,7 +142,7 @@ def test_a_lost_contact_event_stops_the_run(default_scene, fns):
     st = sim.RunSettings(samples_per_revolution=72, compile_c=False, calls_per_revolution=4)
     engine = _LosesContact(sim.make_engine(fns, st, n_samples=18, span=np.pi / 2), fns)
     r = sim.run(fns, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
-                pressure=default_scene.pressure.interval_means, engine=engine)
+                pressure=default_scene.pressure, engine=engine)
     assert r.status == "failed" and "missed contact event: guard b" in r.stop.reason
     assert np.degrees(r.stop.theta) == pytest.approx(180.0)
 
@@ -162,7 +162,7 @@ def _nan_after(degrees: float, pressure):
 def test_nan_in_the_inputs_stops_with_the_angle(default_scene, fns, method, reason):
     """A NaN pressure from 90 deg on: the run keeps the samples before and says where; no NaN is returned."""
     st = sim.RunSettings(method=method, samples_per_revolution=SAMPLES, compile_c=False, calls_per_revolution=4,
-                         steps_per_revolution=144000)
+                         steps_per_revolution=144000, pressure="steps")  # the means, NaN from 90 deg on
     r = sim.run(fns, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
                 pressure=_nan_after(90.0, default_scene.pressure.interval_means))
     assert r.status == "failed" and reason in r.stop.reason
@@ -173,7 +173,7 @@ def test_nan_parameter_is_refused_before_the_first_step(default_scene, fns):
     p = default_scene.parameter_vector()
     p[PARAMETER_NAMES.index("cw")] = np.nan
     r = sim.run(fns, p, sim.RunSettings(compile_c=False), theta_start=0.0, state0=np.zeros(6), revolutions=1,
-                pressure=default_scene.pressure.interval_means)
+                pressure=default_scene.pressure)
     assert r.status == "failed" and r.n == 1 and "right-hand side is not finite at the start" in r.stop.reason
 
 
@@ -207,7 +207,7 @@ class _FailsOnLongCalls:
         self.engine, self.n_samples, self.compiled = engine, engine.n_samples, False
 
     def run(self, z0, params, theta0, pressures):
-        if pressures.shape[1] > 1:
+        if self.n_samples > 1:
             raise RuntimeError("Evaluation failed (simulated)")
         return self.engine.run(z0, params, theta0, pressures)
 
@@ -217,7 +217,7 @@ def test_a_call_that_fails_whole_but_passes_interval_by_interval_goes_on(default
     monkeypatch.setattr(sim, "make_engine", lambda *a, **k: _FailsOnLongCalls(real(*a, **k)))
     st = sim.RunSettings(samples_per_revolution=72, compile_c=False)
     r = sim.run(fns, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
-                pressure=default_scene.pressure.interval_means)
+                pressure=default_scene.pressure)
     assert r.ok and r.n == 73 and r.info["solver_stats"]["n_recovered_calls"] == 1
 
 
@@ -245,7 +245,7 @@ def test_an_infinite_parameter_derivative_stops_methods_that_differentiate(defau
     edgy = replace(fns, rhs=ca.Function("rhs", args, [edge], fns.rhs.name_in(), fns.rhs.name_out()))
     st = sim.RunSettings(method="erk", samples_per_revolution=SAMPLES, compile_c=False)
     r = sim.run(edgy, p, st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
-                pressure=default_scene.pressure.interval_means)
+                pressure=default_scene.pressure)
     assert r.status == "failed" and r.n == 1 and r.stop.theta == 0.0
     assert "derivative of the right-hand side is not finite" in r.stop.reason and "mu2" in r.stop.reason
     euler = sim.RunSettings(method="euler", samples_per_revolution=SAMPLES, compile_c=False)

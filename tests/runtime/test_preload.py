@@ -78,6 +78,7 @@ def test_force_deficit_is_grid_independent_where_sample_checks_are_not(soft_scen
     Both grids get the same chamber pressures (the 1-degree means, held over two 0.5-degree samples): the pressure
     input is the model's, the output grid is the question."""
     out = {}
+    soft_scene = soft_scene.with_overrides(**{"solver.pressure": "steps"})  # interval means, held over 2 samples
     coarse = _setup(soft_scene, functions, 360)
     for samples in (360, 720):
         setup = _setup(soft_scene, functions, samples)
@@ -244,6 +245,7 @@ def test_constant_optimum_is_grid_independent(soft_scene, functions):
     """The same optimum with 360 and 720 output samples per revolution and the same chamber pressures (the 1-degree
     means; the sample checks gave 6.08 and 8.95 mm at 720 and 3600 samples). The pressure means themselves are a
     model input: with 0.5-degree means the optimum is 8.89 mm, with 1-degree means 8.47 mm (docs/preload.md)."""
+    soft_scene = soft_scene.with_overrides(**{"solver.pressure": "steps"})  # interval means, held over 2 samples
     coarse = _setup(soft_scene, functions, 360)
     fine = _setup(soft_scene, functions, 720)
     fine.engine_pressures = lambda edges: np.repeat(coarse.engine_pressures(edges[::2]), 2, axis=1)

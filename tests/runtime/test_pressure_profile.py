@@ -220,10 +220,10 @@ def test_the_scene_key_reaches_the_run_settings_and_a_run_writes_it_back():
     from apexseal.runtime.api import scene_that_ran, settings_of
 
     scene = load_scene()
-    assert settings_of(scene).pressure == "steps"
-    linear = scene.with_overrides(**{"solver.pressure": "linear"})
-    assert settings_of(linear).pressure == "linear"
-    ran = scene_that_ran(scene, settings_of(scene, pressure="linear"))
-    assert ran.solver.pressure == "linear" and ran.content_hash() == linear.content_hash()
+    assert settings_of(scene).pressure == "linear"  # the default
+    steps = scene.with_overrides(**{"solver.pressure": "steps"})
+    assert settings_of(steps).pressure == "steps"
+    ran = scene_that_ran(scene, settings_of(scene, pressure="steps"))
+    assert ran.solver.pressure == "steps" and ran.content_hash() == steps.content_hash()
     with pytest.raises(Exception, match="solver.pressure"):
         scene.with_overrides(**{"solver.pressure": "ramp"})

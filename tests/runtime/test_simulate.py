@@ -101,7 +101,9 @@ def test_euler_converges_at_first_order(soft_scene, default_functions):
     monotone convergence only.
     """
     kw = dict(samples_per_revolution=90, revolutions=1, compile_c=False)
-    default_scene = soft_scene
+    # the pressures held at their interval means, as when the order was measured: with linear pressures the
+    # coarsest pair is pre-asymptotic (orders 1.36, 1.09 for 5e4/1e5/2e5 steps, measured)
+    default_scene = soft_scene.with_overrides(**{"solver.pressure": "steps"})
     ref = _run(default_scene, default_functions, method="erk", rtol=1e-11, **kw)
     scale = np.ptp(ref.state[:3], axis=1)[:, None]
     half = ref.theta <= np.pi
@@ -184,7 +186,7 @@ def _flaky_run(scene, functions, error):
     st = settings_of(scene, samples_per_revolution=72, compile_c=False)
     engine = _FlakyEngine(make_engine(functions.sx, st), 2, error)
     return run(functions.sx, scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=3,
-               pressure=scene.pressure.interval_means, engine=engine)
+               pressure=scene.pressure, engine=engine)
 
 
 def test_ctrl_c_keeps_the_finished_revolutions(default_scene, default_functions):
@@ -217,7 +219,7 @@ def test_solver_failure_keeps_samples_and_says_where(default_scene, default_func
     monkeypatch.setattr(sim, "make_engine", lambda *a, **k: _FailsBeyond(real(*a, **k), fail_at))
     st = settings_of(default_scene, samples_per_revolution=72, compile_c=False)
     r = sim.run(default_functions.sx, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6),
-                revolutions=3, pressure=default_scene.pressure.interval_means)
+                revolutions=3, pressure=default_scene.pressure)
     assert r.status == "failed"
     assert r.theta[-1] <= fail_at and r.theta[-1] > 2 * np.pi  # the first revolution and part of the second kept
     assert "CV_TOO_MUCH_WORK" in r.stop.reason and r.stop.mode
@@ -229,8 +231,9 @@ def test_solver_failure_keeps_samples_and_says_where(default_scene, default_func
 def test_friction_regularisation_converges_as_the_width_shrinks(soft_scene, default_functions):
     """tanh(v / v_eps) friction: shrinking v_eps 4x at a time, the cycle's friction power converges.
 
-    Measured (README, "Friction", on the soft-contacts scene): 28.0, 27.1, 26.8, 26.7 W for 1, 0.25, 0.0625,
-    0.0156 mm/s: the default 1 mm/s is within 5 % of the limit; the successive differences must shrink.
+    Measured (README, "Friction", on the soft-contacts scene, linear pressures): 30.09, 28.30, 27.75, 27.64 W for
+    1, 0.25, 0.0625, 0.0156 mm/s (with the interval means, the default before: 28.0, 27.1, 26.8, 26.7 W): the
+    default 1 mm/s is within 9 % of the limit; the successive differences must shrink.
     """
     powers = []
     for width in ("1 mm/s", "0.25 mm/s", "0.0625 mm/s"):
@@ -240,7 +243,7 @@ def test_friction_regularisation_converges_as_the_width_shrinks(soft_scene, defa
         powers.append(r.outputs["Pf_total"][1:].mean())
     d1, d2 = abs(powers[0] - powers[1]), abs(powers[1] - powers[2])
     assert d2 < 0.6 * d1, powers
-    assert d1 / powers[2] < 0.06, powers
+    assert (powers[0] - powers[2]) / powers[2] < 0.10, powers  # the README's "within 9 % of the limit"
 
 
 def test_until_periodic_stops_early(default_scene, default_functions):
