@@ -204,3 +204,26 @@ if __name__ == "__main__":  # python tests/runtime/test_preload_small.py: the nu
     from apexseal.runtime.studies.preload.stiffness import describe, stiffness_valley
 
     print(describe(stiffness_valley(_setup(pair), c, nodes=NODES), c.deficit_tol))
+
+
+def test_a_constant_above_its_boundary_is_lowered_to_it(light, studies):
+    """The polish of a constant optimum (nlp._polish_constant): from 20 % above the optimum (as where IPOPT stopped on
+    the default scene with an inexact gradient) it bisects down to the bisection's bracket and records the start;
+    at the optimum itself it changes nothing."""
+    from apexseal.runtime.studies.preload.nlp import PreloadResult, _periodic, _polish_constant
+
+    c, b = studies[0], studies[1]
+    setup = _setup(light)
+    sf = study_functions(setup, SAMPLES // NODES)
+    grid = SegmentGrid(SAMPLES, NODES, 1, setup.theta_start, setup.dth)
+    high = np.array([1.2 * c.delta_s])
+    res = PreloadResult(False, "", MIN_FORCE, [])
+    knots, sim = _polish_constant(setup, sf, grid, high, _periodic(setup, sf, grid, high, MIN_FORCE, ()), MIN_FORCE,
+                                  (), DEFICIT_TOL, res)
+    assert res.ipopt_delta_s == pytest.approx(high[0])
+    assert b.lower - 0.01 * b.delta_s <= knots[0] <= b.delta_s + 0.01 * b.delta_s, (knots[0], b.lower, b.delta_s)
+    assert sim.deficit <= DEFICIT_TOL
+    same = PreloadResult(False, "", MIN_FORCE, [])
+    at = np.array([c.delta_s])
+    k2, _ = _polish_constant(setup, sf, grid, at, None, MIN_FORCE, (), DEFICIT_TOL, same)
+    assert k2[0] == c.delta_s and same.ipopt_delta_s is None
