@@ -221,8 +221,13 @@ def test_constant_optimum_agrees_with_the_bisection_over_full_simulations(study)
     data, output, out = study
     c, b = data["constant"], data["bisection"]
     assert c["ok"] and c["ipopt_status"] in SOLVED, c["message"]
-    # within the bisection's bracket plus the NLP's tolerance (its deficit may exceed the bound by 2 %)
-    assert abs(c["delta_s"] - b["delta_s"]) <= (b["delta_s"] - b["lower"]) + 0.01 * b["delta_s"], (c, b)
+    slack = (b["delta_s"] - b["lower"]) + 0.01 * b["delta_s"]  # the bracket plus the NLP's tolerance
+    if b["monotone"]:  # the bisection's crossing is the smallest feasible preload: the optimum
+        assert abs(c["delta_s"] - b["delta_s"]) <= slack, (c, b)
+    else:  # a probe below the crossing passed (the deficit is not monotone in delta_s: with linear pressures on
+        # this scene IPOPT finds such an island at 8.65 mm, 3 % below the crossing at 8.92 mm, measured): the
+        # optimum may lie there, never above the crossing
+        assert c["delta_s"] <= b["delta_s"] + slack, (c, b)
     assert c["deficit"] <= 1.05 * c["deficit_tol"]  # the re-simulation satisfies the constraint between samples
     assert c["periodic_change"] < 1e-5
     assert abs(c["delta_s"] - c["start_delta_s"]) > 0.02 * c["delta_s"]  # the optimum is not the start
