@@ -208,8 +208,18 @@ def test_cli_bad_input(tmp_path, args, words):
 
 @pytest.fixture(scope="module")
 def study(tmp_path_factory):
-    out = tmp_path_factory.mktemp("preload")
-    soft = str(embedded_scene_path("soft-contacts.toml"))
+    """The CLI study on the soft-contacts scene with the pressures held at their interval means, the problem these
+    tests were written on. With linear pressures (the default) its constant optimum is a lower feasible island,
+    8.65 mm against the bisection's crossing at 8.92 mm, whose revolution still changes by 2.5e-5 after the
+    re-simulation's 12 revolutions (docs/preload.md): not the settled answer these checks expect."""
+    out, scenes = tmp_path_factory.mktemp("preload"), tmp_path_factory.mktemp("scene")
+    text = embedded_scene_path("soft-contacts.toml").read_text(encoding="utf-8")
+    assert "[solver]" in text
+    scene = scenes / "soft-steps.toml"
+    scene.write_text(text.replace("[solver]", '[solver]\npressure = "steps"', 1), encoding="utf-8")
+    for table in embedded_scene_path("soft-contacts.toml").parent.glob("*.csv"):  # the pressure table beside it
+        (scenes / table.name).write_bytes(table.read_bytes())
+    soft = str(scene)
     r = CliRunner().invoke(main, ["optimise-preload", soft, "--min-force", f"{MIN_FORCE}N", "--samples", str(SAMPLES),
                                   "--schedule", "4", "--out", str(out)])
     assert r.exit_code == 0, r.output
