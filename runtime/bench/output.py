@@ -41,3 +41,23 @@ def write_outputs(results: dict, out: Path, command: str) -> dict[str, Path]:
     with atomic_open(paths["work-precision.png"], "wb") as fh:
         work_precision(results, fh)
     return paths
+
+
+def rewrite_reports(folder: Path) -> list[Path]:
+    """Write ``table.md`` and ``effects.md`` of a benchmark folder again from its ``results.json``, without
+    running anything: after a change of the reports, a committed run shows the new sections
+    (``python -m apexseal.runtime.bench.output docs/bench``)."""
+    folder = Path(folder)
+    results = json.loads((folder / "results.json").read_text())
+    command = results["command"]
+    atomic_write(folder / "table.md", table_md(results, command) + "\n")
+    atomic_write(folder / "effects.md", effects_md(results, command))
+    return [folder / "table.md", folder / "effects.md"]
+
+
+if __name__ == "__main__":
+    import sys
+
+    for folder in sys.argv[1:] or ["apexseal-out/bench"]:
+        for path in rewrite_reports(Path(folder)):
+            print(f"wrote {path}")

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+from .budget import budget_md
 from .e2e import e2e_md
 from .gas_cost import gas_md
 
@@ -198,6 +199,7 @@ def table_md(r: dict, command: str) -> str:
              "most accurate point is still above the target (at most 4 decades, and only for a plausible order of "
              "convergence): such values are estimates, not measurements.", "", *at_target_md(r), ""]
     lines += peer_md(r)
+    lines += budget_md(r)
     lines += e2e_md(r.get("e2e"))
     lines += gas_md(r.get("gas"))
     for s in r["scenes"]:

@@ -76,6 +76,18 @@ def test_tables_name_the_command_and_targets(tiny):
     assert all(t["status"] in ("met", "missed", "not measured") for t in r["targets"])
 
 
+def test_reports_are_written_again_from_results_json_alone(tiny, tmp_path):
+    """``python -m apexseal.runtime.bench.output DIR`` gives the tables the run wrote, from results.json alone."""
+    import shutil
+
+    from apexseal.runtime.bench.output import rewrite_reports
+
+    out, _, _ = tiny
+    shutil.copy(out / "results.json", tmp_path / "results.json")
+    for path in rewrite_reports(tmp_path):
+        assert path.read_text() == (out / path.name).read_text(), path.name
+
+
 def test_budget_and_failure_are_recorded():
     def busy():
         x = 0
@@ -134,3 +146,40 @@ def test_a_call_whose_cpu_time_reads_zero_gets_a_bounded_batch(monkeypatch):
 
     _, t = measure(short, repeats=2, slow_run_s=0.5, budget_s=None, min_sample_s=0.2)
     assert 1 <= t.batch <= 200 and len(calls) == 1 + 2 * t.batch
+
+
+def _point(method, family, cpu_s, evaluations, error, generated_c):
+    return {"method": method, "family": family, "generated_c": generated_c, "status": "ok",
+            "timing": {"median_cpu_s": cpu_s}, "stats": {"rhs_evaluations": evaluations}, "error": {"state": error}}
+
+
+def test_evaluation_budget_bounds_an_own_integrator():
+    """Two methods whose evaluations and CPU time each fall 10x per digit of error, 100 and 50 ns per
+    evaluation, the cheapest measured evaluation 20 ns: at 1e-6 apexseal's needs 1e6 evaluations (0.1 s), the
+    peer 4e5 (0.02 s); an overhead-free integrator with apexseal's evaluations at 20 ns takes 0.02 s (1.0x the
+    peer), and 2x ahead (0.01 s) allows 5e5 evaluations: 0.5 of apexseal's, 1.25 of the peer's."""
+    from apexseal.runtime.bench.budget import budget_md, evaluation_budget
+
+    pts = []
+    for e in (1e-5, 1e-7):
+        n_a, n_p = 1e6 * (1e-6 / e) ** 0.5, 4e5 * (1e-6 / e) ** 0.5
+        pts += [_point("erk-C", "C integrator", 100e-9 * n_a, n_a, e, True),
+                _point("numbalsoda-LSODA", "sympy.cse + numba (peer)", 50e-9 * n_p, n_p, e, False)]
+    r = {"config": {"target_error": 1e-6},
+         "scenes": [{"name": "default", "points": pts,
+                     "rhs_cost": [{"form": "bare loop", "s": 20e-9, "n": 1000}, {"form": "inside erk", "s": 100e-9,
+                                                                                   "n": "erk-C"}]}]}
+    b = evaluation_budget(r)
+    assert (b["apexseal"], b["peer"]) == ("erk-C", "numbalsoda-LSODA")
+    assert math.isclose(b["apexseal_evaluations"], 1e6, rel_tol=1e-9)
+    assert math.isclose(b["peer_evaluations"], 4e5, rel_tol=1e-9)
+    assert math.isclose(b["apexseal_s_per_evaluation"], 100e-9, rel_tol=1e-9)
+    assert b["cheapest_form"] == "bare loop"
+    assert math.isclose(b["bound_s"], 0.02, rel_tol=1e-9) and math.isclose(b["bound_ratio"], 1.0, rel_tol=1e-9)
+    assert math.isclose(b["allowed_evaluations"], 5e5, rel_tol=1e-9)
+    assert math.isclose(b["allowed_vs_apexseal"], 0.5, rel_tol=1e-9)
+    assert math.isclose(b["allowed_vs_peer"], 1.25, rel_tol=1e-9)
+    text = "\n".join(budget_md(r))
+    assert "**1.00x**" in text and "500,000 evaluations" in text
+    r["scenes"][0]["points"] = [p for p in pts if p["method"] == "erk-C"]  # no peer: no section
+    assert evaluation_budget(r) is None and budget_md(r) == []
