@@ -10,9 +10,9 @@ waits for it and draws whatever figure it did not write in this process, so a fa
 time, never a figure.
 
 A run that ends without figures (a failure before the result, an interruption) stops the worker
-(:meth:`FigureWorker.cancel`); if this process dies instead, the worker reads the end of the pipe and exits. The worker only forks
-where :func:`.figure_job.can_fork` says it is safe; elsewhere :meth:`FigureWorker.start` returns None and the
-figures are drawn as before.
+(:meth:`FigureWorker.cancel`); if this process dies instead, the worker reads the end of the pipe and exits.
+The worker only forks where :func:`.figure_job.can_fork` says it is safe; elsewhere :meth:`FigureWorker.start`
+returns None and the figures are drawn as before.
 """
 
 from __future__ import annotations

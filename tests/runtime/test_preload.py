@@ -2,10 +2,11 @@
 deficit, the hand-assembled NLP Jacobian against finite differences, IPOPT against a bisection over full
 simulations, the schedule against the constant optimum, the CLI end to end, bad input.
 
-The fast tests use CasADi's interpreted integrators (``compile_c=False``: no compile in the default suite); the
-IPOPT studies here are slow tests (a small one runs in the default suite: tests/runtime/test_preload_small.py). Everything runs on the soft-contacts scene (kw = 6.2e7, kg = 1.05e6 N/m, the first
-default): on the metal contacts of today's default the seal strikes its groove wall at the chamber switches and
-throws the tip off the housing whatever the preload (docs/preload.md has the measurement).
+The fast tests use CasADi's interpreted integrators (``compile_c=False``: no compile in the default suite); the IPOPT
+studies here are slow tests (a small one runs in the default suite: tests/runtime/test_preload_small.py). Everything
+runs on the soft-contacts scene (kw = 6.2e7, kg = 1.05e6 N/m, the first default): on the metal contacts of today's
+default the seal strikes its groove wall at the chamber switches and throws the tip off the housing whatever the preload
+(docs/preload.md has the measurement).
 """
 
 from __future__ import annotations

@@ -101,9 +101,10 @@ class SegmentGrid:
 def chain_function(sf, grid: SegmentGrid, n_z: int, *, derivatives: bool, nd: int = 0) -> ca.Function:
     """One shooting interval (``grid.per_node`` segments chained) as a Function, to be mapped over the nodes.
 
-    Inputs: z0 (n_z), Q (n_q x per_node), U (the controls, 4 x m per_node: PreloadSetup.controls) and, with ``derivatives``, the seeds of z0
-    (n_z x nd) and of Q (n_q x per_node nd). Outputs: the end state, the two quadratures summed, and the
-    samples (n_z x m per_node) or, with ``derivatives``, their forward derivatives in the nd directions.
+    Inputs: z0 (n_z), Q (n_q x per_node), U (the controls, 4 x m per_node: PreloadSetup.controls) and, with
+    ``derivatives``, the seeds of z0 (n_z x nd) and of Q (n_q x per_node nd). Outputs: the end state, the two
+    quadratures summed, and the samples (n_z x m per_node) or, with ``derivatives``, their forward derivatives in the nd
+    directions.
     """
     from .shooting import CHUNK
 
