@@ -9,7 +9,8 @@ Runs the default scene once to warm the caches (derivation, compiled libraries),
 ``apexseal.simulate(scene)`` (wall time of the call: integrator set-up from the cache plus integration; and
 the integration alone, ``result.info["wall_time_s"]``) and :func:`.figures.write_figures` (draw and save the four
 PNG files), as ``apexseal simulate`` draws them (some in a forked second process, :mod:`.figure_job`) and all in
-this process, in turn. Prints the medians and their ratios, all measured in one process.
+this process, in turn; and the :func:`skeleton` of each figure (made and saved), matplotlib's cost for the same
+axes whatever the data. Prints the medians and their ratios, all measured in one process.
 """
 
 from __future__ import annotations
@@ -21,10 +22,47 @@ import time
 from pathlib import Path
 
 
+def skeleton(fig):
+    """``fig`` without its data: the same size, layout engine, axes (grid cells, projections, scales, limits),
+    ticks with their labels, titles and axis labels, each axes holding one two-point line instead of the data (no
+    legend, no shading, no annotation). Saving it costs what matplotlib's machinery costs for these figures
+    whatever the data: the floor of :func:`measure`. ``fig`` must have been drawn (its tick labels are set then)."""
+    from matplotlib.figure import Figure
+
+    sk = Figure(figsize=fig.get_size_inches(), layout=fig.get_layout_engine() and "constrained")
+    grids: dict = {}
+    for ax in fig.axes:
+        spec = ax.get_subplotspec()
+        if spec is None:
+            continue
+        shape = spec.get_gridspec().get_geometry()
+        gs = grids.setdefault(shape, sk.add_gridspec(*shape))
+        rows, cols = spec.rowspan, spec.colspan
+        new = sk.add_subplot(gs[rows.start:rows.stop, cols.start:cols.stop], projection=ax.name)
+        new.set_xscale(ax.get_xscale())
+        new.set_yscale(ax.get_yscale())
+        new.plot(ax.get_xlim(), ax.get_ylim())
+        new.set_xlim(ax.get_xlim())
+        new.set_ylim(ax.get_ylim())
+        for minor in (False, True):
+            new.set_xticks(ax.get_xticks(minor=minor), [t.get_text() for t in ax.get_xticklabels(minor=minor)],
+                           minor=minor)
+            new.set_yticks(ax.get_yticks(minor=minor), [t.get_text() for t in ax.get_yticklabels(minor=minor)],
+                           minor=minor)
+        new.set_title(ax.get_title())
+        new.set_xlabel(ax.get_xlabel())
+        new.set_ylabel(ax.get_ylabel())
+        if not ax.axison:
+            new.set_axis_off()
+    sk.suptitle(fig.get_suptitle())
+    return sk
+
+
 def measure(repeats: int = 5) -> dict:
     import apexseal
 
     from .figures import figure_files, ports_of, write_figure, write_figures
+    from .plots import figure
 
     scene = apexseal.load_scene()
     result = apexseal.simulate(scene)  # warm-up: derivation and compilation come from the caches afterwards
@@ -32,6 +70,7 @@ def measure(repeats: int = 5) -> dict:
         write_figures(result, tmp, ports_of(scene))
         call, integration, figures, alone = [], [], [], []
         each: dict[str, list[float]] = {name: [] for name in figure_files(result)}
+        floor: dict[str, list[float]] = {name: [] for name in figure_files(result)}
         for _ in range(repeats):
             t0 = time.perf_counter()
             result = apexseal.simulate(scene)
@@ -47,12 +86,18 @@ def measure(repeats: int = 5) -> dict:
                 t0 = time.perf_counter()
                 write_figure(result, Path(tmp), name, kind, ports_of(scene))
                 each[name].append(time.perf_counter() - t0)
+                drawn = figure(result, kind, ports=ports_of(scene), save_dpi=100)
+                drawn.draw_without_rendering()
+                t0 = time.perf_counter()
+                skeleton(drawn).savefig(Path(tmp) / f"skeleton-{name}", dpi=100)
+                floor[name].append(time.perf_counter() - t0)
     med = {k: statistics.median(v) for k, v in (("simulate_call_s", call), ("integration_s", integration),
                                                   ("figures_s", figures), ("figures_one_process_s", alone))}
     med["figures_over_simulate_call"] = med["figures_s"] / med["simulate_call_s"]
     med["figures_over_integration"] = med["figures_s"] / med["integration_s"]
     med["repeats"] = repeats
     med["each_s"] = {name: statistics.median(v) for name, v in each.items()}
+    med["floor_s"] = {name: statistics.median(v) for name, v in floor.items()}
     return med
 
 
@@ -95,6 +140,11 @@ def main() -> None:
           f"the simulate() call, {m['figures_over_integration']:.1f} x the integration (in one process: "
           f"{m['figures_one_process_s']:.2f} s)")
     print("each figure: " + ", ".join(f"{name} {t:.3f} s" for name, t in m["each_s"].items()))
+    floor = sum(m["floor_s"].values())
+    print("matplotlib's floor, the same axes with a two-point line each (timing.skeleton): "
+          + ", ".join(f"{name} {t:.3f} s" for name, t in m["floor_s"].items())
+          + f"; together {floor:.2f} s, {floor / 2:.2f} s on two cores = {floor / 2 / m['simulate_call_s']:.2f} x the "
+          "simulate() call")
 
 
 if __name__ == "__main__":

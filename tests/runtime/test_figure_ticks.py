@@ -56,3 +56,31 @@ def test_crank_angle_ticks():
     ax.set_xlim(0.0, 7200.0)  # 20 revolutions
     assert len([t for t in ax.get_xticks() if 0.0 <= t <= 7200.0]) <= 6
     assert len([t for t in ax.get_yticks() if 0.0 <= t <= 1.0]) <= 5
+
+
+def test_the_skeleton_of_a_figure_keeps_its_axes_and_texts_without_its_data():
+    """``timing.skeleton`` (the floor the figure timing prints): same grid cells, projections, scales, tick labels
+    and titles as the figure, and a two-point line instead of the data."""
+    from apexseal.runtime.results.timing import skeleton
+
+    fig = Figure(figsize=(6, 4), layout="constrained")
+    left, right = fig.subplots(1, 2)
+    left.plot(np.linspace(0, 360, 3601), np.sin(np.linspace(0, 20, 3601)))
+    left.set_title("forces")
+    left.set_ylabel("|F| (N)")
+    crank_angle_ticks(left)
+    right.loglog([10.0, 3e5], [1e-3, 30.0])
+    right.set_xlim(10.0, 3e5)
+    plain_log_ticks(right)
+    fig.suptitle("figure")
+    fig.draw_without_rendering()
+    sk = skeleton(fig)
+    sk.draw_without_rendering()
+    assert len(sk.axes) == 2 and sk.get_suptitle() == "figure"
+    assert [ax.get_subplotspec().get_geometry() for ax in sk.axes] == [(1, 2, 0, 0), (1, 2, 1, 1)]
+    for a, b in zip(fig.axes, sk.axes, strict=True):
+        assert (b.get_xscale(), b.get_yscale(), b.get_title(), b.get_ylabel()) == \
+            (a.get_xscale(), a.get_yscale(), a.get_title(), a.get_ylabel())
+        for axis in ("x", "y"):
+            assert _labels(sk, getattr(b, f"{axis}axis")) == _labels(fig, getattr(a, f"{axis}axis"))
+        assert [len(line.get_xdata()) for line in b.get_lines()] == [2]
