@@ -26,16 +26,21 @@ from .figures import figure_files, write_figure
 CHILD_SHARE = ("fig12_displacements.png", "fig14_housing_spectrum.png", "pv_diagram.png")
 
 
-#: threads that may run at the fork: tqdm's monitor of progress bars (it only takes tqdm's own lock, which the
-#: child never uses)
-HARMLESS_THREADS = ("TMonitor",)
+#: threads that may run at the fork, by class name or name prefix: tqdm's monitor of progress bars (it only takes
+#: tqdm's own lock, which the child never uses); the worker of dask.distributed's offload executor, which stays,
+#: idle, after a sweep's LocalCluster is closed (the child runs no dask code)
+HARMLESS_THREADS = ("TMonitor", "Dask-Offload")
+
+
+def other_threads() -> list[str]:
+    """The names of the threads running besides the main thread and the harmless ones."""
+    return [t.name for t in threading.enumerate() if t is not threading.main_thread()
+            and not any(type(t).__name__ == h or t.name.startswith(h) for h in HARMLESS_THREADS)]
 
 
 def can_fork() -> bool:
     """True where a child process can be forked safely: Linux, no other thread running (but harmless ones)."""
-    others = [t for t in threading.enumerate()
-              if t is not threading.main_thread() and type(t).__name__ not in HARMLESS_THREADS]
-    return sys.platform.startswith("linux") and hasattr(os, "fork") and not others
+    return sys.platform.startswith("linux") and hasattr(os, "fork") and not other_threads()
 
 
 class FigureJob:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 
 import pytest
+from fork_helpers import require_fork
 
 import apexseal
 from apexseal.runtime.results import figure_job
@@ -18,13 +19,10 @@ def result(default_scene, default_functions):
                              functions=default_functions.sx)
 
 
-def _forkable():
-    if not figure_job.can_fork():  # checked when the test runs: earlier tests may have left threads running
-        pytest.skip("forking is not safe here (not Linux, or other threads running)")
 
 
 def test_forked_drawing_writes_the_same_files(result, default_scene, tmp_path):
-    _forkable()
+    require_fork()
     ports = ports_of(default_scene)
     alone = write_figures(result, tmp_path / "one", ports, fork=False)
     forked = write_figures(result, tmp_path / "two", ports, fork=True)
@@ -34,7 +32,7 @@ def test_forked_drawing_writes_the_same_files(result, default_scene, tmp_path):
 
 
 def test_a_failing_child_costs_no_figure(result, default_scene, tmp_path, monkeypatch, capfd):
-    _forkable()
+    require_fork()
     parent = os.getpid()
     draw = figure_job.write_figure
 

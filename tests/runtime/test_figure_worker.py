@@ -7,9 +7,9 @@ import os
 import signal
 
 import pytest
+from fork_helpers import require_fork
 
 import apexseal
-from apexseal.runtime.results import figure_job
 from apexseal.runtime.results.figure_worker import FigureWorker
 from apexseal.runtime.results.figures import FILES, figure_files, ports_of, write_figures
 
@@ -21,9 +21,9 @@ def result(default_scene, default_functions):
 
 
 def _worker() -> FigureWorker:
-    worker = FigureWorker.start()  # checked when the test runs: earlier tests may have left threads running
-    if worker is None:
-        pytest.skip("forking is not safe here (not Linux, or other threads running)")
+    require_fork()  # checked when the test runs: earlier tests may have left threads running
+    worker = FigureWorker.start()
+    assert worker is not None
     return worker
 
 
@@ -56,9 +56,8 @@ def test_a_killed_worker_costs_no_figure(result, default_scene, tmp_path):
 
 
 def test_a_run_without_figures_stops_the_worker(tmp_path):
+    require_fork()
     with FigureWorker.started() as worker:
-        if worker is None:
-            pytest.skip("forking is not safe here")
         pid, path = worker.pid, worker.path
         assert path.exists()
     assert _gone(pid) and not path.exists()
@@ -82,8 +81,7 @@ def test_the_cli_draws_through_the_worker(tmp_path, monkeypatch):
     from apexseal.cli import main
     from apexseal.runtime.results import figure_worker
 
-    if not figure_job.can_fork():
-        pytest.skip("forking is not safe here")
+    require_fork()
     submitted = []
     submit = figure_worker.FigureWorker.submit
 
