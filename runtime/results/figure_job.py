@@ -2,28 +2,37 @@
 
 Each figure costs Agg a few tenths of a second of layout and text, whatever the run's length, so the four
 figures of a default run take longer than its integration. :class:`FigureJob` forks a child process (it
-inherits the result: nothing is copied or pickled) that draws the larger figures while this process writes
-summary.json and the rest, then draws the remaining figures itself and waits for the child. Figures are written
-atomically into the result's staging folder, so whichever process draws a figure, the folder is the same.
+inherits the result: nothing is copied or pickled), and the two share the figures out as they go: each takes the
+next figure not yet taken, in :data:`ORDER` (costliest first), by creating its claim file (``O_CREAT | O_EXCL``,
+atomic) in a private temporary folder. So the child draws while this process writes summary.json and the rest,
+and whichever process finishes a figure first takes the next one: the longest figure never waits behind two
+others, whatever the machine. Figures are written atomically into the result's staging folder, so whichever
+process draws a figure, the folder is the same.
 
 A figure the child did not write (it failed, or was killed) is drawn by this process, so a failure of the
 child costs time, never a figure. Where forking is not safe (not Linux, or other threads are running: a
-forked child could inherit a lock held by one of them; tqdm's monitor thread excepted) everything is drawn here, in order.
+forked child could inherit a lock held by one of them; tqdm's monitor thread excepted) everything is drawn
+here, in order.
 """
 
 from __future__ import annotations
 
 import os
+import shutil
 import signal
 import sys
+import tempfile
 import threading
 import traceback
 from pathlib import Path
 
 from .figures import figure_files, write_figure
 
-#: figures the child draws (the costliest: three polar panels, six panels, the chamber gas figures)
-CHILD_SHARE = ("fig12_displacements.png", "fig14_housing_spectrum.png", "pv_diagram.png")
+#: the order in which the two processes take the figures: costliest first (docs/performance.md, one process:
+#: Fig. 13's seven panels, Fig. 12's three polar panels, then the gas figures, the modes, Fig. 14), so that the
+#: last figure to finish is a short one
+ORDER = ("fig13_forces.png", "fig12_displacements.png", "pv_diagram.png", "fig11_pressures.png",
+         "mode_timeline.png", "fig14_housing_spectrum.png")
 
 
 #: threads that may run at the fork, by class name or name prefix: tqdm's monitor of progress bars (it only takes
@@ -52,23 +61,23 @@ class FigureJob:
         self.files = figure_files(result)
         self.fork = can_fork() if fork is None else fork and can_fork()
         self.pid: int | None = None
+        self.claims: Path | None = None
 
     def start(self) -> FigureJob:
-        """Fork the child that draws :data:`CHILD_SHARE` (matplotlib is imported first, once, for both)."""
+        """Fork the child that takes figures in :data:`ORDER` (matplotlib is imported first, once, for both)."""
         self.folder.mkdir(parents=True, exist_ok=True)
-        child = [n for n in self.files if n in CHILD_SHARE]
-        if not self.fork or not child:
+        if not self.fork or len(self.files) < 2:
             return self
         import matplotlib.figure  # noqa: F401  (imported before the fork: the child inherits it)
 
+        self.claims = Path(tempfile.mkdtemp(prefix="apexseal-figure-claims-"))
         sys.stdout.flush()
         sys.stderr.flush()
         pid = os.fork()
         if pid == 0:  # the child: draw, then leave without running the parent's exit handlers
             code = 1
             try:
-                for name in child:
-                    write_figure(self.result, self.folder, name, self.files[name], self.ports, self.dpi)
+                self._draw_claimed()
                 code = 0
             except BaseException:
                 traceback.print_exc()
@@ -77,31 +86,50 @@ class FigureJob:
         self.pid = pid
         return self
 
-    def cancel(self) -> None:
-        """Stop the child, if any, and wait for it (the result is not being written after all)."""
+    def _claim(self, name: str) -> bool:
+        """True if this process takes figure ``name`` (always, without a child)."""
+        if self.claims is None:
+            return True
+        try:
+            os.close(os.open(self.claims / name, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+        except FileExistsError:
+            return False
+        return True
+
+    def _draw_claimed(self) -> None:
+        order = sorted(self.files, key=lambda n: ORDER.index(n) if n in ORDER else len(ORDER))
+        for name in order:
+            if self._claim(name):
+                write_figure(self.result, self.folder, name, self.files[name], self.ports, self.dpi)
+
+    def _end(self, kill: bool) -> None:
+        """Wait for the child (killed first if ``kill``) and remove the claims."""
         if self.pid is not None:
             try:
-                os.kill(self.pid, signal.SIGKILL)
+                if kill:
+                    os.kill(self.pid, signal.SIGKILL)
                 os.waitpid(self.pid, 0)
             except (ProcessLookupError, ChildProcessError):
                 pass
             self.pid = None
+        if self.claims is not None:
+            shutil.rmtree(self.claims, ignore_errors=True)
+            self.claims = None
+
+    def cancel(self) -> None:
+        """Stop the child, if any, and wait for it (the result is not being written after all)."""
+        self._end(kill=True)
 
     def finish(self) -> list[Path]:
-        """Draw the figures not given to the child, wait for it, draw any it did not write; the paths in the
+        """Draw the figures the child has not taken, wait for it, draw any it did not write; the paths in the
         order of :func:`.figures.figure_files`."""
-        mine = [n for n in self.files if self.pid is None or n not in CHILD_SHARE]
         try:
-            for name in mine:
-                write_figure(self.result, self.folder, name, self.files[name], self.ports, self.dpi)
+            self._draw_claimed()
         except BaseException:
             self.cancel()
             raise
-        if self.pid is not None:
-            os.waitpid(self.pid, 0)
-            self.pid = None
-            return self.draw_missing()  # the child failed or was killed: its figures are drawn here
-        return [self.folder / n for n in self.files]
+        self._end(kill=False)
+        return self.draw_missing()  # the child failed or was killed: its figures are drawn here
 
     def draw_missing(self) -> list[Path]:
         """Draw, in this process, every figure not in the folder yet; the paths of all of them."""

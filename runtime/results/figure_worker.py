@@ -17,6 +17,7 @@ returns None and the figures are drawn as before.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import pickle
 import signal
@@ -85,9 +86,12 @@ class FigureWorker:
     def submit(self, result, folder: str | Path, ports: dict | None = None, dpi: int = 100) -> FigureWorker:
         """Hand the result over: the worker draws its figures into ``folder`` while this process goes on."""
         self.job = (result, Path(folder), ports, dpi)
+        # without its scene: the figures take the ports as given, and unpickling a Scene would import the scene
+        # machinery (pydantic models, ~130 modules, 0.35 s) in the worker, which forked before this process had it
+        light = dataclasses.replace(result, scene=None)
         try:
             with open(self.path, "wb") as fh:
-                pickle.dump(self.job, fh, protocol=pickle.HIGHEST_PROTOCOL)
+                pickle.dump((light, *self.job[1:]), fh, protocol=pickle.HIGHEST_PROTOCOL)
             os.write(self._fd, _GO)
         except OSError:  # the worker is gone: finish() draws everything here
             pass

@@ -19,8 +19,6 @@ def result(default_scene, default_functions):
                              functions=default_functions.sx)
 
 
-
-
 def test_forked_drawing_writes_the_same_files(result, default_scene, tmp_path):
     require_fork()
     ports = ports_of(default_scene)
@@ -46,5 +44,31 @@ def test_a_failing_child_costs_no_figure(result, default_scene, tmp_path, monkey
     assert job.pid is not None
     paths = job.finish()
     assert all(p.is_file() and p.stat().st_size > 0 for p in paths)
-    assert {p.name for p in paths} >= set(figure_job.CHILD_SHARE) & set(figure_files(result))
+    assert [p.name for p in paths] == list(figure_files(result))
     assert "the child fails" in capfd.readouterr().err
+
+
+def test_the_two_processes_share_the_figures_out_costliest_first(result, default_scene, tmp_path, monkeypatch):
+    """Each figure is drawn once, by whichever process takes it first; the child draws some of them, the parent
+    the rest; the parent starts with the costliest (figure_job.ORDER); no claim file is left behind."""
+    require_fork()
+    log = tmp_path / "drawn.log"
+    draw = figure_job.write_figure
+
+    def logged(result, folder, name, *args, **kw):
+        with open(log, "a") as fh:  # one short line per write: appends from two processes do not interleave
+            fh.write(f"{os.getpid()} {name}\n")
+        return draw(result, folder, name, *args, **kw)
+
+    monkeypatch.setattr(figure_job, "write_figure", logged)
+    job = figure_job.FigureJob(result, tmp_path / "figs", ports_of(default_scene), fork=True).start()
+    claims = job.claims
+    assert claims is not None and claims.is_dir()
+    paths = job.finish()
+    drawn = [line.split() for line in log.read_text().splitlines()]
+    assert sorted(name for _, name in drawn) == sorted(figure_files(result))  # each once
+    by = {pid for pid, _ in drawn}
+    assert len(by) == 2 and str(os.getpid()) in by  # both processes drew
+    mine = [name for pid, name in drawn if pid == str(os.getpid())]
+    assert mine[0] in figure_job.ORDER[:2]  # the parent began with one of the two costliest
+    assert all(p.is_file() for p in paths) and not claims.exists()
