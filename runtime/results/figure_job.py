@@ -11,8 +11,8 @@ process draws a figure, the folder is the same.
 
 A figure the child did not write (it failed, or was killed) is drawn by this process, so a failure of the
 child costs time, never a figure. Where forking is not safe (not Linux, or other threads are running: a
-forked child could inherit a lock held by one of them; tqdm's monitor thread excepted) everything is drawn
-here, in order.
+forked child could inherit a lock held by one of them; the idle ones of :data:`HARMLESS_THREADS` excepted)
+everything is drawn here, in order.
 """
 
 from __future__ import annotations
