@@ -72,3 +72,23 @@ def test_the_two_processes_share_the_figures_out_costliest_first(result, default
     mine = [name for pid, name in drawn if pid == str(os.getpid())]
     assert mine[0] in figure_job.ORDER[:2]  # the parent began with one of the two costliest
     assert all(p.is_file() for p in paths) and not claims.exists()
+
+
+def test_an_idle_dask_offload_thread_does_not_stop_forking_and_another_thread_does():
+    """dask.distributed keeps its offload executor's thread after a LocalCluster closes (a sweep in this process):
+    it is harmless at the fork; a thread of any other name is not."""
+    import threading
+
+    stop = threading.Event()
+    dask_like = threading.Thread(target=stop.wait, name="Dask-Offload_0", daemon=True)
+    other = threading.Thread(target=stop.wait, name="a-users-thread", daemon=True)
+    dask_like.start()
+    try:
+        assert "Dask-Offload_0" not in figure_job.other_threads()
+        other.start()
+        assert "a-users-thread" in figure_job.other_threads() and not figure_job.can_fork()
+    finally:
+        stop.set()
+        dask_like.join()
+        if other.is_alive():
+            other.join()
