@@ -47,6 +47,19 @@ def other_threads() -> list[str]:
             and not any(type(t).__name__ == h or t.name.startswith(h) for h in HARMLESS_THREADS)]
 
 
+def reap(pid: int | None, kill: bool = False) -> None:
+    """Wait for the child process ``pid`` (None: nothing to wait for), killed first if ``kill``; a child that is
+    gone already is not an error."""
+    if pid is None:
+        return
+    try:
+        if kill:
+            os.kill(pid, signal.SIGKILL)
+        os.waitpid(pid, 0)
+    except (ProcessLookupError, ChildProcessError):
+        pass
+
+
 def can_fork() -> bool:
     """True where a child process can be forked safely: Linux, no other thread running (but harmless ones)."""
     return sys.platform.startswith("linux") and hasattr(os, "fork") and not other_threads()
@@ -104,14 +117,8 @@ class FigureJob:
 
     def _end(self, kill: bool) -> None:
         """Wait for the child (killed first if ``kill``) and remove the claims."""
-        if self.pid is not None:
-            try:
-                if kill:
-                    os.kill(self.pid, signal.SIGKILL)
-                os.waitpid(self.pid, 0)
-            except (ProcessLookupError, ChildProcessError):
-                pass
-            self.pid = None
+        reap(self.pid, kill)
+        self.pid = None
         if self.claims is not None:
             shutil.rmtree(self.claims, ignore_errors=True)
             self.claims = None

@@ -28,7 +28,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from .figure_job import FigureJob, can_fork
+from .figure_job import FigureJob, can_fork, reap
 
 #: the byte that tells the worker a result is waiting in its file
 _GO = b"g"
@@ -119,12 +119,7 @@ class FigureWorker:
     def _wait(self, kill: bool = False) -> None:
         if self.pid is None:
             return
-        try:
-            if kill:
-                os.kill(self.pid, signal.SIGKILL)
-            os.waitpid(self.pid, 0)
-        except (ProcessLookupError, ChildProcessError):
-            pass
+        reap(self.pid, kill)
         self.pid = None
         self.path.unlink(missing_ok=True)
 
