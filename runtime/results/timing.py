@@ -36,7 +36,9 @@ def skeleton(fig):
         if spec is None:
             continue
         shape = spec.get_gridspec().get_geometry()
-        gs = grids.setdefault(shape, sk.add_gridspec(*shape))
+        if shape not in grids:  # one grid per shape (setdefault would make a new one for every axes)
+            grids[shape] = sk.add_gridspec(*shape)
+        gs = grids[shape]
         rows, cols = spec.rowspan, spec.colspan
         new = sk.add_subplot(gs[rows.start:rows.stop, cols.start:cols.stop], projection=ax.name)
         new.set_xscale(ax.get_xscale())
