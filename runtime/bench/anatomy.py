@@ -1,0 +1,287 @@
+"""Where the benchmark's error and work are, and what that asks of a method that would beat the peer 2x.
+
+Made by ``python -m apexseal.runtime.bench.anatomy [--rtols 1e-6,1e-7,1e-8,1e-9] [--ring 20] [--no-scipy]
+[--no-split]`` (about 5 minutes; docs/bench/levers.md, "Where the error and the work are").
+
+The problem is the benchmark's (runtime/bench/problem.py: default scene, one revolution after three settling
+ones, 360 output intervals, linear chamber pressures) with its reference (erk at rtol 1e-12, events to 1e-13
+rad). Three measurements:
+
+* **Where the error is** (:func:`windowed_errors`): the scaled error of each output sample (the largest of
+  x, y and phi, each divided by the reference's range, as runtime/bench/metrics.py), its maximum inside the
+  *switch windows* (the output intervals holding a contact switch of the reference and the ``ring`` degrees
+  after each, while the contacts ring down) and outside them, for erk and rosenbrock at each rtol (interpreted,
+  for their statistics: the compiled integrators compute the same numbers).
+* **What standard methods need** (:func:`scipy_rows`): scipy's RK45, DOP853, LSODA, BDF and Radau on the
+  peer's numba right-hand side (runtime/bench/peer_numba.py, contacts switched inside it): right-hand-side
+  evaluations (finite-difference Jacobians included) against the same errors. Counts, not times: scipy's
+  stepping runs in Python.
+* **A stiff method where nothing switches** (:func:`split_rows`): the revolution cut at the switch windows,
+  erk inside them and rosenbrock (L-stable) outside, against erk and rosenbrock alone: steps, CPU time (median
+  of ``repeats`` after a warm-up), error. The windows come from the reference (an oracle), so this bounds what
+  switching between the two by phase could give.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+from ..solving.layout import HybridLayout
+from .config import METHODS
+from .methods import EngineCache, build_engine
+from .metrics import STATE_KEYS, errors, trajectory
+from .problem import load_model, make_problem
+
+#: scipy's methods of :func:`scipy_rows`
+SCIPY_METHODS = ("RK45", "DOP853", "LSODA", "BDF", "Radau")
+
+
+def switch_intervals(problem, z_ref: np.ndarray) -> np.ndarray:
+    """(samples,) bool: True for the output intervals in which the reference switched a contact (its event
+    counters, runtime/solving/layout.py, went up over the interval)."""
+    lay = HybridLayout.of(problem.functions)
+    counts = np.c_[problem.z0[lay.counts], np.asarray(z_ref)[lay.counts]].sum(axis=0)
+    return np.diff(counts) > 0
+
+
+def switch_windows(switched: np.ndarray, ring_samples: int) -> np.ndarray:
+    """(samples,) bool: each switching interval and the ``ring_samples`` intervals after it (periodic: the
+    span is a revolution, so a window near its end continues at its start)."""
+    switched = np.asarray(switched, bool)
+    inside = switched.copy()
+    for k in range(1, ring_samples + 1):
+        inside |= np.roll(switched, k)
+    return inside
+
+
+def sample_errors(traj, ref) -> np.ndarray:
+    """(samples,) scaled error of each sample: max over x, y, phi of |traj - ref| / range of the reference."""
+    rows = []
+    for i, _ in enumerate(STATE_KEYS):
+        rng = float(np.ptp(ref.X[i]))
+        if rng > 0:
+            rows.append(np.abs(traj.X[i] - ref.X[i]) / rng)
+    return np.max(rows, axis=0)
+
+
+def windowed_errors(traj, ref, windows: np.ndarray) -> dict:
+    """The scaled error (the benchmark's) and its maximum inside and outside the switch ``windows``."""
+    e = sample_errors(traj, ref)
+    inside, outside = e[windows], e[~windows]
+    return {"state": errors(traj, ref)["state"], "inside": float(inside.max()) if inside.size else 0.0,
+            "outside": float(outside.max()) if outside.size else 0.0}
+
+
+class Anatomy:
+    """The benchmark's problem with its reference and switch windows, and the engines that integrate it."""
+
+    def __init__(self, *, samples: int = 360, ring_deg: float = 20.0, settle: int = 3, problem=None,
+                 reference_z: np.ndarray | None = None):
+        from ..scenes.scene import load_scene
+
+        span = 2 * math.pi if problem is None else problem.span
+        samples = samples if problem is None else problem.samples
+        self.engines = EngineCache(samples=samples, span=span, flags="optimised", pressure="linear")
+        if problem is None:
+            scene = load_scene()
+            self.functions, _ = load_model(scene.effects, scene.assumptions)
+            st_engine, st = self.engines.settle("all", self.functions, 1e-10, 1e-12)
+            problem = make_problem("default", scene, scene.effects, self.functions, samples=samples,
+                                   span=2 * math.pi, settle_revolutions=settle, settle_engine=st_engine,
+                                   settle_settings=st, pressure_profile="linear")
+        self.functions = problem.functions
+        self.problem = problem
+        if reference_z is None:
+            ref_engine = self.engines.reference("all", self.functions, 1e-12, 1e-13)
+            reference_z = ref_engine.run(problem.z0, problem.params, problem.theta0, problem.pressures).z
+        self.ref_z = np.asarray(reference_z)
+        self.ref = trajectory(problem, self.ref_z)
+        self.dtheta = problem.span / problem.samples
+        ring = int(round(math.radians(ring_deg) / self.dtheta))
+        self.switched = switch_intervals(problem, self.ref_z)
+        self._segment_engines: dict = {}
+        self.windows = switch_windows(self.switched, ring)
+
+    def casadi_rows(self, methods=("erk", "rosenbrock"), rtols=(1e-6, 1e-7, 1e-8, 1e-9), log=print) -> list[dict]:
+        """Error inside and outside the switch windows, steps and RHS evaluations, for each method and rtol."""
+        p, rows = self.problem, []
+        for method in methods:
+            for rtol in rtols:
+                vm = self.engines.get("all", self.functions, METHODS[f"{method}-C"], rtol, compiled=False)
+                out = vm.run(p.z0, p.params, p.theta0, p.pressures)
+                rows.append({"method": method, "rtol": rtol, "steps": int(out.stats["n_steps"]),
+                             "rhs": int(out.stats["n_rhs"])}
+                            | windowed_errors(trajectory(p, out.z), self.ref, self.windows))
+                log(rows[-1])
+        return rows
+
+    def split_rows(self, rtols=(1e-7, 1e-8, 1e-9), repeats: int = 5, compiled: bool = True, log=print) -> list[dict]:
+        """erk alone, rosenbrock alone, and erk in the switch windows with rosenbrock between them (timed compiled,
+        or interpreted with ``compiled=False``)."""
+        whole = lambda m: [(0, self.problem.samples, m)]  # noqa: E731
+        plans = {"erk": whole("erk"), "rosenbrock": whole("rosenbrock"), "erk, cut at the windows":
+                 self.segments(between="erk"), "erk in the windows, rosenbrock between": self.segments()}
+        rows = []
+        for rtol in rtols:
+            for label, plan in plans.items():
+                z, steps = self._run_plan(plan, rtol, compiled=False)
+                inside = sum(n for (lo, _, _), n in zip(plan, steps, strict=True) if self.windows[lo])
+                self._run_plan(plan, rtol, compiled=compiled)  # warm-up: compiles or loads the integrators
+                cpu = []
+                for _ in range(repeats):
+                    c0 = time.process_time()
+                    self._run_plan(plan, rtol, compiled=compiled)
+                    cpu.append(time.process_time() - c0)
+                err = windowed_errors(trajectory(self.problem, z), self.ref, self.windows)
+                rows.append({"plan": label, "rtol": rtol, "steps": sum(steps), "steps_inside": inside,
+                             "cpu_ms": 1e3 * float(np.median(cpu)), "segments": len(plan)} | err)
+                log(rows[-1])
+        return rows
+
+    def segments(self, between: str = "rosenbrock") -> list[tuple[int, int, str]]:
+        """The revolution cut where the switch windows begin and end: (first interval, end, method), erk in the
+        windows and ``between`` outside them."""
+        w, out, start = self.windows, [], 0
+        for k in range(1, w.size + 1):
+            if k == w.size or w[k] != w[start]:
+                out.append((start, k, "erk" if w[start] else between))
+                start = k
+        return out
+
+    def _run_plan(self, plan, rtol: float, *, compiled: bool) -> tuple[np.ndarray, list[int]]:
+        """Integrate the revolution segment by segment, each with its method; (hybrid states, steps of each
+        segment: 0 for a compiled integrator, which reports none)."""
+        p, cols, steps = self.problem, [], []
+        z = p.z0
+        P = p.pressures  # linear: the values at the n + 1 edges
+        for lo, hi, method in plan:
+            key = (method, rtol, hi - lo, compiled)
+            eng = self._segment_engines.get(key)
+            if eng is None:
+                eng = self._segment_engines[key] = build_engine(
+                    self.functions, METHODS[f"{method}-C"], rtol, samples=hi - lo, span=(hi - lo) * self.dtheta,
+                    flags="optimised", compiled=compiled, pressure="linear")
+            out = eng.run(z, p.params, p.theta0 + lo * self.dtheta, P[:, lo:hi + 1])
+            steps.append(int(out.stats.get("n_steps", 0)))
+            cols.append(out.z)
+            z = out.z[:, -1]
+        return np.hstack(cols), steps
+
+
+def scipy_rows(an: Anatomy, methods=SCIPY_METHODS, rtols=(1e-5, 1e-6, 1e-7, 1e-8, 1e-9), log=print) -> list[dict]:
+    """RHS evaluations of scipy's methods on the peer's numba switched right-hand side, with their errors."""
+    from scipy.integrate import solve_ivp
+
+    from .peer_numba import NumbaPeer
+    from .peer_source import numba_model
+
+    p = an.problem
+    peer = NumbaPeer(p, numba_model(p.effects, p.scene.assumptions))
+    peer.build(numbalsoda=False)
+    f, count = peer.kernels["switched_rhs"], peer.layout.CNT
+    grid = p.span / p.samples * np.arange(1, p.samples + 1)
+    rows = []
+    for method in methods:
+        for rtol in rtols:
+            d = peer.data.copy()
+
+            def rhs(t, z, d=d):
+                dz = np.empty(6)
+                f(t, z, d, dz)
+                return dz
+
+            sol = solve_ivp(rhs, (0.0, p.span), peer.z0(), method=method, t_eval=grid, rtol=rtol, atol=rtol)
+            row = {"method": method, "rtol": rtol, "rhs": int(d[count]), "jacobians": int(sol.njev)}
+            if sol.status != 0 or sol.y.shape[1] != p.samples:
+                row["failed"] = str(sol.message)[:120]
+            else:
+                z = peer._grid_states(sol.y, int(d[count])).z
+                row |= windowed_errors(trajectory(p, z), an.ref, an.windows)
+            rows.append(row)
+            log(row)
+    return rows
+
+
+def evaluations_at(rows: list[dict], method: str, target: float) -> float | None:
+    """RHS evaluations a method needs for a scaled error of ``target``: log-log interpolation between the two of
+    its points around it on its (evaluations, error) Pareto front; None when its points do not bracket it."""
+    pts = sorted((r["rhs"], r["state"]) for r in rows if r["method"] == method and "state" in r)
+    front, best = [], math.inf
+    for n, e in pts:
+        if e < best:
+            front.append((n, e))
+            best = e
+    for (n0, e0), (n1, e1) in zip(front, front[1:], strict=False):
+        if e1 <= target <= e0:
+            w = (math.log(target) - math.log(e0)) / (math.log(e1) - math.log(e0))
+            return math.exp(math.log(n0) + w * (math.log(n1) - math.log(n0)))
+    return None
+
+
+def _reached(rows: list[dict], method: str, n: float | None) -> str:
+    """``n`` evaluations, or what the method's most accurate point reached instead."""
+    if n is not None:
+        return f"{n:,.0f}"
+    points = [(r["state"], r["rhs"]) for r in rows if r["method"] == method and "state" in r]
+    if not points:
+        return "failed at every tolerance"
+    e, rhs = min(points)
+    return f"not reached (best {e:.1e} with {rhs:,})"
+
+
+def markdown(an: Anatomy, casadi: list[dict], scipy: list[dict], split: list[dict], ring_deg: float) -> str:
+    deg = np.degrees(an.dtheta)
+    n_in = int(an.windows.sum())
+    out = [f"Switch windows: the {int(an.switched.sum())} output intervals in which the reference switched a contact "
+           f"and the {ring_deg:g} deg after each: {n_in} of {an.windows.size} samples ({n_in * deg:.0f} deg), "
+           f"segments {', '.join(f'{lo * deg:.0f}-{hi * deg:.0f} deg' for lo, hi, m in an.segments() if m == 'erk')}."]
+    fmt = "{:.1e}".format
+    if casadi:
+        out += ["", "| method | rtol | scaled error | inside the windows | outside | steps | RHS evaluations |",
+                "|---|---|---|---|---|---|---|"]
+        out += [f"| {r['method']} | {r['rtol']:g} | {fmt(r['state'])} | {fmt(r['inside'])} | {fmt(r['outside'])} | "
+                f"{r['steps']:,} | {r['rhs']:,} |" for r in casadi]
+    if scipy:
+        out += ["", "| scipy method (numba RHS, switched) | rtol | scaled error | inside | outside | RHS evaluations "
+                "(Jacobians) |", "|---|---|---|---|---|---|"]
+        for r in scipy:
+            if "failed" in r:
+                out.append(f"| {r['method']} | {r['rtol']:g} | failed: {r['failed']} | | | {r['rhs']:,} |")
+            else:
+                out.append(f"| {r['method']} | {r['rtol']:g} | {fmt(r['state'])} | {fmt(r['inside'])} | "
+                           f"{fmt(r['outside'])} | {r['rhs']:,} ({r['jacobians']:,}) |")
+        at = {m: evaluations_at(scipy, m, 1e-6) for m in SCIPY_METHODS}
+        out += ["", "RHS evaluations for a scaled error of 1e-6 (interpolated on each method's Pareto front): "
+                + ", ".join(f"{m} {_reached(scipy, m, n)}" for m, n in at.items()) + "."]
+    if split:
+        out += ["", "| integration | rtol | scaled error | inside | outside | steps (in the windows) | CPU / rev |",
+                "|---|---|---|---|---|---|---|"]
+        out += [f"| {r['plan']} | {r['rtol']:g} | {fmt(r['state'])} | {fmt(r['inside'])} | {fmt(r['outside'])} | "
+                f"{r['steps']:,}" + (f" ({r['steps_inside']:,})" if r["segments"] > 1 else "")
+                + f" | {r['cpu_ms']:.1f} ms |" for r in split]
+    return "\n".join(out)
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rtols", default="1e-6,1e-7,1e-8,1e-9", help="erk's and rosenbrock's tolerances")
+    ap.add_argument("--ring", type=float, default=20.0, help="degrees after a switch that belong to its window")
+    ap.add_argument("--no-scipy", action="store_true", help="skip scipy's methods (they need numba)")
+    ap.add_argument("--no-split", action="store_true", help="skip the erk/rosenbrock split by phase")
+    a = ap.parse_args(argv)
+    rtols = tuple(float(x) for x in a.rtols.split(","))
+    log = lambda row: print("  ", row, flush=True)  # noqa: E731  (progress: one line per point)
+    print("reference and switch windows ...", flush=True)
+    an = Anatomy(ring_deg=a.ring)
+    casadi = an.casadi_rows(rtols=rtols, log=log)
+    scipy = [] if a.no_scipy else scipy_rows(an, log=log)
+    split = [] if a.no_split else an.split_rows(rtols=rtols[1:], log=log)
+    print(markdown(an, casadi, scipy, split, a.ring))
+
+
+if __name__ == "__main__":
+    main()

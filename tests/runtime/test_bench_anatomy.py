@@ -1,0 +1,116 @@
+"""Where the benchmark's error and work are (runtime/bench/anatomy.py): its windows, errors and split runs.
+
+The building blocks on made-up data; the whole measurement on 20 degrees of the default scene from its initial
+state (24 output intervals, interpreted integrators: nothing is compiled).
+"""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from apexseal.runtime.api import model_functions
+from apexseal.runtime.bench.anatomy import (
+    Anatomy,
+    evaluations_at,
+    markdown,
+    sample_errors,
+    switch_intervals,
+    switch_windows,
+    windowed_errors,
+)
+from apexseal.runtime.bench.metrics import Trajectory
+from apexseal.runtime.bench.problem import make_problem
+from apexseal.runtime.scenes.scene import load_scene
+from apexseal.runtime.solving.methods import make_engine
+from apexseal.runtime.solving.settings import RunSettings
+
+
+def test_switch_windows_hold_each_switch_and_the_intervals_after_it_periodically():
+    switched = np.zeros(10, bool)
+    switched[[2, 9]] = True
+    w = switch_windows(switched, 2)
+    # 2 -> 2, 3, 4; 9 -> 9, then 0 and 1 of the next revolution
+    assert np.flatnonzero(w).tolist() == [0, 1, 2, 3, 4, 9]
+    assert switch_windows(switched, 0).tolist() == switched.tolist()
+
+
+def test_switch_intervals_are_where_the_event_counters_go_up():
+    functions = SimpleNamespace(state_names=("a",), guard_names=("g1", "g2"))
+    problem = SimpleNamespace(functions=functions, z0=np.array([0.0, 1.0, 0.0, 3.0, 5.0]))
+    counts = np.array([[3, 3, 4, 4, 6],  # g1: up over intervals 2 and 4
+                       [5, 5, 5, 5, 5]])  # g2: never
+    z = np.vstack([np.zeros((1, 5)), np.zeros((2, 5)), counts])
+    assert switch_intervals(problem, z).tolist() == [False, False, True, False, True]
+    counts[1, 0] = 6  # g2 switched in the first interval: counted from z0
+    z = np.vstack([np.zeros((1, 5)), np.zeros((2, 5)), counts])
+    assert switch_intervals(problem, z).tolist() == [True, False, True, False, True]
+
+
+def _traj(x, y, phi):
+    X = np.vstack([x, y, phi, np.zeros((3, len(x)))])
+    return Trajectory(X, np.zeros((1, len(x))), np.zeros(1), np.ones(len(x)))
+
+
+def test_errors_inside_and_outside_the_windows():
+    ref = _traj(np.linspace(0, 2, 5), np.linspace(0, 10, 5), np.linspace(0, 1, 5))
+    moved = _traj(ref.X[0] + [0, 0, 0.2, 0, 0], ref.X[1] + [0, 0.5, 0, 0, 0], ref.X[2])
+    # x: 0.2 of its range 2 at sample 2; y: 0.5 of 10 at sample 1
+    np.testing.assert_allclose(sample_errors(moved, ref), [0, 0.05, 0.1, 0, 0])
+    w = np.array([False, False, True, True, False])
+    e = windowed_errors(moved, ref, w)
+    assert e == pytest.approx({"state": 0.1, "inside": 0.1, "outside": 0.05})
+    assert windowed_errors(moved, ref, ~w) == pytest.approx({"state": 0.1, "inside": 0.05, "outside": 0.1})
+
+
+def test_evaluations_at_an_error_interpolate_on_the_pareto_front():
+    rows = [{"method": "A", "rhs": 1000, "state": 1e-4}, {"method": "A", "rhs": 10000, "state": 1e-8},
+            {"method": "A", "rhs": 5000, "state": 1e-3},  # off the front: more work for more error
+            {"method": "B", "rhs": 10, "state": 1e-2}, {"method": "A", "rhs": 1, "failed": "x"}]
+    assert evaluations_at(rows, "A", 1e-6) == pytest.approx(math.sqrt(1000 * 10000))
+    assert evaluations_at(rows, "A", 1e-9) is None  # not bracketed
+    assert evaluations_at(rows, "B", 1e-6) is None
+
+
+@pytest.fixture(scope="module")
+def tiny():
+    """20 degrees of the default scene from its initial state (it starts with its switches), 24 intervals."""
+    scene = load_scene()
+    f = model_functions(scene, compiled=False)
+    span, samples = math.radians(20), 24
+    problem = make_problem("default", scene, scene.effects, f, samples=samples, span=span, settle_revolutions=0,
+                           pressure_profile="linear")
+    st = RunSettings(method="erk", rtol=1e-11, samples_per_revolution=round(samples * 2 * math.pi / span),
+                     event_tol=1e-13, compile_c=False, pressure="linear")
+    ref = make_engine(f, st, n_samples=samples, span=span).run(problem.z0, problem.params, problem.theta0,
+                                                                problem.pressures)
+    return Anatomy(problem=problem, reference_z=ref.z, ring_deg=2.5)
+
+
+def test_the_whole_measurement_on_a_short_span(tiny):
+    an = tiny
+    assert an.switched.any() and an.windows.sum() > an.switched.sum()  # the start rings: windows are longer
+    assert (an.windows[an.switched]).all()
+    segs = an.segments()
+    assert segs[0][0] == 0 and segs[-1][1] == an.problem.samples
+    assert all(a[1] == b[0] and a[2] != b[2] for a, b in zip(segs, segs[1:], strict=False))  # contiguous, alternating
+    assert {m for *_, m in segs} <= {"erk", "rosenbrock"}
+    rows = an.casadi_rows(methods=("erk",), rtols=(1e-5, 1e-8), log=lambda _: None)
+    loose, tight = rows
+    for r in rows:
+        assert r["state"] == pytest.approx(max(r["inside"], r["outside"]))
+    assert tight["state"] < loose["state"] and tight["steps"] > loose["steps"] > 0
+    split = an.split_rows(rtols=(1e-8, 1e-10), repeats=1, compiled=False, log=lambda _: None)
+    plans = ["erk", "rosenbrock", "erk, cut at the windows", "erk in the windows, rosenbrock between"]
+    assert [r["plan"] for r in split] == plans * 2
+    assert split[0]["steps"] == tight["steps"]  # one segment: the same integrator as the whole-span run
+    assert split[2]["segments"] == split[3]["segments"] == len(segs)
+    assert 0 < split[2]["steps_inside"] < split[2]["steps"]
+    for coarse, fine in zip(split[:4], split[4:], strict=True):  # each way of integrating converges to the reference
+        assert fine["state"] < min(coarse["state"], 1e-3)
+        assert fine["outside"] < fine["inside"]  # the start's switches and their ringing hold the error
+    text = markdown(an, rows, [], split, 2.5)
+    assert "| erk | 1e-08 |" in text and "rosenbrock between" in text
