@@ -53,13 +53,18 @@ def scene_of(scene):
     return scene
 
 
+def _radians(value: float) -> str:
+    """An angle setting (rad) as the scene writes it: with its unit (a bare angle is refused as ambiguous)."""
+    return f"{float(value)!r} rad"
+
+
 #: RunSettings field -> (scene key, value as the scene writes it): a run's settings written into its scene
 _SCENE_KEYS = {
     "method": ("solver.method", str), "rtol": ("solver.rtol", float), "atol": ("solver.atol", float),
     "samples_per_revolution": ("solver.samples_per_revolution", int),
-    "steps_per_revolution": ("solver.euler_steps_per_revolution", int), "event_tol": ("solver.event_tol", float),
+    "steps_per_revolution": ("solver.euler_steps_per_revolution", int), "event_tol": ("solver.event_tol", _radians),
     "max_events_per_revolution": ("solver.max_events_per_revolution", int),
-    "chatter_window": ("solver.chatter_window", float), "chatter_events": ("solver.chatter_events", int),
+    "chatter_window": ("solver.chatter_window", _radians), "chatter_events": ("solver.chatter_events", int),
     "flags": ("solver.compile", lambda f: "quick" if f == "quick" else "optimised"),
     "compile_c": ("solver.interpreted", lambda c: not c), "revolutions": ("operation.revolutions", int),
     "pressure": ("solver.pressure", str),
