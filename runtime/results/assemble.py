@@ -69,9 +69,11 @@ def assemble(functions, params, Z, theta, U, theta_start, omega) -> SimulationRe
                             lay.guard_names, modes, info={"state_names": list(lay.state_names)})
 
 
-def assemble_blocks(functions, params, blocks, thetas, pressures, theta_start, omega, first=None) -> SimulationResult:
+def assemble_blocks(functions, params, blocks, thetas, pressures, theta_start, omega, first=None,
+                    first_pressures=None) -> SimulationResult:
     """The part made of the integrator calls ``blocks`` (hybrid states at ``thetas``, with the pressures
-    ``pressures`` of each call), after the initial state ``first`` (given for the first part of a run only).
+    ``pressures`` of each call), after the initial state ``first`` (given for the first part of a run only) with the
+    pressures ``first_pressures`` (2,) there (default: those of the first sample after it).
     """
     Z = np.hstack(blocks) if blocks else np.zeros((HybridLayout.of(functions).size, 0))
     theta = np.concatenate(thetas) if thetas else np.zeros(0)
@@ -79,5 +81,8 @@ def assemble_blocks(functions, params, blocks, thetas, pressures, theta_start, o
     if first is not None:
         Z = np.c_[first, Z]
         theta = np.r_[theta_start, theta]
-        U = np.c_[U[:, :1] if U.shape[1] else np.zeros((2, 1)), U]
+        if first_pressures is not None:
+            U = np.c_[np.reshape(first_pressures, (2, 1)), U]
+        else:
+            U = np.c_[U[:, :1] if U.shape[1] else np.zeros((2, 1)), U]
     return assemble(functions, params, Z, theta, U, theta_start, omega)

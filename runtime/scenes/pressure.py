@@ -81,6 +81,11 @@ class PressureSource(ABC):
     def __call__(self, theta: Any) -> tuple[np.ndarray, np.ndarray]:
         return self.Pa(theta), self.Pb(theta)
 
+    def rows_per_revolution(self) -> int:
+        """How many corners the pressures have in a revolution (a table's rows; 0: none, they are smooth). A run
+        integrates at least this many intervals a revolution, so that it sees every row (runtime/solving/run.py)."""
+        return 0
+
 
 @dataclass(frozen=True)
 class ConstantPressure(PressureSource):
@@ -190,6 +195,10 @@ class TablePressure(PressureSource):
     def interval_means(self, theta_edges: Any) -> tuple[np.ndarray, np.ndarray]:
         """Exact means of the piecewise-linear table over each interval."""
         return self._a.interval_means(theta_edges), self._b.interval_means(theta_edges)
+
+    def rows_per_revolution(self) -> int:
+        """The table's rows (one revolution)."""
+        return int(self._a.x.size)
 
     def data_sha256(self) -> str:
         """Hash of the numbers (angles in deg, pressures in Pa), independent of the file's spelling."""

@@ -41,7 +41,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     """Integrate ``revolutions`` (default ``settings.revolutions``) revolutions from ``state0`` (physical) at crank
     angle ``theta_start``.
 
-    ``engine`` (optional) must cover a whole number of output intervals that divides a revolution. ``sink``
+    ``engine`` (optional) must cover a whole number of output intervals that divides a revolution; without it,
+    the run builds its own, on a grid at least as fine as the pressure table (:func:`pressure_substeps`). ``sink``
     receives each completed revolution as it is assembled (default: kept in memory; a
     :class:`~..results.folder.ResultFolder` writes it to disk and keeps none in memory). ``pressure`` is the
     scene's pressure source (``scene.pressure``: its ``interval_means(edges)`` and its values ``pressure(theta)``,
@@ -58,7 +59,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     lay = HybridLayout.of(functions)
     omega = float(params[list(functions.parameter_names).index("omega")])
     N = settings.samples_per_revolution
-    dth = 2 * np.pi / N
+    sub = pressure_substeps(pressure, N) if engine is None else 1
+    dth = 2 * np.pi / (N * sub)  # the integrator's intervals: sub of them per output interval
     t_wall = time.perf_counter()
     deadline = t_wall + settings.max_wall_time if settings.max_wall_time else math.inf
     if hasattr(pressure, "interval_means"):  # a pressure source: its means and its values
@@ -68,17 +70,17 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     values, linear = pressure_values, settings.pressure == "linear"
     u0 = _pressures(pressure, theta_start + np.array([0.0, dth]), values, linear)[:, 0]
     z = lay.pack(to_scaled(state0, omega, lay.state_names), initial_activations(functions, theta_start, state0, params, u0))
-    part = _Part(functions, params, theta_start, omega, sink, first=z.copy())
+    part = _Part(functions, params, theta_start, omega, sink, first=z.copy(), first_pressures=u0)
     stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0)
     status = "completed" if stop is None else "failed"
     if engine is None and stop is None:  # no compiling for a run that cannot start
-        m = samples_per_call(settings)
+        m = samples_per_call(settings) * sub
         engine = make_engine(functions, settings, n_samples=m, span=m * dth)
     t_engine = time.perf_counter()
-    m = engine.n_samples if engine is not None else N
-    if N % m:
+    m = engine.n_samples if engine is not None else N * sub
+    if (N * sub) % m:
         raise ValueError(f"the engine covers {m} output intervals, which do not divide samples_per_revolution = {N}")
-    calls = N // m
+    calls = N * sub // m
     stats_total: dict = {}
     check = RunChecks(functions, settings, params, theta_start)
     bar = tqdm(total=revolutions, unit="rev", disable=not progress, leave=False)
@@ -115,13 +117,15 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 failure = failure or bad
                 found = failure or check.events(Z, z, edges[1:], P, z_rev)
                 Z = _up_to_stop(Z, edges, theta_start, found)
+                z_end = Z[:, -1].copy() if Z.shape[1] else z  # where the next call starts
+                Z, P, ends = Z[:, sub - 1::sub], P[:, sub - 1::sub], edges[sub::sub]  # the output samples
                 stats = dict(stats)
                 stats["n_engine_calls"] = 1
-                if "n_events" not in stats and Z.shape[1]:  # a compiled integrator reports no statistics: count
-                    stats["n_events"] = int(Z[lay.counts, -1].sum() - z[lay.counts].sum())  # from the hybrid state
+                if "n_events" not in stats:  # a compiled integrator reports no statistics: count
+                    stats["n_events"] = int(z_end[lay.counts].sum() - z[lay.counts].sum())  # from the hybrid state
                 if Z.shape[1]:
-                    part.add(Z, edges[1:1 + Z.shape[1]], P[:, :Z.shape[1]])
-                    z = Z[:, -1].copy()
+                    part.add(Z, ends[:Z.shape[1]], P[:, :Z.shape[1]])
+                z = z_end
                 for k, v in stats.items():
                     if k.startswith("n_") and isinstance(v, int | float):
                         stats_total[k] = stats_total.get(k, 0) + v
@@ -151,6 +155,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         wall = time.perf_counter() - t_wall
         info = dict(info or {}) | {"state_names": list(lay.state_names), "method": settings.method,
                                    "rtol": settings.rtol, "atol": settings.atol, "samples_per_revolution": N,
+                                   "pressure_substeps": sub,
                                    "pressure": settings.pressure,
                                    "calls_per_revolution": calls,
                                    "revolutions_asked": revolutions, "wall_time_s": wall, "solver_stats": stats_total,
@@ -172,6 +177,17 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         return result
 
 
+def pressure_substeps(pressure, samples_per_revolution: int) -> int:
+    """Integrator intervals per output interval, so that a revolution has at least as many as the pressure table has
+    rows: the pressures are linear (or held at their mean) over each integrator interval, so a coarser output grid
+    would cut the corners of the table's rows and make the physics depend on how often the run is sampled. 1 for
+    pressures without a table (none, constant, the chamber gas model) and for output grids at least as fine as the
+    table. A table's rows closer together than its mean spacing (the steep ramps of hard/pressure-square-wave) are
+    still seen as ramps over one integrator interval."""
+    rows = pressure.rows_per_revolution() if hasattr(pressure, "rows_per_revolution") else 0
+    return max(1, -(-rows // samples_per_revolution))
+
+
 def _up_to_stop(Z: np.ndarray, edges: np.ndarray, theta_start: float, found) -> np.ndarray:
     """The samples of a call up to where the run stopped: nothing past a stop is presented as a result."""
     if found is None or not Z.shape[1]:
@@ -183,9 +199,9 @@ def _up_to_stop(Z: np.ndarray, edges: np.ndarray, theta_start: float, found) -> 
 class _Part:
     """The integrator calls of the revolution in progress; :meth:`flush` hands them to the sink as one part."""
 
-    def __init__(self, functions, params, theta_start, omega, sink, first):
+    def __init__(self, functions, params, theta_start, omega, sink, first, first_pressures=None):
         self.functions, self.params, self.theta_start, self.omega, self.sink = functions, params, theta_start, omega, sink
-        self.first = first
+        self.first, self.first_pressures = first, first_pressures
         self.blocks, self.thetas, self.pressures = [], [], []
         self.theta_done = 0.0  # crank angle of the last sample, from the start
         self._last = first
@@ -206,7 +222,7 @@ class _Part:
             return
         w0 = time.perf_counter()
         part = assemble_blocks(self.functions, self.params, self.blocks, self.thetas, self.pressures,
-                               self.theta_start, self.omega, first=self.first)
+                               self.theta_start, self.omega, first=self.first, first_pressures=self.first_pressures)
         self.blocks, self.thetas, self.pressures, self.first = [], [], [], None
         w1 = time.perf_counter()
         self.sink.append(part)

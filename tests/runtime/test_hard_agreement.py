@@ -14,8 +14,10 @@ from hard_helpers import SCENES, load, short_run, simulate
 
 SCALE = np.array([[1e6], [1e6], [1e3]])
 RTOL = 1e-8
-#: scenes no stepper can run, and why (checked below)
-CANNOT = {"tip-chatter": "CVode returned"}
+#: scenes no stepper can run, and how cvodes ends on them (checked below): on tip-chatter it crawls through the bounces
+#: (~0.3 rad of crank angle in the 4 s budget) until the wall-time budget stops it; before every row of the pressure
+#: table was integrated (1 deg intervals for 0.5 deg rows), CVODES stopped with its own error at the first bounces
+CANNOT = {"tip-chatter": ("interrupted", "wall-time budget used up")}
 #: degrees compared: the rattle of stiff-groove-1e9 parts runs at different tolerances after ~10 deg
 SPAN = {"stiff-groove-1e9": 5}
 BOTH = [s for s in SCENES if s not in CANNOT]
@@ -62,7 +64,9 @@ def _cannot(name, method, fns):
 @pytest.mark.parametrize("name", sorted(CANNOT))
 def test_what_cvodes_cannot_run_ends_with_the_reason(name, fns):
     r = _cannot(name, "cvodes", fns)
-    assert r.status == "failed" and CANNOT[name] in r.stop.reason, r.stop.reason
+    status, reason = CANNOT[name]
+    assert r.status == status and reason in r.stop.reason, r.stop.reason
+    assert r.n > 1  # it got somewhere: the samples before the stop are kept
 
 
 @pytest.mark.slow
