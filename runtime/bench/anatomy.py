@@ -174,33 +174,23 @@ class Anatomy:
 
 def scipy_rows(an: Anatomy, methods=SCIPY_METHODS, rtols=(1e-5, 1e-6, 1e-7, 1e-8, 1e-9), log=print) -> list[dict]:
     """RHS evaluations of scipy's methods on the peer's numba switched right-hand side, with their errors."""
-    from scipy.integrate import solve_ivp
-
     from .peer_numba import NumbaPeer
     from .peer_source import numba_model
 
     p = an.problem
     peer = NumbaPeer(p, numba_model(p.effects, p.scene.assumptions))
     peer.build(numbalsoda=False)
-    f, count = peer.kernels["switched_rhs"], peer.layout.CNT
-    grid = p.span / p.samples * np.arange(1, p.samples + 1)
     rows = []
     for method in methods:
         for rtol in rtols:
-            d = peer.data.copy()
-
-            def rhs(t, z, d=d):
-                dz = np.empty(6)
-                f(t, z, d, dz)
-                return dz
-
-            sol = solve_ivp(rhs, (0.0, p.span), peer.z0(), method=method, t_eval=grid, rtol=rtol, atol=rtol)
-            row = {"method": method, "rtol": rtol, "rhs": int(d[count]), "jacobians": int(sol.njev)}
-            if sol.status != 0 or sol.y.shape[1] != p.samples:
-                row["failed"] = str(sol.message)[:120]
+            row = {"method": method, "rtol": rtol}
+            try:
+                out = peer.scipy(method, rtol)
+            except RuntimeError as exc:
+                row |= {"rhs": 0, "jacobians": 0, "failed": str(exc)[:120]}
             else:
-                z = peer._grid_states(sol.y, int(d[count])).z
-                row |= windowed_errors(trajectory(p, z), an.ref, an.windows)
+                row |= {"rhs": out.stats["n_rhs"], "jacobians": out.stats["n_jac"]}
+                row |= windowed_errors(trajectory(p, out.z), an.ref, an.windows)
             rows.append(row)
             log(row)
     return rows
@@ -254,7 +244,7 @@ def markdown(an: Anatomy, casadi: list[dict], scipy: list[dict], split: list[dic
             else:
                 out.append(f"| {r['method']} | {r['rtol']:g} | {fmt(r['state'])} | {fmt(r['inside'])} | "
                            f"{fmt(r['outside'])} | {r['rhs']:,} ({r['jacobians']:,}) |")
-        at = {m: evaluations_at(scipy, m, 1e-6) for m in SCIPY_METHODS}
+        at = {m: evaluations_at(scipy, m, 1e-6) for m in dict.fromkeys(r["method"] for r in scipy)}
         out += ["", "RHS evaluations for a scaled error of 1e-6 (interpolated on each method's Pareto front): "
                 + ", ".join(f"{m} {_reached(scipy, m, n)}" for m, n in at.items()) + "."]
     if split:

@@ -335,7 +335,7 @@ class NumbaPeer:
 
     # ------------------------------------------------------------------ the three integrations
 
-    def _grid_states(self, Zs: np.ndarray, n_rhs: int, extra: dict | None = None) -> RevolutionResult:
+    def grid_states(self, Zs: np.ndarray, n_rhs: int, extra: dict | None = None) -> RevolutionResult:
         """Integrator states from scaled states on the grid: contacts from the gaps there, switches counted there."""
         p, L = self.problem, self.layout
         closed = np.empty((L.n_g, p.samples))
@@ -345,6 +345,11 @@ class NumbaPeer:
         return RevolutionResult(np.vstack([Zs, closed, counts]), {"n_rhs": n_rhs, **(extra or {})})
 
     def _scipy_lsoda(self, rtol: float) -> RevolutionResult:
+        return self.scipy("LSODA", rtol)
+
+    def scipy(self, method: str, rtol: float) -> RevolutionResult:
+        """scipy's ``solve_ivp(method=...)`` on the switched right-hand side, ``atol = rtol``; its statistics count
+        the right-hand-side evaluations (finite-difference Jacobians included) and the Jacobians."""
         from scipy.integrate import solve_ivp
 
         p = self.problem
@@ -357,10 +362,10 @@ class NumbaPeer:
             return dz
 
         grid = p.span / p.samples * np.arange(1, p.samples + 1)
-        sol = solve_ivp(rhs, (0.0, p.span), self.z0(), method="LSODA", t_eval=grid, rtol=rtol, atol=rtol)
+        sol = solve_ivp(rhs, (0.0, p.span), self.z0(), method=method, t_eval=grid, rtol=rtol, atol=rtol)
         if sol.status != 0 or sol.y.shape[1] != p.samples:
-            raise RuntimeError(f"solve_ivp LSODA failed: {sol.message}")
-        return self._grid_states(sol.y, int(d[self.layout.CNT]), {"n_jac": int(sol.njev), "n_lu": int(sol.nlu)})
+            raise RuntimeError(f"solve_ivp {method} failed: {sol.message}")
+        return self.grid_states(sol.y, int(d[self.layout.CNT]), {"n_jac": int(sol.njev), "n_lu": int(sol.nlu)})
 
     def _numbalsoda_lsoda(self, rtol: float) -> RevolutionResult:
         from numbalsoda import lsoda
@@ -372,7 +377,7 @@ class NumbaPeer:
                          mxstep=500000)
         if not ok:
             raise RuntimeError(f"numbalsoda LSODA failed at rtol {rtol:g}")
-        return self._grid_states(np.ascontiguousarray(usol[1:].T), int(d[self.layout.CNT]))
+        return self.grid_states(np.ascontiguousarray(usol[1:].T), int(d[self.layout.CNT]))
 
     def _dop853(self, rtol: float) -> RevolutionResult:
         d = self.data.copy()

@@ -72,8 +72,8 @@ def assemble(functions, params, Z, theta, U, theta_start, omega) -> SimulationRe
 def assemble_blocks(functions, params, blocks, thetas, pressures, theta_start, omega, first=None,
                     first_pressures=None) -> SimulationResult:
     """The part made of the integrator calls ``blocks`` (hybrid states at ``thetas``, with the pressures
-    ``pressures`` of each call), after the initial state ``first`` (given for the first part of a run only) with the
-    pressures ``first_pressures`` (2,) there (default: those of the first sample after it).
+    ``pressures`` of each call), after the initial state ``first`` with the pressures ``first_pressures`` (2,) there
+    (both given for the first part of a run only).
     """
     Z = np.hstack(blocks) if blocks else np.zeros((HybridLayout.of(functions).size, 0))
     theta = np.concatenate(thetas) if thetas else np.zeros(0)
@@ -81,8 +81,5 @@ def assemble_blocks(functions, params, blocks, thetas, pressures, theta_start, o
     if first is not None:
         Z = np.c_[first, Z]
         theta = np.r_[theta_start, theta]
-        if first_pressures is not None:
-            U = np.c_[np.reshape(first_pressures, (2, 1)), U]
-        else:
-            U = np.c_[U[:, :1] if U.shape[1] else np.zeros((2, 1)), U]
+        U = np.c_[np.reshape(first_pressures, (2, 1)), U]
     return assemble(functions, params, Z, theta, U, theta_start, omega)

@@ -114,3 +114,17 @@ def test_the_whole_measurement_on_a_short_span(tiny):
         assert fine["outside"] < fine["inside"]  # the start's switches and their ringing hold the error
     text = markdown(an, rows, [], split, 2.5)
     assert "| erk | 1e-08 |" in text and "rosenbrock between" in text
+
+
+def test_scipy_methods_count_their_evaluations_and_converge(tiny):
+    pytest.importorskip("numba")
+    from apexseal.runtime.bench.anatomy import scipy_rows
+
+    rows = scipy_rows(tiny, methods=("RK45", "LSODA"), rtols=(1e-5, 1e-8), log=lambda _: None)
+    assert [(r["method"], r["rtol"]) for r in rows] == [("RK45", 1e-5), ("RK45", 1e-8), ("LSODA", 1e-5), ("LSODA", 1e-8)]
+    for loose, tight in (rows[:2], rows[2:]):
+        assert "failed" not in loose and "failed" not in tight
+        assert tight["state"] < loose["state"] and tight["rhs"] > loose["rhs"] > 0
+    assert rows[0]["jacobians"] == 0 and rows[2]["jacobians"] > 0  # LSODA's finite-difference Jacobians
+    text = markdown(tiny, [], rows, [], 2.5)
+    assert "LSODA" in text and "RHS evaluations for a scaled error of 1e-6" in text and "Radau" not in text
