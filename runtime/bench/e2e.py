@@ -2,9 +2,10 @@
 
 The command runs in a subprocess with ``--timings`` (src/apexseal/stopwatch.py),
 once to warm the caches (derivation, compiled libraries), then ``repeats`` times
-timed, with and without figures; each stage's median is kept. ``exit`` is the
-subprocess's wall time measured from outside minus the command's own total
-(interpreter shutdown).
+timed, with and without figures; each stage's median is kept. ``unaccounted`` is the command's own total
+less its stages (what its stopwatch prints as such: the lines it echoes between stages), ``exit`` the
+subprocess's wall time measured from outside minus the command's own total (interpreter shutdown), so that
+the stages of a run add up to its wall time.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import time
 
 #: the stages in the order the command runs them
 STAGES = ("startup", "import", "scene", "load", "compile", "integrate", "assemble", "run (other)", "save", "figures",
-          "exit")
+          "unaccounted", "exit")
 
 
 def _once(args: list[str]) -> dict:
@@ -31,6 +32,7 @@ def _once(args: list[str]) -> dict:
         raise RuntimeError(f"apexseal {' '.join(args)} failed ({proc.returncode}): {(proc.stderr or proc.stdout)[-500:]}")
     t = json.loads(line.split(" ", 1)[1])
     stages = dict(t["stages"])
+    stages["unaccounted"] = max(0.0, t["total_s"] - sum(stages.values()))
     stages["exit"] = max(0.0, wall - t["total_s"])
     return {"stages": stages, "wall_s": wall}
 
