@@ -1,7 +1,7 @@
 """Where the benchmark's error and work are, and what that asks of a method that would beat the peer 2x.
 
 Made by ``python -m apexseal.runtime.bench.anatomy [--rtols 1e-6,1e-7,1e-8,1e-9] [--ring 20] [--no-scipy]
-[--no-split]`` (about 5 minutes; docs/bench/levers.md, "Where the error and the work are").
+[--no-split] [--event-tol 1e-12]`` (about 5 minutes; docs/bench/levers.md, "Where the error and the work are").
 
 The problem is the benchmark's (runtime/bench/problem.py: default scene, one revolution after three settling
 ones, 360 output intervals, linear chamber pressures) with its reference (erk at rtol 1e-12, events to 1e-13
@@ -106,14 +106,18 @@ class Anatomy:
         self._segment_engines: dict = {}
         self.windows = switch_windows(self.switched, ring)
 
-    def casadi_rows(self, methods=("erk", "rosenbrock"), rtols=(1e-6, 1e-7, 1e-8, 1e-9), log=print) -> list[dict]:
-        """Error inside and outside the switch windows, steps and RHS evaluations, for each method and rtol."""
+    def casadi_rows(self, methods=("erk", "rosenbrock"), rtols=(1e-6, 1e-7, 1e-8, 1e-9), event_tol: float | None = None,
+                    log=print) -> list[dict]:
+        """Error inside and outside the switch windows, steps and RHS evaluations, for each method and rtol, with the
+        events located to ``event_tol`` rad (None: the run's default)."""
         p, rows = self.problem, []
         for method in methods:
             for rtol in rtols:
-                vm = self.engines.get("all", self.functions, METHODS[f"{method}-C"], rtol, compiled=False)
+                vm = self.engines.get("all", self.functions, METHODS[f"{method}-C"], rtol, compiled=False,
+                                      event_tol=event_tol)
                 out = vm.run(p.z0, p.params, p.theta0, p.pressures)
-                rows.append({"method": method, "rtol": rtol, "steps": int(out.stats["n_steps"]),
+                label = method if event_tol is None else f"{method}, events to {event_tol:g} rad"
+                rows.append({"method": label, "rtol": rtol, "steps": int(out.stats["n_steps"]),
                              "rhs": int(out.stats["n_rhs"])}
                             | windowed_errors(trajectory(p, out.z), self.ref, self.windows))
                 log(rows[-1])
@@ -262,12 +266,16 @@ def main(argv=None) -> None:
     ap.add_argument("--ring", type=float, default=20.0, help="degrees after a switch that belong to its window")
     ap.add_argument("--no-scipy", action="store_true", help="skip scipy's methods (they need numba)")
     ap.add_argument("--no-split", action="store_true", help="skip the erk/rosenbrock split by phase")
+    ap.add_argument("--event-tol", type=float, default=None,
+                    help="also erk with its events located to this crank angle (rad; the run's default is 1e-10)")
     a = ap.parse_args(argv)
     rtols = tuple(float(x) for x in a.rtols.split(","))
     log = lambda row: print("  ", row, flush=True)  # noqa: E731  (progress: one line per point)
     print("reference and switch windows ...", flush=True)
     an = Anatomy(ring_deg=a.ring)
     casadi = an.casadi_rows(rtols=rtols, log=log)
+    if a.event_tol is not None:
+        casadi += an.casadi_rows(methods=("erk",), rtols=rtols, event_tol=a.event_tol, log=log)
     scipy = [] if a.no_scipy else scipy_rows(an, log=log)
     split = [] if a.no_split else an.split_rows(rtols=rtols[1:], log=log)
     print(markdown(an, casadi, scipy, split, a.ring))

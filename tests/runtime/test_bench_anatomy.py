@@ -112,6 +112,8 @@ def test_the_whole_measurement_on_a_short_span(tiny):
     for coarse, fine in zip(split[:4], split[4:], strict=True):  # each way of integrating converges to the reference
         assert fine["state"] < min(coarse["state"], 1e-3)
         assert fine["outside"] < fine["inside"]  # the start's switches and their ringing hold the error
+    located = an.casadi_rows(methods=("erk",), rtols=(1e-8,), event_tol=1e-12, log=lambda _: None)
+    assert located[0]["method"] == "erk, events to 1e-12 rad" and located[0]["state"] < loose["state"]
     text = markdown(an, rows, [], split, 2.5)
     assert "| erk | 1e-08 |" in text and "rosenbrock between" in text
 
