@@ -251,13 +251,15 @@ def test_substeps_make_the_integrator_see_every_row_of_the_table():
     assert pressure_substeps(None, 36) == 1
 
 
-def test_the_physics_does_not_depend_on_how_often_the_run_is_sampled():
+@pytest.mark.parametrize("profile", ["linear", "steps"])
+def test_the_physics_does_not_depend_on_how_often_the_run_is_sampled(profile):
     """Sampled every 1 deg, the run integrates every 0.5 deg row of the default scene's table, as a run sampled every
     0.5 deg does: the same integrator, the same numbers at the common samples (before, with the pressures linear
-    between the 1 deg samples, the corners of the table's rows were cut and the motion differed)."""
+    between the 1 deg samples, or held at their 1 deg means, the corners of the table's rows were cut and the motion
+    differed)."""
     scene = load_scene()
-    coarse = simulate(scene, revolutions=1, samples_per_revolution=360)
-    fine = simulate(scene, revolutions=1, samples_per_revolution=720)
+    coarse = simulate(scene, revolutions=1, samples_per_revolution=360, pressure=profile)
+    fine = simulate(scene, revolutions=1, samples_per_revolution=720, pressure=profile)
     assert coarse.info["pressure_substeps"] == 2 and fine.info["pressure_substeps"] == 1
     assert coarse.n == 361 and fine.n == 721
     np.testing.assert_array_equal(coarse.theta, fine.theta[::2])
