@@ -88,11 +88,11 @@ class Anatomy:
         self.engines = EngineCache(samples=samples, span=span, flags="optimised", pressure="linear")
         if problem is None:
             scene = load_scene()
-            self.functions, _ = load_model(scene.effects, scene.assumptions)
-            st_engine, st = self.engines.settle("all", self.functions, 1e-10, 1e-12)
-            problem = make_problem("default", scene, scene.effects, self.functions, samples=samples,
-                                   span=2 * math.pi, settle_revolutions=settle, settle_engine=st_engine,
-                                   settle_settings=st, pressure_profile="linear")
+            functions, _ = load_model(scene.effects, scene.assumptions)
+            st_engine, st = self.engines.settle("all", functions, 1e-10, 1e-12)
+            problem = make_problem("default", scene, scene.effects, functions, samples=samples, span=span,
+                                   settle_revolutions=settle, settle_engine=st_engine, settle_settings=st,
+                                   pressure_profile="linear")
         self.functions = problem.functions
         self.problem = problem
         if reference_z is None:
@@ -103,8 +103,8 @@ class Anatomy:
         self.dtheta = problem.span / problem.samples
         ring = int(round(math.radians(ring_deg) / self.dtheta))
         self.switched = switch_intervals(problem, self.ref_z)
-        self._segment_engines: dict = {}
         self.windows = switch_windows(self.switched, ring)
+        self._segment_engines: dict = {}  # (method, rtol, intervals, compiled) -> engine of :meth:`_run_plan`
 
     def casadi_rows(self, methods=("erk", "rosenbrock"), rtols=(1e-6, 1e-7, 1e-8, 1e-9), event_tol: float | None = None,
                     log=print) -> list[dict]:

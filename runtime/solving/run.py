@@ -199,7 +199,7 @@ def _up_to_stop(Z: np.ndarray, edges: np.ndarray, theta_start: float, found) -> 
 class _Part:
     """The integrator calls of the revolution in progress; :meth:`flush` hands them to the sink as one part."""
 
-    def __init__(self, functions, params, theta_start, omega, sink, first, first_pressures=None):
+    def __init__(self, functions, params, theta_start, omega, sink, first, first_pressures):
         self.functions, self.params, self.theta_start, self.omega, self.sink = functions, params, theta_start, omega, sink
         self.first, self.first_pressures = first, first_pressures
         self.blocks, self.thetas, self.pressures = [], [], []
