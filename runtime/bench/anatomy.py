@@ -1,7 +1,7 @@
 """Where the benchmark's error and work are, and what that asks of a method that would beat the peer 2x.
 
 Made by ``python -m apexseal.runtime.bench.anatomy [--rtols 1e-6,1e-7,1e-8,1e-9] [--ring 20] [--no-scipy]
-[--no-split] [--event-tol 1e-12]`` (about 5 minutes; docs/bench/levers.md, "Where the error and the work are").
+[--no-split] [--event-tol 1e-12]`` (about 3.5 minutes; docs/bench/levers.md, "Where the error and the work are").
 
 The problem is the benchmark's (runtime/bench/problem.py: default scene, one revolution after three settling
 ones, 360 output intervals, linear chamber pressures) with its reference (erk at rtol 1e-12, events to 1e-13
@@ -19,7 +19,8 @@ rad). Three measurements:
 * **A stiff method where nothing switches** (:func:`split_rows`): the revolution cut at the switch windows,
   erk inside them and rosenbrock (L-stable) outside, against erk and rosenbrock alone: steps, CPU time (median
   of ``repeats`` after a warm-up), error. The windows come from the reference (an oracle), so this bounds what
-  switching between the two by phase could give.
+  switching between the two by phase could give. Besides, erk with its tolerance loosened outside the windows
+  (:data:`LOOSE_OUTSIDE` times rtol there): how much of erk's work between the windows the error needs.
 """
 
 from __future__ import annotations
@@ -38,6 +39,8 @@ from .problem import load_model, make_problem
 
 #: scipy's methods of :func:`scipy_rows`
 SCIPY_METHODS = ("RK45", "DOP853", "LSODA", "BDF", "Radau")
+#: the factors on rtol outside the switch windows of :meth:`Anatomy.split_rows`'s loosened plans
+LOOSE_OUTSIDE = (100.0, 1000.0)
 
 
 def switch_intervals(problem, z_ref: np.ndarray) -> np.ndarray:
@@ -126,14 +129,15 @@ class Anatomy:
     def split_rows(self, rtols=(1e-7, 1e-8, 1e-9), repeats: int = 5, compiled: bool = True, log=print) -> list[dict]:
         """erk alone, rosenbrock alone, and erk in the switch windows with rosenbrock between them (timed compiled,
         or interpreted with ``compiled=False``)."""
-        whole = lambda m: [(0, self.problem.samples, m)]  # noqa: E731
+        whole = lambda m: [(0, self.problem.samples, m, 1.0)]  # noqa: E731
         plans = {"erk": whole("erk"), "rosenbrock": whole("rosenbrock"), "erk, cut at the windows":
                  self.segments(between="erk"), "erk in the windows, rosenbrock between": self.segments()}
+        plans |= {f"erk, {f:g}x rtol outside the windows": self.segments(between="erk", loose=f) for f in LOOSE_OUTSIDE}
         rows = []
         for rtol in rtols:
             for label, plan in plans.items():
                 z, steps = self._run_plan(plan, rtol, compiled=False)
-                inside = sum(n for (lo, _, _), n in zip(plan, steps, strict=True) if self.windows[lo])
+                inside = sum(n for (lo, *_), n in zip(plan, steps, strict=True) if self.windows[lo])
                 self._run_plan(plan, rtol, compiled=compiled)  # warm-up: compiles or loads the integrators
                 cpu = []
                 for _ in range(repeats):
@@ -146,28 +150,29 @@ class Anatomy:
                 log(rows[-1])
         return rows
 
-    def segments(self, between: str = "rosenbrock") -> list[tuple[int, int, str]]:
-        """The revolution cut where the switch windows begin and end: (first interval, end, method), erk in the
-        windows and ``between`` outside them."""
+    def segments(self, between: str = "rosenbrock", loose: float = 1.0) -> list[tuple[int, int, str, float]]:
+        """The revolution cut where the switch windows begin and end: (first interval, end, method, factor on
+        rtol), erk at rtol in the windows and ``between`` at ``loose`` times rtol outside them."""
         w, out, start = self.windows, [], 0
         for k in range(1, w.size + 1):
             if k == w.size or w[k] != w[start]:
-                out.append((start, k, "erk" if w[start] else between))
+                out.append((start, k, "erk", 1.0) if w[start] else (start, k, between, loose))
                 start = k
         return out
 
     def _run_plan(self, plan, rtol: float, *, compiled: bool) -> tuple[np.ndarray, list[int]]:
-        """Integrate the revolution segment by segment, each with its method; (hybrid states, steps of each
-        segment: 0 for a compiled integrator, which reports none)."""
+        """Integrate the revolution segment by segment, each with its method and factor on ``rtol``; (hybrid
+        states, steps of each segment: 0 for a compiled integrator, which reports none)."""
         p, cols, steps = self.problem, [], []
         z = p.z0
         P = p.pressures  # linear: the values at the n + 1 edges
-        for lo, hi, method in plan:
-            key = (method, rtol, hi - lo, compiled)
+        for lo, hi, method, factor in plan:
+            key = (method, rtol * factor, hi - lo, compiled)
             eng = self._segment_engines.get(key)
             if eng is None:
                 eng = self._segment_engines[key] = build_engine(
-                    self.functions, METHODS[f"{method}-C"], rtol, samples=hi - lo, span=(hi - lo) * self.dtheta,
+                    self.functions, METHODS[f"{method}-C"], rtol * factor, samples=hi - lo,
+                    span=(hi - lo) * self.dtheta,
                     flags="optimised", compiled=compiled, pressure="linear")
             out = eng.run(z, p.params, p.theta0 + lo * self.dtheta, P[:, lo:hi + 1])
             steps.append(int(out.stats.get("n_steps", 0)))
@@ -232,7 +237,7 @@ def markdown(an: Anatomy, casadi: list[dict], scipy: list[dict], split: list[dic
     n_in = int(an.windows.sum())
     out = [f"Switch windows: the {int(an.switched.sum())} output intervals in which the reference switched a contact "
            f"and the {ring_deg:g} deg after each: {n_in} of {an.windows.size} samples ({n_in * deg:.0f} deg), "
-           f"segments {', '.join(f'{lo * deg:.0f}-{hi * deg:.0f} deg' for lo, hi, m in an.segments() if m == 'erk')}."]
+           f"segments {', '.join(f'{lo * deg:.0f}-{hi * deg:.0f} deg' for lo, hi, *_ in an.segments() if an.windows[lo])}."]
     fmt = "{:.1e}".format
     if casadi:
         out += ["", "| method | rtol | scaled error | inside the windows | outside | steps | RHS evaluations |",

@@ -97,19 +97,27 @@ def test_the_whole_measurement_on_a_short_span(tiny):
     segs = an.segments()
     assert segs[0][0] == 0 and segs[-1][1] == an.problem.samples
     assert all(a[1] == b[0] and a[2] != b[2] for a, b in zip(segs, segs[1:], strict=False))  # contiguous, alternating
-    assert {m for *_, m in segs} <= {"erk", "rosenbrock"}
+    assert {s[2] for s in segs} <= {"erk", "rosenbrock"} and {s[3] for s in segs} == {1.0}
+    loose = an.segments(between="erk", loose=100.0)
+    assert [s[:2] for s in loose] == [s[:2] for s in segs]
+    assert all(s[2] == "erk" and s[3] == (1.0 if an.windows[s[0]] else 100.0) for s in loose)
     rows = an.casadi_rows(methods=("erk",), rtols=(1e-5, 1e-8), log=lambda _: None)
     loose, tight = rows
     for r in rows:
         assert r["state"] == pytest.approx(max(r["inside"], r["outside"]))
     assert tight["state"] < loose["state"] and tight["steps"] > loose["steps"] > 0
     split = an.split_rows(rtols=(1e-8, 1e-10), repeats=1, compiled=False, log=lambda _: None)
-    plans = ["erk", "rosenbrock", "erk, cut at the windows", "erk in the windows, rosenbrock between"]
+    plans = ["erk", "rosenbrock", "erk, cut at the windows", "erk in the windows, rosenbrock between",
+             "erk, 100x rtol outside the windows", "erk, 1000x rtol outside the windows"]
     assert [r["plan"] for r in split] == plans * 2
     assert split[0]["steps"] == tight["steps"]  # one segment: the same integrator as the whole-span run
-    assert split[2]["segments"] == split[3]["segments"] == len(segs)
+    assert split[2]["segments"] == split[3]["segments"] == split[4]["segments"] == len(segs)
     assert 0 < split[2]["steps_inside"] < split[2]["steps"]
-    for coarse, fine in zip(split[:4], split[4:], strict=True):  # each way of integrating converges to the reference
+    cut, loosened = split[8], split[10]  # rtol 1e-10: erk cut at the windows, and 100x looser outside them
+    # the same erk at the same rtol in the windows (which start from slightly other states)
+    assert loosened["steps_inside"] == pytest.approx(cut["steps_inside"], rel=0.05)
+    assert loosened["steps"] - loosened["steps_inside"] < cut["steps"] - cut["steps_inside"]  # fewer outside
+    for coarse, fine in zip(split[:6], split[6:], strict=True):  # each way of integrating converges to the reference
         assert fine["state"] < min(coarse["state"], 1e-3)
         assert fine["outside"] < fine["inside"]  # the start's switches and their ringing hold the error
     located = an.casadi_rows(methods=("erk",), rtols=(1e-8,), event_tol=1e-12, log=lambda _: None)
