@@ -138,3 +138,19 @@ def test_scipy_methods_count_their_evaluations_and_converge(tiny):
     assert rows[0]["jacobians"] == 0 and rows[2]["jacobians"] > 0  # LSODA's finite-difference Jacobians
     text = markdown(tiny, [], rows, [], 2.5)
     assert "LSODA" in text and "RHS evaluations for a scaled error of 1e-6" in text and "Radau" not in text
+
+
+def test_the_exponential_prototype_finds_the_switches_and_converges(tiny):
+    """runtime/bench/exponential.py on the short span: the reference's switches, an error that falls with rtol,
+    and a looser velocity tolerance that takes fewer steps."""
+    pytest.importorskip("numba")
+    from apexseal.runtime.bench.exponential import markdown as exp_markdown
+    from apexseal.runtime.bench.exponential import rows as exp_rows
+
+    rs = exp_rows(tiny, rtols=(1e-5, 1e-8), velocity_weights=(1.0, 1000.0), log=lambda _: None)
+    loose, tight, weighted = rs[0], rs[1], rs[2]
+    assert tight["events"] == int(tiny.ref.events.sum())
+    assert tight["state"] < min(loose["state"] / 10, 1e-3)  # the bound of the erk, rosenbrock plans above
+    assert tight["steps"] > loose["steps"] > 0 and tight["jacobians"] == tight["steps"]
+    assert weighted["steps"] < loose["steps"]  # the velocities' tolerance sets the steps
+    assert "| 1000 | 1e-05 |" in exp_markdown(tiny, rs)
