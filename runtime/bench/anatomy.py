@@ -28,10 +28,12 @@ from __future__ import annotations
 import argparse
 import math
 import time
+from contextlib import contextmanager
 
 import numpy as np
 
 from ..solving.layout import HybridLayout
+from ..solving.scaling import to_physical, to_scaled
 from .config import METHODS
 from .methods import EngineCache, build_engine
 from .metrics import STATE_KEYS, errors, trajectory
@@ -110,19 +112,27 @@ class Anatomy:
         self._segment_engines: dict = {}  # (method, rtol, intervals, compiled) -> engine of :meth:`_run_plan`
 
     def casadi_rows(self, methods=("erk", "rosenbrock"), rtols=(1e-6, 1e-7, 1e-8, 1e-9), event_tol: float | None = None,
-                    log=print) -> list[dict]:
+                    velocity_scale: float = 1.0, log=print) -> list[dict]:
         """Error inside and outside the switch windows, steps and RHS evaluations, for each method and rtol, with the
-        events located to ``event_tol`` rad (None: the run's default)."""
+        events located to ``event_tol`` rad (None: the run's default) and the integrated velocities scaled
+        ``velocity_scale`` times larger (:func:`velocities_scaled`)."""
         p, rows = self.problem, []
+        X0 = to_physical(p.z0[:6], p.omega)
         for method in methods:
             for rtol in rtols:
-                vm = self.engines.get("all", self.functions, METHODS[f"{method}-C"], rtol, compiled=False,
-                                      event_tol=event_tol)
-                out = vm.run(p.z0, p.params, p.theta0, p.pressures)
+                with velocities_scaled(velocity_scale):
+                    z0 = p.z0.copy()
+                    z0[:6] = to_scaled(X0, p.omega)
+                    vm = (self.engines.get("all", self.functions, METHODS[f"{method}-C"], rtol, compiled=False,
+                                           event_tol=event_tol) if velocity_scale == 1 else
+                          build_engine(self.functions, METHODS[f"{method}-C"], rtol, samples=p.samples, span=p.span,
+                                       flags="optimised", compiled=False, event_tol=event_tol, pressure="linear"))
+                    out = vm.run(z0, p.params, p.theta0, p.pressures)
+                    traj = trajectory(p, out.z)
                 label = method if event_tol is None else f"{method}, events to {event_tol:g} rad"
+                label += "" if velocity_scale == 1 else f", velocities scaled {velocity_scale:g}x"
                 rows.append({"method": label, "rtol": rtol, "steps": int(out.stats["n_steps"]),
-                             "rhs": int(out.stats["n_rhs"])}
-                            | windowed_errors(trajectory(p, out.z), self.ref, self.windows))
+                             "rhs": int(out.stats["n_rhs"])} | windowed_errors(traj, self.ref, self.windows))
                 log(rows[-1])
         return rows
 
@@ -181,7 +191,24 @@ class Anatomy:
         return np.hstack(cols), steps
 
 
-def scipy_rows(an: Anatomy, methods=SCIPY_METHODS, rtols=(1e-5, 1e-6, 1e-7, 1e-8, 1e-9), log=print) -> list[dict]:
+@contextmanager
+def velocities_scaled(factor: float):
+    """Within it, the integrated velocities are ``factor`` times smaller: each declared rate scale (l w, a w,
+    runtime/solving/scaling.py) is ``factor`` times larger, so an integrator's error norm on them is ``factor``
+    times looser, and nothing else changes. A measurement's device: engines built within it keep the scaling."""
+    from ..solving import scaling
+
+    declared = scaling._scales
+    if factor != 1:
+        scaling._scales = lambda names: (lambda b, r: (b * np.where(r, factor, 1.0), r))(*declared(names))
+    try:
+        yield
+    finally:
+        scaling._scales = declared
+
+
+def scipy_rows(an: Anatomy, methods=SCIPY_METHODS, rtols=(1e-5, 1e-6, 1e-7, 1e-8, 1e-9), velocity_scale: float = 1.0,
+               log=print) -> list[dict]:
     """RHS evaluations of scipy's methods on the peer's numba switched right-hand side, with their errors."""
     from .peer_numba import NumbaPeer
     from .peer_source import numba_model
@@ -192,9 +219,10 @@ def scipy_rows(an: Anatomy, methods=SCIPY_METHODS, rtols=(1e-5, 1e-6, 1e-7, 1e-8
     rows = []
     for method in methods:
         for rtol in rtols:
-            row = {"method": method, "rtol": rtol}
+            row = {"method": method + ("" if velocity_scale == 1 else f", velocities scaled {velocity_scale:g}x"),
+                   "rtol": rtol}
             try:
-                out = peer.scipy(method, rtol)
+                out = peer.scipy(method, rtol, velocity_weight=velocity_scale)
             except RuntimeError as exc:
                 row |= {"rhs": 0, "jacobians": 0, "failed": str(exc)[:120]}
             else:
@@ -273,6 +301,8 @@ def main(argv=None) -> None:
     ap.add_argument("--no-split", action="store_true", help="skip the erk/rosenbrock split by phase")
     ap.add_argument("--event-tol", type=float, default=None,
                     help="also erk with its events located to this crank angle (rad; the run's default is 1e-10)")
+    ap.add_argument("--velocity-scale", default=None,
+                    help="also erk, LSODA and RK45 with the integrated velocities scaled these times larger, e.g. 10,30")
     a = ap.parse_args(argv)
     rtols = tuple(float(x) for x in a.rtols.split(","))
     log = lambda row: print("  ", row, flush=True)  # noqa: E731  (progress: one line per point)
@@ -282,6 +312,9 @@ def main(argv=None) -> None:
     if a.event_tol is not None:
         casadi += an.casadi_rows(methods=("erk",), rtols=rtols, event_tol=a.event_tol, log=log)
     scipy = [] if a.no_scipy else scipy_rows(an, log=log)
+    for k in [] if a.velocity_scale is None else [float(x) for x in a.velocity_scale.split(",")]:
+        casadi += an.casadi_rows(methods=("erk",), rtols=rtols, velocity_scale=k, log=log)
+        scipy += [] if a.no_scipy else scipy_rows(an, methods=("LSODA", "RK45"), rtols=rtols, velocity_scale=k, log=log)
     split = [] if a.no_split else an.split_rows(rtols=rtols[1:], log=log)
     print(markdown(an, casadi, scipy, split, a.ring))
 

@@ -347,9 +347,10 @@ class NumbaPeer:
     def _scipy_lsoda(self, rtol: float) -> RevolutionResult:
         return self.scipy("LSODA", rtol)
 
-    def scipy(self, method: str, rtol: float) -> RevolutionResult:
-        """scipy's ``solve_ivp(method=...)`` on the switched right-hand side, ``atol = rtol``; its statistics count
-        the right-hand-side evaluations (finite-difference Jacobians included) and the Jacobians."""
+    def scipy(self, method: str, rtol: float, velocity_weight: float = 1.0) -> RevolutionResult:
+        """scipy's ``solve_ivp(method=...)`` on the switched right-hand side, ``atol = rtol`` (the velocities'
+        ``velocity_weight`` times that: as if they were scaled that many times larger); its statistics count the
+        right-hand-side evaluations (finite-difference Jacobians included) and the Jacobians."""
         from scipy.integrate import solve_ivp
 
         p = self.problem
@@ -362,7 +363,8 @@ class NumbaPeer:
             return dz
 
         grid = p.span / p.samples * np.arange(1, p.samples + 1)
-        sol = solve_ivp(rhs, (0.0, p.span), self.z0(), method=method, t_eval=grid, rtol=rtol, atol=rtol)
+        atol = rtol * np.array([1.0, 1.0, 1.0, velocity_weight, velocity_weight, velocity_weight])
+        sol = solve_ivp(rhs, (0.0, p.span), self.z0(), method=method, t_eval=grid, rtol=rtol, atol=atol)
         if sol.status != 0 or sol.y.shape[1] != p.samples:
             raise RuntimeError(f"solve_ivp {method} failed: {sol.message}")
         return self.grid_states(sol.y, int(d[self.layout.CNT]), {"n_jac": int(sol.njev), "n_lu": int(sol.nlu)})

@@ -154,3 +154,19 @@ def test_the_exponential_prototype_finds_the_switches_and_converges(tiny):
     assert tight["steps"] > loose["steps"] > 0 and tight["jacobians"] == tight["steps"]
     assert weighted["steps"] < loose["steps"]  # the velocities' tolerance sets the steps
     assert "| 1000 | 1e-05 |" in exp_markdown(tiny, rs)
+
+
+def test_scaled_velocities_loosen_the_error_norm_and_nothing_else(tiny):
+    """``--velocity-scale``: the same physics (errors stay small), another step sequence, the scaling restored."""
+    from apexseal.runtime.bench.anatomy import velocities_scaled
+    from apexseal.runtime.solving.scaling import state_scale
+
+    before = state_scale(100.0)
+    with velocities_scaled(10.0):
+        np.testing.assert_allclose(state_scale(100.0), before * [1, 1, 1, 10, 10, 10])
+    np.testing.assert_array_equal(state_scale(100.0), before)
+    plain, scaled = (tiny.casadi_rows(methods=("erk",), rtols=(1e-10,), velocity_scale=k, log=lambda _: None)[0]
+                     for k in (1.0, 10.0))
+    assert scaled["method"] == "erk, velocities scaled 10x" and scaled["steps"] != plain["steps"]
+    assert scaled["state"] < 1e-3  # the trajectory of the same model (a wrong scaling would be far off)
+    np.testing.assert_array_equal(state_scale(100.0), before)
