@@ -36,14 +36,15 @@ from .anatomy import Anatomy, windowed_errors
 from .metrics import errors, trajectory
 
 
-def make_integrator(problem, nm):
-    """The numba integrator of ``problem`` with the peer model ``nm``: ``run(z0, rtol, velocity_weight, ev_tol, Z,
-    per) -> (steps, rejected, evaluations, jacobians, events)``, filling the hybrid states at the samples ``Z`` and
-    the steps taken by the end of each output interval ``per``."""
+def make_kernels(problem, nm) -> dict:
+    """numba functions of ``problem`` with the peer model ``nm``, on w = [scaled state (6), crank angle since the
+    span's start] in mode ``s`` and output interval ``k``: ``F(w, s, k, out)``, ``zeros(w, s, k, e)``,
+    ``jacobian(w, s, k, f0, J, cnt)``, the exprb32 step ``exprb(w, s, k, h, f0, J, cnt) -> (w+, error estimate)``
+    and ``make_locate(step)``, the earliest crossing of a zero function on a step of ``step`` from w."""
     import numba
 
     acc_f, guards_f, n_g = nm.accelerations, nm.guards, nm.n_guards
-    N, DTH = problem.samples, problem.span / problem.samples
+    DTH = problem.span / problem.samples
     PT = np.asarray(problem.pressures, float)  # linear: the values at the N + 1 edges
     SC, OM = state_scale(problem.omega), problem.omega
     PAR, TH0 = np.asarray(problem.params, float), problem.theta0
@@ -99,7 +100,7 @@ def make_integrator(problem, nm):
         return expm(M)[:n, n + p - 1]
 
     @numba.njit
-    def step(w, s, k, h, f0, J, cnt):
+    def exprb(w, s, k, h, f0, J, cnt):
         U = w + h * phi(h * J, f0, 1)
         fU = np.empty(NW)
         F(U, s, k, fU)
@@ -118,13 +119,61 @@ def make_integrator(problem, nm):
             wp[j] = w[j]
         cnt[0] += NW
 
+    def make_locate(step):
+        @numba.njit
+        def locate(w, s, k, hh, f0, J, cnt, e0, e1, ev_tol):
+            """The step from w to the earliest crossing of the zero functions that crossed (e0 >= 0 > e1 at the
+            step's end), to ``ev_tol``, by the Illinois method on the step length; (w there, its zero functions)."""
+            crossed = (e1 < 0.0) & (e0 >= 0.0)
+            em = np.empty(n_g)
+            a, b = 0.0, hh
+            fa, fb = np.min(np.where(crossed, e0, np.inf)), np.min(np.where(crossed, e1, np.inf))
+            side, it = 0, 0
+            while b - a > ev_tol and it < 100:
+                it += 1
+                m = b - fb * (b - a) / (fb - fa)
+                if not a < m < b or it % 4 == 0:
+                    m = 0.5 * (a + b)
+                wm, _ = step(w, s, k, m, f0, J, cnt)
+                zeros(wm, s, k, em)
+                fm = np.min(np.where(e0 >= 0.0, em, np.inf))
+                if fm < 0.0:
+                    b, fb = m, fm
+                    if side == -1:
+                        fa *= 0.5
+                    side = -1
+                else:
+                    a, fa = m, fm
+                    if side == 1:
+                        fb *= 0.5
+                    side = 1
+            w1, _ = step(w, s, k, b, f0, J, cnt)
+            zeros(w1, s, k, em)
+            return w1, em
+
+        return locate
+
+    return {"F": F, "zeros": zeros, "jacobian": jacobian, "exprb": exprb, "make_locate": make_locate, "NW": NW}
+
+
+def make_integrator(problem, nm):
+    """The numba exprb32 integrator of ``problem`` with the peer model ``nm``: ``run(z0, rtol, velocity_weight,
+    ev_tol, Z, per) -> (steps, rejected, evaluations, jacobians, events)``, filling the hybrid states at the samples
+    ``Z`` and the steps taken by the end of each output interval ``per``."""
+    import numba
+
+    kn = make_kernels(problem, nm)
+    F, zeros, jacobian, step, NW = kn["F"], kn["zeros"], kn["jacobian"], kn["exprb"], kn["NW"]
+    locate = kn["make_locate"](step)
+    N, DTH, n_g = problem.samples, problem.span / problem.samples, nm.n_guards
+
     @numba.njit
     def run(z0, rtol, vw, ev_tol, Z, per):
         w = np.empty(NW)
         w[:6], w[6] = z0[:6], 0.0
         s, counts = z0[6:6 + n_g].copy(), z0[6 + n_g:].copy()
         f0, J, cnt = np.empty(NW), np.empty((NW, NW)), np.zeros(1, np.int64)
-        e0, e1, em = np.empty(n_g), np.empty(n_g), np.empty(n_g)
+        e0, e1 = np.empty(n_g), np.empty(n_g)
         h, steps, rejected, jacobians, events = 1e-5, 0, 0, 0, 0
         for k in range(N):
             t_end = (k + 1) * DTH
@@ -146,31 +195,8 @@ def make_integrator(problem, nm):
                     rejected += 1
                     h = hh * (max(0.2, 0.9 * err ** (-1 / 3)) if np.isfinite(err) else 0.2)
                 zeros(w1, s, k, e1)
-                crossed = (e1 < 0.0) & (e0 >= 0.0)
-                if crossed.any():  # the earliest crossing of those zero functions, on this step from w
-                    a, b = 0.0, hh
-                    fa, fb = np.min(np.where(crossed, e0, np.inf)), np.min(np.where(crossed, e1, np.inf))
-                    side, it = 0, 0
-                    while b - a > ev_tol and it < 100:
-                        it += 1
-                        m = b - fb * (b - a) / (fb - fa)
-                        if not a < m < b or it % 4 == 0:
-                            m = 0.5 * (a + b)
-                        wm, _ = step(w, s, k, m, f0, J, cnt)
-                        zeros(wm, s, k, em)
-                        fm = np.min(np.where(e0 >= 0.0, em, np.inf))
-                        if fm < 0.0:
-                            b, fb = m, fm
-                            if side == -1:
-                                fa *= 0.5
-                            side = -1
-                        else:
-                            a, fa = m, fm
-                            if side == 1:
-                                fb *= 0.5
-                            side = 1
-                    w1, _ = step(w, s, k, b, f0, J, cnt)
-                    zeros(w1, s, k, e1)
+                if ((e1 < 0.0) & (e0 >= 0.0)).any():
+                    w1, e1 = locate(w, s, k, hh, f0, J, cnt, e0, e1, ev_tol)
                     for i in range(n_g):
                         if e1[i] < 0.0:  # toggled: the located contact and any that crossed with it
                             s[i] = 1.0 - s[i]
