@@ -170,3 +170,20 @@ def test_scaled_velocities_loosen_the_error_norm_and_nothing_else(tiny):
     assert scaled["method"] == "erk, velocities scaled 10x" and scaled["steps"] != plain["steps"]
     assert scaled["state"] < 1e-3  # the trajectory of the same model (a wrong scaling would be far off)
     np.testing.assert_array_equal(state_scale(100.0), before)
+
+
+def test_the_composite_prototype_switches_phases_and_converges(tiny):
+    """runtime/bench/composite.py on the short span: RK45 through the start's switches (the reference's count),
+    exprb32 once the contacts have rung down, an error that falls with rtol."""
+    pytest.importorskip("numba")
+    from apexseal.runtime.bench.composite import markdown as comp_markdown
+    from apexseal.runtime.bench.composite import rows as comp_rows
+
+    rs = comp_rows(tiny, rtols=(1e-6, 1e-9), settings=((100.0, 100.0, 2.0),), repeats=1, erk=False,
+                   log=lambda _: None)
+    loose, tight = rs
+    assert tight["events"] == int(tiny.ref.events.sum())
+    assert tight["state"] < min(loose["state"] / 10, 1e-3)
+    for r in rs:
+        assert r["tight_steps"] > 0 and r["quiet_steps"] > 0 and r["jacobians"] == r["quiet_steps"] + r["given_back"]
+    assert "| 100, 100, 2 deg | 1e-09 |" in comp_markdown(tiny, rs)

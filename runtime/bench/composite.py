@@ -1,0 +1,243 @@
+"""A prototype of the method the anatomy asks for: RK45 where contacts switch, an exponential step between.
+
+``python -m apexseal.runtime.bench.composite [--rtols 1e-7,1e-8,1e-9,1e-10]`` (about two minutes; the settings of
+:data:`SETTINGS`; docs/bench/composite.md, read in docs/bench/levers.md, "Where the error and the work are").
+
+runtime/bench/anatomy.py found the benchmark's error inside the switch windows (the impacts at the chamber
+switches and the degrees of ringing after them) and two thirds of erk's steps between them, where the error is
+4-7 decades smaller; runtime/bench/exponential.py found that an exponential Rosenbrock step (exprb32) crosses
+those degrees in about two steps per degree when its tolerance on the velocities is loose. This prototype puts the
+two together with a rule that needs no oracle:
+
+* **tight phase**: Dormand and Prince's RK5(4) (scipy's RK45) at ``rtol`` on the
+  benchmark's scaled state (``atol = rtol``), events located on the step (Illinois method, as exprb32's);
+* **quiet phase**, from ``ring`` degrees after the last contact event: exprb32 at ``loose`` times ``rtol``, with the
+  velocities' tolerance ``quiet`` times looser still;
+* a quiet step across which a zero function changes sign is not taken: the tight phase takes over from the step's
+  start, so every switch is located and integrated by RK45 at ``rtol``.
+
+Both are written with numba on the peer's right-hand side (runtime/bench/peer_source.py); the CPU times are beside
+erk's (generated C, compiled) measured in the same run, each the median of ``repeats`` after a warm-up.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import time
+
+import numpy as np
+
+from .anatomy import Anatomy, windowed_errors
+from .config import METHODS
+from .exponential import make_kernels
+from .metrics import errors, trajectory
+
+#: Dormand and Prince's RK5(4)7M: nodes, stages, the fifth-order weights and the error weights (fifth minus fourth)
+DP_C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0, 1.0])
+DP_A = np.array([
+    [0, 0, 0, 0, 0, 0],
+    [1 / 5, 0, 0, 0, 0, 0],
+    [3 / 40, 9 / 40, 0, 0, 0, 0],
+    [44 / 45, -56 / 15, 32 / 9, 0, 0, 0],
+    [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729, 0, 0],
+    [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656, 0],
+    [35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84]])
+DP_B = np.append(DP_A[6], 0.0)  # b7 = 0: the fifth-order solution is the seventh stage's point
+DP_E = np.array([71 / 57600, 0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 525, -1 / 40])
+
+
+def make_composite(problem, nm):
+    """``run(z0, rtol, quiet, ring, ev_tol, Z, phase) -> (tight steps, quiet steps, rejected, evaluations,
+    Jacobians, events, quiet steps given back)``, filling the hybrid states at the samples ``Z`` and, per output
+    interval, the fraction of its steps that were quiet ``phase``."""
+    import numba
+
+    kn = make_kernels(problem, nm)
+    F, zeros, jacobian, exprb, NW = kn["F"], kn["zeros"], kn["jacobian"], kn["exprb"], kn["NW"]
+    N, DTH, n_g = problem.samples, problem.span / problem.samples, nm.n_guards
+    C, A, B, E = DP_C, DP_A, DP_B, DP_E
+
+    @numba.njit
+    def dp45(w, s, k, h, f0, K, cnt):
+        """One RK45 step from w (F(w) = f0): (w+, error estimate); K (9, 7) is scratch: the stages in K[:7] (F(w+)
+        in K[6]), the stage point in K[7], the error estimate in K[8] (returned: use it before the next step)."""
+        K[0] = f0
+        wj, err = K[7], K[8]
+        for j in range(1, 7):
+            for i in range(NW):
+                acc = w[i]
+                for m in range(j):
+                    acc += h * A[j, m] * K[m, i]
+                wj[i] = acc
+            wj[6] = w[6] + C[j] * h
+            F(wj, s, k, K[j])
+        cnt[0] += 6
+        w1 = np.empty(NW)
+        for i in range(NW):
+            a, e = w[i], 0.0
+            for m in range(7):
+                a += h * B[m] * K[m, i]
+                e += h * E[m] * K[m, i]
+            w1[i], err[i] = a, e
+        w1[6] = w[6] + h
+        return w1, err
+
+    locate_dp = kn["make_locate"](dp45)
+
+    @numba.njit
+    def norm(w, w1, err, rtol, vw):
+        out = 0.0
+        for i in range(6):
+            out = max(out, abs(err[i]) / ((rtol + rtol * max(abs(w[i]), abs(w1[i]))) * (vw if i >= 3 else 1.0)))
+        return out
+
+    @numba.njit
+    def run(z0, rtol, loose, quiet, ring, ev_tol, Z, phase):
+        w = np.empty(NW)
+        w[:6], w[6] = z0[:6], 0.0
+        s, counts = z0[6:6 + n_g].copy(), z0[6 + n_g:].copy()
+        f0, J, K, cnt = np.empty(NW), np.empty((NW, NW)), np.empty((9, NW)), np.zeros(1, np.int64)
+        e0, e1 = np.empty(n_g), np.empty(n_g)
+        h_t, h_q, last_event = 1e-5, 1e-3, 0.0
+        tight, quiet_steps, rejected, jacobians, events, given_back = 0, 0, 0, 0, 0, 0
+        F(w, s, 0, f0)
+        cnt[0] += 1
+        for k in range(N):
+            t_end = (k + 1) * DTH
+            q_before, all_before = quiet_steps, tight + quiet_steps  # (f0 holds: the pressures are continuous)
+            while w[6] < t_end * (1 - 1e-14):
+                zeros(w, s, k, e0)
+                if w[6] - last_event > ring:  # quiet: exprb32, the velocities' tolerance ``quiet`` times looser
+                    jacobian(w, s, k, f0, J, cnt)
+                    jacobians += 1
+                    while True:
+                        hh = min(h_q, t_end - w[6])
+                        w1, err_v = exprb(w, s, k, hh, f0, J, cnt)
+                        err = norm(w, w1, err_v, rtol * loose, quiet)
+                        if np.isfinite(err) and err <= 1.0:
+                            break
+                        rejected += 1
+                        h_q = hh * (max(0.2, 0.9 * err ** (-1 / 3)) if np.isfinite(err) else 0.2)
+                    zeros(w1, s, k, e1)
+                    if ((e1 < 0.0) & (e0 >= 0.0)).any():  # a switch ahead: the tight phase takes this step over
+                        given_back += 1
+                        last_event = w[6]
+                        h_t = min(h_t, hh)
+                        continue
+                    h_q = hh * min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** (-1 / 3)))
+                    w = w1
+                    F(w, s, k, f0)
+                    cnt[0] += 1
+                    quiet_steps += 1
+                    continue
+                while True:  # tight: RK45 at rtol
+                    hh = min(h_t, t_end - w[6])
+                    w1, err_v = dp45(w, s, k, hh, f0, K, cnt)
+                    err = norm(w, w1, err_v, rtol, 1.0)
+                    if np.isfinite(err) and err <= 1.0:
+                        break
+                    rejected += 1
+                    h_t = hh * (max(0.2, 0.9 * err ** (-1 / 5)) if np.isfinite(err) else 0.2)
+                zeros(w1, s, k, e1)
+                if ((e1 < 0.0) & (e0 >= 0.0)).any():
+                    w1, e1 = locate_dp(w, s, k, hh, f0, K, cnt, e0, e1, ev_tol)
+                    for i in range(n_g):
+                        if e1[i] < 0.0:  # toggled: the located contact and any that crossed with it
+                            s[i] = 1.0 - s[i]
+                            counts[i] += 1.0
+                            events += 1
+                    last_event = w1[6]
+                    h_t = max(0.5 * hh, 1e-9)
+                    w = w1
+                    F(w, s, k, f0)
+                    cnt[0] += 1
+                else:
+                    h_t = hh * min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** (-1 / 5)))
+                    w = w1
+                    f0[:] = K[6]  # first same as last
+                tight += 1
+            n_k = tight + quiet_steps - all_before
+            phase[k] = (quiet_steps - q_before) / n_k if n_k else 1.0
+            Z[:6, k], Z[6:6 + n_g, k], Z[6 + n_g:, k] = w[:6], s, counts
+        return tight, quiet_steps, rejected, cnt[0], jacobians, events, given_back
+
+    return run
+
+
+def erk_cpu(an: Anatomy, rtol: float, repeats: int) -> tuple[float, float]:
+    """erk's (generated C, compiled) CPU time per revolution (median of ``repeats`` after a warm-up) and error."""
+    p = an.problem
+    eng = an.engines.get("all", an.functions, METHODS["erk-C"], rtol, compiled=True)
+    out = eng.run(p.z0, p.params, p.theta0, p.pressures)
+    cpu = []
+    for _ in range(repeats):
+        c0 = time.process_time()
+        eng.run(p.z0, p.params, p.theta0, p.pressures)
+        cpu.append(time.process_time() - c0)
+    return statistics.median(cpu), errors(trajectory(p, out.z), an.ref)["state"]
+
+
+#: (loose, quiet, ring) of the quiet phase: its rtol is ``loose`` times the tight one, its velocities' tolerance
+#: ``quiet`` times looser still, and it starts ``ring`` degrees after the last event
+SETTINGS = ((100.0, 100.0, 20.0), (1.0, 1000.0, 20.0), (100.0, 1000.0, 20.0), (100.0, 100.0, 10.0))
+
+
+def rows(an: Anatomy, rtols=(1e-7, 1e-8, 1e-9, 1e-10), settings=SETTINGS, repeats: int = 5, ev_tol: float = 1e-10,
+         erk: bool = True, log=print) -> list[dict]:
+    """The composite at each setting and rtol (beside erk-C at the same rtol): steps by phase, evaluations, errors,
+    CPU times."""
+    from .peer_source import numba_model
+
+    p = an.problem
+    nm = numba_model(p.effects, p.scene.assumptions)
+    run = make_composite(p, nm)
+    Z, phase = np.empty((6 + 2 * nm.n_guards, p.samples)), np.empty(p.samples)
+    run(p.z0, 1e-4, 1.0, 1.0, 0.0, ev_tol, Z, phase)  # compiles
+    erk_points = {rtol: erk_cpu(an, rtol, repeats) if erk else (math.nan, math.nan) for rtol in rtols}
+    out = []
+    for loose, quiet, ring_deg in settings:
+        args = (loose, quiet, math.radians(ring_deg), ev_tol, Z, phase)
+        for rtol in rtols:
+            stats = run(p.z0, rtol, *args)
+            traj = trajectory(p, Z)
+            cpu = []
+            for _ in range(repeats):
+                c0 = time.process_time()
+                run(p.z0, rtol, *args)
+                cpu.append(time.process_time() - c0)
+            tight, quiet_steps, rejected, rhs, jac, events, given_back = (int(x) for x in stats)
+            row = {"loose": loose, "quiet": quiet, "ring_deg": ring_deg, "rtol": rtol, "tight_steps": tight,
+                   "quiet_steps": quiet_steps, "rejected": rejected, "rhs": rhs, "jacobians": jac, "events": events,
+                   "given_back": given_back, "quiet_inside": float(np.mean(phase[an.windows] > 0)),
+                   "cpu_ms": 1e3 * statistics.median(cpu), "erk_cpu_ms": 1e3 * erk_points[rtol][0],
+                   "erk_state": erk_points[rtol][1]} | windowed_errors(traj, an.ref, an.windows)
+            out.append(row)
+            log(row)
+    return out
+
+
+def markdown(an: Anatomy, rs: list[dict]) -> str:
+    ref_events = int(an.ref.events.sum())
+    lines = [f"| {r['loose']:g}, {r['quiet']:g}, {r['ring_deg']:g} deg | {r['rtol']:g} | {r['state']:.1e} | "
+             f"{r['inside']:.1e} | {r['outside']:.1e} | {r['tight_steps']:,} | {r['quiet_steps']:,} | "
+             f"{r['events']} ({ref_events}) | {r['rhs']:,} ({r['jacobians']:,}) | {r['cpu_ms']:.1f} ms | "
+             f"{r['erk_state']:.1e} | {r['erk_cpu_ms']:.1f} ms |" for r in rs]
+    return "\n".join(["| quiet phase: loose, quiet, ring | rtol | scaled error | inside | outside | RK45 steps | "
+                      "exprb32 steps | events (reference) | RHS evaluations (Jacobians) | CPU / rev (numba) | "
+                      "erk-C at this rtol: scaled error | erk-C: CPU / rev |", "|---" * 12 + "|", *lines])
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rtols", default="1e-7,1e-8,1e-9,1e-10")
+    a = ap.parse_args(argv)
+    print("reference and switch windows ...", flush=True)
+    an = Anatomy()
+    rs = rows(an, tuple(float(x) for x in a.rtols.split(",")), log=lambda r: print("  ", r, flush=True))
+    print(markdown(an, rs))
+
+
+if __name__ == "__main__":
+    main()
