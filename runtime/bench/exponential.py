@@ -13,7 +13,7 @@ crank angle, so the pressure's slope is in J),
 order 3, and 2 h phi3(hJ) D (what the third order adds to the exponential Euler step U) is the error estimate.
 A linear mode is integrated exactly whatever h, so a contact's ringing costs nothing; only what is nonlinear
 over a step (friction, geometry) limits it. The phi functions come from one matrix exponential each
-(Al-Mohy and Higham's augmented matrix; Pade 7 with scaling and squaring), the Jacobian from finite differences
+(Al-Mohy and Higham's augmented matrix; Pade 7 with scaling and squaring, by loops), the Jacobian from finite differences
 (7 evaluations). Events are the zero functions of runtime/solving/hybrid.py, looked for at step ends and located
 by the Illinois method on the same step from its start; steps end at the output samples (where the linear
 pressures change slope).
@@ -72,20 +72,64 @@ def make_kernels(problem, nm) -> dict:
             e[i] = (1.0 - 2.0 * s[i]) * g[i] / LENGTH
 
     @numba.njit
+    def mm(A, B):
+        """A B by loops: for these few rows a loop costs less than a call into BLAS."""
+        n, m, q = A.shape[0], B.shape[0], B.shape[1]
+        out = np.zeros((n, q))
+        for i in range(n):
+            for j in range(m):
+                a = A[i, j]
+                if a != 0.0:
+                    for c in range(q):
+                        out[i, c] += a * B[j, c]
+        return out
+
+    @numba.njit
+    def solve(A, B):
+        """A^-1 B by Gaussian elimination with partial pivoting (A and B are overwritten)."""
+        n, q = A.shape[0], B.shape[1]
+        for c in range(n):
+            piv = c + np.argmax(np.abs(A[c:, c]))
+            if piv != c:
+                for j in range(n):
+                    A[c, j], A[piv, j] = A[piv, j], A[c, j]
+                for j in range(q):
+                    B[c, j], B[piv, j] = B[piv, j], B[c, j]
+            for r in range(c + 1, n):
+                f = A[r, c] / A[c, c]
+                if f != 0.0:
+                    for j in range(c, n):
+                        A[r, j] -= f * A[c, j]
+                    for j in range(q):
+                        B[r, j] -= f * B[c, j]
+        for c in range(n - 1, -1, -1):
+            for j in range(q):
+                acc = B[c, j]
+                for r in range(c + 1, n):
+                    acc -= A[c, r] * B[r, j]
+                B[c, j] = acc / A[c, c]
+        return B
+
+    @numba.njit
     def expm(A):
+        """exp(A): Pade (7, 7) with scaling and squaring (Higham, SIAM J. Matrix Anal. Appl. 26 (2005))."""
         n = A.shape[0]
         norm = np.max(np.sum(np.abs(A), axis=0))
-        sq = int(np.ceil(np.log2(norm / 0.5))) if norm > 0.5 else 0
+        sq = max(0, int(np.ceil(np.log2(norm / 3.925724783138660)))) if norm > 0.0 else 0
         B = A / 2.0 ** sq
-        c, num, den, P = 1.0, np.eye(n), np.eye(n), np.eye(n)
-        for j in range(1, 8):  # Pade (7, 7)
-            c = c * (8 - j) / (j * (15 - j))
-            P = P @ B
-            num += c * P
-            den += (-1.0) ** j * c * P
-        E = np.ascontiguousarray(np.linalg.solve(den, num))
+        b = (17297280.0, 8648640.0, 1995840.0, 277200.0, 25200.0, 1512.0, 56.0, 1.0)
+        B2 = mm(B, B)
+        B4 = mm(B2, B2)
+        B6 = mm(B4, B2)
+        odd = b[7] * B6 + b[5] * B4 + b[3] * B2
+        even = b[6] * B6 + b[4] * B4 + b[2] * B2
+        for i in range(n):
+            odd[i, i] += b[1]
+            even[i, i] += b[0]
+        U = mm(B, odd)
+        E = solve(even - U, even + U)
         for _ in range(sq):
-            E = E @ E
+            E = mm(E, E)
         return E
 
     @numba.njit
