@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import statistics
 import time
 
@@ -49,9 +50,10 @@ DP_E = np.array([71 / 57600, 0, -71 / 16695, 71 / 1920, -17253 / 339200, 22 / 52
 
 
 def make_composite(problem, nm):
-    """``run(z0, rtol, quiet, ring, ev_tol, Z, phase) -> (tight steps, quiet steps, rejected, evaluations,
-    Jacobians, events, quiet steps given back)``, filling the hybrid states at the samples ``Z`` and, per output
-    interval, the fraction of its steps that were quiet ``phase``."""
+    """``run(z0, rtol, loose, quiet, ring, ev_tol, max_steps, Z, phase) -> (tight steps, quiet steps, rejected,
+    evaluations, Jacobians, events, quiet steps given back, output intervals done)``, filling the hybrid states at
+    the samples ``Z`` and, per output interval, the fraction of its steps that were quiet ``phase``; it stops once
+    its steps (rejected ones included) exceed ``max_steps``."""
     import numba
 
     kn = make_kernels(problem, nm)
@@ -94,7 +96,7 @@ def make_composite(problem, nm):
         return out
 
     @numba.njit
-    def run(z0, rtol, loose, quiet, ring, ev_tol, Z, phase):
+    def run(z0, rtol, loose, quiet, ring, ev_tol, max_steps, Z, phase):
         w = np.empty(NW)
         w[:6], w[6] = z0[:6], 0.0
         s, counts = z0[6:6 + n_g].copy(), z0[6 + n_g:].copy()
@@ -108,6 +110,8 @@ def make_composite(problem, nm):
             t_end = (k + 1) * DTH
             q_before, all_before = quiet_steps, tight + quiet_steps  # (f0 holds: the pressures are continuous)
             while w[6] < t_end * (1 - 1e-14):
+                if tight + quiet_steps + rejected > max_steps:
+                    return tight, quiet_steps, rejected, cnt[0], jacobians, events, given_back, k
                 zeros(w, s, k, e0)
                 if w[6] - last_event > ring:  # quiet: exprb32, the velocities' tolerance ``quiet`` times looser
                     jacobian(w, s, k, f0, J, cnt)
@@ -161,7 +165,7 @@ def make_composite(problem, nm):
             n_k = tight + quiet_steps - all_before
             phase[k] = (quiet_steps - q_before) / n_k if n_k else 1.0
             Z[:6, k], Z[6:6 + n_g, k], Z[6 + n_g:, k] = w[:6], s, counts
-        return tight, quiet_steps, rejected, cnt[0], jacobians, events, given_back
+        return tight, quiet_steps, rejected, cnt[0], jacobians, events, given_back, N
 
     return run
 
@@ -179,6 +183,8 @@ def erk_cpu(an: Anatomy, rtol: float, repeats: int) -> tuple[float, float]:
     return statistics.median(cpu), errors(trajectory(p, out.z), an.ref)["state"]
 
 
+#: the most steps (rejected ones included) of one run
+MAX_STEPS = 10_000_000
 #: (loose, quiet, ring) of the quiet phase: its rtol is ``loose`` times the tight one, its velocities' tolerance
 #: ``quiet`` times looser still, and it starts ``ring`` degrees after the last event
 SETTINGS = ((100.0, 100.0, 20.0), (1.0, 1000.0, 20.0), (100.0, 1000.0, 20.0), (100.0, 100.0, 10.0))
@@ -194,11 +200,11 @@ def rows(an: Anatomy, rtols=(1e-7, 1e-8, 1e-9, 1e-10), settings=SETTINGS, repeat
     nm = numba_model(p.effects, p.scene.assumptions)
     run = make_composite(p, nm)
     Z, phase = np.empty((6 + 2 * nm.n_guards, p.samples)), np.empty(p.samples)
-    run(p.z0, 1e-4, 1.0, 1.0, 0.0, ev_tol, Z, phase)  # compiles
+    run(p.z0, 1e-4, 1.0, 1.0, 0.0, ev_tol, MAX_STEPS, Z, phase)  # compiles
     erk_points = {rtol: erk_cpu(an, rtol, repeats) if erk else (math.nan, math.nan) for rtol in rtols}
     out = []
     for loose, quiet, ring_deg in settings:
-        args = (loose, quiet, math.radians(ring_deg), ev_tol, Z, phase)
+        args = (loose, quiet, math.radians(ring_deg), ev_tol, MAX_STEPS, Z, phase)
         for rtol in rtols:
             stats = run(p.z0, rtol, *args)
             traj = trajectory(p, Z)
@@ -207,7 +213,7 @@ def rows(an: Anatomy, rtols=(1e-7, 1e-8, 1e-9, 1e-10), settings=SETTINGS, repeat
                 c0 = time.process_time()
                 run(p.z0, rtol, *args)
                 cpu.append(time.process_time() - c0)
-            tight, quiet_steps, rejected, rhs, jac, events, given_back = (int(x) for x in stats)
+            tight, quiet_steps, rejected, rhs, jac, events, given_back, _ = (int(x) for x in stats)
             row = {"loose": loose, "quiet": quiet, "ring_deg": ring_deg, "rtol": rtol, "tight_steps": tight,
                    "quiet_steps": quiet_steps, "rejected": rejected, "rhs": rhs, "jacobians": jac, "events": events,
                    "given_back": given_back, "quiet_inside": float(np.mean(phase[an.windows] > 0)),
@@ -229,10 +235,99 @@ def markdown(an: Anatomy, rs: list[dict]) -> str:
                       "erk-C at this rtol: scaled error | erk-C: CPU / rev |", "|---" * 12 + "|", *lines])
 
 
+def hard_rows(names=None, degrees: float = 60.0, rtol: float = 1e-8, setting=SETTINGS[0], max_steps: int = 2_000_000,
+              log=print) -> list[dict]:
+    """The composite on the first ``degrees`` of each stress scene (runtime/scenes/hard/, from its initial state,
+    1-degree output intervals, linear pressures) beside erk at the same rtol, both against erk at rtol 1e-10 with
+    events located to 1e-12 rad (interpreted engines): switches, scaled error over the span, steps; a run that
+    fails or exceeds ``max_steps`` says so."""
+    from pathlib import Path
+
+    from ..scenes.scene import load_scene
+    from .peer_source import numba_model
+    from .problem import load_model, make_problem
+
+    hard = Path(__file__).resolve().parents[1] / "scenes" / "hard"
+    names = names or sorted(q.stem for q in hard.glob("*.toml"))
+    samples, span = int(round(degrees)), math.radians(degrees)
+    out = []
+    for name in names:
+        scene = load_scene(hard / f"{name}.toml")
+        functions, _ = load_model(scene.effects, scene.assumptions)
+        p = make_problem(name, scene, scene.effects, functions, samples=samples, span=span, settle_revolutions=0,
+                         pressure_profile="linear")
+        row: dict = {"scene": name}
+        try:
+            ref = _erk(p, 1e-10, 1e-12)
+        except Exception as exc:  # noqa: BLE001  (a stress scene may defeat the reference: say so)
+            row |= {"reference": _failure(exc)}
+            ref = None
+        ref_traj = None if ref is None else trajectory(p, ref.z)
+        if ref_traj is not None:
+            row["reference_events"] = int(ref_traj.events.sum())
+        try:
+            plain = _erk(p, rtol)
+            row |= {"erk_steps": int(plain.stats["n_steps"]), "erk_events": int(trajectory(p, plain.z).events.sum())}
+            if ref_traj is not None:
+                row["erk_state"] = errors(trajectory(p, plain.z), ref_traj)["state"]
+        except Exception as exc:  # noqa: BLE001
+            row["erk"] = _failure(exc)
+        run = make_composite(p, numba_model(scene.effects, scene.assumptions))
+        Z, phase = np.full((p.z0.size, samples), np.nan), np.empty(samples)
+        loose, quiet, ring_deg = setting
+        stats = run(p.z0, rtol, loose, quiet, math.radians(ring_deg), 1e-10, max_steps, Z, phase)
+        tight, quiet_steps, rejected, rhs, _, events, _, done = (int(x) for x in stats)
+        row |= {"tight_steps": tight, "quiet_steps": quiet_steps, "rejected": rejected, "events": events,
+                "done_deg": done * degrees / samples}
+        if done == samples and ref_traj is not None and np.isfinite(Z).all():
+            row["state"] = errors(trajectory(p, Z), ref_traj)["state"]
+        out.append(row)
+        log(row)
+    return out
+
+
+def _failure(exc: Exception) -> str:
+    """"failed: " and the last line of an integrator's error (CasADi's: its innermost message, without the source
+    file it was raised in)."""
+    last = [line for line in str(exc).splitlines() if line.strip()][-1]
+    return "failed: " + re.sub(r"^\S*\.(hpp|cpp):\d+:\s*", "", last)[:80]
+
+
+def _erk(p, rtol: float, event_tol: float | None = None):
+    """erk (interpreted) over problem ``p`` at ``rtol``, events located to ``event_tol`` (None: the run's)."""
+    from .methods import build_engine
+
+    eng = build_engine(p.functions, METHODS["erk-C"], rtol, samples=p.samples, span=p.span, flags="optimised",
+                       compiled=False, event_tol=event_tol, pressure="linear")
+    return eng.run(p.z0, p.params, p.theta0, p.pressures)
+
+
+def hard_markdown(rs: list[dict], degrees: float, rtol: float) -> str:
+    def cell(r, key, fmt="{:,}"):
+        return fmt.format(r[key]) if key in r else "–"
+
+    lines = []
+    for r in rs:
+        ref = r.get("reference", cell(r, "reference_events"))
+        erk = r.get("erk", f"{cell(r, 'erk_events')} / {cell(r, 'erk_state', '{:.1e}')} / {cell(r, 'erk_steps')}")
+        stop = "" if r["done_deg"] >= degrees else f"stopped at {r['done_deg']:g}° (step budget); "
+        lines.append(f"| {r['scene']} | {ref} | {erk} | {stop}{r['events']:,} / {cell(r, 'state', '{:.1e}')} / "
+                     f"{r['tight_steps']:,} + {r['quiet_steps']:,} |")
+    return "\n".join([f"The first {degrees:g}° of each stress scene at rtol {rtol:g}; the reference is erk at rtol 1e-10 "
+                      "with events to 1e-12 rad.", "", "| scene | reference: switches | erk: switches / scaled error / "
+                      "steps | composite: switches / scaled error / RK45 + exprb32 steps |", "|---|---|---|---|",
+                      *lines])
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rtols", default="1e-7,1e-8,1e-9,1e-10")
+    ap.add_argument("--hard", type=float, default=None, metavar="DEGREES",
+                    help="instead: the first DEGREES of every stress scene at rtol 1e-8 (hard_rows)")
     a = ap.parse_args(argv)
+    if a.hard is not None:
+        print(hard_markdown(hard_rows(degrees=a.hard, log=lambda r: print("  ", r, flush=True)), a.hard, 1e-8))
+        return
     print("reference and switch windows ...", flush=True)
     an = Anatomy()
     rs = rows(an, tuple(float(x) for x in a.rtols.split(",")), log=lambda r: print("  ", r, flush=True))

@@ -187,3 +187,18 @@ def test_the_composite_prototype_switches_phases_and_converges(tiny):
     for r in rs:
         assert r["tight_steps"] > 0 and r["quiet_steps"] > 0 and r["jacobians"] == r["quiet_steps"] + r["given_back"]
     assert "| 100, 100, 2 deg | 1e-09 |" in comp_markdown(tiny, rs)
+
+
+def test_the_composite_on_a_stress_scene_finds_its_switches():
+    """``composite --hard``: the first degrees of one stress scene, against erk at rtol 1e-10; a failing integrator
+    is reported by its innermost message."""
+    pytest.importorskip("numba")
+    from apexseal.runtime.bench.composite import _failure, hard_markdown, hard_rows
+
+    (row,) = hard_rows(["grazing-housing"], degrees=20.0, log=lambda _: None)
+    assert row["done_deg"] == 20.0 and row["events"] == row["reference_events"] == row["erk_events"]
+    assert row["state"] < 1e-4 and row["tight_steps"] > 0
+    assert "| grazing-housing |" in hard_markdown([row], 20.0, 1e-8)
+    exc = RuntimeError("Error in Function::call at .../casadi/core/function.cpp:1655:\n"
+                       ".../casadi/core/function_internal.hpp:1766: Evaluation failed")
+    assert _failure(exc) == "failed: Evaluation failed"
