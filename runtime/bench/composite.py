@@ -16,8 +16,11 @@ two together with a rule that needs no oracle:
 * a quiet step across which a zero function changes sign is not taken: the tight phase takes over from the step's
   start, so every switch is located and integrated by RK45 at ``rtol``.
 
-Both are written with numba on the peer's right-hand side (runtime/bench/peer_source.py); the CPU times are beside
-erk's (generated C, compiled) measured in the same run, each the median of ``repeats`` after a warm-up.
+It is written twice: with numba on the peer's right-hand side (runtime/bench/peer_source.py), and in C generated at
+the station (generated/templates/apexseal_composite.in.c, compiled into the model library, calling its hybrid_ode
+and hybrid_zero; :func:`make_composite_c`). The CPU times of both are beside erk's (generated C, compiled)
+measured in the same run, each the median of ``repeats`` after a warm-up. Neither is a run method yet: it has none
+of the run's chatter handling, budgets or diagnosis.
 """
 
 from __future__ import annotations
@@ -170,6 +173,47 @@ def make_composite(problem, nm):
     return run
 
 
+def make_composite_c(problem):
+    """The same method in generated C (templates/apexseal_composite.in.c, compiled into the model library):
+    ``run(rtol, loose, quiet, ring, ev_tol, max_steps) -> (Z (hybrid states, layout size x samples), phase,
+    stats as :func:`make_composite`'s)``; a failure of the C raises RuntimeError."""
+    import ctypes
+
+    from ...generated.load import load_functions
+    from ..solving.hybrid import controls
+    from ..solving.scaling import _scales
+
+    loaded = load_functions(problem.effects, problem.scene.assumptions, compiled=True)
+    if loaded.library is None:
+        raise RuntimeError("the model library is not compiled (no C compiler): the composite needs it")
+    fn = ctypes.CDLL(str(loaded.library)).apexseal_composite_run
+    dbl = ctypes.POINTER(ctypes.c_double)
+    fn.argtypes = [dbl, dbl, dbl, dbl, ctypes.c_int, ctypes.c_double, ctypes.c_double, ctypes.c_double,
+                   ctypes.c_double, ctypes.c_double, ctypes.c_double, ctypes.c_longlong, dbl, dbl,
+                   ctypes.POINTER(ctypes.c_longlong)]
+    fn.restype = ctypes.c_int
+    N, dth = problem.samples, problem.span / problem.samples
+    z0 = np.ascontiguousarray(problem.z0, float)
+    par = np.ascontiguousarray(np.r_[problem.params, problem.theta0], float)
+    U = np.ascontiguousarray(controls(problem.pressures, dth * np.arange(1, N + 1), "linear", 4).T)
+    rate = np.ascontiguousarray(_scales(problem.functions.state_names)[1], float)
+    Z, phase, stats = np.empty((N, z0.size)), np.empty(N), np.zeros(8, np.int64)
+
+    def ptr(a):
+        return a.ctypes.data_as(dbl)
+
+    def run(rtol, loose, quiet, ring, ev_tol=1e-10, max_steps=MAX_STEPS):
+        status = fn(ptr(z0), ptr(par), ptr(U), ptr(rate), N, dth, rtol, loose, quiet, ring, ev_tol, max_steps,
+                    ptr(Z), ptr(phase), stats.ctypes.data_as(ctypes.POINTER(ctypes.c_longlong)))
+        if status:
+            why = {1: "the model failed to evaluate", 2: f"more than {max_steps} steps",
+                   3: "the model's work arrays exceed the composite's"}[status]
+            raise RuntimeError(f"composite (C): {why} after {stats[7]} of {N} intervals")
+        return Z.T.copy(), phase.copy(), stats.copy()
+
+    return run
+
+
 def erk_cpu(an: Anatomy, rtol: float, repeats: int) -> tuple[float, float]:
     """erk's (generated C, compiled) CPU time per revolution (median of ``repeats`` after a warm-up) and error."""
     p = an.problem
@@ -199,6 +243,7 @@ def rows(an: Anatomy, rtols=(1e-7, 1e-8, 1e-9, 1e-10), settings=SETTINGS, repeat
     p = an.problem
     nm = numba_model(p.effects, p.scene.assumptions)
     run = make_composite(p, nm)
+    run_c = make_composite_c(p)
     Z, phase = np.empty((6 + 2 * nm.n_guards, p.samples)), np.empty(p.samples)
     run(p.z0, 1e-4, 1.0, 1.0, 0.0, ev_tol, MAX_STEPS, Z, phase)  # compiles
     erk_points = {rtol: erk_cpu(an, rtol, repeats) if erk else (math.nan, math.nan) for rtol in rtols}
@@ -214,11 +259,19 @@ def rows(an: Anatomy, rtols=(1e-7, 1e-8, 1e-9, 1e-10), settings=SETTINGS, repeat
                 run(p.z0, rtol, *args)
                 cpu.append(time.process_time() - c0)
             tight, quiet_steps, rejected, rhs, jac, events, given_back, _ = (int(x) for x in stats)
+            z_c, _, stats_c = run_c(rtol, *args[:4])
+            cpu_c = []
+            for _ in range(repeats):
+                c0 = time.process_time()
+                run_c(rtol, *args[:4])
+                cpu_c.append(time.process_time() - c0)
             row = {"loose": loose, "quiet": quiet, "ring_deg": ring_deg, "rtol": rtol, "tight_steps": tight,
                    "quiet_steps": quiet_steps, "rejected": rejected, "rhs": rhs, "jacobians": jac, "events": events,
                    "given_back": given_back, "quiet_inside": float(np.mean(phase[an.windows] > 0)),
                    "cpu_ms": 1e3 * statistics.median(cpu), "erk_cpu_ms": 1e3 * erk_points[rtol][0],
-                   "erk_state": erk_points[rtol][1]} | windowed_errors(traj, an.ref, an.windows)
+                   "erk_state": erk_points[rtol][1], "c_state": errors(trajectory(p, z_c), an.ref)["state"],
+                   "c_cpu_ms": 1e3 * statistics.median(cpu_c), "c_rhs": int(stats_c[3]), "c_events": int(stats_c[5])}
+            row |= windowed_errors(traj, an.ref, an.windows)
             out.append(row)
             log(row)
     return out
@@ -229,10 +282,12 @@ def markdown(an: Anatomy, rs: list[dict]) -> str:
     lines = [f"| {r['loose']:g}, {r['quiet']:g}, {r['ring_deg']:g} deg | {r['rtol']:g} | {r['state']:.1e} | "
              f"{r['inside']:.1e} | {r['outside']:.1e} | {r['tight_steps']:,} | {r['quiet_steps']:,} | "
              f"{r['events']} ({ref_events}) | {r['rhs']:,} ({r['jacobians']:,}) | {r['cpu_ms']:.1f} ms | "
-             f"{r['erk_state']:.1e} | {r['erk_cpu_ms']:.1f} ms |" for r in rs]
+             f"{r['c_state']:.1e} / {r['c_rhs']:,} / {r['c_cpu_ms']:.1f} ms | {r['erk_state']:.1e} | "
+             f"{r['erk_cpu_ms']:.1f} ms |" for r in rs]
     return "\n".join(["| quiet phase: loose, quiet, ring | rtol | scaled error | inside | outside | RK45 steps | "
                       "exprb32 steps | events (reference) | RHS evaluations (Jacobians) | CPU / rev (numba) | "
-                      "erk-C at this rtol: scaled error | erk-C: CPU / rev |", "|---" * 12 + "|", *lines])
+                      "generated C: scaled error / RHS evaluations / CPU per rev | erk-C at this rtol: scaled error | "
+                      "erk-C: CPU / rev |", "|---" * 13 + "|", *lines])
 
 
 def hard_rows(names=None, degrees: float = 60.0, rtol: float = 1e-8, setting=SETTINGS[0], max_steps: int = 2_000_000,

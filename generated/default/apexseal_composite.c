@@ -1,0 +1,357 @@
+/* apexseal_composite.c: a composite integrator of the hybrid model, compiled into the model library.
+ * Rendered by apexseal from templates/apexseal_composite.in.c; do not edit (run `apexseal generate`).
+ * Effects: all.
+ *
+ * A prototype for the benchmark (runtime/bench/composite.py, docs/bench/composite.md), not a run method yet:
+ * Dormand and Prince's RK5(4) with events where contacts switch (the tight phase), and from `ring` rad after the
+ * last contact event the exponential Rosenbrock method exprb32 (Hochbruck, Ostermann and Schweitzer, SIAM J.
+ * Numer. Anal. 47 (2009)) at `loose` times rtol with the rate states' tolerance `quiet` times looser still (the
+ * quiet phase); a quiet step across which a zero function changes sign is given back to the tight phase.
+ * It integrates the scaled state against the crank angle through the library's hybrid_ode and hybrid_zero
+ * (runtime/solving/hybrid.py): z = [scaled state, activations, event counts], e_i = (1 - 2 s_i) g_i / l.
+ */
+#include <math.h>
+#include <string.h>
+
+#include "apexseal_model.h"
+#include "casadi_model.h"
+#include "casadi_model_events.h"
+
+#define NX APEXSEAL_NX
+#define NG APEXSEAL_NG
+#define NZ (NX + 2 * NG)
+#define NW (NX + 1) /* the integrated w: the scaled state and the crank angle since the call's start */
+#define NM (NW + 3) /* the largest augmented matrix of the phi functions */
+#define NP_CALL (APEXSEAL_NP + 1)
+#define NU_CALL (2 * APEXSEAL_NU)
+#define WORK 4096
+
+typedef struct {
+  const casadi_real* p; /* [parameters, crank angle at the start] */
+  const casadi_real* U; /* per output interval: the pressures at tau = 0 and their slopes */
+  const casadi_real* rate; /* 1 for the rate states */
+  casadi_real s[NG];
+  long long evals;
+  const casadi_real* arg[16];
+  casadi_real* res[16];
+  casadi_int iw[WORK];
+  casadi_real w[WORK];
+} Ctx;
+
+/* dw/dtheta in mode s, output interval k */
+static int F(Ctx* c, const double* w, int k, double* out) {
+  double z[NZ], ode[NZ], t = w[NX];
+  memcpy(z, w, NX * sizeof(double));
+  memcpy(z + NX, c->s, NG * sizeof(double));
+  memset(z + NX + NG, 0, NG * sizeof(double));
+  c->arg[0] = &t; c->arg[1] = z; c->arg[2] = c->p; c->arg[3] = c->U + NU_CALL * k;
+  c->res[0] = ode;
+  if (hybrid_ode(c->arg, c->res, c->iw, c->w, 0)) return 1;
+  memcpy(out, ode, NX * sizeof(double));
+  out[NX] = 1.0;
+  c->evals++;
+  return 0;
+}
+
+/* the zero functions e in mode s, output interval k */
+static int zeros(Ctx* c, const double* w, int k, double* e) {
+  double z[NZ], t = w[NX];
+  memcpy(z, w, NX * sizeof(double));
+  memcpy(z + NX, c->s, NG * sizeof(double));
+  memset(z + NX + NG, 0, NG * sizeof(double));
+  c->arg[0] = &t; c->arg[1] = z; c->arg[2] = c->p; c->arg[3] = c->U + NU_CALL * k;
+  c->res[0] = e;
+  return hybrid_zero(c->arg, c->res, c->iw, c->w, 0);
+}
+
+/* ---------------------------------------------------------------- matrix exponential and phi functions */
+
+static void mm(int n, const double* A, const double* B, double* C) {
+  for (int i = 0; i < n * n; i++) C[i] = 0.0;
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j < n; j++) {
+      double a = A[i * n + j];
+      if (a != 0.0)
+        for (int q = 0; q < n; q++) C[i * n + q] += a * B[j * n + q];
+    }
+}
+
+/* B := A^-1 B (n x n each) by Gaussian elimination with partial pivoting; A is overwritten */
+static void solve(int n, double* A, double* B) {
+  for (int c = 0; c < n; c++) {
+    int piv = c;
+    for (int r = c + 1; r < n; r++)
+      if (fabs(A[r * n + c]) > fabs(A[piv * n + c])) piv = r;
+    if (piv != c)
+      for (int j = 0; j < n; j++) {
+        double t = A[c * n + j]; A[c * n + j] = A[piv * n + j]; A[piv * n + j] = t;
+        t = B[c * n + j]; B[c * n + j] = B[piv * n + j]; B[piv * n + j] = t;
+      }
+    for (int r = c + 1; r < n; r++) {
+      double f = A[r * n + c] / A[c * n + c];
+      if (f != 0.0) {
+        for (int j = c; j < n; j++) A[r * n + j] -= f * A[c * n + j];
+        for (int j = 0; j < n; j++) B[r * n + j] -= f * B[c * n + j];
+      }
+    }
+  }
+  for (int c = n - 1; c >= 0; c--)
+    for (int j = 0; j < n; j++) {
+      double acc = B[c * n + j];
+      for (int r = c + 1; r < n; r++) acc -= A[c * n + r] * B[r * n + j];
+      B[c * n + j] = acc / A[c * n + c];
+    }
+}
+
+/* E = exp(A) (n x n): Pade (7, 7) with scaling and squaring (Higham, SIAM J. Matrix Anal. Appl. 26 (2005)) */
+static void expm(int n, const double* A, double* E) {
+  static const double b[8] = {17297280.0, 8648640.0, 1995840.0, 277200.0, 25200.0, 1512.0, 56.0, 1.0};
+  double B[NM * NM], B2[NM * NM], B4[NM * NM], B6[NM * NM], odd[NM * NM], even[NM * NM], U[NM * NM], T[NM * NM];
+  double norm = 0.0;
+  for (int j = 0; j < n; j++) {
+    double col = 0.0;
+    for (int i = 0; i < n; i++) col += fabs(A[i * n + j]);
+    if (col > norm) norm = col;
+  }
+  int sq = norm > 0.0 ? (int)ceil(log2(norm / 3.925724783138660)) : 0;
+  if (sq < 0) sq = 0;
+  double scale = ldexp(1.0, -sq);
+  for (int i = 0; i < n * n; i++) B[i] = A[i] * scale;
+  mm(n, B, B, B2);
+  mm(n, B2, B2, B4);
+  mm(n, B4, B2, B6);
+  for (int i = 0; i < n * n; i++) {
+    odd[i] = b[7] * B6[i] + b[5] * B4[i] + b[3] * B2[i];
+    even[i] = b[6] * B6[i] + b[4] * B4[i] + b[2] * B2[i];
+  }
+  for (int i = 0; i < n; i++) { odd[i * n + i] += b[1]; even[i * n + i] += b[0]; }
+  mm(n, B, odd, U);
+  for (int i = 0; i < n * n; i++) { T[i] = even[i] - U[i]; E[i] = even[i] + U[i]; }
+  solve(n, T, E);
+  for (int r = 0; r < sq; r++) {
+    mm(n, E, E, T);
+    memcpy(E, T, n * n * sizeof(double));
+  }
+}
+
+/* out = phi_p(hJ) v: the exponential of [[hJ, v, 0], [0, 0, I], [0, 0, 0]] (size NW + p) */
+static void phi(const double* hJ, const double* v, int p, double* out) {
+  int n = NW + p;
+  double M[NM * NM], E[NM * NM];
+  memset(M, 0, sizeof(M));
+  for (int i = 0; i < NW; i++) {
+    for (int j = 0; j < NW; j++) M[i * n + j] = hJ[i * NW + j];
+    M[i * n + NW] = v[i];
+  }
+  for (int i = 0; i < p - 1; i++) M[(NW + i) * n + NW + i + 1] = 1.0;
+  expm(n, M, E);
+  for (int i = 0; i < NW; i++) out[i] = E[i * n + NW + p - 1];
+}
+
+/* ---------------------------------------------------------------- the two steps */
+
+/* the Jacobian of F at w by forward differences (NW evaluations) */
+static int jacobian(Ctx* c, const double* w, int k, const double* f0, double* J) {
+  double wp[NW], fp[NW];
+  memcpy(wp, w, sizeof(wp));
+  for (int j = 0; j < NW; j++) {
+    double d = 1e-7 * fmax(fabs(w[j]), 1.0);
+    wp[j] = w[j] + d;
+    if (F(c, wp, k, fp)) return 1;
+    for (int i = 0; i < NW; i++) J[i * NW + j] = (fp[i] - f0[i]) / d;
+    wp[j] = w[j];
+  }
+  return 0;
+}
+
+/* exprb32: U = w + h phi1(hJ) f0; w1 = U + 2h phi3(hJ) D, D = g(U) - g(w), g = F - J w; err = 2h phi3(hJ) D */
+static int exprb(Ctx* c, const double* w, int k, double h, const double* f0, const double* J, double* w1,
+                 double* err) {
+  double hJ[NW * NW], v[NW], U[NW], fU[NW], D[NW];
+  for (int i = 0; i < NW * NW; i++) hJ[i] = h * J[i];
+  phi(hJ, f0, 1, v);
+  for (int i = 0; i < NW; i++) U[i] = w[i] + h * v[i];
+  if (F(c, U, k, fU)) return 1;
+  for (int i = 0; i < NW; i++) {
+    double JU = 0.0, Jw = 0.0;
+    for (int j = 0; j < NW; j++) { JU += J[i * NW + j] * U[j]; Jw += J[i * NW + j] * w[j]; }
+    D[i] = (fU[i] - JU) - (f0[i] - Jw);
+  }
+  phi(hJ, D, 3, v);
+  for (int i = 0; i < NW; i++) { err[i] = 2.0 * h * v[i]; w1[i] = U[i] + err[i]; }
+  return 0;
+}
+
+static const double DP_C[7] = {0.0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1.0, 1.0};
+static const double DP_A[7][6] = {
+  {0, 0, 0, 0, 0, 0},
+  {1.0 / 5, 0, 0, 0, 0, 0},
+  {3.0 / 40, 9.0 / 40, 0, 0, 0, 0},
+  {44.0 / 45, -56.0 / 15, 32.0 / 9, 0, 0, 0},
+  {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729, 0, 0},
+  {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656, 0},
+  {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
+static const double DP_E[7] = {71.0 / 57600, 0, -71.0 / 16695, 71.0 / 1920, -17253.0 / 339200, 22.0 / 525,
+                               -1.0 / 40};
+
+/* RK5(4): w1 and the error estimate; K[6] = F(w1) (first same as last) */
+static int dp45(Ctx* c, const double* w, int k, double h, const double* f0, double K[7][NW], double* w1,
+                double* err) {
+  double wj[NW];
+  memcpy(K[0], f0, NW * sizeof(double));
+  for (int j = 1; j < 7; j++) {
+    for (int i = 0; i < NW; i++) {
+      double acc = w[i];
+      for (int m = 0; m < j; m++) acc += h * DP_A[j][m] * K[m][i];
+      wj[i] = acc;
+    }
+    wj[NX] = w[NX] + DP_C[j] * h;
+    if (F(c, wj, k, K[j])) return 1;
+  }
+  for (int i = 0; i < NW; i++) {
+    double e = 0.0;
+    for (int m = 0; m < 7; m++) e += h * DP_E[m] * K[m][i];
+    err[i] = e;
+  }
+  memcpy(w1, wj, NW * sizeof(double)); /* the seventh stage's point is the fifth-order solution */
+  w1[NX] = w[NX] + h;
+  return 0;
+}
+
+static double norm(const Ctx* c, const double* w, const double* w1, const double* err, double rtol, double quiet) {
+  double out = 0.0;
+  for (int i = 0; i < NX; i++) {
+    double tol = (rtol + rtol * fmax(fabs(w[i]), fabs(w1[i]))) * (c->rate[i] != 0.0 ? quiet : 1.0);
+    double r = fabs(err[i]) / tol;
+    if (!(r <= out)) out = r; /* a NaN propagates */
+  }
+  return out;
+}
+
+/* ---------------------------------------------------------------- event location */
+
+/* the earliest crossing of the zero functions that crossed on a step of length hh from w (e0 >= 0 > e1 at its
+ * end), to ev_tol, by the Illinois method on the length of an RK45 step from w; w1 and e1 become those at the
+ * crossing. */
+static int locate(Ctx* c, const double* w, int k, double hh, const double* f0, const double* J, double K[7][NW],
+                  const double* e0, double* e1, double ev_tol, double* w1) {
+  double a = 0.0, b = hh, fa = INFINITY, fb = INFINITY, em[NG], wm[NW], err[NW];
+  for (int i = 0; i < NG; i++)
+    if (e0[i] >= 0.0 && e1[i] < 0.0) { fa = fmin(fa, e0[i]); fb = fmin(fb, e1[i]); }
+  int side = 0;
+  (void)J;
+  for (int it = 1; b - a > ev_tol && it <= 100; it++) {
+    double m = b - fb * (b - a) / (fb - fa);
+    if (!(a < m && m < b) || it % 4 == 0) m = 0.5 * (a + b);
+    if (dp45(c, w, k, m, f0, K, wm, err) || zeros(c, wm, k, em)) return 1;
+    double fm = INFINITY;
+    for (int i = 0; i < NG; i++)
+      if (e0[i] >= 0.0) fm = fmin(fm, em[i]);
+    if (fm < 0.0) { b = m; fb = fm; if (side == -1) fa *= 0.5; side = -1; }
+    else { a = m; fa = fm; if (side == 1) fb *= 0.5; side = 1; }
+  }
+  if (dp45(c, w, k, b, f0, K, w1, err) || zeros(c, w1, k, e1)) return 1;
+  return 0;
+}
+
+/* ---------------------------------------------------------------- the run */
+
+/* Integrates the N output intervals of dth rad from z0 (NZ); writes the hybrid state at each interval's end into
+ * Z (N x NZ, row-major) and, per interval, the fraction of its steps that were quiet into phase (N). stats (8):
+ * tight steps, quiet steps, rejected steps, evaluations, Jacobians, events, quiet steps given back, intervals
+ * done. Returns 0; 1 when the model failed to evaluate, 2 when max_steps were exceeded, 3 when the model's work
+ * arrays exceed this file's. */
+int apexseal_composite_run(const double* z0, const double* p, const double* U, const double* rate, int N,
+                           double dth, double rtol, double loose, double quiet, double ring, double ev_tol,
+                           long long max_steps, double* Z, double* phase, long long* stats) {
+  Ctx ctx;
+  Ctx* c = &ctx;
+  casadi_int sz_arg, sz_res, sz_iw, sz_w, a2, r2, i2, w2;
+  hybrid_ode_work(&sz_arg, &sz_res, &sz_iw, &sz_w);
+  hybrid_zero_work(&a2, &r2, &i2, &w2);
+  if (sz_arg > 16 || a2 > 16 || sz_res > 16 || r2 > 16 || sz_iw > WORK || i2 > WORK || sz_w > WORK || w2 > WORK)
+    return 3;
+  c->p = p; c->U = U; c->rate = rate; c->evals = 0;
+  double w[NW], w1[NW], f0[NW], J[NW * NW], K[7][NW], err[NW], e0[NG], e1[NG], counts[NG];
+  memcpy(w, z0, NX * sizeof(double));
+  w[NX] = 0.0;
+  memcpy(c->s, z0 + NX, NG * sizeof(double));
+  memcpy(counts, z0 + NX + NG, NG * sizeof(double));
+  double h_t = 1e-5, h_q = 1e-3, last_event = 0.0;
+  long long tight = 0, quiet_steps = 0, rejected = 0, jacobians = 0, events = 0, given_back = 0;
+  int status = 0, k = 0;
+  if (F(c, w, 0, f0)) { status = 1; goto done; }
+  for (k = 0; k < N; k++) {
+    double t_end = (k + 1) * dth;
+    long long q_before = quiet_steps, all_before = tight + quiet_steps;
+    while (w[NX] < t_end * (1 - 1e-14)) {
+      double hh, e;
+      if (tight + quiet_steps + rejected > max_steps) { status = 2; goto done; }
+      if (zeros(c, w, k, e0)) { status = 1; goto done; }
+      if (w[NX] - last_event > ring) { /* quiet: exprb32 */
+        if (jacobian(c, w, k, f0, J)) { status = 1; goto done; }
+        jacobians++;
+        for (;;) {
+          hh = fmin(h_q, t_end - w[NX]);
+          if (exprb(c, w, k, hh, f0, J, w1, err)) { status = 1; goto done; }
+          e = norm(c, w, w1, err, rtol * loose, quiet);
+          if (e <= 1.0) break;
+          rejected++;
+          h_q = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 3)) : 0.2);
+        }
+        if (zeros(c, w1, k, e1)) { status = 1; goto done; }
+        int crossed = 0;
+        for (int i = 0; i < NG; i++) crossed |= e0[i] >= 0.0 && e1[i] < 0.0;
+        if (crossed) { /* a switch ahead: the tight phase takes this step over */
+          given_back++;
+          last_event = w[NX];
+          h_t = fmin(h_t, hh);
+          continue;
+        }
+        h_q = hh * fmin(5.0, fmax(0.2, 0.9 * pow(fmax(e, 1e-10), -1.0 / 3)));
+        memcpy(w, w1, sizeof(w));
+        if (F(c, w, k, f0)) { status = 1; goto done; }
+        quiet_steps++;
+        continue;
+      }
+      for (;;) { /* tight: RK45 at rtol */
+        hh = fmin(h_t, t_end - w[NX]);
+        if (dp45(c, w, k, hh, f0, K, w1, err)) { status = 1; goto done; }
+        e = norm(c, w, w1, err, rtol, 1.0);
+        if (e <= 1.0) break;
+        rejected++;
+        h_t = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 5)) : 0.2);
+      }
+      if (zeros(c, w1, k, e1)) { status = 1; goto done; }
+      int crossed = 0;
+      for (int i = 0; i < NG; i++) crossed |= e0[i] >= 0.0 && e1[i] < 0.0;
+      if (crossed) {
+        if (locate(c, w, k, hh, f0, J, K, e0, e1, ev_tol, w1)) { status = 1; goto done; }
+        for (int i = 0; i < NG; i++)
+          if (e1[i] < 0.0) { /* toggled: the located contact and any that crossed with it */
+            c->s[i] = 1.0 - c->s[i];
+            counts[i] += 1.0;
+            events++;
+          }
+        last_event = w1[NX];
+        h_t = fmax(0.5 * hh, 1e-9);
+        memcpy(w, w1, sizeof(w));
+        if (F(c, w, k, f0)) { status = 1; goto done; }
+      } else {
+        h_t = hh * fmin(5.0, fmax(0.2, 0.9 * pow(fmax(e, 1e-10), -1.0 / 5)));
+        memcpy(w, w1, sizeof(w));
+        memcpy(f0, K[6], sizeof(f0)); /* first same as last */
+      }
+      tight++;
+    }
+    long long n_k = tight + quiet_steps - all_before;
+    phase[k] = n_k ? (double)(quiet_steps - q_before) / (double)n_k : 1.0;
+    memcpy(Z + (long long)k * NZ, w, NX * sizeof(double));
+    memcpy(Z + (long long)k * NZ + NX, c->s, NG * sizeof(double));
+    memcpy(Z + (long long)k * NZ + NX + NG, counts, NG * sizeof(double));
+  }
+done:
+  stats[0] = tight; stats[1] = quiet_steps; stats[2] = rejected; stats[3] = c->evals;
+  stats[4] = jacobians; stats[5] = events; stats[6] = given_back; stats[7] = k;
+  return status;
+}
