@@ -1,7 +1,9 @@
 """A prototype of the method the anatomy asks for: RK45 where contacts switch, an exponential step between.
 
-``python -m apexseal.runtime.bench.composite [--rtols 1e-7,1e-8,1e-9,1e-10]`` (about two minutes; the settings of
-:data:`SETTINGS`; docs/bench/composite.md, read in docs/bench/levers.md, "Where the error and the work are").
+``python -m apexseal.runtime.bench.composite [--rtols 1e-7,1e-8,1e-9,1e-10]`` (under a minute; the settings of
+:data:`SETTINGS`; docs/bench/composite.md) and ``python -m apexseal.runtime.bench.composite --hard 60`` (the stress
+scenes, 7 minutes; docs/bench/composite-hard.md), both read in docs/bench/levers.md, "Where the error and the work
+are".
 
 runtime/bench/anatomy.py found the benchmark's error inside the switch windows (the impacts at the chamber
 switches and the degrees of ringing after them) and two thirds of erk's steps between them, where the error is
@@ -61,6 +63,7 @@ def make_composite(problem, nm):
 
     kn = make_kernels(problem, nm)
     F, zeros, jacobian, exprb, NW = kn["F"], kn["zeros"], kn["jacobian"], kn["exprb"], kn["NW"]
+    toggle = kn["toggle"]
     N, DTH, n_g = problem.samples, problem.span / problem.samples, nm.n_guards
     C, A, B, E = DP_C, DP_A, DP_B, DP_E
 
@@ -150,11 +153,7 @@ def make_composite(problem, nm):
                 zeros(w1, s, k, e1)
                 if ((e1 < 0.0) & (e0 >= 0.0)).any():
                     w1, e1 = locate_dp(w, s, k, hh, f0, K, cnt, e0, e1, ev_tol)
-                    for i in range(n_g):
-                        if e1[i] < 0.0:  # toggled: the located contact and any that crossed with it
-                            s[i] = 1.0 - s[i]
-                            counts[i] += 1.0
-                            events += 1
+                    events += toggle(e1, s, counts)
                     last_event = w1[6]
                     h_t = max(0.5 * hh, 1e-9)
                     w = w1

@@ -163,6 +163,18 @@ def make_kernels(problem, nm) -> dict:
             wp[j] = w[j]
         cnt[0] += NW
 
+    @numba.njit
+    def toggle(e1, s, counts):
+        """Switch every contact whose zero function is negative (the located one and any that crossed with it);
+        how many switched."""
+        n = 0
+        for i in range(n_g):
+            if e1[i] < 0.0:
+                s[i] = 1.0 - s[i]
+                counts[i] += 1.0
+                n += 1
+        return n
+
     def make_locate(step):
         @numba.njit
         def locate(w, s, k, hh, f0, J, cnt, e0, e1, ev_tol):
@@ -197,7 +209,8 @@ def make_kernels(problem, nm) -> dict:
 
         return locate
 
-    return {"F": F, "zeros": zeros, "jacobian": jacobian, "exprb": exprb, "make_locate": make_locate, "NW": NW}
+    return {"F": F, "zeros": zeros, "jacobian": jacobian, "exprb": exprb, "make_locate": make_locate,
+            "toggle": toggle, "NW": NW}
 
 
 def make_integrator(problem, nm):
@@ -208,7 +221,7 @@ def make_integrator(problem, nm):
 
     kn = make_kernels(problem, nm)
     F, zeros, jacobian, step, NW = kn["F"], kn["zeros"], kn["jacobian"], kn["exprb"], kn["NW"]
-    locate = kn["make_locate"](step)
+    locate, toggle = kn["make_locate"](step), kn["toggle"]
     N, DTH, n_g = problem.samples, problem.span / problem.samples, nm.n_guards
 
     @numba.njit
@@ -241,11 +254,7 @@ def make_integrator(problem, nm):
                 zeros(w1, s, k, e1)
                 if ((e1 < 0.0) & (e0 >= 0.0)).any():
                     w1, e1 = locate(w, s, k, hh, f0, J, cnt, e0, e1, ev_tol)
-                    for i in range(n_g):
-                        if e1[i] < 0.0:  # toggled: the located contact and any that crossed with it
-                            s[i] = 1.0 - s[i]
-                            counts[i] += 1.0
-                            events += 1
+                    events += toggle(e1, s, counts)
                     h = max(0.5 * hh, 1e-9)
                 else:
                     h = hh * min(5.0, max(0.2, 0.9 * max(err, 1e-10) ** (-1 / 3)))
