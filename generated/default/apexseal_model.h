@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 8065a2141d7226a7104e0b0b9500d69653c9ffc450b6736e5c380a617253cf03.
+ * Effects: all. Input hash: 3d7c28fc6fac14f1fcfc88f678cf4139e414f36fbfa1c34a76b87e05684b4668.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "8065a2141d7226a7104e0b0b9500d69653c9ffc450b6736e5c380a617253cf03"
+#define APEXSEAL_INPUT_HASH "3d7c28fc6fac14f1fcfc88f678cf4139e414f36fbfa1c34a76b87e05684b4668"
 
 /* state x */
 #define APEXSEAL_NX 6

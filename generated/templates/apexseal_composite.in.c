@@ -224,7 +224,8 @@ static double norm(const Ctx* c, const double* w, const double* w1, const double
   for (int i = 0; i < NX; i++) {
     double tol = (rtol + rtol * fmax(fabs(w[i]), fabs(w1[i]))) * (c->rate[i] != 0.0 ? quiet : 1.0);
     double r = fabs(err[i]) / tol;
-    if (!(r <= out)) out = r; /* a NaN propagates */
+    if (isnan(r)) return r; /* the step is rejected */
+    if (r > out) out = r;
   }
   return out;
 }
