@@ -1,6 +1,6 @@
 """A prototype: an exponential Rosenbrock method with events, on the benchmark's problem (not a run method).
 
-``python -m apexseal.runtime.bench.exponential [--rtols 1e-5,1e-6,1e-7] [--velocity-weight 1,1000]`` (about a
+``python -m apexseal.runtime.bench.exponential [--rtols 1e-5,1e-6,1e-7] [--velocity-weight 1,1000]`` (under half a
 minute; docs/bench/levers.md, "Where the error and the work are").
 
 What it asks: can a step that is not limited by the metal contacts' stability cross the degrees between the switch
