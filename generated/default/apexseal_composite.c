@@ -234,13 +234,12 @@ static double norm(const Ctx* c, const double* w, const double* w1, const double
 /* the earliest crossing of the zero functions that crossed on a step of length hh from w (e0 >= 0 > e1 at its
  * end), to ev_tol, by the Illinois method on the length of an RK45 step from w; w1 and e1 become those at the
  * crossing. */
-static int locate(Ctx* c, const double* w, int k, double hh, const double* f0, const double* J, double K[7][NW],
-                  const double* e0, double* e1, double ev_tol, double* w1) {
+static int locate(Ctx* c, const double* w, int k, double hh, const double* f0, double K[7][NW], const double* e0,
+                  double* e1, double ev_tol, double* w1) {
   double a = 0.0, b = hh, fa = INFINITY, fb = INFINITY, em[NG], wm[NW], err[NW];
   for (int i = 0; i < NG; i++)
     if (e0[i] >= 0.0 && e1[i] < 0.0) { fa = fmin(fa, e0[i]); fb = fmin(fb, e1[i]); }
   int side = 0;
-  (void)J;
   for (int it = 1; b - a > ev_tol && it <= 100; it++) {
     double m = b - fb * (b - a) / (fb - fa);
     if (!(a < m && m < b) || it % 4 == 0) m = 0.5 * (a + b);
@@ -327,7 +326,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
       int crossed = 0;
       for (int i = 0; i < NG; i++) crossed |= e0[i] >= 0.0 && e1[i] < 0.0;
       if (crossed) {
-        if (locate(c, w, k, hh, f0, J, K, e0, e1, ev_tol, w1)) { status = 1; goto done; }
+        if (locate(c, w, k, hh, f0, K, e0, e1, ev_tol, w1)) { status = 1; goto done; }
         for (int i = 0; i < NG; i++)
           if (e1[i] < 0.0) { /* toggled: the located contact and any that crossed with it */
             c->s[i] = 1.0 - c->s[i];

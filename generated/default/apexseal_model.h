@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 3d7c28fc6fac14f1fcfc88f678cf4139e414f36fbfa1c34a76b87e05684b4668.
+ * Effects: all. Input hash: e1ae0fce471ef7b128719a1a72028bb1e8bf2c0c22c992fd406199c0c5096d85.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "3d7c28fc6fac14f1fcfc88f678cf4139e414f36fbfa1c34a76b87e05684b4668"
+#define APEXSEAL_INPUT_HASH "e1ae0fce471ef7b128719a1a72028bb1e8bf2c0c22c992fd406199c0c5096d85"
 
 /* state x */
 #define APEXSEAL_NX 6
