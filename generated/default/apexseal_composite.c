@@ -108,13 +108,13 @@ static void solve(int n, double* A, double* B) {
  * smaller norm (the contacts' stiffness sits in a few entries of the Jacobian), so fewer squarings. */
 static void balance(int n, double* A, double* d) {
   for (int i = 0; i < n; i++) d[i] = 1.0;
-  for (int done = 0; !done;) {
+  for (int done = 0, sweep = 0; !done && sweep < 100; sweep++) { /* converges in a few sweeps */
     done = 1;
     for (int i = 0; i < n; i++) {
       double c = 0.0, r = 0.0;
       for (int j = 0; j < n; j++)
         if (j != i) { c += fabs(A[j * n + i]); r += fabs(A[i * n + j]); }
-      if (c == 0.0 || r == 0.0) continue;
+      if (c == 0.0 || r == 0.0 || !isfinite(c) || !isfinite(r)) continue; /* a non-finite step is rejected later */
       double total = c + r, f = 1.0;
       while (c < r / 2.0) { f *= 2.0; c *= 4.0; }
       while (c >= r * 2.0) { f /= 2.0; c /= 4.0; }

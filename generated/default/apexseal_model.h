@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: f8d9adfc97e72f885643a298c9795b137cfbdcba5f2d839dad9adf46f91bc85f.
+ * Effects: all. Input hash: b5241fae20d19102fb0dbfcfff2f4445806e2f2c72a98efd2cd72f326eec51f7.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "f8d9adfc97e72f885643a298c9795b137cfbdcba5f2d839dad9adf46f91bc85f"
+#define APEXSEAL_INPUT_HASH "b5241fae20d19102fb0dbfcfff2f4445806e2f2c72a98efd2cd72f326eec51f7"
 
 /* state x */
 #define APEXSEAL_NX 6
