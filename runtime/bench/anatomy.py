@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import time
 from contextlib import contextmanager
 
 import numpy as np
@@ -38,6 +37,7 @@ from .config import METHODS
 from .methods import EngineCache, build_engine
 from .metrics import STATE_KEYS, errors, trajectory
 from .problem import load_model, make_problem
+from .timing import warm_median
 
 #: scipy's methods of :func:`scipy_rows`
 SCIPY_METHODS = ("RK45", "DOP853", "LSODA", "BDF", "Radau")
@@ -148,15 +148,11 @@ class Anatomy:
             for label, plan in plans.items():
                 z, steps = self._run_plan(plan, rtol, compiled=False)
                 inside = sum(n for (lo, *_), n in zip(plan, steps, strict=True) if self.windows[lo])
-                self._run_plan(plan, rtol, compiled=compiled)  # warm-up: compiles or loads the integrators
-                cpu = []
-                for _ in range(repeats):
-                    c0 = time.process_time()
-                    self._run_plan(plan, rtol, compiled=compiled)
-                    cpu.append(time.process_time() - c0)
+                # the warm-up compiles or loads the integrators
+                _, cpu = warm_median(lambda plan=plan, rtol=rtol: self._run_plan(plan, rtol, compiled=compiled), repeats)
                 err = windowed_errors(trajectory(self.problem, z), self.ref, self.windows)
                 rows.append({"plan": label, "rtol": rtol, "steps": sum(steps), "steps_inside": inside,
-                             "cpu_ms": 1e3 * float(np.median(cpu)), "segments": len(plan)} | err)
+                             "cpu_ms": 1e3 * cpu, "segments": len(plan)} | err)
                 log(rows[-1])
         return rows
 

@@ -30,8 +30,6 @@ from __future__ import annotations
 import argparse
 import math
 import re
-import statistics
-import time
 
 import numpy as np
 
@@ -39,6 +37,14 @@ from .anatomy import Anatomy, windowed_errors
 from .config import METHODS
 from .exponential import make_kernels
 from .metrics import errors, trajectory
+from .timing import warm_median
+
+#: the most steps (rejected ones included) of one run
+MAX_STEPS = 10_000_000
+#: (loose, quiet, ring) of the quiet phase: its rtol is ``loose`` times the tight one, its velocities' tolerance
+#: ``quiet`` times looser still, and it starts ``ring`` degrees after the last event
+SETTINGS = ((100.0, 100.0, 20.0), (1.0, 1000.0, 20.0), (100.0, 1000.0, 20.0), (100.0, 100.0, 10.0))
+
 
 #: Dormand and Prince's RK5(4)7M: nodes, stages, the fifth-order weights and the error weights (fifth minus fourth)
 DP_C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0, 1.0])
@@ -217,20 +223,8 @@ def erk_cpu(an: Anatomy, rtol: float, repeats: int) -> tuple[float, float]:
     """erk's (generated C, compiled) CPU time per revolution (median of ``repeats`` after a warm-up) and error."""
     p = an.problem
     eng = an.engines.get("all", an.functions, METHODS["erk-C"], rtol, compiled=True)
-    out = eng.run(p.z0, p.params, p.theta0, p.pressures)
-    cpu = []
-    for _ in range(repeats):
-        c0 = time.process_time()
-        eng.run(p.z0, p.params, p.theta0, p.pressures)
-        cpu.append(time.process_time() - c0)
-    return statistics.median(cpu), errors(trajectory(p, out.z), an.ref)["state"]
-
-
-#: the most steps (rejected ones included) of one run
-MAX_STEPS = 10_000_000
-#: (loose, quiet, ring) of the quiet phase: its rtol is ``loose`` times the tight one, its velocities' tolerance
-#: ``quiet`` times looser still, and it starts ``ring`` degrees after the last event
-SETTINGS = ((100.0, 100.0, 20.0), (1.0, 1000.0, 20.0), (100.0, 1000.0, 20.0), (100.0, 100.0, 10.0))
+    out, cpu = warm_median(lambda: eng.run(p.z0, p.params, p.theta0, p.pressures), repeats)
+    return cpu, errors(trajectory(p, out.z), an.ref)["state"]
 
 
 def rows(an: Anatomy, rtols=(1e-7, 1e-8, 1e-9, 1e-10), settings=SETTINGS, repeats: int = 5, ev_tol: float = 1e-10,
@@ -250,26 +244,17 @@ def rows(an: Anatomy, rtols=(1e-7, 1e-8, 1e-9, 1e-10), settings=SETTINGS, repeat
     for loose, quiet, ring_deg in settings:
         args = (loose, quiet, math.radians(ring_deg), ev_tol, MAX_STEPS, Z, phase)
         for rtol in rtols:
-            stats = run(p.z0, rtol, *args)
+            # the timed runs write the same states into Z as the first
+            stats, cpu = warm_median(lambda rtol=rtol, args=args: run(p.z0, rtol, *args), repeats)
             traj = trajectory(p, Z)
-            cpu = []
-            for _ in range(repeats):
-                c0 = time.process_time()
-                run(p.z0, rtol, *args)
-                cpu.append(time.process_time() - c0)
             tight, quiet_steps, rejected, rhs, jac, events, given_back, _ = (int(x) for x in stats)
-            z_c, _, stats_c = run_c(rtol, *args[:4])
-            cpu_c = []
-            for _ in range(repeats):
-                c0 = time.process_time()
-                run_c(rtol, *args[:4])
-                cpu_c.append(time.process_time() - c0)
+            (z_c, _, stats_c), cpu_c = warm_median(lambda rtol=rtol, args=args: run_c(rtol, *args[:4]), repeats)
             row = {"loose": loose, "quiet": quiet, "ring_deg": ring_deg, "rtol": rtol, "tight_steps": tight,
                    "quiet_steps": quiet_steps, "rejected": rejected, "rhs": rhs, "jacobians": jac, "events": events,
                    "given_back": given_back, "quiet_inside": float(np.mean(phase[an.windows] > 0)),
-                   "cpu_ms": 1e3 * statistics.median(cpu), "erk_cpu_ms": 1e3 * erk_points[rtol][0],
+                   "cpu_ms": 1e3 * cpu, "erk_cpu_ms": 1e3 * erk_points[rtol][0],
                    "erk_state": erk_points[rtol][1], "c_state": errors(trajectory(p, z_c), an.ref)["state"],
-                   "c_cpu_ms": 1e3 * statistics.median(cpu_c), "c_rhs": int(stats_c[3]), "c_events": int(stats_c[5])}
+                   "c_cpu_ms": 1e3 * cpu_c, "c_rhs": int(stats_c[3]), "c_events": int(stats_c[5])}
             row |= windowed_errors(traj, an.ref, an.windows)
             out.append(row)
             log(row)
@@ -321,9 +306,10 @@ def hard_rows(names=None, degrees: float = 60.0, rtol: float = 1e-8, setting=SET
             row["reference_events"] = int(ref_traj.events.sum())
         try:
             plain = _erk(p, rtol)
-            row |= {"erk_steps": int(plain.stats["n_steps"]), "erk_events": int(trajectory(p, plain.z).events.sum())}
+            plain_traj = trajectory(p, plain.z)
+            row |= {"erk_steps": int(plain.stats["n_steps"]), "erk_events": int(plain_traj.events.sum())}
             if ref_traj is not None:
-                row["erk_state"] = errors(trajectory(p, plain.z), ref_traj)["state"]
+                row["erk_state"] = errors(plain_traj, ref_traj)["state"]
         except Exception as exc:  # noqa: BLE001
             row["erk"] = _failure(exc)
         run = make_composite(p, numba_model(scene.effects, scene.assumptions))

@@ -114,6 +114,13 @@ def measure(fn: Callable[[], object], *, repeats: int, slow_run_s: float, budget
     return out, t
 
 
+def warm_median(fn: Callable[[], object], repeats: int) -> tuple[object, float]:
+    """(the warm-up call's result, the median CPU seconds of ``repeats`` further calls): :func:`measure` one call
+    per sample, without a budget."""
+    out, t = measure(fn, repeats=repeats, slow_run_s=math.inf, budget_s=None, min_sample_s=0.0)
+    return out, t.median
+
+
 # ------------------------------------------------------------------ the machine and the software
 
 
