@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: b5241fae20d19102fb0dbfcfff2f4445806e2f2c72a98efd2cd72f326eec51f7.
+ * Effects: all. Input hash: 31f2889146482de97b395aeec13e60f624d6a403c01a0a727ce80a01e8a33e84.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "b5241fae20d19102fb0dbfcfff2f4445806e2f2c72a98efd2cd72f326eec51f7"
+#define APEXSEAL_INPUT_HASH "31f2889146482de97b395aeec13e60f624d6a403c01a0a727ce80a01e8a33e84"
 
 /* state x */
 #define APEXSEAL_NX 6

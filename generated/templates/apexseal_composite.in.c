@@ -23,7 +23,6 @@
 #define NZ (NX + 2 * NG)
 #define NW (NX + 1) /* the integrated w: the scaled state and the crank angle since the call's start */
 #define NM (NW + 3) /* the largest augmented matrix of the phi functions */
-#define NP_CALL (APEXSEAL_NP + 1)
 #define NU_CALL (2 * APEXSEAL_NU)
 #define WORK 4096
 
