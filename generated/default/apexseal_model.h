@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 31f2889146482de97b395aeec13e60f624d6a403c01a0a727ce80a01e8a33e84.
+ * Effects: all. Input hash: 29b95395471ed7d74fe76124d1e088ce06e91e7a4165dd796130daef6fc11de7.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "31f2889146482de97b395aeec13e60f624d6a403c01a0a727ce80a01e8a33e84"
+#define APEXSEAL_INPUT_HASH "29b95395471ed7d74fe76124d1e088ce06e91e7a4165dd796130daef6fc11de7"
 
 /* state x */
 #define APEXSEAL_NX 6

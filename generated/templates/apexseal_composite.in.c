@@ -2,11 +2,11 @@
  * Rendered by apexseal from templates/apexseal_composite.in.c; do not edit (run `apexseal generate`).
  * Effects: {{ effects_label }}.
  *
- * A prototype for the benchmark (runtime/bench/composite.py, docs/bench/composite.md), not a run method yet:
- * Dormand and Prince's RK5(4) with events where contacts switch (the tight phase), and from `ring` rad after the
- * last contact event the exponential Rosenbrock method exprb32 (Hochbruck, Ostermann and Schweitzer, SIAM J.
- * Numer. Anal. 47 (2009)) at `loose` times rtol with the rate states' tolerance `quiet` times looser still (the
- * quiet phase); a quiet step across which a zero function changes sign is given back to the tight phase.
+ * The run method `composite` (runtime/solving/composite.py; measured in docs/bench/composite.md): Dormand and
+ * Prince's RK5(4) with events where contacts switch (the tight phase), and from `ring` rad after the last contact
+ * event the exponential Rosenbrock method exprb32 (Hochbruck, Ostermann and Schweitzer, SIAM J. Numer. Anal. 47
+ * (2009)) at `loose` times the tolerances with the rate states' tolerance `quiet` times looser still (the quiet
+ * phase); a quiet step across which a zero function changes sign is given back to the tight phase.
  * It integrates the scaled state against the crank angle through the library's hybrid_ode and hybrid_zero
  * (runtime/solving/hybrid.py): z = [scaled state, activations, event counts], e_i = (1 - 2 s_i) g_i / l.
  */
@@ -248,10 +248,12 @@ static int dp45(Ctx* c, const double* w, int k, double h, const double* f0, doub
   return 0;
 }
 
-static double norm(const Ctx* c, const double* w, const double* w1, const double* err, double rtol, double quiet) {
+/* the error's largest ratio to its tolerance (atol + rtol |w|, the rate states' times `quiet`); NaN rejects */
+static double norm(const Ctx* c, const double* w, const double* w1, const double* err, double rtol, double atol,
+                   double quiet) {
   double out = 0.0;
   for (int i = 0; i < NX; i++) {
-    double tol = (rtol + rtol * fmax(fabs(w[i]), fabs(w1[i]))) * (c->rate[i] != 0.0 ? quiet : 1.0);
+    double tol = (atol + rtol * fmax(fabs(w[i]), fabs(w1[i]))) * (c->rate[i] != 0.0 ? quiet : 1.0);
     double r = fabs(err[i]) / tol;
     if (isnan(r)) return r; /* the step is rejected */
     if (r > out) out = r;
@@ -287,13 +289,16 @@ static int locate(Ctx* c, const double* w, int k, double hh, const double* f0, d
 /* ---------------------------------------------------------------- the run */
 
 /* Integrates the N output intervals of dth rad from z0 (NZ); writes the hybrid state at each interval's end into
- * Z (N x NZ, row-major) and, per interval, the fraction of its steps that were quiet into phase (N). stats (8):
- * tight steps, quiet steps, rejected steps, evaluations, Jacobians, events, quiet steps given back, intervals
- * done. Returns 0; 1 when the model failed to evaluate, 2 when max_steps were exceeded, 3 when the model's work
- * arrays exceed this file's. */
+ * Z (N x NZ, row-major) and, per interval, the fraction of its steps that were quiet into phase (N). *since is
+ * the crank angle since the last contact event at the start (a call that goes on from another's end carries it;
+ * 0 starts in the tight phase), and on return at the end of the intervals done. stats (8): tight steps, quiet
+ * steps, rejected steps, evaluations, Jacobians, events, quiet steps given back, intervals done. Returns 0; 1
+ * when the model failed to evaluate, 2 when an output interval took more than max_steps steps (rejected ones
+ * included), 3 when the model's work arrays exceed this file's, 4 after more than max_events events. */
 int apexseal_composite_run(const double* z0, const double* p, const double* U, const double* rate, int N,
-                           double dth, double rtol, double loose, double quiet, double ring, double ev_tol,
-                           long long max_steps, double* Z, double* phase, long long* stats) {
+                           double dth, double rtol, double atol, double loose, double quiet, double ring,
+                           double ev_tol, long long max_steps, long long max_events, double* since, double* Z,
+                           double* phase, long long* stats) {
   Ctx ctx;
   Ctx* c = &ctx;
   casadi_int sz_arg, sz_res, sz_iw, sz_w, a2, r2, i2, w2;
@@ -307,16 +312,17 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
   w[NX] = 0.0;
   memcpy(c->s, z0 + NX, NG * sizeof(double));
   memcpy(counts, z0 + NX + NG, NG * sizeof(double));
-  double h_t = 1e-5, h_q = 1e-3, last_event = 0.0;
+  double h_t = 1e-5, h_q = 1e-3, last_event = -*since;
   long long tight = 0, quiet_steps = 0, rejected = 0, jacobians = 0, events = 0, given_back = 0;
   int status = 0, k = 0;
   if (F(c, w, 0, f0)) { status = 1; goto done; }
   for (k = 0; k < N; k++) {
     double t_end = (k + 1) * dth;
-    long long q_before = quiet_steps, all_before = tight + quiet_steps;
+    long long q_before = quiet_steps, all_before = tight + quiet_steps, steps_before = all_before + rejected;
     while (w[NX] < t_end * (1 - 1e-14)) {
       double hh, e;
-      if (tight + quiet_steps + rejected > max_steps) { status = 2; goto done; }
+      if (tight + quiet_steps + rejected - steps_before > max_steps) { status = 2; goto done; }
+      if (events > max_events) { status = 4; goto done; }
       if (zeros(c, w, k, e0)) { status = 1; goto done; }
       if (w[NX] - last_event > ring) { /* quiet: exprb32 */
         if (jacobian(c, w, k, f0, J)) { status = 1; goto done; }
@@ -324,7 +330,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
         for (;;) {
           hh = fmin(h_q, t_end - w[NX]);
           if (exprb(c, w, k, hh, f0, J, w1, err)) { status = 1; goto done; }
-          e = norm(c, w, w1, err, rtol * loose, quiet);
+          e = norm(c, w, w1, err, rtol * loose, atol * loose, quiet);
           if (e <= 1.0) break;
           rejected++;
           h_q = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 3)) : 0.2);
@@ -347,7 +353,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
       for (;;) { /* tight: RK45 at rtol */
         hh = fmin(h_t, t_end - w[NX]);
         if (dp45(c, w, k, hh, f0, K, w1, err)) { status = 1; goto done; }
-        e = norm(c, w, w1, err, rtol, 1.0);
+        e = norm(c, w, w1, err, rtol, atol, 1.0);
         if (e <= 1.0) break;
         rejected++;
         h_t = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 5)) : 0.2);
@@ -381,6 +387,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
     memcpy(Z + (long long)k * NZ + NX + NG, counts, NG * sizeof(double));
   }
 done:
+  *since = w[NX] - last_event;
   stats[0] = tight; stats[1] = quiet_steps; stats[2] = rejected; stats[3] = c->evals;
   stats[4] = jacobians; stats[5] = events; stats[6] = given_back; stats[7] = k;
   return status;

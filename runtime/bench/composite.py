@@ -20,9 +20,10 @@ two together with a rule that needs no oracle:
 
 It is written twice: with numba on the peer's right-hand side (runtime/bench/peer_source.py), and in C generated at
 the station (generated/templates/apexseal_composite.in.c, compiled into the model library, calling its hybrid_ode
-and hybrid_zero; :func:`make_composite_c`). The CPU times of both are beside erk's (generated C, compiled)
-measured in the same run, each the median of ``repeats`` after a warm-up. Neither is a run method yet: it has none
-of the run's chatter handling, budgets or diagnosis.
+and hybrid_zero; the run method ``composite``, :func:`composite_c`). The CPU times of both are beside erk's (generated C, compiled)
+measured in the same run, each the median of ``repeats`` after a warm-up. The C is the run method ``composite``
+(runtime/solving/composite.py), with the run's limits, checks and diagnosis around it; the numba prototype has
+none of them.
 """
 
 from __future__ import annotations
@@ -178,45 +179,20 @@ def make_composite(problem, nm):
     return run
 
 
-def make_composite_c(problem):
-    """The same method in generated C (templates/apexseal_composite.in.c, compiled into the model library):
-    ``run(rtol, loose, quiet, ring, ev_tol, max_steps) -> (Z (hybrid states, layout size x samples), phase,
-    stats as :func:`make_composite`'s)``; a failure of the C raises RuntimeError."""
-    import ctypes
-
+def composite_c(problem, rtol: float, loose: float, quiet: float, ring: float, ev_tol: float = 1e-10,
+                max_steps: int = MAX_STEPS):
+    """The same method in generated C: the run method's engine (runtime/solving/composite.py, calling
+    templates/apexseal_composite.in.c compiled into the model library) over ``problem``'s span and grid, with this
+    setting of its quiet phase and no event limit; ``max_steps`` per output interval."""
     from ...generated.load import load_functions
-    from ..solving.hybrid import controls
-    from ..solving.scaling import _scales
+    from ..solving.composite import CompositeIntegrator
 
     loaded = load_functions(problem.effects, problem.scene.assumptions, compiled=True)
     if loaded.library is None:
         raise RuntimeError("the model library is not compiled (no C compiler): the composite needs it")
-    fn = ctypes.CDLL(str(loaded.library)).apexseal_composite_run
-    dbl = ctypes.POINTER(ctypes.c_double)
-    fn.argtypes = [dbl, dbl, dbl, dbl, ctypes.c_int, ctypes.c_double, ctypes.c_double, ctypes.c_double,
-                   ctypes.c_double, ctypes.c_double, ctypes.c_double, ctypes.c_longlong, dbl, dbl,
-                   ctypes.POINTER(ctypes.c_longlong)]
-    fn.restype = ctypes.c_int
-    N, dth = problem.samples, problem.span / problem.samples
-    z0 = np.ascontiguousarray(problem.z0, float)
-    par = np.ascontiguousarray(np.r_[problem.params, problem.theta0], float)
-    U = np.ascontiguousarray(controls(problem.pressures, dth * np.arange(1, N + 1), "linear", 4).T)
-    rate = np.ascontiguousarray(_scales(problem.functions.state_names)[1], float)
-    Z, phase, stats = np.empty((N, z0.size)), np.empty(N), np.zeros(8, np.int64)
-
-    def ptr(a):
-        return a.ctypes.data_as(dbl)
-
-    def run(rtol, loose, quiet, ring, ev_tol=1e-10, max_steps=MAX_STEPS):
-        status = fn(ptr(z0), ptr(par), ptr(U), ptr(rate), N, dth, rtol, loose, quiet, ring, ev_tol, max_steps,
-                    ptr(Z), ptr(phase), stats.ctypes.data_as(ctypes.POINTER(ctypes.c_longlong)))
-        if status:
-            why = {1: "the model failed to evaluate", 2: f"more than {max_steps} steps",
-                   3: "the model's work arrays exceed the composite's"}[status]
-            raise RuntimeError(f"composite (C): {why} after {stats[7]} of {N} intervals")
-        return Z.T.copy(), phase.copy(), stats.copy()
-
-    return run
+    return CompositeIntegrator(loaded.c, n_samples=problem.samples, span=problem.span, rtol=rtol, event_tol=ev_tol,
+                               max_steps=max_steps, max_events=10**8, pressure=problem.pressure, loose=loose,
+                               quiet=quiet, ring=ring)
 
 
 def erk_cpu(an: Anatomy, rtol: float, repeats: int) -> tuple[float, float]:
@@ -236,7 +212,6 @@ def rows(an: Anatomy, rtols=(1e-7, 1e-8, 1e-9, 1e-10), settings=SETTINGS, repeat
     p = an.problem
     nm = numba_model(p.effects, p.scene.assumptions)
     run = make_composite(p, nm)
-    run_c = make_composite_c(p)
     Z, phase = np.empty((6 + 2 * nm.n_guards, p.samples)), np.empty(p.samples)
     run(p.z0, 1e-4, 1.0, 1.0, 0.0, ev_tol, MAX_STEPS, Z, phase)  # compiles
     erk_points = {rtol: erk_cpu(an, rtol, repeats) if erk else (math.nan, math.nan) for rtol in rtols}
@@ -248,13 +223,14 @@ def rows(an: Anatomy, rtols=(1e-7, 1e-8, 1e-9, 1e-10), settings=SETTINGS, repeat
             stats, cpu = warm_median(lambda rtol=rtol, args=args: run(p.z0, rtol, *args), repeats)
             traj = trajectory(p, Z)
             tight, quiet_steps, rejected, rhs, jac, events, given_back, _ = (int(x) for x in stats)
-            (z_c, _, stats_c), cpu_c = warm_median(lambda rtol=rtol, args=args: run_c(rtol, *args[:4]), repeats)
+            eng = composite_c(p, rtol, loose, quiet, math.radians(ring_deg), ev_tol)
+            out_c, cpu_c = warm_median(lambda eng=eng: eng.run(p.z0, p.params, p.theta0, p.pressures), repeats)
             row = {"loose": loose, "quiet": quiet, "ring_deg": ring_deg, "rtol": rtol, "tight_steps": tight,
                    "quiet_steps": quiet_steps, "rejected": rejected, "rhs": rhs, "jacobians": jac, "events": events,
                    "given_back": given_back, "quiet_inside": float(np.mean(phase[an.windows] > 0)),
                    "cpu_ms": 1e3 * cpu, "erk_cpu_ms": 1e3 * erk_points[rtol][0],
-                   "erk_state": erk_points[rtol][1], "c_state": errors(trajectory(p, z_c), an.ref)["state"],
-                   "c_cpu_ms": 1e3 * cpu_c, "c_rhs": int(stats_c[3]), "c_events": int(stats_c[5])}
+                   "erk_state": erk_points[rtol][1], "c_state": errors(trajectory(p, out_c.z), an.ref)["state"],
+                   "c_cpu_ms": 1e3 * cpu_c, "c_rhs": out_c.stats["n_rhs"], "c_events": out_c.stats["n_events"]}
             row |= windowed_errors(traj, an.ref, an.windows)
             out.append(row)
             log(row)

@@ -98,7 +98,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
         c = Chattering(guard, theta - theta_start, int(switches.max()), f"in {np.degrees(dth):.3g} deg or less (more "
                        f"than max_events_per_revolution = {settings.max_events_per_revolution} in one output interval)")
         return "chattering", str(c)
-    if stats.get("n_steps", 0) >= settings.max_steps_per_interval:
+    if stats.get("n_steps", 0) >= settings.max_steps_per_interval or "step limit" in msg:  # (the composite says so)
         return "failed", (f"step limit: more than max_steps_per_interval = {settings.max_steps_per_interval} steps in "
                           f"one output interval; the problem is too stiff for {settings.method!r} here: use method "
                           "'rosenbrock' (stiff contacts, a small friction.v_eps) or a larger friction.v_eps")

@@ -85,6 +85,8 @@ METHODS: dict[str, Method] = {
     "erk": Method(_EVENTS, "erk", "adaptive RK45 (Dormand-Prince) with events located on its dense output; "
                   "compiles to C"),
     "erk-rk4": Method(_EVENTS, "erk", "fixed-step RK4 with events on its dense output; compiles to C"),
+    "composite": Method(".composite:CompositeIntegrator", "", "RK45 with events where contacts switch, exponential "
+                        "Rosenbrock (exprb32) steps between; generated C in the model library"),
     "rosenbrock": Method(_EVENTS, "rosenbrock", "L-stable Rosenbrock order 5(4) for stiff contacts, events on dense "
                          "output; compiles to C"),
     "cvodes": Method(_STEPPER, "cvodes", "SUNDIALS CVODES (BDF), mode switches located by the apexseal event loop"),

@@ -1,0 +1,128 @@
+"""The composite method: RK45 where contacts switch, an exponential Rosenbrock step between, in generated C.
+
+``solver.method = "composite"``. The benchmark's anatomy (runtime/bench/anatomy.py, docs/bench/anatomy.md) found
+the error of a revolution inside the switch windows (the impacts and the degrees of ringing after them) and two
+thirds of erk's steps between them, where the stiffest contact's stability limit, not the accuracy, sets the step.
+This method integrates each part with what suits it:
+
+* **tight phase**: Dormand and Prince's RK5(4) (erk's pair) at ``rtol``/``atol``, events located on the step by
+  the Illinois method to ``event_tol``;
+* **quiet phase**, from :data:`RING` of crank angle after the last contact event: exprb32, an exponential
+  Rosenbrock method (Hochbruck, Ostermann and Schweitzer, SIAM J. Numer. Anal. 47 (2009)) that is exact for the
+  linearised stiff part, at :data:`LOOSE` times the tolerances, the rate states' :data:`QUIET` times looser still;
+* a quiet step across which a zero function changes sign is not taken: the tight phase takes over from its start,
+  so every switch is located and integrated at ``rtol``.
+
+The whole loop is C rendered at the generation station (generated/templates/apexseal_composite.in.c) and
+compiled into the model library, where it calls ``hybrid_ode`` and ``hybrid_zero`` directly; this engine calls it
+through ctypes, one call per engine call. So it needs the compiled model library (a C compiler, and not
+``solver.interpreted``). Its limits follow the run's settings: ``max_steps_per_interval`` steps (rejected ones
+included) per output interval, ``max_events_per_revolution`` events per call; past either the call fails, and the
+run's diagnosis (runtime/solving/diagnosis.py) re-runs it interval by interval and names the reason. The C cannot
+stop inside a call at the wall-time deadline: a run with a budget makes 36 calls per revolution
+(runtime/solving/settings.py), and the run checks the budget between them.
+
+A call that goes on from where this engine's previous call ended carries the crank angle since the last event, so
+a revolution cut into calls keeps its quiet phase; any other start begins in the tight phase.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+
+import numpy as np
+
+from .hybrid import controls
+from .layout import HybridLayout
+from .methods import Engine, RevolutionResult
+from .scaling import _scales
+
+#: the quiet phase's tolerances are LOOSE times the tight phase's (docs/bench/composite.md, its first setting)
+LOOSE = 100.0
+#: ... and those of the rate states (velocities) QUIET times looser still
+QUIET = 100.0
+#: the quiet phase starts this long (crank angle, rad) after the last contact event: the ringing after an impact
+RING = math.radians(20.0)
+
+#: the C function's return codes, with what each means
+FAILURES = {1: "the model failed to evaluate (non-finite right-hand side or zero functions)",
+            2: "step limit: more than max_steps_per_interval = {max_steps} steps in one output interval",
+            3: "the model's work arrays exceed the composite integrator's (regenerate with a larger WORK)",
+            4: "max_events: more than max_events_per_revolution = {max_events} events in one call"}
+
+_DBL = ctypes.POINTER(ctypes.c_double)
+_LL = ctypes.POINTER(ctypes.c_longlong)
+
+
+def composite_function(library) -> ctypes._CFuncPtr:
+    """``apexseal_composite_run`` of the compiled model library at ``library`` (a path), with its signature."""
+    fn = ctypes.CDLL(str(library)).apexseal_composite_run
+    fn.argtypes = [_DBL, _DBL, _DBL, _DBL, ctypes.c_int, ctypes.c_double, ctypes.c_double, ctypes.c_double,
+                   ctypes.c_double, ctypes.c_double, ctypes.c_double, ctypes.c_double, ctypes.c_longlong,
+                   ctypes.c_longlong, _DBL, _DBL, _DBL, _LL]
+    fn.restype = ctypes.c_int
+    return fn
+
+
+def _ptr(a: np.ndarray):
+    return a.ctypes.data_as(_DBL)
+
+
+class CompositeIntegrator(Engine):
+    """RK45 with events where contacts switch, exprb32 between (see the module docstring)."""
+
+    pressure_profiles = ("steps", "linear")
+    compiled = True
+
+    @classmethod
+    def build(cls, functions, settings, *, method, n_samples, span, compile_c):
+        # compile_c is about compiling an integrator of CasADi's; this one is always the library's C
+        if functions.library is None:
+            raise ValueError("solver.method = 'composite' runs in the compiled model library, and this model has none: "
+                             "it needs a C compiler and solver.interpreted = false; or choose method 'erk'")
+        return cls(functions, n_samples=n_samples, span=span, rtol=settings.rtol, atol=settings.atol,
+                   event_tol=settings.event_tol, max_steps=settings.max_steps_per_interval,
+                   max_events=settings.max_events_per_revolution, pressure=settings.pressure)
+
+    def __init__(self, functions, *, n_samples: int, span: float, rtol: float, atol: float | None = None,
+                 event_tol: float = 1e-10, max_steps: int = 200000, max_events: int = 10000, pressure: str = "steps",
+                 loose: float = LOOSE, quiet: float = QUIET, ring: float = RING):
+        self.layout = HybridLayout.of(functions)
+        self._fn = composite_function(functions.library)
+        self.n_samples, self.pressure = n_samples, pressure
+        self.dth = span / n_samples
+        self.grid = self.dth * np.arange(1, n_samples + 1)
+        self.rtol, self.atol = float(rtol), float(rtol if atol is None else atol)
+        self.event_tol, self.max_steps, self.max_events = float(event_tol), int(max_steps), int(max_events)
+        self.loose, self.quiet, self.ring = float(loose), float(quiet), float(ring)
+        self.rate = np.ascontiguousarray(_scales(functions.state_names)[1], float)
+        self.n_u = functions.hybrid_ode.size1_in(3) if functions.hybrid_ode is not None else 4
+        self.function = self  # what the run's diagnosis asks for its statistics (stats())
+        self._stats: dict = {}
+        self._carry: tuple[bytes, float] | None = None  # (the last call's end state, crank angle since its event)
+
+    def stats(self) -> dict:
+        """The statistics of the last call."""
+        return dict(self._stats)
+
+    def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:
+        """Integrate from the hybrid state z0 at crank angle theta0 (see :class:`.methods.Engine`)."""
+        z0 = np.ascontiguousarray(z0, float)
+        par = np.ascontiguousarray(np.r_[params, theta0], float)
+        U = np.ascontiguousarray(controls(pressures, self.grid, self.pressure, self.n_u).T)
+        since = np.array([self._carry[1] if self._carry and self._carry[0] == z0.tobytes() else 0.0])
+        Z, phase, st = np.empty((self.n_samples, z0.size)), np.empty(self.n_samples), np.zeros(8, np.int64)
+        status = self._fn(_ptr(z0), _ptr(par), _ptr(U), _ptr(self.rate), self.n_samples, self.dth, self.rtol,
+                          self.atol, self.loose, self.quiet, self.ring, self.event_tol, self.max_steps,
+                          self.max_events, _ptr(since), _ptr(Z), _ptr(phase), st.ctypes.data_as(_LL))
+        tight, quiet, rejected, evals, jacobians, events, given_back, done = (int(v) for v in st)
+        self._stats = {"n_steps": tight + quiet, "n_tight_steps": tight, "n_quiet_steps": quiet, "n_reject": rejected,
+                       "n_rhs": evals, "n_jac": jacobians, "n_events": events, "n_given_back": given_back,
+                       "quiet_share": float(np.mean(phase[:done])) if done else 0.0}
+        if status:
+            self._carry = None
+            why = FAILURES.get(status, f"status {status}").format(max_steps=self.max_steps, max_events=self.max_events)
+            raise RuntimeError(f"composite: {why}, after {done} of {self.n_samples} output intervals")
+        self._carry = (Z[-1].tobytes(), float(since[0]))
+        return RevolutionResult(Z.T.copy(), self.stats())
