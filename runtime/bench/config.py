@@ -5,7 +5,8 @@ the work-precision diagram); its *sweep* is the setting varied along the curve
 (relative tolerance, or fixed steps per revolution). Families:
 
 * ``C integrator``: the whole integrator (events included) generated to C and compiled (erk, rosenbrock,
-  erk-rk4, the paper's Euler and apexseal's RK4 ``fold``);
+  erk-rk4, the paper's Euler and apexseal's RK4 ``fold``; and the composite, rendered at the station into the model
+  library, runtime/solving/composite.py);
 * ``C model + Python event loop``: CasADi's SUNDIALS/collocation plugins calling the compiled model library, with
   apexseal's own event loop in Python between output intervals (runtime/solving/stepper_integrator.py);
 * ``CasADi VM``: the same integrator as ``C integrator`` but interpreted by CasADi's virtual machine;
@@ -57,6 +58,8 @@ METHODS: dict[str, MethodSpec] = {m.id: m for m in (
     MethodSpec("rk4-C", "RK4, switched RHS (C fold)", FAMILY_C, "rk4", "rk4", "steps", compiled=True),
     MethodSpec("erk-rk4-C", "RK4 + events (erk, C)", FAMILY_C, "casadi", "erk-rk4", "steps", compiled=True),
     MethodSpec("erk-C", "erk RK45 + events (C)", FAMILY_C, "casadi", "erk", "rtol", compiled=True),
+    MethodSpec("composite-C", "composite: RK45 + exprb32 + events (C)", FAMILY_C, "casadi", "composite", "rtol",
+               model_c=True),
     MethodSpec("rosenbrock-C", "rosenbrock + events (C)", FAMILY_C, "casadi", "rosenbrock", "rtol", compiled=True),
     MethodSpec("cvodes-C", "cvodes BDF (C model, Py loop)", FAMILY_STEPPER, "casadi", "cvodes", "rtol", model_c=True),
     MethodSpec("cvodes-adams-C", "cvodes Adams (C model, Py loop)", FAMILY_STEPPER, "casadi", "cvodes-adams", "rtol",
@@ -175,6 +178,7 @@ def full() -> BenchConfig:
         "rk4-C": (36_000, 108_000, 360_000),
         "erk-rk4-C": (25_000, 70_000, 200_000),
         "erk-C": RTOL_ERK,
+        "composite-C": RTOL_ERK,
         "rosenbrock-C": RTOL_ROS,
         "cvodes-C": (1e-4, 1e-6, 1e-8),
         "cvodes-adams-C": (1e-5, 1e-7),
@@ -193,6 +197,7 @@ def full() -> BenchConfig:
         "euler-C": (360_000, 3_600_000),
         "erk-rk4-C": (70_000, 200_000),
         "erk-C": RTOL_ERK[1:-1],
+        "composite-C": RTOL_ERK[1:-1],
         "rosenbrock-C": RTOL_ROS[1:-1],
         "cvodes-C": (1e-5, 1e-7),
         "erk-VM": (1e-8,),
@@ -212,6 +217,7 @@ def quick() -> BenchConfig:
     default = SceneSpec("default", {}, {
         "euler-C": (36_000, 360_000),
         "erk-C": (1e-6, 1e-8, 1e-9),
+        "composite-C": (1e-6, 1e-8, 1e-9),
         "rosenbrock-C": (1e-8,),
         "erk-VM": (1e-8,),
         "scipy-LSODA": (1e-4, 1e-6),

@@ -132,3 +132,17 @@ def test_stiff_friction_stops_at_the_step_limit_and_names_rosenbrock(fns):
     assert r.status == "failed"
     assert "step limit" in r.stop.reason and "rosenbrock" in r.stop.reason
     assert 0 < r.stop.theta < np.radians(30)
+
+
+def test_the_quiet_phase_is_loose_within_its_caps():
+    """100x the tolerances (the rate states' 100x more) at tight rtol, never looser than the caps, never tighter than
+    the tight phase."""
+    from apexseal.runtime.solving.composite import QUIET_CAPS, quiet_factors
+
+    assert quiet_factors(1e-8) == (100.0, 100.0)
+    for rtol in (1e-3, 1e-5, 1e-6, 1e-7):
+        loose, quiet = quiet_factors(rtol)
+        assert loose >= 1 and quiet >= 1
+        assert loose * rtol <= max(rtol, QUIET_CAPS[0]) * (1 + 1e-12)
+        assert loose * quiet * rtol <= max(rtol, QUIET_CAPS[1]) * (1 + 1e-12)
+    assert quiet_factors(1e-3) == (1.0, 1.0)
