@@ -20,8 +20,8 @@ two together with a rule that needs no oracle:
 
 It is written twice: with numba on the peer's right-hand side (runtime/bench/peer_source.py), and in C generated at
 the station (generated/templates/apexseal_composite.in.c, compiled into the model library, calling its hybrid_ode
-and hybrid_zero; the run method ``composite``, :func:`composite_c`). The CPU times of both are beside erk's (generated C, compiled)
-measured in the same run, each the median of ``repeats`` after a warm-up. The C is the run method ``composite``
+and hybrid_zero; :func:`composite_c`). The CPU times of both are beside erk's (generated C, compiled) measured in
+the same run, each the median of ``repeats`` after a warm-up. The C is the run method ``composite``
 (runtime/solving/composite.py), with the run's limits, checks and diagnosis around it; the numba prototype has
 none of them.
 """
