@@ -79,4 +79,6 @@ def budget_md(results: dict) -> list[str]:
             f"per-step overhead can give together. {b['speedup']:g}x ahead of the peer "
             f"({ms(b['peer_s'] / b['speedup'])}) allows at most {b['allowed_evaluations']:,.0f} evaluations at that "
             f"cost: {b['allowed_vs_apexseal']:.2f} of {b['apexseal']}'s and {b['allowed_vs_peer']:.2f} of the "
-            f"peer's. Only a method that needs that many fewer evaluations for the error can reach it.", ""]
+            f"peer's. " + (f"{b['apexseal']} is {b['peer_s'] / b['apexseal_s']:.2f}x ahead: its evaluations are within "
+                           "that budget." if b["apexseal_s"] * b["speedup"] <= b["peer_s"] else
+                           "Only a method that needs that many fewer evaluations for the error can reach it."), ""]

@@ -180,6 +180,9 @@ def test_evaluation_budget_bounds_an_own_integrator():
     assert math.isclose(b["allowed_vs_apexseal"], 0.5, rel_tol=1e-9)
     assert math.isclose(b["allowed_vs_peer"], 1.25, rel_tol=1e-9)
     text = "\n".join(budget_md(r))
-    assert "**1.00x**" in text and "500,000 evaluations" in text
+    assert "**1.00x**" in text and "500,000 evaluations" in text and "Only a method that needs" in text
+    ahead = [_point("erk-C", "C integrator", q["timing"]["median_cpu_s"] / 20, q["stats"]["rhs_evaluations"],
+                    q["error"]["state"], True) if q["method"] == "erk-C" else q for q in pts]  # 20x cheaper: 4x ahead
+    assert "erk-C is 4.00x ahead" in "\n".join(budget_md(r | {"scenes": [r["scenes"][0] | {"points": ahead}]}))
     r["scenes"][0]["points"] = [p for p in pts if p["method"] == "erk-C"]  # no peer: no section
     assert evaluation_budget(r) is None and budget_md(r) == []
