@@ -12,7 +12,9 @@ This method integrates each part with what suits it:
   linearised stiff part, at :data:`LOOSE` times the tolerances, the rate states' :data:`QUIET` times looser still,
   both within :data:`QUIET_CAPS` (:func:`quiet_factors`);
 * a quiet step across which a zero function changes sign is not taken: the tight phase takes over from its start,
-  so every switch is located and integrated at ``rtol``.
+  so every switch is located and integrated at ``rtol``;
+* below ``rtol`` = :data:`QUIET_RTOL_MIN` there is no quiet phase, and events are located to ``min(event_tol,``
+  :data:`EVENTS_PER_RTOL` ``rtol)``: so the error keeps falling as ``rtol`` does (RK45 in C with events, then).
 
 The whole loop is C rendered at the generation station (generated/templates/apexseal_composite.in.c) and
 compiled into the model library, where it calls ``hybrid_ode`` and ``hybrid_zero`` directly; this engine calls it
@@ -47,6 +49,14 @@ QUIET = 100.0
 #: velocity errors move the next impacts, and at rtol 1e-6 a grazing contact switched 12 more times and the scaled
 #: error was 0.15 (1e-3 at rtol 1e-5); with the caps the error falls monotonically with rtol (docs/bench/composite.md)
 QUIET_CAPS = (1e-5, 1e-3)
+#: below this rtol there is no quiet phase: the contacts' ringing is amplified through the next impacts (about
+#: 1000x), so the exponential steps' errors set the error and it stalled near 4e-7 at rtol 1e-9 and 1e-10; RK45 alone
+#: reaches 2e-8 and 4e-9 there (docs/bench/composite.md)
+QUIET_RTOL_MIN = 1e-8
+#: without the quiet phase events are located to min(event_tol, EVENTS_PER_RTOL rtol) of crank angle: at rtol
+#: 1e-9, RK45 with events located to 1e-10 rad stalled at 4.7e-7, to 1e-12 rad it reached 2.1e-8 (the same
+#: evaluations, to 0.1 %); with the quiet phase its errors set the error, and 1e-11 .. 1e-13 rad gained nothing
+EVENTS_PER_RTOL = 1e-3
 #: the quiet phase starts this long (crank angle, rad) after the last contact event: the ringing after an impact
 RING = math.radians(20.0)
 
@@ -107,11 +117,13 @@ class CompositeIntegrator(Engine):
         self.dth = span / n_samples
         self.grid = self.dth * np.arange(1, n_samples + 1)
         self.rtol, self.atol = float(rtol), float(rtol if atol is None else atol)
-        self.event_tol, self.max_steps, self.max_events = float(event_tol), int(max_steps), int(max_events)
+        self.max_steps, self.max_events = int(max_steps), int(max_events)
         rule = quiet_factors(self.rtol)
         self.loose = float(rule[0] if loose is None else loose)
         self.quiet = float(rule[1] if quiet is None else quiet)
-        self.ring = float(ring)
+        quiet_phase = self.rtol >= QUIET_RTOL_MIN
+        self.ring = float(ring) if quiet_phase else math.inf
+        self.event_tol = float(event_tol) if quiet_phase else min(float(event_tol), EVENTS_PER_RTOL * self.rtol)
         self.rate = np.ascontiguousarray(_scales(functions.state_names)[1], float)
         self.n_u = functions.hybrid_ode.size1_in(3) if functions.hybrid_ode is not None else 4
         self.function = self  # what the run's diagnosis asks for its statistics (stats())

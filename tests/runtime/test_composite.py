@@ -44,14 +44,16 @@ def _diff(a, b) -> float:
 
 
 def test_composite_agrees_with_erk_and_converges(default_scene, fns, reference):
-    """Every switch of erk's reference, in both phases, and states that converge to it as rtol shrinks."""
+    """Every switch of erk's reference, with and without the quiet phase, and states that converge to it as rtol
+    shrinks."""
     diffs = {}
     for rtol in (1e-7, 1e-9):
         r = _run(default_scene, fns, rtol)
         assert r.status == "completed", r.stop
         np.testing.assert_array_equal(r.events[:, -1], reference.events[:, -1])
         st = r.info["solver_stats"]
-        assert st["n_quiet_steps"] > 0 and st["n_tight_steps"] > 0 and st["n_events"] == reference.events[:, -1].sum()
+        assert st["n_tight_steps"] > 0 and st["n_events"] == reference.events[:, -1].sum()
+        assert (st["n_quiet_steps"] > 0) == (rtol >= 1e-8)  # below, RK45 alone with events located more tightly
         assert st["n_rhs"] > 6 * st["n_tight_steps"]  # the statistics count what the C did
         diffs[rtol] = _diff(r, reference)
     assert diffs[1e-9] < 1e-4  # um / mrad (2e-6 measured)
@@ -146,3 +148,14 @@ def test_the_quiet_phase_is_loose_within_its_caps():
         assert loose * rtol <= max(rtol, QUIET_CAPS[0]) * (1 + 1e-12)
         assert loose * quiet * rtol <= max(rtol, QUIET_CAPS[1]) * (1 + 1e-12)
     assert quiet_factors(1e-3) == (1.0, 1.0)
+
+
+def test_below_the_quiet_rtol_events_are_located_more_tightly(fns):
+    from apexseal.runtime.solving.composite import EVENTS_PER_RTOL, QUIET_RTOL_MIN, CompositeIntegrator
+
+    def engine(rtol):
+        return CompositeIntegrator(fns, n_samples=36, span=np.pi / 18, rtol=rtol, event_tol=1e-10)
+
+    assert engine(QUIET_RTOL_MIN).ring < np.inf and engine(QUIET_RTOL_MIN).event_tol == 1e-10
+    tight = engine(QUIET_RTOL_MIN / 10)
+    assert tight.ring == np.inf and tight.event_tol == pytest.approx(EVENTS_PER_RTOL * QUIET_RTOL_MIN / 10)
