@@ -2,7 +2,8 @@
 
 ``python -m apexseal.runtime.bench.composite [--rtols 1e-7,1e-8,1e-9,1e-10]`` (under a minute; the settings of
 :data:`SETTINGS`; docs/bench/composite.md) and ``python -m apexseal.runtime.bench.composite --hard 60`` (the stress
-scenes, 7 minutes; docs/bench/composite-hard.md), both read in docs/bench/levers.md, "Where the error and the work
+scenes, 7 minutes; docs/bench/composite-hard.md) and ``--rules`` (the run method's rules beside what they replace;
+docs/bench/composite-rules.md), all read in docs/bench/levers.md, "Where the error and the work
 are".
 
 runtime/bench/anatomy.py found the benchmark's error inside the switch windows (the impacts at the chamber
@@ -179,11 +180,11 @@ def make_composite(problem, nm):
     return run
 
 
-def composite_c(problem, rtol: float, loose: float, quiet: float, ring: float, ev_tol: float = 1e-10,
-                max_steps: int = MAX_STEPS):
+def composite_c(problem, rtol: float, loose: float | None, quiet: float | None, ring: float | None,
+                ev_tol: float = 1e-10, max_steps: int = MAX_STEPS):
     """The same method in generated C: the run method's engine (runtime/solving/composite.py, calling
     templates/apexseal_composite.in.c compiled into the model library) over ``problem``'s span and grid, with this
-    setting of its quiet phase and no event limit; ``max_steps`` per output interval."""
+    setting of its quiet phase (None: the engine's rule) and no event limit; ``max_steps`` per output interval."""
     from ...generated.load import load_functions
     from ..solving.composite import CompositeIntegrator
 
@@ -248,6 +249,47 @@ def markdown(an: Anatomy, rs: list[dict]) -> str:
                       "exprb32 steps | events (reference) | RHS evaluations (Jacobians) | CPU / rev (numba) | "
                       "generated C: scaled error / RHS evaluations / CPU per rev | erk-C at this rtol: scaled error | "
                       "erk-C: CPU / rev |", "|---" * 13 + "|", *lines])
+
+
+#: the variants :func:`rule_rows` sets beside the run method's rules: (label, loose, quiet, ring in deg, event_tol);
+#: None: the engine's rule (runtime/solving/composite.py), math.inf: no quiet phase
+RULE_VARIANTS = (
+    ("the run method (its rules)", None, None, None, 1e-10),
+    ("quiet phase 100, 100 uncapped, events to 1e-10 rad", 100.0, 100.0, 20.0, 1e-10),
+    ("RK45 alone, events to 1e-10 rad", 1.0, 1.0, math.inf, 1e-10),
+    ("RK45 alone, events to min(1e-10, 1e-3 rtol) rad", 1.0, 1.0, math.inf, None),
+)
+
+
+def rule_rows(an: Anatomy, rtols=(1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10), variants=RULE_VARIANTS, repeats: int = 3,
+              log=print) -> list[dict]:
+    """The run method's rules (runtime/solving/composite.py: the quiet phase's caps, no quiet phase below rtol 1e-8,
+    events located more tightly there) beside what they replace, in generated C on the benchmark's problem:
+    scaled error, evaluations, CPU per revolution (median of ``repeats`` after a warm-up)."""
+    from ..solving.composite import EVENTS_PER_RTOL
+
+    p = an.problem
+    out = []
+    for label, loose, quiet, ring_deg, ev_tol in variants:
+        for rtol in rtols:
+            ev = min(1e-10, EVENTS_PER_RTOL * rtol) if ev_tol is None else ev_tol
+            ring = None if ring_deg is None else math.radians(ring_deg)
+            eng = composite_c(p, rtol, loose, quiet, ring, ev)
+            res, cpu = warm_median(lambda eng=eng: eng.run(p.z0, p.params, p.theta0, p.pressures), repeats)
+            row = {"variant": label, "rtol": rtol, "state": errors(trajectory(p, res.z), an.ref)["state"],
+                   "rhs": res.stats["n_rhs"], "quiet_steps": res.stats["n_quiet_steps"],
+                   "events": res.stats["n_events"], "cpu_ms": 1e3 * cpu}
+            out.append(row)
+            log(row)
+    return out
+
+
+def rule_markdown(an: Anatomy, rs: list[dict]) -> str:
+    ref_events = int(an.ref.events.sum())
+    lines = [f"| {r['variant']} | {r['rtol']:g} | {r['state']:.1e} | {r['events']} ({ref_events}) | {r['rhs']:,} | "
+             f"{r['quiet_steps']:,} | {r['cpu_ms']:.1f} ms |" for r in rs]
+    return "\n".join(["| variant (generated C) | rtol | scaled error | events (reference) | RHS evaluations | "
+                      "exprb32 steps | CPU / rev |", "|---|---|---|---|---|---|---|", *lines])
 
 
 def hard_rows(names=None, degrees: float = 60.0, rtol: float = 1e-8, setting=SETTINGS[0], max_steps: int = 2_000_000,
@@ -340,12 +382,17 @@ def main(argv=None) -> None:
     ap.add_argument("--rtols", default="1e-7,1e-8,1e-9,1e-10")
     ap.add_argument("--hard", type=float, default=None, metavar="DEGREES",
                     help="instead: the first DEGREES of every stress scene at rtol 1e-8 (hard_rows)")
+    ap.add_argument("--rules", action="store_true", help="instead: the run method's rules beside what they replace "
+                    "(rule_rows)")
     a = ap.parse_args(argv)
     if a.hard is not None:
         print(hard_markdown(hard_rows(degrees=a.hard, log=lambda r: print("  ", r, flush=True)), a.hard, 1e-8))
         return
     print("reference and switch windows ...", flush=True)
     an = Anatomy()
+    if a.rules:
+        print(rule_markdown(an, rule_rows(an, log=lambda r: print("  ", r, flush=True))))
+        return
     rs = rows(an, tuple(float(x) for x in a.rtols.split(",")), log=lambda r: print("  ", r, flush=True))
     print(markdown(an, rs))
 

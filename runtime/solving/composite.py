@@ -109,8 +109,9 @@ class CompositeIntegrator(Engine):
 
     def __init__(self, functions, *, n_samples: int, span: float, rtol: float, atol: float | None = None,
                  event_tol: float = 1e-10, max_steps: int = 200000, max_events: int = 10000, pressure: str = "steps",
-                 loose: float | None = None, quiet: float | None = None, ring: float = RING):
-        """``loose``, ``quiet``: the quiet phase's factors (None: :func:`quiet_factors` of ``rtol``)."""
+                 loose: float | None = None, quiet: float | None = None, ring: float | None = None):
+        """``loose``, ``quiet``, ``ring``: the quiet phase's factors and start (None: the rules of the module
+        docstring; a ``ring`` given is used at every rtol, with events located to ``event_tol``)."""
         self.layout = HybridLayout.of(functions)
         self._fn = composite_function(functions.library)
         self.n_samples, self.pressure = n_samples, pressure
@@ -121,8 +122,8 @@ class CompositeIntegrator(Engine):
         rule = quiet_factors(self.rtol)
         self.loose = float(rule[0] if loose is None else loose)
         self.quiet = float(rule[1] if quiet is None else quiet)
-        quiet_phase = self.rtol >= QUIET_RTOL_MIN
-        self.ring = float(ring) if quiet_phase else math.inf
+        quiet_phase = ring is not None or self.rtol >= QUIET_RTOL_MIN
+        self.ring = (RING if ring is None else float(ring)) if quiet_phase else math.inf
         self.event_tol = float(event_tol) if quiet_phase else min(float(event_tol), EVENTS_PER_RTOL * self.rtol)
         self.rate = np.ascontiguousarray(_scales(functions.state_names)[1], float)
         self.n_u = functions.hybrid_ode.size1_in(3) if functions.hybrid_ode is not None else 4

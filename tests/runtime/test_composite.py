@@ -159,3 +159,35 @@ def test_below_the_quiet_rtol_events_are_located_more_tightly(fns):
     assert engine(QUIET_RTOL_MIN).ring < np.inf and engine(QUIET_RTOL_MIN).event_tol == 1e-10
     tight = engine(QUIET_RTOL_MIN / 10)
     assert tight.ring == np.inf and tight.event_tol == pytest.approx(EVENTS_PER_RTOL * QUIET_RTOL_MIN / 10)
+
+
+def composite_table() -> str:
+    """The composite's table of docs/hard-cases.md: one revolution of every stress scene (360 samples, the 60 s
+    budget, compiled model library) with the scene's own method (its integrator compiled) and with the composite at
+    the scene's rtol: end, contact switches, wall time; the composite's steps (tight + quiet)."""
+    import time
+    import warnings
+
+    from apexseal.generated.load import load_functions
+
+    warnings.simplefilter("ignore")
+    fns = load_functions().c
+    rows = ["| scene | own method: end, switches, wall | composite: end, switches, RK45 + exprb32 steps, wall |",
+            "|---|---|---|"]
+    for name in SCENES:
+        scene = load(name)
+        cells = []
+        for method in (scene.solver.method, "composite"):
+            t0 = time.perf_counter()
+            r = simulate(scene, fns, method=method, compile_c=True)
+            wall = time.perf_counter() - t0
+            st = r.info["solver_stats"]
+            steps = f"{st['n_tight_steps']:,} + {st['n_quiet_steps']:,}, " if "n_tight_steps" in st else ""
+            end = r.status if r.ok else f"{r.status} ({r.stop.reason[:60]}…)"
+            cells.append(f"{end}, {int(r.events[:, -1].sum())}, {steps}{wall:.2f} s")
+        rows.append(f"| {name} | {scene.solver.method}: {cells[0]} | {cells[1]} |")
+    return "\n".join(rows)
+
+
+if __name__ == "__main__":  # python tests/runtime/test_composite.py: the composite's table in docs/hard-cases.md
+    print(composite_table())
