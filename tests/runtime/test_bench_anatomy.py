@@ -205,3 +205,20 @@ def test_the_composite_on_a_stress_scene_finds_its_switches():
     exc = RuntimeError("Error in Function::call at .../casadi/core/function.cpp:1655:\n"
                        ".../casadi/core/function_internal.hpp:1766: Evaluation failed")
     assert _failure(exc) == "failed: Evaluation failed"
+
+
+def test_the_composite_rules_command_sets_the_run_method_beside_its_variants(tiny):
+    """``composite --rules``: below rtol 1e-8 the run method is RK45 alone with events located to 1e-3 rtol (the
+    same evaluations and states as that variant); at 1e-8 it locates them to the run's 1e-10 rad (the short span
+    ends before its quiet phase would start, 20 deg after the last event)."""
+    from apexseal.runtime.bench.composite import RULE_VARIANTS, rule_markdown, rule_rows
+
+    rs = rule_rows(tiny, rtols=(1e-8, 1e-9), variants=RULE_VARIANTS[:1] + RULE_VARIANTS[3:], repeats=1,
+                   log=lambda _: None)
+    run = {r["rtol"]: r for r in rs if r["variant"] == RULE_VARIANTS[0][0]}
+    alone = {r["rtol"]: r for r in rs if r["variant"] == RULE_VARIANTS[3][0]}
+    assert run[1e-9]["quiet_steps"] == 0 and run[1e-9]["rhs"] == alone[1e-9]["rhs"]
+    assert run[1e-9]["state"] == alone[1e-9]["state"]
+    assert run[1e-8]["state"] != alone[1e-8]["state"]
+    assert all(r["events"] == int(tiny.ref.events.sum()) for r in rs)
+    assert "| the run method (its rules) | 1e-09 |" in rule_markdown(tiny, rs)
