@@ -37,7 +37,6 @@ import math
 import numpy as np
 
 from .hybrid import controls
-from .layout import HybridLayout
 from .methods import Engine, RevolutionResult
 from .scaling import _scales
 
@@ -47,15 +46,15 @@ LOOSE = 100.0
 QUIET = 100.0
 #: ... but never looser than these relative tolerances (all states, rate states): looser, the quiet phase's
 #: velocity errors move the next impacts, and at rtol 1e-6 a grazing contact switched 12 more times and the scaled
-#: error was 0.15 (1e-3 at rtol 1e-5); with the caps the error falls monotonically with rtol (docs/bench/composite.md)
+#: error was 0.15 (1.2e-3 at rtol 1e-5; docs/bench/composite-rules.md)
 QUIET_CAPS = (1e-5, 1e-3)
-#: below this rtol there is no quiet phase: the contacts' ringing is amplified through the next impacts (about
-#: 1000x), so the exponential steps' errors set the error and it stalled near 4e-7 at rtol 1e-9 and 1e-10; RK45 alone
-#: reaches 2e-8 and 4e-9 there (docs/bench/composite.md)
+#: below this rtol there is no quiet phase: the quiet phase's errors are amplified through the next impacts (about
+#: 1000x), so they set the error, which stalled near 6e-7 at rtol 1e-9 and 1e-10; RK45 alone reaches 2.1e-8 and
+#: 3.5e-9 there (docs/bench/composite-rules.md)
 QUIET_RTOL_MIN = 1e-8
 #: without the quiet phase events are located to min(event_tol, EVENTS_PER_RTOL rtol) of crank angle: at rtol
 #: 1e-9, RK45 with events located to 1e-10 rad stalled at 4.7e-7, to 1e-12 rad it reached 2.1e-8 (the same
-#: evaluations, to 0.1 %); with the quiet phase its errors set the error, and 1e-11 .. 1e-13 rad gained nothing
+#: evaluations, to 0.5 %); with the quiet phase its errors set the error, and 1e-11 .. 1e-13 rad gained nothing
 EVENTS_PER_RTOL = 1e-3
 #: the quiet phase starts this long (crank angle, rad) after the last contact event: the ringing after an impact
 RING = math.radians(20.0)
@@ -112,7 +111,6 @@ class CompositeIntegrator(Engine):
                  loose: float | None = None, quiet: float | None = None, ring: float | None = None):
         """``loose``, ``quiet``, ``ring``: the quiet phase's factors and start (None: the rules of the module
         docstring; a ``ring`` given is used at every rtol, with events located to ``event_tol``)."""
-        self.layout = HybridLayout.of(functions)
         self._fn = composite_function(functions.library)
         self.n_samples, self.pressure = n_samples, pressure
         self.dth = span / n_samples
