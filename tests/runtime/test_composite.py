@@ -161,6 +161,7 @@ def test_below_the_quiet_rtol_events_are_located_more_tightly(fns):
     assert tight.ring == np.inf and tight.event_tol == pytest.approx(EVENTS_PER_RTOL * QUIET_RTOL_MIN / 10)
 
 
+
 def composite_table() -> str:
     """The composite's table of docs/hard-cases.md: one revolution of every stress scene (360 samples, the 60 s
     budget, compiled model library) with the scene's own method (its integrator compiled) and with the composite at

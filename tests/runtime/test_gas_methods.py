@@ -31,7 +31,8 @@ import apexseal
 from apexseal.runtime.scenes.scene import embedded_scene_path
 
 #: method: (pressure tolerance / peak, seal y tolerance in m)
-FAST = {"rosenbrock": (2e-3, 1e-6), "erk-rk4": (2e-3, 5e-6), "cvodes": (2e-3, 1e-6), "idas": (2e-3, 1e-6),
+FAST = {"composite": (2e-3, 1e-6), "rosenbrock": (2e-3, 1e-6), "erk-rk4": (2e-3, 5e-6), "cvodes": (2e-3, 1e-6),
+        "idas": (2e-3, 1e-6),
         "euler": (5e-3, 20e-6)}
 SLOW = {"cvodes-adams": (2e-3, 1e-6), "rk": (2e-3, 1e-6)}
 #: the soft-contacts scene's contacts (runtime/scenes/soft-contacts.toml), for collocation
