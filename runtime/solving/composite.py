@@ -95,6 +95,7 @@ class CompositeIntegrator(Engine):
 
     pressure_profiles = ("steps", "linear")
     compiled = True
+    counts_steps = True
 
     @classmethod
     def build(cls, functions, settings, *, method, n_samples, span, compile_c):

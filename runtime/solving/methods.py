@@ -40,6 +40,8 @@ class Engine:
 
     n_samples: int
     compiled: bool = False
+    #: True where a compiled engine still reports its steps and evaluations (the composite's C counts them)
+    counts_steps: bool = False
     deadline: float = math.inf
     #: the settings' pressure profiles this engine can integrate (runtime/solving/settings.py)
     pressure_profiles: tuple[str, ...] = ("steps",)

@@ -159,7 +159,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                    "pressure": settings.pressure,
                                    "calls_per_revolution": calls,
                                    "revolutions_asked": revolutions, "wall_time_s": wall, "solver_stats": stats_total,
-                                   "solver_stats_note": "" if engine is None or not engine.compiled else
+                                   "solver_stats_note": "" if engine is None or not engine.compiled or engine.counts_steps else
                                    "a compiled integrator reports engine calls and events only; set "
                                    "solver.interpreted = true for CasADi's step counts",
                                    "compiled": bool(engine is not None and engine.compiled)}

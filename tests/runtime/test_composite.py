@@ -55,6 +55,7 @@ def test_composite_agrees_with_erk_and_converges(default_scene, fns, reference):
         assert st["n_tight_steps"] > 0 and st["n_events"] == reference.events[:, -1].sum()
         assert (st["n_quiet_steps"] > 0) == (rtol >= 1e-8)  # below, RK45 alone with events located more tightly
         assert st["n_rhs"] > 6 * st["n_tight_steps"]  # the statistics count what the C did
+        assert r.info["compiled"] and r.info["solver_stats_note"] == ""  # compiled, and its counts are there
         diffs[rtol] = _diff(r, reference)
     assert diffs[1e-9] < 1e-4  # um / mrad (2e-6 measured)
     assert diffs[1e-9] < diffs[1e-7] / 10
