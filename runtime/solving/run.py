@@ -153,13 +153,14 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         except ResultStorageError as err:
             status, stop = "failed", StopInfo(part.theta_done, lay.mode(part.last_active(lay)), str(err))
         wall = time.perf_counter() - t_wall
+        uncounted = engine is not None and engine.compiled and not engine.counts_steps
         info = dict(info or {}) | {"state_names": list(lay.state_names), "method": settings.method,
                                    "rtol": settings.rtol, "atol": settings.atol, "samples_per_revolution": N,
                                    "pressure_substeps": sub,
                                    "pressure": settings.pressure,
                                    "calls_per_revolution": calls,
                                    "revolutions_asked": revolutions, "wall_time_s": wall, "solver_stats": stats_total,
-                                   "solver_stats_note": "" if engine is None or not engine.compiled or engine.counts_steps else
+                                   "solver_stats_note": "" if not uncounted else
                                    "a compiled integrator reports engine calls and events only; set "
                                    "solver.interpreted = true for CasADi's step counts",
                                    "compiled": bool(engine is not None and engine.compiled)}
