@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 29b95395471ed7d74fe76124d1e088ce06e91e7a4165dd796130daef6fc11de7.
+ * Effects: all. Input hash: 03deb131faf74a397776fc260a57bb7aabe4d7e17a3ec3f2a1a54f070a1b001d.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "29b95395471ed7d74fe76124d1e088ce06e91e7a4165dd796130daef6fc11de7"
+#define APEXSEAL_INPUT_HASH "03deb131faf74a397776fc260a57bb7aabe4d7e17a3ec3f2a1a54f070a1b001d"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -194,14 +194,15 @@ static int jacobian(Ctx* c, const double* w, int k, const double* f0, double* J)
   return 0;
 }
 
-/* exprb32: U = w + h phi1(hJ) f0; w1 = U + 2h phi3(hJ) D, D = g(U) - g(w), g = F - J w; err = 2h phi3(hJ) D */
-static int exprb(Ctx* c, const double* w, int k, double h, const double* f0, const double* J, double* w1,
+/* exprb32: U = w + h phi1(hJ) f0; w1 = U + 2h phi3(hJ) D, D = g(U) - g(w), g = F - J w; err = 2h phi3(hJ) D;
+ * F(U) in output interval k1 (the step's end may lie in a later interval than its start) */
+static int exprb(Ctx* c, const double* w, int k1, double h, const double* f0, const double* J, double* w1,
                  double* err) {
   double hJ[NW * NW], v[NW], U[NW], fU[NW], D[NW];
   for (int i = 0; i < NW * NW; i++) hJ[i] = h * J[i];
   phi(hJ, f0, 1, v);
   for (int i = 0; i < NW; i++) U[i] = w[i] + h * v[i];
-  if (F(c, U, k, fU)) return 1;
+  if (F(c, U, k1, fU)) return 1;
   for (int i = 0; i < NW; i++) {
     double JU = 0.0, Jw = 0.0;
     for (int j = 0; j < NW; j++) { JU += J[i * NW + j] * U[j]; Jw += J[i * NW + j] * w[j]; }
@@ -288,13 +289,64 @@ static int locate(Ctx* c, const double* w, int k, double hh, const double* f0, d
 
 /* ---------------------------------------------------------------- the run */
 
+/* the output interval (of N, dth each) in which crank angle t ends a step: one that ends on an interval's end
+ * belongs to that interval */
+static int interval_at(double t, double dth, int N) {
+  int j = (int)floor(t / dth - 1e-9);
+  return j < 0 ? 0 : (j > N - 1 ? N - 1 : j);
+}
+
+/* 1 when the controls of intervals j and k (u = a + b t, rows [a, b]) agree at crank angle t, to round-off */
+static int agree_at(const Ctx* c, int j, int k, double t) {
+  const double *a = c->U + NU_CALL * j, *b = c->U + NU_CALL * k;
+  for (int i = 0; i < APEXSEAL_NU; i++) {
+    double ua = a[i] + a[APEXSEAL_NU + i] * t, ub = b[i] + b[APEXSEAL_NU + i] * t;
+    if (fabs(ua - ub) > 1e-12 * fmax(1.0, fmax(fabs(ua), fabs(ub)))) return 0;
+  }
+  return 1;
+}
+
+/* 1 when the controls of interval k hold over interval j too (one line across both: the same values at j's ends) */
+static int same_controls(const Ctx* c, int k, int j, double dth) {
+  return agree_at(c, j, k, j * dth) && agree_at(c, j, k, (j + 1) * dth);
+}
+
+/* 1 when the controls jump at crank angle t, the end of interval k (the "steps" profile's interval means) */
+static int jumps(const Ctx* c, int k, double t) {
+  return !agree_at(c, k, k + 1, t);
+}
+
+/* the scaled state at crank angle t inside a step from (t0, w, f0) to (t1, w1, f1): cubic Hermite */
+static void hermite(double t, double t0, const double* w, const double* f0, double t1, const double* w1,
+                    const double* f1, double* out) {
+  double h = t1 - t0, s = (t - t0) / h, s2 = s * s, s3 = s2 * s;
+  double a = 2 * s3 - 3 * s2 + 1, b = s3 - 2 * s2 + s, c = -2 * s3 + 3 * s2, d = s3 - s2;
+  for (int i = 0; i < NX; i++) out[i] = a * w[i] + b * h * f0[i] + c * w1[i] + d * h * f1[i];
+}
+
+/* the step after an accepted one of length hh, where h was proposed and fac is the error's factor: a step cut
+ * short by an interval's end does not shrink the next one unless its error asks for it */
+static double next_step(double h, double hh, double fac) {
+  return hh < h && fac >= 1.0 ? fmax(h, hh * fac) : hh * fac;
+}
+
+/* Z row k: the scaled state x, the activations and the event counts */
+static void emit(double* Z, int k, const double* x, const double* s, const double* counts) {
+  memcpy(Z + (long long)k * NZ, x, NX * sizeof(double));
+  memcpy(Z + (long long)k * NZ + NX, s, NG * sizeof(double));
+  memcpy(Z + (long long)k * NZ + NX + NG, counts, NG * sizeof(double));
+}
+
 /* Integrates the N output intervals of dth rad from z0 (NZ); writes the hybrid state at each interval's end into
- * Z (N x NZ, row-major) and, per interval, the fraction of its steps that were quiet into phase (N). *since is
- * the crank angle since the last contact event at the start (a call that goes on from another's end carries it;
- * 0 starts in the tight phase), and on return at the end of the intervals done. stats (8): tight steps, quiet
- * steps, rejected steps, evaluations, Jacobians, events, quiet steps given back, intervals done. Returns 0; 1
- * when the model failed to evaluate, 2 when an output interval took more than max_steps steps (rejected ones
- * included), 3 when the model's work arrays exceed this file's, 4 after more than max_events events. */
+ * Z (N x NZ, row-major) and, per interval, the fraction of its steps that were quiet into phase (N). A quiet step
+ * may cross the ends of intervals whose controls are one line (the rows of a pressure table are coarser than the
+ * output grid), and the states there are interpolated (cubic Hermite); every other step ends on the next end, and
+ * where the controls jump there (interval means) the next interval's first step evaluates its own. *since is the crank angle since the last contact event at the
+ * start (a call that goes on from another's end carries it; 0 starts in the tight phase), and on return at the
+ * end of the intervals done. stats (8): tight steps, quiet steps, rejected steps, evaluations, Jacobians, events,
+ * quiet steps given back, intervals done. Returns 0; 1 when the model failed to evaluate, 2 when an output
+ * interval took more than max_steps steps (rejected ones included), 3 when the model's work arrays exceed this
+ * file's, 4 after more than max_events events. */
 int apexseal_composite_run(const double* z0, const double* p, const double* U, const double* rate, int N,
                            double dth, double rtol, double atol, double loose, double quiet, double ring,
                            double ev_tol, long long max_steps, long long max_events, double* since, double* Z,
@@ -307,84 +359,98 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
   if (sz_arg > 16 || a2 > 16 || sz_res > 16 || r2 > 16 || sz_iw > WORK || i2 > WORK || sz_w > WORK || w2 > WORK)
     return 3;
   c->p = p; c->U = U; c->rate = rate; c->evals = 0;
-  double w[NW], w1[NW], f0[NW], J[NW * NW], K[7][NW], err[NW], e0[NG], e1[NG], counts[NG];
+  double w[NW], w1[NW], f0[NW], f1[NW], J[NW * NW], K[7][NW], err[NW], e0[NG], e1[NG], counts[NG], x[NX];
   memcpy(w, z0, NX * sizeof(double));
   w[NX] = 0.0;
   memcpy(c->s, z0 + NX, NG * sizeof(double));
   memcpy(counts, z0 + NX + NG, NG * sizeof(double));
   double h_t = 1e-5, h_q = 1e-3, last_event = -*since;
   long long tight = 0, quiet_steps = 0, rejected = 0, jacobians = 0, events = 0, given_back = 0;
+  long long q_before = 0, all_before = 0, steps_before = 0; /* the counts when the current interval began */
   int status = 0, k = 0;
   if (F(c, w, 0, f0)) { status = 1; goto done; }
-  for (k = 0; k < N; k++) {
-    double t_end = (k + 1) * dth;
-    long long q_before = quiet_steps, all_before = tight + quiet_steps, steps_before = all_before + rejected;
-    while (w[NX] < t_end * (1 - 1e-14)) {
-      double hh, e;
-      if (tight + quiet_steps + rejected - steps_before > max_steps) { status = 2; goto done; }
-      if (events > max_events) { status = 4; goto done; }
-      if (zeros(c, w, k, e0)) { status = 1; goto done; }
-      if (w[NX] - last_event > ring) { /* quiet: exprb32 */
-        if (jacobian(c, w, k, f0, J)) { status = 1; goto done; }
-        jacobians++;
-        for (;;) {
-          hh = fmin(h_q, t_end - w[NX]);
-          if (exprb(c, w, k, hh, f0, J, w1, err)) { status = 1; goto done; }
-          e = norm(c, w, w1, err, rtol * loose, atol * loose, quiet);
-          if (e <= 1.0) break;
-          rejected++;
-          h_q = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 3)) : 0.2);
-        }
-        if (zeros(c, w1, k, e1)) { status = 1; goto done; }
-        int crossed = 0;
-        for (int i = 0; i < NG; i++) crossed |= e0[i] >= 0.0 && e1[i] < 0.0;
-        if (crossed) { /* a switch ahead: the tight phase takes this step over */
-          given_back++;
-          last_event = w[NX];
-          h_t = fmin(h_t, hh);
-          continue;
-        }
-        h_q = hh * fmin(5.0, fmax(0.2, 0.9 * pow(fmax(e, 1e-10), -1.0 / 3)));
-        memcpy(w, w1, sizeof(w));
-        if (F(c, w, k, f0)) { status = 1; goto done; }
-        quiet_steps++;
-        continue;
-      }
-      for (;;) { /* tight: RK45 at rtol */
-        hh = fmin(h_t, t_end - w[NX]);
-        if (dp45(c, w, k, hh, f0, K, w1, err)) { status = 1; goto done; }
-        e = norm(c, w, w1, err, rtol, atol, 1.0);
+  while (k < N) {
+    double t_end = (k + 1) * dth, hh, e;
+    if (w[NX] >= t_end * (1 - 1e-14)) { /* interval k is done */
+      long long n_k = tight + quiet_steps - all_before;
+      phase[k] = n_k ? (double)(quiet_steps - q_before) / (double)n_k : 1.0;
+      emit(Z, k, w, c->s, counts);
+      k++;
+      q_before = quiet_steps; all_before = tight + quiet_steps; steps_before = all_before + rejected;
+      if (k < N && jumps(c, k - 1, w[NX]) && F(c, w, k, f0)) { status = 1; goto done; } /* its controls */
+      continue;
+    }
+    if (tight + quiet_steps + rejected - steps_before > max_steps) { status = 2; goto done; }
+    if (events > max_events) { status = 4; goto done; }
+    if (zeros(c, w, k, e0)) { status = 1; goto done; }
+    if (w[NX] - last_event > ring) { /* quiet: exprb32 */
+      int k1 = k, last = k;
+      while (last + 1 < N && same_controls(c, k, last + 1, dth)) last++; /* the step may reach the end of interval last */
+      if (jacobian(c, w, k, f0, J)) { status = 1; goto done; }
+      jacobians++;
+      for (;;) {
+        hh = fmin(h_q, (last + 1) * dth - w[NX]);
+        k1 = interval_at(w[NX] + hh, dth, N);
+        if (exprb(c, w, k1, hh, f0, J, w1, err)) { status = 1; goto done; }
+        e = norm(c, w, w1, err, rtol * loose, atol * loose, quiet);
         if (e <= 1.0) break;
         rejected++;
-        h_t = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 5)) : 0.2);
+        h_q = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 3)) : 0.2);
       }
-      if (zeros(c, w1, k, e1)) { status = 1; goto done; }
+      if (zeros(c, w1, k1, e1)) { status = 1; goto done; }
       int crossed = 0;
       for (int i = 0; i < NG; i++) crossed |= e0[i] >= 0.0 && e1[i] < 0.0;
-      if (crossed) {
-        if (locate(c, w, k, hh, f0, K, e0, e1, ev_tol, w1)) { status = 1; goto done; }
-        for (int i = 0; i < NG; i++)
-          if (e1[i] < 0.0) { /* toggled: the located contact and any that crossed with it */
-            c->s[i] = 1.0 - c->s[i];
-            counts[i] += 1.0;
-            events++;
-          }
-        last_event = w1[NX];
-        h_t = fmax(0.5 * hh, 1e-9);
-        memcpy(w, w1, sizeof(w));
-        if (F(c, w, k, f0)) { status = 1; goto done; }
-      } else {
-        h_t = hh * fmin(5.0, fmax(0.2, 0.9 * pow(fmax(e, 1e-10), -1.0 / 5)));
-        memcpy(w, w1, sizeof(w));
-        memcpy(f0, K[6], sizeof(f0)); /* first same as last */
+      if (crossed) { /* a switch ahead: the tight phase takes this step over */
+        given_back++;
+        last_event = w[NX];
+        h_t = fmin(h_t, hh);
+        continue;
       }
-      tight++;
+      h_q = next_step(h_q, hh, fmin(5.0, fmax(0.2, 0.9 * pow(fmax(e, 1e-10), -1.0 / 3))));
+      if (F(c, w1, k1, f1)) { status = 1; goto done; }
+      quiet_steps++;
+      /* the intervals' ends the step crossed: their states interpolated, their phase quiet */
+      for (double t_j = (k + 1) * dth; k < N && t_j < w1[NX] * (1 - 1e-14); t_j = (k + 1) * dth) {
+        long long n_k = tight + quiet_steps - all_before;
+        phase[k] = n_k ? (double)(quiet_steps - q_before) / (double)n_k : 1.0;
+        hermite(t_j, w[NX], w, f0, w1[NX], w1, f1, x);
+        emit(Z, k, x, c->s, counts);
+        k++;
+        q_before = quiet_steps; all_before = tight + quiet_steps; steps_before = all_before + rejected;
+      }
+      memcpy(w, w1, sizeof(w));
+      memcpy(f0, f1, sizeof(f0));
+      continue;
     }
-    long long n_k = tight + quiet_steps - all_before;
-    phase[k] = n_k ? (double)(quiet_steps - q_before) / (double)n_k : 1.0;
-    memcpy(Z + (long long)k * NZ, w, NX * sizeof(double));
-    memcpy(Z + (long long)k * NZ + NX, c->s, NG * sizeof(double));
-    memcpy(Z + (long long)k * NZ + NX + NG, counts, NG * sizeof(double));
+    for (;;) { /* tight: RK45 at rtol */
+      hh = fmin(h_t, t_end - w[NX]);
+      if (dp45(c, w, k, hh, f0, K, w1, err)) { status = 1; goto done; }
+      e = norm(c, w, w1, err, rtol, atol, 1.0);
+      if (e <= 1.0) break;
+      rejected++;
+      h_t = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 5)) : 0.2);
+    }
+    if (zeros(c, w1, k, e1)) { status = 1; goto done; }
+    int crossed = 0;
+    for (int i = 0; i < NG; i++) crossed |= e0[i] >= 0.0 && e1[i] < 0.0;
+    if (crossed) {
+      if (locate(c, w, k, hh, f0, K, e0, e1, ev_tol, w1)) { status = 1; goto done; }
+      for (int i = 0; i < NG; i++)
+        if (e1[i] < 0.0) { /* toggled: the located contact and any that crossed with it */
+          c->s[i] = 1.0 - c->s[i];
+          counts[i] += 1.0;
+          events++;
+        }
+      last_event = w1[NX];
+      h_t = fmax(0.5 * hh, 1e-9);
+      memcpy(w, w1, sizeof(w));
+      if (F(c, w, k, f0)) { status = 1; goto done; }
+    } else {
+      h_t = next_step(h_t, hh, fmin(5.0, fmax(0.2, 0.9 * pow(fmax(e, 1e-10), -1.0 / 5))));
+      memcpy(w, w1, sizeof(w));
+      memcpy(f0, K[6], sizeof(f0)); /* first same as last */
+    }
+    tight++;
   }
 done:
   *since = w[NX] - last_event;

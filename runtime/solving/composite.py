@@ -13,6 +13,9 @@ This method integrates each part with what suits it:
   both within :data:`QUIET_CAPS` (:func:`quiet_factors`);
 * a quiet step across which a zero function changes sign is not taken: the tight phase takes over from its start,
   so every switch is located and integrated at ``rtol``;
+* a quiet step may cross the ends of output intervals over which the pressures are one line (a pressure table's
+  rows coarser than the output grid: the default run's 0.5° rows and 0.1° samples), and the states there are
+  interpolated (cubic Hermite, from the step's ends and slopes); every other step ends on the next end;
 * below ``rtol`` = :data:`QUIET_RTOL_MIN` there is no quiet phase, and events are located to ``min(event_tol,``
   :data:`EVENTS_PER_RTOL` ``rtol)``: so the error keeps falling as ``rtol`` does (RK45 in C with events, then).
 
@@ -141,8 +144,8 @@ class CompositeIntegrator(Engine):
         U = np.ascontiguousarray(controls(pressures, self.grid, self.pressure, self.n_u).T)
         since = np.array([self._carry[1] if self._carry and self._carry[0] == z0.tobytes() else 0.0])
         Z, phase, st = np.empty((self.n_samples, z0.size)), np.empty(self.n_samples), np.zeros(8, np.int64)
-        status = self._fn(_ptr(z0), _ptr(par), _ptr(U), _ptr(self.rate), self.n_samples, self.dth, self.rtol,
-                          self.atol, self.loose, self.quiet, self.ring, self.event_tol, self.max_steps,
+        status = self._fn(_ptr(z0), _ptr(par), _ptr(U), _ptr(self.rate), self.n_samples, self.dth,
+                          self.rtol, self.atol, self.loose, self.quiet, self.ring, self.event_tol, self.max_steps,
                           self.max_events, _ptr(since), _ptr(Z), _ptr(phase), st.ctypes.data_as(_LL))
         tight, quiet, rejected, evals, jacobians, events, given_back, done = (int(v) for v in st)
         self._stats = {"n_steps": tight + quiet, "n_tight_steps": tight, "n_quiet_steps": quiet, "n_reject": rejected,
