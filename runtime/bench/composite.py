@@ -1,10 +1,10 @@
-"""A prototype of the method the anatomy asks for: RK45 where contacts switch, an exponential step between.
+"""The composite method's measurements: RK45 where contacts switch, an exponential step between.
 
 ``python -m apexseal.runtime.bench.composite [--rtols 1e-7,1e-8,1e-9,1e-10]`` (under a minute; the settings of
-:data:`SETTINGS`; docs/bench/composite.md) and ``python -m apexseal.runtime.bench.composite --hard 60`` (the stress
-scenes, 7 minutes; docs/bench/composite-hard.md) and ``--rules`` (the run method's rules beside what they replace;
-docs/bench/composite-rules.md), all read in docs/bench/levers.md, "Where the error and the work
-are".
+:data:`SETTINGS`; docs/bench/composite.md), ``--hard 60`` (the stress scenes, 7 minutes;
+docs/bench/composite-hard.md), ``--rules`` (the run method's rules beside what they replace) and ``--default-run``
+(a user's run of the default scene; both in docs/bench/composite-rules.md), all read in docs/bench/levers.md,
+"Where the error and the work are".
 
 runtime/bench/anatomy.py found the benchmark's error inside the switch windows (the impacts at the chamber
 switches and the degrees of ringing after them) and two thirds of erk's steps between them, where the error is
@@ -251,6 +251,41 @@ def markdown(an: Anatomy, rs: list[dict]) -> str:
                       "erk-C: CPU / rev |", "|---" * 13 + "|", *lines])
 
 
+def default_run_rows(rtols=(1e-6, 1e-8), samples=(720, 3600), revolutions: int = 3, repeats: int = 3,
+                     log=print) -> list[dict]:
+    """What a user's run gets: ``apexseal.simulate`` of the default scene (``revolutions`` from its start) with erk
+    and with the composite, at each rtol and output grid (720 samples: one per pressure row; 3600: the default's):
+    integration wall time per revolution (the run's own timing, median of ``repeats`` after a warm-up), the
+    composite's steps by phase."""
+    import statistics
+
+    import apexseal
+
+    scene = apexseal.load_scene()
+    out = []
+    for n in samples:
+        for rtol in rtols:
+            for method in ("erk", "composite"):
+                runs = [apexseal.simulate(scene, method=method, rtol=rtol, revolutions=revolutions,
+                                          samples_per_revolution=n) for _ in range(repeats + 1)][1:]
+                st = runs[-1].info["solver_stats"]
+                row = {"samples": n, "rtol": rtol, "method": method,
+                       "ms_per_rev": 1e3 * statistics.median(r.info["timings_s"]["integrate"] for r in runs)
+                       / revolutions, "tight_steps": st.get("n_tight_steps"), "quiet_steps": st.get("n_quiet_steps")}
+                out.append(row)
+                log(row)
+    return out
+
+
+def default_run_markdown(rs: list[dict]) -> str:
+    def steps(r):
+        return "–" if r["tight_steps"] is None else f"{r['tight_steps']:,} + {r['quiet_steps']:,}"
+
+    lines = [f"| {r['samples']} | {r['rtol']:g} | {r['method']} | {r['ms_per_rev']:.1f} ms | {steps(r)} |" for r in rs]
+    return "\n".join(["| samples per revolution | rtol | method | integration per revolution | RK45 + exprb32 steps |",
+                      "|---|---|---|---|---|", *lines])
+
+
 #: the variants :func:`rule_rows` sets beside the run method's rules: (label, loose, quiet, ring in deg, event_tol);
 #: None: the engine's rule (runtime/solving/composite.py), math.inf: no quiet phase
 RULE_VARIANTS = (
@@ -384,7 +419,12 @@ def main(argv=None) -> None:
                     help="instead: the first DEGREES of every stress scene at rtol 1e-8 (hard_rows)")
     ap.add_argument("--rules", action="store_true", help="instead: the run method's rules beside what they replace "
                     "(rule_rows)")
+    ap.add_argument("--default-run", action="store_true", help="instead: the default scene's run with erk and the "
+                    "composite on the default's and a coarser output grid (default_run_rows)")
     a = ap.parse_args(argv)
+    if a.default_run:
+        print(default_run_markdown(default_run_rows(log=lambda r: print("  ", r, flush=True))))
+        return
     if a.hard is not None:
         print(hard_markdown(hard_rows(degrees=a.hard, log=lambda r: print("  ", r, flush=True)), a.hard, 1e-8))
         return
