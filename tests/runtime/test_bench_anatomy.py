@@ -222,3 +222,15 @@ def test_the_composite_rules_command_sets_the_run_method_beside_its_variants(tin
     assert run[1e-8]["state"] != alone[1e-8]["state"]
     assert all(r["events"] == int(tiny.ref.events.sum()) for r in rs)
     assert "| the run method (its rules) | 1e-09 |" in rule_markdown(tiny, rs)
+
+
+def test_the_composite_default_run_command_times_both_methods():
+    """``composite --default-run``: erk and the composite on the default scene, the run's own integration time."""
+    from apexseal.runtime.bench.composite import default_run_markdown, default_run_rows
+
+    rs = default_run_rows(rtols=(1e-6,), samples=(720,), revolutions=1, repeats=1, log=lambda _: None)
+    erk, comp = rs
+    assert (erk["method"], comp["method"]) == ("erk", "composite") and erk["quiet_steps"] is None
+    assert comp["quiet_steps"] > 0 and comp["tight_steps"] > 0
+    assert all(r["ms_per_rev"] > 0 for r in rs)
+    assert "| 720 | 1e-06 | composite |" in default_run_markdown(rs)
