@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 03deb131faf74a397776fc260a57bb7aabe4d7e17a3ec3f2a1a54f070a1b001d.
+ * Effects: all. Input hash: fa14cd6127c0e0d0984ae1eeaad76f375f16a326e2bfb451aed9c006ef2eed45.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "03deb131faf74a397776fc260a57bb7aabe4d7e17a3ec3f2a1a54f070a1b001d"
+#define APEXSEAL_INPUT_HASH "fa14cd6127c0e0d0984ae1eeaad76f375f16a326e2bfb451aed9c006ef2eed45"
 
 /* state x */
 #define APEXSEAL_NX 6

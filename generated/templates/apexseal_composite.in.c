@@ -330,6 +330,13 @@ static double next_step(double h, double hh, double fac) {
   return hh < h && fac >= 1.0 ? fmax(h, hh * fac) : hh * fac;
 }
 
+/* 1 when a zero function crossed from + to - over a step (e0 at its start, e1 at its end): a contact switches */
+static int crossed(const double* e0, const double* e1) {
+  int out = 0;
+  for (int i = 0; i < NG; i++) out |= e0[i] >= 0.0 && e1[i] < 0.0;
+  return out;
+}
+
 /* Z row k: the scaled state x, the activations and the event counts */
 static void emit(double* Z, int k, const double* x, const double* s, const double* counts) {
   memcpy(Z + (long long)k * NZ, x, NX * sizeof(double));
@@ -398,9 +405,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
         h_q = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 3)) : 0.2);
       }
       if (zeros(c, w1, k1, e1)) { status = 1; goto done; }
-      int crossed = 0;
-      for (int i = 0; i < NG; i++) crossed |= e0[i] >= 0.0 && e1[i] < 0.0;
-      if (crossed) { /* a switch ahead: the tight phase takes this step over */
+      if (crossed(e0, e1)) { /* a switch ahead: the tight phase takes this step over */
         given_back++;
         last_event = w[NX];
         h_t = fmin(h_t, hh);
@@ -431,9 +436,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
       h_t = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 5)) : 0.2);
     }
     if (zeros(c, w1, k, e1)) { status = 1; goto done; }
-    int crossed = 0;
-    for (int i = 0; i < NG; i++) crossed |= e0[i] >= 0.0 && e1[i] < 0.0;
-    if (crossed) {
+    if (crossed(e0, e1)) {
       if (locate(c, w, k, hh, f0, K, e0, e1, ev_tol, w1)) { status = 1; goto done; }
       for (int i = 0; i < NG; i++)
         if (e1[i] < 0.0) { /* toggled: the located contact and any that crossed with it */
