@@ -264,11 +264,43 @@ static double norm(const Ctx* c, const double* w, const double* w1, const double
 
 /* ---------------------------------------------------------------- event location */
 
+/* 1 when a zero function crossed from + to - over a step (e0 at its start, e1 at its end): a contact switches */
+static int crossed(const double* e0, const double* e1) {
+  int out = 0;
+  for (int i = 0; i < NG; i++) out |= e0[i] >= 0.0 && e1[i] < 0.0;
+  return out;
+}
+
+/* the continuous extension of RK5(4) (Shampine, Math. Comp. 46 (1986); order 4): w(theta h) = w + h sum_i
+ * b_i(theta) K_i with b_i(theta) = theta (P_i0 + P_i1 theta + P_i2 theta^2 + P_i3 theta^3); b_i(1) are the
+ * fifth-order weights */
+static const double DP_P[7][4] = {
+  {1.0, -8048581381.0 / 2820520608, 8663915743.0 / 2820520608, -12715105075.0 / 11282082432},
+  {0, 0, 0, 0},
+  {0, 131558114200.0 / 32700410799, -68118460800.0 / 10900136933, 87487479700.0 / 32700410799},
+  {0, -1754552775.0 / 470086768, 14199869525.0 / 1410260304, -10690763975.0 / 1880347072},
+  {0, 127303824393.0 / 49829197408, -318862633887.0 / 49829197408, 701980252875.0 / 199316789632},
+  {0, -282668133.0 / 205662961, 2019193451.0 / 616988883, -1453857185.0 / 822651844},
+  {0, 40617522.0 / 29380423, -110615467.0 / 29380423, 69997945.0 / 29380423}};
+
+/* the state at theta h inside the RK45 step of length h from w whose stages are K */
+static void dense(const double* w, double h, const double K[7][NW], double theta, double* out) {
+  double b[7];
+  for (int i = 0; i < 7; i++)
+    b[i] = theta * (DP_P[i][0] + theta * (DP_P[i][1] + theta * (DP_P[i][2] + theta * DP_P[i][3])));
+  for (int j = 0; j < NW; j++) {
+    double acc = 0.0;
+    for (int i = 0; i < 7; i++) acc += b[i] * K[i][j];
+    out[j] = w[j] + h * acc;
+  }
+  out[NX] = w[NX] + theta * h;
+}
+
 /* the earliest crossing of the zero functions that crossed on a step of length hh from w (e0 >= 0 > e1 at its
  * end), to ev_tol, by the Illinois method on the length of an RK45 step from w; w1 and e1 become those at the
- * crossing. */
-static int locate(Ctx* c, const double* w, int k, double hh, const double* f0, double K[7][NW], const double* e0,
-                  double* e1, double ev_tol, double* w1) {
+ * crossing's far side. */
+static int locate_steps(Ctx* c, const double* w, int k, double hh, const double* f0, double K[7][NW],
+                        const double* e0, double* e1, double ev_tol, double* w1) {
   double a = 0.0, b = hh, fa = INFINITY, fb = INFINITY, em[NG], wm[NW], err[NW];
   for (int i = 0; i < NG; i++)
     if (e0[i] >= 0.0 && e1[i] < 0.0) { fa = fmin(fa, e0[i]); fb = fmin(fb, e1[i]); }
@@ -285,6 +317,34 @@ static int locate(Ctx* c, const double* w, int k, double hh, const double* f0, d
   }
   if (dp45(c, w, k, b, f0, K, w1, err) || zeros(c, w1, k, e1)) return 1;
   return 0;
+}
+
+/* the same crossing, located first on the continuous extension of the RK45 step of length hh from w whose stages
+ * are K (a zero function costs a fifth of an evaluation); one RK45 step from w to the located far side gives w1
+ * and e1 there. Where that step does not cross (the extension's error moved the zero), it is located with RK45
+ * steps instead (locate_steps). K is overwritten. */
+static int locate(Ctx* c, const double* w, int k, double hh, const double* f0, double K[7][NW], const double* e0,
+                  double* e1, double ev_tol, double* w1) {
+  double a = 0.0, b = hh, fa = INFINITY, fb = INFINITY, em[NG], wm[NW], err[NW], e_end[NG];
+  memcpy(e_end, e1, sizeof(e_end));
+  for (int i = 0; i < NG; i++)
+    if (e0[i] >= 0.0 && e1[i] < 0.0) { fa = fmin(fa, e0[i]); fb = fmin(fb, e1[i]); }
+  int side = 0;
+  for (int it = 1; b - a > ev_tol && it <= 100; it++) {
+    double m = b - fb * (b - a) / (fb - fa);
+    if (!(a < m && m < b) || it % 4 == 0) m = 0.5 * (a + b);
+    dense(w, hh, (const double (*)[NW])K, m / hh, wm);
+    if (zeros(c, wm, k, em)) return 1;
+    double fm = INFINITY;
+    for (int i = 0; i < NG; i++)
+      if (e0[i] >= 0.0) fm = fmin(fm, em[i]);
+    if (fm < 0.0) { b = m; fb = fm; if (side == -1) fa *= 0.5; side = -1; }
+    else { a = m; fa = fm; if (side == 1) fb *= 0.5; side = 1; }
+  }
+  if (dp45(c, w, k, b, f0, K, w1, err) || zeros(c, w1, k, e1)) return 1;
+  if (crossed(e0, e1)) return 0;
+  memcpy(e1, e_end, sizeof(e_end));
+  return locate_steps(c, w, k, hh, f0, K, e0, e1, ev_tol, w1);
 }
 
 /* ---------------------------------------------------------------- the run */
@@ -330,13 +390,6 @@ static double next_step(double h, double hh, double fac) {
   return hh < h && fac >= 1.0 ? fmax(h, hh * fac) : hh * fac;
 }
 
-/* 1 when a zero function crossed from + to - over a step (e0 at its start, e1 at its end): a contact switches */
-static int crossed(const double* e0, const double* e1) {
-  int out = 0;
-  for (int i = 0; i < NG; i++) out |= e0[i] >= 0.0 && e1[i] < 0.0;
-  return out;
-}
-
 /* Z row k: the scaled state x, the activations and the event counts */
 static void emit(double* Z, int k, const double* x, const double* s, const double* counts) {
   memcpy(Z + (long long)k * NZ, x, NX * sizeof(double));
@@ -374,7 +427,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
   double h_t = 1e-5, h_q = 1e-3, last_event = -*since;
   long long tight = 0, quiet_steps = 0, rejected = 0, jacobians = 0, events = 0, given_back = 0;
   long long q_before = 0, all_before = 0, steps_before = 0; /* the counts when the current interval began */
-  int status = 0, k = 0;
+  int status = 0, k = 0, known = 0; /* known: e0 holds the zero functions at w (those at the last step's end) */
   if (F(c, w, 0, f0)) { status = 1; goto done; }
   while (k < N) {
     double t_end = (k + 1) * dth, hh, e;
@@ -384,12 +437,16 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
       emit(Z, k, w, c->s, counts);
       k++;
       q_before = quiet_steps; all_before = tight + quiet_steps; steps_before = all_before + rejected;
-      if (k < N && jumps(c, k - 1, w[NX]) && F(c, w, k, f0)) { status = 1; goto done; } /* its controls */
+      if (k < N && jumps(c, k - 1, w[NX])) { /* its controls: its own slopes and zero functions */
+        if (F(c, w, k, f0)) { status = 1; goto done; }
+        known = 0;
+      }
       continue;
     }
     if (tight + quiet_steps + rejected - steps_before > max_steps) { status = 2; goto done; }
     if (events > max_events) { status = 4; goto done; }
-    if (zeros(c, w, k, e0)) { status = 1; goto done; }
+    if (!known && zeros(c, w, k, e0)) { status = 1; goto done; }
+    known = 1;
     if (w[NX] - last_event > ring) { /* quiet: exprb32 */
       int k1 = k, last = k;
       while (last + 1 < N && same_controls(c, k, last + 1, dth)) last++; /* the step may reach the end of interval last */
@@ -425,14 +482,17 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
       }
       memcpy(w, w1, sizeof(w));
       memcpy(f0, f1, sizeof(f0));
+      memcpy(e0, e1, sizeof(e0));
       continue;
     }
+    int retried = 0;
     for (;;) { /* tight: RK45 at rtol */
       hh = fmin(h_t, t_end - w[NX]);
       if (dp45(c, w, k, hh, f0, K, w1, err)) { status = 1; goto done; }
       e = norm(c, w, w1, err, rtol, atol, 1.0);
       if (e <= 1.0) break;
       rejected++;
+      retried = 1;
       h_t = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 5)) : 0.2);
     }
     if (zeros(c, w1, k, e1)) { status = 1; goto done; }
@@ -448,10 +508,12 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
       h_t = fmax(0.5 * hh, 1e-9);
       memcpy(w, w1, sizeof(w));
       if (F(c, w, k, f0)) { status = 1; goto done; }
+      known = 0; /* the toggled contacts' zero functions change sign */
     } else {
-      h_t = next_step(h_t, hh, fmin(5.0, fmax(0.2, 0.9 * pow(fmax(e, 1e-10), -1.0 / 5))));
+      h_t = next_step(h_t, hh, fmin(retried ? 1.0 : 5.0, fmax(0.2, 0.9 * pow(fmax(e, 1e-10), -1.0 / 5))));
       memcpy(w, w1, sizeof(w));
       memcpy(f0, K[6], sizeof(f0)); /* first same as last */
+      memcpy(e0, e1, sizeof(e0));
     }
     tight++;
   }

@@ -143,7 +143,8 @@ def test_stress_scene_ends_as_with_its_own_method(name, fns):
 def test_stress_scene_agrees_with_erk_at_the_start(name, fns):
     """The first 20 deg (5 deg of the rattling stiff groove, whose runs part at different tolerances after ~10):
     the same switches as erk at rtol 1e-10 and states within 1000 rtol of the scene's size
-    (tests/runtime/test_hard_agreement.py's measure)."""
+    (tests/runtime/test_hard_agreement.py's measure). On grazing-gap the gap b4 reaches 0 with zero rate (its yd
+    bisected between a miss and a touch, runtime/scenes/hard/grazing-gap.toml): a touch of b4 may register or not."""
     scene = load(name)
     deg = 5 if name == "stiff-groove-1e9" else 20
     kw = {"revolutions": 1, "compile_c": True, "samples_per_revolution": 360}
@@ -152,7 +153,11 @@ def test_stress_scene_agrees_with_erk_at_the_start(name, fns):
     k = deg + 1  # samples 0 .. deg (1 deg each)
     A, B = ref.state[:3, :k] * SCALE, r.state[:3, :k] * SCALE
     assert np.abs(A - B).max() < 1e3 * 1e-8 * max(1.0, np.abs(A).max())
-    np.testing.assert_array_equal(r.events[:, :k], ref.events[:, :k])
+    if name == "grazing-gap":  # b4 touches 0 tangentially by design: a touch (two switches) or none, both right
+        touch = r.events[:, :k] - ref.events[:, :k]
+        assert set(np.unique(touch[4])) <= {0, 1, 2} and not np.delete(touch, 4, axis=0).any(), touch
+    else:
+        np.testing.assert_array_equal(r.events[:, :k], ref.events[:, :k])
 
 
 def test_stiff_friction_stops_at_the_step_limit_and_names_rosenbrock(fns):
