@@ -49,14 +49,14 @@ LOOSE = 100.0
 QUIET = 100.0
 #: ... but never looser than these relative tolerances (all states, rate states): looser, the quiet phase's
 #: velocity errors move the next impacts, and at rtol 1e-6 a grazing contact switched 12 more times and the scaled
-#: error was 0.15 (1.2e-3 at rtol 1e-5; docs/bench/composite-rules.md)
+#: error was 0.15 (1.0e-3 at rtol 1e-5; docs/bench/composite-rules.md)
 QUIET_CAPS = (1e-5, 1e-3)
 #: below this rtol there is no quiet phase: the quiet phase's errors are amplified through the next impacts (about
-#: 1000x), so they set the error, which stalled near 1e-6 at rtol 1e-9 and 1e-10; RK45 alone reaches 6.1e-8 and
-#: 1.5e-8 there (docs/bench/composite-rules.md)
+#: 1000x), so they set the error, which stalled near 1e-6 at rtol 1e-9 and 1e-10; RK45 alone reaches 6.7e-8 and
+#: 4.4e-9 there (docs/bench/composite-rules.md)
 QUIET_RTOL_MIN = 1e-8
 #: without the quiet phase events are located to min(event_tol, EVENTS_PER_RTOL rtol) of crank angle: at rtol
-#: 1e-9, RK45 with events located to 1e-10 rad stalled at 5.7e-7, to 1e-12 rad it reached 6.1e-8 (the same
+#: 1e-9, RK45 with events located to 1e-10 rad stalled at 9.8e-7, to 1e-12 rad it reached 6.7e-8 (the same
 #: evaluations, to 0.1 %); with the quiet phase its errors set the error, and 1e-11 .. 1e-13 rad gained nothing
 EVENTS_PER_RTOL = 1e-3
 #: the quiet phase starts this long (crank angle, rad) after the last contact event: the ringing after an impact
