@@ -295,11 +295,12 @@ static void dense(const double* w, double h, const double K[7][NW], double theta
   out[NX] = w[NX] + theta * h;
 }
 
-/* the earliest crossing of the zero functions that crossed on a step of length hh from w (e0 >= 0 > e1 at its
- * end), to ev_tol, by the Illinois method on the length of an RK45 step from w; w1 and e1 become those at the
- * crossing's far side. */
-static int locate_steps(Ctx* c, const double* w, int k, double hh, const double* f0, double K[7][NW],
-                        const double* e0, double* e1, double ev_tol, double* w1) {
+/* the far side b (in (0, hh], to ev_tol) of the earliest crossing of the zero functions that crossed on the RK45
+ * step of length hh from w (e0 >= 0 > e1 at its end), by the Illinois method on the step's length: the states
+ * inside the step from its continuous extension (its stages K, read only) or, on_steps, from RK45 steps of that
+ * length (K is overwritten) */
+static int illinois(Ctx* c, const double* w, int k, double hh, const double* f0, double K[7][NW], const double* e0,
+                    const double* e1, double ev_tol, int on_steps, double* b_out) {
   double a = 0.0, b = hh, fa = INFINITY, fb = INFINITY, em[NG], wm[NW], err[NW];
   for (int i = 0; i < NG; i++)
     if (e0[i] >= 0.0 && e1[i] < 0.0) { fa = fmin(fa, e0[i]); fb = fmin(fb, e1[i]); }
@@ -307,32 +308,8 @@ static int locate_steps(Ctx* c, const double* w, int k, double hh, const double*
   for (int it = 1; b - a > ev_tol && it <= 100; it++) {
     double m = b - fb * (b - a) / (fb - fa);
     if (!(a < m && m < b) || it % 4 == 0) m = 0.5 * (a + b);
-    if (dp45(c, w, k, m, f0, K, wm, err) || zeros(c, wm, k, em)) return 1;
-    double fm = INFINITY;
-    for (int i = 0; i < NG; i++)
-      if (e0[i] >= 0.0) fm = fmin(fm, em[i]);
-    if (fm < 0.0) { b = m; fb = fm; if (side == -1) fa *= 0.5; side = -1; }
-    else { a = m; fa = fm; if (side == 1) fb *= 0.5; side = 1; }
-  }
-  if (dp45(c, w, k, b, f0, K, w1, err) || zeros(c, w1, k, e1)) return 1;
-  return 0;
-}
-
-/* the same crossing, located first on the continuous extension of the RK45 step of length hh from w whose stages
- * are K (a zero function costs a fifth of an evaluation); one RK45 step from w to the located far side gives w1
- * and e1 there. Where that step does not cross (the extension's error moved the zero), it is located with RK45
- * steps instead (locate_steps). K is overwritten. */
-static int locate(Ctx* c, const double* w, int k, double hh, const double* f0, double K[7][NW], const double* e0,
-                  double* e1, double ev_tol, double* w1) {
-  double a = 0.0, b = hh, fa = INFINITY, fb = INFINITY, em[NG], wm[NW], err[NW], e_end[NG];
-  memcpy(e_end, e1, sizeof(e_end));
-  for (int i = 0; i < NG; i++)
-    if (e0[i] >= 0.0 && e1[i] < 0.0) { fa = fmin(fa, e0[i]); fb = fmin(fb, e1[i]); }
-  int side = 0;
-  for (int it = 1; b - a > ev_tol && it <= 100; it++) {
-    double m = b - fb * (b - a) / (fb - fa);
-    if (!(a < m && m < b) || it % 4 == 0) m = 0.5 * (a + b);
-    dense(w, hh, (const double (*)[NW])K, m / hh, wm);
+    if (on_steps ? dp45(c, w, k, m, f0, K, wm, err) : (dense(w, hh, (const double (*)[NW])K, m / hh, wm), 0))
+      return 1;
     if (zeros(c, wm, k, em)) return 1;
     double fm = INFINITY;
     for (int i = 0; i < NG; i++)
@@ -340,10 +317,24 @@ static int locate(Ctx* c, const double* w, int k, double hh, const double* f0, d
     if (fm < 0.0) { b = m; fb = fm; if (side == -1) fa *= 0.5; side = -1; }
     else { a = m; fa = fm; if (side == 1) fb *= 0.5; side = 1; }
   }
-  if (dp45(c, w, k, b, f0, K, w1, err) || zeros(c, w1, k, e1)) return 1;
-  if (crossed(e0, e1)) return 0;
-  memcpy(e1, e_end, sizeof(e_end));
-  return locate_steps(c, w, k, hh, f0, K, e0, e1, ev_tol, w1);
+  *b_out = b;
+  return 0;
+}
+
+/* the earliest crossing on the RK45 step of length hh from w (stages K; e1 at its end), located on the step's
+ * continuous extension (a zero function costs a fifth of an evaluation); one RK45 step from w to the located far
+ * side gives w1 and e1 there. Where that step does not cross (the extension's error moved the zero), the crossing is
+ * located with RK45 steps instead. K is overwritten. */
+static int locate(Ctx* c, const double* w, int k, double hh, const double* f0, double K[7][NW], const double* e0,
+                  double* e1, double ev_tol, double* w1) {
+  double b, err[NW], e_end[NG];
+  memcpy(e_end, e1, sizeof(e_end));
+  for (int on_steps = 0; on_steps < 2; on_steps++) {
+    if (illinois(c, w, k, hh, f0, K, e0, e_end, ev_tol, on_steps, &b)) return 1;
+    if (dp45(c, w, k, b, f0, K, w1, err) || zeros(c, w1, k, e1)) return 1;
+    if (crossed(e0, e1)) return 0;
+  }
+  return 0; /* RK45 steps located it: w1 is past the crossing as far as the steps tell */
 }
 
 /* ---------------------------------------------------------------- the run */
