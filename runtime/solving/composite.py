@@ -5,8 +5,8 @@ the error of a revolution inside the switch windows (the impacts and the degrees
 thirds of erk's steps between them, where the stiffest contact's stability limit, not the accuracy, sets the step.
 This method integrates each part with what suits it:
 
-* **tight phase**: Dormand and Prince's RK5(4) (erk's pair) at ``rtol``/``atol``, events located on the step by
-  the Illinois method to ``event_tol``;
+* **tight phase**: Dormand and Prince's RK5(4) (erk's pair) at ``rtol``/``atol``, events located to ``event_tol``
+  by the Illinois method on the step's continuous extension (Shampine's, order 4), then reached by an RK45 step;
 * **quiet phase**, from :data:`RING` of crank angle after the last contact event: exprb32, an exponential
   Rosenbrock method (Hochbruck, Ostermann and Schweitzer, SIAM J. Numer. Anal. 47 (2009)) that is exact for the
   linearised stiff part, at :data:`LOOSE` times the tolerances, the rate states' :data:`QUIET` times looser still,
