@@ -71,7 +71,7 @@ def make_composite(problem, nm):
 
     kn = make_kernels(problem, nm)
     F, zeros, jacobian, exprb, NW = kn["F"], kn["zeros"], kn["jacobian"], kn["exprb"], kn["NW"]
-    toggle = kn["toggle"]
+    toggle, norm = kn["toggle"], kn["norm"]
     N, DTH, n_g = problem.samples, problem.span / problem.samples, nm.n_guards
     C, A, B, E = DP_C, DP_A, DP_B, DP_E
 
@@ -101,13 +101,6 @@ def make_composite(problem, nm):
         return w1, err
 
     locate_dp = kn["make_locate"](dp45)
-
-    @numba.njit
-    def norm(w, w1, err, rtol, vw):
-        out = 0.0
-        for i in range(6):
-            out = max(out, abs(err[i]) / ((rtol + rtol * max(abs(w[i]), abs(w1[i]))) * (vw if i >= 3 else 1.0)))
-        return out
 
     @numba.njit
     def run(z0, rtol, loose, quiet, ring, ev_tol, max_steps, Z, phase):

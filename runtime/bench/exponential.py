@@ -40,7 +40,8 @@ def make_kernels(problem, nm) -> dict:
     """numba functions of ``problem`` with the peer model ``nm``, on w = [scaled state (6), crank angle since the
     span's start] in mode ``s`` and output interval ``k``: ``F(w, s, k, out)``, ``zeros(w, s, k, e)``,
     ``jacobian(w, s, k, f0, J, cnt)``, the exprb32 step ``exprb(w, s, k, h, f0, J, cnt) -> (w+, error estimate)``
-    and ``make_locate(step)``, the earliest crossing of a zero function on a step of ``step`` from w."""
+    ``make_locate(step)``, the earliest crossing of a zero function on a step of ``step`` from w, and the error norm
+    ``norm(w, w1, err, rtol, vw)``."""
     import numba
 
     acc_f, guards_f, n_g = nm.accelerations, nm.guards, nm.n_guards
@@ -209,8 +210,16 @@ def make_kernels(problem, nm) -> dict:
 
         return locate
 
+    @numba.njit
+    def norm(w, w1, err, rtol, vw):
+        """The error's largest ratio to its tolerance rtol (1 + |w|), the velocities' ``vw`` times looser."""
+        out = 0.0
+        for i in range(6):
+            out = max(out, abs(err[i]) / ((rtol + rtol * max(abs(w[i]), abs(w1[i]))) * (vw if i >= 3 else 1.0)))
+        return out
+
     return {"F": F, "zeros": zeros, "jacobian": jacobian, "exprb": exprb, "make_locate": make_locate,
-            "toggle": toggle, "NW": NW}
+            "toggle": toggle, "norm": norm, "NW": NW}
 
 
 def make_integrator(problem, nm):
@@ -221,7 +230,7 @@ def make_integrator(problem, nm):
 
     kn = make_kernels(problem, nm)
     F, zeros, jacobian, step, NW = kn["F"], kn["zeros"], kn["jacobian"], kn["exprb"], kn["NW"]
-    locate, toggle = kn["make_locate"](step), kn["toggle"]
+    locate, toggle, norm = kn["make_locate"](step), kn["toggle"], kn["norm"]
     N, DTH, n_g = problem.samples, problem.span / problem.samples, nm.n_guards
 
     @numba.njit
@@ -243,10 +252,7 @@ def make_integrator(problem, nm):
                 while True:  # until a step from w is accepted
                     hh = min(h, t_end - w[6])
                     w1, corr = step(w, s, k, hh, f0, J, cnt)
-                    err = 0.0
-                    for i in range(6):
-                        tol = (rtol + rtol * max(abs(w[i]), abs(w1[i]))) * (vw if i >= 3 else 1.0)
-                        err = max(err, abs(corr[i]) / tol)
+                    err = norm(w, w1, corr, rtol, vw)
                     if np.isfinite(err) and err <= 1.0:
                         break
                     rejected += 1
