@@ -4,7 +4,8 @@
  *
  * The run method `composite` (runtime/solving/composite.py; measured in docs/bench/composite.md): Dormand and
  * Prince's RK5(4) with events where contacts switch (the tight phase), and from `ring` rad after the last contact
- * event the exponential Rosenbrock method exprb32 (Hochbruck, Ostermann and Schweitzer, SIAM J. Numer. Anal. 47
+ * event, or earlier once `stiff_steps` RK45 steps were found at their stability boundary (DOPRI5's stiffness
+ * test), the exponential Rosenbrock method exprb32 (Hochbruck, Ostermann and Schweitzer, SIAM J. Numer. Anal. 47
  * (2009)) at `loose` times the tolerances with the rate states' tolerance `quiet` times looser still (the quiet
  * phase); a quiet step across which a zero function changes sign is given back to the tight phase.
  * It integrates the scaled state against the crank angle through the library's hybrid_ode and hybrid_zero
@@ -24,6 +25,7 @@
 #define NM (NW + 3) /* the largest augmented matrix of the phi functions */
 #define NU_CALL (2 * APEXSEAL_NU)
 #define WORK 4096
+#define STIFF_HLAM 3.25 /* h |lambda| near RK5(4)'s stability boundary on the negative real axis (DOPRI5) */
 
 typedef struct {
   const casadi_real* p; /* [parameters, crank angle at the start] */
@@ -31,6 +33,7 @@ typedef struct {
   const casadi_real* rate; /* 1 for the rate states */
   casadi_real s[NG];
   long long evals;
+  double hlam; /* the last RK45 step's estimate of h |lambda| (dp45) */
   const casadi_real* arg[16];
   casadi_real* res[16];
   casadi_int iw[WORK];
@@ -227,7 +230,7 @@ static const double DP_E[7] = {71.0 / 57600, 0, -71.0 / 16695, 71.0 / 1920, -172
 /* RK5(4): w1 and the error estimate; K[6] = F(w1) (first same as last) */
 static int dp45(Ctx* c, const double* w, int k, double h, const double* f0, double K[7][NW], double* w1,
                 double* err) {
-  double wj[NW];
+  double wj[NW], w6[NW];
   memcpy(K[0], f0, NW * sizeof(double));
   for (int j = 1; j < 7; j++) {
     for (int i = 0; i < NW; i++) {
@@ -236,8 +239,18 @@ static int dp45(Ctx* c, const double* w, int k, double h, const double* f0, doub
       wj[i] = acc;
     }
     wj[NX] = w[NX] + DP_C[j] * h;
+    if (j == 5) memcpy(w6, wj, sizeof(w6));
     if (F(c, wj, k, K[j])) return 1;
   }
+  /* stiffness: the sixth and seventh stages are both at the step's end, so h |f(w7) - f(w6)| / |w7 - w6|
+   * estimates h |lambda| of the dominant eigenvalue (Hairer and Wanner, Solving ODEs II, Sec. IV.2; DOPRI5) */
+  double num = 0.0, den = 0.0;
+  for (int i = 0; i < NX; i++) {
+    double a = K[6][i] - K[5][i], b = wj[i] - w6[i];
+    num += a * a;
+    den += b * b;
+  }
+  c->hlam = den > 0.0 ? h * sqrt(num / den) : 0.0;
   for (int i = 0; i < NW; i++) {
     double e = 0.0;
     for (int m = 0; m < 7; m++) e += h * DP_E[m] * K[m][i];
@@ -399,7 +412,7 @@ static void emit(double* Z, int k, const double* x, const double* s, const doubl
  * file's, 4 after more than max_events events. */
 int apexseal_composite_run(const double* z0, const double* p, const double* U, const double* rate, int N,
                            double dth, double rtol, double atol, double loose, double quiet, double ring,
-                           double ev_tol, long long max_steps, long long max_events, double* since, double* Z,
+                           long long stiff_steps, double ev_tol, long long max_steps, long long max_events, double* since, double* Z,
                            double* phase, long long* stats) {
   Ctx ctx;
   Ctx* c = &ctx;
@@ -417,6 +430,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
   double h_t = 1e-5, h_q = 1e-3, last_event = -*since;
   long long tight = 0, quiet_steps = 0, rejected = 0, jacobians = 0, events = 0, given_back = 0;
   long long q_before = 0, all_before = 0, steps_before = 0; /* the counts when the current interval began */
+  int stiff = 0, nonstiff = 0; /* RK45 steps found at its stability boundary, and since the last one */
   int status = 0, k = 0, known = 0; /* known: e0 holds the zero functions at w (those at the last step's end) */
   if (F(c, w, 0, f0)) { status = 1; goto done; }
   while (k < N) {
@@ -437,7 +451,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
     if (events > max_events) { status = 4; goto done; }
     if (!known && zeros(c, w, k, e0)) { status = 1; goto done; }
     known = 1;
-    if (w[NX] - last_event > ring) { /* quiet: exprb32 */
+    if (w[NX] - last_event > ring || (stiff_steps > 0 && stiff >= stiff_steps)) { /* quiet: exprb32 */
       int k1 = k, last = k;
       while (last + 1 < N && same_controls(c, k, last + 1, dth)) last++; /* the step may reach the end of interval last */
       if (jacobian(c, w, k, f0, J)) { status = 1; goto done; }
@@ -455,6 +469,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
       if (crossed(e0, e1)) { /* a switch ahead: the tight phase takes this step over */
         given_back++;
         last_event = w[NX];
+        stiff = nonstiff = 0;
         h_t = fmin(h_t, hh);
         continue;
       }
@@ -495,6 +510,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
           events++;
         }
       last_event = w1[NX];
+      stiff = nonstiff = 0;
       h_t = fmax(0.5 * hh, 1e-9);
       memcpy(w, w1, sizeof(w));
       if (F(c, w, k, f0)) { status = 1; goto done; }
@@ -503,6 +519,12 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
       h_t = next_step(h_t, hh, fmin(retried ? 1.0 : 5.0, fmax(0.2, 0.9 * pow(fmax(e, 1e-10), -1.0 / 5))));
       memcpy(w, w1, sizeof(w));
       memcpy(f0, K[6], sizeof(f0)); /* first same as last */
+      if (c->hlam > STIFF_HLAM) { /* DOPRI5's count: a step at the boundary; six steps inside it forget them */
+        stiff++;
+        nonstiff = 0;
+      } else if (++nonstiff >= 6) {
+        stiff = 0;
+      }
       memcpy(e0, e1, sizeof(e0));
     }
     tight++;

@@ -7,7 +7,9 @@ This method integrates each part with what suits it:
 
 * **tight phase**: Dormand and Prince's RK5(4) (erk's pair) at ``rtol``/``atol``, events located to ``event_tol``
   by the Illinois method on the step's continuous extension (Shampine's, order 4), then reached by an RK45 step;
-* **quiet phase**, from :data:`RING` of crank angle after the last contact event: exprb32, an exponential
+* **quiet phase**, from :data:`RING` of crank angle after the last contact event, or earlier once :data:`STIFF_STEPS`
+  RK45 steps found themselves at their stability boundary (DOPRI5's stiffness test: the step's last two stages,
+  both at its end, estimate h |lambda|, above 3.25; Hairer and Wanner, Solving ODEs II, Sec. IV.2): exprb32, an exponential
   Rosenbrock method (Hochbruck, Ostermann and Schweitzer, SIAM J. Numer. Anal. 47 (2009)) that is exact for the
   linearised stiff part, at :data:`LOOSE` times the tolerances, the rate states' :data:`QUIET` times looser still,
   both within :data:`QUIET_CAPS` (:func:`quiet_factors`);
@@ -61,6 +63,11 @@ QUIET_RTOL_MIN = 1e-8
 EVENTS_PER_RTOL = 1e-3
 #: the quiet phase starts this long (crank angle, rad) after the last contact event: the ringing after an impact
 RING = math.radians(20.0)
+#: ... or earlier, once this many RK45 steps (in DOPRI5's count: six steps inside the boundary forget them) found
+#: themselves at their stability boundary: the step is limited by stiffness, no longer by the accuracy of the
+#: impact's transient (0: only after RING). A third fewer RK45 steps at rtol 1e-6, the same switches and error
+#: (tests/runtime/test_composite.py; 5 and 30 gave the same within 3 %: docs/bench/composite-rules.md)
+STIFF_STEPS = 15
 
 #: the C function's return codes, with what each means
 FAILURES = {1: "the model failed to evaluate (non-finite right-hand side or zero functions)",
@@ -76,8 +83,8 @@ def composite_function(library) -> ctypes._CFuncPtr:
     """``apexseal_composite_run`` of the compiled model library at ``library`` (a path), with its signature."""
     fn = ctypes.CDLL(str(library)).apexseal_composite_run
     fn.argtypes = [_DBL, _DBL, _DBL, _DBL, ctypes.c_int, ctypes.c_double, ctypes.c_double, ctypes.c_double,
-                   ctypes.c_double, ctypes.c_double, ctypes.c_double, ctypes.c_double, ctypes.c_longlong,
-                   ctypes.c_longlong, _DBL, _DBL, _DBL, _LL]
+                   ctypes.c_double, ctypes.c_double, ctypes.c_double, ctypes.c_longlong, ctypes.c_double,
+                   ctypes.c_longlong, ctypes.c_longlong, _DBL, _DBL, _DBL, _LL]
     fn.restype = ctypes.c_int
     return fn
 
@@ -112,7 +119,8 @@ class CompositeIntegrator(Engine):
 
     def __init__(self, functions, *, n_samples: int, span: float, rtol: float, atol: float | None = None,
                  event_tol: float = 1e-10, max_steps: int = 200000, max_events: int = 10000, pressure: str = "steps",
-                 loose: float | None = None, quiet: float | None = None, ring: float | None = None):
+                 loose: float | None = None, quiet: float | None = None, ring: float | None = None,
+                 stiff_steps: int | None = None):
         """``loose``, ``quiet``, ``ring``: the quiet phase's factors and start (None: the rules of the module
         docstring; a ``ring`` given is used at every rtol, with events located to ``event_tol``)."""
         self._fn = composite_function(functions.library)
@@ -126,6 +134,7 @@ class CompositeIntegrator(Engine):
         self.quiet = float(rule[1] if quiet is None else quiet)
         quiet_phase = ring is not None or self.rtol >= QUIET_RTOL_MIN
         self.ring = (RING if ring is None else float(ring)) if quiet_phase else math.inf
+        self.stiff_steps = (STIFF_STEPS if stiff_steps is None else int(stiff_steps)) if quiet_phase else 0
         self.event_tol = float(event_tol) if quiet_phase else min(float(event_tol), EVENTS_PER_RTOL * self.rtol)
         self.rate = np.ascontiguousarray(_scales(functions.state_names)[1], float)
         self.n_u = functions.hybrid_ode.size1_in(3) if functions.hybrid_ode is not None else 4
@@ -145,7 +154,7 @@ class CompositeIntegrator(Engine):
         since = np.array([self._carry[1] if self._carry and self._carry[0] == z0.tobytes() else 0.0])
         Z, phase, st = np.empty((self.n_samples, z0.size)), np.empty(self.n_samples), np.zeros(8, np.int64)
         status = self._fn(_ptr(z0), _ptr(par), _ptr(U), _ptr(self.rate), self.n_samples, self.dth,
-                          self.rtol, self.atol, self.loose, self.quiet, self.ring, self.event_tol, self.max_steps,
+                          self.rtol, self.atol, self.loose, self.quiet, self.ring, self.stiff_steps, self.event_tol, self.max_steps,
                           self.max_events, _ptr(since), _ptr(Z), _ptr(phase), st.ctypes.data_as(_LL))
         tight, quiet, rejected, evals, jacobians, events, given_back, done = (int(v) for v in st)
         self._stats = {"n_steps": tight + quiet, "n_tight_steps": tight, "n_quiet_steps": quiet, "n_reject": rejected,
