@@ -154,8 +154,8 @@ class CompositeIntegrator(Engine):
         since = np.array([self._carry[1] if self._carry and self._carry[0] == z0.tobytes() else 0.0])
         Z, phase, st = np.empty((self.n_samples, z0.size)), np.empty(self.n_samples), np.zeros(8, np.int64)
         status = self._fn(_ptr(z0), _ptr(par), _ptr(U), _ptr(self.rate), self.n_samples, self.dth,
-                          self.rtol, self.atol, self.loose, self.quiet, self.ring, self.stiff_steps, self.event_tol, self.max_steps,
-                          self.max_events, _ptr(since), _ptr(Z), _ptr(phase), st.ctypes.data_as(_LL))
+                          self.rtol, self.atol, self.loose, self.quiet, self.ring, self.stiff_steps, self.event_tol,
+                          self.max_steps, self.max_events, _ptr(since), _ptr(Z), _ptr(phase), st.ctypes.data_as(_LL))
         tight, quiet, rejected, evals, jacobians, events, given_back, done = (int(v) for v in st)
         self._stats = {"n_steps": tight + quiet, "n_tight_steps": tight, "n_quiet_steps": quiet, "n_reject": rejected,
                        "n_rhs": evals, "n_jac": jacobians, "n_events": events, "n_given_back": given_back,
