@@ -411,7 +411,8 @@ def hard_markdown(rs: list[dict], degrees: float, rtol: float) -> str:
 
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--rtols", default="1e-7,1e-8,1e-9,1e-10")
+    ap.add_argument("--rtols", default=None, help="comma-separated (default: 1e-7 .. 1e-10; with --rules 1e-4 .. 1e-10)")
+    ap.add_argument("--variants", default=None, help="with --rules: the indices of RULE_VARIANTS to run (default: all)")
     ap.add_argument("--hard", type=float, default=None, metavar="DEGREES",
                     help="instead: the first DEGREES of every stress scene at rtol 1e-8 (hard_rows)")
     ap.add_argument("--rules", action="store_true", help="instead: the run method's rules beside what they replace "
@@ -427,10 +428,13 @@ def main(argv=None) -> None:
         return
     print("reference and switch windows ...", flush=True)
     an = Anatomy()
+    rtols = {} if a.rtols is None else {"rtols": tuple(float(x) for x in a.rtols.split(","))}
     if a.rules:
-        print(rule_markdown(an, rule_rows(an, log=lambda r: print("  ", r, flush=True))))
+        if a.variants is not None:
+            rtols["variants"] = [RULE_VARIANTS[int(i)] for i in a.variants.split(",")]
+        print(rule_markdown(an, rule_rows(an, **rtols, log=lambda r: print("  ", r, flush=True))))
         return
-    rs = rows(an, tuple(float(x) for x in a.rtols.split(",")), log=lambda r: print("  ", r, flush=True))
+    rs = rows(an, **rtols, log=lambda r: print("  ", r, flush=True))
     print(markdown(an, rs))
 
 
