@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 4e6804bfefe0c05f58e9d123691fbe240bfe99d5f4f1482e3a6922e4e5fdd82b.
+ * Effects: all. Input hash: d031c1ed79c6e476acab41e2ad925029953b6506deaf0cac1cc2afd2e1549baf.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "4e6804bfefe0c05f58e9d123691fbe240bfe99d5f4f1482e3a6922e4e5fdd82b"
+#define APEXSEAL_INPUT_HASH "d031c1ed79c6e476acab41e2ad925029953b6506deaf0cac1cc2afd2e1549baf"
 
 /* state x */
 #define APEXSEAL_NX 6
