@@ -245,6 +245,35 @@ def markdown(an: Anatomy, rs: list[dict]) -> str:
                       "erk-C: CPU / rev |", "|---" * 13 + "|", *lines])
 
 
+def cluster_rows(an: Anatomy, rtols=(1e-8, 1.58e-8), before: int = 3) -> list[dict]:
+    """Where the error of a revolution arises: the scaled error at each sample from ``before`` samples ahead of each
+    cluster of switching intervals (the reference's) to its end, for the run method at each rtol and for RK45 alone
+    (its events located to min(1e-10, 1e-3 rtol) rad) at the first."""
+    from ..solving.composite import EVENTS_PER_RTOL
+    from .anatomy import sample_errors
+
+    p, sw = an.problem, np.flatnonzero(an.switched)
+    clusters = np.split(sw, np.flatnonzero(np.diff(sw) > 1) + 1) if sw.size else []
+    runs = [(f"the run method, rtol {rtol:g}", composite_c(p, rtol, None, None, None)) for rtol in rtols]
+    runs.append((f"RK45 alone, rtol {rtols[0]:g}",
+                 composite_c(p, rtols[0], 1.0, 1.0, math.inf, min(1e-10, EVENTS_PER_RTOL * rtols[0]), stiff_steps=0)))
+    out = []
+    for label, eng in runs:
+        e = sample_errors(trajectory(p, eng.run(p.z0, p.params, p.theta0, p.pressures).z), an.ref)
+        for c in clusters:
+            ks = range(max(0, int(c[0]) - before), int(c[-1]) + 1)
+            out.append({"run": label, "samples": [int(k) for k in ks], "errors": [float(e[k]) for k in ks],
+                        "elsewhere": float(np.delete(e, np.concatenate(clusters)).max())})
+    return out
+
+
+def cluster_markdown(rs: list[dict], dtheta_deg: float) -> str:
+    lines = [f"| {r['run']} | {r['samples'][0] * dtheta_deg:g}-{r['samples'][-1] * dtheta_deg:g} | "
+             + " ".join(f"{v:.0e}" for v in r["errors"]) + f" | {r['elsewhere']:.0e} |" for r in rs]
+    return "\n".join(["| run | samples (deg) | scaled error at each sample | largest outside the clusters |",
+                      "|---|---|---|---|", *lines])
+
+
 def default_run_rows(rtols=(1e-6, 1e-8), samples=(720, 3600), revolutions: int = 3, repeats: int = 3,
                      log=print) -> list[dict]:
     """What a user's run gets: ``apexseal.simulate`` of the default scene (``revolutions`` from its start) with erk
@@ -417,6 +446,8 @@ def main(argv=None) -> None:
                     help="instead: the first DEGREES of every stress scene at rtol 1e-8 (hard_rows)")
     ap.add_argument("--rules", action="store_true", help="instead: the run method's rules beside what they replace "
                     "(rule_rows)")
+    ap.add_argument("--clusters", action="store_true", help="instead: the error at each sample around the clusters "
+                    "of switches, the run method at --rtols (default 1e-8,1.58e-8) and RK45 alone (cluster_rows)")
     ap.add_argument("--default-run", action="store_true", help="instead: the default scene's run with erk and the "
                     "composite on the default's and a coarser output grid (default_run_rows)")
     a = ap.parse_args(argv)
@@ -429,6 +460,9 @@ def main(argv=None) -> None:
     print("reference and switch windows ...", flush=True)
     an = Anatomy()
     rtols = {} if a.rtols is None else {"rtols": tuple(float(x) for x in a.rtols.split(","))}
+    if a.clusters:
+        print(cluster_markdown(cluster_rows(an, **rtols), math.degrees(an.dtheta)))
+        return
     if a.rules:
         if a.variants is not None:
             rtols["variants"] = [RULE_VARIANTS[int(i)] for i in a.variants.split(",")]
