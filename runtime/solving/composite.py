@@ -66,7 +66,7 @@ RING = math.radians(20.0)
 #: ... or earlier, once this many RK45 steps (in DOPRI5's count: six steps inside the boundary forget them) found
 #: themselves at their stability boundary: the step is limited by stiffness, no longer by the accuracy of the
 #: impact's transient (0: only after RING). A third fewer RK45 steps at rtol 1e-6, the same switches and error
-#: (tests/runtime/test_composite.py; 5 and 30 gave the same within 3 %: docs/bench/composite-rules.md)
+#: (tests/runtime/test_composite.py; 5 or 30 change the evaluations by at most 6 %: docs/bench/composite-rules.md)
 STIFF_STEPS = 15
 
 #: the C function's return codes, with what each means
