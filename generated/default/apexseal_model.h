@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: d031c1ed79c6e476acab41e2ad925029953b6506deaf0cac1cc2afd2e1549baf.
+ * Effects: all. Input hash: a5e5c52c43c63dc6d9f546f82984cc06ef4d6023e3f23577573dc861a5ff86cb.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "d031c1ed79c6e476acab41e2ad925029953b6506deaf0cac1cc2afd2e1549baf"
+#define APEXSEAL_INPUT_HASH "a5e5c52c43c63dc6d9f546f82984cc06ef4d6023e3f23577573dc861a5ff86cb"
 
 /* state x */
 #define APEXSEAL_NX 6

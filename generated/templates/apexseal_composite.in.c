@@ -404,16 +404,18 @@ static void emit(double* Z, int k, const double* x, const double* s, const doubl
  * Z (N x NZ, row-major) and, per interval, the fraction of its steps that were quiet into phase (N). A quiet step
  * may cross the ends of intervals whose controls are one line (the rows of a pressure table are coarser than the
  * output grid), and the states there are interpolated (cubic Hermite); every other step ends on the next end, and
- * where the controls jump there (interval means) the next interval's first step evaluates its own. *since is the crank angle since the last contact event at the
- * start (a call that goes on from another's end carries it; 0 starts in the tight phase), and on return at the
- * end of the intervals done. stats (8): tight steps, quiet steps, rejected steps, evaluations, Jacobians, events,
+ * where the controls jump there (interval means) the next interval's first step evaluates its own. *since is the
+ * crank angle since the last contact event at the start (a call that goes on from another's end carries it; 0
+ * starts in the tight phase), and on return at the end of the intervals done. The quiet phase starts `ring` rad
+ * after the last event, or after `stiff_steps` RK45 steps at their stability boundary counted within this call (0:
+ * only after `ring`). stats (8): tight steps, quiet steps, rejected steps, evaluations, Jacobians, events,
  * quiet steps given back, intervals done. Returns 0; 1 when the model failed to evaluate, 2 when an output
  * interval took more than max_steps steps (rejected ones included), 3 when the model's work arrays exceed this
  * file's, 4 after more than max_events events. */
 int apexseal_composite_run(const double* z0, const double* p, const double* U, const double* rate, int N,
                            double dth, double rtol, double atol, double loose, double quiet, double ring,
-                           long long stiff_steps, double ev_tol, long long max_steps, long long max_events, double* since, double* Z,
-                           double* phase, long long* stats) {
+                           long long stiff_steps, double ev_tol, long long max_steps, long long max_events,
+                           double* since, double* Z, double* phase, long long* stats) {
   Ctx ctx;
   Ctx* c = &ctx;
   casadi_int sz_arg, sz_res, sz_iw, sz_w, a2, r2, i2, w2;

@@ -31,7 +31,8 @@ stop inside a call at the wall-time deadline: a run with a budget makes 36 calls
 (runtime/solving/settings.py), and the run checks the budget between them.
 
 A call that goes on from where this engine's previous call ended carries the crank angle since the last event, so
-a revolution cut into calls keeps its quiet phase; any other start begins in the tight phase.
+a revolution cut into calls keeps its quiet phase (the stiffness count starts afresh in each call); any other start
+begins in the tight phase.
 """
 
 from __future__ import annotations
