@@ -182,16 +182,30 @@ static void phi(const double* hJ, const double* v, int p, double* out) {
 
 /* ---------------------------------------------------------------- the two steps */
 
-/* the Jacobian of F at w by forward differences (NW evaluations) */
+/* the Jacobian of F at w (NW x NW; the crank angle's row is zero), column by column from the library's forward
+ * derivative of hybrid_ode (fwd1_hybrid_ode: exact, at about the cost of the forward differences it replaced) */
 static int jacobian(Ctx* c, const double* w, int k, const double* f0, double* J) {
-  double wp[NW], fp[NW];
-  memcpy(wp, w, sizeof(wp));
+  double z[NZ], t = w[NX], out[NZ], dt, dz[NZ], dp[APEXSEAL_NP + 1], du[NU_CALL], col[NZ];
+  memcpy(z, w, NX * sizeof(double));
+  memcpy(z + NX, c->s, NG * sizeof(double));
+  memset(z + NX + NG, 0, NG * sizeof(double));
+  memset(out, 0, sizeof(out));
+  memcpy(out, f0, NX * sizeof(double));
+  memset(dp, 0, sizeof(dp));
+  memset(du, 0, sizeof(du));
+  const casadi_real* arg[16];
+  casadi_real* res[16];
+  arg[0] = &t; arg[1] = z; arg[2] = c->p; arg[3] = c->U + NU_CALL * k; arg[4] = out;
+  arg[5] = &dt; arg[6] = dz; arg[7] = dp; arg[8] = du;
+  res[0] = col;
   for (int j = 0; j < NW; j++) {
-    double d = 1e-7 * fmax(fabs(w[j]), 1.0);
-    wp[j] = w[j] + d;
-    if (F(c, wp, k, fp)) return 1;
-    for (int i = 0; i < NW; i++) J[i * NW + j] = (fp[i] - f0[i]) / d;
-    wp[j] = w[j];
+    memset(dz, 0, sizeof(dz));
+    dt = 0.0;
+    if (j < NX) dz[j] = 1.0; else dt = 1.0;
+    if (fwd1_hybrid_ode(arg, res, c->iw, c->w, 0)) return 1;
+    c->evals++;
+    for (int i = 0; i < NX; i++) J[i * NW + j] = col[i];
+    J[NX * NW + j] = 0.0;
   }
   return 0;
 }
@@ -418,10 +432,12 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
                            double* since, double* Z, double* phase, long long* stats) {
   Ctx ctx;
   Ctx* c = &ctx;
-  casadi_int sz_arg, sz_res, sz_iw, sz_w, a2, r2, i2, w2;
+  casadi_int sz_arg, sz_res, sz_iw, sz_w, a2, r2, i2, w2, a3, r3, i3, w3;
   hybrid_ode_work(&sz_arg, &sz_res, &sz_iw, &sz_w);
   hybrid_zero_work(&a2, &r2, &i2, &w2);
-  if (sz_arg > 16 || a2 > 16 || sz_res > 16 || r2 > 16 || sz_iw > WORK || i2 > WORK || sz_w > WORK || w2 > WORK)
+  fwd1_hybrid_ode_work(&a3, &r3, &i3, &w3);
+  if (sz_arg > 16 || a2 > 16 || a3 > 16 || sz_res > 16 || r2 > 16 || r3 > 16 || sz_iw > WORK || i2 > WORK ||
+      i3 > WORK || sz_w > WORK || w2 > WORK || w3 > WORK)
     return 3;
   c->p = p; c->U = U; c->rate = rate; c->evals = 0;
   double w[NW], w1[NW], f0[NW], f1[NW], J[NW * NW], K[7][NW], err[NW], e0[NG], e1[NG], counts[NG], x[NX];

@@ -186,9 +186,10 @@ def test_the_composite_prototype_switches_phases_and_converges(tiny):
     assert tight["state"] < min(loose["state"] / 10, 1e-3)
     for r in rs:
         assert r["tight_steps"] > 0 and r["quiet_steps"] > 0 and r["jacobians"] == r["quiet_steps"] + r["given_back"]
-    # the same method in generated C (templates/apexseal_composite.in.c): the same switches, as accurate
+    # the same method in generated C (templates/apexseal_composite.in.c): the same switches, as accurate, and no
+    # more evaluations (its Jacobian is the library's exact one where the prototype differences; 10 % fewer here)
     assert tight["c_events"] == tight["events"] and tight["c_state"] < min(loose["c_state"] / 10, 1e-3)
-    assert tight["c_rhs"] == pytest.approx(tight["rhs"], rel=0.1)
+    assert 0.7 * tight["rhs"] < tight["c_rhs"] <= 1.05 * tight["rhs"]
     assert "| 100, 100, 2 deg | 1e-09 |" in comp_markdown(tiny, rs)
 
 
