@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 5bd4e425da8953e907188c69a742227629c53f7b3d85339018e0a4b7e8d72bb8.
+ * Effects: all. Input hash: 43245aaa27f55d88a6496cdb171c4ed095a3e879c7ff92c55ec0118b777e1b87.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "5bd4e425da8953e907188c69a742227629c53f7b3d85339018e0a4b7e8d72bb8"
+#define APEXSEAL_INPUT_HASH "43245aaa27f55d88a6496cdb171c4ed095a3e879c7ff92c55ec0118b777e1b87"
 
 /* state x */
 #define APEXSEAL_NX 6

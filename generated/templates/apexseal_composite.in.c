@@ -41,13 +41,19 @@ typedef struct {
   casadi_real w[WORK];
 } Ctx;
 
-/* dw/dtheta in mode s, output interval k */
-static int F(Ctx* c, const double* w, int k, double* out) {
-  double z[NZ], ode[NZ], t = w[NX];
+/* the library's inputs (t, z, p, u) at w in mode s, output interval k: c->arg[0..3], pointing at t and z */
+static void inputs(Ctx* c, const double* w, int k, double* t, double* z) {
+  *t = w[NX];
   memcpy(z, w, NX * sizeof(double));
   memcpy(z + NX, c->s, NG * sizeof(double));
   memset(z + NX + NG, 0, NG * sizeof(double));
-  c->arg[0] = &t; c->arg[1] = z; c->arg[2] = c->p; c->arg[3] = c->U + NU_CALL * k;
+  c->arg[0] = t; c->arg[1] = z; c->arg[2] = c->p; c->arg[3] = c->U + NU_CALL * k;
+}
+
+/* dw/dtheta in mode s, output interval k */
+static int F(Ctx* c, const double* w, int k, double* out) {
+  double z[NZ], ode[NZ], t;
+  inputs(c, w, k, &t, z);
   c->res[0] = ode;
   if (hybrid_ode(c->arg, c->res, c->iw, c->w, 0)) return 1;
   memcpy(out, ode, NX * sizeof(double));
@@ -58,11 +64,8 @@ static int F(Ctx* c, const double* w, int k, double* out) {
 
 /* the zero functions e in mode s, output interval k */
 static int zeros(Ctx* c, const double* w, int k, double* e) {
-  double z[NZ], t = w[NX];
-  memcpy(z, w, NX * sizeof(double));
-  memcpy(z + NX, c->s, NG * sizeof(double));
-  memset(z + NX + NG, 0, NG * sizeof(double));
-  c->arg[0] = &t; c->arg[1] = z; c->arg[2] = c->p; c->arg[3] = c->U + NU_CALL * k;
+  double z[NZ], t;
+  inputs(c, w, k, &t, z);
   c->res[0] = e;
   return hybrid_zero(c->arg, c->res, c->iw, c->w, 0);
 }
@@ -185,24 +188,19 @@ static void phi(const double* hJ, const double* v, int p, double* out) {
 /* the Jacobian of F at w (NW x NW; the crank angle's row is zero), column by column from the library's forward
  * derivative of hybrid_ode (fwd1_hybrid_ode: exact, at about the cost of the forward differences it replaced) */
 static int jacobian(Ctx* c, const double* w, int k, const double* f0, double* J) {
-  double z[NZ], t = w[NX], out[NZ], dt, dz[NZ], dp[APEXSEAL_NP + 1], du[NU_CALL], col[NZ];
-  memcpy(z, w, NX * sizeof(double));
-  memcpy(z + NX, c->s, NG * sizeof(double));
-  memset(z + NX + NG, 0, NG * sizeof(double));
+  double z[NZ], t, out[NZ], dt, dz[NZ], dp[APEXSEAL_NP + 1], du[NU_CALL], col[NZ];
+  inputs(c, w, k, &t, z);
   memset(out, 0, sizeof(out));
   memcpy(out, f0, NX * sizeof(double));
   memset(dp, 0, sizeof(dp));
   memset(du, 0, sizeof(du));
-  const casadi_real* arg[16];
-  casadi_real* res[16];
-  arg[0] = &t; arg[1] = z; arg[2] = c->p; arg[3] = c->U + NU_CALL * k; arg[4] = out;
-  arg[5] = &dt; arg[6] = dz; arg[7] = dp; arg[8] = du;
-  res[0] = col;
+  c->arg[4] = out; c->arg[5] = &dt; c->arg[6] = dz; c->arg[7] = dp; c->arg[8] = du;
+  c->res[0] = col;
   for (int j = 0; j < NW; j++) {
     memset(dz, 0, sizeof(dz));
     dt = 0.0;
     if (j < NX) dz[j] = 1.0; else dt = 1.0;
-    if (fwd1_hybrid_ode(arg, res, c->iw, c->w, 0)) return 1;
+    if (fwd1_hybrid_ode(c->arg, c->res, c->iw, c->w, 0)) return 1;
     c->evals++;
     for (int i = 0; i < NX; i++) J[i * NW + j] = col[i];
     J[NX * NW + j] = 0.0;
