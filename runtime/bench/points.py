@@ -31,19 +31,24 @@ from .timing import measure, timed
 
 
 @contextlib.contextmanager
-def captured_stdout():
-    """Collect what C code prints on file descriptor 1 (CasADi dumps a failing Function's inputs there)."""
+def captured_stdout(fds: tuple[int, ...] = (1,)):
+    """Collect what C code prints on the file descriptors ``fds`` (CasADi dumps a failing Function's inputs on 1,
+    numbalsoda's LSODA its warnings on 2)."""
     sys.stdout.flush()
-    saved = os.dup(1)
+    sys.stderr.flush()
+    saved = {fd: os.dup(fd) for fd in fds}
     with tempfile.TemporaryFile(mode="w+b") as tmp:
-        os.dup2(tmp.fileno(), 1)
+        for fd in fds:
+            os.dup2(tmp.fileno(), fd)
         box = {"text": ""}
         try:
             yield box
         finally:
             sys.stdout.flush()
-            os.dup2(saved, 1)
-            os.close(saved)
+            sys.stderr.flush()
+            for fd, copy in saved.items():
+                os.dup2(copy, fd)
+                os.close(copy)
             tmp.seek(0)
             box["text"] = tmp.read().decode(errors="replace")
 
@@ -136,11 +141,15 @@ def peer_point(problem, ref, spec: MethodSpec, rtol: float, peer, *, repeats: in
     point = _base(problem, spec, rtol) | {"compiled": True, "engine_build_s": peer.build_s}
     c0 = time.process_time()
     try:
-        out, timing = measure(lambda: peer.run(spec.method, rtol), repeats=repeats, slow_run_s=slow_run_s,
-                              budget_s=budget_s)
+        with captured_stdout((1, 2)) as printed:  # LSODA's warnings (numbalsoda's C++ prints them)
+            out, timing = measure(lambda: peer.run(spec.method, rtol), repeats=repeats, slow_run_s=slow_run_s,
+                                  budget_s=budget_s)
     except Exception as exc:  # noqa: BLE001
         return _failure(point, exc, time.process_time() - c0)
     point = _analyse(point, problem, ref, out, timing)
+    if printed["text"].strip():
+        lines = [ln.strip() for ln in printed["text"].splitlines() if ln.strip()]
+        point["solver_messages"] = {"lines": len(lines), "first": " ".join(lines[:3])[:300]}
     point["load_average"] = os.getloadavg()[0]
     if "n_events" in out.stats:
         src = "DOP853's nfev summed over its calls (one per output interval and event); events located by the driver"

@@ -243,6 +243,11 @@ def peer_md(r: dict) -> list[str]:
         lines += ["", f"Peer setup (not in the run times): {info['source_lines']} lines of numba source printed in "
                   f"{info['print_cpu_s']:.1f} s CPU (0 when cached), jit {info['jit_wall_s']:.1f} s wall, integrator "
                   f"kernels {info['kernels_build_wall_s']:.1f} s wall; {info['options']}."]
+    said = [(s["name"], p) for s in r["scenes"] for p in s["points"] if p.get("solver_messages")]
+    if said:
+        lines += ["", "What the peers' integrators printed (warnings, not failures: the points stand as measured): " +
+                  "; ".join(f"{name} {p['method']} at {p['sweep']} {p['value']:g}: {p['solver_messages']['lines']} "
+                            f"lines over its runs, first \"{p['solver_messages']['first']}\"" for name, p in said) + "."]
     return lines + [""]
 
 

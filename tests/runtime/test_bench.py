@@ -186,3 +186,26 @@ def test_evaluation_budget_bounds_an_own_integrator():
     assert "erk-C is 4.00x ahead" in "\n".join(budget_md(r | {"scenes": [r["scenes"][0] | {"points": ahead}]}))
     r["scenes"][0]["points"] = [p for p in pts if p["method"] == "erk-C"]  # no peer: no section
     assert evaluation_budget(r) is None and budget_md(r) == []
+
+
+def test_the_peer_comparison_at_1e8_rests_on_measured_points_on_both_sides():
+    """The full preset sweeps apexseal's fastest methods and numbalsoda's LSODA one decade past rtol 1e-10, where
+    LSODA stayed above a scaled error of 1e-8: the ratio there is interpolated, not extrapolated."""
+    from apexseal.runtime.bench.config import full
+
+    sweeps = full().scenes[0].sweeps
+    tightest = {m: min(sweeps[m]) for m in ("erk-C", "composite-C", "numbalsoda-LSODA")}
+    assert set(tightest.values()) == {1e-11}, tightest
+
+
+def test_what_a_peer_printed_is_reported_beside_its_points(monkeypatch):
+    from apexseal.runtime.bench import report, runner
+
+    monkeypatch.setattr(runner, "peer_ratios", lambda r, name: [])
+    point = {"method": "numbalsoda-LSODA", "family": "sympy.cse + numba (peer)", "sweep": "rtol", "value": 1e-11,
+             "solver_messages": {"lines": 12, "first": "lsoda-- warning..internal t (=r1) and h (=r2) are"}}
+    r = {"scenes": [{"name": "default", "points": [point]}]}
+    text = "\n".join(report.peer_md(r))
+    assert "numbalsoda-LSODA at rtol 1e-11: 12 lines" in text and "lsoda-- warning" in text
+    point.pop("solver_messages")
+    assert "printed" not in "\n".join(report.peer_md(r))
