@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 43245aaa27f55d88a6496cdb171c4ed095a3e879c7ff92c55ec0118b777e1b87.
+ * Effects: all. Input hash: af5d0d80bf960067b3a68422cec47cf9cf259db477073ac938baf32d1ec2b809.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "43245aaa27f55d88a6496cdb171c4ed095a3e879c7ff92c55ec0118b777e1b87"
+#define APEXSEAL_INPUT_HASH "af5d0d80bf960067b3a68422cec47cf9cf259db477073ac938baf32d1ec2b809"
 
 /* state x */
 #define APEXSEAL_NX 6
@@ -155,6 +155,10 @@ extern "C" {
 
 /* The record this library was generated from: the loader compares it with the manifest it trusts. */
 const char* apexseal_model_input_hash(void);
+
+/* The named outputs and the guards at n samples in one call (apexseal_model.c). */
+int apexseal_outputs_block(const double* theta, const double* x, const double* a, const double* p, const double* u,
+                           int n, double* y, double* g);
 
 #ifdef __cplusplus
 }

@@ -57,6 +57,10 @@ extern "C" {
 /* The record this library was generated from: the loader compares it with the manifest it trusts. */
 const char* apexseal_model_input_hash(void);
 
+/* The named outputs and the guards at n samples in one call (apexseal_model.c). */
+int apexseal_outputs_block(const double* theta, const double* x, const double* a, const double* p, const double* u,
+                           int n, double* y, double* g);
+
 #ifdef __cplusplus
 }
 #endif

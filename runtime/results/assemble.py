@@ -13,22 +13,7 @@ from ...derive.submodels.registry import guard
 from ..solving.layout import HybridLayout
 from ..solving.scaling import to_physical
 from .result import SimulationResult
-
-#: (id of the Function, n) -> (Function, its map over n samples); a few sizes per run, built once each
-_MAPPED: dict[tuple[int, int], tuple] = {}
-
-
-def mapped(f, n: int):
-    """``f`` mapped over ``n`` samples, built once per Function and size (building a map costs more than
-    evaluating it). The parameter vector (input ``p``) is shared by all samples, not repeated: converting
-    ``n`` copies of it into CasADi cost more than evaluating the outputs."""
-    key = (id(f), n)
-    if key not in _MAPPED:
-        if len(_MAPPED) > 64:
-            _MAPPED.clear()
-        shared = [f.name_in().index("p")] if "p" in f.name_in() else []
-        _MAPPED[key] = (f, f.map(f"{f.name()}_map", "serial", n, shared, []))
-    return _MAPPED[key][1]
+from .sampled import outputs_at
 
 
 def contact_patterns(closed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -45,18 +30,16 @@ def assemble(functions, params, Z, theta, U, theta_start, omega) -> SimulationRe
     """The result of the hybrid states ``Z`` (layout.size, n) at crank angles ``theta`` (n,), absolute, with
     the chamber pressures ``U`` (2, n) in force over the interval that ends at each sample.
 
-    Every named output of the model is evaluated at every sample by the model's ``outputs`` Function, mapped
-    over the samples in one call; the guards give the gaps and penetrations.
+    Every named output of the model is evaluated at every sample by the model's ``outputs`` Function in one call
+    (runtime/results/sampled.py); the guards give the gaps and penetrations.
     """
     lay = HybridLayout.of(functions)
     X = to_physical(Z[lay.x], omega, lay.state_names)
     closed = lay.closed(Z)
     events = Z[lay.counts]
-    n = theta.size
     P = np.asarray(params, float)
-    Y = mapped(functions.outputs, n)(theta[None, :], X, closed.astype(float), P, U).full()
+    Y, g = outputs_at(functions, theta, X, closed, P, U)
     outputs = {name: Y[i] for i, name in enumerate(functions.output_names)}
-    g = mapped(functions.guards, n)(theta[None, :], X, P, U).full()
     for i, name in enumerate(functions.guard_names):  # each guard's declared output: a gap, a penetration, ...
         declared = guard(name)
         outputs[declared.output] = declared.sign * g[i]

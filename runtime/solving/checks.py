@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..results.assemble import mapped
 from ..results.result import StopInfo
+from ..results.sampled import guards_at
 from .euler_integrator import contact_growth
 from .layout import HybridLayout
 from .methods import method_of
@@ -77,9 +77,9 @@ class RunChecks:
 
     def missed_event(self, Z, thetas, P) -> tuple | None:
         """A contact the integrator holds open while its gap is negative: a lost event (the seal would pass the wall)."""
-        lay, n = self.layout, Z.shape[1]
+        lay = self.layout
         X = to_physical(Z[lay.x], self.omega, lay.state_names)
-        g = mapped(self.functions.guards, n)(thetas[None, :], X, self.params, P).full()  # map built once per size
+        g = guards_at(self.functions, thetas, X, self.params, P)
         bad = (Z[lay.active] < 0.5) & (g / LENGTH < -MISSED_EVENT_UM)
         if not bad.any():
             return None

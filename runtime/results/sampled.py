@@ -1,0 +1,134 @@
+"""The model's outputs and guards at many samples: one call of the model library's loop, or CasADi's map.
+
+With a compiled model library, ``apexseal_outputs_block`` (generated/templates/apexseal_model.in.c) calls the
+library's ``outputs`` and ``guards`` at every sample in a C loop. CasADi's map of the same externals costs about
+ten times the evaluation per sample (its per-call bookkeeping; `python -m apexseal.runtime.results.sampled`
+measures both), and assembling a revolution's outputs was most of the run's time after the integration
+(docs/bench/table.md, "End to end"). Without a library (``solver.interpreted``, no C compiler) the Functions are
+CasADi's SX ones and their map is used. Both give the same numbers: the loop calls the compiled code the
+externals call (tests/runtime/test_sampled.py compares them to the bit).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import sys
+import time
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+#: (id of the Function, n) -> (Function, its map over n samples); a few sizes per run, built once each
+_MAPPED: dict[tuple[int, int], tuple] = {}
+
+_DBL = ctypes.POINTER(ctypes.c_double)
+
+
+def mapped(f, n: int):
+    """``f`` mapped over ``n`` samples, built once per Function and size (building a map costs more than
+    evaluating it). The parameter vector (input ``p``) is shared by all samples, not repeated: converting
+    ``n`` copies of it into CasADi cost more than evaluating the outputs."""
+    key = (id(f), n)
+    if key not in _MAPPED:
+        if len(_MAPPED) > 64:
+            _MAPPED.clear()
+        shared = [f.name_in().index("p")] if "p" in f.name_in() else []
+        _MAPPED[key] = (f, f.map(f"{f.name()}_map", "serial", n, shared, []))
+    return _MAPPED[key][1]
+
+
+@lru_cache(maxsize=16)
+def _block(library: Path):
+    fn = ctypes.CDLL(str(library)).apexseal_outputs_block
+    fn.argtypes = [_DBL, _DBL, _DBL, _DBL, _DBL, ctypes.c_int, _DBL, _DBL]
+    fn.restype = ctypes.c_int
+    return fn
+
+
+def _rows(a: np.ndarray) -> np.ndarray:
+    """(k, n) -> its samples as C-contiguous rows (n, k)."""
+    return np.ascontiguousarray(np.asarray(a, float).T)
+
+
+def _ptr(a: np.ndarray | None):
+    return None if a is None else a.ctypes.data_as(_DBL)
+
+
+def _looped(functions, theta, X, closed, params, U) -> tuple[np.ndarray | None, np.ndarray]:
+    n = theta.size
+    th, x, u = np.ascontiguousarray(theta, float), _rows(X), _rows(U)
+    a = None if closed is None else _rows(closed)
+    p = np.ascontiguousarray(params, float)
+    y = None if closed is None else np.empty((n, len(functions.output_names)))
+    g = np.empty((n, len(functions.guard_names)))
+    status = _block(functions.library)(_ptr(th), _ptr(x), _ptr(a), _ptr(p), _ptr(u), n, _ptr(y), _ptr(g))
+    if status:
+        why = "out of memory" if status == 2 else "a Function failed to evaluate"
+        raise RuntimeError(f"apexseal_outputs_block of {Path(functions.library).name}: {why}")
+    return (None if y is None else y.T), g.T
+
+
+def _loops(functions, n_u: int) -> bool:
+    """Whether the library's loop applies: a compiled set whose Functions take the sizes the loop was rendered
+    with (the ``u`` of ``outputs`` is the pressures given)."""
+    return functions.library is not None and functions.outputs.size1_in(4) == n_u
+
+
+def outputs_at(functions, theta, X, closed, params, U) -> tuple[np.ndarray, np.ndarray]:
+    """(the named outputs (n_outputs, n), the guards (n_guards, n)) at the crank angles ``theta`` (n,), physical
+    states ``X`` (n_x, n), contacts ``closed`` (n_guards, n; bool or 0/1), parameters ``params``, pressures ``U``
+    (n_u, n)."""
+    theta = np.asarray(theta, float)
+    if _loops(functions, U.shape[0]):
+        return _looped(functions, theta, X, closed, params, U)
+    n = theta.size
+    Y = mapped(functions.outputs, n)(theta[None, :], X, np.asarray(closed, float), params, U).full()
+    return Y, mapped(functions.guards, n)(theta[None, :], X, params, U).full()
+
+
+def guards_at(functions, theta, X, params, U) -> np.ndarray:
+    """The guards (n_guards, n) at the samples (as :func:`outputs_at`)."""
+    theta = np.asarray(theta, float)
+    if _loops(functions, U.shape[0]):
+        return _looped(functions, theta, X, None, params, U)[1]
+    return mapped(functions.guards, theta.size)(theta[None, :], X, params, U).full()
+
+
+def main(argv=None) -> None:
+    """Time both ways at one revolution of the default run's samples (3600): medians of 9 after a warm-up."""
+    import statistics
+
+    from ...runtime.api import model_functions
+    from ...runtime.scenes.scene import load_scene
+
+    argv = sys.argv[1:] if argv is None else argv
+    n = int(argv[0]) if argv else 3600
+    sc = load_scene()
+    f = model_functions(sc)
+    if f.library is None:
+        raise SystemExit("no compiled model library (no C compiler?): nothing to compare")
+    rng = np.random.default_rng(0)
+    theta = np.linspace(0.0, 2 * np.pi, n)
+    X = rng.normal(size=(len(f.state_names), n)) * np.array([1e-6, 3e-5, 5e-3, 1e-3, 0.1, 1.0])[:, None]
+    closed = rng.integers(0, 2, (len(f.guard_names), n)).astype(float)
+    U = np.full((f.outputs.size1_in(4), n), 2e5)
+    P = sc.parameter_vector()
+    ways = {"library loop": lambda: _looped(f, theta, X, closed, P, U),
+            "CasADi map": lambda: (mapped(f.outputs, n)(theta[None, :], X, closed, P, U).full(),
+                                   mapped(f.guards, n)(theta[None, :], X, P, U).full())}
+    times = {k: [] for k in ways}
+    for call in ways.values():  # warm-up: maps built, library loaded
+        call()
+    for _ in range(9):  # interleaved
+        for k, call in ways.items():
+            t = time.perf_counter()
+            call()
+            times[k].append(time.perf_counter() - t)
+    for k, ts in times.items():
+        print(f"{k}: {1e3 * statistics.median(ts):.2f} ms for {n} samples ({1e9 * statistics.median(ts) / n:.0f} ns "
+              "per sample, outputs and guards)")
+
+
+if __name__ == "__main__":
+    main()
