@@ -69,6 +69,14 @@ def _looped(functions, theta, X, closed, params, U) -> tuple[np.ndarray | None, 
     return (None if y is None else y.T), g.T
 
 
+def _mapped(functions, theta, X, closed, params, U) -> tuple[np.ndarray | None, np.ndarray]:
+    n = theta.size
+    g = mapped(functions.guards, n)(theta[None, :], X, params, U).full()
+    if closed is None:
+        return None, g
+    return mapped(functions.outputs, n)(theta[None, :], X, np.asarray(closed, float), params, U).full(), g
+
+
 def _loops(functions, n_u: int) -> bool:
     """Whether the library's loop applies: a compiled set whose Functions take the sizes the loop was rendered
     with (the ``u`` of ``outputs`` is the pressures given)."""
@@ -80,27 +88,23 @@ def outputs_at(functions, theta, X, closed, params, U) -> tuple[np.ndarray, np.n
     states ``X`` (n_x, n), contacts ``closed`` (n_guards, n; bool or 0/1), parameters ``params``, pressures ``U``
     (n_u, n)."""
     theta = np.asarray(theta, float)
-    if _loops(functions, U.shape[0]):
-        return _looped(functions, theta, X, closed, params, U)
-    n = theta.size
-    Y = mapped(functions.outputs, n)(theta[None, :], X, np.asarray(closed, float), params, U).full()
-    return Y, mapped(functions.guards, n)(theta[None, :], X, params, U).full()
+    way = _looped if _loops(functions, U.shape[0]) else _mapped
+    return way(functions, theta, X, closed, params, U)
 
 
 def guards_at(functions, theta, X, params, U) -> np.ndarray:
     """The guards (n_guards, n) at the samples (as :func:`outputs_at`)."""
     theta = np.asarray(theta, float)
-    if _loops(functions, U.shape[0]):
-        return _looped(functions, theta, X, None, params, U)[1]
-    return mapped(functions.guards, theta.size)(theta[None, :], X, params, U).full()
+    way = _looped if _loops(functions, U.shape[0]) else _mapped
+    return way(functions, theta, X, None, params, U)[1]
 
 
 def main(argv=None) -> None:
     """Time both ways at one revolution of the default run's samples (3600): medians of 9 after a warm-up."""
     import statistics
 
-    from ...runtime.api import model_functions
-    from ...runtime.scenes.scene import load_scene
+    from ..api import model_functions
+    from ..scenes.scene import load_scene
 
     argv = sys.argv[1:] if argv is None else argv
     n = int(argv[0]) if argv else 3600
@@ -115,8 +119,7 @@ def main(argv=None) -> None:
     U = np.full((f.outputs.size1_in(4), n), 2e5)
     P = sc.parameter_vector()
     ways = {"library loop": lambda: _looped(f, theta, X, closed, P, U),
-            "CasADi map": lambda: (mapped(f.outputs, n)(theta[None, :], X, closed, P, U).full(),
-                                   mapped(f.guards, n)(theta[None, :], X, P, U).full())}
+            "CasADi map": lambda: _mapped(f, theta, X, closed, P, U)}
     times = {k: [] for k in ways}
     for call in ways.values():  # warm-up: maps built, library loaded
         call()
