@@ -40,7 +40,10 @@ def mapped(f, n: int):
 
 @lru_cache(maxsize=16)
 def _block(library: Path):
-    fn = ctypes.CDLL(str(library)).apexseal_outputs_block
+    """The library's loop, or None for a library built before it existed (then CasADi's map serves)."""
+    fn = getattr(ctypes.CDLL(str(library)), "apexseal_outputs_block", None)
+    if fn is None:
+        return None
     fn.argtypes = [_DBL, _DBL, _DBL, _DBL, _DBL, ctypes.c_int, _DBL, _DBL]
     fn.restype = ctypes.c_int
     return fn
@@ -80,7 +83,8 @@ def _mapped(functions, theta, X, closed, params, U) -> tuple[np.ndarray | None, 
 def _loops(functions, n_u: int) -> bool:
     """Whether the library's loop applies: a compiled set whose Functions take the sizes the loop was rendered
     with (the ``u`` of ``outputs`` is the pressures given)."""
-    return functions.library is not None and functions.outputs.size1_in(4) == n_u
+    return (functions.library is not None and functions.outputs.size1_in(4) == n_u
+            and _block(functions.library) is not None)
 
 
 def outputs_at(functions, theta, X, closed, params, U) -> tuple[np.ndarray, np.ndarray]:

@@ -57,3 +57,21 @@ def test_without_a_library_the_map_of_the_sx_functions_agrees():
         Yc, gc = outputs_at(c, theta, X, closed, P, U)
         np.testing.assert_allclose(Y, Yc, rtol=1e-12, atol=1e-12 * np.abs(Yc).max())
         np.testing.assert_allclose(g, gc, rtol=1e-12, atol=1e-18)
+
+
+def test_a_library_without_the_loop_falls_back_to_the_map(monkeypatch):
+    """A model library compiled before the loop existed has no ``apexseal_outputs_block``: the map serves."""
+    from apexseal.runtime.results import sampled
+
+    sc = load_scene()
+    f = model_functions(sc)
+    if f.library is None:
+        pytest.skip("no compiled model library (no C compiler)")
+    P = sc.parameter_vector()
+    theta, X, closed, U = _samples(f, 32, 7)
+    calls = []
+    monkeypatch.setattr(sampled, "_block", lambda library: calls.append(library))
+    monkeypatch.setattr(sampled, "_looped", lambda *a: pytest.fail("the loop was called"))
+    Y, g = outputs_at(f, theta, X, closed, P, U)
+    assert calls and Y.shape == (len(f.output_names), theta.size)
+    np.testing.assert_array_equal(g, mapped(f.guards, theta.size)(theta[None, :], X, P, U).full())
