@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: af5d0d80bf960067b3a68422cec47cf9cf259db477073ac938baf32d1ec2b809.
+ * Effects: all. Input hash: 8a6a645945529d1df0233c7efef7322f40ed50207742272212ada2ce04bfa645.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "af5d0d80bf960067b3a68422cec47cf9cf259db477073ac938baf32d1ec2b809"
+#define APEXSEAL_INPUT_HASH "8a6a645945529d1df0233c7efef7322f40ed50207742272212ada2ce04bfa645"
 
 /* state x */
 #define APEXSEAL_NX 6

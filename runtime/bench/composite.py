@@ -174,7 +174,8 @@ def make_composite(problem, nm):
 
 
 def composite_c(problem, rtol: float, loose: float | None, quiet: float | None, ring: float | None,
-                ev_tol: float = 1e-10, max_steps: int = MAX_STEPS, stiff_steps: int | None = None):
+                ev_tol: float = 1e-10, max_steps: int = MAX_STEPS, stiff_steps: int | None = None,
+                stiff_hlam: float | None = None):
     """The same method in generated C: the run method's engine (runtime/solving/composite.py, calling
     templates/apexseal_composite.in.c compiled into the model library) over ``problem``'s span and grid, with this
     setting of its quiet phase (None: the engine's rule) and no event limit; ``max_steps`` per output interval."""
@@ -186,7 +187,7 @@ def composite_c(problem, rtol: float, loose: float | None, quiet: float | None, 
         raise RuntimeError("the model library is not compiled (no C compiler): the composite needs it")
     return CompositeIntegrator(loaded.c, n_samples=problem.samples, span=problem.span, rtol=rtol, event_tol=ev_tol,
                                max_steps=max_steps, max_events=10**8, pressure=problem.pressure, loose=loose,
-                               quiet=quiet, ring=ring, stiff_steps=stiff_steps)
+                               quiet=quiet, ring=ring, stiff_steps=stiff_steps, stiff_hlam=stiff_hlam)
 
 
 def erk_cpu(an: Anatomy, rtol: float, repeats: int) -> tuple[float, float]:
@@ -310,15 +311,16 @@ def default_run_markdown(rs: list[dict]) -> str:
 
 
 #: the variants :func:`rule_rows` sets beside the run method's rules: (label, loose, quiet, ring in deg, event_tol,
-#: stiff_steps); None: the engine's rule (runtime/solving/composite.py), math.inf: no quiet phase
+#: stiff_steps, stiff_hlam); None: the engine's rule (runtime/solving/composite.py), math.inf: no quiet phase
 RULE_VARIANTS = (
-    ("the run method (its rules)", None, None, None, 1e-10, None),
-    ("its rules, the quiet phase only after the ringing window (no stiffness count)", None, None, None, 1e-10, 0),
-    ("its rules, quiet after 5 steps at the stability boundary (not 15)", None, None, None, 1e-10, 5),
-    ("its rules, quiet after 30 steps at the stability boundary (not 15)", None, None, None, 1e-10, 30),
-    ("quiet phase 100, 100 uncapped, events to 1e-10 rad", 100.0, 100.0, 20.0, 1e-10, None),
-    ("RK45 alone, events to 1e-10 rad", 1.0, 1.0, math.inf, 1e-10, 0),
-    ("RK45 alone, events to min(1e-10, 1e-3 rtol) rad", 1.0, 1.0, math.inf, None, 0),
+    ("the run method (its rules)", None, None, None, 1e-10, None, None),
+    ("its rules, the quiet phase only after the ringing window (no stiffness count)", None, None, None, 1e-10, 0, None),
+    ("its rules, quiet after 5 steps at the stability boundary (not 15)", None, None, None, 1e-10, 5, None),
+    ("its rules, quiet after 30 steps at the stability boundary (not 15)", None, None, None, 1e-10, 30, None),
+    ("quiet phase 100, 100 uncapped, events to 1e-10 rad", 100.0, 100.0, 20.0, 1e-10, None, None),
+    ("RK45 alone, events to 1e-10 rad", 1.0, 1.0, math.inf, 1e-10, 0, None),
+    ("RK45 alone, events to min(1e-10, 1e-3 rtol) rad", 1.0, 1.0, math.inf, None, 0, None),
+    ("its rules, stiff once the step's estimate of h lambda exceeds 2.0 (not 3.25)", None, None, None, 1e-10, None, 2.0),
 )
 
 
@@ -331,11 +333,11 @@ def rule_rows(an: Anatomy, rtols=(1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10), va
 
     p = an.problem
     out = []
-    for label, loose, quiet, ring_deg, ev_tol, stiff_steps in variants:
+    for label, loose, quiet, ring_deg, ev_tol, stiff_steps, stiff_hlam in variants:
         for rtol in rtols:
             ev = min(1e-10, EVENTS_PER_RTOL * rtol) if ev_tol is None else ev_tol
             ring = None if ring_deg is None else math.radians(ring_deg)
-            eng = composite_c(p, rtol, loose, quiet, ring, ev, stiff_steps=stiff_steps)
+            eng = composite_c(p, rtol, loose, quiet, ring, ev, stiff_steps=stiff_steps, stiff_hlam=stiff_hlam)
             res, cpu = warm_median(lambda eng=eng: eng.run(p.z0, p.params, p.theta0, p.pressures), repeats)
             row = {"variant": label, "rtol": rtol, "state": errors(trajectory(p, res.z), an.ref)["state"],
                    "rhs": res.stats["n_rhs"], "quiet_steps": res.stats["n_quiet_steps"],

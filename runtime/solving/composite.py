@@ -9,10 +9,10 @@ This method integrates each part with what suits it:
   by the Illinois method on the step's continuous extension (Shampine's, order 4), then reached by an RK45 step;
 * **quiet phase**, from :data:`RING` of crank angle after the last contact event, or earlier once :data:`STIFF_STEPS`
   RK45 steps found themselves at their stability boundary (DOPRI5's stiffness test: the step's last two stages,
-  both at its end, estimate h |lambda|, above 3.25; Hairer and Wanner, Solving ODEs II, Sec. IV.2): exprb32, an exponential
-  Rosenbrock method (Hochbruck, Ostermann and Schweitzer, SIAM J. Numer. Anal. 47 (2009)) that is exact for the
-  linearised stiff part, at :data:`LOOSE` times the tolerances, the rate states' :data:`QUIET` times looser still,
-  both within :data:`QUIET_CAPS` (:func:`quiet_factors`);
+  both at its end, estimate h |lambda|, above :data:`STIFF_HLAM`; Hairer and Wanner, Solving ODEs II, Sec. IV.2):
+  exprb32, an exponential Rosenbrock method (Hochbruck, Ostermann and Schweitzer, SIAM J. Numer. Anal. 47 (2009))
+  that is exact for the linearised stiff part, at :data:`LOOSE` times the tolerances, the rate states' :data:`QUIET`
+  times looser still, both within :data:`QUIET_CAPS` (:func:`quiet_factors`);
 * a quiet step across which a zero function changes sign is not taken: the tight phase takes over from its start,
   so every switch is located and integrated at ``rtol``;
 * a quiet step may cross the ends of output intervals over which the pressures are one line (a pressure table's
@@ -69,6 +69,15 @@ RING = math.radians(20.0)
 #: impact's transient (0: only after RING). A third fewer RK45 steps at rtol 1e-6, the same switches and error
 #: (tests/runtime/test_composite.py; 5 or 30 change the evaluations by at most 6 %: docs/bench/composite-rules.md)
 STIFF_STEPS = 15
+#: ... where a step counts as at its boundary when its estimate of h |lambda| (from its last two stages) exceeds
+#: this: RK5(4)'s boundary on the negative real axis, as in Hairer and Wanner's DOPRI5. A step held at the boundary
+#: by the controller estimates values on both sides of it from step to step (the estimate is a Rayleigh quotient of
+#: the step's last stage difference), so a lower threshold hands over sooner: at 2.0, 4-10 % fewer evaluations on the
+#: benchmark's problem (docs/bench/composite-rules.md, its "2.0" row), but on the undamped stress scene, run in the
+#: 36 calls of a run with a time budget, the quiet phase then took over while the seal still rattled and the
+#: revolution registered 606 switches against erk's 412 (416 at 3.25; `python tests/runtime/test_composite.py
+#: --stiff-hlam 2.0`): kept at 3.25
+STIFF_HLAM = 3.25
 
 #: the C function's return codes, with what each means
 FAILURES = {1: "the model failed to evaluate (non-finite right-hand side or zero functions)",
@@ -85,7 +94,7 @@ def composite_function(library) -> ctypes._CFuncPtr:
     fn = ctypes.CDLL(str(library)).apexseal_composite_run
     fn.argtypes = [_DBL, _DBL, _DBL, _DBL, ctypes.c_int, ctypes.c_double, ctypes.c_double, ctypes.c_double,
                    ctypes.c_double, ctypes.c_double, ctypes.c_double, ctypes.c_longlong, ctypes.c_double,
-                   ctypes.c_longlong, ctypes.c_longlong, _DBL, _DBL, _DBL, _LL]
+                   ctypes.c_double, ctypes.c_longlong, ctypes.c_longlong, _DBL, _DBL, _DBL, _LL]
     fn.restype = ctypes.c_int
     return fn
 
@@ -121,7 +130,7 @@ class CompositeIntegrator(Engine):
     def __init__(self, functions, *, n_samples: int, span: float, rtol: float, atol: float | None = None,
                  event_tol: float = 1e-10, max_steps: int = 200000, max_events: int = 10000, pressure: str = "steps",
                  loose: float | None = None, quiet: float | None = None, ring: float | None = None,
-                 stiff_steps: int | None = None):
+                 stiff_steps: int | None = None, stiff_hlam: float | None = None):
         """``loose``, ``quiet``, ``ring``: the quiet phase's factors and start (None: the rules of the module
         docstring; a ``ring`` given is used at every rtol, with events located to ``event_tol``)."""
         self._fn = composite_function(functions.library)
@@ -136,6 +145,7 @@ class CompositeIntegrator(Engine):
         quiet_phase = ring is not None or self.rtol >= QUIET_RTOL_MIN
         self.ring = (RING if ring is None else float(ring)) if quiet_phase else math.inf
         self.stiff_steps = (STIFF_STEPS if stiff_steps is None else int(stiff_steps)) if quiet_phase else 0
+        self.stiff_hlam = float(STIFF_HLAM if stiff_hlam is None else stiff_hlam)
         self.event_tol = float(event_tol) if quiet_phase else min(float(event_tol), EVENTS_PER_RTOL * self.rtol)
         self.rate = np.ascontiguousarray(_scales(functions.state_names)[1], float)
         self.n_u = functions.hybrid_ode.size1_in(3) if functions.hybrid_ode is not None else 4
@@ -155,8 +165,9 @@ class CompositeIntegrator(Engine):
         since = np.array([self._carry[1] if self._carry and self._carry[0] == z0.tobytes() else 0.0])
         Z, phase, st = np.empty((self.n_samples, z0.size)), np.empty(self.n_samples), np.zeros(8, np.int64)
         status = self._fn(_ptr(z0), _ptr(par), _ptr(U), _ptr(self.rate), self.n_samples, self.dth,
-                          self.rtol, self.atol, self.loose, self.quiet, self.ring, self.stiff_steps, self.event_tol,
-                          self.max_steps, self.max_events, _ptr(since), _ptr(Z), _ptr(phase), st.ctypes.data_as(_LL))
+                          self.rtol, self.atol, self.loose, self.quiet, self.ring, self.stiff_steps, self.stiff_hlam,
+                          self.event_tol, self.max_steps, self.max_events, _ptr(since), _ptr(Z), _ptr(phase),
+                          st.ctypes.data_as(_LL))
         tight, quiet, rejected, evals, jacobians, events, given_back, done = (int(v) for v in st)
         self._stats = {"n_steps": tight + quiet, "n_tight_steps": tight, "n_quiet_steps": quiet, "n_reject": rejected,
                        "n_rhs": evals, "n_jac": jacobians, "n_events": events, "n_given_back": given_back,
