@@ -31,7 +31,7 @@ from .timing import measure, timed
 
 
 @contextlib.contextmanager
-def captured_stdout(fds: tuple[int, ...] = (1,)):
+def captured_output(fds: tuple[int, ...] = (1,)):
     """Collect what C code prints on the file descriptors ``fds`` (CasADi dumps a failing Function's inputs on 1,
     numbalsoda's LSODA its warnings on 2)."""
     sys.stdout.flush()
@@ -84,7 +84,7 @@ def casadi_point(problem, ref, spec: MethodSpec, value: float, engine, *, repeat
         return engine.run(z0, problem.params, problem.theta0, P)
 
     c0 = time.process_time()
-    with captured_stdout() as printed:
+    with captured_output() as printed:
         try:
             out, timing = measure(call, repeats=repeats, slow_run_s=slow_run_s, budget_s=budget_s)
         except Exception as exc:  # noqa: BLE001 - every failure is a result
@@ -141,7 +141,7 @@ def peer_point(problem, ref, spec: MethodSpec, rtol: float, peer, *, repeats: in
     point = _base(problem, spec, rtol) | {"compiled": True, "engine_build_s": peer.build_s}
     c0 = time.process_time()
     try:
-        with captured_stdout((1, 2)) as printed:  # LSODA's warnings (numbalsoda's C++ prints them)
+        with captured_output((1, 2)) as printed:  # LSODA's warnings (numbalsoda's C++ prints them)
             out, timing = measure(lambda: peer.run(spec.method, rtol), repeats=repeats, slow_run_s=slow_run_s,
                                   budget_s=budget_s)
     except Exception as exc:  # noqa: BLE001

@@ -209,3 +209,18 @@ def test_what_a_peer_printed_is_reported_beside_its_points(monkeypatch):
     assert "numbalsoda-LSODA at rtol 1e-11: 12 lines" in text and "lsoda-- warning" in text
     point.pop("solver_messages")
     assert "printed" not in "\n".join(report.peer_md(r))
+
+
+def test_what_c_code_prints_on_stdout_and_stderr_is_captured():
+    """numbalsoda's LSODA warns on file descriptor 2 from C++: the benchmark keeps it with the point."""
+    import os
+
+    from apexseal.runtime.bench.points import captured_output
+
+    with captured_output((1, 2)) as box:
+        os.write(1, b"out ")
+        os.write(2, b"lsoda -- warning")
+    assert box["text"] == "out lsoda -- warning"
+    with captured_output() as box:
+        os.write(1, b"casadi")
+    assert box["text"] == "casadi"
