@@ -5,9 +5,10 @@
  * The run method `composite` (runtime/solving/composite.py; measured in docs/bench/composite.md): Dormand and
  * Prince's RK5(4) with events where contacts switch (the tight phase), and from `ring` rad after the last contact
  * event, or earlier once `stiff_steps` RK45 steps were found near their stability boundary (DOPRI5's stiffness
- * test, h |lambda| above `stiff_hlam`), the exponential Rosenbrock method exprb32 (Hochbruck, Ostermann and Schweitzer, SIAM J. Numer. Anal. 47
- * (2009)) at `loose` times the tolerances with the rate states' tolerance `quiet` times looser still (the quiet
- * phase); a quiet step across which a zero function changes sign is given back to the tight phase.
+ * test, h |lambda| above `stiff_hlam`), the exponential Rosenbrock method exprb32 (Hochbruck, Ostermann and
+ * Schweitzer, SIAM J. Numer. Anal. 47 (2009)) at `loose` times the tolerances with the rate states' tolerance
+ * `quiet` times looser still (the quiet phase); a quiet step across which a zero function changes sign is given
+ * back to the tight phase.
  * It integrates the scaled state against the crank angle through the library's hybrid_ode and hybrid_zero
  * (runtime/solving/hybrid.py): z = [scaled state, activations, event counts], e_i = (1 - 2 s_i) g_i / l.
  */
@@ -418,15 +419,15 @@ static void emit(double* Z, int k, const double* x, const double* s, const doubl
  * where the controls jump there (interval means) the next interval's first step evaluates its own. *since is the
  * crank angle since the last contact event at the start (a call that goes on from another's end carries it; 0
  * starts in the tight phase), and on return at the end of the intervals done. The quiet phase starts `ring` rad
- * after the last event, or after `stiff_steps` RK45 steps near their stability boundary (their estimate of h |lambda|
- * above `stiff_hlam`) counted within this call (0: only after `ring`). stats (8): tight steps, quiet steps, rejected steps, evaluations, Jacobians, events,
- * quiet steps given back, intervals done. Returns 0; 1 when the model failed to evaluate, 2 when an output
- * interval took more than max_steps steps (rejected ones included), 3 when the model's work arrays exceed this
- * file's, 4 after more than max_events events. */
+ * after the last event, or after `stiff_steps` RK45 steps near their stability boundary (their estimate of
+ * h |lambda| above `stiff_hlam`) counted within this call (0: only after `ring`). stats (8): tight steps, quiet
+ * steps, rejected steps, evaluations, Jacobians, events, quiet steps given back, intervals done. Returns 0; 1
+ * when the model failed to evaluate, 2 when an output interval took more than max_steps steps (rejected ones
+ * included), 3 when the model's work arrays exceed this file's, 4 after more than max_events events. */
 int apexseal_composite_run(const double* z0, const double* p, const double* U, const double* rate, int N,
                            double dth, double rtol, double atol, double loose, double quiet, double ring,
-                           long long stiff_steps, double stiff_hlam, double ev_tol, long long max_steps, long long max_events,
-                           double* since, double* Z, double* phase, long long* stats) {
+                           long long stiff_steps, double stiff_hlam, double ev_tol, long long max_steps,
+                           long long max_events, double* since, double* Z, double* phase, long long* stats) {
   Ctx ctx;
   Ctx* c = &ctx;
   casadi_int sz_arg, sz_res, sz_iw, sz_w, a2, r2, i2, w2, a3, r3, i3, w3;
