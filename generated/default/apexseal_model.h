@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 7011a0598164c368487cdfb996587b6a67aa6d36c784767192c0a6fc8b882aa0.
+ * Effects: all. Input hash: f007c79497b84d52fe08dd06b5b182b26a5faf86964cc3538bffc7e9ed929c8d.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "7011a0598164c368487cdfb996587b6a67aa6d36c784767192c0a6fc8b882aa0"
+#define APEXSEAL_INPUT_HASH "f007c79497b84d52fe08dd06b5b182b26a5faf86964cc3538bffc7e9ed929c8d"
 
 /* state x */
 #define APEXSEAL_NX 6

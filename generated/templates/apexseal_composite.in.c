@@ -412,6 +412,24 @@ static void emit(double* Z, int k, const double* x, const double* s, const doubl
   memcpy(Z + (long long)k * NZ + NX + NG, counts, NG * sizeof(double));
 }
 
+/* the steps counted so far, and when the current output interval began */
+typedef struct {
+  long long tight, quiet, rejected; /* accepted RK45 steps, accepted exprb32 steps, rejected steps of either */
+  long long quiet_before, accepted_before, attempts_before; /* at the interval's start: quiet, accepted, all */
+} Tally;
+
+/* output interval k ends with the scaled state x: its row of Z, the fraction of its steps that were quiet, and a
+ * new interval's tally */
+static void close_interval(double* Z, double* phase, int k, const double* x, const double* s, const double* counts,
+                           Tally* n) {
+  long long n_k = n->tight + n->quiet - n->accepted_before;
+  phase[k] = n_k ? (double)(n->quiet - n->quiet_before) / (double)n_k : 1.0;
+  emit(Z, k, x, s, counts);
+  n->quiet_before = n->quiet;
+  n->accepted_before = n->tight + n->quiet;
+  n->attempts_before = n->accepted_before + n->rejected;
+}
+
 /* Integrates the N output intervals of dth rad from z0 (NZ); writes the hybrid state at each interval's end into
  * Z (N x NZ, row-major) and, per interval, the fraction of its steps that were quiet into phase (N). A quiet step
  * may cross the ends of intervals whose controls are one line (the rows of a pressure table are coarser than the
@@ -444,26 +462,23 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
   memcpy(c->s, z0 + NX, NG * sizeof(double));
   memcpy(counts, z0 + NX + NG, NG * sizeof(double));
   double h_t = 1e-5, h_q = 1e-3, last_event = -*since;
-  long long tight = 0, quiet_steps = 0, rejected = 0, jacobians = 0, events = 0, given_back = 0;
-  long long q_before = 0, all_before = 0, steps_before = 0; /* the counts when the current interval began */
+  long long jacobians = 0, events = 0, given_back = 0;
+  Tally n = {0, 0, 0, 0, 0, 0};
   int stiff = 0, nonstiff = 0; /* RK45 steps found at its stability boundary, and since the last one */
   int status = 0, k = 0, known = 0; /* known: e0 holds the zero functions at w (those at the last step's end) */
   if (F(c, w, 0, f0)) { status = 1; goto done; }
   while (k < N) {
     double t_end = (k + 1) * dth, hh, e;
     if (w[NX] >= t_end * (1 - 1e-14)) { /* interval k is done */
-      long long n_k = tight + quiet_steps - all_before;
-      phase[k] = n_k ? (double)(quiet_steps - q_before) / (double)n_k : 1.0;
-      emit(Z, k, w, c->s, counts);
+      close_interval(Z, phase, k, w, c->s, counts, &n);
       k++;
-      q_before = quiet_steps; all_before = tight + quiet_steps; steps_before = all_before + rejected;
       if (k < N && jumps(c, k - 1, w[NX])) { /* its controls: its own slopes and zero functions */
         if (F(c, w, k, f0)) { status = 1; goto done; }
         known = 0;
       }
       continue;
     }
-    if (tight + quiet_steps + rejected - steps_before > max_steps) { status = 2; goto done; }
+    if (n.tight + n.quiet + n.rejected - n.attempts_before > max_steps) { status = 2; goto done; }
     if (events > max_events) { status = 4; goto done; }
     if (!known && zeros(c, w, k, e0)) { status = 1; goto done; }
     known = 1;
@@ -478,7 +493,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
         if (exprb(c, w, k1, hh, f0, J, w1, err)) { status = 1; goto done; }
         e = norm(c, w, w1, err, rtol * loose, atol * loose, quiet);
         if (e <= 1.0) break;
-        rejected++;
+        n.rejected++;
         h_q = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 3)) : 0.2);
       }
       if (zeros(c, w1, k1, e1)) { status = 1; goto done; }
@@ -491,15 +506,12 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
       }
       h_q = next_step(h_q, hh, fmin(5.0, fmax(0.2, 0.9 * pow(fmax(e, 1e-10), -1.0 / 3))));
       if (F(c, w1, k1, f1)) { status = 1; goto done; }
-      quiet_steps++;
+      n.quiet++;
       /* the intervals' ends the step crossed: their states interpolated, their phase quiet */
       for (double t_j = (k + 1) * dth; k < N && t_j < w1[NX] * (1 - 1e-14); t_j = (k + 1) * dth) {
-        long long n_k = tight + quiet_steps - all_before;
-        phase[k] = n_k ? (double)(quiet_steps - q_before) / (double)n_k : 1.0;
         hermite(t_j, w[NX], w, f0, w1[NX], w1, f1, x);
-        emit(Z, k, x, c->s, counts);
+        close_interval(Z, phase, k, x, c->s, counts, &n);
         k++;
-        q_before = quiet_steps; all_before = tight + quiet_steps; steps_before = all_before + rejected;
       }
       memcpy(w, w1, sizeof(w));
       memcpy(f0, f1, sizeof(f0));
@@ -512,7 +524,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
       if (dp45(c, w, k, hh, f0, K, w1, err)) { status = 1; goto done; }
       e = norm(c, w, w1, err, rtol, atol, 1.0);
       if (e <= 1.0) break;
-      rejected++;
+      n.rejected++;
       retried = 1;
       h_t = hh * (isfinite(e) ? fmax(0.2, 0.9 * pow(e, -1.0 / 5)) : 0.2);
     }
@@ -543,11 +555,11 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
       }
       memcpy(e0, e1, sizeof(e0));
     }
-    tight++;
+    n.tight++;
   }
 done:
   *since = w[NX] - last_event;
-  stats[0] = tight; stats[1] = quiet_steps; stats[2] = rejected; stats[3] = c->evals;
+  stats[0] = n.tight; stats[1] = n.quiet; stats[2] = n.rejected; stats[3] = c->evals;
   stats[4] = jacobians; stats[5] = events; stats[6] = given_back; stats[7] = k;
   return status;
 }
