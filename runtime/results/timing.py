@@ -1,5 +1,10 @@
 """How long a default run's figures take against its simulation: ``python -m apexseal.runtime.results.timing``.
 
+``python -m apexseal.runtime.results.timing 7 --pairs`` measures what the figures add to a default run as a user
+meets it: whole ``apexseal simulate -q`` runs of the default scene with figures and with ``--no-figures``, in turn,
+timed from outside (wall clock; CPU of the process and of every process it waited for), and prints the medians and
+the median of what each pair's run with figures took more than the one without.
+
 ``python -m apexseal.runtime.results.timing 7 --cli`` times whole ``apexseal simulate --timings`` runs of the
 default scene instead (each in a new process, as a user runs it: the figure worker of :mod:`.figure_worker`
 imports matplotlib while the run integrates) and prints the medians of the figures stage against the stages
@@ -128,8 +133,53 @@ def measure_cli(repeats: int = 7) -> dict:
     return med
 
 
+def _whole_run(folder: str, figures: bool) -> tuple[float, float]:
+    """One whole ``apexseal simulate -q`` run of the default scene into ``folder``: its wall seconds, timed from
+    outside, and the CPU seconds of its process and of every process it waited for (the figure worker and the
+    process that worker forks)."""
+    import resource
+    import subprocess
+
+    cmd = [sys.executable, "-c", "from apexseal.cli import main; main()", "simulate", "-q", "--out", folder]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    subprocess.run(cmd + ([] if figures else ["--no-figures"]), capture_output=True, check=True)
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+
+
+def measure_pairs(repeats: int = 7) -> dict:
+    """What the figures add to a default run: ``repeats`` pairs of whole runs with and without figures (the order
+    alternates from pair to pair, after one run of each to warm the caches); the medians of each kind and of the
+    differences within the pairs, in wall and CPU seconds."""
+    runs: dict[bool, list[tuple[float, float]]] = {True: [], False: []}
+    with tempfile.TemporaryDirectory() as tmp:
+        for k in range(repeats + 1):
+            for figures in ((True, False) if k % 2 else (False, True)):
+                measured = _whole_run(f"{tmp}/run{k}-{int(figures)}", figures)
+                if k:
+                    runs[figures].append(measured)
+    med = {"repeats": repeats}
+    for i, clock in enumerate(("wall", "cpu")):
+        with_, without = ([r[i] for r in runs[f]] for f in (True, False))
+        med[f"{clock}_with_s"] = statistics.median(with_)
+        med[f"{clock}_without_s"] = statistics.median(without)
+        med[f"{clock}_added_s"] = statistics.median(a - b for a, b in zip(with_, without, strict=True))
+        med[f"{clock}_added_over_without"] = med[f"{clock}_added_s"] / med[f"{clock}_without_s"]
+    return med
+
+
 def main() -> None:
     repeats = int(sys.argv[1]) if len(sys.argv) > 1 else 5
+    if "--pairs" in sys.argv[2:]:
+        m = measure_pairs(repeats)
+        print(f"apexseal simulate -q (default scene), {repeats} pairs of whole runs with and without figures, medians: "
+              f"wall {m['wall_with_s']:.2f} s with figures, {m['wall_without_s']:.2f} s without; the figures add "
+              f"{m['wall_added_s']:.2f} s = {m['wall_added_over_without']:.2f} x the run without them; CPU "
+              f"{m['cpu_with_s']:.2f} s against {m['cpu_without_s']:.2f} s, the figures add {m['cpu_added_s']:.2f} s "
+              f"= {m['cpu_added_over_without']:.2f} x")
+        return
     if "--cli" in sys.argv[2:]:
         m = measure_cli(repeats)
         print(f"apexseal simulate (default scene), medians of {repeats} runs: figures {m['figures_s']:.2f} s, "

@@ -1,0 +1,39 @@
+"""The figure timing command's whole-run pairs (``python -m apexseal.runtime.results.timing 7 --pairs``).
+
+No time is asserted (the machine is shared); what is checked is that each run of a pair is the run it claims to be
+(figures written, or not) and that the medians and ratios are those of the measured runs.
+"""
+
+from __future__ import annotations
+
+import statistics
+
+from apexseal.runtime.results import timing
+
+
+def test_a_whole_run_is_timed_from_outside_with_the_processes_it_waited_for(tmp_path):
+    wall, cpu = timing._whole_run(str(tmp_path / "with"), figures=True)
+    assert wall > 0 and cpu > 0
+    assert sorted(p.name for p in (tmp_path / "with").glob("*.png"))  # the figures were drawn in that run
+    timing._whole_run(str(tmp_path / "without"), figures=False)
+    assert (tmp_path / "without" / "result.json").is_file() and not list((tmp_path / "without").glob("*.png"))
+
+
+def test_pairs_report_the_medians_of_the_runs_and_of_their_differences(monkeypatch):
+    measured = iter([(1.0, 2.0), (0.5, 0.6),  # the warm-up pair (without first), not counted
+                     (1.1, 2.1), (0.6, 0.7),  # pair 1: with figures first
+                     (0.4, 0.5), (1.3, 2.0),  # pair 2: without first
+                     (1.0, 1.8), (0.5, 0.6)])  # pair 3
+    calls = []
+
+    def fake(folder, figures):
+        calls.append(figures)
+        return next(measured)
+
+    monkeypatch.setattr(timing, "_whole_run", fake)
+    m = timing.measure_pairs(3)
+    assert calls == [False, True, True, False, False, True, True, False]
+    assert m["wall_with_s"] == statistics.median([1.1, 1.3, 1.0]) and m["wall_without_s"] == 0.5
+    assert m["wall_added_s"] == statistics.median([1.1 - 0.6, 1.3 - 0.4, 1.0 - 0.5])
+    assert m["cpu_added_s"] == statistics.median([2.1 - 0.7, 2.0 - 0.5, 1.8 - 0.6])
+    assert m["wall_added_over_without"] == m["wall_added_s"] / m["wall_without_s"]
