@@ -227,3 +227,25 @@ def test_a_constant_above_its_boundary_is_lowered_to_it(light, studies):
     at = np.array([c.delta_s])
     k2, _ = _polish_constant(setup, sf, grid, at, None, MIN_FORCE, (), DEFICIT_TOL, same)
     assert k2[0] == c.delta_s and same.ipopt_delta_s is None
+
+
+def test_schedules_simulated_together_are_those_simulated_one_at_a_time(light):
+    """``periodic_many`` (the derivative-free check's rounds of probes) integrates several schedules in one threaded
+    map of the compiled interval integrator: the same re-simulations, bit for bit, as one schedule at a time, for
+    constant preloads and for 2-knot schedules, the groove-force quadrature included."""
+    from apexseal.runtime.studies.preload.nlp import _periodic, periodic_many
+
+    setup = _setup(light)
+    sf = study_functions(setup, SAMPLES // NODES)
+    for knots, designs in ((1, [[1.0], [3.0], [0.2]]), (2, [[1.0, 3.0], [2.5, 0.5]])):
+        grid = SegmentGrid(SAMPLES, NODES, knots, setup.theta_start, setup.dth)
+        designs = [np.array(d) * MM for d in designs]
+        together = periodic_many(setup, sf, grid, designs, MIN_FORCE, ())
+        assert len(together) == len(designs)
+        for d, sim in zip(designs, together, strict=True):
+            one = _periodic(setup, sf, grid, d, MIN_FORCE, ())
+            assert np.array_equal(one.z, sim.z) and np.array_equal(one.measure, sim.measure)
+            assert np.array_equal(one.thetas, sim.thetas) and np.array_equal(one.delta_s, sim.delta_s)
+            assert (one.deficit, one.friction_power, one.change, one.groove_excess, one.groove_peak) == \
+                (sim.deficit, sim.friction_power, sim.change, sim.groove_excess, sim.groove_peak)
+        assert len({sim.friction_power for sim in together}) == len(designs)  # the designs differ: so do their runs

@@ -59,7 +59,7 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
     preloads below the answer (islands) are kept in ``probes`` and flagged by ``monotone = False``.
     """
     from ...api import model_functions
-    from .nlp import DEFICIT_TOL, _periodic
+    from .nlp import DEFICIT_TOL, _periodic, periodic_many
     from .schedule import SegmentGrid
     from .shooting import study_functions
 
@@ -84,9 +84,9 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
     n_sim = 0
     change = 0.0
 
-    def probe(ds):
+    def probe(ds):  # the probes of a round are integrated together, on every core
         nonlocal n_sim, change
-        sims = [simulate(d) for d in ds]
+        sims = periodic_many(setup, sf, grid, [np.array([d]) for d in ds], min_force, setup.exclude)
         n_sim += len(ds)
         change = max([change] + [s.change for s in sims])
         seen.extend((float(d), s.deficit) for d, s in zip(ds, sims, strict=True))

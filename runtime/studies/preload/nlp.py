@@ -68,7 +68,7 @@ from ....derive.symbols import PARAMETER_NAMES
 from ....progress import announce, stage
 from ...solving.scaling import state_scale
 from .problem import KW, MM, PreloadSetup, PreloadStudyError
-from .schedule import Schedule, SegmentGrid, chain_function, simulate_schedule
+from .schedule import Schedule, SegmentGrid, chain_function, simulate_schedule, simulate_schedules
 from .shooting import CHUNK, TWO_PI, study_functions
 
 _DS = PARAMETER_NAMES.index("delta_s")
@@ -309,14 +309,29 @@ PERIODIC_TOL = 1e-5
 
 def _periodic(setup, sf, grid, knots_m, min_force, exclude):
     """Re-simulate from the scene's initial state until the revolution is periodic (see PERIODIC_TOL)."""
-    sim = simulate_schedule(setup, sf, grid, knots_m, min_force, exclude)
+    return periodic_many(setup, sf, grid, [knots_m], min_force, exclude)[0]
+
+
+def periodic_many(setup, sf, grid, knots_list, min_force, exclude) -> list:
+    """:func:`_periodic` for several schedules at once (:func:`.schedule.simulate_schedules`, on every core): those
+    not yet periodic go on together, 2 revolutions at a time."""
+    sims = simulate_schedules(setup, sf, grid, knots_list, min_force, exclude)
     done = setup.revolutions
-    while sim.change > PERIODIC_TOL and done < 12:
-        z = sim.z[:, -1].copy()
-        z[6 + setup.n_guards:] = 0.0
-        sim = simulate_schedule(setup, sf, grid, knots_m, min_force, exclude, revolutions=2, z_start=z)
+    while done < 12:
+        todo = [i for i, sim in enumerate(sims) if sim.change > PERIODIC_TOL]
+        if not todo:
+            break
+        starts = []
+        for i in todo:
+            z = sims[i].z[:, -1].copy()
+            z[6 + setup.n_guards:] = 0.0
+            starts.append(z)
+        again = simulate_schedules(setup, sf, grid, [knots_list[i] for i in todo], min_force, exclude, revolutions=2,
+                                   z_starts=starts)
+        for i, sim in zip(todo, again, strict=True):
+            sims[i] = sim
         done += 2
-    return sim
+    return sims
 
 
 def _fill(res, setup, grid, knots_m, sim) -> None:

@@ -11,6 +11,7 @@ knot and every shooting node is a segment boundary, so on each segment delta_s i
 :func:`simulate_schedule` chains the segments over several revolutions from the scene's initial state:
 the re-simulation of an optimum (and the derivative-free check) with the same hybrid model and event
 integrator as the simulator, which also measures the force deficit between samples.
+:func:`simulate_schedules` does it for several schedules at once, on every core.
 """
 
 from __future__ import annotations
@@ -158,43 +159,74 @@ class Resimulation:
 def simulate_schedule(setup, sf, grid: SegmentGrid, knots_m, min_force: float, exclude,
                       revolutions: int | None = None, z_start: np.ndarray | None = None) -> Resimulation:
     """Chain the segments over ``revolutions`` revolutions from the scene's initial state at the first node."""
+    return simulate_schedules(setup, sf, grid, [knots_m], min_force, exclude, revolutions,
+                              None if z_start is None else [z_start])[0]
+
+
+def parallel_threads(n: int) -> int:
+    """Threads for ``n`` independent integrations: one per core this process may run on, at most ``n``."""
+    import os
+
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return max(1, min(n, cores))
+
+
+def simulate_schedules(setup, sf, grid: SegmentGrid, knots_list, min_force: float, exclude,
+                       revolutions: int | None = None, z_starts=None) -> list[Resimulation]:
+    """:func:`simulate_schedule` for several schedules (or constant preloads) at once, one :class:`Resimulation`
+    each. Each segment's integrator call is made for all of them together, in a threaded map of the study's
+    compiled interval integrator over the schedules (:func:`parallel_threads`): the same function with the same
+    inputs, so the same numbers as one schedule at a time, on every core."""
     from ...solving.preflight import initial_activations
     from ...solving.scaling import to_scaled
-    from .problem import _scale
 
-    knots_m = np.asarray(knots_m, float)
+    knots_list = [np.asarray(k, float) for k in knots_list]
+    n = len(knots_list)
     revolutions = revolutions or setup.revolutions
     ng = setup.n_guards
     C = setup.controls(grid.edges(), grid.m)  # each segment's call from its start
-    U = setup.pressures(grid.edges())  # at the samples, as the outputs see them
-    if z_start is None:
+    if z_starts is None:
         op = setup.scene.operation
         X = np.array([getattr(op.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float)
-        Q0 = grid.q_columns(setup, knots_m, min_force, exclude)
-        p = Q0[:setup.pmap.p0.size, 0]
-        act = initial_activations(setup.functions, grid.theta_first, X, p, C[:2, 0])
-        z_start = np.r_[to_scaled(X, float(p[_omega()])), act, np.zeros(ng)]
-    z = np.asarray(z_start, float)
+        z_starts = []
+        for knots_m in knots_list:
+            p = grid.q_columns(setup, knots_m, min_force, exclude)[:setup.pmap.p0.size, 0]
+            act = initial_activations(setup.functions, grid.theta_first, X, p, C[:2, 0])
+            z_starts.append(np.r_[to_scaled(X, float(p[_omega()])), act, np.zeros(ng)])
+    z = np.column_stack([np.asarray(z0, float) for z0 in z_starts])  # one column per schedule
+    interval = sf.interval if n == 1 else sf.interval.map(n, "thread", parallel_threads(n))
     m = grid.m
     starts = [z.copy()]
     for rev in range(revolutions):
-        Q = grid.q_columns(setup, knots_m, min_force, exclude, rev)
-        cols, qsum = [], np.zeros(sf.n_quad)
+        Q = [grid.q_columns(setup, knots_m, min_force, exclude, rev) for knots_m in knots_list]
+        cols, qsum = [], np.zeros((sf.n_quad, n))
         for s in range(grid.segments):
-            r = sf.interval(x0=z, p=Q[:, s], u=C[:, s * m:(s + 1) * m])
-            xf = np.array(r["xf"])
+            r = interval(x0=z, p=np.column_stack([q[:, s] for q in Q]), u=C[:, s * m:(s + 1) * m])
+            xf = np.array(r["xf"]).reshape(-1, n, m).transpose(1, 0, 2)  # (schedule, state, sample)
             cols.append(xf)
-            qsum += np.array(r["qf"])[:, -1]
-            z = xf[:, -1].copy()
+            qsum += np.array(r["qf"])[:, m - 1::m]
+            z = xf[:, :, -1].T.copy()
         z0_rev = starts[-1]
         z[6 + ng:] = 0.0
         starts.append(z.copy())
-    Z = np.concatenate([z0_rev[:, None], np.concatenate(cols, axis=1)], axis=1)
+    return [_resimulation(setup, sf, grid, knots_list[i], revolutions, exclude,
+                          np.concatenate([z0_rev[:, i:i + 1]] + [c[i] for c in cols], axis=1), qsum[:, i],
+                          starts[-2][:, i], starts[-1][:, i]) for i in range(n)]
+
+
+def _resimulation(setup, sf, grid: SegmentGrid, knots_m, revolutions: int, exclude, Z: np.ndarray,
+                  qsum: np.ndarray, start_before: np.ndarray, start_last: np.ndarray) -> Resimulation:
+    """The last revolution ``Z`` (its start included) of a chained schedule, with its quadratures ``qsum``, as a
+    :class:`Resimulation`: the tip's contact measure at the samples, and the groove forces where they are bounded."""
+    from .problem import _scale
+
+    ng = setup.n_guards
+    U = setup.pressures(grid.edges())  # at the samples, as the outputs see them
     Z[6 + ng:, 0] = 0.0
     if not np.isfinite(Z).all():
         raise RuntimeError("the re-simulation of the schedule turned non-finite")
     thetas = grid.edges()[1:] + (revolutions - 1) * TWO_PI
-    change = float(np.max(np.abs(starts[-1][:6] - starts[-2][:6]) / np.maximum(1.0, np.abs(starts[-1][:6]))))
+    change = float(np.max(np.abs(start_last[:6] - start_before[:6]) / np.maximum(1.0, np.abs(start_last[:6]))))
     # the physical parameters at each sample (delta_s varies along the segment)
     d_at = Schedule(tuple(grid.knot_angles_deg), tuple(knots_m))(np.degrees(thetas))
     P = setup.pmap.p0[:, None] + setup.pmap.dp[:, None] * d_at[None, :]
@@ -216,4 +248,5 @@ def _omega() -> int:
     return PARAMETER_NAMES.index("omega")
 
 
-__all__ = ["DELTA_S", "MM", "Resimulation", "Schedule", "SegmentGrid", "chain_function", "simulate_schedule"]
+__all__ = ["DELTA_S", "MM", "Resimulation", "Schedule", "SegmentGrid", "chain_function", "parallel_threads",
+           "simulate_schedule", "simulate_schedules"]
