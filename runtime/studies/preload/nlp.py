@@ -28,8 +28,8 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
 * **Decision variables**: the knot values in mm and the 6 scaled states at ``nodes`` shooting nodes,
   each divided by the largest magnitude that component reaches on the start trajectory.
 * **Shooting**: each shooting interval is a chain of segments (one per knot stretch, schedule.py),
-  each one call of the compiled interval integrator; the intervals are mapped over the nodes on
-  two threads. Sensitivities (forward, including the event times) come from the compiled forward
+  each one call of the compiled interval integrator; the intervals are mapped over the nodes, a
+  thread per core (problem.parallel_threads). Sensitivities (forward, including the event times) come from the compiled forward
   derivative of that integrator, called in chunks of directions, assembled into the NLP Jacobian
   by hand (a ``custom_jacobian``): the NLP is never generated to C as a whole, so the cold build is
   the two small C units of shooting.py (tens of seconds, instead of one ~65 MB file that took gcc
@@ -67,7 +67,7 @@ import numpy as np
 from ....derive.symbols import PARAMETER_NAMES
 from ....progress import announce, stage
 from ...solving.scaling import state_scale
-from .problem import KW, MM, PreloadSetup, PreloadStudyError
+from .problem import KW, MM, PreloadSetup, PreloadStudyError, parallel_threads
 from .schedule import Schedule, SegmentGrid, chain_function, simulate_schedule, simulate_schedules
 from .shooting import CHUNK, TWO_PI, study_functions
 
@@ -502,7 +502,7 @@ class _ShootingNlp:
         nq = Q.size1()
         Un = ca.DM(U)  # node k takes the columns of its segments, in order
         nominal = chain_function(sf, g, nz, derivatives=False)
-        Fn = nominal.map(nodes, "thread", 2)
+        Fn = nominal.map(nodes, "thread", parallel_threads(nodes))
         Qcols = Q
         zend, qs, _ = Fn(x0, Qcols, Un)
         nxt = ca.horzcat(*[Z[:, (k + 1) % nodes] for k in range(nodes)])
@@ -516,7 +516,7 @@ class _ShootingNlp:
 
         # the Jacobian, from the compiled forward derivative (seeds: node states, knot values)
         full = chain_function(sf, g, nz, derivatives=True, nd=nd)
-        Ff = full.map(nodes, "thread", 2)
+        Ff = full.map(nodes, "thread", parallel_threads(nodes))
         seed_z = np.zeros((nz, nd))
         seed_z[:6, :6] = np.diag(S)
         L = setup.pmap.p0.size

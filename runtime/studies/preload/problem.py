@@ -129,6 +129,14 @@ class Periodic:
     friction_power: np.ndarray  # (n,) mean friction power over the last revolution (W)
 
 
+def parallel_threads(n: int) -> int:
+    """Threads for ``n`` independent integrations: one per core this process may run on, at most ``n``."""
+    import os
+
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return max(1, min(n, cores))
+
+
 @dataclass
 class PreloadSetup:
     """The study's model, grid and checks for one scene (see the module docstring)."""
@@ -223,9 +231,9 @@ class PreloadSetup:
         return self._engine
 
     def mapped(self, n: int) -> ca.Function:
-        """The compiled one-revolution integrator mapped over n preloads on two threads."""
+        """The compiled one-revolution integrator mapped over n preloads, a thread per core (:func:`parallel_threads`)."""
         if n not in self._mapped:
-            self._mapped[n] = self.engine().function.map(n, "thread", 2)
+            self._mapped[n] = self.engine().function.map(n, "thread", parallel_threads(n))
         return self._mapped[n]
 
     def start_state(self, delta_s: float) -> np.ndarray:

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from .problem import DELTA_S, MM
+from .problem import DELTA_S, MM, parallel_threads
 from .shooting import TWO_PI, q_layout, window_vector
 
 
@@ -163,14 +163,6 @@ def simulate_schedule(setup, sf, grid: SegmentGrid, knots_m, min_force: float, e
                               None if z_start is None else [z_start])[0]
 
 
-def parallel_threads(n: int) -> int:
-    """Threads for ``n`` independent integrations: one per core this process may run on, at most ``n``."""
-    import os
-
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    return max(1, min(n, cores))
-
-
 def simulate_schedules(setup, sf, grid: SegmentGrid, knots_list, min_force: float, exclude,
                        revolutions: int | None = None, z_starts=None) -> list[Resimulation]:
     """:func:`simulate_schedule` for several schedules (or constant preloads) at once, one :class:`Resimulation`
@@ -248,5 +240,5 @@ def _omega() -> int:
     return PARAMETER_NAMES.index("omega")
 
 
-__all__ = ["DELTA_S", "MM", "Resimulation", "Schedule", "SegmentGrid", "chain_function", "parallel_threads",
-           "simulate_schedule", "simulate_schedules"]
+__all__ = ["DELTA_S", "MM", "Resimulation", "Schedule", "SegmentGrid", "chain_function", "simulate_schedule",
+           "simulate_schedules"]
