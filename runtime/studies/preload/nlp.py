@@ -29,11 +29,11 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
   each divided by the largest magnitude that component reaches on the start trajectory.
 * **Shooting**: each shooting interval is a chain of segments (one per knot stretch, schedule.py),
   each one call of the compiled interval integrator; the intervals are mapped over the nodes, a
-  thread per core (problem.parallel_threads). Sensitivities (forward, including the event times) come from the compiled forward
-  derivative of that integrator, called in chunks of directions, assembled into the NLP Jacobian
-  by hand (a ``custom_jacobian``): the NLP is never generated to C as a whole, so the cold build is
-  the two small C units of shooting.py (tens of seconds, instead of one ~65 MB file that took gcc
-  about 2 minutes).
+  thread per core (problem.parallel_threads). Sensitivities (forward, including the event times)
+  come from the compiled forward derivative of that integrator, called in chunks of directions,
+  assembled into the NLP Jacobian by hand (a ``custom_jacobian``): the NLP is never generated to C
+  as a whole, so the cold build is the two small C units of shooting.py (tens of seconds, instead
+  of one ~65 MB file that took gcc about 2 minutes).
 * **Modes at the nodes** follow from the node's gaps (closed where negative), with no derivative:
   exact while no gap is zero at a node, so the nodes are placed at the sample offset that keeps them
   farthest from every contact switch of the start trajectory. 4 nodes by default: a node inside the
