@@ -249,3 +249,22 @@ def test_schedules_simulated_together_are_those_simulated_one_at_a_time(light):
             assert (one.deficit, one.friction_power, one.change, one.groove_excess, one.groove_peak) == \
                 (sim.deficit, sim.friction_power, sim.change, sim.groove_excess, sim.groove_peak)
         assert len({sim.friction_power for sim in together}) == len(designs)  # the designs differ: so do their runs
+
+
+def test_the_feasible_start_is_the_smallest_passing_multiple_of_the_scenes_preload(light):
+    """The start search simulates its candidates (the scene's preload x 1.5^k) a round at a time on every core and
+    keeps the first that passes: the history lists the candidates in order up to it, every one before it failing;
+    with max_preload below it, none passes and the message says so."""
+    from apexseal.runtime.studies.preload.nlp import PreloadResult, _feasible_start
+
+    setup = _setup(light)
+    sf = study_functions(setup, SAMPLES // NODES)
+    grid = SegmentGrid(SAMPLES, NODES, 1, setup.theta_start, setup.dth)
+    res = PreloadResult(False, "", MIN_FORCE, [])
+    d = _feasible_start(setup, sf, grid, 0.2 * MM, 0.1, DEFICIT_TOL, res)
+    ds = [h[0] for h in res.history]
+    assert ds == [0.2 * MM * 1.5**k for k in range(len(ds))] and d == ds[-1] and len(ds) > 2
+    assert res.history[-1][2] <= DEFICIT_TOL and all(h[2] > DEFICIT_TOL for h in res.history[:-1])
+    low = PreloadResult(False, "", MIN_FORCE, [])
+    assert _feasible_start(setup, sf, grid, 0.2 * MM, ds[-2], DEFICIT_TOL, low) is None
+    assert [h[0] for h in low.history] == ds[:-1] and low.message.startswith("infeasible")

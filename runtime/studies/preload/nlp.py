@@ -402,16 +402,19 @@ def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, defici
     """The smallest scene_ds * 1.5^k (k >= 0, up to max_preload) whose periodic revolution keeps the force deficit
     within its bound (re-simulations from the scene's initial state)."""
     base = scene_ds if scene_ds > 0 else MM
+    batch = parallel_threads(60)  # candidates simulated together, a thread per core; the first passing one is kept
     with stage("searching a feasible constant start (scene's preload x 1.5^k)"):
-        for k in range(60):
-            d = min(base * 1.5**k, max_preload)
-            sim = simulate_schedule(setup, sf, grid, np.array([d]), setup.min_force, setup.exclude)
-            keep = setup.mask(sim.thetas)
-            j = int(np.argmin(np.where(keep, sim.measure, np.inf)))
-            res.history.append((float(d), float(sim.measure[j]), float(sim.deficit)))
-            if sim.deficit <= deficit_tol:
-                return d
-            if d >= max_preload:
+        for k0 in range(0, 60, batch):
+            ds = [min(base * 1.5**k, max_preload) for k in range(k0, min(k0 + batch, 60))]
+            ds = ds[:next((i + 1 for i, d in enumerate(ds) if d >= max_preload), len(ds))]
+            for d, sim in zip(ds, simulate_schedules(setup, sf, grid, [np.array([d]) for d in ds], setup.min_force,
+                                                     setup.exclude), strict=True):
+                keep = setup.mask(sim.thetas)
+                j = int(np.argmin(np.where(keep, sim.measure, np.inf)))
+                res.history.append((float(d), float(sim.measure[j]), float(sim.deficit)))
+                if sim.deficit <= deficit_tol:
+                    return d
+            if ds[-1] >= max_preload:
                 break
     res.message = (f"infeasible: no constant preload up to max_preload = {max_preload / MM:g} mm keeps the contact "
                    f"force >= {setup.min_force:g} N between samples: at {d / MM:.4g} mm the force deficit is "
