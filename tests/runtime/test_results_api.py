@@ -143,6 +143,9 @@ def test_fig12_labels_do_not_overlap_and_the_legend_names_both_ports(result):
         assert not any(a.overlaps(b) for a, b in itertools.combinations(labels, 2)), ax.get_title()
     title = _boxes(fig, [fig._suptitle])[0]
     assert not any(title.overlaps(b) for b in _boxes(fig, [ax.title for ax in fig.axes]))
+    for ax in fig.axes:  # each panel's title, placed at a given height, clears its angle labels (the 90 deg one)
+        head = _boxes(fig, [ax.title])[0]
+        assert not any(head.overlaps(b) for b in _boxes(fig, ax.xaxis.get_ticklabels())), ax.get_title()
     legend = fig.legends[0]
     assert {t.get_text() for t in legend.get_texts()} >= {"inlet port", "outlet port", "zero"}
     box, page = legend.get_window_extent(fig.canvas.get_renderer()), fig.bbox
