@@ -486,7 +486,7 @@ class _ShootingNlp:
         U = setup.controls(g.edges(), g.m)  # (4, n): each segment's call from its start
         omega = float(setup.pmap.p0[PARAMETER_NAMES.index("omega")])
         sc = state_scale(omega)
-        nd = 6 + knots + (6 + knots) % CHUNK
+        nd = -(-(6 + knots) // CHUNK) * CHUNK  # the directions, padded to whole chunks
         self.nd = nd
         self.deficit_tol, self.objective = float(deficit_tol), objective
 
