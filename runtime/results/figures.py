@@ -22,7 +22,7 @@ from .summary import housing_force, spectral_peaks, spectrum
 PORT_COLOURS = {"inlet": "tab:orange", "outlet": "tab:green"}
 #: height of Fig. 12's panel titles (axes fraction): just above the 90 deg label, where matplotlib's automatic placement
 #: put them. Every title is placed at a given height: the automatic one measures the tick labels of the axes again for
-#: each title in each layout pass, a fifth to a quarter of Fig. 12's, Fig. 14's and the modes' drawing time
+#: each title in each layout pass, a tenth to a fifth of Fig. 12's, Fig. 14's and the modes' drawing time
 #: (docs/performance.md); their tick labels are never above the axes (Fig. 12's angle labels are fixed)
 TITLE_Y_POLAR = 1.075
 

@@ -62,7 +62,7 @@ def fig11_pressures(result: SimulationResult, *, pyplot: bool = False):
     ax.set_xlim(0, 360)
     ax.legend()
     ax.grid(alpha=0.3)
-    ax.set_title("Chamber pressures against crank angle (cf. Fig. 11)")
+    ax.set_title("Chamber pressures against crank angle (cf. Fig. 11)", y=1.0)  # placed: see figures.TITLE_Y_POLAR
     return fig
 
 
