@@ -131,10 +131,9 @@ class Periodic:
 
 def parallel_threads(n: int) -> int:
     """Threads for ``n`` independent integrations: one per core this process may run on, at most ``n``."""
-    import os
+    from ....cores import available_cores
 
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    return max(1, min(n, cores))
+    return max(1, min(n, available_cores()))
 
 
 @dataclass

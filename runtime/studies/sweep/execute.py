@@ -10,7 +10,6 @@ the points it was running. Ctrl-C stops after writing every finished point; the 
 from __future__ import annotations
 
 import logging
-import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -19,6 +18,7 @@ from typing import Any
 
 import pandas as pd
 
+from ....cores import available_cores
 from .design import design_points
 from .point import run_point
 from .store import Store
@@ -86,7 +86,7 @@ def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, sche
     done = store.open(study, resume=resume)
     todo = [p for p in points if p[0] not in done]
     skipped = len(points) - len(todo)
-    n = workers or os.cpu_count() or 1
+    n = workers or available_cores()
     serial = (client is None and scheduler is None and n == 1) or not todo  # nothing to do: no cluster
     bar = tqdm(total=len(points), initial=skipped, unit="pt", disable=quiet, desc=study.name, dynamic_ncols=True)
     failed = [0]

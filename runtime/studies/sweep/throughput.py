@@ -17,13 +17,14 @@ import tempfile
 import time
 from pathlib import Path
 
+from ....cores import available_cores
 from .execute import run_sweep, scenes_of
 from .point import run_point
 
 
 def modes() -> list[tuple[str, int]]:
     """(label, workers): serial, every core, 2-worker LocalCluster (the last two coincide on a 2-core machine)."""
-    cores = os.cpu_count() or 1
+    cores = available_cores()
     return [("serial", 1), (f"all cores (LocalCluster, {cores} workers)", cores), ("LocalCluster, 2 workers", 2)]
 
 
@@ -63,7 +64,7 @@ def measure(study, *, repeats: int = 3, log=print) -> dict:
                      "efficiency": rate / (workers * serial), "load_min": min(loads[label]),
                      "load_max": max(loads[label])})
     per_point = {"median_wall_s": statistics.median(walls), "median_run_s": statistics.median(runs)}
-    return {"points": n_points, "repeats": repeats, "cores": os.cpu_count(), "rows": rows,
+    return {"points": n_points, "repeats": repeats, "cores": available_cores(), "rows": rows,
             "per_point": per_point}
 
 
