@@ -20,6 +20,7 @@ axes whatever the data. Prints the medians and their ratios, all measured in one
 
 from __future__ import annotations
 
+import os
 import statistics
 import sys
 import tempfile
@@ -108,6 +109,18 @@ def measure(repeats: int = 5) -> dict:
     return med
 
 
+def _simulate(folder: str) -> list[str]:
+    """The command line of a quiet ``apexseal simulate`` of the default scene into ``folder``, in a new process."""
+    return [sys.executable, "-c", "from apexseal.cli import main; main()", "simulate", "-q", "--out", folder]
+
+
+def _bytecode_note() -> None:
+    """Whole runs compile apexseal's modules again in every process when Python may not write bytecode."""
+    if os.environ.get("PYTHONDONTWRITEBYTECODE"):
+        print("note: PYTHONDONTWRITEBYTECODE is set, so every whole run compiles apexseal's modules again (about "
+              "0.1 s more per process than in an install); unset it for numbers comparable with docs/performance.md")
+
+
 #: the stages of ``apexseal simulate --timings`` that make the result
 SIMULATION_STAGES = ("scene", "load", "compile", "integrate", "assemble")
 
@@ -120,8 +133,7 @@ def measure_cli(repeats: int = 7) -> dict:
     stages = []
     with tempfile.TemporaryDirectory() as tmp:
         for k in range(repeats + 1):
-            cmd = [sys.executable, "-c", "from apexseal.cli import main; main()", "simulate", "--out", f"{tmp}/run{k}"]
-            run = subprocess.run([*cmd, "-q", "--timings"], capture_output=True, text=True, check=True)
+            run = subprocess.run([*_simulate(f"{tmp}/run{k}"), "--timings"], capture_output=True, text=True, check=True)
             line = next(x for x in run.stdout.splitlines() if x.startswith("timings-json "))
             if k:
                 stages.append(json.loads(line.split(" ", 1)[1]))
@@ -140,10 +152,9 @@ def _whole_run(folder: str, figures: bool) -> tuple[float, float]:
     import resource
     import subprocess
 
-    cmd = [sys.executable, "-c", "from apexseal.cli import main; main()", "simulate", "-q", "--out", folder]
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    subprocess.run(cmd + ([] if figures else ["--no-figures"]), capture_output=True, check=True)
+    subprocess.run(_simulate(folder) + ([] if figures else ["--no-figures"]), capture_output=True, check=True)
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return wall, (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
@@ -173,6 +184,7 @@ def measure_pairs(repeats: int = 7) -> dict:
 def main() -> None:
     repeats = int(sys.argv[1]) if len(sys.argv) > 1 else 5
     if "--pairs" in sys.argv[2:]:
+        _bytecode_note()
         m = measure_pairs(repeats)
         print(f"apexseal simulate -q (default scene), {repeats} pairs of whole runs with and without figures, medians: "
               f"wall {m['wall_with_s']:.2f} s with figures, {m['wall_without_s']:.2f} s without; the figures add "
@@ -181,6 +193,7 @@ def main() -> None:
               f"= {m['cpu_added_over_without']:.2f} x")
         return
     if "--cli" in sys.argv[2:]:
+        _bytecode_note()
         m = measure_cli(repeats)
         print(f"apexseal simulate (default scene), medians of {repeats} runs: figures {m['figures_s']:.2f} s, "
               f"simulation (scene, load, compile, integrate, assemble) {m['simulation_s']:.2f} s, ratio "
