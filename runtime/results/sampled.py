@@ -87,20 +87,18 @@ def _loops(functions, n_u: int) -> bool:
             and _block(functions.library) is not None)
 
 
-def outputs_at(functions, theta, X, closed, params, U) -> tuple[np.ndarray, np.ndarray]:
+def outputs_at(functions, theta, X, closed, params, U) -> tuple[np.ndarray | None, np.ndarray]:
     """(the named outputs (n_outputs, n), the guards (n_guards, n)) at the crank angles ``theta`` (n,), physical
     states ``X`` (n_x, n), contacts ``closed`` (n_guards, n; bool or 0/1), parameters ``params``, pressures ``U``
-    (n_u, n)."""
+    (n_u, n). With ``closed`` None only the guards are evaluated, and the outputs are None."""
     theta = np.asarray(theta, float)
     way = _looped if _loops(functions, U.shape[0]) else _mapped
     return way(functions, theta, X, closed, params, U)
 
 
 def guards_at(functions, theta, X, params, U) -> np.ndarray:
-    """The guards (n_guards, n) at the samples (as :func:`outputs_at`)."""
-    theta = np.asarray(theta, float)
-    way = _looped if _loops(functions, U.shape[0]) else _mapped
-    return way(functions, theta, X, None, params, U)[1]
+    """The guards (n_guards, n) at the samples (as :func:`outputs_at`, without the outputs)."""
+    return outputs_at(functions, theta, X, None, params, U)[1]
 
 
 def main(argv=None) -> None:

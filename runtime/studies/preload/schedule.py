@@ -201,19 +201,20 @@ def simulate_schedules(setup, sf, grid: SegmentGrid, knots_list, min_force: floa
         z0_rev = starts[-1]
         z[6 + ng:] = 0.0
         starts.append(z.copy())
-    return [_resimulation(setup, sf, grid, knots_list[i], revolutions,
+    U = setup.pressures(grid.edges())  # at the samples, as the outputs see them
+    return [_resimulation(setup, sf, grid, knots_list[i], revolutions, U,
                           np.concatenate([z0_rev[:, i:i + 1]] + [c[i] for c in cols], axis=1), qsum[:, i],
                           starts[-2][:, i], starts[-1][:, i]) for i in range(n)]
 
 
-def _resimulation(setup, sf, grid: SegmentGrid, knots_m, revolutions: int, Z: np.ndarray, qsum: np.ndarray,
-                  start_before: np.ndarray, start_last: np.ndarray) -> Resimulation:
+def _resimulation(setup, sf, grid: SegmentGrid, knots_m, revolutions: int, U: np.ndarray, Z: np.ndarray,
+                  qsum: np.ndarray, start_before: np.ndarray, start_last: np.ndarray) -> Resimulation:
     """The last revolution ``Z`` (its start included) of a chained schedule, with its quadratures ``qsum``, as a
-    :class:`Resimulation`: the tip's contact measure at the samples, and the groove forces where they are bounded."""
+    :class:`Resimulation`: the tip's contact measure at the samples (pressures ``U`` there), and the groove forces
+    where they are bounded."""
     from .problem import _scale
 
     ng = setup.n_guards
-    U = setup.pressures(grid.edges())  # at the samples, as the outputs see them
     Z[6 + ng:, 0] = 0.0
     if not np.isfinite(Z).all():
         raise RuntimeError("the re-simulation of the schedule turned non-finite")
