@@ -13,10 +13,10 @@ from __future__ import annotations
 
 import os
 import pickle
-from importlib.metadata import version
 from pathlib import Path
 
 from ..files import atomic_open, content_key, files_digest
+from ..versions import distribution_version
 from .assumptions import Assumptions
 from .effects import Effects
 
@@ -48,7 +48,7 @@ def derivation_key(effects: Effects, assumptions: Assumptions) -> str:
         "submodels": digest(),
         "effects": effects.as_dict(),
         "assumptions": assumptions.as_dict(),
-        "sympy": version("sympy"),  # without importing sympy
+        "sympy": distribution_version("sympy"),  # without importing sympy
     }
     return content_key(payload)
 

@@ -27,10 +27,10 @@ from ..derive.assumptions import Assumptions
 from ..derive.cache import cache_dir
 from ..derive.effects import Effects
 from ..derive.modes import Mode
-from ..files import file_lock
+from ..files import content_key, file_lock, stat_key
 from ..progress import stage
 from .codegen import SERIALIZED, read_serialized
-from .compile import compiled_or_interpreted
+from .compile import compiled_or_interpreted, compiler
 from .functions import ModelFunctions, with_hybrid
 from .manifest import MANIFEST_NAME, Manifest, StaleArtefactError, StaleArtefactWarning, input_hash, verify
 
@@ -122,11 +122,45 @@ def check_library(library: Path, manifest: Manifest) -> None:
                                            f"manifest's {manifest.input_hash[:12]}..."])
 
 
+#: what :func:`load_functions` returned in this process, by its arguments, with the fingerprint it was current for
+_LOADED: dict[tuple, tuple[tuple, LoadedFunctions]] = {}
+
+
+def _fingerprint(loaded: LoadedFunctions, expected_hash: str) -> tuple | None:
+    """What a loaded model was current for: the input hash of today's sources, and the stat of its manifest, of
+    every file the manifest lists and of the compiled library (None when one of them is gone)."""
+    folder = loaded.source_dir
+    files = [folder / MANIFEST_NAME, *(folder / name for name in loaded.manifest.data["files"])]
+    try:
+        return (expected_hash, *(stat_key(p) for p in [*files, *([loaded.library] if loaded.library else [])]))
+    except OSError:
+        return None
+
+
 def load_functions(effects: Effects | None = None, assumptions: Assumptions | None = None, *, compiled: bool = True,
                    flags: str = "optimised", echo=None) -> LoadedFunctions:
-    """SX and compiled Functions of a model from its artefacts; derives, generates and compiles what is missing."""
+    """SX and compiled Functions of a model from its artefacts; derives, generates and compiles what is missing.
+
+    Within a process the Functions of a model are loaded once: a later call (every point of a sweep, every run
+    of a notebook) returns the same :class:`LoadedFunctions` while the sources give the same input hash and
+    none of the model's files has changed its stat since they were checked against the manifest, with the same
+    compiler command; otherwise it checks and loads again. A compiler fallback is not kept (a later call tries
+    the compiler again)."""
     effects = effects or Effects()
     assumptions = assumptions or Assumptions()
+    key = (content_key([effects.as_dict(), assumptions.as_dict()]), bool(compiled), flags, compiler())
+    expected = input_hash(effects, assumptions)
+    kept = _LOADED.get(key)
+    if kept is not None and kept[0] == _fingerprint(kept[1], expected):
+        return kept[1]
+    loaded = _load(effects, assumptions, compiled=compiled, flags=flags, echo=echo)
+    fingerprint = _fingerprint(loaded, expected) if loaded.manifest.input_hash == expected else None
+    if fingerprint is not None and (loaded.compiled or not compiled):
+        _LOADED[key] = (fingerprint, loaded)
+    return loaded
+
+
+def _load(effects: Effects, assumptions: Assumptions, *, compiled: bool, flags: str, echo) -> LoadedFunctions:
     source = artefact_dir(effects, assumptions, echo=echo)
     manifest = verify(source, trusted=True)
     sx = functions_of(source, manifest)

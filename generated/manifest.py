@@ -22,7 +22,6 @@ from __future__ import annotations
 import importlib.util
 import json
 from dataclasses import dataclass, field
-from importlib.metadata import version
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +31,7 @@ from ..derive.assumptions import Assumptions
 from ..derive.cache import cache_dir, source_digest
 from ..derive.effects import Effects
 from ..files import content_key, files_digest, sha256_bytes, sha256_file
+from ..versions import distribution_version
 
 FORMAT = "apexseal-generated/1"
 MANIFEST_NAME = "manifest.json"
@@ -80,7 +80,7 @@ def inputs_record(effects: Effects, assumptions: Assumptions) -> dict[str, Any]:
         "assumptions": assumptions.as_dict(),
         "templates": {p.name: sha256_file(p) for p in template_paths()},
         "casadi": casadi.__version__,
-        "sympy": version("sympy"),  # the distribution's version: reading it does not import sympy
+        "sympy": distribution_version("sympy"),  # the distribution's version: reading it does not import sympy
     }
 
 

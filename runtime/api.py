@@ -93,14 +93,16 @@ def scene_that_ran(scene, settings: RunSettings):
         return scene.with_overrides(**over)
 
 
-def provenance(scene) -> dict:
+def provenance(scene, functions=None) -> dict:
     """What identifies a run's inputs: the scene as given (Scene.reference) and its content hash, the generated
-    model's input hash (the ``input_hash`` of its manifest), and the package versions."""
+    model's input hash (the ``input_hash`` of its manifest: the model ``functions`` were loaded from, or the
+    scene's), and the package versions."""
     from ..generated.manifest import input_hash
     from .results.summary import versions
 
-    return {"scene": scene.reference, "scene_hash": scene.content_hash(),
-            "model_hash": input_hash(scene.effects, scene.assumptions), "versions": versions()}
+    model_hash = getattr(functions, "model_hash", None) or input_hash(scene.effects, scene.assumptions)
+    return {"scene": scene.reference, "scene_hash": scene.content_hash(), "model_hash": model_hash,
+            "versions": versions()}
 
 
 def simulate(scene, *, revolutions: int | None = None, method: str | None = None, rtol: float | None = None,
@@ -145,8 +147,8 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     clearance = side_clearance(scene.seal.Ws, scene.seal.Wg)
     result = run(functions, scene.parameter_vector(), settings, theta_start=op.start_angle,
                  state0=initial_state(scene, functions), pressure=pressure, until_periodic=op.until_periodic,
-                 periodic_tol=op.periodic_tol, progress=progress, info=provenance(ran) | {"side_clearance_m": clearance},
-                 sink=sink)
+                 periodic_tol=op.periodic_tol, progress=progress,
+                 info=provenance(ran, functions) | {"side_clearance_m": clearance}, sink=sink)
     result.scene = ran
     check = penetration_check(result, clearance)
     if not check["ok"]:

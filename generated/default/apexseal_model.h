@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: f007c79497b84d52fe08dd06b5b182b26a5faf86964cc3538bffc7e9ed929c8d.
+ * Effects: all. Input hash: b07c9efd425245caeba81c956ef0aa27b4b145034cfd8eeaeca873db3d0deaf9.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "f007c79497b84d52fe08dd06b5b182b26a5faf86964cc3538bffc7e9ed929c8d"
+#define APEXSEAL_INPUT_HASH "b07c9efd425245caeba81c956ef0aa27b4b145034cfd8eeaeca873db3d0deaf9"
 
 /* state x */
 #define APEXSEAL_NX 6

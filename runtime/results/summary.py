@@ -97,13 +97,12 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
 
 
 def versions() -> dict:
-    from importlib.metadata import version
-
     import casadi
     import numpy
 
     from ... import __version__
+    from ...versions import distribution_version
 
     # sympy's version from its distribution: reading it does not import sympy (1 s) into a run
-    return {"apexseal": __version__, "casadi": casadi.__version__, "sympy": version("sympy"),
+    return {"apexseal": __version__, "casadi": casadi.__version__, "sympy": distribution_version("sympy"),
             "numpy": numpy.__version__, "python": platform.python_version(), "machine": platform.machine()}

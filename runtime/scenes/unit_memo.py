@@ -31,12 +31,11 @@ def key_of(*parts: Any) -> str:
 
 
 def _path() -> Path:
-    from importlib.metadata import version
-
     from apexseal.derive.cache import cache_dir
+    from apexseal.versions import distribution_version
 
     h = hashlib.sha256(Path(__file__).with_name("units.py").read_bytes())
-    h.update(version("pint").encode())
+    h.update(distribution_version("pint").encode())
     return cache_dir() / "units" / f"conversions-{h.hexdigest()[:16]}.json"
 
 

@@ -153,6 +153,11 @@ class CompositeIntegrator(Engine):
         self._stats: dict = {}
         self._carry: tuple[bytes, float] | None = None  # (the last call's end state, crank angle since its event)
 
+    def reset(self) -> None:
+        """Also forget the last call's end state: a new run starts its quiet-phase count from zero."""
+        super().reset()
+        self._carry = None
+
     def stats(self) -> dict:
         """The statistics of the last call."""
         return dict(self._stats)

@@ -53,6 +53,11 @@ class Engine:
     def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:
         raise NotImplementedError
 
+    def reset(self) -> None:
+        """Forget what earlier runs left, before the engine serves another run (:mod:`.engine_pool`): its
+        deadline (an engine that carries more from call to call resets that too)."""
+        self.deadline = math.inf
+
 
 class WallTimeExceeded(RuntimeError):
     """The wall-time deadline passed inside an engine's call; ``partial`` holds the samples computed."""

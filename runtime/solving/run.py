@@ -24,6 +24,7 @@ from ..results.assemble import assemble_blocks
 from ..results.folder import ResultStorageError
 from ..results.parts import InMemory
 from ..results.result import SimulationResult, StopInfo
+from . import engine_pool
 from .checks import RunChecks
 from .diagnosis import locate_failure
 from .layout import HybridLayout
@@ -73,9 +74,11 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     part = _Part(functions, params, theta_start, omega, sink, first=z.copy(), first_pressures=u0)
     stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0)
     status = "completed" if stop is None else "failed"
+    leased = None
     if engine is None and stop is None:  # no compiling for a run that cannot start
         m = samples_per_call(settings) * sub
-        engine = make_engine(functions, settings, n_samples=m, span=m * dth)
+        leased = engine_pool.lease(functions, settings, n_samples=m, span=m * dth, make=make_engine)  # kept, or new
+        engine = leased.engine
     t_engine = time.perf_counter()
     m = engine.n_samples if engine is not None else N * sub
     if (N * sub) % m:
@@ -166,6 +169,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                    "compiled": bool(engine is not None and engine.compiled)}
         if signals.requested:
             info["signals"] = [int(s) for s in signals.received]
+        if leased is not None:
+            leased.release()  # for the next run of this model with these settings
         t_finish = time.perf_counter()
         result = sink.finish(status, stop, info)
         # wall seconds: start checks and building the engine (compiling, or loading the cached library), integrating

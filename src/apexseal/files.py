@@ -18,6 +18,7 @@ import hashlib
 import json
 import os
 import tempfile
+import time
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -28,21 +29,57 @@ def sha256_bytes(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
+#: digests of files computed in this process, under the files' identity and stat (see :func:`_remembered`)
+_DIGESTS: dict[tuple, str] = {}
+#: a file modified less than this long (ns) before it is hashed is never remembered: a second change within its
+#: timestamp's resolution could leave size and modification time as they were (git's "racily clean" files)
+RACY_NS = 2_000_000_000
+
+
+def stat_key(path: Path) -> tuple:
+    """A file's path and stat (device, inode, size, modification and change times): what changes when it does."""
+    st = os.stat(path)
+    return (os.fspath(path), st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
+
+
+def _remembered(key: tuple, paths: list[Path], compute) -> str:
+    """``compute()``, remembered for this process while none of ``paths`` changes its stat (device, inode, size,
+    modification and change times): every simulation of a sweep or a notebook checks the same sources and
+    artefacts against their manifest, and a file is read and hashed once instead of once per run."""
+    stats = (key, *(stat_key(p) for p in paths))
+    hit = _DIGESTS.get(stats)
+    if hit is not None:
+        return hit
+    digest = compute()
+    if all(time.time_ns() - s[4] > RACY_NS and time.time_ns() - s[5] > RACY_NS for s in stats[1:]):
+        _DIGESTS[stats] = digest
+    return digest
+
+
 def sha256_file(path: Path) -> str:
-    h = hashlib.sha256()
-    with Path(path).open("rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
+    def compute() -> str:
+        h = hashlib.sha256()
+        with Path(path).open("rb") as fh:
+            for block in iter(lambda: fh.read(1 << 20), b""):
+                h.update(block)
+        return h.hexdigest()
+
+    return _remembered(("sha256_file",), [Path(path)], compute)
 
 
 def files_digest(root: Path, names: Iterable[str]) -> str:
     """The sha256 of the named files below ``root``, each as its relative name followed by its bytes, in order."""
-    h = hashlib.sha256()
-    for name in names:
-        h.update(name.encode())
-        h.update((Path(root) / name).read_bytes())
-    return h.hexdigest()
+    names = list(names)
+    paths = [Path(root) / name for name in names]
+
+    def compute() -> str:
+        h = hashlib.sha256()
+        for name, path in zip(names, paths, strict=True):
+            h.update(name.encode())
+            h.update(path.read_bytes())
+        return h.hexdigest()
+
+    return _remembered(("files_digest", *names), paths, compute)
 
 
 def content_key(payload: Any) -> str:

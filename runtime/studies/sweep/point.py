@@ -30,12 +30,13 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
     """Simulate ``scene`` (the study's base scene with ``overrides`` applied) and return its row."""
     import apexseal
 
+    from ...solving import engine_pool
     from .quantities import collect
 
     t0 = time.perf_counter()
     row: dict[str, Any] = {"point": int(index), "scene_hash": scene.content_hash(), **overrides}
     try:
-        with _quiet_notice():
+        with _quiet_notice(), engine_pool.reusing():  # the points of a model and settings share one engine
             result = apexseal.simulate(scene, max_wall_time=max_wall_time)
         values = collect(result, quantities)
         row.update(status=result.status, stop="" if result.stop is None else result.stop.describe())
