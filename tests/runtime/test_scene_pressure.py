@@ -314,3 +314,18 @@ def test_default_scene_uses_the_default_table(default_csv):
     theta_deg, pa, pb = default_table()
     np.testing.assert_allclose(scene.pressure.Pa(np.radians(theta_deg)), pa, atol=0.051)
     np.testing.assert_allclose(scene.pressure.Pb(np.radians(theta_deg)), pb, atol=0.051)
+
+
+def test_a_table_read_again_is_shared_read_only_and_a_changed_one_is_read_anew(tmp_path):
+    """The same file's text is parsed once per process (a sweep's every point reads it); the shared table cannot
+    be changed through one scene, and other bytes give another table."""
+    path = tmp_path / "p.csv"
+    path.write_text(SIMPLE)
+    first = load_table("p.csv", tmp_path)
+    assert load_table("p.csv", tmp_path) is first
+    with pytest.raises(ValueError, match="read-only"):
+        first.pa[0] = 0.0
+    assert load_table("p.csv", tmp_path, unit="bar") is not first  # another unit: another table
+    path.write_text(SIMPLE.replace("100,400", "150,400"))
+    again = load_table("p.csv", tmp_path)
+    assert again is not first and again.Pa(0.0) == 150.0 and first.Pa(0.0) == 100.0
