@@ -79,5 +79,6 @@ def table(result: dict) -> str:
     p = result["per_point"]
     lines.append("")
     lines.append(f"Serial points: median {p['median_wall_s']:.3f} s a point, of which {p['median_run_s']:.3f} s "
-                 "integrating (the rest: scene, integrator construction and C look-up, summary).")
+                 "in the run (integrating, and building the integrator for a worker's first point of a model; "
+                 "the rest: loading the model, the summary, the row).")
     return "\n".join(lines)
