@@ -135,6 +135,7 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     from scipy.optimize import minimize
 
     from ...api import model_functions, simulate
+    from ...solving import engine_pool
 
     ranges = dict(PLAUSIBLE if ranges is None else ranges)
     for name, (lo, hi) in ranges.items():
@@ -163,7 +164,7 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     def evaluate(u: np.ndarray) -> float:
         values = {n: float(np.exp(v)) for n, v in zip(names, np.clip(u, lo, hi), strict=True)}
         sc = scene.with_overrides(**overrides(values))
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), engine_pool.reusing():  # every candidate runs the same engine
             warnings.simplefilter("ignore")
             r = simulate(sc, revolutions=revolutions, functions=functions, **extra)
         if not r.ok:
