@@ -8,7 +8,9 @@ needs the same engine, with other parameter values, which are an input of every 
 the same model Functions and settings takes it (reset, :meth:`.methods.Engine.reset`) instead of building one.
 The Functions are the same object because :func:`~apexseal.generated.load.load_functions` returns the model it
 loaded while its files are unchanged. A leased engine serves one run at a time: a run in another thread while
-it is out builds its own. An engine whose run raised is not given back.
+it is out builds its own. An engine is given back when its run ends, whatever the run's status (a call that
+failed leaves nothing in it); one whose run raised out of :func:`.run.run` is dropped. ``apexseal.reusing_engines``
+is :func:`reusing`, for a user's own loop over designs.
 
 Outside :func:`reusing` every run builds its own engine and drops it: an engine also depends on module constants
 (the composite method's rules) that a user or a test may change between two runs.

@@ -10,6 +10,7 @@ Public API::
     apexseal.Model(scene).rhs(theta, state)  # the state derivative, numpy
     result.plot("fig12"); result.to_xarray(); result.to_pandas(); result.summary()
     apexseal.plot_comparison([result_a, result_b], ["x", "Pf_total"])  # several results in one Figure
+    with apexseal.reusing_engines(): ...     # many runs of one model and settings share one integrator
 """
 
 __version__ = "0.1.0"
@@ -25,6 +26,7 @@ _LAZY = {
     "SimulationResult": ("runtime.results.result", "SimulationResult"),
     "plot_comparison": ("runtime.results.plots", "plot_comparison"),
     "optimise_preload": ("runtime.studies.preload.nlp", "optimise_preload"),
+    "reusing_engines": ("runtime.solving.engine_pool", "reusing"),
 }
 
 

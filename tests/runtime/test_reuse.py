@@ -51,7 +51,7 @@ def test_a_kept_engine_gives_the_numbers_of_a_new_one(default_scene, builds, met
     """The second run of the same model and settings takes the first run's engine, and its result is the same
     to the bit; another tolerance builds another engine."""
     scene = default_scene.with_overrides(**{"solver.method": method, "solver.samples_per_revolution": 360})
-    with engine_pool.reusing():
+    with apexseal.reusing_engines():  # the public name of engine_pool.reusing
         first = apexseal.simulate(scene)
         assert len(builds) == 1
         second = apexseal.simulate(scene.with_overrides(**{"spring.delta_s": "0.9 mm"}))  # same engine
