@@ -148,7 +148,7 @@ def load_functions(effects: Effects | None = None, assumptions: Assumptions | No
     the compiler again)."""
     effects = effects or Effects()
     assumptions = assumptions or Assumptions()
-    key = (content_key([effects.as_dict(), assumptions.as_dict()]), bool(compiled), flags, compiler())
+    key = (content_key([effects.as_dict(), assumptions.as_dict()]), bool(compiled), flags, compiler(), str(DEFAULT_DIR))
     expected = input_hash(effects, assumptions)
     kept = _LOADED.get(key)
     if kept is not None and kept[0] == _fingerprint(kept[1], expected):

@@ -14,20 +14,35 @@ from apexseal.runtime.solving import engine_pool, methods
 from apexseal.runtime.solving import run as run_module
 
 
-def test_the_loaded_model_is_kept_while_its_files_are_unchanged(default_scene):
-    """A second load returns the same Functions; a manifest whose stat changed is checked and loaded again."""
-    first = load.load_functions(default_scene.effects, default_scene.assumptions)
-    assert load.load_functions(default_scene.effects, default_scene.assumptions) is first
-    assert load.load_functions(default_scene.effects, default_scene.assumptions, compiled=False) is not first
-    manifest = first.source_dir / load.MANIFEST_NAME
+def test_the_loaded_model_is_kept_while_its_files_are_unchanged(artefacts, monkeypatch):
+    """A second load returns the same Functions; a manifest whose stat changed is checked and loaded again; a C
+    file edited together with its hash in the manifest after a load is refused at the next load, as at the first.
+    (On a private copy of the committed artefacts, trusted as the station's.)"""
+    import json
+
+    from apexseal.files import sha256_file
+    from apexseal.generated.manifest import StaleArtefactWarning, trust
+
+    trust(artefacts)
+    monkeypatch.setattr(load, "DEFAULT_DIR", artefacts)
+    first = load.load_functions()
+    assert first.source_dir == artefacts
+    assert load.load_functions() is first
+    assert load.load_functions(compiled=False) is not first
+    manifest = artefacts / load.MANIFEST_NAME
     st = manifest.stat()
-    try:
-        os.utime(manifest, ns=(st.st_atime_ns, st.st_mtime_ns + 1))  # the same bytes, another stat
-        again = load.load_functions(default_scene.effects, default_scene.assumptions)
-        assert again is not first and again.manifest.input_hash == first.manifest.input_hash
-        assert load.load_functions(default_scene.effects, default_scene.assumptions) is again
-    finally:
-        os.utime(manifest, ns=(st.st_atime_ns, st.st_mtime_ns))
+    os.utime(manifest, ns=(st.st_atime_ns, st.st_mtime_ns + 1))  # the same bytes, another stat
+    again = load.load_functions()
+    assert again is not first and again.manifest.input_hash == first.manifest.input_hash
+    assert load.load_functions() is again
+    path = artefacts / "casadi_model.c"
+    path.write_text(path.read_text().replace("casadi_real", "casadi_real ", 1))
+    data = json.loads(manifest.read_text())
+    data["files"]["casadi_model.c"] = sha256_file(path)
+    manifest.write_text(json.dumps(data, indent=2) + "\n")
+    with pytest.warns(StaleArtefactWarning, match="not the one the generator recorded"):
+        edited = load.load_functions()
+    assert edited.source_dir != artefacts  # regenerated artefacts, never the edited ones
 
 
 @pytest.fixture
