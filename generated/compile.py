@@ -38,7 +38,7 @@ from pathlib import Path
 
 import casadi as ca
 
-from ..cores import available_cores
+from ..cores import parallel_threads
 from ..derive.cache import cache_dir
 from ..files import atomic_write, content_key, file_lock, sha256_bytes, sha256_file
 from ..progress import stage
@@ -146,7 +146,7 @@ def _compile_all(cc: str, flags: tuple[str, ...], sources: list[Path], build_dir
             raise CompilerUnavailable(f"{cc} failed on {src.name}: {out.stderr.strip()[-600:]}")
         return obj
 
-    with ThreadPoolExecutor(max_workers=max(1, min(len(sources), available_cores()))) as pool:
+    with ThreadPoolExecutor(max_workers=parallel_threads(len(sources))) as pool:
         objects = list(pool.map(one, sources))
     out = _run([cc, "-shared", *[str(o) for o in objects], "-o", str(target), *link, "-lm"])
     if out.returncode != 0:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 
 from apexseal import cores
-from apexseal.runtime.studies.preload.problem import parallel_threads
+from apexseal.cores import parallel_threads
 
 
 def test_cores_follow_the_affinity_and_else_the_machine(monkeypatch):

@@ -145,9 +145,9 @@ def _git(*args: str) -> str | None:
 
 def _version(module: str) -> str | None:
     try:
-        from importlib.metadata import version
+        from ...versions import distribution_version
 
-        return version(module)
+        return distribution_version(module)
     except Exception:  # noqa: BLE001
         return None
 

@@ -12,3 +12,9 @@ def available_cores() -> int:
     if hasattr(os, "sched_getaffinity"):
         return max(1, len(os.sched_getaffinity(0)))
     return os.cpu_count() or 1
+
+
+def parallel_threads(n: int) -> int:
+    """Workers for ``n`` independent tasks (compilations, integrations): one per core this process may run on, at
+    most ``n``, at least 1."""
+    return max(1, min(n, available_cores()))

@@ -29,7 +29,7 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
   each divided by the largest magnitude that component reaches on the start trajectory.
 * **Shooting**: each shooting interval is a chain of segments (one per knot stretch, schedule.py),
   each one call of the compiled interval integrator; the intervals are mapped over the nodes, a
-  thread per core (problem.parallel_threads). Sensitivities (forward, including the event times)
+  thread per core (apexseal.cores.parallel_threads). Sensitivities (forward, including the event times)
   come from the compiled forward derivative of that integrator, called in chunks of directions,
   assembled into the NLP Jacobian by hand (a ``custom_jacobian``): the NLP is never generated to C
   as a whole, so the cold build is the two small C units of shooting.py (tens of seconds, instead
@@ -64,10 +64,11 @@ from dataclasses import asdict, dataclass, field
 import casadi as ca
 import numpy as np
 
+from ....cores import parallel_threads
 from ....derive.symbols import PARAMETER_NAMES
 from ....progress import announce, stage
 from ...solving.scaling import state_scale
-from .problem import KW, MM, PreloadSetup, PreloadStudyError, parallel_threads
+from .problem import KW, MM, PreloadSetup, PreloadStudyError
 from .schedule import Schedule, SegmentGrid, chain_function, simulate_schedule, simulate_schedules
 from .shooting import CHUNK, TWO_PI, study_functions
 

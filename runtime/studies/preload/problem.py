@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
+from ....cores import parallel_threads
 from ....derive.symbols import PARAMETER_NAMES
 from ...solving.hybrid import controls as engine_controls
 from ...solving.preflight import initial_activations
@@ -127,13 +128,6 @@ class Periodic:
     change: np.ndarray  # (n,) max change of the scaled state between the starts of the last two revolutions
     measure: np.ndarray  # (n, samples) tip contact measure at the samples
     friction_power: np.ndarray  # (n,) mean friction power over the last revolution (W)
-
-
-def parallel_threads(n: int) -> int:
-    """Threads for ``n`` independent integrations: one per core this process may run on, at most ``n``."""
-    from ....cores import available_cores
-
-    return max(1, min(n, available_cores()))
 
 
 @dataclass

@@ -22,7 +22,8 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from .problem import DELTA_S, MM, parallel_threads
+from ....cores import parallel_threads
+from .problem import DELTA_S, MM
 from .shooting import TWO_PI, q_layout, window_vector
 
 
