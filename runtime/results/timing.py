@@ -14,8 +14,9 @@ Runs the default scene once to warm the caches (derivation, compiled libraries),
 ``apexseal.simulate(scene)`` (wall time of the call: integrator set-up from the cache plus integration; and
 the integration alone, ``result.info["wall_time_s"]``) and :func:`.figures.write_figures` (draw and save the four
 PNG files), as ``apexseal simulate`` draws them (some in a forked second process, :mod:`.figure_job`) and all in
-this process, in turn; and the :func:`skeleton` of each figure (made and saved), matplotlib's cost for the same
-axes whatever the data. Prints the medians and their ratios, all measured in one process.
+this process, in turn; the :func:`skeleton` of each figure (made and saved), matplotlib's cost for the same
+axes whatever the data; and :func:`single_axes`, the least figure a run could draw. Prints the medians and their
+ratios, all measured in one process.
 """
 
 from __future__ import annotations
@@ -66,6 +67,23 @@ def skeleton(fig):
     return sk
 
 
+def single_axes(result, path: Path) -> None:
+    """The least figure a run could draw: one axes with constrained layout, the run's x against crank angle, two
+    axis labels, saved as a PNG at 100 dpi. Its time against the ``simulate()`` call answers whether *any*
+    matplotlib figure can be cheaper than the simulation it shows."""
+    import numpy as np
+
+    from .figures import new_figure
+    from .outputs import describe
+
+    fig = new_figure((6.4, 4.8))
+    ax = fig.subplots()
+    ax.plot(np.degrees(result.theta), result.column("x") * describe("x").scale, lw=0.8)
+    ax.set_xlabel("crank angle (deg)")
+    ax.set_ylabel(describe("x").label)
+    fig.savefig(path, dpi=100)
+
+
 def measure(repeats: int = 5) -> dict:
     import apexseal
 
@@ -79,6 +97,8 @@ def measure(repeats: int = 5) -> dict:
         call, integration, figures, alone = [], [], [], []
         each: dict[str, list[float]] = {name: [] for name in figure_files(result)}
         floor: dict[str, list[float]] = {name: [] for name in figure_files(result)}
+        least = []
+        single_axes(result, Path(tmp) / "single-axes.png")
         for _ in range(repeats):
             t0 = time.perf_counter()
             result = apexseal.simulate(scene)
@@ -99,6 +119,9 @@ def measure(repeats: int = 5) -> dict:
                 t0 = time.perf_counter()
                 skeleton(drawn).savefig(Path(tmp) / f"skeleton-{name}", dpi=100)
                 floor[name].append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            single_axes(result, Path(tmp) / "single-axes.png")
+            least.append(time.perf_counter() - t0)
     med = {k: statistics.median(v) for k, v in (("simulate_call_s", call), ("integration_s", integration),
                                                   ("figures_s", figures), ("figures_one_process_s", alone))}
     med["figures_over_simulate_call"] = med["figures_s"] / med["simulate_call_s"]
@@ -106,6 +129,7 @@ def measure(repeats: int = 5) -> dict:
     med["repeats"] = repeats
     med["each_s"] = {name: statistics.median(v) for name, v in each.items()}
     med["floor_s"] = {name: statistics.median(v) for name, v in floor.items()}
+    med["single_axes_s"] = statistics.median(least)
     return med
 
 
@@ -210,6 +234,9 @@ def main() -> None:
           + ", ".join(f"{name} {t:.3f} s" for name, t in m["floor_s"].items())
           + f"; together {floor:.2f} s, {floor / 2:.2f} s on two cores = {floor / 2 / m['simulate_call_s']:.2f} x the "
           "simulate() call")
+    print(f"the least figure, one axes with a line of x and two labels (timing.single_axes): {m['single_axes_s']:.3f} s "
+          f"= {m['single_axes_s'] / m['simulate_call_s']:.2f} x the simulate() call, "
+          f"{m['single_axes_s'] / m['integration_s']:.2f} x the integration")
 
 
 if __name__ == "__main__":
