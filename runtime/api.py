@@ -37,7 +37,7 @@ def settings_of(scene, **overrides) -> RunSettings:
                 max_events_per_revolution=s.max_events_per_revolution, chatter_window=s.chatter_window,
                 chatter_events=s.chatter_events, compile_c=not s.interpreted,
                 flags="quick" if s.compile == "quick" else "optimised", revolutions=scene.operation.revolutions,
-                pressure=s.pressure)
+                pressure=s.pressure, calls_per_revolution=s.calls_per_revolution)
     return RunSettings(**(base | {k: v for k, v in overrides.items() if v is not None}))
 
 
@@ -67,14 +67,20 @@ _SCENE_KEYS = {
     "chatter_window": ("solver.chatter_window", _radians), "chatter_events": ("solver.chatter_events", int),
     "flags": ("solver.compile", lambda f: "quick" if f == "quick" else "optimised"),
     "compile_c": ("solver.interpreted", lambda c: not c), "revolutions": ("operation.revolutions", int),
-    "pressure": ("solver.pressure", str),
+    "pressure": ("solver.pressure", str), "calls_per_revolution": ("solver.calls_per_revolution", int),
 }
 
 
 def scene_that_ran(scene, settings: RunSettings):
     """The scene with a run's settings written into it ([solver] keys, operation.revolutions), so that loading
     its resolved TOML re-runs the same computation. Settings that are no scene key (a wall-time budget, a
-    user's engine class) are recorded in result.json only."""
+    user's engine class) are recorded in result.json only; what a budget changes in the computation, the
+    integrator calls a revolution is cut into (each starts the integrator afresh), is written as
+    ``solver.calls_per_revolution``, so the scene re-runs the same numbers without the budget."""
+    from .solving.settings import samples_per_call
+
+    if settings.max_wall_time and settings.calls_per_revolution is None:
+        settings = settings.replace(calls_per_revolution=settings.samples_per_revolution // samples_per_call(settings))
     base = settings_of(scene)
     over = {}
     for name, (key, form) in _SCENE_KEYS.items():

@@ -311,6 +311,7 @@ class SolverSection(Section):
     compile: _v(Choice("quick", "optimised"), str) = "optimised"
     interpreted: _v(Flag(), bool) = False
     pressure: _v(Choice(*PRESSURE_PROFILES), str) = DEFAULT_PRESSURE
+    calls_per_revolution: _v(_int("calls_per_revolution"), int | None) = None
 
 
 # ---------------------------------------------------------------------------

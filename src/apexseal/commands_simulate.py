@@ -13,7 +13,7 @@ from .runtime.solving.methods import METHODS
 from .stopwatch import Stopwatch
 
 #: run setting -> the option that sets it (a bad value is reported against the option)
-OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol"}
+OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol", "max_wall_time": "--max-wall-time"}
 
 
 @click.command()
@@ -21,6 +21,9 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
 @click.option("--revolutions", "-n", type=int, help="Revolutions to simulate (default: the scene's; 1 to 100000).")
 @click.option("--method", type=click.Choice(list(METHODS)), help="Integration method (default: the scene's).")
 @click.option("--rtol", type=float, help="Relative tolerance (default: the scene's; 1e-12 to 0.01).")
+@click.option("--max-wall-time", type=float, metavar="SECONDS",
+              help="Wall-time budget: past it the run stops and keeps the revolutions done, as Ctrl-C does (0 to 1e7 "
+                   "s; the revolution is then cut into 36 integrator calls, written into the result's scene.toml).")
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder [default: apexseal-out/<scene name>].")
 @click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv (text; slower than the binary parts).")
@@ -28,7 +31,8 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
 @click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, progress bar).")
 @click.option("--timings", is_flag=True, help="Print where the wall time went (startup, import, scene, load, compile, "
               "integrate, assemble, save, figures).")
-def simulate(scene: Path | None, revolutions, method, rtol, out, csv, no_figures, quiet, timings) -> None:
+def simulate(scene: Path | None, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet,
+             timings) -> None:
     """Simulate SCENE (a TOML file; default: the embedded case study of the paper; a result folder's scene.toml
     re-runs that result).
 
@@ -39,10 +43,10 @@ def simulate(scene: Path | None, revolutions, method, rtol, out, csv, no_figures
     from . import progress
 
     with progress.enabled(not quiet):  # derivation, code generation and compilations report on stderr
-        _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, timings)
+        _simulate(scene, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet, timings)
 
 
-def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, timings) -> None:
+def _simulate(scene, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet, timings) -> None:
     watch = Stopwatch()  # stages always timed (two clock reads each), printed with --timings
     from .runtime.results.figure_worker import FigureWorker  # light: matplotlib is imported by the worker
 
@@ -65,7 +69,8 @@ def _simulate(scene, revolutions, method, rtol, out, csv, no_figures, quiet, tim
         with watch.stage("scene"):
             sc = scene_of(scene)
             try:
-                settings = settings_of(sc, revolutions=revolutions, method=method, rtol=rtol)
+                settings = settings_of(sc, revolutions=revolutions, method=method, rtol=rtol,
+                                       max_wall_time=max_wall_time)
             except SettingsError as err:
                 key = err.errors[0].key
                 raise click.BadParameter("\n".join(p.message for p in err.errors),

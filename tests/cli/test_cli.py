@@ -40,6 +40,30 @@ def test_simulate_default_scene_end_to_end(tmp_path):
     assert "wrote" in r.output and str(out) in r.output
 
 
+def test_a_run_with_a_wall_time_budget_writes_a_scene_that_re_runs_it_without_the_budget(tmp_path):
+    """A budget cuts each revolution into 36 integrator calls (checked between them), and each call starts the
+    integrator afresh, which moves the numbers within the tolerance: the result's scene.toml records the calls, so
+    that re-running it without the budget gives the same numbers (before, it re-ran one call per revolution)."""
+    out, again = tmp_path / "budget", tmp_path / "again"
+    r = CliRunner().invoke(main, ["simulate", "--max-wall-time", "600", "--out", str(out), "-q", "--no-figures"])
+    assert r.exit_code == 0, r.output
+    a = SimulationResult.load(out)
+    assert a.info["calls_per_revolution"] == 36 and a.scene.solver.calls_per_revolution == 36
+    assert "calls_per_revolution = 36" in (out / "scene.toml").read_text()
+    r2 = CliRunner().invoke(main, ["simulate", str(out / "scene.toml"), "--out", str(again), "-q", "--no-figures"])
+    assert r2.exit_code == 0, r2.output
+    b = SimulationResult.load(again)
+    assert b.info["calls_per_revolution"] == 36
+    assert np.array_equal(a.state, b.state) and np.array_equal(a.events, b.events)
+
+
+def test_a_bad_wall_time_budget_is_reported_against_its_option(tmp_path):
+    r = CliRunner().invoke(main, ["simulate", "--max-wall-time", "0", "--out", str(tmp_path / "o")])
+    assert r.exit_code == 2
+    assert "--max-wall-time" in r.output and "0" in r.output and "allowed" in r.output
+    assert not (tmp_path / "o").exists()
+
+
 def test_simulate_rejects_a_bad_scene_with_the_key_named(tmp_path):
     scene = tmp_path / "bad.toml"
     from apexseal.runtime.scenes.scene import default_scene_text

@@ -46,6 +46,8 @@ SCENE_FILES = [
     ("too-many-samples", ("samples_per_revolution = 3600", "samples_per_revolution = 200000"),
      ["solver.samples_per_revolution", "36 <= n <= 100000"]),
     ("tolerance-out-of-range", ("rtol = 1e-6", "rtol = 0.1"), ["solver.rtol", "1e-12 <= value <= 0.01"]),
+    ("zero-calls-per-revolution", ("rtol = 1e-6", "rtol = 1e-6\ncalls_per_revolution = 0"),
+     ["solver.calls_per_revolution", "1 <= n <= 100000"]),
     ("unknown-method", ('method = "erk"', 'method = "cvode"'), ["solver.method", "did you mean 'cvodes'"]),
     ("groove-narrower-than-seal", ('Wg = "3.06 mm"', 'Wg = "2.9 mm"'), ["seal.Wg", "groove must be wider"]),
     ("aspect-ratio-above-limit", ('r = "10 mm"', 'r = "20 mm"'), ["machine.r", "exceeds 0.25"]),
