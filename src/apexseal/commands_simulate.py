@@ -22,8 +22,9 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
 @click.option("--method", type=click.Choice(list(METHODS)), help="Integration method (default: the scene's).")
 @click.option("--rtol", type=float, help="Relative tolerance (default: the scene's; 1e-12 to 0.01).")
 @click.option("--max-wall-time", type=float, metavar="SECONDS",
-              help="Wall-time budget: past it the run stops and keeps the revolutions done, as Ctrl-C does (0 to 1e7 "
-                   "s; the revolution is then cut into 36 integrator calls, written into the result's scene.toml).")
+              help="Wall-time budget: past it the run stops and keeps the revolutions done, as Ctrl-C does (above "
+                   "0, at most 1e7 s; each revolution is then cut into 36 integrator calls, written into the result's "
+                   "scene.toml).")
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder [default: apexseal-out/<scene name>].")
 @click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv (text; slower than the binary parts).")
