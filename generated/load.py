@@ -68,8 +68,6 @@ def _current(directory: Path, expected: str) -> bool:
 
 def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None = None, *, echo=None) -> Path:
     """The folder holding current, trusted artefacts for these inputs (deriving and generating them if needed)."""
-    from .generate import generate
-
     effects = effects or Effects()
     assumptions = assumptions or Assumptions()
     expected = input_hash(effects, assumptions)
@@ -87,6 +85,8 @@ def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None
         try:
             verify(target, expected_hash=expected, trusted=True)  # another process generated it while we waited
         except StaleArtefactError:
+            from .generate import generate  # the station (jinja2, the derivation): imported only to generate
+
             with stage(f"deriving the equations of motion and generating their C for effects {effects.label} "
                        "(first use; cached afterwards)"):
                 generate(effects, assumptions, target, compile=False, echo=echo)
