@@ -13,9 +13,13 @@ Layout (format ``apexseal-result/2``)::
 Writing: everything goes into the sibling folder ``<out>.partial-<run id>``; each part is written as soon as the
 run loop completes it, followed by a progress record (result.json saying status ``interrupted`` and how far the
 run got), so a run that is killed (SIGKILL, power loss) leaves a loadable folder that loses at most the
-revolution in progress. At the end the final result.json is written and :meth:`ResultFolder.commit` renames
-the folder into place: a previous result at ``<out>`` stays intact until then, and is replaced only if it is a
-result folder (so a mistyped ``--out`` never deletes a user's files).
+revolution in progress, and the one before it if the kill came while it was being written. A part is written by
+a thread while the run integrates the next revolution (CasADi lets go of Python's lock while it integrates, so
+the two share the machine's cores); the run loop waits for it before it hands over the next part, so a write
+that failed is reported one revolution later, and no part is ever written after one that failed. At the end the
+final result.json is written and :meth:`ResultFolder.commit` renames the folder into place: a previous result at
+``<out>`` stays intact until then, and is replaced only if it is a result folder (so a mistyped ``--out`` never
+deletes a user's files).
 
 Reading (:func:`read`): result.json must be of this format; every part must carry the same run id, the recorded
 sample count and sha256, and shapes that agree; summary.json and trajectory.csv, if present, must name the
@@ -28,6 +32,7 @@ import io
 import json
 import os
 import shutil
+import threading
 import uuid
 from pathlib import Path
 
@@ -121,10 +126,38 @@ class ResultFolder:
         self.error: ResultStorageError | None = None  # the first storage error, if any
         self.kept: list[SimulationResult] | None = []  # the parts written, while they fit in KEEP_BYTES
         self.kept_bytes = 0
+        self._writer: threading.Thread | None = None  # the thread writing the last part handed over
+        self._failure: BaseException | None = None  # its error, until sync() raises it
 
     # ------------------------------------------------------------------ writing
     def append(self, part: SimulationResult) -> None:
-        """Write one part, then the progress record that lists it."""
+        """Hand one part over: a thread writes it, then the progress record that lists it, while the run goes on.
+        The previous part is waited for first, and its storage error (if any) is raised here; after a failed
+        write nothing more is written (a result never has a gap)."""
+        self.sync()
+        if self.error is not None:
+            raise self.error
+        self._writer = threading.Thread(target=self._write_part, args=(part,), name="apexseal-result-writer")
+        self._writer.start()
+
+    def sync(self) -> None:
+        """Wait until every part handed over is written; raise the error of a write that failed and was not
+        reported yet (a :class:`ResultStorageError` for a storage failure)."""
+        if self._writer is not None:
+            self._writer.join()
+            self._writer = None
+        failure, self._failure = self._failure, None
+        if failure is not None:
+            raise failure
+
+    def _write_part(self, part: SimulationResult) -> None:
+        """The writer thread: one part, then the progress record; any error is kept for :meth:`sync`."""
+        try:
+            self._store_part(part)
+        except BaseException as err:  # noqa: BLE001  (raised in the run's thread by sync())
+            self._failure = err
+
+    def _store_part(self, part: SimulationResult) -> None:
         index = len(self.parts)
         name = f"{PARTS}/part-{index:05d}.npz"
         buf = io.BytesIO()
@@ -146,7 +179,9 @@ class ResultFolder:
 
     def finish(self, status: str, stop: StopInfo | None, info: dict) -> SimulationResult:
         """Write the final result.json and return the whole result: the parts written, joined (the same arrays
-        and record as reading the folder back, which is done when they did not fit in :data:`KEEP_BYTES`)."""
+        and record as reading the folder back, which is done when they did not fit in :data:`KEEP_BYTES`). The part
+        still being written is waited for; its error, not reported yet, is raised (:meth:`sync`)."""
+        self.sync()
         self.info = dict(info) | {"run_id": self.run_id}
         if not self.parts:
             raise ResultStorageError(self.error.errno if self.error else None,
@@ -183,6 +218,7 @@ class ResultFolder:
         """trajectory.csv from the parts on disk, part by part (memory does not grow with the run)."""
         from .csv_table import write_csv
 
+        self.sync()
         path = self.staging / "trajectory.csv"
         try:
             with atomic_open(path) as fh:
@@ -216,6 +252,10 @@ class ResultFolder:
 
     def abandon(self) -> None:
         """Remove the unfinished folder (a save that failed: the previous result stays as it was)."""
+        try:
+            self.sync()
+        except Exception:  # noqa: BLE001  (the folder goes anyway)
+            pass
         shutil.rmtree(self.staging, ignore_errors=True)
 
     # ------------------------------------------------------------------ helpers

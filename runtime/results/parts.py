@@ -2,10 +2,13 @@
 
 :class:`InMemory` keeps the parts and joins them at the end (``apexseal.simulate(scene)``);
 :class:`~.folder.ResultFolder` writes each part to disk and keeps none (``simulate(scene, out=...)``, the CLI).
-Both end with ``finish(status, stop, info)``, which returns the whole :class:`SimulationResult`.
+Both end with ``sync()`` (every part handed over is stored; a storage error is raised) and ``finish(status, stop,
+info)``, which returns the whole :class:`SimulationResult`.
 """
 
 from __future__ import annotations
+
+import copy
 
 import numpy as np
 
@@ -19,7 +22,7 @@ def join(parts: list[SimulationResult], status: str = "completed", stop: StopInf
         raise ValueError("a result needs at least one part (the initial sample)")
     head = parts[0]
     if len(parts) == 1:
-        joined = head
+        joined = copy.copy(head)  # its arrays shared; the part itself keeps its status, stop and info
     else:
         joined = SimulationResult(
             np.concatenate([p.theta for p in parts]), np.concatenate([p.time for p in parts]),
@@ -41,6 +44,9 @@ class InMemory:
     def append(self, part: SimulationResult) -> None:
         self.parts.append(part)
         self.samples += part.n
+
+    def sync(self) -> None:
+        """Nothing to wait for: the parts are in memory."""
 
     def finish(self, status: str, stop: StopInfo | None, info: dict) -> SimulationResult:
         return join(self.parts, status, stop, info)

@@ -153,6 +153,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
             bar.close()
         try:
             part.flush()  # the completed calls of an unfinished revolution are kept too
+            part.sync()  # the last part written: a failure of its writing is the run's failure
         except ResultStorageError as err:
             status, stop = "failed", StopInfo(part.theta_done, lay.mode(part.last_active(lay)), str(err))
         wall = time.perf_counter() - t_wall
@@ -234,6 +235,12 @@ class _Part:
         self.sink.append(part)
         self.assemble_s += w1 - w0
         self.save_s += time.perf_counter() - w1
+
+    def sync(self) -> None:
+        """Wait for the sink to store every part (timed as saving)."""
+        w0 = time.perf_counter()
+        self.sink.sync()
+        self.save_s += time.perf_counter() - w0
 
 
 def _pressures(pressure, edges: np.ndarray, values=None, linear: bool = False) -> np.ndarray:

@@ -196,12 +196,43 @@ def test_a_full_disk_during_a_streamed_run_keeps_the_completed_revolutions(defau
     assert SimulationResult.load(tmp_path / "o").status == "failed"
 
 
+def test_a_part_is_written_beside_the_run_and_a_failed_write_stops_all_later_ones(two_results, tmp_path,
+                                                                                    monkeypatch):
+    """append() hands a part to a writer thread; the next append() (or sync()) raises that write's error, and no
+    part is written after a failed one, so the folder has no gap; finish() still records what was written."""
+    real, started = folder_mod._write_bytes, []
+
+    def part_one_fails(path, data):
+        started.append(path.name)
+        if path.name == "part-00001.npz":
+            raise OSError(28, "No space left on device")
+        real(path, data)
+
+    monkeypatch.setattr(folder_mod, "_write_bytes", part_one_fails)
+    first = two_results[1]
+    sink = ResultFolder(tmp_path / "o")
+    sink.append(first)
+    sink.append(first)  # part 0 was written: no error yet
+    with pytest.raises(ResultStorageError, match="part-00001.npz.*No space left") as err:
+        sink.append(first)  # part 1's error, reported here
+    assert "1 completed part(s)" in str(err.value)
+    with pytest.raises(ResultStorageError):
+        sink.append(first)  # and again: nothing is written after a failed part
+    sink.sync()  # reported already: nothing more to raise
+    assert started == ["part-00000.npz", "result.json", "part-00001.npz"]
+    back = sink.finish("failed", None, {})
+    assert back.n == first.n and len(sink.parts) == 1 and back.status == "failed"
+    assert first.status == "completed" and "run_id" not in first.info  # the part handed over is not changed
+    assert sorted(p.name for p in (sink.staging / "parts").iterdir()) == ["part-00000.npz"]
+
+
 def test_a_killed_run_leaves_a_loadable_folder(default_scene, default_functions, tmp_path):
     """The progress record after each part: a run that never finishes loads as interrupted, all parts kept."""
     full = _run(default_scene, default_functions, 2)
     sink = ResultFolder(tmp_path / "o")
     first = _run(default_scene, default_functions, 1)
-    sink.append(first)  # as the run loop does after the first revolution; then the process dies
+    sink.append(first)  # as the run loop does after the first revolution
+    sink.sync()  # written while the second revolution integrates (sync: at the latest); then the process dies
     back = SimulationResult.load(sink.staging)
     assert back.status == "interrupted" and "without its final record" in back.stop.reason
     assert back.n == 1 + SAMPLES and np.array_equal(back.state, full.state[:, :1 + SAMPLES])
