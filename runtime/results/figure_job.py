@@ -29,10 +29,10 @@ from pathlib import Path
 from .figures import figure_files, write_figure
 
 #: the order in which the two processes take the figures: costliest first (docs/performance.md, one process:
-#: Fig. 13's seven panels, Fig. 12's three polar panels, then the gas figures, the modes, Fig. 14), so that the
+#: Fig. 13's seven panels, Fig. 12's three polar panels, then the gas figures, Fig. 14, the modes), so that the
 #: last figure to finish is a short one
 ORDER = ("fig13_forces.png", "fig12_displacements.png", "pv_diagram.png", "fig11_pressures.png",
-         "mode_timeline.png", "fig14_housing_spectrum.png")
+         "fig14_housing_spectrum.png", "mode_timeline.png")
 
 
 #: threads that may run at the fork, by class name or name prefix: tqdm's monitor of progress bars (it only takes

@@ -17,7 +17,6 @@ returns None and the figures are drawn as before.
 
 from __future__ import annotations
 
-import dataclasses
 import os
 import pickle
 import signal
@@ -29,6 +28,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from .figure_job import FigureJob, can_fork, reap
+from .figures import figure_view
 
 #: the byte that tells the worker a result is waiting in its file
 _GO = b"g"
@@ -86,9 +86,10 @@ class FigureWorker:
     def submit(self, result, folder: str | Path, ports: dict | None = None, dpi: int = 100) -> FigureWorker:
         """Hand the result over: the worker draws its figures into ``folder`` while this process goes on."""
         self.job = (result, Path(folder), ports, dpi)
-        # without its scene: the figures take the ports as given, and unpickling a Scene would import the scene
+        # only what the figures read: the hand-over (pickled here, unpickled there) is on the run's critical path;
+        # and without its scene: the figures take the ports as given, and unpickling a Scene would import the scene
         # machinery (pydantic models, ~130 modules, 0.35 s) in the worker, which forked before this process had it
-        light = dataclasses.replace(result, scene=None)
+        light = figure_view(result)
         try:
             with open(self.path, "wb") as fh:
                 pickle.dump((light, *self.job[1:]), fh, protocol=pickle.HIGHEST_PROTOCOL)

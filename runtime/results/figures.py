@@ -233,6 +233,29 @@ def figure_files(result: SimulationResult) -> dict[str, str]:
     return FILES | (GAS_FILES if has_gas(result) and result.n > 2 else {})
 
 
+def figure_outputs(result: SimulationResult) -> list[str]:
+    """The outputs the figures of :func:`figure_files` read: the forces (Fig. 13's panels, Fig. 14's housing
+    force) and, with the chamber gas model, the chambers' volumes and pressures (Fig. 11, the p-V diagram)."""
+    from .gas import has_gas
+
+    gas = {"Va", "Vb", "Pa", "Pb"} if has_gas(result) else set()
+    return [k for k in result.outputs if k.startswith("F_") or k in gas]
+
+
+def figure_view(result: SimulationResult) -> SimulationResult:
+    """``result`` with only what its figures read (its states, switches and modes, :func:`figure_outputs`), and
+    without its scene: what a figure process is handed (:mod:`.figure_worker`; 14 of the default run's 37
+    outputs). Its figures are the full result's, byte for byte (tests/runtime/test_figure_worker.py)."""
+    import dataclasses
+
+    return dataclasses.replace(result, scene=None, outputs={k: result.outputs[k] for k in figure_outputs(result)})
+
+
+#: zlib's level for the PNG files: 3 writes them in two thirds of the time of Pillow's default 6 (the run's
+#: critical path: docs/performance.md), 5-20 % larger
+PNG_COMPRESS_LEVEL = 3
+
+
 def write_figure(result: SimulationResult, folder: Path, name: str, kind: str, ports: dict | None = None,
                  dpi: int = 100) -> Path:
     """Draw one figure (long lines as their envelope at ``dpi``) and save it as the PNG file ``folder/name``."""
@@ -240,7 +263,7 @@ def write_figure(result: SimulationResult, folder: Path, name: str, kind: str, p
 
     fig = figure(result, kind, ports=ports, save_dpi=dpi)
     with atomic_open(folder / name, "wb") as fh:  # a half-written PNG never carries the final name
-        fig.savefig(fh, dpi=dpi, format="png")
+        fig.savefig(fh, dpi=dpi, format="png", pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
     return folder / name
 
 

@@ -8,7 +8,7 @@ import io
 import numpy as np
 import pytest
 
-from apexseal.runtime.results.decimate import envelope, step_changes
+from apexseal.runtime.results.decimate import envelope, envelope_index, step_changes
 from apexseal.runtime.results.result import SimulationResult
 
 N = 72001  # samples of a 20-revolution default run
@@ -35,6 +35,26 @@ def test_envelope_keeps_every_columns_extremes_in_order():
     for c in (0, 17, 800, columns - 1):
         assert ye[cole == c].max() == y[col == c].max() and ye[cole == c].min() == y[col == c].min()
         assert xe[cole == c][0] == x[col == c][0] and xe[cole == c][-1] == x[col == c][-1]
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_envelope_index_is_each_slices_first_last_lowest_and_highest(seed):
+    """Against a loop over the slices: the first and last sample, the first of the lowest and the last of the
+    highest (NaN counts as the highest), with ties (rounded values) and NaNs."""
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(500, 5000))
+    x = np.sort(rng.random(n)) * 360.0
+    y = np.round(rng.normal(size=n), seed % 3)
+    if seed % 2:
+        y[rng.integers(0, n, 7)] = np.nan
+    columns = int(rng.integers(10, n // 4))
+    column = np.minimum(np.floor((x - x[0]) * (columns / (x[-1] - x[0]))), columns - 1)
+    expected = set()
+    for c in np.unique(column):
+        idx = np.flatnonzero(column == c)
+        v = np.where(np.isnan(y[idx]), np.inf, y[idx])
+        expected |= {idx[0], idx[-1], idx[np.flatnonzero(v == v.min())[0]], idx[np.flatnonzero(v == v.max())[-1]]}
+    assert envelope_index(x, y, columns).tolist() == sorted(expected)
 
 
 def test_short_lines_are_left_alone():

@@ -112,3 +112,18 @@ def test_gas_columns_have_units_and_the_gas_figures_draw(closed, tmp_path):
     names = {p.name for p in write_figures(closed, tmp_path)}
     assert {"fig11_pressures.png", "pv_diagram.png", "fig12_displacements.png"} <= names
     assert all((tmp_path / n).stat().st_size > 0 for n in names)
+
+
+def test_the_figure_view_of_a_gas_run_draws_the_same_figures(closed, tmp_path):
+    """A figure process is handed figure_view(result) and the scene's ports (the view has no scene): fewer
+    outputs, the same six PNG files, byte for byte."""
+    from apexseal.runtime.results.figures import figure_outputs, figure_view, ports_of, write_figures
+
+    view = figure_view(closed)
+    assert {"Va", "Vb", "Pa", "Pb", "F_housing_X"} <= set(figure_outputs(closed)) == set(view.outputs)
+    assert len(view.outputs) < len(closed.outputs) and view.scene is None
+    ports = ports_of(closed.scene)
+    full, light = write_figures(closed, tmp_path / "full", ports), write_figures(view, tmp_path / "view", ports)
+    assert [p.name for p in full] == [p.name for p in light] and len(full) == 6
+    for a, b in zip(full, light, strict=True):
+        assert a.read_bytes() == b.read_bytes(), a.name
