@@ -13,7 +13,6 @@ from __future__ import annotations
 import json
 import statistics
 import subprocess
-import sys
 import tempfile
 import time
 
@@ -24,7 +23,9 @@ STAGES = ("startup", "import", "scene", "load", "compile", "integrate", "assembl
 
 def _once(args: list[str]) -> dict:
     w0 = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-c", "from apexseal.cli import main; main()", *args],
+    from ...cli import command
+
+    proc = subprocess.run(command(*args),
                           capture_output=True, text=True, check=False)
     wall = time.perf_counter() - w0
     line = next((x for x in proc.stdout.splitlines() if x.startswith("timings-json ")), None)

@@ -22,7 +22,9 @@ HEAVY = ("sympy", "pint", "scipy", "pandas", "xarray", "matplotlib", "dask")
 
 
 def _command(out: str) -> list[str]:
-    return [sys.executable, "-c", "from apexseal.cli import main; main()", "simulate", "--no-figures", "-q", "--out", out]
+    from ...cli import command
+
+    return command("simulate", "--no-figures", "-q", "--out", out)
 
 
 def _cpu() -> float:

@@ -135,7 +135,9 @@ def measure(repeats: int = 5) -> dict:
 
 def _simulate(folder: str) -> list[str]:
     """The command line of a quiet ``apexseal simulate`` of the default scene into ``folder``, in a new process."""
-    return [sys.executable, "-c", "from apexseal.cli import main; main()", "simulate", "-q", "--out", folder]
+    from ...cli import command
+
+    return command("simulate", "-q", "--out", folder)
 
 
 def _bytecode_note() -> None:

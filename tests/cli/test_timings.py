@@ -4,18 +4,18 @@ from __future__ import annotations
 
 import json
 import subprocess
-import sys
 import time
 
 import pytest
 
+from apexseal.cli import command
 from apexseal.runtime.bench.e2e import e2e_md, end_to_end
 
 
 def _simulate(tmp_path, *extra):
     w0 = time.perf_counter()
-    proc = subprocess.run([sys.executable, "-c", "from apexseal.cli import main; main()", "simulate", "--revolutions",
-                           "1", "--quiet", "--out", str(tmp_path), *extra], capture_output=True, text=True, check=False)
+    proc = subprocess.run(command("simulate", "--revolutions", "1", "--quiet", "--out", str(tmp_path), *extra),
+                          capture_output=True, text=True, check=False)
     return proc, time.perf_counter() - w0
 
 

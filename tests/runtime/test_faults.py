@@ -12,13 +12,13 @@ import os
 import shutil
 import signal
 import subprocess
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from apexseal.cli import command
 from apexseal.files import sha256_bytes
 from apexseal.runtime.results import folder as folder_mod
 from apexseal.runtime.results.folder import ResultFolder, ResultFolderError, ResultStorageError
@@ -284,8 +284,7 @@ def slow_scene(tmp_path_factory) -> Path:
 
 
 def _start(scene: Path, out: Path, revolutions: int = 200) -> subprocess.Popen:
-    cmd = [sys.executable, "-c", "from apexseal.cli import main; main()", "simulate", str(scene), "-n",
-           str(revolutions), "--out", str(out), "-q", "--no-figures"]
+    cmd = command("simulate", str(scene), "-n", str(revolutions), "--out", str(out), "-q", "--no-figures")
     return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ.copy())
 
 

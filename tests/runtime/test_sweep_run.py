@@ -6,7 +6,6 @@ from __future__ import annotations
 import os
 import signal
 import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -14,6 +13,7 @@ import pandas as pd
 import pytest
 from sweep_helpers import LIGHT, light_study, stable
 
+from apexseal.cli import command
 from apexseal.runtime.studies.sweep import read_results, run_sweep
 
 
@@ -87,8 +87,7 @@ def test_an_interrupted_sweep_resumes_without_recomputing_or_losing_anything(ser
     study = tmp_path / "light.toml"
     study.write_text(LIGHT)
     out = tmp_path / "out"
-    cmd = [sys.executable, "-c", "from apexseal.cli import main; main()", "sweep", str(study), "--workers", "1",
-           "--out", str(out), "-q"]
+    cmd = command("sweep", str(study), "--workers", "1", "--out", str(out), "-q")
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     parts = out / "points"
     deadline = time.monotonic() + 120
