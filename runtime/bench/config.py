@@ -125,7 +125,7 @@ class BenchConfig:
     workers: int = 2  # parallel gcc processes while compiling (never while timing)
     #: end to end: revolutions of the timed ``apexseal simulate`` runs (runtime/bench/e2e.py); 0 = not measured
     e2e_revolutions: int = 0
-    e2e_repeats: int = 2
+    e2e_repeats: int = 5
     #: the chamber pressures over an output interval: "linear" (continuous, the run default) or "steps" (interval
     #: means); every method takes both
     pressure: str = "linear"
