@@ -2,7 +2,7 @@
 
 The command runs in a subprocess with ``--timings`` (src/apexseal/stopwatch.py),
 once to warm the caches (derivation, compiled libraries), then ``repeats`` times
-timed, with and without figures; each stage's median is kept. ``unaccounted`` is the command's own total
+timed, with and without figures in turn; each stage's median is kept. ``unaccounted`` is the command's own total
 less its stages (what its stopwatch prints as such: the lines it echoes between stages), ``exit`` the
 subprocess's wall time measured from outside minus the command's own total (interpreter shutdown), so that
 the stages of a run add up to its wall time.
@@ -39,22 +39,29 @@ def _once(args: list[str]) -> dict:
 
 
 def end_to_end(revolutions: int = 20, repeats: int = 2, *, log=print) -> dict:
-    """Medians of the stages of ``apexseal simulate --revolutions N --timings`` without and with figures."""
+    """Medians of the stages of ``apexseal simulate --revolutions N --timings`` without and with figures: a warm-up
+    of each, then ``repeats`` rounds of one run of each in turn, so that a machine whose speed drifts weighs on both
+    alike."""
     out: dict = {"revolutions": revolutions, "repeats": repeats, "variants": {}}
     with tempfile.TemporaryDirectory(prefix="apexseal-e2e-") as tmp:
-        for name, extra in (("no figures", ["--no-figures"]), ("with figures", [])):
-            args = ["simulate", "--revolutions", str(revolutions), "--quiet", "--timings", "--out", tmp, *extra]
-            log(f"end to end: apexseal {' '.join(a for a in args if a not in ('--out', tmp))} (1 warm-up + {repeats})")
+        variants = {name: ["simulate", "--revolutions", str(revolutions), "--quiet", "--timings", "--out", tmp, *extra]
+                    for name, extra in (("no figures", ["--no-figures"]), ("with figures", []))}
+        shown = {name: "apexseal " + " ".join(a for a in args if a not in ("--out", tmp)) for name, args in variants.items()}
+        log(f"end to end: {' and '.join(shown.values())}, in turn (1 warm-up + {repeats} each)")
+        for args in variants.values():
             _once(args)
-            runs = [_once(args) for _ in range(repeats)]
-            keys = [k for k in STAGES if any(k in r["stages"] for r in runs)]
-            med = {k: statistics.median(r["stages"].get(k, 0.0) for r in runs) for k in keys}
-            wall = statistics.median(r["wall_s"] for r in runs)
-            out["variants"][name] = {"command": "apexseal " + " ".join(a for a in args if a not in ("--out", tmp)),
-                                     "stages_s": med, "wall_s": wall, "runs": runs,
+        runs: dict[str, list] = {name: [] for name in variants}
+        for _ in range(repeats):
+            for name, args in variants.items():
+                runs[name].append(_once(args))
+        for name, done in runs.items():
+            keys = [k for k in STAGES if any(k in r["stages"] for r in done)]
+            med = {k: statistics.median(r["stages"].get(k, 0.0) for r in done) for k in keys}
+            wall = statistics.median(r["wall_s"] for r in done)
+            out["variants"][name] = {"command": shown[name], "stages_s": med, "wall_s": wall, "runs": done,
                                      "integrate_share": med.get("integrate", 0.0) / wall}
-            log("  " + ", ".join(f"{k} {v:.2f}" for k, v in med.items()) + f"; wall {wall:.2f} s, integrating "
-                f"{100 * med.get('integrate', 0.0) / wall:.0f} %")
+            log(f"  {name}: " + ", ".join(f"{k} {v:.2f}" for k, v in med.items()) + f"; wall {wall:.2f} s, "
+                f"integrating {100 * med.get('integrate', 0.0) / wall:.0f} %")
     return out
 
 
