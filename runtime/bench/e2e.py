@@ -11,21 +11,29 @@ the stages of a run add up to its wall time.
 from __future__ import annotations
 
 import json
+import os
 import statistics
 import subprocess
 import tempfile
 import time
+
+from ..results.folder import WRITE_BEHIND
+
+#: what is timed: name, options, environment. The third run writes its parts in the run's own thread
+#: (runtime/results/folder.py, ``APEXSEAL_WRITE_BEHIND=0``): the integration undisturbed by the writer thread
+VARIANTS = (("no figures", ["--no-figures"], None), ("with figures", [], None),
+            ("with figures, parts written in the run's thread", [], {WRITE_BEHIND: "0"}))
 
 #: the stages in the order the command runs them
 STAGES = ("startup", "import", "scene", "load", "compile", "integrate", "assemble", "run (other)", "save", "figures",
           "unaccounted", "exit")
 
 
-def _once(args: list[str]) -> dict:
+def _once(args: list[str], env: dict | None = None) -> dict:
     w0 = time.perf_counter()
     from ...cli import command
 
-    proc = subprocess.run(command(*args),
+    proc = subprocess.run(command(*args), env=None if env is None else os.environ | env,
                           capture_output=True, text=True, check=False)
     wall = time.perf_counter() - w0
     line = next((x for x in proc.stdout.splitlines() if x.startswith("timings-json ")), None)
@@ -39,21 +47,23 @@ def _once(args: list[str]) -> dict:
 
 
 def end_to_end(revolutions: int = 20, repeats: int = 2, *, log=print) -> dict:
-    """Medians of the stages of ``apexseal simulate --revolutions N --timings`` without and with figures: a warm-up
-    of each, then ``repeats`` rounds of one run of each in turn, so that a machine whose speed drifts weighs on both
-    alike."""
+    """Medians of the stages of ``apexseal simulate --revolutions N --timings`` for each of :data:`VARIANTS`: a
+    warm-up of each, then ``repeats`` rounds of one run of each in turn, so that a machine whose speed drifts weighs
+    on all alike."""
     out: dict = {"revolutions": revolutions, "repeats": repeats, "variants": {}}
     with tempfile.TemporaryDirectory(prefix="apexseal-e2e-") as tmp:
         variants = {name: ["simulate", "--revolutions", str(revolutions), "--quiet", "--timings", "--out", tmp, *extra]
-                    for name, extra in (("no figures", ["--no-figures"]), ("with figures", []))}
-        shown = {name: "apexseal " + " ".join(a for a in args if a not in ("--out", tmp)) for name, args in variants.items()}
-        log(f"end to end: {' and '.join(shown.values())}, in turn (1 warm-up + {repeats} each)")
-        for args in variants.values():
-            _once(args)
+                    for name, extra, _ in VARIANTS}
+        envs = {name: env for name, _, env in VARIANTS}
+        shown = {name: f"{' '.join(f'{k}={v}' for k, v in (envs[name] or {}).items())} apexseal ".lstrip()
+                 + " ".join(a for a in args if a not in ("--out", tmp)) for name, args in variants.items()}
+        log(f"end to end: {'; '.join(shown.values())}, in turn (1 warm-up + {repeats} each)")
+        for name, args in variants.items():
+            _once(args, envs[name])
         runs: dict[str, list] = {name: [] for name in variants}
         for _ in range(repeats):
             for name, args in variants.items():
-                runs[name].append(_once(args))
+                runs[name].append(_once(args, envs[name]))
         for name, done in runs.items():
             keys = [k for k in STAGES if any(k in r["stages"] for r in done)]
             med = {k: statistics.median(r["stages"].get(k, 0.0) for r in done) for k in keys}
@@ -66,7 +76,7 @@ def end_to_end(revolutions: int = 20, repeats: int = 2, *, log=print) -> dict:
 
 
 def e2e_md(e2e: dict | None) -> list[str]:
-    """The table of the split (stages as rows, the two variants as columns)."""
+    """The table of the split (stages as rows, the variants as columns)."""
     if not e2e:
         return []
     vs = e2e["variants"]

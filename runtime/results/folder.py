@@ -38,6 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...cores import available_cores
 from ...files import atomic_open, atomic_write, sha256_bytes
 from .parts import join
 from .result import SimulationResult, StopInfo
@@ -52,6 +53,17 @@ KNOWN_SUFFIXES = (".png", ".svg", ".pdf")
 #: parts of a run kept in memory up to this many bytes (about 150 revolutions of the default scene), so that
 #: :meth:`ResultFolder.finish` joins them instead of reading the folder back; a longer run is read back
 KEEP_BYTES = 256 * 2**20
+
+
+#: environment variable: ``0`` writes each part in the run's own thread, as on a machine with one core (what the
+#: writer thread costs and gives is measured this way: runtime/bench/e2e.py)
+WRITE_BEHIND = "APEXSEAL_WRITE_BEHIND"
+
+
+def write_behind() -> bool:
+    """Whether a run's parts are written by a thread beside it: where the process may run on a second core, unless
+    ``APEXSEAL_WRITE_BEHIND=0``."""
+    return os.environ.get(WRITE_BEHIND, "1").strip() != "0" and available_cores() > 1
 
 
 class ResultFolderError(ValueError):
@@ -105,8 +117,9 @@ def part_arrays(part: SimulationResult, run_id: str, index: int) -> dict[str, np
 class ResultFolder:
     """Writes one result folder (see the module docstring); the run loop's sink when a run streams to disk."""
 
-    def __init__(self, target: str | Path, run_id: str | None = None) -> None:
+    def __init__(self, target: str | Path, run_id: str | None = None, *, background: bool | None = None) -> None:
         self.target = Path(target)
+        self.background = write_behind() if background is None else background  # parts written by a thread
         check_replaceable(self.target)
         self.run_id = run_id or uuid.uuid4().hex
         self.staging = self.target.parent / f"{self.target.name}.partial-{self.run_id[:12]}"
@@ -131,12 +144,15 @@ class ResultFolder:
 
     # ------------------------------------------------------------------ writing
     def append(self, part: SimulationResult) -> None:
-        """Hand one part over: a thread writes it, then the progress record that lists it, while the run goes on.
-        The previous part is waited for first, and its storage error (if any) is raised here; after a failed
-        write nothing more is written (a result never has a gap)."""
+        """Hand one part over: a thread writes it, then the progress record that lists it, while the run goes on
+        (without ``background``, it is written here). The previous part is waited for first, and its storage error
+        (if any) is raised here; after a failed write nothing more is written (a result never has a gap)."""
         self.sync()
         if self.error is not None:
             raise self.error
+        if not self.background:  # written here, its error raised here
+            self._store_part(part)
+            return
         self._writer = threading.Thread(target=self._write_part, args=(part,), name="apexseal-result-writer")
         self._writer.start()
 

@@ -9,7 +9,7 @@ import time
 import pytest
 
 from apexseal.cli import command
-from apexseal.runtime.bench.e2e import e2e_md, end_to_end
+from apexseal.runtime.bench.e2e import VARIANTS, e2e_md, end_to_end
 
 
 def _simulate(tmp_path, *extra):
@@ -47,7 +47,8 @@ def test_no_timings_without_the_flag(tmp_path):
 @pytest.mark.slow
 def test_bench_end_to_end_split_with_figures():
     e2e = end_to_end(revolutions=1, repeats=1, log=lambda _: None)
-    for name in ("no figures", "with figures"):
+    assert list(e2e["variants"]) == [name for name, _, _ in VARIANTS]
+    for name in e2e["variants"]:
         v = e2e["variants"][name]
         assert v["stages_s"]["integrate"] > 0 and sum(v["stages_s"].values()) == pytest.approx(v["wall_s"], rel=0.05)
     assert "figures" in e2e["variants"]["with figures"]["stages_s"]

@@ -210,7 +210,7 @@ def test_a_part_is_written_beside_the_run_and_a_failed_write_stops_all_later_one
 
     monkeypatch.setattr(folder_mod, "_write_bytes", part_one_fails)
     first = two_results[1]
-    sink = ResultFolder(tmp_path / "o")
+    sink = ResultFolder(tmp_path / "o", background=True)
     sink.append(first)
     sink.append(first)  # part 0 was written: no error yet
     with pytest.raises(ResultStorageError, match="part-00001.npz.*No space left") as err:
@@ -224,6 +224,36 @@ def test_a_part_is_written_beside_the_run_and_a_failed_write_stops_all_later_one
     assert back.n == first.n and len(sink.parts) == 1 and back.status == "failed"
     assert first.status == "completed" and "run_id" not in first.info  # the part handed over is not changed
     assert sorted(p.name for p in (sink.staging / "parts").iterdir()) == ["part-00000.npz"]
+
+
+def test_without_the_writer_thread_a_failed_write_is_reported_by_its_own_append(two_results, tmp_path, monkeypatch):
+    """APEXSEAL_WRITE_BEHIND=0, or a process on one core: each part is written in the caller's thread."""
+    real = folder_mod._write_bytes
+
+    def part_one_fails(path, data):
+        if path.name == "part-00001.npz":
+            raise OSError(28, "No space left on device")
+        real(path, data)
+
+    monkeypatch.setattr(folder_mod, "_write_bytes", part_one_fails)
+    sink = ResultFolder(tmp_path / "o", background=False)
+    sink.append(two_results[1])
+    assert sorted(p.name for p in (sink.staging / "parts").iterdir()) == ["part-00000.npz"]  # written already
+    with pytest.raises(ResultStorageError, match="part-00001.npz"):
+        sink.append(two_results[1])  # its own error, at once
+    with pytest.raises(ResultStorageError):
+        sink.append(two_results[1])
+
+
+@pytest.mark.parametrize("value,cores,expected", [(None, 2, True), ("1", 2, True), ("0", 2, False), (None, 1, False),
+                                                  (" 0 ", 4, False)])
+def test_the_writer_thread_is_used_with_a_second_core_unless_switched_off(monkeypatch, value, cores, expected):
+    monkeypatch.setattr(folder_mod, "available_cores", lambda: cores)
+    if value is None:
+        monkeypatch.delenv(folder_mod.WRITE_BEHIND, raising=False)
+    else:
+        monkeypatch.setenv(folder_mod.WRITE_BEHIND, value)
+    assert folder_mod.write_behind() is expected
 
 
 def test_a_killed_run_leaves_a_loadable_folder(default_scene, default_functions, tmp_path):
