@@ -41,6 +41,20 @@ def two_results(default_scene, default_functions):
     return _run(default_scene, default_functions, 2), _run(default_scene, default_functions, 1)
 
 
+def _disk_full_at(monkeypatch, name: str, started: list | None = None) -> None:
+    """Writing the file ``name`` of a result folder fails with ENOSPC (every write's name noted in ``started``)."""
+    real = folder_mod._write_bytes
+
+    def write(path, data):
+        if started is not None:
+            started.append(path.name)
+        if path.name == name:
+            raise OSError(28, "No space left on device")
+        real(path, data)
+
+    monkeypatch.setattr(folder_mod, "_write_bytes", write)
+
+
 # ---------------------------------------------------------------- the result folder is one unit
 def test_streamed_folder_round_trip_and_counts(default_scene, default_functions, tmp_path):
     sink = ResultFolder(tmp_path / "o")
@@ -160,14 +174,7 @@ def test_a_full_disk_during_save_keeps_the_previous_result(tmp_path, two_results
     new, old = two_results
     out = tmp_path / "o"
     old.save(out)
-    real = folder_mod._write_bytes
-
-    def disk_full(path, data):
-        if path.name == "result.json":
-            raise OSError(28, "No space left on device")
-        real(path, data)
-
-    monkeypatch.setattr(folder_mod, "_write_bytes", disk_full)
+    _disk_full_at(monkeypatch, "result.json")
     with pytest.raises(ResultStorageError, match="No space left on device") as err:
         new.save(out)
     assert str(out) in str(err.value) and "previous result" in str(err.value)
@@ -179,14 +186,7 @@ def test_a_full_disk_during_save_keeps_the_previous_result(tmp_path, two_results
 
 def test_a_full_disk_during_a_streamed_run_keeps_the_completed_revolutions(default_scene, default_functions, tmp_path,
                                                                            monkeypatch):
-    real = folder_mod._write_bytes
-
-    def disk_full(path, data):
-        if path.name == "part-00002.npz":
-            raise OSError(28, "No space left on device")
-        real(path, data)
-
-    monkeypatch.setattr(folder_mod, "_write_bytes", disk_full)
+    _disk_full_at(monkeypatch, "part-00002.npz")
     sink = ResultFolder(tmp_path / "o")
     r = _run(default_scene, default_functions, 4, sink=sink)
     assert r.status == "failed" and r.n == 1 + 2 * SAMPLES
@@ -200,15 +200,8 @@ def test_a_part_is_written_beside_the_run_and_a_failed_write_stops_all_later_one
                                                                                     monkeypatch):
     """append() hands a part to a writer thread; the next append() (or sync()) raises that write's error, and no
     part is written after a failed one, so the folder has no gap; finish() still records what was written."""
-    real, started = folder_mod._write_bytes, []
-
-    def part_one_fails(path, data):
-        started.append(path.name)
-        if path.name == "part-00001.npz":
-            raise OSError(28, "No space left on device")
-        real(path, data)
-
-    monkeypatch.setattr(folder_mod, "_write_bytes", part_one_fails)
+    started: list[str] = []
+    _disk_full_at(monkeypatch, "part-00001.npz", started)
     first = two_results[1]
     sink = ResultFolder(tmp_path / "o", background=True)
     sink.append(first)
@@ -228,14 +221,7 @@ def test_a_part_is_written_beside_the_run_and_a_failed_write_stops_all_later_one
 
 def test_without_the_writer_thread_a_failed_write_is_reported_by_its_own_append(two_results, tmp_path, monkeypatch):
     """APEXSEAL_WRITE_BEHIND=0, or a process on one core: each part is written in the caller's thread."""
-    real = folder_mod._write_bytes
-
-    def part_one_fails(path, data):
-        if path.name == "part-00001.npz":
-            raise OSError(28, "No space left on device")
-        real(path, data)
-
-    monkeypatch.setattr(folder_mod, "_write_bytes", part_one_fails)
+    _disk_full_at(monkeypatch, "part-00001.npz")
     sink = ResultFolder(tmp_path / "o", background=False)
     sink.append(two_results[1])
     assert sorted(p.name for p in (sink.staging / "parts").iterdir()) == ["part-00000.npz"]  # written already
