@@ -17,6 +17,7 @@ import subprocess
 import tempfile
 import time
 
+from ...cli import command
 from ..results.folder import WRITE_BEHIND
 
 #: what is timed: name, options, environment. The third run writes its parts in the run's own thread
@@ -31,8 +32,6 @@ STAGES = ("startup", "import", "scene", "load", "compile", "integrate", "assembl
 
 def _once(args: list[str], env: dict | None = None) -> dict:
     w0 = time.perf_counter()
-    from ...cli import command
-
     proc = subprocess.run(command(*args), env=None if env is None else os.environ | env,
                           capture_output=True, text=True, check=False)
     wall = time.perf_counter() - w0
@@ -52,18 +51,17 @@ def end_to_end(revolutions: int = 20, repeats: int = 2, *, log=print) -> dict:
     on all alike."""
     out: dict = {"revolutions": revolutions, "repeats": repeats, "variants": {}}
     with tempfile.TemporaryDirectory(prefix="apexseal-e2e-") as tmp:
-        variants = {name: ["simulate", "--revolutions", str(revolutions), "--quiet", "--timings", "--out", tmp, *extra]
-                    for name, extra, _ in VARIANTS}
-        envs = {name: env for name, _, env in VARIANTS}
-        shown = {name: f"{' '.join(f'{k}={v}' for k, v in (envs[name] or {}).items())} apexseal ".lstrip()
-                 + " ".join(a for a in args if a not in ("--out", tmp)) for name, args in variants.items()}
+        variants = [(name, ["simulate", "--revolutions", str(revolutions), "--quiet", "--timings", "--out", tmp, *extra],
+                     env) for name, extra, env in VARIANTS]
+        shown = {name: "".join(f"{k}={v} " for k, v in (env or {}).items()) + "apexseal "
+                 + " ".join(a for a in args if a not in ("--out", tmp)) for name, args, env in variants}
         log(f"end to end: {'; '.join(shown.values())}, in turn (1 warm-up + {repeats} each)")
-        for name, args in variants.items():
-            _once(args, envs[name])
-        runs: dict[str, list] = {name: [] for name in variants}
+        for _, args, env in variants:
+            _once(args, env)
+        runs: dict[str, list] = {name: [] for name, _, _ in variants}
         for _ in range(repeats):
-            for name, args in variants.items():
-                runs[name].append(_once(args, envs[name]))
+            for name, args, env in variants:
+                runs[name].append(_once(args, env))
         for name, done in runs.items():
             keys = [k for k in STAGES if any(k in r["stages"] for r in done)]
             med = {k: statistics.median(r["stages"].get(k, 0.0) for r in done) for k in keys}
