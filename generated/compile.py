@@ -87,9 +87,68 @@ def _run(cmd: Sequence[str], cwd: Path | None = None) -> subprocess.CompletedPro
         raise CompilerUnavailable(f"C compiler {cmd[0]!r} cannot be run ({exc.strerror or exc})") from exc
 
 
+#: the compiler identities probed before, in :func:`lib_root`: ``{identity key: identity}``
+IDENTITIES = "compilers.json"
+
+
+def _cpu_signature() -> str:
+    """What ``-march=native`` resolves from: the CPU's vendor, family, model and feature flags (a cache shared by
+    machines with other CPUs gets other keys)."""
+    try:
+        text = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return platform.processor() or "unknown"
+    keep = ("vendor_id", "cpu family", "model", "flags")
+    return sha256_bytes("\n".join(sorted({ln for ln in text.splitlines() if ln.startswith(keep)})).encode())
+
+
+def identity_key(cc: str, flags: tuple[str, ...]) -> str | None:
+    """The key under which the identity of compiler ``cc`` with ``flags`` is kept: its executable (resolved path,
+    size, modification time: an upgrade replaces it), the flags, the machine and, for ``-march=native``, the CPU;
+    None when ``cc`` is not an executable found on the PATH."""
+    path = shutil.which(cc)
+    if path is None:
+        return None
+    real = os.path.realpath(path)
+    try:
+        st = os.stat(real)
+    except OSError:
+        return None
+    cpu = _cpu_signature() if "-march=native" in flags else None
+    return content_key([real, st.st_size, st.st_mtime_ns, list(flags), platform.machine(), cpu])
+
+
+def _known_identities() -> dict:
+    try:
+        known = json.loads((lib_root() / IDENTITIES).read_text())
+    except (OSError, ValueError):
+        return {}
+    return known if isinstance(known, dict) else {}
+
+
 @functools.lru_cache(maxsize=8)
 def compiler_identity(cc: str, flags: tuple[str, ...]) -> str:
-    """The compiler's version line (+ the architecture -march=native means on this machine)."""
+    """The compiler's version line (+ the architecture -march=native means on this machine), part of every library's
+    cache key. Probing runs the compiler twice (about 17 ms, on the start-up of every process that loads a library),
+    so a working compiler's identity is kept in :data:`IDENTITIES` under :func:`identity_key` and read back while
+    its executable is unchanged; a compiler that fails is probed again every time."""
+    key = identity_key(cc, flags)
+    known = _known_identities() if key is not None else {}
+    if isinstance(known.get(key), str):
+        return known[key]
+    ident = _probe_identity(cc, flags)
+    if key is not None:
+        try:
+            lib_root().mkdir(parents=True, exist_ok=True)
+            atomic_write(lib_root() / IDENTITIES, json.dumps(_known_identities() | {key: ident}, indent=1,
+                                                            sort_keys=True) + "\n")
+        except OSError:  # a read-only cache: probed again next time
+            pass
+    return ident
+
+
+def _probe_identity(cc: str, flags: tuple[str, ...]) -> str:
+    """:func:`compiler_identity` asked of the compiler itself."""
     out = _run([cc, "--version"])
     if out.returncode != 0 or not out.stdout:
         raise CompilerUnavailable(f"C compiler {cc!r} does not work ({(out.stderr or '').strip()[:200]})")

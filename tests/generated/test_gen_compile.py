@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import multiprocessing as mp
+import os
 import warnings
 
 import casadi as ca
@@ -113,3 +114,51 @@ def test_bench_precompile_fills_the_entry_compile_function_finds(fresh_cache):
     g = compile_function(f, flags="quick")
     assert list((fresh_cache / "lib").glob("*/build.json")) == [record] and record.stat().st_mtime_ns == stamp
     assert float(g([0.5, 2.0])) == pytest.approx(np.sin(0.5) * 2 + 3, rel=1e-15)
+
+
+@pytest.fixture
+def probes(fresh_cache, monkeypatch):
+    """The compiler runs :func:`compile.compiler_identity` makes, counted (its in-process cache cleared around)."""
+    runs = []
+    real_run = comp._run
+
+    def counted(cmd, cwd=None):
+        runs.append(list(cmd))
+        return real_run(cmd, cwd)
+
+    monkeypatch.setattr(comp, "_run", counted)
+    comp.compiler_identity.cache_clear()
+    yield runs
+    comp.compiler_identity.cache_clear()
+
+
+def _fake_compiler(path, version: str, mtime_s: int):
+    path.write_text(f"#!/bin/sh\necho '{version}'\n")
+    path.chmod(0o755)
+    os.utime(path, (mtime_s, mtime_s))
+    return str(path)
+
+
+def test_a_compilers_identity_is_probed_once_per_executable(probes, tmp_path, fresh_cache):
+    """The identity is kept in the cache's compilers.json and read back by the next process (here: with the
+    in-process cache cleared); an executable replaced (another size or time) is probed again."""
+    cc = _fake_compiler(tmp_path / "fakecc", "fakecc 1.0", 1_700_000_000)
+    first = comp.compiler_identity(cc, ("-O1",))
+    assert first.startswith("fakecc 1.0 | ") and probes == [[cc, "--version"]]
+    comp.compiler_identity.cache_clear()
+    assert comp.compiler_identity(cc, ("-O1",)) == first and len(probes) == 1
+    assert first in (fresh_cache / "lib" / comp.IDENTITIES).read_text()
+    _fake_compiler(tmp_path / "fakecc", "fakecc 2.0", 1_700_000_100)  # upgraded in place
+    comp.compiler_identity.cache_clear()
+    assert comp.compiler_identity(cc, ("-O1",)).startswith("fakecc 2.0 | ") and len(probes) == 2
+    comp.compiler_identity.cache_clear()  # another flag set is another key
+    comp.compiler_identity(cc, ("-O2",))
+    assert len(probes) == 3
+
+
+def test_a_failing_compiler_is_never_kept(probes, fresh_cache):
+    for _ in range(2):
+        comp.compiler_identity.cache_clear()
+        with pytest.raises(comp.CompilerUnavailable, match="does not work"):
+            comp.compiler_identity("false", ("-O1",))
+    assert len(probes) == 2 and not (fresh_cache / "lib" / comp.IDENTITIES).exists()
