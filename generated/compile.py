@@ -129,7 +129,7 @@ def _known_identities() -> dict:
 @functools.lru_cache(maxsize=8)
 def compiler_identity(cc: str, flags: tuple[str, ...]) -> str:
     """The compiler's version line (+ the architecture -march=native means on this machine), part of every library's
-    cache key. Probing runs the compiler twice (about 17 ms, on the start-up of every process that loads a library),
+    cache key. Probing runs the compiler twice (10-20 ms on the start-up of every process that loads a library),
     so a working compiler's identity is kept in :data:`IDENTITIES` under :func:`identity_key` and read back while
     its executable is unchanged; a compiler that fails is probed again every time."""
     key = identity_key(cc, flags)
