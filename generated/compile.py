@@ -6,7 +6,7 @@ The key is a sha256 over the sources' hashes (for a model: the manifest's input
 hash and file hashes), the flag set, the compiler's identity and, for
 ``-march=native``, the CPU architecture gcc resolves it to; so a library is only
 reused for exactly what it was built from. The compiler's identity is asked of the compiler once per
-executable and kept in ``lib/compilers.json`` (:func:`compiler_identity`).
+executable and kept in ``<cache>/lib/compilers.json`` (:func:`compiler_identity`).
 
 Builds are safe with concurrent processes: an ``fcntl`` lock per key serialises
 builders, objects and the library are built in a uniquely named temporary folder,
