@@ -12,16 +12,20 @@ each output interval. Three ways an expert would integrate it:
   under numbalsoda's LSODA (C++), one call per span with the output grid;
 * ``numbalsoda-DOP853``: Hairer's DOP853 (numbalsoda's Fortran ``solve_ivp``)
   on the mode's smooth right-hand side, driven from a numba loop over the output
-  intervals. Events are the zero functions of runtime/solving/hybrid.py, e_i = (1 - 2 s_i) g_i / l;
-  numbalsoda stops at the first sign change it finds in a step and locates it by
-  Brent's method to 1e-8 (crank angle, rad, fixed in numbalsoda); the loop then
-  toggles that contact, and every other whose zero function is already negative
-  (it crossed in the same step: numbalsoda reports the lowest index, not the
-  earliest crossing), and restarts. A sign change from - to + right after a
-  restart is the located root's own round-off (the restart state lies within the
-  located tolerance on either side of the gap's zero): it toggles nothing. Sign changes
-  are looked for at step ends only, so the step is limited to an eighth of the period of the
-  stiffest contact (:func:`dop853_max_step`): a bounce inside one step would be missed.
+  intervals. Events are the zero functions of runtime/solving/hybrid.py, e_i = (1 - 2 s_i) g_i / l,
+  handed to numbalsoda as one event function, their smallest: numbalsoda locates (by
+  Brent's method, to 1e-8 rad of crank angle, fixed in numbalsoda) only the lowest-indexed
+  of the functions that changed sign in a step, not the earliest crossing, and with a
+  function each a contact that crossed earlier in the same step was integrated in the wrong
+  mode up to a later contact's root (on the benchmark's problem: 120 switches instead of the
+  reference's 104, and a scaled error of 6e-2 whatever the tolerance). The smallest of them
+  first crosses zero where the earliest of them does. The loop then toggles the contact
+  whose function is smallest there, and every other whose function is negative (crossed
+  with it), and restarts. A sign change from - to + right after a restart is the located
+  root's own round-off (the restart state lies within the located tolerance on either side
+  of the gap's zero): it toggles nothing. Sign changes are looked for at step ends only,
+  so the step is limited to an eighth of the period of the stiffest contact
+  (:func:`dop853_max_step`): a bounce inside one step would be missed.
 
 numbalsoda needs a Fortran compiler to build from source, so it is optional: without it the
 benchmark skips the two numbalsoda methods with a note. LSODA's finite-difference Jacobians are
@@ -78,10 +82,11 @@ class Layout:
         self.S = self.PA + 2  # activations of the current mode (n_g)
         self.OFF = self.S + n_guards  # offsets of the zero functions since the last restart (see the driver)
         self.CNT = self.OFF + n_guards  # right-hand-side evaluations
-        self.X = self.CNT + 1  # scratch: physical state (6), accelerations (3), gaps (n_g)
+        self.X = self.CNT + 1  # scratch: physical state (6), accelerations (3), gaps (n_g), zero functions (n_g)
         self.ACC = self.X + 6
         self.GAP = self.ACC + 3
-        self.TAB = self.GAP + max(n_guards, 1)  # Pa (N), then Pb (N); with linear pressures N + 1 edge values each
+        self.EV = self.GAP + max(n_guards, 1)  # scratch: the shifted zero functions of the event function (n_g)
+        self.TAB = self.EV + max(n_guards, 1)  # Pa (N), then Pb (N); with linear pressures N + 1 edge values each
         self.linear = linear
         self.NP = samples + linear  # pressure values per chamber
         self.size = self.TAB + 2 * self.NP
@@ -104,7 +109,7 @@ def make_kernels(nm, layout: Layout):
     switched, accelerations, guards = nm.switched, nm.accelerations, nm.guards
     n_g, N = layout.n_g, layout.N
     TH0, DTH, SC, PA, S, OFF, CNT = layout.TH0, layout.DTH, layout.SC, layout.PA, layout.S, layout.OFF, layout.CNT
-    XO, ACC, GAP, TAB, SIZE = layout.X, layout.ACC, layout.GAP, layout.TAB, layout.size
+    XO, ACC, GAP, EV, TAB, SIZE = layout.X, layout.ACC, layout.GAP, layout.EV, layout.TAB, layout.size
     inv_l = 1.0 / LENGTH
     LIN, NP = layout.linear, layout.NP
 
@@ -190,20 +195,31 @@ def make_kernels(nm, layout: Layout):
         d = numba.carray(data, (SIZE,))
         mode_rhs(t, numba.carray(u, (6,)), d, numba.carray(du, (6,)))
 
+    @numba.njit(cache=False)
+    def shifted_zero_functions(t, z, d, e):
+        """The zero functions shifted by their restart offsets (see the module docstring)."""
+        zero_functions(t, z, d, e)
+        for i in range(n_g):
+            e[i] += d[OFF + i]
+
     @numba.cfunc(c_sig)
     def events_c(t, u, e, data):
-        """The zero functions as numbalsoda sees them: shifted by their restart offsets (see the module docstring)."""
+        """The one event function numbalsoda sees: the smallest shifted zero function, whose first root is the
+        earliest crossing of any contact (see the module docstring)."""
         d = numba.carray(data, (SIZE,))
-        ev = numba.carray(e, (n_g,))
-        zero_functions(t, numba.carray(u, (6,)), d, ev)
-        for i in range(n_g):
-            ev[i] += d[OFF + i]
+        g = d[EV:EV + n_g]
+        shifted_zero_functions(t, numba.carray(u, (6,)), d, g)
+        m = g[0]
+        for i in range(1, n_g):
+            m = min(m, g[i])
+        numba.carray(e, (1,))[0] = m
 
     return {"switched_rhs": switched_rhs, "mode_rhs": mode_rhs, "zero_functions": zero_functions, "grid_closed": grid_closed,
-            "switched_c": switched_c, "mode_c": mode_c, "events_c": events_c}
+            "shifted_zero_functions": shifted_zero_functions, "switched_c": switched_c, "mode_c": mode_c,
+            "events_c": events_c}
 
 
-def make_dop853_driver(zero_functions, layout: Layout):
+def make_dop853_driver(zero_functions, shifted_zero_functions, layout: Layout):
     """The numba loop over output intervals and events around numbalsoda's DOP853 (see the module docstring)."""
     import numba
     from numbalsoda import solve_ivp
@@ -237,7 +253,7 @@ def make_dop853_driver(zero_functions, layout: Layout):
             restarts = 0
             while True:
                 span[0], span[1] = t, t_end
-                res = solve_ivp(rhs_ptr, span, z, teval, n_events=n_g, event_fcn=ev_ptr, data=d.ctypes.data,
+                res = solve_ivp(rhs_ptr, span, z, teval, n_events=1, event_fcn=ev_ptr, data=d.ctypes.data,
                                 rtol=rtol, atol=atol, max_step=max_step)
                 nfev += res.nfev
                 n_seg += 1
@@ -246,12 +262,12 @@ def make_dop853_driver(zero_functions, layout: Layout):
                 if not res.event_found:
                     z = res.y[0].copy()
                     break
-                i = res.ind_event
                 t = res.t_event
                 z = res.y_event.copy()
-                zero_functions(t, z, d, e1)
+                shifted_zero_functions(t, z, d, e1)
+                i = np.argmin(e1)  # the contact whose crossing was located (the smallest function there)
                 for j in range(n_g):
-                    if j == i or e1[j] + d[OFF + j] < 0.0:
+                    if j == i or e1[j] < 0.0:
                         s[j] = 1.0 - s[j]
                         counts[j] += 1.0
                 d[S:S + n_g] = s
@@ -314,7 +330,8 @@ class NumbaPeer:
         self.kernels["grid_closed"](np.zeros((6, N)), self.data.copy(), np.empty((n_g, N)))
         if numbalsoda and self.dop853 is None:
             if "dop853" not in self.kernels:
-                self.kernels["dop853"] = make_dop853_driver(self.kernels["zero_functions"], self.layout)
+                self.kernels["dop853"] = make_dop853_driver(self.kernels["zero_functions"],
+                                                            self.kernels["shifted_zero_functions"], self.layout)
             self.dop853 = self.kernels["dop853"]
             self.dop853(self.kernels["mode_c"].address, self.kernels["events_c"].address, self.problem.z0,
                         self.data.copy(), 1e-2, 1e-2, self.max_step)

@@ -18,6 +18,7 @@ from apexseal.runtime.bench.config import quick
 from apexseal.runtime.bench.metrics import errors, trajectory
 from apexseal.runtime.bench.problem import make_problem
 from apexseal.runtime.scenes.scene import load_scene
+from apexseal.runtime.solving.layout import HybridLayout
 from apexseal.runtime.solving.methods import make_engine
 from apexseal.runtime.solving.settings import RunSettings
 
@@ -143,3 +144,31 @@ def test_missing_numbalsoda_skips_its_methods_with_a_note(monkeypatch):
     assert all("not installed" in n and n.startswith("note: skipping") for n in notes) and len(notes) == 2
     kept = {m for s in cfg.scenes for m in s.sweeps}
     assert "numba-scipy-LSODA" in kept and "erk-C" in kept and not kept & {"numbalsoda-LSODA", "numbalsoda-DOP853"}
+
+
+def test_dop853_locates_the_earliest_of_the_crossings_in_a_step(numba_model):
+    """A settled revolution of the benchmark's problem, whose second cluster of switches has several contacts
+    changing sign within one DOP853 step. numbalsoda locates only the lowest-indexed event function that changed
+    sign, so the peer hands it one function, the smallest of the zero functions (runtime/bench/peer_numba.py):
+    with one function per contact it integrated contacts that had crossed first in the wrong mode and switched 120
+    times instead of 104. Against the composite at rtol 1e-10 (RK45 with events to 1e-13 rad): the same switches
+    of every contact in every output interval, and the trajectory within DOP853's event floor."""
+    pytest.importorskip("numbalsoda")
+    from apexseal.runtime.bench.composite import composite_c
+    from apexseal.runtime.bench.peer_numba import NumbaPeer
+
+    scene, nm = numba_model
+    f = model_functions(scene)
+    settle = RunSettings(method="composite", rtol=1e-8, samples_per_revolution=360, pressure="linear")
+    problem = make_problem("default", scene, scene.effects, f, samples=360, span=2 * math.pi, settle_revolutions=3,
+                           settle_settings=settle, pressure_profile="linear")
+    ref_z = composite_c(problem, 1e-10, None, None, None, 1e-13).run(problem.z0, problem.params, problem.theta0,
+                                                                      problem.pressures).z
+    ref = trajectory(problem, ref_z)
+    assert ref.events.sum() > 50  # the clusters are there
+    peer = NumbaPeer(problem, nm)
+    peer.build(numbalsoda=True)
+    z = peer.run("numbalsoda-DOP853", 1e-7).z
+    counts = HybridLayout.of(f).counts  # each contact's switches so far, at the end of every output interval
+    np.testing.assert_array_equal(np.asarray(z)[counts], np.asarray(ref_z)[counts])
+    assert errors(trajectory(problem, z), ref)["state"] < 1e-4
