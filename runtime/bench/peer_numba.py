@@ -19,13 +19,21 @@ each output interval. Three ways an expert would integrate it:
   function each a contact that crossed earlier in the same step was integrated in the wrong
   mode up to a later contact's root (on the benchmark's problem: 120 switches instead of the
   reference's 104, and a scaled error of 6e-2 whatever the tolerance). The smallest of them
-  first crosses zero where the earliest of them does. The loop then toggles the contact
-  whose function is smallest there, and every other whose function is negative (crossed
-  with it), and restarts. A sign change from - to + right after a restart is the located
-  root's own round-off (the restart state lies within the located tolerance on either side
-  of the gap's zero): it toggles nothing. Sign changes are looked for at step ends only,
-  so the step is limited to an eighth of the period of the stiffest contact
-  (:func:`dop853_max_step`): a bounce inside one step would be missed.
+  first crosses zero where the earliest of them does. numbalsoda's 1e-8 rad leaves the
+  located state off the contact's surface by up to that much of its motion, an error
+  the clusters of switches amplify (a floor near 2e-5 on the benchmark's problem), so the
+  loop takes one Newton step of the located function along the flow, z + h f(z) with
+  |h| within that tolerance (its error O(h^2)), unless the step would change the sign of
+  another contact's function (:func:`polished_root`). It then toggles the contact whose
+  function is smallest there, and every other whose function is negative (crossed with
+  it), and restarts. At a restart every zero function that is not positive is shifted to
+  a small positive value: a root located exactly would otherwise start the event function
+  at zero, and numbalsoda, which looks for a change of sign, would miss the next
+  crossing (seen with the Newton step: the seal left its groove at rtol 1e-7); and a
+  sign change from - to + right after a restart, the located root's own round-off,
+  toggles nothing. Sign changes are looked for at step ends only, so the step is limited
+  to an eighth of the period of the stiffest contact (:func:`dop853_max_step`): a bounce
+  inside one step would be missed.
 
 numbalsoda needs a Fortran compiler to build from source, so it is optional: without it the
 benchmark skips the two numbalsoda methods with a note. LSODA's finite-difference Jacobians are
@@ -46,6 +54,12 @@ N_PAR = len(PARAMETER_NAMES)
 OMEGA = PARAMETER_NAMES.index("omega")
 #: restarts (events and their round-off) allowed in one output interval before the run is a failure
 MAX_RESTARTS = 1000
+#: numbalsoda's tolerance of its event location (crank angle, rad; fixed in its Fortran)
+EVENT_LOCATION = 1e-8
+#: the step along the flow (rad) of the forward difference that gives a located zero function's rate
+NEWTON_PROBE = 1e-9
+#: the value (in zero-function units: the gap over 1 um) a zero function that is not positive restarts at
+RESTART_FLOOR = 1e-12
 
 
 def numba_available() -> str | None:
@@ -219,13 +233,43 @@ def make_kernels(nm, layout: Layout):
             "events_c": events_c}
 
 
-def make_dop853_driver(zero_functions, shifted_zero_functions, layout: Layout):
+def make_dop853_driver(kernels: dict, layout: Layout):
     """The numba loop over output intervals and events around numbalsoda's DOP853 (see the module docstring)."""
     import numba
     from numbalsoda import solve_ivp
 
+    zero_functions, shifted_zero_functions = kernels["zero_functions"], kernels["shifted_zero_functions"]
+    mode_rhs = kernels["mode_rhs"]
     n_g, N, DTH, PA, S, OFF, TAB = layout.n_g, layout.N, layout.DTH, layout.PA, layout.S, layout.OFF, layout.TAB
     NP = layout.NP
+
+    @numba.njit(cache=False)
+    def restart_offsets(e0, d):
+        """The shifts of the zero functions at a restart: each that is not positive to RESTART_FLOOR above zero."""
+        for j in range(n_g):
+            d[OFF + j] = RESTART_FLOOR - 2.0 * e0[j] if e0[j] <= 0.0 else 0.0
+
+    @numba.njit(cache=False)
+    def polished_root(t, z, d, i, e1):
+        """One Newton step of the located shifted zero function i along the flow, z + h f(z), when it falls through
+        its root there, |h| is within numbalsoda's location tolerance and no other contact's function changes sign;
+        (t, z) at the root, or as located. ``e1`` (the shifted zero functions at (t, z)) is updated."""
+        f, e2 = np.empty(6), np.empty(n_g)
+        mode_rhs(t, z, d, f)
+        shifted_zero_functions(t + NEWTON_PROBE, z + NEWTON_PROBE * f, d, e2)
+        slope = (e2[i] - e1[i]) / NEWTON_PROBE
+        if not slope < 0.0:
+            return t, z
+        h = -e1[i] / slope
+        if abs(h) > EVENT_LOCATION:
+            return t, z
+        zh = z + h * f
+        shifted_zero_functions(t + h, zh, d, e2)
+        for j in range(n_g):
+            if j != i and (e2[j] < 0.0) != (e1[j] < 0.0):
+                return t, z
+        e1[:] = e2
+        return t + h, zh
 
     @numba.njit(cache=False)
     def drive(rhs_ptr, ev_ptr, z0, d, rtol, atol, max_step):
@@ -248,8 +292,7 @@ def make_dop853_driver(zero_functions, shifted_zero_functions, layout: Layout):
             t, t_end = k * dth, (k + 1) * dth
             teval[0] = t_end
             zero_functions(t, z, d, e0)
-            for j in range(n_g):
-                d[OFF + j] = -2.0 * e0[j] if e0[j] < 0.0 else 0.0
+            restart_offsets(e0, d)
             restarts = 0
             while True:
                 span[0], span[1] = t, t_end
@@ -266,14 +309,15 @@ def make_dop853_driver(zero_functions, shifted_zero_functions, layout: Layout):
                 z = res.y_event.copy()
                 shifted_zero_functions(t, z, d, e1)
                 i = np.argmin(e1)  # the contact whose crossing was located (the smallest function there)
+                t, z = polished_root(t, z, d, i, e1)
+                nfev += 1
                 for j in range(n_g):
                     if j == i or e1[j] < 0.0:
                         s[j] = 1.0 - s[j]
                         counts[j] += 1.0
                 d[S:S + n_g] = s
                 zero_functions(t, z, d, e0)
-                for j in range(n_g):
-                    d[OFF + j] = -2.0 * e0[j] if e0[j] < 0.0 else 0.0
+                restart_offsets(e0, d)
                 restarts += 1
                 if restarts > MAX_RESTARTS:
                     return Z[:, :k], nfev, n_seg, 2
@@ -330,8 +374,7 @@ class NumbaPeer:
         self.kernels["grid_closed"](np.zeros((6, N)), self.data.copy(), np.empty((n_g, N)))
         if numbalsoda and self.dop853 is None:
             if "dop853" not in self.kernels:
-                self.kernels["dop853"] = make_dop853_driver(self.kernels["zero_functions"],
-                                                            self.kernels["shifted_zero_functions"], self.layout)
+                self.kernels["dop853"] = make_dop853_driver(self.kernels, self.layout)
             self.dop853 = self.kernels["dop853"]
             self.dop853(self.kernels["mode_c"].address, self.kernels["events_c"].address, self.problem.z0,
                         self.data.copy(), 1e-2, 1e-2, self.max_step)
