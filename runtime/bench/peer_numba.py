@@ -244,8 +244,10 @@ def make_dop853_driver(kernels: dict, layout: Layout):
     NP = layout.NP
 
     @numba.njit(cache=False)
-    def restart_offsets(e0, d):
-        """The shifts of the zero functions at a restart: each that is not positive to RESTART_FLOOR above zero."""
+    def restart_offsets(t, z, d, e0):
+        """The zero functions at a restart from (t, z) into ``e0``, and their shifts: each that is not positive to
+        RESTART_FLOOR above zero."""
+        zero_functions(t, z, d, e0)
         for j in range(n_g):
             d[OFF + j] = RESTART_FLOOR - 2.0 * e0[j] if e0[j] <= 0.0 else 0.0
 
@@ -291,8 +293,7 @@ def make_dop853_driver(kernels: dict, layout: Layout):
             d[PA + 1] = d[TAB + NP + k]
             t, t_end = k * dth, (k + 1) * dth
             teval[0] = t_end
-            zero_functions(t, z, d, e0)
-            restart_offsets(e0, d)
+            restart_offsets(t, z, d, e0)
             restarts = 0
             while True:
                 span[0], span[1] = t, t_end
@@ -316,8 +317,7 @@ def make_dop853_driver(kernels: dict, layout: Layout):
                         s[j] = 1.0 - s[j]
                         counts[j] += 1.0
                 d[S:S + n_g] = s
-                zero_functions(t, z, d, e0)
-                restart_offsets(e0, d)
+                restart_offsets(t, z, d, e0)
                 restarts += 1
                 if restarts > MAX_RESTARTS:
                     return Z[:, :k], nfev, n_seg, 2
