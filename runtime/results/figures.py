@@ -258,12 +258,14 @@ PNG_COMPRESS_LEVEL = 3
 
 def write_figure(result: SimulationResult, folder: Path, name: str, kind: str, ports: dict | None = None,
                  dpi: int = 100) -> Path:
-    """Draw one figure (long lines as their envelope at ``dpi``) and save it as the PNG file ``folder/name``."""
+    """Draw one figure (long lines as their envelope at ``dpi``) and save it as the PNG file ``folder/name``, laid
+    out as an identical figure saved before if there was one (:mod:`.layout_memo`)."""
+    from . import layout_memo
     from .plots import figure
 
     fig = figure(result, kind, ports=ports, save_dpi=dpi)
     with atomic_open(folder / name, "wb") as fh:  # a half-written PNG never carries the final name
-        fig.savefig(fh, dpi=dpi, format="png", pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
+        layout_memo.savefig(fig, fh, dpi=dpi, format="png", pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
     return folder / name
 
 

@@ -127,3 +127,15 @@ def test_the_figure_view_of_a_gas_run_draws_the_same_figures(closed, tmp_path):
     assert [p.name for p in full] == [p.name for p in light] and len(full) == 6
     for a, b in zip(full, light, strict=True):
         assert a.read_bytes() == b.read_bytes(), a.name
+
+
+def test_the_gas_figures_laid_out_from_the_memo_are_the_same(closed, tmp_path, monkeypatch):
+    """Fig. 11 and the p-V diagram (and the four others of a gas run) saved with a kept layout: the bytes
+    matplotlib's constrained layout gives (runtime/results/layout_memo.py)."""
+    from test_layout_memo import kept_layouts_draw_the_same
+
+    from apexseal.runtime.results.figures import ports_of
+
+    monkeypatch.setenv("APEXSEAL_CACHE", str(tmp_path))
+    monkeypatch.delenv("APEXSEAL_LAYOUT_MEMO", raising=False)
+    kept_layouts_draw_the_same(closed, ports_of(closed.scene))
