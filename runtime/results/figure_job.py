@@ -69,8 +69,9 @@ class FigureJob:
     """The figures of ``result`` being drawn into ``folder``: :meth:`start`, other work, then :meth:`finish`."""
 
     def __init__(self, result, folder: str | Path, ports: dict | None = None, dpi: int = 100,
-                 fork: bool | None = None) -> None:
+                 fork: bool | None = None, frames: dict | None = None) -> None:
         self.result, self.folder, self.ports, self.dpi = result, Path(folder), ports, dpi
+        self.frames = frames or {}  # figure kind -> a frame built ahead (figures.frames_ahead)
         self.files = figure_files(result)
         self.fork = can_fork() if fork is None else fork and can_fork()
         self.pid: int | None = None
@@ -113,7 +114,8 @@ class FigureJob:
         order = sorted(self.files, key=lambda n: ORDER.index(n) if n in ORDER else len(ORDER))
         for name in order:
             if self._claim(name):
-                write_figure(self.result, self.folder, name, self.files[name], self.ports, self.dpi)
+                kind = self.files[name]
+                write_figure(self.result, self.folder, name, kind, self.ports, self.dpi, self.frames.get(kind))
 
     def _end(self, kill: bool) -> None:
         """Wait for the child (killed first if ``kill``) and remove the claims."""

@@ -2,12 +2,14 @@
 
 Importing matplotlib and loading its fonts costs a new process 0.4-0.5 s, as much as drawing two figures
 (docs/performance.md). ``apexseal simulate`` forks a :class:`FigureWorker` before it reads the scene: the worker
-imports matplotlib on the second core while the first one loads the model and integrates, then waits. When the
-result is there, :meth:`FigureWorker.submit` hands it over (pickled to a private temporary file: a pipe
-would block the run until the worker has finished importing) and the worker draws the figures as
-:class:`.figure_job.FigureJob` does, forking once more so that two processes draw. :meth:`FigureWorker.finish`
-waits for it and draws whatever figure it did not write in this process, so a failed or killed worker costs
-time, never a figure.
+imports matplotlib on the second core while the first one loads the model and integrates, then waits. Once the
+model is loaded, :meth:`FigureWorker.prepare` tells it what the figures will show (Fig. 13's force panels, the
+ports), and the worker builds the four figures' frames (:func:`.figures.frames_ahead`: axes, texts and tick
+objects, without data) while the run integrates. When the result is there, :meth:`FigureWorker.submit` hands it
+over (pickled to a private temporary file: a pipe would block the run until the worker has finished importing)
+and the worker fills the frames and saves the figures as :class:`.figure_job.FigureJob` does, forking once more
+so that two processes draw. :meth:`FigureWorker.finish` waits for it and draws whatever figure it did not write
+in this process, so a failed or killed worker costs time, never a figure.
 
 A run that ends without figures (a failure before the result, an interruption) stops the worker
 (:meth:`FigureWorker.cancel`); if this process dies instead, the worker reads the end of the pipe and exits.
@@ -32,6 +34,8 @@ from .figures import figure_view
 
 #: the byte that tells the worker a result is waiting in its file
 _GO = b"g"
+#: the byte before the frames' description (its length in 4 bytes, then its pickle)
+_FRAMES = b"f"
 
 
 def _warm() -> None:
@@ -83,6 +87,18 @@ class FigureWorker:
             if worker is not None and worker.job is None:
                 worker.cancel()
 
+    def prepare(self, panels: list[str], ports: dict | None) -> None:
+        """Tell the worker what the figures will show, Fig. 13's force ``panels`` (:func:`.figures.force_panels`)
+        and the scene's ``ports``: it builds their frames while the run integrates. A frame that does not fit the
+        result after all is not used (the figure is drawn as without it)."""
+        if self._fd is None:
+            return
+        spec = pickle.dumps((list(panels), ports), protocol=pickle.HIGHEST_PROTOCOL)
+        try:  # a few hundred bytes: the pipe takes them at once
+            os.write(self._fd, _FRAMES + len(spec).to_bytes(4, "little") + spec)
+        except OSError:  # the worker is gone: finish() draws everything here
+            pass
+
     def submit(self, result, folder: str | Path, ports: dict | None = None, dpi: int = 100) -> FigureWorker:
         """Hand the result over: the worker draws its figures into ``folder`` while this process goes on."""
         self.job = (result, Path(folder), ports, dpi)
@@ -125,18 +141,36 @@ class FigureWorker:
         self.path.unlink(missing_ok=True)
 
 
+def _read(fd: int, n: int) -> bytes:
+    """``n`` bytes from the pipe ``fd`` (fewer only at its end)."""
+    data = b""
+    while len(data) < n:
+        more = os.read(fd, n - len(data))
+        if not more:
+            break
+        data += more
+    return data
+
+
 def _serve(read_fd: int, path: Path) -> None:
-    """The worker: warm matplotlib, wait for the go, draw (two processes), leave."""
+    """The worker: warm matplotlib, build the frames when told what they show, wait for the go, draw (two
+    processes), leave."""
     code = 1
     try:
         signal.signal(signal.SIGINT, signal.SIG_DFL)  # Ctrl-C stops the run; the worker just ends
         _warm()
-        go = os.read(read_fd, 1)
+        frames = None
+        go = _read(read_fd, 1)
+        if go == _FRAMES:
+            from .figures import frames_ahead
+
+            frames = frames_ahead(*pickle.loads(_read(read_fd, int.from_bytes(_read(read_fd, 4), "little"))))
+            go = _read(read_fd, 1)
         if go == _GO:
             with open(path, "rb") as fh:
                 result, folder, ports, dpi = pickle.load(fh)
             path.unlink(missing_ok=True)
-            FigureJob(result, folder, ports, dpi, fork=True).start().finish()
+            FigureJob(result, folder, ports, dpi, fork=True, frames=frames).start().finish()
         code = 0
     except BaseException:
         traceback.print_exc()

@@ -9,7 +9,9 @@ four figures of a run as PNG files.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -68,41 +70,76 @@ def _ports(ax, ports: dict | None, polar: bool) -> list:
     return handles
 
 
-def fig12_displacements(result: SimulationResult, ports: dict | None = None, *, pyplot: bool = False):
-    """Fig. 12: x, y and phi against crank angle as polar plots (radius = value), ports shaded.
+@dataclass
+class Frame:
+    """A figure drawn before its data: its axes, texts, shading and empty lines, built for ``spec`` (what it shows
+    besides the data: Fig. 12's ports, Fig. 13's panels). A figure process builds the frames while the run
+    integrates (:meth:`.figure_worker.FigureWorker.prepare`); the figure function fills one in if it was built for
+    what the result shows, else draws its own (the same calls in the same order either way)."""
 
-    The radial axis starts below the smallest value (a hole in the middle) and the zero circle is drawn
-    dashed, so negative displacements read as "inside the dashed circle" rather than folding through the
-    centre; at most four radial ticks, labelled on a clear ray; angle labels every 90 deg.
-    """
+    kind: str
+    spec: Any
+    fig: Any
+    axes: list
+    lines: list
+    #: minor tick objects to make ahead in each axis (only logarithmic axes show them)
+    minor_ticks: int = 0
+    used: bool = False
+
+
+def _framed(frame: Frame | None, kind: str, spec) -> Frame | None:
+    """``frame`` if it is an unused frame of ``kind`` built for ``spec``, else None."""
+    if frame is None or frame.kind != kind or frame.spec != spec or frame.used:
+        return None
+    frame.used = True  # a frame holds one figure's data: it is never filled twice
+    return frame
+
+
+def fig12_frame(ports: dict | None = None, pyplot: bool = False) -> Frame:
+    """Fig. 12 without its data (see :func:`fig12_displacements`)."""
     from matplotlib.lines import Line2D
     from matplotlib.ticker import MaxNLocator
 
     fig = new_figure((13, 5.2), pyplot)
-    axes = fig.subplots(1, 3, subplot_kw={"projection": "polar"})
-    th = result.theta
-    handles = []
+    axes = list(fig.subplots(1, 3, subplot_kw={"projection": "polar"}))
+    lines, handles = [], []
     for ax, name in zip(axes, ("x", "y", "phi"), strict=True):
-        c = describe(name)
-        v = result.column(name) * c.scale
+        ax.yaxis.set_major_locator(MaxNLocator(4))
+        ax.set_rlabel_position(112.5)
+        ax.set_thetagrids([0, 90, 180, 270])  # four angle labels, not eight: each costs a text layout per pass
+        ax.tick_params(axis="y", labelsize=8)
+        lines.append(ax.plot([], [], lw=0.8, color="tab:blue")[0])
+        ax.plot(np.linspace(0, 2 * np.pi, 181), np.zeros(181), ls="--", lw=0.8, color="k")
+        handles = _ports(ax, ports, polar=True)
+        ax.set_title(describe(name).label, pad=18, y=TITLE_Y_POLAR)
+    zero = Line2D([], [], ls="--", lw=0.8, color="k", label="zero")
+    fig.legend(handles=[*handles, zero], loc="outside lower center", ncols=len(handles) + 1, fontsize=9)
+    fig.suptitle("Seal displacements against crank angle (cf. Fig. 12; angle = crank angle, radius = value)")
+    return Frame("fig12", ports, fig, axes, lines)
+
+
+def fig12_displacements(result: SimulationResult, ports: dict | None = None, *, pyplot: bool = False,
+                        frame: Frame | None = None):
+    """Fig. 12: x, y and phi against crank angle as polar plots (radius = value), ports shaded.
+
+    The radial axis starts below the smallest value (a hole in the middle) and the zero circle is drawn
+    dashed, so negative displacements read as "inside the dashed circle" rather than folding through the
+    centre; at most four radial ticks, labelled on a clear ray; angle labels every 90 deg. ``frame``: a
+    :func:`fig12_frame` built ahead (used if it has these ports).
+    """
+    frame = _framed(frame, "fig12", ports) or fig12_frame(ports, pyplot)
+    th = result.theta
+    for ax, line, name in zip(frame.axes, frame.lines, ("x", "y", "phi"), strict=True):
+        v = result.column(name) * describe(name).scale
         lo, hi = (float(v.min()), float(v.max())) if v.size else (0.0, 1.0)
         lo, hi = min(lo, 0.0), max(hi, 0.0)
         span = hi - lo or 1.0
         r0 = lo - 0.05 * span
         ax.set_rorigin(r0 - 0.35 * span)  # a hole in the middle: the smallest value does not sit on the centre
         ax.set_rlim(r0, hi + 0.05 * span)
-        ax.yaxis.set_major_locator(MaxNLocator(4))
-        ax.set_rlabel_position(112.5)
-        ax.set_thetagrids([0, 90, 180, 270])  # four angle labels, not eight: each costs a text layout per pass
-        ax.tick_params(axis="y", labelsize=8)
-        ax.plot(th, v, lw=0.8, color="tab:blue")
-        ax.plot(np.linspace(0, 2 * np.pi, 181), np.zeros(181), ls="--", lw=0.8, color="k")
-        handles = _ports(ax, ports, polar=True)
-        ax.set_title(c.label, pad=18, y=TITLE_Y_POLAR)
-    zero = Line2D([], [], ls="--", lw=0.8, color="k", label="zero")
-    fig.legend(handles=[*handles, zero], loc="outside lower center", ncols=len(handles) + 1, fontsize=9)
-    fig.suptitle("Seal displacements against crank angle (cf. Fig. 12; angle = crank angle, radius = value)")
-    return fig
+        line.set_data(th, v)
+        ax.relim()
+    return frame.fig
 
 
 def force_panels(outputs) -> list[str]:
@@ -112,22 +149,14 @@ def force_panels(outputs) -> list[str]:
     return [n[2:-2] for n in outputs if n.startswith("F_") and n.endswith("_X") and n[:-2] + "_Y" in outputs]
 
 
-def fig13_forces(result: SimulationResult, *, pyplot: bool = False, save_dpi: float | None = None):
-    """Fig. 13: the magnitude of every force on the seal the run's model has (:func:`force_panels`): for the
-    full model the groove contacts Fi1, Fc2, Fi2, Fc4, the spring Fs6, the housing Fs5 and the chamber pressure.
-
-    With ``save_dpi`` (the figure is to be saved at that resolution) each line is reduced to its envelope over
-    the pixel columns (:func:`.decimate.envelope`); without it every sample is drawn.
-    """
-    deg = np.degrees(result.theta)
-    names = force_panels(result.outputs)
+def fig13_frame(names: list[str], pyplot: bool = False) -> Frame:
+    """Fig. 13 without its data: a panel for each force of ``names`` (:func:`force_panels`)."""
     rows = max(1, -(-len(names) // 2))
     fig = new_figure((12, 1.2 + 2.3 * rows), pyplot)
-    columns = None if save_dpi is None else columns_of(fig, save_dpi)
-    axes = np.atleast_1d(fig.subplots(rows, 2, sharex=True, squeeze=False)).ravel()
+    axes = list(np.atleast_1d(fig.subplots(rows, 2, sharex=True, squeeze=False)).ravel())
+    lines = []
     for ax, key in zip(axes[:len(names)], names, strict=True):
-        F = np.hypot(result.outputs[f"F_{key}_X"], result.outputs[f"F_{key}_Y"])
-        ax.plot(*((deg, F) if columns is None else envelope(deg, F, columns)), lw=0.7)
+        lines.append(ax.plot([], [], lw=0.7)[0])
         ax.set_ylabel(f"|F {key}| (N)")
         crank_angle_ticks(ax)
     for ax in axes[len(names):]:
@@ -136,7 +165,29 @@ def fig13_forces(result: SimulationResult, *, pyplot: bool = False, save_dpi: fl
         ax.set_xlabel("crank angle (deg)")
         ax.xaxis.set_tick_params(labelbottom=True)
     fig.suptitle("Forces on the apex seal (cf. Fig. 13)")
-    return fig
+    return Frame("fig13", list(names), fig, axes[:len(names)], lines)
+
+
+def fig13_forces(result: SimulationResult, *, pyplot: bool = False, save_dpi: float | None = None,
+                 frame: Frame | None = None):
+    """Fig. 13: the magnitude of every force on the seal the run's model has (:func:`force_panels`): for the
+    full model the groove contacts Fi1, Fc2, Fi2, Fc4, the spring Fs6, the housing Fs5 and the chamber pressure.
+
+    With ``save_dpi`` (the figure is to be saved at that resolution) each line is reduced to its envelope over
+    the pixel columns (:func:`.decimate.envelope`); without it every sample is drawn. ``frame``: a
+    :func:`fig13_frame` built ahead (used if it has these panels).
+    """
+    deg = np.degrees(result.theta)
+    names = force_panels(result.outputs)
+    frame = _framed(frame, "fig13", names) or fig13_frame(names, pyplot)
+    columns = None if save_dpi is None else columns_of(frame.fig, save_dpi)
+    for line, key in zip(frame.lines, names, strict=True):
+        F = np.hypot(result.outputs[f"F_{key}_X"], result.outputs[f"F_{key}_Y"])
+        line.set_data(*((deg, F) if columns is None else envelope(deg, F, columns)))
+    for ax in frame.axes:  # every panel's data first: their x axis is shared
+        ax.relim()
+        ax.autoscale_view()
+    return frame.fig
 
 
 _SUPERSCRIPT = str.maketrans("-0123456789", "\u207b\u2070\u00b9\u00b2\u00b3\u2074\u2075\u2076\u2077\u2078\u2079")
@@ -168,12 +219,24 @@ def plain_log_ticks(ax) -> None:
             axis.set_minor_formatter(NullFormatter())
 
 
-def fig14_spectrum(result: SimulationResult, *, count: int = 5, pyplot: bool = False, save_dpi: float | None = None):
-    """Fig. 14: amplitude spectrum of the seal-housing force Fs5, on logarithmic axes, with its distinct peaks
-    (:func:`.summary.spectral_peaks`, from every frequency) marked and labelled; with ``save_dpi`` the line is
-    its envelope over the pixel columns of the logarithmic axis (:func:`.decimate.envelope_index`)."""
+def fig14_frame(pyplot: bool = False) -> Frame:
+    """Fig. 14 without its data (see :func:`fig14_spectrum`)."""
     fig = new_figure((8, 4.2), pyplot)
     ax = fig.subplots()
+    ax.set_xlabel("angular frequency (rad/s)")
+    ax.set_ylabel("|Fs5| amplitude (N)")
+    ax.set_title("Spectrum of the seal-housing force (cf. Fig. 14); ▼ distinct peaks", y=1.0)  # see TITLE_Y_POLAR
+    return Frame("fig14", None, fig, [ax], [], minor_ticks=2 * TICKS_AHEAD)  # log axes: minor ticks at 2 and 5
+
+
+def fig14_spectrum(result: SimulationResult, *, count: int = 5, pyplot: bool = False, save_dpi: float | None = None,
+                   frame: Frame | None = None):
+    """Fig. 14: amplitude spectrum of the seal-housing force Fs5, on logarithmic axes, with its distinct peaks
+    (:func:`.summary.spectral_peaks`, from every frequency) marked and labelled; with ``save_dpi`` the line is
+    its envelope over the pixel columns of the logarithmic axis (:func:`.decimate.envelope_index`). ``frame``: a
+    :func:`fig14_frame` built ahead."""
+    frame = _framed(frame, "fig14", None) or fig14_frame(pyplot)
+    fig, ax = frame.fig, frame.axes[0]
     if result.n > 8:
         w, amp = spectrum(housing_force(result)[1:], float(np.mean(np.diff(result.time))))
         line = np.maximum(amp[1:], 1e-12)
@@ -188,34 +251,57 @@ def fig14_spectrum(result: SimulationResult, *, count: int = 5, pyplot: bool = F
             ax.plot(p["omega_rad_s"], p["amplitude_N"], "v", color="tab:red", ms=6)
             ax.annotate(f"{p['omega_rad_s']:.3g}", (p["omega_rad_s"], p["amplitude_N"]), textcoords="offset points",
                         xytext=(0, 7), ha="center", fontsize=8, color="tab:red")
-    ax.set_xlabel("angular frequency (rad/s)")
-    ax.set_ylabel("|Fs5| amplitude (N)")
-    ax.set_title("Spectrum of the seal-housing force (cf. Fig. 14); ▼ distinct peaks", y=1.0)  # see TITLE_Y_POLAR
     return fig
 
 
-def mode_timeline(result: SimulationResult, *, pyplot: bool = False, save_dpi: float | None = None):
+def modes_frame(pyplot: bool = False) -> Frame:
+    """The modes figure without its data (see :func:`mode_timeline`)."""
+    fig = new_figure((12, 5), pyplot)
+    ax1, ax2 = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [1.2, 1]})
+    ax1.set_title("closed contacts", y=1.0)  # placed, not searched: see TITLE_Y_POLAR
+    ax2.set_xlabel("crank angle (deg)")
+    crank_angle_ticks(ax2, value_ticks=None)
+    ax2.set_title("seal-groove contact case", y=1.0)
+    return Frame("modes", None, fig, [ax1, ax2], [])
+
+
+def mode_timeline(result: SimulationResult, *, pyplot: bool = False, save_dpi: float | None = None,
+                  frame: Frame | None = None):
     """Which contacts are closed at each crank angle, and the contact case (Algorithm 3).
 
     Both are steps, drawn through the samples where they change (:func:`.decimate.step_changes`: the same
     steps, without the repeated vertices). ``save_dpi`` is accepted like the other figures' and changes nothing.
+    ``frame``: a :func:`modes_frame` built ahead.
     """
+    frame = _framed(frame, "modes", None) or modes_frame(pyplot)
+    ax1, ax2 = frame.axes
     deg = np.degrees(result.theta)
-    fig = new_figure((12, 5), pyplot)
-    ax1, ax2 = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [1.2, 1]})
     for i in range(len(result.guard_names)):
         x, closed = step_changes(deg, np.asarray(result.closed[i], float))
         ax1.fill_between(x, i, i + 0.8 * closed, step="post", alpha=0.8)
     ax1.set_yticks(np.arange(len(result.guard_names)) + 0.4, result.guard_names)
-    ax1.set_title("closed contacts", y=1.0)  # placed, not searched: see TITLE_Y_POLAR
     cases = sorted(set(m.split("_")[0] for m in result.modes))
     idx = np.array([cases.index(m.split("_")[0]) for m in result.modes])
     ax2.step(*step_changes(deg, idx), where="post", lw=0.8)
     ax2.set_yticks(range(len(cases)), cases)
-    ax2.set_xlabel("crank angle (deg)")
-    crank_angle_ticks(ax2, value_ticks=None)
-    ax2.set_title("seal-groove contact case", y=1.0)
-    return fig
+    return frame.fig
+
+
+#: tick objects made ahead in each axis of a frame (matplotlib makes any further ones as it needs them): more than
+#: the figures show
+TICKS_AHEAD = 8
+
+
+def frames_ahead(panels: list[str], ports: dict | None) -> dict[str, Frame]:
+    """The four figures' frames with their tick objects made, Fig. 13's for the force ``panels`` and Fig. 12's for
+    the ``ports``: what a figure process builds while the run integrates (:mod:`.figure_worker`), by figure kind."""
+    frames = {"fig12": fig12_frame(ports), "fig13": fig13_frame(panels), "fig14": fig14_frame(), "modes": modes_frame()}
+    for frame in frames.values():
+        for ax in frame.fig.axes:
+            for axis in (ax.xaxis, ax.yaxis):
+                axis.get_major_ticks(TICKS_AHEAD)
+                axis.get_minor_ticks(frame.minor_ticks)
+    return frames
 
 
 #: the figures a run writes: file name -> drawing function
@@ -257,13 +343,14 @@ PNG_COMPRESS_LEVEL = 3
 
 
 def write_figure(result: SimulationResult, folder: Path, name: str, kind: str, ports: dict | None = None,
-                 dpi: int = 100) -> Path:
-    """Draw one figure (long lines as their envelope at ``dpi``) and save it as the PNG file ``folder/name``, laid
-    out as an identical figure saved before if there was one (:mod:`.layout_memo`)."""
+                 dpi: int = 100, frame: Frame | None = None) -> Path:
+    """Draw one figure (long lines as their envelope at ``dpi``; in ``frame`` if it was built for it) and save it
+    as the PNG file ``folder/name``, laid out as an identical figure saved before if there was one
+    (:mod:`.layout_memo`)."""
     from . import layout_memo
     from .plots import figure
 
-    fig = figure(result, kind, ports=ports, save_dpi=dpi)
+    fig = figure(result, kind, ports=ports, save_dpi=dpi, frame=frame)
     with atomic_open(folder / name, "wb") as fh:  # a half-written PNG never carries the final name
         layout_memo.savefig(fig, fh, dpi=dpi, format="png", pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
     return folder / name

@@ -114,7 +114,9 @@ def apply(fig, kept: dict) -> bool:
     boxes, sup = kept.get("axes"), kept.get("suptitle")
     if not isinstance(boxes, list) or len(boxes) != len(fig.axes) or (sup is None) != (fig._suptitle is None):
         return False
-    fig.set_layout_engine("none")
+    fig.set_layout_engine(None)  # no engine at all: savefig draws once (with any engine it draws twice)
+    if fig.get_layout_engine() is not None:  # the rcParams give figures a layout by default
+        fig.set_layout_engine("none")
     for ax, (original, active) in zip(fig.axes, boxes, strict=True):
         ax._set_position(Bbox(original), which="original")
         ax._set_position(Bbox(active), which="active")

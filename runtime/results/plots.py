@@ -17,18 +17,20 @@ from .outputs import describe
 FIGURES = ("fig12", "fig13", "fig14", "modes", "fig11", "pv")
 
 
-def figure(result, kind: str, *, ports: dict | None = None, pyplot: bool = False, save_dpi: float | None = None):
+def figure(result, kind: str, *, ports: dict | None = None, pyplot: bool = False, save_dpi: float | None = None,
+           frame: figures.Frame | None = None):
     """One of the paper's figures by name (see :data:`FIGURES`); ``save_dpi``: drawn to be saved at that
-    resolution, long lines reduced to their envelope over its pixel columns (:mod:`.decimate`)."""
+    resolution, long lines reduced to their envelope over its pixel columns (:mod:`.decimate`); ``frame``: the
+    figure built ahead without its data (:func:`.figures.frames_ahead`), used if it fits."""
     if kind == "fig12":
         return figures.fig12_displacements(result, ports if ports is not None else figures.ports_of(result.scene),
-                                           pyplot=pyplot)
+                                           pyplot=pyplot, frame=frame)
     if kind == "fig13":
-        return figures.fig13_forces(result, pyplot=pyplot, save_dpi=save_dpi)
+        return figures.fig13_forces(result, pyplot=pyplot, save_dpi=save_dpi, frame=frame)
     if kind == "fig14":
-        return figures.fig14_spectrum(result, pyplot=pyplot, save_dpi=save_dpi)
+        return figures.fig14_spectrum(result, pyplot=pyplot, save_dpi=save_dpi, frame=frame)
     if kind == "modes":
-        return figures.mode_timeline(result, pyplot=pyplot, save_dpi=save_dpi)
+        return figures.mode_timeline(result, pyplot=pyplot, save_dpi=save_dpi, frame=frame)
     if kind in ("fig11", "pv"):
         from . import gas
 

@@ -57,7 +57,7 @@ def _simulate(scene, revolutions, method, rtol, max_wall_time, out, csv, no_figu
         with watch.stage("import"):
             from .runtime.api import model_functions, run_scene, settings_of
             from .runtime.results.figure_job import FigureJob
-            from .runtime.results.figures import ports_of
+            from .runtime.results.figures import force_panels, ports_of
             from .runtime.results.folder import ResultFolder, ResultStorageError
             from .runtime.results.plausibility import PenetrationWarning
             from .runtime.results.summary import summarise  # noqa: F401  (timed here; used by _save)
@@ -84,6 +84,8 @@ def _simulate(scene, revolutions, method, rtol, max_wall_time, out, csv, no_figu
             try:
                 with watch.stage("load"):
                     functions = model_functions(sc)
+                    if worker is not None:  # it builds the costliest figures' frames while this one integrates
+                        worker.prepare(force_panels(functions.output_names), ports_of(sc))
                 with watch.stage("run"):
                     writer = ResultFolder(out)
                     with warnings.catch_warnings():  # the penetration check is printed below, with the summary

@@ -11,7 +11,7 @@ from fork_helpers import require_fork
 
 import apexseal
 from apexseal.runtime.results.figure_worker import FigureWorker
-from apexseal.runtime.results.figures import FILES, figure_files, ports_of, write_figures
+from apexseal.runtime.results.figures import FILES, figure_files, force_panels, ports_of, write_figures
 
 
 @pytest.fixture(scope="module")
@@ -35,11 +35,17 @@ def _gone(pid: int) -> bool:
     return False
 
 
-def test_the_worker_draws_the_same_files(result, default_scene, tmp_path):
+@pytest.mark.parametrize("told", [None, "panels", "other panels"])
+def test_the_worker_draws_the_same_files(result, default_scene, tmp_path, told):
+    """Drawn in the worker the same as in one process: without frames built ahead, with them, and with frames
+    built for other panels than the result has (not used)."""
     ports = ports_of(default_scene)
     alone = write_figures(result, tmp_path / "one", ports, fork=False)
     worker = _worker()
     pid = worker.pid
+    if told is not None:
+        panels = force_panels(result.outputs)
+        worker.prepare(panels if told == "panels" else panels[:-1], ports)
     drawn = worker.submit(result, tmp_path / "two", ports).finish()
     assert [p.name for p in alone] == [p.name for p in drawn] == list(figure_files(result))
     for a, b in zip(alone, drawn, strict=True):
@@ -96,3 +102,17 @@ def test_the_cli_draws_through_the_worker(tmp_path, monkeypatch):
     assert len(submitted) == 1
     for name in FILES:
         assert (out / name).stat().st_size > 0, name
+
+
+def test_a_frame_is_filled_once_and_only_for_what_it_was_built_for(result, default_scene):
+    """figures.frames_ahead: Fig. 13's frame fills a result with its panels, once; Fig. 12's needs its ports."""
+    from apexseal.runtime.results import figures
+
+    ports = ports_of(default_scene)
+    frames = figures.frames_ahead(force_panels(result.outputs), ports)
+    assert figures.fig13_forces(result, save_dpi=100, frame=frames["fig13"]) is frames["fig13"].fig
+    assert figures.fig13_forces(result, save_dpi=100, frame=frames["fig13"]) is not frames["fig13"].fig
+    assert figures.fig12_displacements(result, None, frame=frames["fig12"]) is not frames["fig12"].fig
+    assert figures.fig12_displacements(result, ports, frame=frames["fig12"]) is frames["fig12"].fig
+    other = figures.frames_ahead(force_panels(result.outputs)[1:], ports)["fig13"]
+    assert figures.fig13_forces(result, frame=other) is not other.fig
