@@ -254,6 +254,17 @@ def fig14_spectrum(result: SimulationResult, *, count: int = 5, pyplot: bool = F
     return fig
 
 
+def contact_cases(modes: list[str]) -> tuple[list[str], np.ndarray]:
+    """The contact cases of a run's mode labels (the label before its first ``_``), sorted, and each sample's
+    index among them. Each distinct label is split once: a run has a few labels over tens of thousands of
+    samples."""
+    labels: dict[str, int] = {}
+    codes = np.fromiter((labels.setdefault(m, len(labels)) for m in modes), dtype=np.intp, count=len(modes))
+    case_of = [label.split("_")[0] for label in labels]
+    cases = sorted(set(case_of))
+    return cases, np.array([cases.index(c) for c in case_of], dtype=np.intp)[codes]
+
+
 def modes_frame(pyplot: bool = False) -> Frame:
     """The modes figure without its data (see :func:`mode_timeline`)."""
     fig = new_figure((12, 5), pyplot)
@@ -280,8 +291,7 @@ def mode_timeline(result: SimulationResult, *, pyplot: bool = False, save_dpi: f
         x, closed = step_changes(deg, np.asarray(result.closed[i], float))
         ax1.fill_between(x, i, i + 0.8 * closed, step="post", alpha=0.8)
     ax1.set_yticks(np.arange(len(result.guard_names)) + 0.4, result.guard_names)
-    cases = sorted(set(m.split("_")[0] for m in result.modes))
-    idx = np.array([cases.index(m.split("_")[0]) for m in result.modes])
+    cases, idx = contact_cases(result.modes)
     ax2.step(*step_changes(deg, idx), where="post", lw=0.8)
     ax2.set_yticks(range(len(cases)), cases)
     return frame.fig

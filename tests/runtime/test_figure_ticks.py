@@ -1,4 +1,4 @@
-"""Ticks of the saved figures: plain-text decades on logarithmic axes, few crank-angle ticks."""
+"""Ticks of the saved figures: plain-text decades on logarithmic axes, few crank-angle ticks; the modes figure's cases."""
 
 from __future__ import annotations
 
@@ -84,3 +84,17 @@ def test_the_skeleton_of_a_figure_keeps_its_axes_and_texts_without_its_data():
         for axis in ("x", "y"):
             assert _labels(sk, getattr(b, f"{axis}axis")) == _labels(fig, getattr(a, f"{axis}axis"))
         assert [len(line.get_xdata()) for line in b.get_lines()] == [2]
+
+
+def test_contact_cases_index_each_sample_by_its_case():
+    """figures.contact_cases against its definition: the sorted cases (label before the first ``_``) and each
+    sample's index among them; no samples, no cases."""
+    from apexseal.runtime.results.figures import contact_cases
+
+    rng = np.random.default_rng(3)
+    modes = list(rng.choice(["0", "I_c2_i1", "I_i2", "II_c2_i2_c4", "III", "II"], 500))
+    cases, idx = contact_cases(modes)
+    assert cases == ["0", "I", "II", "III"]
+    assert [cases[i] for i in idx] == [m.split("_")[0] for m in modes]
+    cases, idx = contact_cases([])
+    assert cases == [] and idx.shape == (0,)
