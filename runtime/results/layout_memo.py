@@ -51,7 +51,10 @@ def _static() -> list:
     from apexseal.files import files_digest
 
     here = Path(__file__).resolve().parent
-    rc = hashlib.sha256(repr(sorted((k, repr(v)) for k, v in matplotlib.rcParams.items())).encode()).hexdigest()
+    # read as a dict: matplotlib's own lookup of "backend" would import pyplot and resolve the user's backend (and
+    # the backend, which saving a PNG does not use, would stand as an object whose repr changes with the process)
+    rc = hashlib.sha256(repr(sorted((k, repr(v)) for k, v in dict.items(matplotlib.rcParams)
+                                    if k != "backend")).encode()).hexdigest()
     return [FORMAT, matplotlib.__version__, rc, files_digest(here, DRAWING_MODULES)]
 
 

@@ -84,7 +84,7 @@ def _simulate(scene, revolutions, method, rtol, max_wall_time, out, csv, no_figu
             try:
                 with watch.stage("load"):
                     functions = model_functions(sc)
-                    if worker is not None:  # it builds the costliest figures' frames while this one integrates
+                    if worker is not None:  # it builds the figures' frames while this one integrates
                         worker.prepare(force_panels(functions.output_names), ports_of(sc))
                 with watch.stage("run"):
                     writer = ResultFolder(out)

@@ -99,3 +99,19 @@ def test_the_memo_keeps_at_most_its_limit(result, memo, monkeypatch):
         louder = dataclasses.replace(result, outputs={k: scale * v for k, v in result.outputs.items()})
         _png(figure(louder, "fig13", save_dpi=100))
     assert len(list(memo.glob("*.json"))) == 2
+
+
+def test_the_signature_is_the_same_in_every_process_and_leaves_the_backend_alone():
+    """A new process computes the signature of the same figure as another one did (the memo serves the next run),
+    and reading the rcParams for it neither imports pyplot nor resolves the backend (figures never touch the
+    user's backend)."""
+    import subprocess
+    import sys
+
+    code = ("import sys, matplotlib; from matplotlib.figure import Figure; "
+            "from apexseal.runtime.results import layout_memo; "
+            "fig = Figure(layout='constrained'); fig.subplots().set_title('t'); "
+            "print(layout_memo.signature(fig, 100), 'matplotlib.pyplot' in sys.modules)")
+    runs = [subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+            for _ in range(2)]
+    assert runs[0] == runs[1] and runs[0][1] == "False"
