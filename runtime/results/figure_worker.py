@@ -5,11 +5,13 @@ Importing matplotlib and loading its fonts costs a new process 0.4-0.5 s, as muc
 imports matplotlib on the second core while the first one loads the model and integrates, then waits. Once the
 model is loaded, :meth:`FigureWorker.prepare` tells it what the figures will show (Fig. 13's force panels, the
 ports), and the worker builds the four figures' frames (:func:`.figures.frames_ahead`: axes, texts and tick
-objects, without data) while the run integrates. When the result is there, :meth:`FigureWorker.submit` hands it
-over (pickled to a private temporary file: a pipe would block the run until the worker has finished importing)
-and the worker fills the frames and saves the figures as :class:`.figure_job.FigureJob` does, forking once more
-so that two processes draw. :meth:`FigureWorker.finish` waits for it and draws whatever figure it did not write
-in this process, so a failed or killed worker costs time, never a figure.
+objects, without data) while the run integrates, and only then: once the result waits, the frames not built yet
+are left to the two drawing processes, which build them side by side. When the result is there,
+:meth:`FigureWorker.submit` hands it over (pickled to a private temporary file: a pipe would block the run until
+the worker has finished importing) and the worker fills the frames and saves the figures as
+:class:`.figure_job.FigureJob` does, forking once more so that two processes draw. :meth:`FigureWorker.finish`
+waits for it and draws whatever figure it did not write in this process, so a failed or killed worker costs
+time, never a figure.
 
 A run that ends without figures (a failure before the result, an interruption) stops the worker
 (:meth:`FigureWorker.cancel`); if this process dies instead, the worker reads the end of the pipe and exits.
@@ -21,6 +23,7 @@ from __future__ import annotations
 
 import os
 import pickle
+import select
 import signal
 import sys
 import tempfile
@@ -164,7 +167,10 @@ def _serve(read_fd: int, path: Path) -> None:
         if go == _FRAMES:
             from .figures import frames_ahead
 
-            frames = frames_ahead(*pickle.loads(_read(read_fd, int.from_bytes(_read(read_fd, 4), "little"))))
+            spec = pickle.loads(_read(read_fd, int.from_bytes(_read(read_fd, 4), "little")))
+            # built only while the run integrates: once the result waits on the pipe (a short run), the two drawing
+            # processes build the frames left, side by side, instead of this one building them all in turn
+            frames = frames_ahead(*spec, stop=lambda: bool(select.select([read_fd], [], [], 0)[0]))
             go = _read(read_fd, 1)
         if go == _GO:
             with open(path, "rb") as fh:

@@ -302,11 +302,18 @@ def mode_timeline(result: SimulationResult, *, pyplot: bool = False, save_dpi: f
 TICKS_AHEAD = 8
 
 
-def frames_ahead(panels: list[str], ports: dict | None) -> dict[str, Frame]:
+def frames_ahead(panels: list[str], ports: dict | None, stop=None) -> dict[str, Frame]:
     """The four figures' frames with their tick objects made, Fig. 13's for the force ``panels`` and Fig. 12's for
-    the ``ports``: what a figure process builds while the run integrates (:mod:`.figure_worker`), by figure kind."""
-    frames = {"fig12": fig12_frame(ports), "fig13": fig13_frame(panels), "fig14": fig14_frame(), "modes": modes_frame()}
-    for frame in frames.values():
+    the ``ports``: what a figure process builds while the run integrates (:mod:`.figure_worker`), by figure kind,
+    costliest first. ``stop()`` is asked before each: once it is true (the result is there), the frames not built
+    yet are left to the processes that draw the figures, which build them side by side."""
+    makers = {"fig13": lambda: fig13_frame(panels), "fig12": lambda: fig12_frame(ports), "fig14": fig14_frame,
+              "modes": modes_frame}
+    frames = {}
+    for kind, make in makers.items():
+        if stop is not None and stop():
+            break
+        frame = frames[kind] = make()
         for ax in frame.fig.axes:
             for axis in (ax.xaxis, ax.yaxis):
                 axis.get_major_ticks(TICKS_AHEAD)

@@ -37,8 +37,9 @@ def _gone(pid: int) -> bool:
 
 @pytest.mark.parametrize("told", [None, "panels", "other panels"])
 def test_the_worker_draws_the_same_files(result, default_scene, tmp_path, told):
-    """Drawn in the worker the same as in one process: without frames built ahead, with them, and with frames
-    built for other panels than the result has (not used)."""
+    """Drawn in the worker the same as in one process: not told what to draw ahead, told (it builds the frames
+    until the result arrives, here at once: see the next test for frames built ahead), and told other panels than
+    the result has (their frame is not used)."""
     ports = ports_of(default_scene)
     alone = write_figures(result, tmp_path / "one", ports, fork=False)
     worker = _worker()
@@ -116,3 +117,32 @@ def test_a_frame_is_filled_once_and_only_for_what_it_was_built_for(result, defau
     assert figures.fig12_displacements(result, ports, frame=frames["fig12"]) is frames["fig12"].fig
     other = figures.frames_ahead(force_panels(result.outputs)[1:], ports)["fig13"]
     assert figures.fig13_forces(result, frame=other) is not other.fig
+
+
+@pytest.mark.parametrize("fork", [False, True])
+def test_frames_built_ahead_draw_the_same_files(result, default_scene, tmp_path, fork):
+    """Figures filled into frames built ahead (as the worker builds them while a run integrates; in the worker
+    itself a short run's result may arrive first, and then the drawing processes build the frames): the files
+    drawn in one process without them, byte for byte."""
+    from apexseal.runtime.results.figure_job import FigureJob
+    from apexseal.runtime.results.figures import frames_ahead
+
+    if fork:
+        require_fork()
+    ports = ports_of(default_scene)
+    alone = write_figures(result, tmp_path / "one", ports, fork=False)
+    frames = frames_ahead(force_panels(result.outputs), ports)
+    assert set(frames) == {"fig12", "fig13", "fig14", "modes"}
+    framed = FigureJob(result, tmp_path / "two", ports, fork=fork, frames=frames).start().finish()
+    for a, b in zip(alone, framed, strict=True):
+        assert a.read_bytes() == b.read_bytes(), a.name
+
+
+def test_frames_ahead_stop_when_told(result, default_scene):
+    """The worker stops building frames once the result waits: the costliest first, none after the stop."""
+    from apexseal.runtime.results.figures import frames_ahead
+
+    answers = iter([False, True])
+    built = frames_ahead(force_panels(result.outputs), ports_of(default_scene), stop=lambda: next(answers))
+    assert list(built) == ["fig13"]
+    assert frames_ahead(force_panels(result.outputs), None, stop=lambda: True) == {}
