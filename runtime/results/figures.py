@@ -70,6 +70,11 @@ def _ports(ax, ports: dict | None, polar: bool) -> list:
     return handles
 
 
+#: tick objects made ahead in each axis of a frame (matplotlib makes any further ones as it needs them): more than
+#: the figures show
+TICKS_AHEAD = 8
+
+
 @dataclass
 class Frame:
     """A figure drawn before its data: its axes, texts, shading and empty lines, built for ``spec`` (what it shows
@@ -295,11 +300,6 @@ def mode_timeline(result: SimulationResult, *, pyplot: bool = False, save_dpi: f
     ax2.step(*step_changes(deg, idx), where="post", lw=0.8)
     ax2.set_yticks(range(len(cases)), cases)
     return frame.fig
-
-
-#: tick objects made ahead in each axis of a frame (matplotlib makes any further ones as it needs them): more than
-#: the figures show
-TICKS_AHEAD = 8
 
 
 def frames_ahead(panels: list[str], ports: dict | None, stop=None) -> dict[str, Frame]:
