@@ -41,7 +41,7 @@ import casadi as ca
 
 from ..cores import parallel_threads
 from ..derive.cache import cache_dir
-from ..files import atomic_write, content_key, file_lock, sha256_bytes, sha256_file
+from ..files import atomic_write, content_key, file_lock, read_json_object, sha256_bytes, sha256_file
 from ..progress import stage
 from .manifest import StaleArtefactWarning, verify
 
@@ -120,11 +120,7 @@ def identity_key(cc: str, flags: tuple[str, ...]) -> str | None:
 
 
 def _known_identities() -> dict:
-    try:
-        known = json.loads((lib_root() / IDENTITIES).read_text())
-    except (OSError, ValueError):
-        return {}
-    return known if isinstance(known, dict) else {}
+    return read_json_object(lib_root() / IDENTITIES) or {}
 
 
 @functools.lru_cache(maxsize=8)

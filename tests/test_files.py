@@ -7,7 +7,7 @@ import stat
 
 import pytest
 
-from apexseal.files import atomic_open, atomic_write, content_key
+from apexseal.files import atomic_open, atomic_write, content_key, read_json_object
 
 
 @pytest.fixture
@@ -87,3 +87,11 @@ def test_a_remembered_digest_serves_until_the_stat_changes(tmp_path, monkeypatch
     assert files.sha256_file(path) == first and reads == []
     path.write_bytes(b"[]")
     assert files.sha256_file(path) != first and reads == [path]
+
+
+def test_read_json_object_gives_none_for_anything_but_an_object(tmp_path):
+    path = tmp_path / "kept.json"
+    assert read_json_object(path) is None  # missing
+    for text, expected in (('{"a": 1}', {"a": 1}), ("{broken", None), ("[1, 2]", None), ("", None)):
+        path.write_text(text)
+        assert read_json_object(path) == expected, text

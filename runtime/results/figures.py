@@ -143,7 +143,7 @@ def fig12_displacements(result: SimulationResult, ports: dict | None = None, *, 
         ax.set_rorigin(r0 - 0.35 * span)  # a hole in the middle: the smallest value does not sit on the centre
         ax.set_rlim(r0, hi + 0.05 * span)
         line.set_data(th, v)
-        ax.relim()
+        ax.relim()  # the data limits plotting the line would give (the view is set above)
     return frame.fig
 
 

@@ -129,14 +129,6 @@ def apply(fig, kept: dict) -> bool:
     return True
 
 
-def _read(key: str) -> dict | None:
-    try:
-        kept = json.loads((_folder() / f"{key}.json").read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return None
-    return kept if isinstance(kept, dict) else None
-
-
 def _keep(key: str, kept: dict) -> None:
     from apexseal.files import atomic_write
 
@@ -159,11 +151,11 @@ def savefig(fig, fh, *, dpi: float, **kwargs) -> bool:
             key = signature(fig, dpi)
         except Exception:  # a figure the signature cannot describe is laid out as usual
             key = None
-    kept = None if key is None else _read(key)
-    if kept is not None and apply(fig, kept):
-        fig.savefig(fh, dpi=dpi, **kwargs)
-        return True
+    from apexseal.files import read_json_object
+
+    kept = None if key is None else read_json_object(_folder() / f"{key}.json")
+    laid_out = kept is not None and apply(fig, kept)
     fig.savefig(fh, dpi=dpi, **kwargs)
-    if key is not None:
+    if key is not None and not laid_out:
         _keep(key, positions(fig))
-    return False
+    return laid_out

@@ -40,11 +40,10 @@ def _path() -> Path:
 
 
 def _read(path: Path) -> dict[str, float]:
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return {}
-    return {k: float(v) for k, v in data.items() if isinstance(v, int | float)} if isinstance(data, dict) else {}
+    from apexseal.files import read_json_object
+
+    data = read_json_object(path) or {}
+    return {k: float(v) for k, v in data.items() if isinstance(v, int | float)}
 
 
 def _loaded() -> dict[str, float]:

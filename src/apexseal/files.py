@@ -82,6 +82,16 @@ def files_digest(root: Path, names: Iterable[str]) -> str:
     return _remembered(("files_digest", *names), paths, compute)
 
 
+def read_json_object(path: Path) -> dict | None:
+    """The JSON object in ``path``, or None if the file is missing, unreadable or holds anything else: how every
+    cache of apexseal's reads what a process before it kept (a broken entry is rebuilt, never an error)."""
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return data if isinstance(data, dict) else None
+
+
 def content_key(payload: Any) -> str:
     """The sha256 of a JSON-able record (keys sorted): the one way apexseal names cached content."""
     return sha256_bytes(json.dumps(payload, sort_keys=True).encode())
