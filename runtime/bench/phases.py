@@ -17,12 +17,12 @@ a group's is right to a step at each of its ends. The intervals are grouped by t
   composite's quiet phase may start only once its stiffness test finds RK45 at its stability boundary;
 * *quiet*: the rest.
 
-For each group: evaluations, RK45 and exprb32 steps, events, and the stiffest eigenvalue of the mode's Jacobian
-(the scaled state's six rates against the crank angle, from the model's CasADi Function at the reference's state
-in the middle interval of the kind's longest group), with the RK45 steps per degree that eigenvalue alone would impose (RK5(4)'s
-stability boundary on the negative real axis, h |lambda| = 3.3). ``--scale name=factor`` multiplies model
-parameters (for example ``v_eps=10``: a friction regularisation ten times wider); the reference is then not
-that problem's, so the table reports work, not errors.
+For each kind of group: evaluations, RK45 and exprb32 steps, events, and the stiffest eigenvalue of the mode's
+Jacobian (the scaled state's six rates against the crank angle, from the model's CasADi Function at the
+reference's state in the middle interval of the kind's longest group), with the RK45 steps per degree that
+eigenvalue alone would impose (RK5(4)'s stability boundary on the negative real axis, h |lambda| = 3.3).
+``--scale name=factor`` multiplies model parameters (for example ``v_eps=10``: a friction regularisation ten
+times wider); the reference is then not that problem's, so the table reports work, not errors.
 """
 
 from __future__ import annotations
