@@ -130,19 +130,20 @@ def rows(an: Anatomy, rtols=(1e-6, 1e-8), scale: dict[str, float] | None = None,
         params[names.index(name)] *= factor
     gs = groups(an.switched, int(round(ring / an.dtheta)))
     deg = math.degrees(an.dtheta)
-    out = []
-    for rtol in rtols:
-        per = per_interval(an, rtol, params, functions)
-        total = int(per[:, 0].sum())
-        for kind in ("cluster", "ring", "quiet"):
-            mine = [g for g in gs if g.kind == kind]
-            if not mine:
-                continue
+    kinds = {}  # kind -> (its intervals, the stiffest eigenvalue in its longest group): the same at every rtol
+    for kind in ("cluster", "ring", "quiet"):
+        mine = [g for g in gs if g.kind == kind]
+        if mine:
             sel = np.zeros(p.samples, bool)
             for g in mine:
                 sel[g.start:g.stop] = True
             longest = max(mine, key=lambda g: g.stop - g.start)
-            lam = stiffest(an, params, (longest.start + longest.stop) // 2)
+            kinds[kind] = (sel, stiffest(an, params, (longest.start + longest.stop) // 2))
+    out = []
+    for rtol in rtols:
+        per = per_interval(an, rtol, params, functions)
+        total = int(per[:, 0].sum())
+        for kind, (sel, lam) in kinds.items():
             width = sel.sum() * deg
             row = {"rtol": rtol, "kind": kind, "degrees": float(width), "evaluations": int(per[sel, 0].sum()),
                    "share": float(per[sel, 0].sum() / total), "rk45_steps": int(per[sel, 1].sum()),
