@@ -4,7 +4,8 @@ A :class:`Submodel` declares, as class attributes, its parameters (:class:`~..pa
 meaning, scene key, range, default), its option slots (:class:`~..options.Option`), its guards
 (:class:`Guard`: the contact is closed while the guard is negative; the name of its output and the labels of
 its modes), which option switches it on, its (stiffness, damping) pairs for the explicit-Euler stability check,
-and plain numeric functions for its derived parameters. Its laws are written in :meth:`Submodel.contacts`,
+its damping coefficients that a ratio of critical damping may state instead, and plain numeric functions for its
+other derived parameters. Its laws are written in :meth:`Submodel.contacts`,
 which returns the loads it puts on the seal, given a :class:`Context` (kinematics, contact geometry, options,
 parameter symbols, the chamber pressures, activation symbols).
 
@@ -118,8 +119,12 @@ class Submodel:
     own_vector: ClassVar[bool] = False
     #: (stiffness, damping) parameter names of the oscillators it adds (explicit-Euler stability check)
     oscillators: ClassVar[tuple[tuple[str, str], ...]] = ()
-    #: pairs of scene keys that state one thing two ways (a damping coefficient or its damping ratio): a scene
-    #: gives at most one of each pair (an error names both), and an override of one replaces the other
+    #: (damping coefficient, damping ratio) parameter names: unless the scene gives the coefficient, it is
+    #: c = 2 zeta sqrt(k ms), k the mean stiffness of the oscillators damped by c (Eqs. 55, 62, 67, 73 take c; the
+    #: ratio is the scene's way of stating it). A scene gives at most one of the two (an error names both).
+    damping_ratios: ClassVar[tuple[tuple[str, str], ...]] = ()
+    #: further pairs of scene keys that state one thing two ways: a scene gives at most one of each pair (an error
+    #: names both), and an override of one replaces the other
     alternatives: ClassVar[tuple[tuple[str, str], ...]] = ()
     #: one line for the docs
     summary: ClassVar[str] = ""
@@ -130,8 +135,23 @@ class Submodel:
 
     @classmethod
     def derived(cls, values: dict[str, float], inputs: Mapping[str, Any], options) -> dict[str, float]:
-        """Values of its derived parameters (plain numbers) from the values known so far and the scene inputs."""
-        return {}
+        """Values of its derived parameters (plain numbers) from the values known so far and the scene inputs:
+        each damping coefficient of :attr:`damping_ratios` the scene does not give, from its ratio."""
+        from ..numbers import damping_of_ratio
+
+        out = {}
+        for c, zeta in cls.damping_ratios:
+            if values.get(c) is None:
+                ks = [values[k] for k, damping in cls.oscillators if damping == c]
+                out[c] = damping_of_ratio(values[zeta], sum(ks) / len(ks), values["ms"])
+        return out
+
+    @classmethod
+    def scene_alternatives(cls) -> tuple[tuple[str, str], ...]:
+        """The pairs of scene keys of which a scene gives at most one: its damping coefficients beside their ratios,
+        and its further :attr:`alternatives`."""
+        key = {p.name: p.key for p in cls.parameters}
+        return tuple((key[c], key[zeta]) for c, zeta in cls.damping_ratios) + cls.alternatives
 
     def contacts(self, ctx: Context) -> list[ContactModel]:
         """The contacts and loads it puts on the seal."""

@@ -53,18 +53,7 @@ class GrooveContacts(Submodel):
               _gap("b3", "g3, the mouth corner on the seal's positive side", "42"),
               _gap("b4", "g4, the back corner c4 on the positive wall", "43"))
     oscillators = tuple((f"kg{i}", "cr") for i in range(1, 5))
-    alternatives = (("contacts.cr", "contacts.zeta_g"),)
-
-    @classmethod
-    def derived(cls, values, inputs, options):
-        """cr = 2 zeta_g sqrt(kg ms) unless the scene gives cr; the four contacts share cr (Eqs. 55, 62), so kg is
-        the mean of kg1..kg4 (each contact's own ratio when they are equal, as in every embedded scene)."""
-        from ..numbers import damping_of_ratio
-
-        if values.get("cr") is not None:
-            return {}
-        kg = sum(values[f"kg{i}"] for i in range(1, 5)) / 4
-        return {"cr": damping_of_ratio(values["zeta_g"], kg, values["ms"])}
+    damping_ratios = (("cr", "zeta_g"),)
 
     def contacts(self, ctx: Context) -> list[ContactModel]:
         """Fi1, Fc2, Fi2, Fc4 of Eq. 63: elastic (Algorithm 1) + damping (Eqs. 55, 62) + friction."""

@@ -37,16 +37,7 @@ class HousingContact(Submodel):
     guards = (Guard("xs5", "s_h", "minus the tip's penetration into the housing wall (Eq. 33)", output="xs5",
                     sign=-1, closed_label="h", open_label="h0"),)
     oscillators = (("kw", "cw"),)
-    alternatives = (("contacts.cw", "contacts.zeta_w"),)
-
-    @classmethod
-    def derived(cls, values, inputs, options):
-        """cw = 2 zeta_w sqrt(kw ms) unless the scene gives cw."""
-        from ..numbers import damping_of_ratio
-
-        if values.get("cw") is not None:
-            return {}
-        return {"cw": damping_of_ratio(values["zeta_w"], values["kw"], values["ms"])}
+    damping_ratios = (("cw", "zeta_w"),)
 
     def contacts(self, ctx: Context) -> list[ContactModel]:
         """Fs5 = Fs5x + Fs5y at s5 (Eq. 68); its moment follows from where it acts."""

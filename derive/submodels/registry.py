@@ -174,7 +174,7 @@ def oscillators(opts=None) -> tuple[tuple[str, str], ...]:
 
 def alternatives() -> tuple[tuple[str, str], ...]:
     """The pairs of scene keys of which a scene gives at most one (e.g. ``contacts.cw`` and ``contacts.zeta_w``)."""
-    return tuple(pair for cls in submodels() for pair in cls.alternatives)
+    return tuple(pair for cls in submodels() for pair in cls.scene_alternatives())
 
 
 def digest() -> str:

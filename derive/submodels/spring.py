@@ -34,16 +34,7 @@ class SpringContact(Submodel):
     guards = (Guard("spring", "s_sp", "minus the spring's compression (Eq. 38)", output="spring_compression",
                     sign=-1, closed_label="s", open_label="s0", closed_at_rest=True),)
     oscillators = (("ks", "cs"),)
-    alternatives = (("contacts.cs", "contacts.zeta_s"),)
-
-    @classmethod
-    def derived(cls, values, inputs, options):
-        """cs = 2 zeta_s sqrt(ks ms) unless the scene gives cs."""
-        from ..numbers import damping_of_ratio
-
-        if values.get("cs") is not None:
-            return {}
-        return {"cs": damping_of_ratio(values["zeta_s"], values["ks"], values["ms"])}
+    damping_ratios = (("cs", "zeta_s"),)
 
     def contacts(self, ctx: Context) -> list[ContactModel]:
         """Fs6 = Fsp X + Fd_s6 + Ff_s6 (Eq. 74)."""

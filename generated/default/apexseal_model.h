@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 3903303a47394c18da9cfa153d4632f49913f978bb7f23f1623b291b2fc408b6.
+ * Effects: all. Input hash: 1c49bc650d6545f8bccb456b1382b8c3dce9332dc13a2aae1e0bb99096999baf.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "3903303a47394c18da9cfa153d4632f49913f978bb7f23f1623b291b2fc408b6"
+#define APEXSEAL_INPUT_HASH "1c49bc650d6545f8bccb456b1382b8c3dce9332dc13a2aae1e0bb99096999baf"
 
 /* state x */
 #define APEXSEAL_NX 6
