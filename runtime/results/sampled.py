@@ -2,7 +2,7 @@
 
 With a compiled model library, ``apexseal_outputs_block`` (generated/templates/apexseal_model.in.c) calls the
 library's ``outputs`` and ``guards`` at every sample in a C loop. CasADi's map of the same externals costs about
-ten times the evaluation per sample (its per-call bookkeeping; `python -m apexseal.runtime.results.sampled`
+ten times the evaluation per sample (its per-call bookkeeping; `python -m apexseal.runtime.bench.sample_cost`
 measures both), and assembling a revolution's outputs was most of the run's time after the integration
 (docs/bench/table.md, "End to end"). Without a library (``solver.interpreted``, no C compiler) the Functions are
 CasADi's SX ones and their map is used. Both give the same numbers: the loop calls the compiled code the
@@ -12,8 +12,6 @@ externals call (tests/runtime/test_sampled.py compares them to the bit).
 from __future__ import annotations
 
 import ctypes
-import sys
-import time
 from functools import lru_cache
 from pathlib import Path
 
@@ -58,7 +56,7 @@ def _ptr(a: np.ndarray | None):
     return None if a is None else a.ctypes.data_as(_DBL)
 
 
-def _looped(functions, theta, X, closed, params, U) -> tuple[np.ndarray | None, np.ndarray]:
+def looped_outputs(functions, theta, X, closed, params, U) -> tuple[np.ndarray | None, np.ndarray]:
     n = theta.size
     th, x, u = np.ascontiguousarray(theta, float), _rows(X), _rows(U)
     a = None if closed is None else _rows(closed)
@@ -72,7 +70,7 @@ def _looped(functions, theta, X, closed, params, U) -> tuple[np.ndarray | None, 
     return (None if y is None else y.T), g.T
 
 
-def _mapped(functions, theta, X, closed, params, U) -> tuple[np.ndarray | None, np.ndarray]:
+def mapped_outputs(functions, theta, X, closed, params, U) -> tuple[np.ndarray | None, np.ndarray]:
     n = theta.size
     g = mapped(functions.guards, n)(theta[None, :], X, params, U).full()
     if closed is None:
@@ -92,48 +90,10 @@ def outputs_at(functions, theta, X, closed, params, U) -> tuple[np.ndarray | Non
     states ``X`` (n_x, n), contacts ``closed`` (n_guards, n; bool or 0/1), parameters ``params``, pressures ``U``
     (n_u, n). With ``closed`` None only the guards are evaluated, and the outputs are None."""
     theta = np.asarray(theta, float)
-    way = _looped if _loops(functions, U.shape[0]) else _mapped
+    way = looped_outputs if _loops(functions, U.shape[0]) else mapped_outputs
     return way(functions, theta, X, closed, params, U)
 
 
 def guards_at(functions, theta, X, params, U) -> np.ndarray:
     """The guards (n_guards, n) at the samples (as :func:`outputs_at`, without the outputs)."""
     return outputs_at(functions, theta, X, None, params, U)[1]
-
-
-def main(argv=None) -> None:
-    """Time both ways at one revolution of the default run's samples (3600): medians of 9 after a warm-up."""
-    import statistics
-
-    from ..api import model_functions
-    from ..scenes.scene import load_scene
-
-    argv = sys.argv[1:] if argv is None else argv
-    n = int(argv[0]) if argv else 3600
-    sc = load_scene()
-    f = model_functions(sc)
-    if f.library is None:
-        raise SystemExit("no compiled model library (no C compiler?): nothing to compare")
-    rng = np.random.default_rng(0)
-    theta = np.linspace(0.0, 2 * np.pi, n)
-    X = rng.normal(size=(len(f.state_names), n)) * np.array([1e-6, 3e-5, 5e-3, 1e-3, 0.1, 1.0])[:, None]
-    closed = rng.integers(0, 2, (len(f.guard_names), n)).astype(float)
-    U = np.full((f.outputs.size1_in(4), n), 2e5)
-    P = sc.parameter_vector()
-    ways = {"library loop": lambda: _looped(f, theta, X, closed, P, U),
-            "CasADi map": lambda: _mapped(f, theta, X, closed, P, U)}
-    times = {k: [] for k in ways}
-    for call in ways.values():  # warm-up: maps built, library loaded
-        call()
-    for _ in range(9):  # interleaved
-        for k, call in ways.items():
-            t = time.perf_counter()
-            call()
-            times[k].append(time.perf_counter() - t)
-    for k, ts in times.items():
-        print(f"{k}: {1e3 * statistics.median(ts):.2f} ms for {n} samples ({1e9 * statistics.median(ts) / n:.0f} ns "
-              "per sample, outputs and guards)")
-
-
-if __name__ == "__main__":
-    main()

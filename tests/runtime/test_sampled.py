@@ -71,7 +71,18 @@ def test_a_library_without_the_loop_falls_back_to_the_map(monkeypatch):
     theta, X, closed, U = _samples(f, 32, 7)
     calls = []
     monkeypatch.setattr(sampled, "_block", lambda library: calls.append(library))
-    monkeypatch.setattr(sampled, "_looped", lambda *a: pytest.fail("the loop was called"))
+    monkeypatch.setattr(sampled, "looped_outputs", lambda *a: pytest.fail("the loop was called"))
     Y, g = outputs_at(f, theta, X, closed, P, U)
     assert calls and Y.shape == (len(f.output_names), theta.size)
     np.testing.assert_array_equal(g, mapped(f.guards, theta.size)(theta[None, :], X, P, U).full())
+
+
+def test_the_cost_command_times_both_ways(capsys):
+    from apexseal.runtime.bench import sample_cost
+
+    if model_functions(load_scene()).library is None:
+        pytest.skip("no compiled model library (no C compiler)")
+    sample_cost.main(["64"])
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split(":")[0] for line in lines] == ["library loop", "CasADi map"]
+    assert all("for 64 samples" in line and float(line.split()[2]) > 0 for line in lines)
