@@ -26,7 +26,8 @@ import threading
 import traceback
 from pathlib import Path
 
-from .figures import figure_files, write_figure
+from .result import SimulationResult
+from .saved_figures import figure_files, write_figure
 
 #: the order in which the two processes take the figures: costliest first (docs/performance.md, one process:
 #: Fig. 13's seven panels, Fig. 12's three polar panels, then the gas figures, Fig. 14, the modes), so that the
@@ -131,7 +132,7 @@ class FigureJob:
 
     def finish(self) -> list[Path]:
         """Draw the figures the child has not taken, wait for it, draw any it did not write; the paths in the
-        order of :func:`.figures.figure_files`."""
+        order of :func:`.saved_figures.figure_files`."""
         try:
             self._draw_claimed()
         except BaseException:
@@ -146,3 +147,11 @@ class FigureJob:
             if not (self.folder / name).is_file():
                 write_figure(self.result, self.folder, name, self.files[name], self.ports, self.dpi)
         return [self.folder / n for n in self.files]
+
+
+def write_figures(result: SimulationResult, folder: str | Path, ports: dict | None = None, dpi: int = 100,
+                  *, fork: bool = False) -> list[Path]:
+    """Draw the four figures of a run (six with the chamber gas model: Fig. 11 pressures and the p-V diagram)
+    and save them as PNG files in ``folder`` (created if missing). ``fork=True`` draws some of them in a second
+    process (:class:`.figure_job.FigureJob`; ``apexseal simulate`` starts one before it writes the result)."""
+    return FigureJob(result, folder, ports, dpi, fork=fork).start().finish()

@@ -33,7 +33,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from .figure_job import FigureJob, can_fork, reap
-from .figures import figure_view
+from .saved_figures import figure_view
 
 #: the byte that tells the worker a result is waiting in its file
 _GO = b"g"

@@ -12,7 +12,7 @@ that simulate (scene, load, compile, integrate, assemble) and against the integr
 
 Runs the default scene once to warm the caches (derivation, compiled libraries), then ``repeats`` times:
 ``apexseal.simulate(scene)`` (wall time of the call: integrator set-up from the cache plus integration; and
-the integration alone, ``result.info["wall_time_s"]``) and :func:`.figures.write_figures` (draw and save the four
+the integration alone, ``result.info["wall_time_s"]``) and :func:`.figure_job.write_figures` (draw and save the four
 PNG files), as ``apexseal simulate`` draws them (some in a forked second process, :mod:`.figure_job`) and all in
 this process, in turn; the :func:`skeleton` of each figure (made and saved), matplotlib's cost for the same
 axes whatever the data; and :func:`single_axes`, the least figure a run could draw. Prints the medians and their
@@ -87,8 +87,10 @@ def single_axes(result, path: Path) -> None:
 def measure(repeats: int = 5) -> dict:
     import apexseal
 
-    from .figures import figure_files, ports_of, write_figure, write_figures
+    from .figure_job import write_figures
+    from .figures import ports_of
     from .plots import figure
+    from .saved_figures import figure_files, write_figure
 
     scene = apexseal.load_scene()
     result = apexseal.simulate(scene)  # warm-up: derivation and compilation come from the caches afterwards

@@ -10,7 +10,9 @@ from fork_helpers import require_fork
 
 import apexseal
 from apexseal.runtime.results import figure_job
-from apexseal.runtime.results.figures import figure_files, ports_of, write_figures
+from apexseal.runtime.results.figure_job import write_figures
+from apexseal.runtime.results.figures import ports_of
+from apexseal.runtime.results.saved_figures import figure_files
 
 
 @pytest.fixture(scope="module")

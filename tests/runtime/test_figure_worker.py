@@ -10,8 +10,10 @@ import pytest
 from fork_helpers import require_fork
 
 import apexseal
+from apexseal.runtime.results.figure_job import write_figures
 from apexseal.runtime.results.figure_worker import FigureWorker
-from apexseal.runtime.results.figures import FILES, figure_files, force_panels, ports_of, write_figures
+from apexseal.runtime.results.figures import force_panels, ports_of
+from apexseal.runtime.results.saved_figures import FILES, figure_files
 
 
 @pytest.fixture(scope="module")

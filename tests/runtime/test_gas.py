@@ -104,7 +104,7 @@ def test_the_scene_that_ran_keeps_the_gas_model(tmp_path):
 def test_gas_columns_have_units_and_the_gas_figures_draw(closed, tmp_path):
     """The gas states and outputs are in the one table of outputs (CSV header, pandas units) and a gas run
     writes the Fig. 11 pressures and the p-V diagram besides the paper's four figures."""
-    from apexseal.runtime.results.figures import write_figures
+    from apexseal.runtime.results.figure_job import write_figures
 
     df = closed.to_pandas()
     assert {"ma", "Ub", "Va", "mdot_leak_tip"} <= set(df.columns)
@@ -117,7 +117,9 @@ def test_gas_columns_have_units_and_the_gas_figures_draw(closed, tmp_path):
 def test_the_figure_view_of_a_gas_run_draws_the_same_figures(closed, tmp_path):
     """A figure process is handed figure_view(result) and the scene's ports (the view has no scene): fewer
     outputs, the same six PNG files, byte for byte."""
-    from apexseal.runtime.results.figures import figure_outputs, figure_view, ports_of, write_figures
+    from apexseal.runtime.results.figure_job import write_figures
+    from apexseal.runtime.results.figures import ports_of
+    from apexseal.runtime.results.saved_figures import figure_outputs, figure_view
 
     view = figure_view(closed)
     assert {"Va", "Vb", "Pa", "Pb", "F_housing_X"} <= set(figure_outputs(closed)) == set(view.outputs)

@@ -11,8 +11,9 @@ import pytest
 
 import apexseal
 from apexseal.runtime.results import layout_memo
-from apexseal.runtime.results.figures import figure_files, ports_of
+from apexseal.runtime.results.figures import ports_of
 from apexseal.runtime.results.plots import figure
+from apexseal.runtime.results.saved_figures import figure_files
 
 
 @pytest.fixture(scope="module")

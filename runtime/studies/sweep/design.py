@@ -14,12 +14,32 @@ from __future__ import annotations
 
 import itertools
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ...scenes.errors import Problem
 from ...scenes.units import QuantityError, parse_quantity, registry
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One varied scene key: its values (grid) or bounds (sampled designs), in the key's SI unit."""
+
+    key: str
+    unit: str  # SI unit of the key (pint syntax), "1" for plain numbers, "" for words and flags
+    values: tuple[Any, ...] | None  # explicit values, or the grid of from/to/points
+    low: float | None = None
+    high: float | None = None
+    scale: str = "linear"
+    display_unit: str = ""  # the unit the study file wrote the values in (for figures)
+    listed: bool = False  # values listed in the study file (a sampled design picks among them)
+
+    @property
+    def numeric(self) -> bool:
+        return self.unit != ""
+
 
 
 def key_validator(key: str):
@@ -49,7 +69,6 @@ def _unit_written(value: Any) -> str:
 def parameter_of(key: str, ps) -> tuple[Any, list[Problem]]:
     """A :class:`~.study.Parameter` from a ``[parameters."<key>"]`` table, and the problems found."""
     from ...scenes.schema import key_paths
-    from .study import Parameter
 
     where = f"parameters.{key}"
     v = key_validator(key)

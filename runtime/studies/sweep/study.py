@@ -49,6 +49,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from apexseal.suggest import did_you_mean
 
 from ...scenes.errors import Problem, show_value
+from .design import Parameter, parameter_of
 from .quantities import QUANTITY_HELP, quantity_unit
 
 #: the designs of experiments (design.py)
@@ -116,24 +117,6 @@ class StudyFile(_Model):
     collect: CollectSection = Field(default_factory=CollectSection)
     run: RunSection = Field(default_factory=RunSection)
     feasible: dict[str, Bound] = Field(default_factory=dict)
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """One varied scene key: its values (grid) or bounds (sampled designs), in the key's SI unit."""
-
-    key: str
-    unit: str  # SI unit of the key (pint syntax), "1" for plain numbers, "" for words and flags
-    values: tuple[Any, ...] | None  # explicit values, or the grid of from/to/points
-    low: float | None = None
-    high: float | None = None
-    scale: str = "linear"
-    display_unit: str = ""  # the unit the study file wrote the values in (for figures)
-    listed: bool = False  # values listed in the study file (a sampled design picks among them)
-
-    @property
-    def numeric(self) -> bool:
-        return self.unit != ""
 
 
 @dataclass(frozen=True)
@@ -278,8 +261,6 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
         where = "study.scene" if not spec.scene else "scene"
         problems += [Problem(f"{where}.{p.key}" if where == "scene" else where,
                              p.value if where == "scene" else spec.study.scene, p.message) for p in exc.errors]
-
-    from .design import parameter_of  # the units and kinds of scene keys
 
     parameters = []
     for key, ps in spec.parameters.items():
