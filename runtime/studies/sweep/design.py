@@ -41,7 +41,6 @@ class Parameter:
         return self.unit != ""
 
 
-
 def key_validator(key: str):
     """The scene's validator of a dotted key (SI / Int / Choice / Flag / Text), or None if no such key."""
     from ...scenes.schema import SECTIONS, model_at, validator_of
@@ -66,8 +65,8 @@ def _unit_written(value: Any) -> str:
     return f"{q.units:~}" if hasattr(q, "units") and tuple(q.unit_items()) else ""
 
 
-def parameter_of(key: str, ps) -> tuple[Any, list[Problem]]:
-    """A :class:`~.study.Parameter` from a ``[parameters."<key>"]`` table, and the problems found."""
+def parameter_of(key: str, ps) -> tuple[Parameter | None, list[Problem]]:
+    """A :class:`Parameter` from a ``[parameters."<key>"]`` table, and the problems found."""
     from ...scenes.schema import key_paths
 
     where = f"parameters.{key}"
