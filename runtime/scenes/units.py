@@ -41,14 +41,28 @@ def registry() -> pint.UnitRegistry:
     """The shared unit registry, built once per process.
 
     pint parses its definition files on every start (~0.5 s); with a cache folder (in the project's cache,
-    ``$APEXSEAL_CACHE/pint``) it loads them parsed (~0.08 s). An unwritable cache falls back to parsing.
+    ``$APEXSEAL_CACHE/pint``) it loads them parsed (~0.08 s). pint's cache library writes its pickles in place, so
+    the folder is used under a lock (two processes on an empty cache, such as a sweep's first points, would
+    otherwise read each other's half-written files), and a folder whose files cannot be read (a process killed
+    while writing one) is emptied and written again. An unwritable cache falls back to parsing.
     """
+    import shutil
+
     import pint
 
     from apexseal.derive.cache import cache_dir
+    from apexseal.files import file_lock
 
+    folder = cache_dir() / "pint"
     try:
-        ureg = pint.UnitRegistry(cache_folder=cache_dir() / "pint")
+        with file_lock(folder.with_name("pint.lock")):
+            try:
+                ureg = pint.UnitRegistry(cache_folder=folder)
+            except OSError:
+                raise
+            except Exception:  # noqa: BLE001 - a cut or foreign file in the cache: rebuilt once, then pint's error
+                shutil.rmtree(folder, ignore_errors=True)
+                ureg = pint.UnitRegistry(cache_folder=folder)
     except OSError:
         ureg = pint.UnitRegistry()
     ureg.define("rev = revolution")

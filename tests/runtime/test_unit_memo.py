@@ -58,3 +58,29 @@ def test_a_rejected_value_is_not_remembered():
     assert unit_memo.lookup(unit_memo.key_of("3 kg", "m", None)) is None
     assert parse_quantity("3 mm", "m") == 0.003
     assert unit_memo.lookup(unit_memo.key_of("3 mm", "m", None)) == 0.003
+
+
+PINT = textwrap.dedent("""
+    from apexseal.runtime.scenes.units import registry
+
+    print(registry().Quantity("3 mm").to("m").magnitude)
+""")
+
+
+def test_a_pint_cache_cut_short_by_a_killed_process_is_rebuilt(tmp_path):
+    """pint's cache library writes its pickles in place: a file left empty by a killed process would make every
+    later registry fail to load ("EOFError: Ran out of input"); it is emptied and written again instead."""
+    env = dict(os.environ, APEXSEAL_CACHE=str(tmp_path))
+
+    def convert() -> str:
+        proc = subprocess.run([sys.executable, "-c", PINT], capture_output=True, text=True, timeout=300, env=env)
+        assert proc.returncode == 0, proc.stderr[-2000:]
+        return proc.stdout.strip()
+
+    assert convert() == "0.003"
+    pickles = list((tmp_path / "pint").rglob("*.pickle"))
+    assert pickles
+    for p in pickles:
+        p.write_bytes(b"")
+    assert convert() == "0.003"
+    assert all(p.stat().st_size > 0 for p in (tmp_path / "pint").rglob("*.pickle"))
