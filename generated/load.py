@@ -27,6 +27,7 @@ from ..derive.assumptions import Assumptions
 from ..derive.cache import cache_dir
 from ..derive.effects import Effects
 from ..derive.modes import Mode
+from ..derive.submodels.registry import extended
 from ..files import content_key, file_lock, stat_key
 from ..progress import stage
 from .codegen import SERIALIZED, read_serialized
@@ -53,7 +54,10 @@ class LoadedFunctions:
 
 
 def is_default(effects: Effects, assumptions: Assumptions) -> bool:
-    return effects == Effects() and assumptions == Assumptions()
+    """The committed default artefacts are for these inputs: the default effects and assumptions, with the
+    built-in submodels alone (a user's registered submodel changes every model's inputs, so they are not stale
+    then, only not for this model: no warning, its artefacts come from the cache)."""
+    return effects == Effects() and assumptions == Assumptions() and not extended()
 
 
 def _current(directory: Path, expected: str) -> bool:

@@ -69,6 +69,13 @@ def register(cls: type[Submodel]) -> type[Submodel]:
     return cls
 
 
+def extended() -> bool:
+    """True while a user's submodel is registered besides the built-in ones (the committed default artefacts,
+    generated from the built-in registry, are then not for this process's models)."""
+    _ensure()
+    return any(not cls.__module__.startswith(__package__) for cls in _registry.values())
+
+
 def unregister(name: str) -> None:
     """Remove a user's submodel (built-in ones stay)."""
     _ensure()

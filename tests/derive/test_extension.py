@@ -53,6 +53,8 @@ def cushion():
 def test_the_registry_builds_everything_from_the_declarations(cushion):
     from apexseal.runtime.scenes.schema import key_paths
 
+    assert registry.extended()
+
     assert registry.parameter_names()[-2:] == ("kb", "hb")
     assert {"contacts.kb", "contacts.hb", "effects.cushion"} <= set(key_paths())
     scene = apexseal.load_scene()
@@ -63,7 +65,11 @@ def test_the_registry_builds_everything_from_the_declarations(cushion):
         scene.with_overrides(**{"contacts.hb": "4 kg"})
 
 
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")  # soft contacts
+@pytest.mark.filterwarnings("error::apexseal.generated.manifest.StaleArtefactWarning")
 def test_a_contact_declared_in_a_test_is_derived_generated_and_simulated(cushion, tmp_path):
+    """With the cushion registered the committed default artefacts are not for any model of this process: even
+    with the cushion off, the model comes from the cache, without a warning that they are stale."""
     from apexseal.derive.cache import cached_model
     from apexseal.generated.generate import generate
 
@@ -93,3 +99,10 @@ def test_a_contact_declared_in_a_test_is_derived_generated_and_simulated(cushion
     without = apexseal.simulate(scene.with_overrides(**{"effects.cushion": False}), revolutions=1)
     assert "cb" not in without.guard_names  # off: not derived, not generated, not run
     assert abs(without.state[0] - r.state[0]).max() > 1e-7  # the cushion moves the seal
+
+
+def test_without_a_users_submodel_the_registry_is_not_extended():
+    assert not registry.extended()
+    with registry.registered(Cushion):
+        assert registry.extended()
+    assert not registry.extended()

@@ -19,6 +19,10 @@ from apexseal.runtime.scenes.errors import SceneError
 
 SAMPLES = 72
 BUDGET = 4.0
+#: the random scenes are made of implausible inputs and soft contacts: their warnings are expected here (the checks
+#: themselves: tests/runtime/test_plausibility.py)
+pytestmark = [pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning"),
+              pytest.mark.filterwarnings("ignore::apexseal.runtime.scenes.units.PlausibilityWarning")]
 
 
 def log_uniform(lo: float, hi: float):

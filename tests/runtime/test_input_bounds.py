@@ -69,6 +69,8 @@ def test_messages_quote_a_short_excerpt(tmp_path):
     ({"operation.initial_state.y": "1 mm"}, ["operation.initial_state.y = 0.001 m", "inside a wall"]),
     ({"operation.rpm": 1e-300}, ["operation.rpm = 1e-300 rpm is too slow", "allowed: rpm >="]),
 ])
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")  # inside a wall
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.scenes.units.PlausibilityWarning")  # 1e-300 rpm
 def test_impossible_start_is_named_before_integrating(default_scene, default_functions, override, fragments):
     scene = default_scene.with_overrides(**override)
     t = time.perf_counter()
