@@ -54,7 +54,6 @@ def test_the_registry_builds_everything_from_the_declarations(cushion):
     from apexseal.runtime.scenes.schema import key_paths
 
     assert registry.extended()
-
     assert registry.parameter_names()[-2:] == ("kb", "hb")
     assert {"contacts.kb", "contacts.hb", "effects.cushion"} <= set(key_paths())
     scene = apexseal.load_scene()

@@ -1,5 +1,5 @@
 """Unit conversions remembered between processes: a warm scene load gives the same scene without pint, and a
-damaged memo file is ignored and rewritten."""
+damaged memo file is ignored and rewritten; so is a damaged file of pint's own cache."""
 
 from __future__ import annotations
 
