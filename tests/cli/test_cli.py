@@ -89,31 +89,31 @@ def test_derive_reports_cold_and_cached_times():
     assert "contact guards" in r.output and "cached call" in r.output
 
 
-def test_scene_default_writes_a_loadable_scene(tmp_path):
+def test_scene_default_writes_a_loadable_scene(tmp_path, monkeypatch):
     """The README said to copy runtime/scenes/default.toml, which a pip user does not have."""
     from apexseal.runtime.scenes.scene import default_scene_text, load_scene
 
     runner = CliRunner()
-    with runner.isolated_filesystem(temp_dir=tmp_path):
-        r = runner.invoke(main, ["scene", "--default"])
-        assert r.exit_code == 0 and r.stdout == default_scene_text()
-        Path("my.toml").write_text(r.stdout)
-        assert load_scene("my.toml") == load_scene()  # its pressure table was written beside it
+    (tmp_path / "work").mkdir()
+    monkeypatch.chdir(tmp_path / "work")
+    r = runner.invoke(main, ["scene", "--default"])
+    assert r.exit_code == 0 and r.stdout == default_scene_text()
+    Path("my.toml").write_text(r.stdout)
+    assert load_scene("my.toml") == load_scene()  # its pressure table was written beside it
     r = runner.invoke(main, ["scene", "--default", "--out", str(tmp_path / "start")])
     assert r.exit_code == 0 and load_scene(tmp_path / "start" / "default.toml") == load_scene()
     resolved = CliRunner().invoke(main, ["scene", "--resolved"])
     assert resolved.exit_code == 0 and 'Ws = "0.003 m"' in resolved.output
 
 
-def test_report_commands_write_under_apexseal_out_not_docs(tmp_path):
+def test_report_commands_write_under_apexseal_out_not_docs(tmp_path, monkeypatch):
     """derive --check and bench wrote into ./docs/ of whatever folder they ran in."""
     from apexseal.commands_bench import bench
 
-    runner = CliRunner()
-    with runner.isolated_filesystem(temp_dir=tmp_path):
-        r = runner.invoke(main, ["derive", "--check"])
-        assert r.exit_code == 0, r.output
-        assert Path("apexseal-out/paper-check.md").is_file() and not Path("docs").exists()
+    monkeypatch.chdir(tmp_path)
+    r = CliRunner().invoke(main, ["derive", "--check"])
+    assert r.exit_code == 0, r.output
+    assert Path("apexseal-out/paper-check.md").is_file() and not Path("docs").exists()
     out = next(p for p in bench.params if p.name == "out")
     assert str(out.default) == "apexseal-out/bench"
 
