@@ -19,6 +19,8 @@ Where the artefacts come from: for the default effects and assumptions, the comm
 from __future__ import annotations
 
 import ctypes
+import os
+import shlex
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -60,6 +62,16 @@ def is_default(effects: Effects, assumptions: Assumptions) -> bool:
     return effects == Effects() and assumptions == Assumptions() and not extended()
 
 
+def _out_argument(folder: Path) -> str:
+    """``folder`` as a command's argument: relative to the working folder when inside it (``generated/default``
+    in a checkout), otherwise whole (an installed package's folder), quoted for a shell where needed."""
+    try:
+        shown = Path(os.path.relpath(folder))
+    except ValueError:  # another drive
+        shown = folder
+    return shlex.quote(str(folder if shown.parts[:1] == ("..",) else shown))
+
+
 def _current(directory: Path, expected: str) -> bool:
     try:
         verify(directory, expected_hash=expected, trusted=True)
@@ -81,7 +93,8 @@ def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None
             return DEFAULT_DIR
         except StaleArtefactError as exc:
             warnings.warn(f"{exc}. Using regenerated artefacts from the cache instead; refresh the committed ones "
-                          "with `apexseal generate --out generated/default`", StaleArtefactWarning, stacklevel=3)
+                          f"with `apexseal generate --out {_out_argument(DEFAULT_DIR)}`", StaleArtefactWarning,
+                          stacklevel=3)
     target = cache_dir() / "gen" / expected
     if target.is_dir() and _current(target, expected):
         return target

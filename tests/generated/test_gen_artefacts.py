@@ -103,8 +103,9 @@ def test_corrupted_manifest_is_detected(artefacts, edit):
 def test_stale_default_is_regenerated_into_the_cache(artefacts, monkeypatch):
     (artefacts / "casadi_model.c").write_text("/* stale */\n")
     monkeypatch.setattr(load, "DEFAULT_DIR", artefacts)
-    with pytest.warns(StaleArtefactWarning, match="casadi_model.c differs"):
+    with pytest.warns(StaleArtefactWarning, match="casadi_model.c differs") as warned:
         where = artefact_dir()
+    assert f"apexseal generate --out {artefacts}`" in str(warned[0].message)  # the folder itself, outside the cwd
     assert where != artefacts
     verify(where)
     assert (where / "casadi_model.c").read_bytes() == (DEFAULT_DIR / "casadi_model.c").read_bytes()
