@@ -25,6 +25,8 @@ import json
 import os
 from pathlib import Path
 
+from apexseal.files import atomic_write, files_digest, read_json_object
+
 #: the format of the kept layouts (a change to the signature or to what is kept starts new files)
 FORMAT = 1
 #: at most this many layouts are kept; the oldest go first
@@ -47,8 +49,6 @@ def _folder() -> Path:
 def _static() -> list:
     """What every signature holds: the format, matplotlib's version and rcParams, the drawing modules' digest."""
     import matplotlib
-
-    from apexseal.files import files_digest
 
     here = Path(__file__).resolve().parent
     # read as a dict: matplotlib's own lookup of "backend" would import pyplot and resolve the user's backend (and
@@ -130,8 +130,6 @@ def apply(fig, kept: dict) -> bool:
 
 
 def _keep(key: str, kept: dict) -> None:
-    from apexseal.files import atomic_write
-
     try:
         folder = _folder()
         atomic_write(folder / f"{key}.json", json.dumps(kept))
@@ -151,8 +149,6 @@ def savefig(fig, fh, *, dpi: float, **kwargs) -> bool:
             key = signature(fig, dpi)
         except Exception:  # a figure the signature cannot describe is laid out as usual
             key = None
-    from apexseal.files import read_json_object
-
     kept = None if key is None else read_json_object(_folder() / f"{key}.json")
     laid_out = kept is not None and apply(fig, kept)
     fig.savefig(fh, dpi=dpi, **kwargs)
