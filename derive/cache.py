@@ -35,8 +35,8 @@ def cache_dir() -> Path:
 
 def source_digest() -> str:
     """sha256 of the derivation's own source files (a change to any of them invalidates the cache)."""
-    names = [p.relative_to(_DERIVE_DIR).as_posix() for p in sorted(_DERIVE_DIR.rglob("*.py"))
-             if "paper" not in p.name]  # the printed forms do not change the derivation
+    names = [n for n in (p.relative_to(_DERIVE_DIR).as_posix() for p in sorted(_DERIVE_DIR.rglob("*.py")))
+             if "paper" not in n]  # the printed forms and their check (paper.py, paper_check/) do not change it
     return files_digest(_DERIVE_DIR, names)
 
 

@@ -131,7 +131,7 @@ def derive_model(effects: Effects | None = None, assumptions: Assumptions | None
 
 
 def _quantities(k, g) -> dict[str, sp.Expr]:
-    """The intermediate results the paper prints, by equation label (checked in derive/paper_check.py)."""
+    """The intermediate results the paper prints, by equation label (checked in derive/paper_check/)."""
     from . import kinematics as kin
 
     S = k.S

@@ -1,4 +1,4 @@
-"""The paper check (derive/paper_check.py): every printed equation's status, the committed report, key physics.
+"""The paper check (derive/paper_check/): every printed equation's status, the committed report, key physics.
 
 The expected statuses are kept here on purpose: a change to the derivation that
 flips an agreement (or hides an erratum) fails loudly, row by row.
@@ -14,6 +14,8 @@ import sympy as sp
 
 from apexseal.derive import contact_geometry, kinematics, paper, paper_check
 from apexseal.derive.kinematics import plain
+from apexseal.derive.paper_check import counterparts, evaluation
+from apexseal.derive.paper_check.values import DEFAULTS
 from apexseal.derive.symbols import P, qs, theta, udots, us
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -103,7 +105,7 @@ def test_alternative_readings(rows):
 
 def test_committed_report_is_current():
     assert REPORT.read_text(encoding="utf-8") == paper_check.report_text(), (
-        "docs/paper-check.md is stale: regenerate with `python -m derive.paper_check docs/paper-check.md`")
+        "docs/paper-check.md is stale: regenerate with `apexseal derive --check --report docs/paper-check.md`")
 
 
 def test_report_sections_and_determinism(tmp_path):
@@ -151,7 +153,7 @@ def test_eq36_back_face_crosses_the_axis_on_the_c4_side(kg, printed):
     _, g = kg
     at = {x: 0, y: 0, phi: sp.Rational(1, 100), P["Ws"]: sp.Rational(3, 1000), P["ds2"]: sp.Rational(4, 1000)}
     assert plain(g.b6).subs(at) > P["Ws"].subs(at) / 2
-    sub = paper_check._DERIVED().subs
+    sub = counterparts.cached_derived().subs
     printed_b6 = printed["36"].printed[0].xreplace(sub).subs(at | {P["ds1"]: sp.Rational(4, 1000),
                                                                     P["ro"]: sp.Rational(3, 1000)})
     assert printed_b6 < P["Ws"].subs(at) / 2
@@ -164,12 +166,12 @@ def test_eq38_spring_compression_is_the_preload_at_rest(kg):
 
 def test_eq67_printed_damping_at_rest_is_hundreds_of_newtons(rows):
     """Eq. 67 damps the rotor's radial following motion 2 r ω cos θ: ~650 N with the seal at rest in its groove."""
-    d = paper_check._DERIVED()
+    d = counterparts.cached_derived()
     rest = {x: 0, y: 0, phi: 0, us[0]: 0, us[1]: 0, us[2]: 0, theta: 0}
-    derived = paper_check._prepare(d.counterpart("67")[0], d, ("one", "sign")).subs(rest)
-    values = {P[n]: v for n, v in paper_check.DEFAULTS.items()}
+    derived = evaluation.prepare(d.counterpart("67")[0], d, ("one", "sign")).subs(rest)
+    values = {P[n]: v for n, v in DEFAULTS.items()}
     v66x = next(p for p in paper.equations() if p.label == "66").printed[0]
-    v_abs = paper_check._prepare(v66x, d, ("one", "sign")).subs(rest).subs(values)
+    v_abs = evaluation.prepare(v66x, d, ("one", "sign")).subs(rest).subs(values)
     assert derived == 0
     assert float(v_abs) == pytest.approx(2 * 0.010 * 1500 * 2 * math.pi / 60)
     assert -P["cw"].subs(values) * float(v_abs) == pytest.approx(-650.3, abs=0.5)
@@ -201,5 +203,5 @@ def test_contact_cases_match_gap_signs_and_modes(rows):
 
 
 def test_mass_matrix_is_diagonal(printed):
-    model = paper_check._DERIVED().model
+    model = counterparts.cached_derived().model
     assert model.mass_matrix == sp.Matrix(3, 3, list(printed["80.M"].printed))

@@ -1,0 +1,77 @@
+"""The values the paper check evaluates at: the default scene's parameters (the paper's case study, Section 4.5),
+the state of the numeric examples, the ranges of the random states, and how each row is evaluated."""
+
+from __future__ import annotations
+
+import math
+
+from .. import paper
+from .. import seal_shape as shape
+from ..assumptions import Assumptions
+from ..submodels.pressure import groove_bottom_pressure as _pend
+from ..submodels.registry import activation_symbols
+from ..symbols import Pa, Pb, qs, us
+
+I = paper.INTERMEDIATES  # noqa: E741
+x, y, phi = qs
+xd, yd, phid = us
+SEED = 20180526  # the paper's online date
+N_SAMPLES = 12
+REL_TOL = 1e-9
+SYMBOLIC_MAX_OPS = 160
+SIMPLIFY_MAX_OPS = 28  # simplify is slow with asin and sqrt terms; larger ones are checked numerically
+
+#: the default scene's values (runtime/scenes/default.toml; v_eps, Cr, k, b, theta0 are needed only by the check)
+DEFAULTS: dict[str, float] = {
+    "omega": 1500 * 2 * math.pi / 60, "r": 0.010, "L": 0.050, "Li": 0.046, "zeta0": 7.1e-4, "Ws": 3.0e-3, "Wg": 3.06e-3,
+    "ds1": 4.0e-3, "ds2": 4.0e-3, "ro": 3.0e-3, "Bs": 0.0999, "ms": 0.0173, "Icg": 1.05e-7, "ks": 5.0e3,
+    "delta_s": 2.0e-3, "kw": 6.2e7, "kg1": 1.05e6, "kg2": 1.05e6, "kg3": 1.05e6, "kg4": 1.05e6, "cw": 207.0,
+    "cr": 27.0, "cs": 1.9, "mu1": 0.10, "mu2": 0.12, "mus": 0.10, "v_eps": 1.0e-3,
+}
+DEFAULTS["delta_w"] = DEFAULTS["ks"] * DEFAULTS["delta_s"] / DEFAULTS["kw"]  # Eq. 9
+DEFAULTS["beta_o"] = shape.tip_half_angle(DEFAULTS["Ws"], DEFAULTS["ro"])  # a derived parameter
+EXTRA_DEFAULTS = {"Cr": 1.0e-4, "k": 0.02, "b": 0.2, "theta0": 0.03}
+
+#: the stated state of the numeric examples (SI units)
+EXAMPLE_STATE: dict[str, float] = {
+    "theta": math.pi / 3, "x": 1.0e-6, "y": -1.0e-5, "phi": 2.0e-3, "xd": 0.02, "yd": -0.01, "phid": 5.0,
+    "xdd": 10.0, "ydd": -10.0, "phidd": 1000.0, "Pa": 3.0e5, "Pb": 2.0e5, "beta": 0.1,
+}
+#: ranges of the random states (wide, so that second-order differences are not lost in rounding)
+STATE_RANGES: dict[str, tuple[float, float]] = {
+    "theta": (0.0, 2 * math.pi), "x": (-1e-3, 1e-3), "y": (-2e-4, 2e-4), "phi": (-0.15, 0.15), "xd": (-1.0, 1.0),
+    "yd": (-1.0, 1.0), "phid": (-100.0, 100.0), "xdd": (-1e3, 1e3), "ydd": (-1e3, 1e3), "phidd": (-1e5, 1e5),
+    "beta": (-0.4, 0.4), "Pa": (1e5, 6e5), "Pb": (1e5, 6e5), "theta0": (0.0, 0.2), "b": (0.1, 0.25),
+    "Cr": (5e-5, 2e-4), "k": (0.0, 0.02),
+}
+
+#: the activation symbols of the contacts (1 = closed), by name
+ACTIVATIONS = activation_symbols()
+
+
+def groove_bottom_pressure():
+    """Pend of the default pend_rule (Eq. 75)."""
+    return _pend(Pa, Pb, Assumptions().pend_rule)
+
+
+
+#: how a row is evaluated: contact activations ("one": closed, "guard": by the gap, "keep": sampled 0/1)
+#: and the friction sign ("sign": tanh(v/v_eps) -> sign(v); "forward": the tip slides forward, sign = +1)
+SETTINGS: dict[str, tuple[str, str]] = {
+    "34": ("guard", "sign"), "39": ("guard", "sign"), "A1.elastic": ("guard", "sign"), "A1.friction": ("guard", "sign"),
+    "63": ("guard", "sign"), "80.f": ("keep", "sign"), "9.F": ("one", "forward"), "A2": ("one", "forward"),
+}
+
+#: state ranges of rows that need the tip pressed into the housing (xs5 > 0)
+ROW_RANGES: dict[str, dict[str, tuple[float, float]]] = {
+    "9.F": {"x": (5e-4, 1e-3)}, "A2": {"x": (5e-4, 1e-3)}, "68": {"x": (5e-4, 1e-3)},
+}
+
+
+def fmt(v: float) -> str:
+    return f"{v + 0.0:.6g}"  # + 0.0: no "-0"
+
+
+def fmt_vec(vals) -> str:
+    vals = [fmt(v) for v in vals]
+    return vals[0] if len(vals) == 1 else "(" + ", ".join(vals) + ")"
