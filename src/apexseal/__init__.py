@@ -25,7 +25,7 @@ _LAZY = {
     "Model": ("runtime.api", "Model"),
     "SimulationResult": ("runtime.results.result", "SimulationResult"),
     "plot_comparison": ("runtime.results.plots", "plot_comparison"),
-    "optimise_preload": ("runtime.studies.preload.nlp", "optimise_preload"),
+    "optimise_preload": ("runtime.studies.preload.study", "optimise_preload"),
     "reusing_engines": ("runtime.solving.engine_pool", "reusing"),
 }
 

@@ -91,9 +91,9 @@ def _optimise(scene, min_force, max_groove_force, exclude, knots, max_rate, obje
               vary_stiffness, check, out) -> None:
     from .runtime.api import model_functions
     from .runtime.studies.preload.bisect import bisect_preload
-    from .runtime.studies.preload.nlp import optimise_preload as run_study
     from .runtime.studies.preload.problem import MM, PreloadSetup, PreloadStudyError
     from .runtime.studies.preload.report import write_report
+    from .runtime.studies.preload.study import optimise_preload as run_study
     from .stopwatch import Stopwatch
 
     sc, out = scene_and_folder(scene, out)

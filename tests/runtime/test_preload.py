@@ -21,10 +21,12 @@ from click.testing import CliRunner
 from apexseal.cli import main
 from apexseal.runtime.scenes.scene import embedded_scene_path
 from apexseal.runtime.studies.preload.bisect import bisect_preload
-from apexseal.runtime.studies.preload.nlp import DEFICIT_TOL, SOLVED, _ShootingNlp, optimise_preload
+from apexseal.runtime.studies.preload.nlp import SOLVED, ShootingNlp
 from apexseal.runtime.studies.preload.problem import MM, PreloadSetup, PreloadStudyError, check_mask, preload_parameters
+from apexseal.runtime.studies.preload.result import DEFICIT_TOL
 from apexseal.runtime.studies.preload.schedule import Schedule, SegmentGrid, simulate_schedule
 from apexseal.runtime.studies.preload.shooting import study_functions
+from apexseal.runtime.studies.preload.study import optimise_preload
 
 SAMPLES = 720
 MIN_FORCE = 5.0
@@ -110,7 +112,7 @@ def test_nlp_jacobian_agrees_with_finite_differences(soft_scene, functions):
     g0 = SegmentGrid(SAMPLES, 4, 2, setup.theta_start, setup.dth)
     kn = np.array([10.0, 11.0]) * MM
     sim = simulate_schedule(setup, sf, g0, kn, MIN_FORCE, ())
-    nlp = _ShootingNlp(setup, sf, sim, 4, 2, MIN_FORCE, (), DEFICIT_TOL, "friction")
+    nlp = ShootingNlp(setup, sf, sim, 4, 2, MIN_FORCE, (), DEFICIT_TOL, "friction")
     v0 = np.r_[kn / MM, nlp.W0]
     V = ca.MX.sym("V", v0.size)
     J = np.array(ca.Function("J", [V], [ca.jacobian(nlp.G(V), V)])(v0))
@@ -285,7 +287,7 @@ def default_scene_table(deltas_mm=(2, 4, 8, 16, 32, 64), samples=SAMPLES, exclud
     preloads (docs/preload.md): periodic revolutions re-simulated with the study's integrator."""
     import apexseal
     from apexseal.runtime.api import model_functions
-    from apexseal.runtime.studies.preload.nlp import _periodic
+    from apexseal.runtime.studies.preload.periodic import periodic
 
     sc = apexseal.load_scene(embedded_scene_path("default.toml"))
     setup = PreloadSetup(sc, model_functions(sc), MIN_FORCE, exclude, samples)
@@ -293,7 +295,7 @@ def default_scene_table(deltas_mm=(2, 4, 8, 16, 32, 64), samples=SAMPLES, exclud
     grid = SegmentGrid(samples, 4, 1, setup.theta_start, setup.dth)
     rows = []
     for d in deltas_mm:
-        sim = _periodic(setup, sf, grid, np.array([d * MM]), MIN_FORCE, exclude)
+        sim = periodic(setup, sf, grid, np.array([d * MM]), MIN_FORCE, exclude)
         keep = setup.mask(sim.thetas)
         j = int(np.argmin(np.where(keep, sim.measure, np.inf)))
         rows.append((d, sim.deficit, sim.measure[j], np.degrees(sim.thetas[j]) % 360, sim.friction_power))
@@ -313,8 +315,8 @@ if __name__ == "__main__":  # python tests/runtime/test_preload.py: the default-
 
 def test_report_writes_json_markdown_and_figure(tmp_path):
     """The report of a (synthetic) study: the three files, the JSON without the simulation arrays."""
-    from apexseal.runtime.studies.preload.nlp import PreloadResult
     from apexseal.runtime.studies.preload.report import write_report
+    from apexseal.runtime.studies.preload.result import PreloadResult
     from apexseal.runtime.studies.preload.schedule import Resimulation
 
     n = 360

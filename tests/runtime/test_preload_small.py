@@ -17,10 +17,12 @@ import numpy as np
 import pytest
 
 from apexseal.runtime.studies.preload.bisect import bisect_preload
-from apexseal.runtime.studies.preload.nlp import DEFICIT_TOL, SOLVED, _ShootingNlp, optimise_preload
+from apexseal.runtime.studies.preload.nlp import SOLVED, ShootingNlp
 from apexseal.runtime.studies.preload.problem import MM, PreloadSetup, PreloadStudyError
+from apexseal.runtime.studies.preload.result import DEFICIT_TOL
 from apexseal.runtime.studies.preload.schedule import SegmentGrid, simulate_schedule
 from apexseal.runtime.studies.preload.shooting import study_functions
+from apexseal.runtime.studies.preload.study import optimise_preload
 
 SAMPLES, NODES, MIN_FORCE = 72, 4, 10.0
 #: every study here takes the compiled units with the groove-force quadrature (one cold build, ~20 s on 2 cores); a
@@ -162,7 +164,7 @@ def test_groove_row_of_the_jacobian_is_the_constraint_derivative(light):
     g0 = SegmentGrid(SAMPLES, NODES, 2, setup.theta_start, setup.dth)
     kn = np.array([1.7, 1.8]) * MM
     sim = simulate_schedule(setup, sf, g0, kn, MIN_FORCE, ())
-    nlp = _ShootingNlp(setup, sf, sim, NODES, 2, MIN_FORCE, (), DEFICIT_TOL, "friction")
+    nlp = ShootingNlp(setup, sf, sim, NODES, 2, MIN_FORCE, (), DEFICIT_TOL, "friction")
     v0 = np.r_[kn / MM, nlp.W0]
     V = ca.MX.sym("V", v0.size)
     J = np.array(ca.Function("J", [V], [ca.jacobian(nlp.G(V), V)])(v0))
@@ -210,7 +212,9 @@ def test_a_constant_above_its_boundary_is_lowered_to_it(light, studies):
     """The polish of a constant optimum (nlp._polish_constant): from 20 % above the optimum (as where IPOPT stopped on
     the default scene with an inexact gradient) it bisects down to the bisection's bracket and records the start;
     at the optimum itself it changes nothing."""
-    from apexseal.runtime.studies.preload.nlp import PreloadResult, _periodic, _polish_constant
+    from apexseal.runtime.studies.preload.periodic import periodic
+    from apexseal.runtime.studies.preload.result import PreloadResult
+    from apexseal.runtime.studies.preload.study import _polish_constant
 
     c, b = studies[0], studies[1]
     setup = _setup(light)
@@ -218,7 +222,7 @@ def test_a_constant_above_its_boundary_is_lowered_to_it(light, studies):
     grid = SegmentGrid(SAMPLES, NODES, 1, setup.theta_start, setup.dth)
     high = np.array([1.2 * c.delta_s])
     res = PreloadResult(False, "", MIN_FORCE, [])
-    knots, sim = _polish_constant(setup, sf, grid, high, _periodic(setup, sf, grid, high, MIN_FORCE, ()), MIN_FORCE,
+    knots, sim = _polish_constant(setup, sf, grid, high, periodic(setup, sf, grid, high, MIN_FORCE, ()), MIN_FORCE,
                                   (), DEFICIT_TOL, res)
     assert res.ipopt_delta_s == pytest.approx(high[0])
     assert b.lower - 0.01 * b.delta_s <= knots[0] <= b.delta_s + 0.01 * b.delta_s, (knots[0], b.lower, b.delta_s)
@@ -233,7 +237,7 @@ def test_schedules_simulated_together_are_those_simulated_one_at_a_time(light):
     """``periodic_many`` (the derivative-free check's rounds of probes) integrates several schedules in one threaded
     map of the compiled interval integrator: the same re-simulations, bit for bit, as one schedule at a time, for
     constant preloads and for 2-knot schedules, the groove-force quadrature included."""
-    from apexseal.runtime.studies.preload.nlp import _periodic, periodic_many
+    from apexseal.runtime.studies.preload.periodic import periodic, periodic_many
 
     setup = _setup(light)
     sf = study_functions(setup, SAMPLES // NODES)
@@ -243,7 +247,7 @@ def test_schedules_simulated_together_are_those_simulated_one_at_a_time(light):
         together = periodic_many(setup, sf, grid, designs, MIN_FORCE, ())
         assert len(together) == len(designs)
         for d, sim in zip(designs, together, strict=True):
-            one = _periodic(setup, sf, grid, d, MIN_FORCE, ())
+            one = periodic(setup, sf, grid, d, MIN_FORCE, ())
             assert np.array_equal(one.z, sim.z) and np.array_equal(one.measure, sim.measure)
             assert np.array_equal(one.thetas, sim.thetas) and np.array_equal(one.delta_s, sim.delta_s)
             assert (one.deficit, one.friction_power, one.change, one.groove_excess, one.groove_peak) == \
@@ -255,7 +259,8 @@ def test_the_feasible_start_is_the_smallest_passing_multiple_of_the_scenes_prelo
     """The start search simulates its candidates (the scene's preload x 1.5^k) a round at a time on every core and
     keeps the first that passes: the history lists the candidates in order up to it, every one before it failing;
     with max_preload below it, none passes and the message says so."""
-    from apexseal.runtime.studies.preload.nlp import PreloadResult, _feasible_start
+    from apexseal.runtime.studies.preload.result import PreloadResult
+    from apexseal.runtime.studies.preload.study import _feasible_start
 
     setup = _setup(light)
     sf = study_functions(setup, SAMPLES // NODES)

@@ -59,7 +59,8 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
     preloads below the answer (islands) are kept in ``probes`` and flagged by ``monotone = False``.
     """
     from ...api import model_functions
-    from .nlp import DEFICIT_TOL, _periodic, periodic_many
+    from .periodic import periodic, periodic_many
+    from .result import DEFICIT_TOL
     from .schedule import SegmentGrid
     from .shooting import study_functions
 
@@ -77,7 +78,7 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
     grid = SegmentGrid(setup.samples, nodes, 1, setup.theta_start, setup.dth)
 
     def simulate(d):  # until periodic, as the IPOPT study re-simulates its optimum
-        return _periodic(setup, sf, grid, np.array([d]), min_force, setup.exclude)
+        return periodic(setup, sf, grid, np.array([d]), min_force, setup.exclude)
 
     t = time.perf_counter()
     seen: list[tuple[float, float]] = []

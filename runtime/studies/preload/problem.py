@@ -1,6 +1,6 @@
 """What the spring-preload study optimises: the preload as a parameter, the tip's contact force, the checks.
 
-Shared by the IPOPT study (runtime/studies/preload/nlp.py) and its derivative-free check
+Shared by the IPOPT study (runtime/studies/preload/study.py) and its derivative-free check
 (runtime/studies/preload/bisect.py), so both ask exactly the same question of exactly the
 same model: the simulator's hybrid DAE (runtime/solving/hybrid.py) integrated by CasADi's
 ``erk`` with events, on the simulator's output grid and pressure means.

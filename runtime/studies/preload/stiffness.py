@@ -42,7 +42,7 @@ def stiffness_valley(setup: PreloadSetup, result, *, nodes: int = 4, factors=FAC
     integrator's built-in d p / d delta_s multiplies a zero slope, so the scene's units serve every ks).
     """
     from ....derive.symbols import PARAMETER_NAMES
-    from .nlp import _periodic
+    from .periodic import periodic
     from .schedule import SegmentGrid
     from .shooting import study_functions
 
@@ -60,7 +60,7 @@ def stiffness_valley(setup: PreloadSetup, result, *, nodes: int = 4, factors=FAC
         s = PreloadSetup(scene, setup.functions, setup.min_force, setup.exclude, setup.samples, setup.rtol,
                          setup.revolutions, setup.flags, setup.max_groove_force)
         d = force / (ks0 * f)
-        sim = _periodic(s, sf, grid, np.array([d]), s.min_force, s.exclude)
+        sim = periodic(s, sf, grid, np.array([d]), s.min_force, s.exclude)
         points.append(ValleyPoint(ks0 * f, d, force, sim.friction_power, sim.deficit, sim.groove_excess))
     return points
 

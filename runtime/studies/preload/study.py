@@ -1,0 +1,254 @@
+"""The spring-preload study: the preload (constant, or a schedule delta_s(theta)) that costs least friction
+while the seal tip stays pressed on the housing everywhere on the trajectory.
+
+``optimise_preload(scene, min_force=5.0, knots=1)`` solves, with IPOPT,
+
+    minimise    cycle-mean friction power of all contacts (objective="friction"), or the mean preload
+                (objective="preload")
+    subject to  the seal's motion over one revolution is periodic (the machine's steady state),
+                the squared force deficit  int max(0, min_force - F)^2 dtheta  <= deficit_tol
+                (outside the excluded windows; F the tip's contact measure, problem.py),
+                optionally the groove-force excess  int sum_c max(0, |F_c| - max_groove_force)^2 dtheta
+                <= deficit_tol  (every seal-groove contact c, Eq. 63; shooting.py),
+                0 <= delta_s <= max_preload and |d delta_s / d theta| <= max_rate (schedules),
+
+where delta_s(theta) is periodic and piecewise linear through ``knots`` values (1 knot: the constant
+preload; schedule.py) and the motion is the simulator's hybrid model integrated by CasADi's ``erk``
+with events (shooting.py). Every formulation choice below was measured (docs/preload.md):
+
+* **Grid independence.** The constraint is a quadrature inside the integrator, so the adaptive steps
+  and located events resolve every dip between samples; the output grid enters only through the
+  chamber-pressure means (the simulator's). With checks at samples the answer moved from 6.08 to
+  8.95 mm between 0.5 and 0.1 deg grids; with the quadrature and the same pressures, 360 and 720 samples
+  give the same answer (slow test). The pressure means are a model input the answer does depend on
+  (8.47 mm with 1 deg means, 8.89 mm with 0.5 deg means on the soft-contacts scene).
+  ``deficit_tol`` (default (0.2 N)^2 x 0.1 deg) keeps the constraint's gradient non-zero at the
+  optimum (a zero tolerance makes LICQ fail) and bounds what it allows: e.g. a 0.2 N shortfall
+  lasting 0.1 deg, or a 2 N one lasting 0.001 deg.
+* **Decision variables**: the knot values in mm and the 6 scaled states at ``nodes`` shooting nodes,
+  each divided by the largest magnitude that component reaches on the start trajectory.
+* **Shooting**: each shooting interval is a chain of segments (one per knot stretch, schedule.py),
+  each one call of the compiled interval integrator; the intervals are mapped over the nodes, a
+  thread per core (apexseal.cores.parallel_threads). Sensitivities (forward, including the event times)
+  come from the compiled forward derivative of that integrator, called in chunks of directions,
+  assembled into the NLP Jacobian by hand (a ``custom_jacobian``): the NLP is never generated to C
+  as a whole, so the cold build is the two small C units of shooting.py (tens of seconds, instead
+  of one ~65 MB file that took gcc about 2 minutes).
+* **Modes at the nodes** follow from the node's gaps (closed where negative), with no derivative:
+  exact while no gap is zero at a node, so the nodes are placed at the sample offset that keeps them
+  farthest from every contact switch of the start trajectory. 4 nodes by default: a node inside the
+  rattle after a chamber switch carries a state that depends on rtol-level details of every impact,
+  and its continuity defect could not be closed (measured with 8 nodes on the soft-contacts scene).
+* **Non-smooth strategy**: events inside the intervals are located by the integrator, and their
+  sensitivities enter the Jacobian, so IPOPT sees the mode sequence of the current iterate. The optimum
+  is re-simulated from the scene's initial state (3 revolutions, more until periodic: PERIODIC_TOL, the
+  same integrator); when that revolution violates the deficit bound, the NLP is solved again from the
+  re-simulated trajectory with the nodes re-placed (``rounds``), until the re-simulation satisfies
+  every constraint.
+* **Start**: a feasible periodic trajectory at a constant preload: the scene's times 1.5^k for the
+  smallest k whose re-simulated revolution meets the deficit bound; the preload is bounded above by it.
+  A schedule starts from the constant optimum (the constant is a feasible schedule, so the schedule's
+  friction power can only be lower).
+* **Tolerances**: IPOPT's tol and constr_viol_tol 1e-3; the constraint function is noisy at the erk
+  rtol (the rattle's impacts), so IPOPT also stops ("acceptable") once the objective changes by less
+  than 1e-4 relative over 3 iterations with the constraints within 2e-2 of their bounds (the deficit
+  within 2 % of its bound). IPOPT with MUMPS and the limited-memory Hessian.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ....cores import parallel_threads
+from ....derive.symbols import PARAMETER_NAMES
+from ....progress import announce, stage
+from .nlp import ShootingNlp
+from .periodic import periodic
+from .problem import KW, MM, PreloadSetup, PreloadStudyError
+from .result import DEFICIT_TOL, PreloadResult, contact_powers, fill_result
+from .schedule import SegmentGrid, simulate_schedule, simulate_schedules
+from .shooting import study_functions
+
+_DS = PARAMETER_NAMES.index("delta_s")
+OBJECTIVES = ("friction", "preload")
+
+
+def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 1, nodes: int = 4,
+                     samples: int | None = None, rtol: float | None = None, objective: str = "friction",
+                     deficit_tol: float = DEFICIT_TOL, max_rate: float | None = None, functions=None,
+                     max_iter: int = 100, revolutions: int = 3, max_preload: float = 0.1, flags: str = "quick",
+                     rounds: int = 3, start: PreloadResult | None = None, verbose: bool = False,
+                     ipopt_options: dict | None = None, setup: PreloadSetup | None = None,
+                     max_groove_force: float | None = None) -> PreloadResult:
+    """The preload design (constant for ``knots = 1``, else a periodic piecewise-linear schedule).
+
+    ``exclude``: crank-angle windows ``(start_deg, end_deg)`` where the force is not required;
+    ``samples``: output samples per revolution (default the scene's); ``nodes``: shooting nodes;
+    ``max_rate``: bound on |d delta_s / d theta| in m per degree (schedules); ``start``: a previous
+    result (e.g. the constant optimum) to start a schedule from; ``max_groove_force`` (N): bound every
+    seal-groove contact force between samples too (the excess quadrature within ``deficit_tol``; with a
+    ``setup``, its own bound is used). See the module docstring.
+    """
+    from ...api import model_functions
+
+    _check(knots, nodes, objective, deficit_tol, max_rate, rounds)
+    exclude = tuple((float(a), float(b)) for a, b in exclude)
+    setup = setup or PreloadSetup(scene, functions or model_functions(scene), float(min_force), exclude, samples,
+                                  rtol, revolutions, flags, max_groove_force)
+    S = np.lcm(nodes, knots)
+    if setup.samples % S:
+        raise PreloadStudyError(f"nodes = {nodes}, knots = {knots}: their least common multiple {S} must divide the "
+                                f"{setup.samples} samples per revolution")
+    if not (isinstance(max_preload, int | float) and max_preload > 0):
+        raise PreloadStudyError(f"max_preload = {max_preload!r}: must be a length > 0 m")
+    keep = setup.mask(setup.theta_start + setup.dth * np.arange(1, setup.samples + 1))
+    if not keep.any():
+        raise PreloadStudyError(f"exclude = {list(exclude)}: the windows cover every sample; nothing left to check")
+    scene_ds = float(scene.parameter_vector()[_DS])
+    res = PreloadResult(False, "", float(min_force), [list(w) for w in exclude], objective=objective,
+                        scene_delta_s=scene_ds, deficit_tol=float(deficit_tol), nodes=nodes, samples=setup.samples,
+                        rtol=setup.rtol, max_groove_force=setup.max_groove_force)
+
+    # 1. the compiled pieces (cached by content: another min_force, windows or knots reuse them)
+    t = time.perf_counter()
+    sf = study_functions(setup, setup.samples // S)
+    res.build_time_s = time.perf_counter() - t if sf.compile_s > 2.0 else 0.0
+    scene_grid = SegmentGrid(setup.samples, int(S), 1, setup.theta_start, setup.dth)  # same segment length
+    scene_sim = simulate_schedule(setup, sf, scene_grid, np.array([scene_ds]), min_force, exclude)
+    res.scene_friction_power = scene_sim.friction_power
+    res.scene_contact_friction_power = contact_powers(setup, scene_sim)
+    res.__dict__["scene_simulation"] = scene_sim
+
+    # 2. a start: the constant optimum given, or the smallest feasible constant preload scene's x 1.5^k
+    if start is not None and start.ok:
+        d0 = float(start.delta_s)
+        knots0 = np.array(start.schedule(np.degrees(setup.theta_start) + 360.0 * np.arange(knots) / knots))
+    else:
+        d0 = _feasible_start(setup, sf, scene_grid, scene_ds, float(max_preload), deficit_tol, res)
+        if d0 is None:
+            return res
+        knots0 = np.full(knots, d0)
+    res.start_delta_s = d0
+    # the friction power grows with the preload, so a constant optimum lies below the feasible start: bounding
+    # the preload there keeps IPOPT's first steps (pushed by the steep deficit in lift-off) from leaping to large
+    # preloads (measured: 205 W iterates from a 55 W start); a schedule may rise above its constant start
+    upper = min(max_preload, d0 if knots == 1 and start is None else 1.5 * max(knots0))
+
+    # 3. solve, re-simulate, repeat while the re-simulation violates a constraint
+    grid0 = SegmentGrid(setup.samples, nodes, knots, setup.theta_start, setup.dth)
+    sim = simulate_schedule(setup, sf, grid0, knots0, min_force, exclude)
+    x_knots = knots0
+    for r in range(rounds):
+        res.rounds = r + 1
+        nlp = ShootingNlp(setup, sf, sim, nodes, knots, min_force, exclude, deficit_tol, objective)
+        with stage(f"IPOPT (round {r + 1}: {knots} knot{'s' if knots > 1 else ''}, {nodes} shooting nodes, "
+                   f"{setup.samples} samples)"):
+            ok = nlp.solve(x_knots, res, upper=upper, max_rate=max_rate, max_iter=max_iter,
+                           verbose=verbose, ipopt_options=ipopt_options)
+        if not ok:
+            return res
+        x_knots = nlp.knots_m
+        sim = periodic(setup, sf, nlp.grid, x_knots, min_force, exclude)
+        if sim.deficit <= deficit_tol * 1.05 and sim.groove_excess <= deficit_tol * 1.05:
+            break
+        announce(f"re-simulation: deficit {sim.deficit:.3g}, groove excess {sim.groove_excess:.3g} (bound "
+                 f"{deficit_tol:.3g}): solving again from the re-simulated revolution")
+    else:
+        res.message = (f"after {rounds} rounds the re-simulated optimum still violates a bound: force deficit "
+                       f"{sim.deficit:.3g}, groove-force excess {sim.groove_excess:.3g} (bound {deficit_tol:.3g} "
+                       "N^2 rad): raise rounds, use more samples or a smaller rtol")
+        fill_result(res, setup, nlp.grid, x_knots, sim)
+        res.ok = False
+        return res
+    if knots == 1:
+        x_knots, sim = _polish_constant(setup, sf, nlp.grid, x_knots, sim, min_force, exclude, deficit_tol, res)
+    fill_result(res, setup, nlp.grid, x_knots, sim)
+    res.ok, res.message = True, "solved"
+    return res
+
+
+#: a constant optimum is accepted when this much less preload violates the deficit bound (relative)
+POLISH_STEP = 5e-3
+
+
+def _polish_constant(setup, sf, grid, knots_m, sim, min_force, exclude, deficit_tol, res):
+    """Check a constant optimum against its monotone structure, and lower it to the constraint if it can be.
+
+    Both objectives grow with a constant preload (the friction power through the spring force, Eqs. 38-39), so the
+    constant optimum is the smallest preload whose re-simulated force deficit is within its bound. When
+    ``POLISH_STEP`` less preload is still feasible, IPOPT stopped early: its gradient, forward sensitivities
+    through the contact events, can be inexact where events come close together (measured on the default scene
+    with linear pressures: 14.1 against 3.7 W/mm by central differences at 0.487 mm). Then the boundary is found
+    by bisection on re-simulations (feasible above, infeasible below) to 1e-4 relative, and IPOPT's point is kept
+    in ``res.ipopt_delta_s``. Returns the knots and the re-simulation to report."""
+    d_hi = float(knots_m[0])
+    probe = periodic(setup, sf, grid, np.array([d_hi * (1 - POLISH_STEP)]), min_force, exclude)
+    if probe.deficit > deficit_tol or probe.groove_excess > deficit_tol:
+        return knots_m, sim
+    with stage(f"IPOPT stopped at {d_hi / MM:.4f} mm with less preload still feasible: bisection to the boundary"):
+        best, d_ok, d_lo = probe, d_hi * (1 - POLISH_STEP), None
+        d = d_ok
+        while d_lo is None and d > 1e-7:  # an infeasible preload below: halve
+            d *= 0.5
+            trial = periodic(setup, sf, grid, np.array([d]), min_force, exclude)
+            if trial.deficit > deficit_tol or trial.groove_excess > deficit_tol:
+                d_lo = d
+            else:
+                best, d_ok = trial, d
+        while d_lo is not None and d_ok - d_lo > 1e-4 * d_ok:
+            mid = 0.5 * (d_ok + d_lo)
+            trial = periodic(setup, sf, grid, np.array([mid]), min_force, exclude)
+            if trial.deficit > deficit_tol or trial.groove_excess > deficit_tol:
+                d_lo = mid
+            else:
+                best, d_ok = trial, mid
+    res.ipopt_delta_s = d_hi
+    return np.array([d_ok]), best
+
+
+def _check(knots, nodes, objective, deficit_tol, max_rate, rounds) -> None:
+    problems = []
+    if not (isinstance(nodes, int) and 2 <= nodes <= 64):
+        problems.append(f"nodes = {nodes!r}: must be an integer in 2..64")
+    if not (isinstance(knots, int) and 1 <= knots <= 72):
+        problems.append(f"knots = {knots!r}: must be an integer in 1..72 (1: a constant preload)")
+    if objective not in OBJECTIVES:
+        problems.append(f"objective = {objective!r}: must be one of {', '.join(OBJECTIVES)}")
+    if not (isinstance(deficit_tol, int | float) and 0 < deficit_tol < 1e3):
+        problems.append(f"deficit_tol = {deficit_tol!r}: must be in (0, 1000) N^2 rad")
+    if max_rate is not None and not (isinstance(max_rate, int | float) and max_rate > 0):
+        problems.append(f"max_rate = {max_rate!r}: must be > 0 m per degree (or None: no bound)")
+    if not (isinstance(rounds, int) and 1 <= rounds <= 10):
+        problems.append(f"rounds = {rounds!r}: must be an integer in 1..10")
+    if problems:
+        raise PreloadStudyError("; ".join(problems))
+
+
+def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, deficit_tol: float, res: PreloadResult):
+    """The smallest scene_ds * 1.5^k (k >= 0, up to max_preload) whose periodic revolution keeps the force deficit
+    within its bound (re-simulations from the scene's initial state)."""
+    base = scene_ds if scene_ds > 0 else MM
+    batch = parallel_threads(60)  # candidates simulated together, a thread per core; the first passing one is kept
+    with stage("searching a feasible constant start (scene's preload x 1.5^k)"):
+        for k0 in range(0, 60, batch):
+            ds = [min(base * 1.5**k, max_preload) for k in range(k0, min(k0 + batch, 60))]
+            ds = ds[:next((i + 1 for i, d in enumerate(ds) if d >= max_preload), len(ds))]
+            for d, sim in zip(ds, simulate_schedules(setup, sf, grid, [np.array([d]) for d in ds], setup.min_force,
+                                                     setup.exclude), strict=True):
+                keep = setup.mask(sim.thetas)
+                j = int(np.argmin(np.where(keep, sim.measure, np.inf)))
+                res.history.append((float(d), float(sim.measure[j]), float(sim.deficit)))
+                if sim.deficit <= deficit_tol:
+                    return d
+            if ds[-1] >= max_preload:
+                break
+    res.message = (f"infeasible: no constant preload up to max_preload = {max_preload / MM:g} mm keeps the contact "
+                   f"force >= {setup.min_force:g} N between samples: at {d / MM:.4g} mm the force deficit is "
+                   f"{sim.deficit:.3g} N^2 rad (bound {deficit_tol:.3g}); the smallest force at the samples is "
+                   f"{sim.measure[j]:.3g} N at crank angle {np.degrees(sim.thetas[j]) % 360:.1f} deg (negative: the "
+                   f"tip lifts off there, by {-sim.measure[j] / setup.pmap.p0[KW] * 1e6:.3g} um). Exclude a window "
+                   "around that angle (exclude=[(start, end)] / --exclude START:END), lower min_force, or raise "
+                   "max_preload.")
+    return None
