@@ -9,7 +9,7 @@ from dataclasses import dataclass, replace
 
 import sympy as sp
 
-from .. import paper
+from .. import modes, paper
 from ..kinematics import plain
 from ..symbols import P
 from .counterparts import Derived, cached_derived, difference
@@ -107,13 +107,8 @@ def _case_completeness(d: Derived) -> str:
     back = sp.simplify(gaps["b2"] + gaps["b4"] - (P["Wg"] - P["Ws"] * sp.cos(phi))) == 0
     front = sp.simplify(gaps["b1"] + gaps["b3"] - (P["Wg"] * sp.cos(phi) - P["Ws"])) == 0
     limit = math.degrees(math.acos(DEFAULTS["Ws"] / DEFAULTS["Wg"]))
-    try:
-        from .. import modes
-
-        same = {n: tuple(int(c) for c in v) for n, v in modes.CASES.items()} == paper.CASES
-        modes_text = f" derive/modes.py CASES {'equals' if same else 'DIFFERS FROM'} the printed table."
-    except ImportError:
-        modes_text = " (derive/modes.py not present.)"
+    same = {n: tuple(int(c) for c in v) for n, v in modes.CASES.items()} == paper.CASES
+    modes_text = f" derive/modes.py CASES {'equals' if same else 'DIFFERS FROM'} the printed table."
     return (f"Verified: b2 + b4 = Wg − Ws cos ϕ ({'yes' if back else 'NO'}) > 0, so both back contacts never close at "
             f"once; b1 + b3 = Wg cos ϕ − Ws ({'yes' if front else 'NO'}) > 0 for |ϕ| < acos(Ws/Wg) = "
             f"{fmt(limit)}° (defaults), so both front contacts need a larger tilt: the nine cases are complete."
@@ -123,8 +118,6 @@ def _case_completeness(d: Derived) -> str:
 def _structural_extra(label: str) -> str:
     """Behavioural spot checks of the structural rows that have one."""
     if label == "A4":
-        from .. import modes
-
         ok = modes.gap_width([1e-6, 2e-6, 3e-6, 4e-6]) == 1e-6 and modes.gap_width([-1e-9, 2e-6, 3e-6, 4e-6]) == 0.0
         return "Spot check: gap_width(1, 2, 3, 4 µm) = 1 µm, 0 with a contact closed: " + ("passed." if ok else "FAILED.")
     return ""
