@@ -49,7 +49,8 @@ def simulate(scene: Path | None, revolutions, method, rtol, max_wall_time, out, 
 
 def _simulate(scene, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet, timings) -> None:
     watch = Stopwatch()  # stages always timed (two clock reads each), printed with --timings
-    from .runtime.results.figure_worker import FigureWorker  # light: matplotlib is imported by the worker
+    with watch.stage("import"):  # light: matplotlib is imported by the worker
+        from .runtime.results.figure_worker import FigureWorker
 
     # a second process imports matplotlib while this one imports, reads the scene and integrates; stopped unless the
     # result is handed to it
