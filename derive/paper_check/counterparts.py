@@ -293,7 +293,6 @@ def _housing_ratio(d: Derived) -> tuple[sp.Expr]:
     return (-fx / normal,)
 
 
-
 @functools.lru_cache(maxsize=1)
 def cached_derived() -> Derived:
     return Derived()

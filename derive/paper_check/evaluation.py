@@ -132,8 +132,6 @@ def symbolic_zero(diffs: tuple[sp.Expr, ...]) -> bool:
     return True
 
 
-
-
 def show(exprs: tuple[sp.Expr, ...]) -> str:
     s = [sp.sstr(e) for e in exprs]
     return s[0] if len(s) == 1 else "(" + ", ".join(s) + ")"

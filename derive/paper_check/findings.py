@@ -284,7 +284,6 @@ def assumption_points() -> list[tuple[str, str]]:
     ]
 
 
-
 @functools.lru_cache(maxsize=1)
 def FINDINGS() -> dict[str, Finding]:  # noqa: N802
     return _findings()

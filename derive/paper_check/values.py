@@ -54,7 +54,6 @@ def groove_bottom_pressure():
     return _pend(Pa, Pb, Assumptions().pend_rule)
 
 
-
 #: how a row is evaluated: contact activations ("one": closed, "guard": by the gap, "keep": sampled 0/1)
 #: and the friction sign ("sign": tanh(v/v_eps) -> sign(v); "forward": the tip slides forward, sign = +1)
 SETTINGS: dict[str, tuple[str, str]] = {

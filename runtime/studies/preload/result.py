@@ -19,10 +19,6 @@ _KS = PARAMETER_NAMES.index("ks")
 DEFICIT_TOL = 0.2**2 * np.radians(0.1)
 
 
-class PreloadStudyFailed(RuntimeError):
-    """The study could not give an answer; the message says what failed, where and why."""
-
-
 @dataclass
 class PreloadResult:
     """What the study found. ``knots`` is None when it failed (``message`` says why)."""
@@ -61,7 +57,7 @@ class PreloadResult:
     rtol: float = 0.0
     max_defect: float | None = None  # largest continuity/periodicity defect at the solution (scaled state)
     history: list = field(default_factory=list)  # [(delta_s m, min force at samples N, deficit), ...] start search
-    #: m, where IPOPT stopped when a constant preload below it was found feasible (:func:`_polish_constant`)
+    #: m, where IPOPT stopped when a constant preload below it was found feasible (:func:`.study._polish_constant`)
     ipopt_delta_s: float | None = None
 
     def to_dict(self) -> dict:
@@ -102,7 +98,6 @@ class PreloadResult:
             f"{self.nodes} shooting nodes, erk rtol {self.rtol:g}",
         ]
         return "\n".join(lines)
-
 
 
 def fill_result(res, setup, grid, knots_m, sim) -> None:
