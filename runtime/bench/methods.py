@@ -12,8 +12,6 @@ from __future__ import annotations
 import math
 import time
 
-import numpy as np
-
 from ..solving.fixed_step import RK4Integrator
 from ..solving.methods import make_engine
 from ..solving.settings import DEFAULT_PRESSURE, LIMITS, RunSettings
@@ -95,9 +93,3 @@ class EngineCache:
         if math.isclose(self.span, 2 * math.pi):
             return self.reference(model, functions, rtol, event_tol), st
         return make_engine(functions, st), st
-
-
-def run_engine(engine, problem, z0: np.ndarray | None = None, pressures: np.ndarray | None = None):
-    """One span of ``problem`` with ``engine`` (z0 and pressures precomputed by the caller when timing)."""
-    return engine.run(problem.z0 if z0 is None else z0, problem.params, problem.theta0,
-                      problem.pressures if pressures is None else pressures)

@@ -19,8 +19,7 @@ import numpy as np
 
 from ...derive.names import STATE_NAMES
 
-LENGTH = 1e-6  # m
-ANGLE = 1e-3  # rad
+LENGTH = 1e-6  # m: the seal body's length scale (its declared State scale), for residuals in micrometres
 
 
 def _scales(names: Sequence[str] | None) -> tuple[np.ndarray, np.ndarray]:

@@ -13,7 +13,6 @@ Values are in the scene key's SI unit, so every point is a set of scene override
 from __future__ import annotations
 
 import itertools
-import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -170,14 +169,3 @@ def design_points(study) -> list[dict[str, Any]]:
             engine(d=d, seed=study.seed).random(n)
     columns = [_scaled(u[:, j], p) for j, p in enumerate(pars)]
     return [{p.key: columns[j][i] for j, p in enumerate(pars)} for i in range(n)]
-
-
-def grid_shape(study) -> tuple[int, ...] | None:
-    """The shape of a grid design (None for sampled designs)."""
-    if study.design != "grid":
-        return None
-    return tuple(len(p.values) for p in study.parameters)
-
-
-def is_log(p) -> bool:
-    return p.scale == "log" and p.low is not None and p.low > 0 and math.isfinite(p.high or math.nan)
