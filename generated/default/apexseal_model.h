@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 904bb4a3cecb924d283f887e8df766f3b82245848a6da8c5a1d8576cdf33af26.
+ * Effects: all. Input hash: 064c794998086653db7dcb3d49bd2bfdbd1aea281c5f2713dc14ed6a472ff956.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "904bb4a3cecb924d283f887e8df766f3b82245848a6da8c5a1d8576cdf33af26"
+#define APEXSEAL_INPUT_HASH "064c794998086653db7dcb3d49bd2bfdbd1aea281c5f2713dc14ed6a472ff956"
 
 /* state x */
 #define APEXSEAL_NX 6
