@@ -5,8 +5,7 @@ holding the library and ``build.json`` (key, flags, compiler, the library's sha2
 The key is a sha256 over the sources' hashes (for a model: the manifest's input
 hash and file hashes), the flag set, the compiler's identity and, for
 ``-march=native``, the CPU architecture gcc resolves it to; so a library is only
-reused for exactly what it was built from. The compiler's identity is asked of the compiler once per
-executable and kept in ``<cache>/lib/compilers.json`` (:func:`compiler_identity`).
+reused for exactly what it was built from (the compiler and its identity: generated/compiler.py).
 
 Builds are safe with concurrent processes: an ``fcntl`` lock per key serialises
 builders, objects and the library are built in a uniquely named temporary folder,
@@ -22,13 +21,10 @@ callers fall back to CasADi's interpreted SX Functions with a
 
 from __future__ import annotations
 
-import functools
 import json
 import os
-import platform
 import re
 import shutil
-import subprocess
 import tempfile
 import time
 import warnings
@@ -41,16 +37,11 @@ import casadi as ca
 
 from ..cores import parallel_threads
 from ..derive.cache import cache_dir
-from ..files import atomic_write, content_key, file_lock, read_json_object, sha256_bytes, sha256_file
+from ..files import atomic_write, content_key, file_lock, sha256_bytes, sha256_file
 from ..progress import stage
+from .compiler import CompilerUnavailable, compiler, compiler_identity, flag_list, lib_root, run_compiler
 from .manifest import StaleArtefactWarning, verify
 
-#: flag setting -> compiler flags. -ffp-contract=off keeps gcc from fusing a*b+c into FMA
-#: instructions under -march=native, so compiled results stay those of CasADi's interpreter.
-FLAG_SETS: dict[str, tuple[str, ...]] = {
-    "quick": ("-O1",),
-    "optimised": ("-O3", "-march=native", "-ffp-contract=off"),
-}
 #: the model library's file name; unique per cache key, because an integrator that links against it finds it by
 #: that name, and a process that loaded one model's library would otherwise hand it to another model's integrator
 MODEL_LIBRARY = "libapexseal_model_{key}.so"
@@ -63,102 +54,8 @@ FALLBACK_COST = (
 )
 
 
-class CompilerUnavailable(RuntimeError):
-    """No working C compiler (missing, or it failed on the generated code)."""
-
-
 class CompilerFallbackWarning(RuntimeWarning):
     """Compiled code was asked for but the interpreted Functions are used."""
-
-
-def compiler() -> str:
-    return os.environ.get("APEXSEAL_CC") or os.environ.get("CC") or "gcc"
-
-
-def flag_list(flags: str) -> tuple[str, ...]:
-    if flags not in FLAG_SETS:
-        raise ValueError(f"flags must be one of {', '.join(FLAG_SETS)}, not {flags!r}")
-    return FLAG_SETS[flags]
-
-
-def _run(cmd: Sequence[str], cwd: Path | None = None) -> subprocess.CompletedProcess:
-    try:
-        return subprocess.run(list(cmd), cwd=cwd, capture_output=True, text=True, check=False)
-    except OSError as exc:  # FileNotFoundError, PermissionError
-        raise CompilerUnavailable(f"C compiler {cmd[0]!r} cannot be run ({exc.strerror or exc})") from exc
-
-
-#: the compiler identities probed before, in :func:`lib_root`: ``{identity key: identity}``
-IDENTITIES = "compilers.json"
-
-
-def _cpu_signature() -> str:
-    """What ``-march=native`` resolves from: the CPU's vendor, family, model and feature flags (a cache shared by
-    machines with other CPUs gets other keys)."""
-    try:
-        text = Path("/proc/cpuinfo").read_text()
-    except OSError:
-        return platform.processor() or "unknown"
-    keep = ("vendor_id", "cpu family", "model", "flags")
-    return sha256_bytes("\n".join(sorted({ln for ln in text.splitlines() if ln.startswith(keep)})).encode())
-
-
-def identity_key(cc: str, flags: tuple[str, ...]) -> str | None:
-    """The key under which the identity of compiler ``cc`` with ``flags`` is kept: its executable (resolved path,
-    size, modification time: an upgrade replaces it), the flags, the machine and, for ``-march=native``, the CPU;
-    None when ``cc`` is not an executable found on the PATH."""
-    path = shutil.which(cc)
-    if path is None:
-        return None
-    real = os.path.realpath(path)
-    try:
-        st = os.stat(real)
-    except OSError:
-        return None
-    cpu = _cpu_signature() if "-march=native" in flags else None
-    return content_key([real, st.st_size, st.st_mtime_ns, list(flags), platform.machine(), cpu])
-
-
-def _known_identities() -> dict:
-    return read_json_object(lib_root() / IDENTITIES) or {}
-
-
-@functools.lru_cache(maxsize=8)
-def compiler_identity(cc: str, flags: tuple[str, ...]) -> str:
-    """The compiler's version line (+ the architecture -march=native means on this machine), part of every library's
-    cache key. Probing runs the compiler twice (10-20 ms on the start-up of every process that loads a library),
-    so a working compiler's identity is kept in :data:`IDENTITIES` under :func:`identity_key` and read back while
-    its executable is unchanged; a compiler that fails is probed again every time."""
-    key = identity_key(cc, flags)
-    known = _known_identities() if key is not None else {}
-    if isinstance(known.get(key), str):
-        return known[key]
-    ident = _probe_identity(cc, flags)
-    if key is not None:
-        try:
-            lib_root().mkdir(parents=True, exist_ok=True)
-            atomic_write(lib_root() / IDENTITIES, json.dumps(_known_identities() | {key: ident}, indent=1,
-                                                            sort_keys=True) + "\n")
-        except OSError:  # a read-only cache: probed again next time
-            pass
-    return ident
-
-
-def _probe_identity(cc: str, flags: tuple[str, ...]) -> str:
-    """:func:`compiler_identity` asked of the compiler itself."""
-    out = _run([cc, "--version"])
-    if out.returncode != 0 or not out.stdout:
-        raise CompilerUnavailable(f"C compiler {cc!r} does not work ({(out.stderr or '').strip()[:200]})")
-    ident = out.stdout.splitlines()[0].strip() + " | " + platform.machine()
-    if "-march=native" in flags:
-        target = _run([cc, "-march=native", "-Q", "--help=target"])
-        arch = re.search(r"^\s*-march=\s+(\S+)", target.stdout or "", re.M)
-        ident += " | march=" + (arch.group(1) if arch else "native-unknown")
-    return ident
-
-
-def lib_root() -> Path:
-    return cache_dir() / "lib"
 
 
 #: a temporary build folder older than this (s) belongs to a compile that was killed
@@ -197,14 +94,14 @@ def _compile_all(cc: str, flags: tuple[str, ...], sources: list[Path], build_dir
 
     def one(src: Path) -> Path:
         obj = build_dir / (src.stem + ".o")
-        out = _run([cc, *flags, "-fPIC", *includes, "-c", str(src), "-o", str(obj)])
+        out = run_compiler([cc, *flags, "-fPIC", *includes, "-c", str(src), "-o", str(obj)])
         if out.returncode != 0:
             raise CompilerUnavailable(f"{cc} failed on {src.name}: {out.stderr.strip()[-600:]}")
         return obj
 
     with ThreadPoolExecutor(max_workers=parallel_threads(len(sources))) as pool:
         objects = list(pool.map(one, sources))
-    out = _run([cc, "-shared", *[str(o) for o in objects], "-o", str(target), *link, "-lm"])
+    out = run_compiler([cc, "-shared", *[str(o) for o in objects], "-o", str(target), *link, "-lm"])
     if out.returncode != 0:
         raise CompilerUnavailable(f"{cc} failed to link {target.name}: {out.stderr.strip()[-600:]}")
 

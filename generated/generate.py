@@ -139,7 +139,8 @@ def generate(effects: Effects | None = None, assumptions: Assumptions | None = N
     finally:
         shutil.rmtree(stage_dir, ignore_errors=True)
     if compile:
-        from .compile import CompilerUnavailable, compile_library
+        from .compile import compile_library
+        from .compiler import CompilerUnavailable
 
         with timer("compile"):
             try:

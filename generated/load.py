@@ -33,7 +33,8 @@ from ..derive.submodels.registry import extended
 from ..files import content_key, file_lock, stat_key
 from ..progress import stage
 from .codegen import SERIALIZED, read_serialized
-from .compile import compiled_or_interpreted, compiler
+from .compile import compiled_or_interpreted
+from .compiler import compiler
 from .functions import ModelFunctions, with_hybrid
 from .manifest import MANIFEST_NAME, Manifest, StaleArtefactError, StaleArtefactWarning, input_hash, verify
 

@@ -37,7 +37,8 @@ def precompile(functions: list[ca.Function], *, flags: str, workers: int = 2, lo
     Returns the phase totals and ``builds``: one record per input Function, in order
     (C size, compile wall time in this run, ~0 when it was already cached).
     """
-    from ...generated.compile import CompilerUnavailable, build_function, function_source
+    from ...generated.compile import build_function, function_source
+    from ...generated.compiler import CompilerUnavailable
 
     jobs, index, seen = [], [], {}
     for fn in functions:

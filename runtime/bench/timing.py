@@ -154,7 +154,7 @@ def _version(module: str) -> str | None:
 
 def machine_info() -> dict:
     """Machine, load, package versions, compiler and git revision, for the JSON and the table."""
-    from ...generated.compile import FLAG_SETS, compiler
+    from ...generated.compiler import FLAG_SETS, compiler
 
     cc = compiler()
     try:

@@ -10,7 +10,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from apexseal.generated import compile as comp
+from apexseal.generated import compiler as comp
 from apexseal.generated.compile import CompilerFallbackWarning, compile_function
 from apexseal.generated.load import load_functions
 from apexseal.generated.manifest import StaleArtefactWarning
@@ -118,15 +118,15 @@ def test_bench_precompile_fills_the_entry_compile_function_finds(fresh_cache):
 
 @pytest.fixture
 def probes(fresh_cache, monkeypatch):
-    """The compiler runs :func:`compile.compiler_identity` makes, counted (its in-process cache cleared around)."""
+    """The compiler runs :func:`compiler.compiler_identity` makes, counted (its in-process cache cleared around)."""
     runs = []
-    real_run = comp._run
+    real_run = comp.run_compiler
 
     def counted(cmd, cwd=None):
         runs.append(list(cmd))
         return real_run(cmd, cwd)
 
-    monkeypatch.setattr(comp, "_run", counted)
+    monkeypatch.setattr(comp, "run_compiler", counted)
     comp.compiler_identity.cache_clear()
     yield runs
     comp.compiler_identity.cache_clear()

@@ -165,7 +165,8 @@ def study_functions(setup, m: int, *, compile_c: bool = True) -> StudyFunctions:
     import time
     from concurrent.futures import ThreadPoolExecutor
 
-    from ....generated.compile import CompilerUnavailable, build_function, fallback, function_source
+    from ....generated.compile import build_function, fallback, function_source
+    from ....generated.compiler import CompilerUnavailable
     from ....progress import stage
 
     st = setup.settings()

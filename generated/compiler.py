@@ -1,0 +1,123 @@
+"""The C compiler: which one (``$APEXSEAL_CC``, else ``$CC``, else ``gcc``), the flag sets, and its identity.
+
+A compiled library's cache key includes the compiler's identity (its version line, the machine and, for
+``-march=native``, the architecture gcc resolves it to), so a library is only reused for exactly what built it.
+The identity is asked of the compiler once per executable and kept in ``<cache>/lib/compilers.json``
+(:func:`compiler_identity`).
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import platform
+import re
+import shutil
+import subprocess
+from collections.abc import Sequence
+from pathlib import Path
+
+from ..derive.cache import cache_dir
+from ..files import atomic_write, content_key, read_json_object, sha256_bytes
+
+#: flag setting -> compiler flags. -ffp-contract=off keeps gcc from fusing a*b+c into FMA
+#: instructions under -march=native, so compiled results stay those of CasADi's interpreter.
+FLAG_SETS: dict[str, tuple[str, ...]] = {
+    "quick": ("-O1",),
+    "optimised": ("-O3", "-march=native", "-ffp-contract=off"),
+}
+
+
+class CompilerUnavailable(RuntimeError):
+    """No working C compiler (missing, or it failed on the generated code)."""
+
+
+def compiler() -> str:
+    return os.environ.get("APEXSEAL_CC") or os.environ.get("CC") or "gcc"
+
+
+def flag_list(flags: str) -> tuple[str, ...]:
+    if flags not in FLAG_SETS:
+        raise ValueError(f"flags must be one of {', '.join(FLAG_SETS)}, not {flags!r}")
+    return FLAG_SETS[flags]
+
+
+def run_compiler(cmd: Sequence[str], cwd: Path | None = None) -> subprocess.CompletedProcess:
+    try:
+        return subprocess.run(list(cmd), cwd=cwd, capture_output=True, text=True, check=False)
+    except OSError as exc:  # FileNotFoundError, PermissionError
+        raise CompilerUnavailable(f"C compiler {cmd[0]!r} cannot be run ({exc.strerror or exc})") from exc
+
+
+#: the compiler identities probed before, in :func:`lib_root`: ``{identity key: identity}``
+IDENTITIES = "compilers.json"
+
+
+def _cpu_signature() -> str:
+    """What ``-march=native`` resolves from: the CPU's vendor, family, model and feature flags (a cache shared by
+    machines with other CPUs gets other keys)."""
+    try:
+        text = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return platform.processor() or "unknown"
+    keep = ("vendor_id", "cpu family", "model", "flags")
+    return sha256_bytes("\n".join(sorted({ln for ln in text.splitlines() if ln.startswith(keep)})).encode())
+
+
+def identity_key(cc: str, flags: tuple[str, ...]) -> str | None:
+    """The key under which the identity of compiler ``cc`` with ``flags`` is kept: its executable (resolved path,
+    size, modification time: an upgrade replaces it), the flags, the machine and, for ``-march=native``, the CPU;
+    None when ``cc`` is not an executable found on the PATH."""
+    path = shutil.which(cc)
+    if path is None:
+        return None
+    real = os.path.realpath(path)
+    try:
+        st = os.stat(real)
+    except OSError:
+        return None
+    cpu = _cpu_signature() if "-march=native" in flags else None
+    return content_key([real, st.st_size, st.st_mtime_ns, list(flags), platform.machine(), cpu])
+
+
+def _known_identities() -> dict:
+    return read_json_object(lib_root() / IDENTITIES) or {}
+
+
+@functools.lru_cache(maxsize=8)
+def compiler_identity(cc: str, flags: tuple[str, ...]) -> str:
+    """The compiler's version line (+ the architecture -march=native means on this machine), part of every library's
+    cache key. Probing runs the compiler twice (10-20 ms on the start-up of every process that loads a library),
+    so a working compiler's identity is kept in :data:`IDENTITIES` under :func:`identity_key` and read back while
+    its executable is unchanged; a compiler that fails is probed again every time."""
+    key = identity_key(cc, flags)
+    known = _known_identities() if key is not None else {}
+    if isinstance(known.get(key), str):
+        return known[key]
+    ident = _probe_identity(cc, flags)
+    if key is not None:
+        try:
+            lib_root().mkdir(parents=True, exist_ok=True)
+            atomic_write(lib_root() / IDENTITIES, json.dumps(_known_identities() | {key: ident}, indent=1,
+                                                            sort_keys=True) + "\n")
+        except OSError:  # a read-only cache: probed again next time
+            pass
+    return ident
+
+
+def _probe_identity(cc: str, flags: tuple[str, ...]) -> str:
+    """:func:`compiler_identity` asked of the compiler itself."""
+    out = run_compiler([cc, "--version"])
+    if out.returncode != 0 or not out.stdout:
+        raise CompilerUnavailable(f"C compiler {cc!r} does not work ({(out.stderr or '').strip()[:200]})")
+    ident = out.stdout.splitlines()[0].strip() + " | " + platform.machine()
+    if "-march=native" in flags:
+        target = run_compiler([cc, "-march=native", "-Q", "--help=target"])
+        arch = re.search(r"^\s*-march=\s+(\S+)", target.stdout or "", re.M)
+        ident += " | march=" + (arch.group(1) if arch else "native-unknown")
+    return ident
+
+
+def lib_root() -> Path:
+    return cache_dir() / "lib"
