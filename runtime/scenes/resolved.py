@@ -12,7 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from .schema import SECTIONS, SI, Section, _sub_model, validator_of
+from .fields import SI
+from .schema import SECTIONS, Section, _sub_model, validator_of
 
 #: the file name of the pressure table written beside a resolved scene
 TABLE_FILE = "pressure.csv"

@@ -2,14 +2,14 @@
 
 Keys are the paper's symbols in ASCII. Every quantity is stored in SI (rpm stays
 rpm; angles in rad); see ``docs/scenes.md`` for the reference of every key.
-Each field's validator is one of the small classes below (:class:`SI`,
-:class:`Int`, :class:`Choice`, :class:`Flag`, :class:`Text`): they raise one
+Each field's validator is one of the small classes of :mod:`.fields` (:class:`~.fields.SI`,
+:class:`~.fields.Int`, :class:`~.fields.Choice`, :class:`~.fields.Flag`, :class:`~.fields.Text`): they raise one
 clear message each, and carry what is allowed, so that a missing key can say
 what to give. :func:`validate_sections` turns pydantic's errors into
-:class:`~.scene_errors.Problem` lines ``key = value: message``.
+:class:`~.errors.Problem` lines ``key = value: message``.
 
 Checks that involve more than one key (aspect ratio, groove and seal sizes,
-pressure source) are in :mod:`.scene_checks`.
+pressure source) are in :mod:`.checks`.
 """
 
 import functools
@@ -17,199 +17,16 @@ import math
 from typing import Annotated, Any
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, create_model
-from pydantic_core import PydanticCustomError
 
 from ...suggest import did_you_mean
 from ..solving.methods import METHODS
-from ..solving.settings import DEFAULT_PRESSURE, LIMITS, PRESSURE_PROFILES
+from ..solving.settings import DEFAULT_PRESSURE, PRESSURE_PROFILES
 from .errors import MISSING, Problem
-from .units import QuantityError, Range, expected, parse_pressure_unit, parse_quantity, registry
-
-# ---------------------------------------------------------------------------
-# field validators
-
-
-def _fail(message: str) -> PydanticCustomError:
-    return PydanticCustomError("scene", "{message}", {"message": message})
-
-
-class SI:
-    """A quantity converted to ``unit`` (pint syntax) and checked against a range.
-
-    ``bare``: unit of bare numbers (default: ``unit``; angles refuse bare numbers).
-    ``show``: unit in which the range is printed (default: ``unit``).
-    """
-
-    def __init__(
-        self,
-        unit: str,
-        *,
-        gt: float | None = None,
-        ge: float | None = None,
-        lt: float | None = None,
-        le: float | None = None,
-        bare: str | None = None,
-        optional: bool = False,
-        show: str | None = None,
-    ) -> None:
-        self.unit, self.bare, self.optional = unit, bare, optional
-        self.range = Range(gt=gt, ge=ge, lt=lt, le=le)
-        self.show = show or unit
-
-    def __call__(self, value: Any) -> float | None:
-        if value is None and self.optional:
-            return None
-        try:
-            x = parse_quantity(value, self.unit, bare=self.bare)
-        except QuantityError as exc:
-            raise _fail(exc.reason) from None
-        if not self.range.holds(x):
-            raise _fail(f"{self._shown(x)} is out of range; allowed: {self.allowed()}")
-        return x
-
-    def _factor(self) -> float:
-        return (
-            1.0
-            if self.show == self.unit
-            else float(registry().Quantity(1.0, self.unit).to(self.show).magnitude)
-        )
-
-    def _shown(self, x: float) -> str:
-        return _g(x) if self.show == "1" else f"{_g(x * self._factor())} {self.show}"
-
-    def allowed(self) -> str:
-        if self.show == self.unit:
-            return self.range.describe(self.unit)
-        f = self._factor()
-        scaled = Range(
-            *(
-                None if b is None else round(b * f, 9)
-                for b in (self.range.gt, self.range.ge, self.range.lt, self.range.le)
-            )
-        )
-        return scaled.describe(self.show)
-
-    def expects(self) -> str:
-        return expected(self.unit) + ("" if self.range == Range() else f", {self.allowed()}")
-
-
-class Int:
-    """An integer (TOML integer, not float or bool) in a range."""
-
-    def __init__(self, *, ge: int | None = None, le: int | None = None) -> None:
-        self.range = Range(ge=ge, le=le)
-
-    def __call__(self, value: Any) -> int:
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise _fail(f"expected an integer, {self.allowed()}")
-        if not self.range.holds(value):
-            raise _fail(f"out of range; allowed: {self.allowed()}")
-        return value
-
-    def allowed(self) -> str:
-        return self.range.describe(name="n")
-
-    def expects(self) -> str:
-        return f"an integer, {self.allowed()}"
-
-
-class Choice:
-    """One of a few strings; a near miss gets a "did you mean"."""
-
-    def __init__(self, *allowed: str) -> None:
-        self.values = allowed
-
-    def __call__(self, value: Any) -> str:
-        if isinstance(value, str) and value in self.values:
-            return value
-        raise _fail(f"not allowed{did_you_mean(value, self.values)}; allowed: {self.allowed()}")
-
-    def allowed(self) -> str:
-        return ", ".join(f'"{v}"' for v in self.values)
-
-    def expects(self) -> str:
-        return f"one of {self.allowed()}"
-
-
-class Flag:
-    """A TOML boolean (``true``/``false``; not 0/1 or "yes")."""
-
-    def __init__(self, optional: bool = False) -> None:
-        self.optional = optional
-
-    def __call__(self, value: Any) -> bool | None:
-        if value is None and self.optional:
-            return None
-        if not isinstance(value, bool):
-            raise _fail("expected true or false")
-        return value
-
-    def allowed(self) -> str:
-        return "true or false"
-
-    expects = allowed
-
-
-class Text:
-    """A non-empty string (a file name)."""
-
-    def __init__(self, optional: bool = False) -> None:
-        self.optional = optional
-
-    def __call__(self, value: Any) -> str | None:
-        if value is None and self.optional:
-            return None
-        if not isinstance(value, str) or not value.strip():
-            raise _fail("expected a non-empty string")
-        return value
-
-    def allowed(self) -> str:
-        return "a non-empty string"
-
-    expects = allowed
-
-
-class PressureUnit:
-    """A pressure unit name, e.g. "Pa", "kPa", "bar"."""
-
-    def __call__(self, value: Any) -> str:
-        try:
-            parse_pressure_unit(value)
-        except QuantityError as exc:
-            raise _fail(exc.reason) from None
-        return value
-
-    def allowed(self) -> str:
-        return 'a pressure unit such as "Pa", "kPa" or "bar"'
-
-    expects = allowed
-
-
-def _g(x: float) -> str:
-    return f"{x:.6g}"
-
-
-def _q(unit: str, **kw: Any) -> Any:
-    """Annotated float field of a quantity in ``unit``."""
-    kind = float | None if kw.get("optional") else float
-    return Annotated[kind, BeforeValidator(SI(unit, **kw))]
-
-
-def _v(validator: Any, kind: Any) -> Any:
-    return Annotated[kind, BeforeValidator(validator)]
-
-
-TWO_PI = 2 * math.pi
-
-
-def _bounds(name: str) -> dict[str, float]:
-    """The bounds of run setting ``name`` (runtime/solving/settings.py: one table for scene, CLI and API)."""
-    rng = LIMITS[name][1]
-    return {k: getattr(rng, k) for k in ("gt", "ge", "lt", "le") if getattr(rng, k) is not None}
-
-
-def _int(name: str) -> Int:
-    return Int(**_bounds(name))
+from .fields import SI, TWO_PI, Choice, Flag, PressureUnit, Text
+from .fields import quantity as _q
+from .fields import setting_bounds as _bounds
+from .fields import setting_int as _int
+from .fields import validated as _v
 
 # ---------------------------------------------------------------------------
 # sections
