@@ -209,7 +209,7 @@ if __name__ == "__main__":  # python tests/runtime/test_preload_small.py: the nu
 
 
 def test_a_constant_above_its_boundary_is_lowered_to_it(light, studies):
-    """The polish of a constant optimum (nlp._polish_constant): from 20 % above the optimum (as where IPOPT stopped on
+    """The polish of a constant optimum (study._polish_constant): from 20 % above the optimum (as where IPOPT stopped on
     the default scene with an inexact gradient) it bisects down to the bisection's bracket and records the start;
     at the optimum itself it changes nothing."""
     from apexseal.runtime.studies.preload.periodic import periodic
