@@ -76,7 +76,7 @@ class _Progress(ca.Callback):
 
 
 class ShootingNlp:
-    """The multiple-shooting NLP with a hand-assembled Jacobian (see the module docstring)."""
+    """The multiple-shooting NLP with a hand-assembled Jacobian (formulated in study.py's docstring)."""
 
     def __init__(self, setup, sf, sim, nodes, knots, min_force, exclude, deficit_tol, objective):
         self.setup, self.N, self.K = setup, nodes, knots
