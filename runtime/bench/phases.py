@@ -1,6 +1,7 @@
 """Where the composite method's evaluations go on the benchmark's problem: the clusters, the ringing, the rest.
 
 ``python -m apexseal.runtime.bench.phases [--rtols 1e-6,1e-8] [--scale v_eps=10]`` (about 16 s for three rtols;
+``--scale mu1=0,mu2=0,mus=0``: no friction at all;
 docs/bench/phases.md, read in docs/bench/levers.md, "Where the run method's evaluations go").
 
 The run method ``composite`` (runtime/solving/composite.py) is called over the first k output intervals of the
