@@ -91,7 +91,7 @@ class Int:
         if isinstance(value, bool) or not isinstance(value, int):
             raise _fail(f"expected an integer, {self.allowed()}")
         if not self.range.holds(value):
-            raise _fail(f"out of range; allowed: {self.allowed()}")
+            raise _fail(f"{value} is out of range; allowed: {self.allowed()}")
         return value
 
     def allowed(self) -> str:

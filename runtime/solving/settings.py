@@ -79,8 +79,8 @@ def check_value(name: str, value: Any) -> Any:
             raise _fail(f"expected a number, {allowed(name)}")
         value = float(value)
     if not rng.holds(value):  # NaN fails every bound
-        shown = "out of range" if kind.startswith("int") else f"{value:.6g} is out of range"
-        raise _fail(f"{shown}; allowed: {allowed(name)}")
+        shown = value if kind.startswith("int") else format(value, ".6g")
+        raise _fail(f"{shown} is out of range; allowed: {allowed(name)}")
     return value
 
 

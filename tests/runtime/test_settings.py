@@ -74,6 +74,13 @@ def test_cli_refuses_1e20_revolutions(tmp_path):
     assert r.exit_code == 2 and "--revolutions" in r.output and "1 <= n <= 100000" in r.output
 
 
+@pytest.mark.parametrize("args, shown", [(["-n", "-1"], "-1 is out of range"), (["--rtol", "2"], "2 is out of range")])
+def test_cli_names_the_bad_value(tmp_path, args, shown):
+    """The command line's error names the option, the value and the range, for integers as for numbers."""
+    r = CliRunner().invoke(main, ["simulate", *args, "--out", str(tmp_path / "o")])
+    assert r.exit_code == 2 and shown in r.output and "allowed:" in r.output
+
+
 def test_scene_refuses_1e20_revolutions(default_scene):
     with pytest.raises(SceneError, match="operation.revolutions.*1 <= n <= 100000"):
         default_scene.with_overrides(**{"operation.revolutions": 10**20})
