@@ -21,7 +21,11 @@ def _force(ctx, param, value) -> float | None:
         return None
     key = "--" + param.name.replace("_", "-")
     try:
-        f = parse_quantity(value, "N", key=key)
+        number = float(value)  # a bare number is in N, as a bare TOML number is in its SI unit
+    except ValueError:
+        number = value
+    try:
+        f = parse_quantity(number, "N", key=key)
     except QuantityError as err:
         raise click.BadParameter(f"{value!r}: {err}; allowed: a force > 0 and <= {MAX_FORCE:g} N, e.g. 5N") from None
     if not (0 < f <= MAX_FORCE):
@@ -49,12 +53,14 @@ def _rate(ctx, param, value):
 @click.command("optimise-preload")
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--min-force", default="5 N", show_default=True, callback=_force,
-              help="Smallest contact force of the tip on the housing, everywhere outside --exclude (a force, e.g. 5N).")
+              help="Smallest contact force of the tip on the housing, everywhere outside --exclude (a force, e.g. 5N; "
+                   "a bare number is in N).")
 @click.option("--max-groove-force", default=None, callback=_force, metavar="FORCE",
               help="Bound on every seal-groove contact force (Eq. 63), everywhere on the revolution, between samples "
-                   "too (a force, e.g. 400N) [default: none].")
+                   "too (a force, e.g. 400N; a bare number is in N) [default: none].")
 @click.option("--exclude", "exclude", multiple=True, callback=_windows, metavar="START:END",
-              help="Crank-angle window in degrees where the force is not required (repeatable, up to 4), e.g. 180:200.")
+              help="Crank-angle window in degrees where the force is not required (repeatable, up to 4), e.g. 180:200; "
+                   "angles are taken modulo 360, so 350:10 crosses 0 and 200:180 leaves only 180-200 required.")
 @click.option("--schedule", "knots", type=click.IntRange(2, 72), default=None, metavar="KNOTS",
               help="Also optimise a periodic piecewise-linear preload schedule with KNOTS knots, started from the "
                    "constant optimum.")
@@ -91,15 +97,15 @@ def _optimise(scene, min_force, max_groove_force, exclude, knots, max_rate, obje
               vary_stiffness, check, out) -> None:
     from .runtime.api import model_functions
     from .runtime.studies.preload.bisect import bisect_preload
-    from .runtime.studies.preload.problem import MM, PreloadSetup, PreloadStudyError
+    from .runtime.studies.preload.problem import MM, PreloadSetup, PreloadStudyError, excluded
     from .runtime.studies.preload.report import write_report
     from .runtime.studies.preload.study import optimise_preload as run_study
     from .stopwatch import Stopwatch
 
     sc, out = scene_and_folder(scene, out)
     bound = f"; groove forces <= {max_groove_force:g} N" if max_groove_force is not None else ""
-    click.echo(f"scene {scene or '(embedded default: the paper case study)'}; min force {min_force:g} N{bound}; "
-               f"writing to {out}/")
+    click.echo(f"scene {scene or '(embedded default: the paper case study)'}; min force {min_force:g} N"
+               f"{excluded(exclude)}{bound}; writing to {out}/")
     watch = Stopwatch()
     results = {"constant": None}
     try:

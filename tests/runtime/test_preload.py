@@ -22,7 +22,14 @@ from apexseal.cli import main
 from apexseal.runtime.scenes.scene import embedded_scene_path
 from apexseal.runtime.studies.preload.bisect import bisect_preload
 from apexseal.runtime.studies.preload.nlp import SOLVED, ShootingNlp
-from apexseal.runtime.studies.preload.problem import MM, PreloadSetup, PreloadStudyError, check_mask, preload_parameters
+from apexseal.runtime.studies.preload.problem import (
+    MM,
+    PreloadSetup,
+    PreloadStudyError,
+    check_mask,
+    excluded,
+    preload_parameters,
+)
 from apexseal.runtime.studies.preload.result import DEFICIT_TOL
 from apexseal.runtime.studies.preload.schedule import Schedule, SegmentGrid, simulate_schedule
 from apexseal.runtime.studies.preload.shooting import study_functions
@@ -55,6 +62,24 @@ def test_check_windows_wrap_around_360():
     th = np.radians([350.0, 355.0, 0.0, 5.0, 10.0, 180.0])
     np.testing.assert_array_equal(check_mask(th, ((355.0, 5.0),)), [True, False, False, False, True, True])
     np.testing.assert_array_equal(check_mask(th, ()), [True] * 6)
+
+
+@pytest.mark.parametrize("windows, degrees", [(((0.0, 10.0), (180.0, 190.0)), "20"), (((200.0, 180.0),), "340"),
+                                              (((350.0, 10.0), (5.0, 20.0)), "30"), ((), None)])
+def test_the_run_states_how_much_it_excludes(windows, degrees):
+    """A reversed window wraps (200:180 leaves 20 deg required): the study's first line says how much is excluded."""
+    text = excluded(windows)
+    assert (text == "") if degrees is None else f"({degrees} of 360 deg excluded)" in text
+
+
+def test_cli_forces_bare_numbers_are_newtons():
+    from apexseal.commands_optimise import _force
+
+    class Param:
+        name = "min_force"
+
+    assert _force(None, Param, "5") == _force(None, Param, "5 N") == 5.0
+    assert _force(None, Param, "0.2kN") == 200.0
 
 
 def test_segments_reproduce_the_schedule():
@@ -198,6 +223,7 @@ def test_study_needs_the_spring_and_the_housing_contact(default_scene):
     (["--max-rate", "-2"], ["--max-rate", "-2", "> 0"]),
     (["--max-groove-force", "-3N"], ["--max-groove-force", "-3N", "> 0"]),
     (["--max-groove-force", "3 m"], ["--max-groove-force", "3 m"]),
+    (["--max-groove-force", "-3"], ["--max-groove-force", "-3", "> 0"]),
 ])
 def test_cli_bad_input(tmp_path, args, words):
     r = CliRunner().invoke(main, ["optimise-preload", *args, "--out", str(tmp_path / "o")])

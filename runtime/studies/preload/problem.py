@@ -107,6 +107,17 @@ def check_mask(thetas: np.ndarray, exclude: tuple[tuple[float, float], ...]) -> 
     return keep
 
 
+def excluded(exclude: tuple[tuple[float, float], ...]) -> str:
+    """The excluded windows as a run states them, e.g. ``" outside 350-10 deg (20 of 360 deg excluded)"``; the
+    degrees excluded counted at the middles of a 0.01 deg grid, windows that overlap once; ``""`` for none."""
+    if not exclude:
+        return ""
+    grid = np.radians((np.arange(36000) + 0.5) / 100.0)
+    out = 360.0 - np.count_nonzero(check_mask(grid, exclude)) / 100.0
+    windows = ", ".join(f"{start:g}-{end:g}" for start, end in exclude)
+    return f" outside {windows} deg ({out:g} of 360 deg excluded)"
+
+
 def parse_window(text: str) -> tuple[float, float]:
     """'START:END' in degrees of crank angle -> (start, end)."""
     try:
