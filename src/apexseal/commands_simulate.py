@@ -39,7 +39,8 @@ def simulate(scene: Path | None, revolutions, method, rtol, max_wall_time, out, 
 
     Revolutions are written to disk as they finish; the folder is written beside OUT and renamed into place at
     the end. SIGINT (Ctrl-C) and SIGTERM stop the run between integrator calls, and the revolutions completed
-    are written as a result with status "interrupted" (exit code 130 or 143).
+    are written as a result with status "interrupted" (exit code 130 or 143). A run killed outright leaves its
+    folder as OUT.partial-<run id>, which `SimulationResult.load` reads as an interrupted result.
     """
     from . import progress
 
