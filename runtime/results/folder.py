@@ -143,6 +143,11 @@ class ResultFolder:
         self._failure: BaseException | None = None  # its error, until sync() raises it
 
     # ------------------------------------------------------------------ writing
+    def begin(self, info: dict) -> None:
+        """The run's record as known before its first step (method, tolerances, grid, provenance): every progress
+        record carries it, so a run killed outright still says how it was run; :meth:`finish` completes it."""
+        self.info = dict(info) | {"run_id": self.run_id}
+
     def append(self, part: SimulationResult) -> None:
         """Hand one part over: a thread writes it, then the progress record that lists it, while the run goes on
         (without ``background``, it is written here). The previous part is waited for first, and its storage error

@@ -41,6 +41,9 @@ class InMemory:
         self.parts: list[SimulationResult] = []
         self.samples = 0
 
+    def begin(self, info: dict) -> None:
+        """Nothing to record before the first part: the result exists only once :meth:`finish` joins it."""
+
     def append(self, part: SimulationResult) -> None:
         self.parts.append(part)
         self.samples += part.n

@@ -95,8 +95,9 @@ class SimulationResult:
 
     @property
     def revolutions(self) -> float:
-        """Revolutions covered (crank angle of the last sample / 2 pi)."""
-        return float(self.theta[-1] / (2 * np.pi)) if self.n else 0.0
+        """Revolutions covered (crank angle of the last sample / 2 pi), to 1e-9 of a revolution: 88, not the
+        87.99999999999999 that the division's round-off gives."""
+        return round(float(self.theta[-1] / (2 * np.pi)), 9) if self.n else 0.0
 
     @property
     def n_events(self) -> int:

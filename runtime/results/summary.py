@@ -61,7 +61,7 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     """Extremes with their crank angles, time in each mode, events, friction power, gaps, force spectrum."""
     deg = np.degrees(result.theta)
     out: dict = {"status": result.status, "stop": None if result.stop is None else result.stop.describe(),
-                 "samples": int(result.n), "revolutions": float(result.theta[-1] / (2 * np.pi)) if result.n else 0.0}
+                 "samples": int(result.n), "revolutions": result.revolutions}
     extremes = {}
     for i, (name, unit, scale) in enumerate((("x", "um", 1e6), ("y", "um", 1e6), ("phi", "mrad", 1e3))):
         v = result.state[i] * scale

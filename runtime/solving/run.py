@@ -84,6 +84,11 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     if (N * sub) % m:
         raise ValueError(f"the engine covers {m} output intervals, which do not divide samples_per_revolution = {N}")
     calls = N * sub // m
+    info = dict(info or {}) | {"state_names": list(lay.state_names), "method": settings.method,
+                               "rtol": settings.rtol, "atol": settings.atol, "samples_per_revolution": N,
+                               "pressure_substeps": sub, "pressure": settings.pressure, "calls_per_revolution": calls,
+                               "revolutions_asked": revolutions}
+    sink.begin(info)  # what is known before the first step: a killed run's progress record says how it was run
     stats_total: dict = {}
     check = RunChecks(functions, settings, params, theta_start)
     bar = tqdm(total=revolutions, unit="rev", disable=not progress, leave=False)
@@ -158,16 +163,11 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
             status, stop = "failed", StopInfo(part.theta_done, lay.mode(part.last_active(lay)), str(err))
         wall = time.perf_counter() - t_wall
         uncounted = engine is not None and engine.compiled and not engine.counts_steps
-        info = dict(info or {}) | {"state_names": list(lay.state_names), "method": settings.method,
-                                   "rtol": settings.rtol, "atol": settings.atol, "samples_per_revolution": N,
-                                   "pressure_substeps": sub,
-                                   "pressure": settings.pressure,
-                                   "calls_per_revolution": calls,
-                                   "revolutions_asked": revolutions, "wall_time_s": wall, "solver_stats": stats_total,
-                                   "solver_stats_note": "" if not uncounted else
-                                   "a compiled integrator reports engine calls and events only; set "
-                                   "solver.interpreted = true for CasADi's step counts",
-                                   "compiled": bool(engine is not None and engine.compiled)}
+        info = info | {"wall_time_s": wall, "solver_stats": stats_total,
+                       "solver_stats_note": "" if not uncounted else
+                       "a compiled integrator reports engine calls and events only; set "
+                       "solver.interpreted = true for CasADi's step counts",
+                       "compiled": bool(engine is not None and engine.compiled)}
         if signals.requested:
             info["signals"] = [int(s) for s in signals.received]
         if leased is not None:

@@ -365,3 +365,5 @@ def test_a_killed_run_leaves_the_previous_result_intact(slow_scene, tmp_path, tw
     assert after.info["run_id"] == before.info["run_id"] and after.n == before.n and after.ok
     partial = SimulationResult.load(staging)  # what the killed run had completed and recorded
     assert partial.status == "interrupted" and partial.n >= 1 + 2 * 360 and (partial.n - 1) % 360 == 0
+    # how it was run, recorded before its first step
+    assert partial.info["method"] == "erk" and partial.info["revolutions_asked"] == 200 and partial.info["rtol"] > 0
