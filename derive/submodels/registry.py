@@ -2,11 +2,17 @@
 
 The parameter vector (:func:`parameters`, :func:`parameter_names`), the option slots (:func:`options`), the
 guards (:func:`guards`), the scene's parameter keys and the mode labels all come from here, in registration
-order: the built-in submodels first (seal body, housing, spring, groove, chamber pressure), then a user's.
+order: the built-in submodels first (seal body, housing, spring, groove, chamber pressure), then those of
+installed packages (the entry points of the group ``apexseal.submodels``, by name), then a user's.
 
 >>> from apexseal.derive.submodels import registry
 >>> registry.register(MyContact)          # a subclass of Submodel; see docs/extending.md
 >>> registry.unregister("my_contact")     # e.g. at the end of a test
+
+A package adds its submodels to every process (the command line, a sweep's workers) by declaring them::
+
+    [project.entry-points."apexseal.submodels"]
+    cushion = "my_seal_models.cushion:Cushion"
 
 The content of the registry (the source of every registered class) enters the derivation's cache key, so a
 new or changed submodel is never served an old derivation.
@@ -30,21 +36,58 @@ from .base import Guard, State, Submodel
 BUILTIN = (".seal:SealBody", ".housing:HousingContact", ".groove:GrooveContacts", ".spring:SpringContact",
            ".pressure:ChamberPressure", ".gas:ChamberGas")
 
+#: the entry-point group through which an installed package adds submodels
+ENTRY_POINTS = "apexseal.submodels"
+
 _registry: dict[str, type[Submodel]] = {}
+_installed: dict[str, str] = {}  # submodel name -> "distribution version" of those added by entry points
 _loaded = False
+_broken: RegistryError | None = None
 
 
 class RegistryError(ValueError):
-    """A submodel whose declarations clash with those already registered."""
+    """A submodel whose declarations clash with those already registered, or an installed one that cannot load."""
 
 
 def _ensure() -> None:
-    global _loaded
+    global _loaded, _broken
+    if _broken is not None:
+        raise _broken
     if not _loaded:
         _loaded = True
         for spec in BUILTIN:
             module, name = spec.split(":")
             register(getattr(importlib.import_module(module, __package__), name))
+        try:
+            _load_installed()
+        except RegistryError as exc:
+            _broken = exc
+            raise
+
+
+def _load_installed() -> None:
+    """Register the submodels installed packages declare as entry points of :data:`ENTRY_POINTS`, by name."""
+    from importlib.metadata import entry_points
+
+    for ep in sorted(entry_points(group=ENTRY_POINTS), key=lambda e: (e.name, e.value)):
+        dist = f"{ep.dist.name} {ep.dist.version}" if ep.dist is not None else "an unknown distribution"
+        where = f"the submodel entry point {ep.name} = {ep.value!r} of {dist}"
+        try:
+            cls = ep.load()
+        except Exception as exc:  # noqa: BLE001 - whatever the package raises, name the package
+            raise RegistryError(f"{where} cannot be loaded: {type(exc).__name__}: {exc}; uninstall the package "
+                                "or fix it") from exc
+        try:
+            register(cls)
+        except RegistryError as exc:
+            raise RegistryError(f"{where}: {exc}") from None
+        _installed[cls.name] = dist
+
+
+def installed() -> dict[str, str]:
+    """The submodels added by installed packages: name -> "distribution version" (part of a run's provenance)."""
+    _ensure()
+    return dict(_installed)
 
 
 def register(cls: type[Submodel]) -> type[Submodel]:
@@ -83,6 +126,7 @@ def unregister(name: str) -> None:
     if cls is not None and cls.__module__.startswith(__package__):
         raise RegistryError(f"{name!r} is a built-in submodel; switch it off with its option instead")
     _registry.pop(name, None)
+    _installed.pop(name, None)
 
 
 @contextmanager

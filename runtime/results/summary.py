@@ -103,6 +103,11 @@ def versions() -> dict:
     from ... import __version__
     from ...versions import distribution_version
 
+    from ...derive.submodels.registry import installed
+
     # sympy's version from its distribution: reading it does not import sympy (1 s) into a run
-    return {"apexseal": __version__, "casadi": casadi.__version__, "sympy": distribution_version("sympy"),
-            "numpy": numpy.__version__, "python": platform.python_version(), "machine": platform.machine()}
+    out = {"apexseal": __version__, "casadi": casadi.__version__, "sympy": distribution_version("sympy"),
+           "numpy": numpy.__version__, "python": platform.python_version(), "machine": platform.machine()}
+    # the packages whose submodels are in the registry (docs/extending.md), e.g. "submodel cushion": "seal-extras 0.2"
+    out.update({f"submodel {name}": dist for name, dist in installed().items()})
+    return out

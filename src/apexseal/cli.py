@@ -38,6 +38,14 @@ class LazyGroup(click.Group):
             self.add_command(getattr(importlib.import_module(f"{__package__}.{module}"), attr), name)
         return self.commands.get(name)
 
+    def invoke(self, ctx: click.Context):
+        from .derive.submodels.registry import RegistryError
+
+        try:
+            return super().invoke(ctx)
+        except RegistryError as err:  # an installed submodel that cannot load or clashes: its package is named
+            raise click.ClickException(str(err)) from None
+
 
 @click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="apexseal")

@@ -81,6 +81,16 @@ def test_a_point_outside_the_scene_range_is_refused_before_any_work():
     assert "-0.002" in text and "out of range" in text and ">= 0" in text and "(point 1)" in text
 
 
+def test_a_list_is_short_for_values_and_a_bare_value_is_refused_with_both_forms():
+    short = study_from_toml('[parameters]\n"spring.ks" = ["1e3 N/m", 3e3]\n')
+    assert short.parameters[0].values == (1000.0, 3000.0)
+    assert short.content_hash() == study_from_toml('[parameters."spring.ks"]\nvalues = ["1e3 N/m", 3e3]\n').content_hash()
+    with pytest.raises(StudyError) as info:
+        study_from_toml('[parameters]\n"spring.ks" = "3e3 N/m"\n')
+    assert info.value.keys() == ["parameters.spring.ks"]
+    assert "as a list" in str(info.value) and "from, to and points" in str(info.value)
+
+
 def test_malformed_toml_and_missing_parameters():
     with pytest.raises(StudyError, match="malformed TOML"):
         study_from_toml("[study\nname = 1")
@@ -108,6 +118,17 @@ def test_docs_list_every_quantity_and_design():
     docs = (Path(__file__).resolve().parents[2] / "docs" / "sweeps.md").read_text(encoding="utf-8")
     assert [q for q in QUANTITY_HELP if f"`{q}`" not in docs] == []
     assert [d for d in DESIGNS if f'`"{d}"`' not in docs] == []
+
+
+def test_the_documented_study_file_is_a_valid_study():
+    """The annotated study file of docs/sweeps.md, every key in it, is read as written."""
+    from pathlib import Path
+
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "sweeps.md").read_text(encoding="utf-8")
+    study = study_from_toml(docs.split("## The study file")[1].split("```toml\n")[1].split("```")[0])
+    assert [p.key for p in study.parameters] == ["spring.delta_s", "solver.method", "spring.ks"]
+    assert (study.design, study.points, study.max_wall_time) == ("sobol", 64, 600.0)
+    assert len(design_points(study)) == 64
 
 
 @pytest.mark.parametrize("design", ["grid-1", "grid-2", "sobol"])

@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from apexseal.suggest import did_you_mean
 
@@ -117,6 +117,14 @@ class StudyFile(_Model):
     collect: CollectSection = Field(default_factory=CollectSection)
     run: RunSection = Field(default_factory=RunSection)
     feasible: dict[str, Bound] = Field(default_factory=dict)
+
+    @field_validator("parameters", mode="before")
+    @classmethod
+    def _values_shorthand(cls, value: Any) -> Any:
+        """``"spring.ks" = [1e3, 3e3]`` is short for ``[parameters."spring.ks"] values = [1e3, 3e3]``."""
+        if isinstance(value, dict):
+            return {k: {"values": v} if isinstance(v, list) else v for k, v in value.items()}
+        return value
 
 
 @dataclass(frozen=True)
@@ -223,6 +231,9 @@ def _pydantic_problems(exc: ValidationError, raw: dict) -> list[Problem]:
                 f"; known: {', '.join(parent)}" if parent else "")
         elif err["type"] == "literal_error":
             msg = "not allowed; allowed: " + err["ctx"]["expected"]
+        elif err["type"] == "model_type" and loc[0] == "parameters" and len(loc) == 2:
+            msg = ("give the values to try as a list, e.g. [1e3, \"3e3 N/m\"], or a table with values or "
+                   "from, to and points")
         out.append(Problem(key, value, msg))
     return out
 

@@ -1,0 +1,118 @@
+"""A submodel an installed package declares as an entry point (group ``apexseal.submodels``) is in every process:
+the command line, and so a sweep's worker processes, have it without any import by the user (docs/extending.md).
+
+The package is installed the way pip leaves one: a module and its ``.dist-info`` folder (METADATA and
+entry_points.txt) on the path, which is all ``importlib.metadata`` reads.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+
+import pytest
+
+from apexseal.cli import command
+
+PLUGIN = '''
+from apexseal.derive.options import NONE, ON, Option
+from apexseal.derive.parameters import Parameter
+from apexseal.derive.submodels.base import Submodel
+
+
+class Wiper(Submodel):
+    """A declared submodel (never derived here): a parameter and the option that switches it on."""
+
+    name = "wiper"
+    switch = "wiper"
+    parameters = (Parameter("kwp", "N/m", "wiper stiffness", key="contacts.kwp", default=1e4, gt=0),)
+    options = (Option("wiper", (NONE, ON), "a wiper ahead of the seal"),)
+'''
+
+
+def _install(site, module_text: str, package: str = "seal_extras") -> None:
+    """``package`` (a new name for each test in this process: an imported module stays imported), version 0.2,
+    declaring ``wiper = "<package>.wiper:Wiper"``."""
+    (site / package).mkdir(parents=True)
+    (site / package / "__init__.py").write_text("")
+    (site / package / "wiper.py").write_text(module_text)
+    info = site / f"{package}-0.2.dist-info"
+    info.mkdir()
+    name = package.replace("_", "-")
+    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {name}\nVersion: 0.2\n")
+    (info / "entry_points.txt").write_text(f"[apexseal.submodels]\nwiper = {package}.wiper:Wiper\n")
+
+
+def _cli(site, *args: str) -> subprocess.CompletedProcess:
+    env = os.environ | {"PYTHONPATH": os.pathsep.join(filter(None, [str(site), os.environ.get("PYTHONPATH")]))}
+    return subprocess.run(command(*args), capture_output=True, text=True, env=env, timeout=300)
+
+
+def test_an_installed_submodel_is_in_the_scene_of_the_command_line(tmp_path):
+    site = tmp_path / "site"
+    _install(site, PLUGIN)
+    default = _cli(site, "scene", "--default", "--out", str(tmp_path))  # default.toml and its pressure table
+    assert default.returncode == 0, default.stderr
+    scene = tmp_path / "wiper.toml"
+
+    def scene_with(lines: dict[str, str]) -> str:  # the default scene, a line added under each section header
+        text = (tmp_path / "default.toml").read_text()
+        for section, line in lines.items():
+            text = re.sub(rf"^\[{section}\].*$", lambda m: f"{m.group(0)}\n{line}", text, count=1, flags=re.M)
+        return text
+
+    scene.write_text(scene_with({"effects": "wiper = true", "contacts": 'kwp = "3 kN/m"'}))
+    run = _cli(site, "scene", "--resolved", str(scene))
+    assert run.returncode == 0, run.stderr
+    assert "\nwiper = true\n" in run.stdout and '\nkwp = "3000.0 N/m"\n' in run.stdout, run.stdout
+    scene.write_text(scene_with({"contacts": 'kwp = "-3 kN/m"'}))
+    bad = _cli(site, "scene", str(scene))
+    assert bad.returncode != 0 and "contacts.kwp" in bad.stderr and "-3" in bad.stderr, bad.stderr
+
+
+def test_an_installed_submodel_that_cannot_load_is_named_with_its_package(tmp_path):
+    site = tmp_path / "site"
+    _install(site, PLUGIN + "\nraise ImportError('needs a newer sealkit')\n")
+    run = _cli(site, "scene", "--resolved")
+    assert run.returncode != 0
+    assert "seal-extras 0.2" in run.stderr and "wiper = 'seal_extras.wiper:Wiper'" in run.stderr, run.stderr
+    assert "needs a newer sealkit" in run.stderr and "Traceback" not in run.stderr, run.stderr
+
+
+@pytest.fixture
+def fresh_registry(monkeypatch):
+    """The registry as a new process finds it (restored afterwards for the other tests of this process)."""
+    from apexseal.derive.submodels import registry
+
+    saved = dict(registry._registry)
+    monkeypatch.setattr(registry, "_loaded", False)
+    monkeypatch.setattr(registry, "_broken", None)
+    monkeypatch.setattr(registry, "_installed", {})
+    registry._registry.clear()
+    yield registry
+    registry._registry.clear()
+    registry._registry.update(saved)
+
+
+def test_installed_submodels_come_after_the_built_in_ones_and_enter_the_provenance(tmp_path, monkeypatch,
+                                                                                   fresh_registry):
+    site = tmp_path / "site"
+    _install(site, PLUGIN, "seal_extras_in_process")
+    monkeypatch.syspath_prepend(str(site))
+    from apexseal.runtime.results.summary import versions
+
+    names = [cls.name for cls in fresh_registry.submodels()]
+    assert names[-1] == "wiper" and len(names) == len(fresh_registry.BUILTIN) + 1
+    assert fresh_registry.extended() and fresh_registry.installed() == {"wiper": "seal-extras-in-process 0.2"}
+    assert "kwp" in fresh_registry.parameter_names()
+    assert versions()["submodel wiper"] == "seal-extras-in-process 0.2"
+
+
+def test_an_installed_submodel_that_clashes_names_its_package(tmp_path, monkeypatch, fresh_registry):
+    site = tmp_path / "site"
+    _install(site, PLUGIN.replace('Parameter("kwp"', 'Parameter("ks"'), "seal_extras_clash")
+    monkeypatch.syspath_prepend(str(site))
+    for _ in range(2):  # refused on every use, not only the first
+        with pytest.raises(fresh_registry.RegistryError, match=r"seal-extras-clash 0\.2.*parameters that exist already: ks"):
+            fresh_registry.submodels()
