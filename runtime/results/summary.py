@@ -101,9 +101,8 @@ def versions() -> dict:
     import numpy
 
     from ... import __version__
-    from ...versions import distribution_version
-
     from ...derive.submodels.registry import installed
+    from ...versions import distribution_version
 
     # sympy's version from its distribution: reading it does not import sympy (1 s) into a run
     out = {"apexseal": __version__, "casadi": casadi.__version__, "sympy": distribution_version("sympy"),

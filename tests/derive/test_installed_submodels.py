@@ -59,7 +59,7 @@ def test_an_installed_submodel_is_in_the_scene_of_the_command_line(tmp_path):
     def scene_with(lines: dict[str, str]) -> str:  # the default scene, a line added under each section header
         text = (tmp_path / "default.toml").read_text()
         for section, line in lines.items():
-            text = re.sub(rf"^\[{section}\].*$", lambda m: f"{m.group(0)}\n{line}", text, count=1, flags=re.M)
+            text = re.sub(rf"^\[{section}\].*$", lambda m, line=line: f"{m.group(0)}\n{line}", text, count=1, flags=re.M)
         return text
 
     scene.write_text(scene_with({"effects": "wiper = true", "contacts": 'kwp = "3 kN/m"'}))
