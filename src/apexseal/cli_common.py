@@ -18,13 +18,44 @@ def writable(folder: Path) -> None:
         raise click.BadParameter(f"the output folder {folder} is not writable", param_hint="--out")
 
 
-def scene_of(scene: Path | None):
-    """The loaded scene (embedded default if None); a scene error becomes a clean CLI error."""
+def _toml_value(text: str):
+    """A --set value as TOML reads it (``5e3``, ``true``, ``"5e3 N/m"``, ``[1, 2]``), else the text itself
+    (``5e3 N/m``, ``erk``): the shell's quotes are gone by the time it arrives."""
+    import tomllib
+
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def _sets(ctx: click.Context, param: click.Parameter, items: tuple[str, ...]) -> dict[str, object]:
+    out: dict[str, object] = {}
+    for item in items:
+        key, eq, text = item.partition("=")
+        if not eq or not key.strip() or not text.strip():
+            raise click.BadParameter(f"{item!r} is not KEY=VALUE, e.g. --set 'spring.ks=5e3 N/m'", param_hint="--set")
+        out[key.strip()] = _toml_value(text.strip())
+    return out
+
+
+#: the --set option of every command that reads a scene: scene keys replaced on the command line, checked as the
+#: scene's own (Scene.with_overrides); a result's scene.toml holds the values that ran
+scene_settings = click.option(
+    "--set", "sets", multiple=True, metavar="KEY=VALUE", callback=_sets,
+    help="Replace a scene key, e.g. --set 'spring.ks=5e3 N/m' --set effects.groove_friction=false (repeatable; "
+         "values as in a scene file, with units; checked with the scene's ranges).")
+
+
+def scene_of(scene: Path | None, sets: dict[str, object] | None = None):
+    """The loaded scene (embedded default if None) with the --set keys replaced; a scene error becomes a clean
+    CLI error."""
     from .runtime.scenes.errors import SceneError
     from .runtime.scenes.scene import load_scene
 
     try:
-        return load_scene(scene)
+        loaded = load_scene(scene)
+        return loaded.with_overrides(**sets) if sets else loaded
     except SceneError as err:
         raise click.ClickException(str(err)) from err
 
@@ -33,10 +64,10 @@ def default_folder(scene: Path | None, out: Path | None) -> Path:
     return out or Path("apexseal-out") / (scene.stem if scene else "default")
 
 
-def scene_and_folder(scene: Path | None, out: Path | None):
-    """The loaded scene and the output folder (default ``apexseal-out/<scene name>``), created and checked
-    writable."""
-    sc = scene_of(scene)
+def scene_and_folder(scene: Path | None, out: Path | None, sets: dict[str, object] | None = None):
+    """The loaded scene (with the --set keys replaced) and the output folder (default
+    ``apexseal-out/<scene name>``), created and checked writable."""
+    sc = scene_of(scene, sets)
     folder = default_folder(scene, out)
     writable(folder)
     return sc, folder

@@ -7,11 +7,12 @@ from pathlib import Path
 
 import click
 
-from .cli_common import scene_and_folder
+from .cli_common import scene_and_folder, scene_settings
 
 
 @click.command()
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@scene_settings
 @click.option("--grid", type=click.IntRange(1, 9), default=3, show_default=True,
               help="Grid points per unknown (log-spaced over its plausible range).")
 @click.option("--polish", type=click.IntRange(0, 500), default=20, show_default=True,
@@ -20,14 +21,14 @@ from .cli_common import scene_and_folder
               help="Revolutions per simulation; the last one is analysed.")
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder for calibration.json [default: apexseal-out/<scene name>].")
-def calibrate(scene: Path | None, grid, polish, revolutions, out) -> None:
+def calibrate(scene: Path | None, sets, grid, polish, revolutions, out) -> None:
     """Fit kw, kg (kg1..kg4), zeta_w and zeta_g of SCENE (default: the embedded case study) within their plausible
     ranges to the paper's Fig. 14 main peak and the crank angle of the largest x (Fig. 12a), and say which
     features no plausible set matches and why."""
     from .runtime.studies.calibration import CalibrationError
     from .runtime.studies.calibration import calibrate as run_study
 
-    sc, out = scene_and_folder(scene, out)
+    sc, out = scene_and_folder(scene, out, sets)
     click.echo(f"scene {scene or '(embedded default: the paper case study)'}; grid {grid}, polish {polish}, "
                f"{revolutions} revolutions per simulation; writing to {out}/")
     try:

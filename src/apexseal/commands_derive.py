@@ -7,22 +7,23 @@ from pathlib import Path
 
 import click
 
+from .cli_common import scene_of, scene_settings
+
 
 @click.command()
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@scene_settings
 @click.option("--check", is_flag=True, help="Compare every derived equation with the paper's print and write the report.")
 @click.option("--report", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Where --check writes its Markdown report [default: apexseal-out/paper-check.md].")
 @click.option("--refresh", is_flag=True, help="Ignore the derivation cache.")
-def derive(scene: Path | None, check: bool, report: Path | None, refresh: bool) -> None:
+def derive(scene: Path | None, sets, check: bool, report: Path | None, refresh: bool) -> None:
     """Derive the equations of motion for SCENE's effects (default: the paper's case study), timing cold and warm."""
     from . import progress
     from .derive.cache import cached_model
 
     report = report or Path("apexseal-out") / "paper-check.md"
-    from .runtime.scenes.scene import load_scene
-
-    sc = load_scene(scene)
+    sc = scene_of(scene, sets)
     t0 = time.perf_counter()
     with progress.enabled(True), progress.stage("deriving the equations of motion (sympy)"):
         model = cached_model(sc.effects, sc.assumptions, refresh=refresh)

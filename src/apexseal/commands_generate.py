@@ -40,11 +40,9 @@ def _with_overrides(base: Effects, overrides: dict[str, str]) -> Effects:
 def _scene_inputs(scene: Path | None) -> tuple[Effects, Assumptions]:
     if scene is None:
         return Effects(), Assumptions()
-    try:
-        from .runtime.scenes.scene import load_scene
-    except ImportError as exc:  # the scene loader is not installed yet
-        raise click.UsageError(f"cannot read scenes ({exc}); give --effects/--assumptions instead") from exc
-    s = load_scene(scene)
+    from .cli_common import scene_of
+
+    s = scene_of(scene)
     return s.effects, s.assumptions
 
 

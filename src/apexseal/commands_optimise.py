@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import scene_and_folder
+from .cli_common import scene_and_folder, scene_settings
 
 #: the largest min-force accepted (N): far above any contact force of a seal
 MAX_FORCE = 1e5
@@ -52,6 +52,7 @@ def _rate(ctx, param, value):
 
 @click.command("optimise-preload")
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@scene_settings
 @click.option("--min-force", default="5 N", show_default=True, callback=_force,
               help="Smallest contact force of the tip on the housing, everywhere outside --exclude (a force, e.g. 5N; "
                    "a bare number is in N).")
@@ -81,7 +82,7 @@ def _rate(ctx, param, value):
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder for preload.json, preload.md, preload.png [default: apexseal-out/<scene name>].")
 @click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, IPOPT iterations).")
-def optimise_preload(scene: Path | None, min_force: float, max_groove_force, exclude, knots, max_rate, objective,
+def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_force, exclude, knots, max_rate, objective,
                      samples, nodes, vary_stiffness, check, out, quiet) -> None:
     """Optimise the spring preload delta_s of SCENE (default: the embedded case study): the least friction power
     (or preload) for which the seal tip stays pressed on the housing with at least --min-force everywhere on the
@@ -89,11 +90,11 @@ def optimise_preload(scene: Path | None, min_force: float, max_groove_force, exc
     from . import progress
 
     with progress.enabled(not quiet):  # generation, compilation (elapsed time) and IPOPT iterations on stderr
-        _optimise(scene, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes,
+        _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes,
                   vary_stiffness, check, out)
 
 
-def _optimise(scene, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes,
+def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes,
               vary_stiffness, check, out) -> None:
     from .runtime.api import model_functions
     from .runtime.studies.preload.bisect import bisect_preload
@@ -102,7 +103,7 @@ def _optimise(scene, min_force, max_groove_force, exclude, knots, max_rate, obje
     from .runtime.studies.preload.study import optimise_preload as run_study
     from .stopwatch import Stopwatch
 
-    sc, out = scene_and_folder(scene, out)
+    sc, out = scene_and_folder(scene, out, sets)
     bound = f"; groove forces <= {max_groove_force:g} N" if max_groove_force is not None else ""
     click.echo(f"scene {scene or '(embedded default: the paper case study)'}; min force {min_force:g} N"
                f"{excluded(exclude)}{bound}; writing to {out}/")

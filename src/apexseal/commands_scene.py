@@ -6,29 +6,26 @@ from pathlib import Path
 
 import click
 
+from .cli_common import scene_of, scene_settings
+
 
 @click.command()
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@scene_settings
 @click.option("--default", "default", is_flag=True, help="Print the embedded default scene (the paper's case study), "
               "with its comments: `apexseal scene --default > my.toml`.")
 @click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="With --default: write default.toml and its pressure table into this folder instead.")
 @click.option("--resolved", is_flag=True, help="Print SCENE (default: the embedded one) with every value explicit, in SI "
               "with its unit, as a saved result's scene.toml has it.")
-def scene(scene: Path | None, default: bool, out: Path | None, resolved: bool) -> None:
+def scene(scene: Path | None, sets, default: bool, out: Path | None, resolved: bool) -> None:
     """Print a scene file to start from, or check SCENE and print its content hash."""
-    from .runtime.scenes.errors import SceneError
-    from .runtime.scenes.scene import load_scene
-
-    if default and (resolved or scene):
+    if default and (resolved or scene or sets):
         raise click.UsageError("--default prints the embedded scene; give it alone")
     if default:
         _write_default(out)
         return
-    try:
-        sc = load_scene(scene)
-    except SceneError as err:
-        raise click.ClickException(str(err)) from err
+    sc = scene_of(scene, sets)
     if resolved:
         from .runtime.scenes.resolved import TABLE_FILE, resolved_toml
 

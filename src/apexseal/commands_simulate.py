@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import default_folder, result_folder, scene_of
+from .cli_common import default_folder, result_folder, scene_of, scene_settings
 from .runtime.solving.methods import METHODS
 from .stopwatch import Stopwatch
 
@@ -18,6 +18,7 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
 
 @click.command()
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
+@scene_settings
 @click.option("--revolutions", "-n", type=int, help="Revolutions to simulate (default: the scene's; 1 to 100000).")
 @click.option("--method", type=click.Choice(list(METHODS)), help="Integration method (default: the scene's).")
 @click.option("--rtol", type=float, help="Relative tolerance (default: the scene's; 1e-12 to 0.01).")
@@ -32,7 +33,7 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
 @click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, progress bar).")
 @click.option("--timings", is_flag=True, help="Print where the wall time went (startup, import, scene, load, compile, "
               "integrate, assemble, save, figures).")
-def simulate(scene: Path | None, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet,
+def simulate(scene: Path | None, sets, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet,
              timings) -> None:
     """Simulate SCENE (a TOML file; default: the embedded case study of the paper; a result folder's scene.toml
     re-runs that result).
@@ -45,10 +46,10 @@ def simulate(scene: Path | None, revolutions, method, rtol, max_wall_time, out, 
     from . import progress
 
     with progress.enabled(not quiet):  # derivation, code generation and compilations report on stderr
-        _simulate(scene, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet, timings)
+        _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet, timings)
 
 
-def _simulate(scene, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet, timings) -> None:
+def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet, timings) -> None:
     watch = Stopwatch()  # stages always timed (two clock reads each), printed with --timings
     with watch.stage("import"):  # light: matplotlib is imported by the worker
         from .runtime.results.figure_worker import FigureWorker
@@ -70,7 +71,7 @@ def _simulate(scene, revolutions, method, rtol, max_wall_time, out, csv, no_figu
                 import casadi  # noqa: F401
 
         with watch.stage("scene"):
-            sc = scene_of(scene)
+            sc = scene_of(scene, sets)
             try:
                 settings = settings_of(sc, revolutions=revolutions, method=method, rtol=rtol,
                                        max_wall_time=max_wall_time)

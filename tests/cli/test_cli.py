@@ -6,6 +6,7 @@ import json
 from pathlib import Path
 
 import numpy as np
+import pytest
 from click.testing import CliRunner
 
 from apexseal.cli import main
@@ -73,6 +74,47 @@ def test_simulate_rejects_a_bad_scene_with_the_key_named(tmp_path):
     assert r.exit_code != 0
     assert "spring.ks" in r.output and "-5e3" in r.output
     assert not (tmp_path / "o" / "summary.json").exists()
+
+
+def test_set_replaces_scene_keys_and_the_saved_scene_holds_them(tmp_path):
+    """--set KEY=VALUE: units, booleans and words as in a scene file; the result's scene.toml re-runs it."""
+    import apexseal
+
+    out = tmp_path / "o"
+    r = CliRunner().invoke(main, ["simulate", "-n", "1", "-q", "--no-figures", "--out", str(out),
+                                  "--set", "spring.ks=7e3 N/m", "--set", "effects.groove_friction=false",
+                                  "--set", "solver.samples_per_revolution=360"])
+    assert r.exit_code == 0, r.output
+    saved = apexseal.load_scene(out / "scene.toml")
+    assert saved.parameters["ks"] == 7e3 and not saved.effects.groove_friction
+    assert saved.solver.samples_per_revolution == 360
+    assert SimulationResult.load(out).theta.size == 361
+
+
+@pytest.mark.parametrize(("args", "names"), [
+    (["simulate", "--set", "spring.ks=5e3 kg"], ["spring.ks", "5e3 kg", "N/m"]),
+    (["simulate", "--set", "spring.kss=5e3"], ["spring.kss", "did you mean 'ks'"]),
+    (["optimise-preload", "--set", "solver.method=erkk"], ["solver.method", "erkk", "allowed"]),
+    (["derive", "--set", "effects.spring=maybe"], ["effects.spring", "maybe", "true or false"]),
+    (["scene", "--set", "spring.ks"], ["--set", "KEY=VALUE"]),
+])
+def test_set_refuses_a_bad_key_or_value_naming_both(args, names, tmp_path):
+    writes = args[0] in ("simulate", "optimise-preload")  # the commands with an output folder
+    r = CliRunner().invoke(main, [*args, "--out", str(tmp_path / "o")] if writes else args)
+    assert r.exit_code != 0 and "Traceback" not in r.output
+    assert all(n in r.output for n in names), r.output
+    assert not (tmp_path / "o").exists()
+
+
+def test_derive_and_generate_refuse_a_bad_scene_file_naming_the_key(tmp_path):
+    scene = tmp_path / "bad.toml"
+    from apexseal.runtime.scenes.scene import default_scene_text
+
+    scene.write_text(default_scene_text().replace('ks = "5e3 N/m"', 'ks = "-5e3 N/m"'))
+    for command in (["derive", str(scene)], ["generate", str(scene), "--no-compile"]):
+        r = CliRunner().invoke(main, command)
+        assert r.exit_code == 1 and r.exception is None or isinstance(r.exception, SystemExit), r.output
+        assert "spring.ks" in r.output and "-5e3" in r.output, r.output
 
 
 def test_simulate_refuses_an_unwritable_output_folder(tmp_path):
