@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: d3c5be983078756d843e0a1d7d13a8e30bc9e151ef23f3aec84d6420c0773c35.
+ * Effects: all. Input hash: 153801a545e920552f49c404dbcd6c4b4106057374efa5d4f6c2ba86c26bb62c.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "d3c5be983078756d843e0a1d7d13a8e30bc9e151ef23f3aec84d6420c0773c35"
+#define APEXSEAL_INPUT_HASH "153801a545e920552f49c404dbcd6c4b4106057374efa5d4f6c2ba86c26bb62c"
 
 /* state x */
 #define APEXSEAL_NX 6

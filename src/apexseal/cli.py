@@ -60,7 +60,7 @@ def console() -> None:
     are freed with the process. Everything the command writes is closed and on disk by then. In-process callers
     (click's test runner, a notebook) call :func:`main`, which does not freeze anything."""
     try:
-        main()
+        main(prog_name="apexseal")
     finally:
         gc.freeze()
 

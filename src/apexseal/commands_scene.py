@@ -36,6 +36,10 @@ def scene(scene: Path | None, sets, default: bool, out: Path | None, resolved: b
                        f"{TABLE_FILE}", err=True)
         return
     click.echo(f"{sc.name}: valid; content hash {sc.content_hash()}; effects {sc.effects.label}")
+    from .derive.submodels.registry import installed
+
+    for name, dist in installed().items():  # entry points of installed packages (docs/extending.md)
+        click.echo(f"  submodel {name} from {dist}")
 
 
 def _write_default(out: Path | None) -> None:

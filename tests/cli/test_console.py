@@ -16,11 +16,20 @@ def test_the_installed_script_is_the_console_function():
     assert scripts["apexseal"].value == "apexseal.cli:console"
 
 
+def test_python_dash_m_apexseal_is_the_command_under_its_name():
+    import sys
+
+    run = subprocess.run([sys.executable, "-m", "apexseal", "simulate", "--help"], capture_output=True, text=True,
+                         timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.startswith("Usage: apexseal simulate [OPTIONS] [SCENE]")
+
+
 @pytest.mark.parametrize("code", [0, 2])
 def test_console_freezes_the_collector_after_main_whatever_its_exit(monkeypatch, code):
     calls = []
 
-    def main():
+    def main(**kwargs):
         calls.append("main")
         raise SystemExit(code)  # click's main ends the process this way, success or not
 
