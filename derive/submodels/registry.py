@@ -91,12 +91,19 @@ def installed() -> dict[str, str]:
 
 
 def register(cls: type[Submodel]) -> type[Submodel]:
-    """Add a submodel (usable as a class decorator). Its parameters, options and guards must be new names."""
+    """Add a submodel (usable as a class decorator). Its parameters, options and guards must be new names.
+
+    A class defined again where it was defined before (same module and name: a notebook cell run again, a script
+    re-run with ``%run``) replaces its earlier definition, in place in the registration order."""
     _ensure()
     if not (isinstance(cls, type) and issubclass(cls, Submodel)) or not cls.name:
         raise RegistryError(f"{cls!r} is not a named subclass of apexseal's Submodel")
-    if cls.name in _registry:
-        raise RegistryError(f"a submodel named {cls.name!r} is registered already")
+    old = _registry.get(cls.name)
+    if old is not None and _redefinition(old, cls):
+        return _replace(old, cls)
+    if old is not None:
+        raise RegistryError(f"a submodel named {cls.name!r} is registered already (by {old.__module__}."
+                            f"{old.__qualname__})")
     for what, mine, theirs in (("parameter", [p.name for p in cls.parameters], parameter_names(all_inputs=True)),
                                ("option", [o.name for o in cls.options], list(options())),
                                ("guard", [g.name for g in cls.guards], [g.name for g in guards()]),
@@ -110,6 +117,25 @@ def register(cls: type[Submodel]) -> type[Submodel]:
             raise RegistryError(f"option {o.name!r} of {cls.name!r} names an unknown parent {o.parent!r}")
     _registry[cls.name] = cls
     return cls
+
+
+def _redefinition(old: type[Submodel], new: type[Submodel]) -> bool:
+    """``new`` is ``old`` defined again: same module and name, and not one of the package's own."""
+    return (old is not new and (old.__module__, old.__qualname__) == (new.__module__, new.__qualname__)
+            and not old.__module__.startswith(__package__))
+
+
+def _replace(old: type[Submodel], new: type[Submodel]) -> type[Submodel]:
+    """Register ``new`` where ``old`` was (its declarations checked against the others'); ``old`` stays if not."""
+    saved = dict(_registry)
+    del _registry[old.name]
+    try:
+        register(new)
+    finally:
+        registered_now = _registry.get(new.name)
+        _registry.clear()
+        _registry.update({n: (registered_now or c) if n == old.name else c for n, c in saved.items()})
+    return new
 
 
 def extended() -> bool:

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 153801a545e920552f49c404dbcd6c4b4106057374efa5d4f6c2ba86c26bb62c.
+ * Effects: all. Input hash: 6f7ad883a94cf68e029233fc59e11bbad5da580ba5b9a2d1ed907012d62a0acd.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "153801a545e920552f49c404dbcd6c4b4106057374efa5d4f6c2ba86c26bb62c"
+#define APEXSEAL_INPUT_HASH "6f7ad883a94cf68e029233fc59e11bbad5da580ba5b9a2d1ed907012d62a0acd"
 
 /* state x */
 #define APEXSEAL_NX 6

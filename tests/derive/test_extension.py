@@ -105,3 +105,47 @@ def test_without_a_users_submodel_the_registry_is_not_extended():
     with registry.registered(Cushion):
         assert registry.extended()
     assert not registry.extended()
+
+
+def _cell(source: str) -> type[Submodel]:
+    """The class a notebook cell defines: ``source`` run in a module namespace named like a notebook's."""
+    namespace = {"__name__": "notebook"}
+    exec(compile(source, "<cell>", "exec"), namespace)  # noqa: S102 - the test's own text
+    return namespace["Pad"]
+
+
+PAD = """
+from apexseal.derive.options import NONE, ON, Option
+from apexseal.derive.parameters import Parameter
+from apexseal.derive.submodels.base import Submodel
+
+
+class Pad(Submodel):
+    name = "pad"
+    switch = "pad"
+    parameters = (Parameter("kpad", "N/m", "pad stiffness", key="contacts.kpad", default={default}, gt=0),)
+    options = (Option("pad", (NONE, ON), "a pad"),)
+"""
+
+
+def test_a_class_defined_again_replaces_its_earlier_definition_in_place():
+    """A notebook cell run again after an edit registers the edited class where the first one was; another class
+    of the same name is refused, naming where the registered one comes from."""
+    first, edited = _cell(PAD.format(default=1e4)), _cell(PAD.format(default=2e4))
+    try:
+        registry.register(first)
+        registry.register(Cushion)
+        registry.register(edited)
+        assert [c.name for c in registry.submodels()][-2:] == ["pad", "cushion"]
+        assert registry.submodels()[-2] is edited and registry.parameter("kpad").default == 2e4
+        clash = _cell(PAD.format(default=3e4).replace('Parameter("kpad"', 'Parameter("ks"'))
+        with pytest.raises(registry.RegistryError, match="parameters that exist already: ks"):
+            registry.register(clash)
+        assert registry.submodels()[-2] is edited  # a refused redefinition leaves the last good one
+        other = type("Pad", (Submodel,), {"name": "pad", "__module__": "elsewhere"})
+        with pytest.raises(registry.RegistryError, match="registered already \\(by notebook.Pad\\)"):
+            registry.register(other)
+    finally:
+        registry.unregister("pad")
+        registry.unregister("cushion")
+    assert not registry.extended()
