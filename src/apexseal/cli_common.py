@@ -60,6 +60,15 @@ def scene_of(scene: Path | None, sets: dict[str, object] | None = None):
         raise click.ClickException(str(err)) from err
 
 
+def scene_label(scene: Path | None, sets: dict[str, object] | None = None) -> str:
+    """How a command's first line names its scene: the file (or the embedded default) and the --set keys."""
+    label = f"scene {scene or '(embedded default: the paper case study)'}"
+    import json
+
+    shown = {k: v if isinstance(v, str) else json.dumps(v) for k, v in (sets or {}).items()}  # true, not True
+    return label + (" with " + ", ".join(f"{k}={v}" for k, v in shown.items()) if shown else "")
+
+
 def default_folder(scene: Path | None, out: Path | None) -> Path:
     return out or Path("apexseal-out") / (scene.stem if scene else "default")
 

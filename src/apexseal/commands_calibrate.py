@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import scene_and_folder, scene_settings
+from .cli_common import scene_and_folder, scene_label, scene_settings
 
 
 @click.command()
@@ -29,7 +29,7 @@ def calibrate(scene: Path | None, sets, grid, polish, revolutions, out) -> None:
     from .runtime.studies.calibration import calibrate as run_study
 
     sc, out = scene_and_folder(scene, out, sets)
-    click.echo(f"scene {scene or '(embedded default: the paper case study)'}; grid {grid}, polish {polish}, "
+    click.echo(f"{scene_label(scene, sets)}; grid {grid}, polish {polish}, "
                f"{revolutions} revolutions per simulation; writing to {out}/")
     try:
         result = run_study(sc, grid=grid, polish=polish, revolutions=revolutions, progress=click.echo)

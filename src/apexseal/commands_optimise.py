@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import scene_and_folder, scene_settings
+from .cli_common import scene_and_folder, scene_label, scene_settings
 
 #: the largest min-force accepted (N): far above any contact force of a seal
 MAX_FORCE = 1e5
@@ -105,7 +105,7 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
 
     sc, out = scene_and_folder(scene, out, sets)
     bound = f"; groove forces <= {max_groove_force:g} N" if max_groove_force is not None else ""
-    click.echo(f"scene {scene or '(embedded default: the paper case study)'}; min force {min_force:g} N"
+    click.echo(f"{scene_label(scene, sets)}; min force {min_force:g} N"
                f"{excluded(exclude)}{bound}; writing to {out}/")
     watch = Stopwatch()
     results = {"constant": None}

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import default_folder, result_folder, scene_of, scene_settings
+from .cli_common import default_folder, result_folder, scene_label, scene_of, scene_settings
 from .runtime.solving.methods import METHODS
 from .stopwatch import Stopwatch
 
@@ -81,7 +81,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, csv, n
                                          param_hint=OPTIONS.get(key, key)) from err
             out = default_folder(scene, out)
             result_folder(out)
-        click.echo(f"scene {scene or '(embedded default: the paper case study)'}; method {settings.method}; "
+        click.echo(f"{scene_label(scene, sets)}; method {settings.method}; "
                    f"writing to {out}/")
         with StopSignals() as signals:  # a second signal during the writing is noted, not raised
             try:

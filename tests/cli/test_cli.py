@@ -85,6 +85,7 @@ def test_set_replaces_scene_keys_and_the_saved_scene_holds_them(tmp_path):
                                   "--set", "spring.ks=7e3 N/m", "--set", "effects.groove_friction=false",
                                   "--set", "solver.samples_per_revolution=360"])
     assert r.exit_code == 0, r.output
+    assert "with spring.ks=7e3 N/m, effects.groove_friction=false, solver.samples_per_revolution=360;" in r.output
     saved = apexseal.load_scene(out / "scene.toml")
     assert saved.parameters["ks"] == 7e3 and not saved.effects.groove_friction
     assert saved.solver.samples_per_revolution == 360
