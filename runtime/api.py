@@ -139,8 +139,60 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
         return result
 
 
-def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions=None, sink=None) -> SimulationResult:
-    """Run a loaded scene with checked settings (``sink``: where completed revolutions go, see :func:`run`).
+def resume(folder, *, revolutions: int | None = None, max_wall_time: float | None = None, progress: bool = False,
+           functions=None) -> SimulationResult:
+    """Continue the run whose result is in ``folder`` (interrupted, failed, killed outright: its
+    ``<out>.partial-<run id>`` folder, or completed and given more ``revolutions``) up to ``revolutions``
+    (default: the revolutions it was asked for), with its own scene and settings (``max_wall_time`` may be given).
+
+    The run continues after its last whole revolution from the integrator's state there, making the calls the
+    uninterrupted run makes (the same samples to the bit), and the result is written back as one unit, under the
+    same run id: a killed run's folder becomes its target's. ``info["continued"]`` lists the runs before, with
+    their wall times and solver statistics; ``info["wall_time_s"]`` and ``solver_stats`` are this one's.
+    Raises :class:`~.results.folder.ResultFolderError` for a folder that cannot be continued, with the reason.
+    """
+    from .. import progress as stages
+    from .results.folder import ResultFolder
+
+    cont, st = continuing(folder, revolutions=revolutions, max_wall_time=max_wall_time)
+    functions = functions or model_functions(cont.scene)
+    same_model(cont, functions)
+    sink = ResultFolder.continuing(cont)
+    with stages.enabled(progress):
+        result = run_scene(cont.scene, st, progress=progress, functions=functions, sink=sink, continuation=cont)
+    sink.commit()
+    return result
+
+
+def continuing(folder, *, revolutions: int | None = None, max_wall_time: float | None = None):
+    """The run in ``folder`` to continue (:class:`~.results.continuation.Continuation`) and the settings to continue
+    it with: its scene's, for ``revolutions`` (default: those it was asked for), which must be more than it holds,
+    within ``max_wall_time`` (a budget cuts each revolution into 36 calls unless its scene does already)."""
+    from .results.continuation import continuation
+    from .results.folder import ResultFolderError
+
+    cont = continuation(folder)
+    asked = revolutions or int(cont.record["info"].get("revolutions_asked") or 0)
+    if asked <= cont.revolutions:
+        raise ResultFolderError(f"{cont.source} holds {cont.revolutions} whole revolution(s), as many as asked "
+                                f"({asked}): give more revolutions to continue it")
+    return cont, settings_of(cont.scene, revolutions=asked, max_wall_time=max_wall_time)
+
+
+def same_model(cont, functions) -> None:
+    """Refuse to continue a run with a model other than the one it was computed with."""
+    from .results.folder import ResultFolderError
+
+    before, now = cont.record["info"].get("model_hash"), provenance(cont.scene, functions)["model_hash"]
+    if before != now:
+        raise ResultFolderError(f"{cont.source} was computed with another model (model hash {str(before)[:12]}, now "
+                                f"{now[:12]}: the derivation, a submodel or the generator changed): simulate again")
+
+
+def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions=None, sink=None,
+              continuation=None) -> SimulationResult:
+    """Run a loaded scene with checked settings (``sink``: where completed revolutions go, see :func:`run`;
+    ``continuation``: the stopped run it continues, whose revolutions the sink holds, see :func:`resume`).
 
     The scene that ran (the settings written into its [solver] and [operation] keys) goes to the sink first
     (scene.toml of a result folder) and is the result's ``scene``."""
@@ -151,10 +203,18 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     op = scene.operation
     pressure = scene.pressure if scene.effects.chamber_pressure else None
     clearance = side_clearance(scene.seal.Ws, scene.seal.Wg)
+    info = provenance(ran, functions) | {"side_clearance_m": clearance}
+    if continuation is not None:  # what ran before: the result's wall time and statistics are this run's
+        before = continuation.record["info"]
+        info["scene"] = before.get("scene", info["scene"])  # as the first run was given it
+        info["continued"] = [*before.get("continued", []), {
+            "after_revolutions": continuation.revolutions, "status": continuation.record["status"],
+            "stop": continuation.record["stop"], "wall_time_s": before.get("wall_time_s"),
+            "solver_stats": before.get("solver_stats")}]
     result = run(functions, scene.parameter_vector(), settings, theta_start=op.start_angle,
                  state0=initial_state(scene, functions), pressure=pressure, until_periodic=op.until_periodic,
-                 periodic_tol=op.periodic_tol, progress=progress,
-                 info=provenance(ran, functions) | {"side_clearance_m": clearance}, sink=sink)
+                 periodic_tol=op.periodic_tol, progress=progress, info=info, sink=sink,
+                 continue_from=None if continuation is None else (continuation.revolutions, continuation.z))
     result.scene = ran
     check = penetration_check(result, clearance)
     if not check["ok"]:

@@ -5,7 +5,8 @@ Layout (format ``apexseal-result/2``)::
     <out>/result.json          run id, status, where and why it stopped, the list of parts (samples, sha256)
     <out>/scene.toml           the scene that ran, every value explicit, run id in its first line (re-runnable)
     <out>/pressure.csv         its pressure table (Pa), when the scene has one
-    <out>/parts/part-00000.npz one per revolution (the first also holds the initial sample); run id inside
+    <out>/parts/part-00000.npz one per revolution (the first also holds the initial sample); run id inside, and the
+                               integrator's state after its last sample (``z_end``: a run continues from it)
     <out>/summary.json         (CLI) the designer's numbers, with the run id
     <out>/trajectory.csv       (on request) one row per sample; first line ``# apexseal result <run id>, <n> samples``
     <out>/*.png                (CLI) the paper's figures
@@ -106,25 +107,29 @@ def _jsonable(v):
     return str(v)
 
 
-def part_arrays(part: SimulationResult, run_id: str, index: int) -> dict[str, np.ndarray]:
+def part_arrays(part: SimulationResult, run_id: str, index: int,
+                z_end: np.ndarray | None = None) -> dict[str, np.ndarray]:
     arrays = {"run_id": np.array(run_id), "part": np.array(index), "samples": np.array(part.n),
               "theta": part.theta, "time": part.time, "state": part.state, "closed": part.closed,
               "events": part.events, "modes": np.array(part.modes, dtype="U16")}
     arrays.update({f"out_{k}": v for k, v in part.outputs.items()})
+    if z_end is not None:
+        arrays["z_end"] = np.asarray(z_end, float)
     return arrays
 
 
 class ResultFolder:
     """Writes one result folder (see the module docstring); the run loop's sink when a run streams to disk."""
 
-    def __init__(self, target: str | Path, run_id: str | None = None, *, background: bool | None = None) -> None:
+    def __init__(self, target: str | Path, run_id: str | None = None, *, background: bool | None = None,
+                 _reuse: bool = False) -> None:
         self.target = Path(target)
         self.background = write_behind() if background is None else background  # parts written by a thread
         check_replaceable(self.target)
         self.run_id = run_id or uuid.uuid4().hex
         self.staging = self.target.parent / f"{self.target.name}.partial-{self.run_id[:12]}"
         try:
-            (self.staging / PARTS).mkdir(parents=True)
+            (self.staging / PARTS).mkdir(parents=True, exist_ok=_reuse)
         except OSError as err:
             raise ResultStorageError(err.errno, f"cannot create the result folder {self.staging}: "
                                      f"{err.strerror}") from err
@@ -142,23 +147,59 @@ class ResultFolder:
         self._writer: threading.Thread | None = None  # the thread writing the last part handed over
         self._failure: BaseException | None = None  # its error, until sync() raises it
 
+    @classmethod
+    def continuing(cls, cont) -> ResultFolder:
+        """The folder of a run that continues ``cont`` (a :class:`~.continuation.Continuation`), under the same
+        run id: its whole revolutions are the first parts. A killed run's folder is continued in place (the parts
+        after them removed, a progress record that lists only them written first); a result at its target is
+        left as it is until :meth:`commit` replaces it, its parts linked (or copied) into the new folder."""
+        folder = cls(cont.target, cont.record["run_id"], _reuse=cont.in_place)
+        try:
+            keep = {e["file"] for e in cont.parts}
+            for name in ("scene.toml", "pressure.csv"):
+                if not cont.in_place and (cont.source / name).is_file():
+                    shutil.copyfile(cont.source / name, folder.staging / name)
+            for entry in cont.parts:
+                if not cont.in_place:
+                    _link(cont.source / entry["file"], folder.staging / entry["file"])
+            for path in list((folder.staging / PARTS).iterdir()):
+                if f"{PARTS}/{path.name}" not in keep:
+                    path.unlink()
+            for path in folder.staging.iterdir():  # summary, csv, figures: of the run that stopped
+                if path.name not in {PARTS, "result.json", "scene.toml", "pressure.csv"}:
+                    path.unlink()
+        except OSError as err:
+            raise folder._storage_error(folder.staging, err, "the parts of the run to continue") from err
+        record = cont.record
+        folder.parts = list(cont.parts)
+        folder.samples = sum(e["samples"] for e in cont.parts)
+        folder.guard_names, folder.outputs = tuple(record["guard_names"]), list(record["outputs"])
+        folder.state_rows = int(record["state_rows"])
+        folder.last = cont.last
+        folder.info = dict(record["info"])
+        folder.kept = None  # the earlier parts are on disk only: finish() reads the folder back
+        stop = StopInfo(cont.last[0], cont.last[1], f"continuing after {cont.revolutions} revolution(s)")
+        folder._store("result.json", _json_bytes(folder._record("interrupted", stop)), "the progress record")
+        return folder
+
     # ------------------------------------------------------------------ writing
     def begin(self, info: dict) -> None:
         """The run's record as known before its first step (method, tolerances, grid, provenance): every progress
         record carries it, so a run killed outright still says how it was run; :meth:`finish` completes it."""
         self.info = dict(info) | {"run_id": self.run_id}
 
-    def append(self, part: SimulationResult) -> None:
-        """Hand one part over: a thread writes it, then the progress record that lists it, while the run goes on
-        (without ``background``, it is written here). The previous part is waited for first, and its storage error
-        (if any) is raised here; after a failed write nothing more is written (a result never has a gap)."""
+    def append(self, part: SimulationResult, z_end: np.ndarray | None = None) -> None:
+        """Hand one part over (``z_end``: the integrator's state after its last sample, stored with it): a thread
+        writes it, then the progress record that lists it, while the run goes on (without ``background``, it is
+        written here). The previous part is waited for first, and its storage error (if any) is raised here; after a
+        failed write nothing more is written (a result never has a gap)."""
         self.sync()
         if self.error is not None:
             raise self.error
         if not self.background:  # written here, its error raised here
-            self._store_part(part)
+            self._store_part(part, z_end)
             return
-        self._writer = threading.Thread(target=self._write_part, args=(part,), name="apexseal-result-writer")
+        self._writer = threading.Thread(target=self._write_part, args=(part, z_end), name="apexseal-result-writer")
         self._writer.start()
 
     def sync(self) -> None:
@@ -171,18 +212,18 @@ class ResultFolder:
         if failure is not None:
             raise failure
 
-    def _write_part(self, part: SimulationResult) -> None:
+    def _write_part(self, part: SimulationResult, z_end: np.ndarray | None) -> None:
         """The writer thread: one part, then the progress record; any error is kept for :meth:`sync`."""
         try:
-            self._store_part(part)
+            self._store_part(part, z_end)
         except BaseException as err:  # noqa: BLE001  (raised in the run's thread by sync())
             self._failure = err
 
-    def _store_part(self, part: SimulationResult) -> None:
+    def _store_part(self, part: SimulationResult, z_end: np.ndarray | None = None) -> None:
         index = len(self.parts)
         name = f"{PARTS}/part-{index:05d}.npz"
         buf = io.BytesIO()
-        np.savez(buf, **part_arrays(part, self.run_id, index))
+        np.savez(buf, **part_arrays(part, self.run_id, index, z_end))
         data = buf.getvalue()
         self._store(name, data, "a part")
         self.parts.append({"file": name, "samples": int(part.n), "sha256": sha256_bytes(data)})
@@ -301,6 +342,14 @@ class ResultFolder:
                                    f"{err.strerror or err}; {kept}{previous}")
         self.error = self.error or error
         return error
+
+
+def _link(src: Path, dst: Path) -> None:
+    """``dst`` the same file as ``src`` (a hard link; a copy across file systems): parts are never rewritten."""
+    try:
+        os.link(src, dst)
+    except OSError:
+        shutil.copyfile(src, dst)
 
 
 def save(result: SimulationResult, folder: str | Path, *, csv: bool = False) -> Path:

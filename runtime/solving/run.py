@@ -38,9 +38,13 @@ from .signals import StopSignals
 def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: float, state0: np.ndarray,
         revolutions: int | None = None, pressure=None, until_periodic: bool = False, periodic_tol: float = 1e-6,
         progress: bool = False, engine=None, info: dict | None = None, sink=None,
-        pressure_values=None) -> SimulationResult:
+        pressure_values=None, continue_from: tuple[int, np.ndarray] | None = None) -> SimulationResult:
     """Integrate ``revolutions`` (default ``settings.revolutions``) revolutions from ``state0`` (physical) at crank
     angle ``theta_start``.
+
+    ``continue_from = (k, z)`` continues a run that completed ``k`` revolutions from its integrator state ``z``
+    after them (runtime/results/continuation.py): revolutions k+1 .. ``revolutions``, each call made as the
+    uninterrupted run makes it, so the samples are the same to the bit; the sink holds the first k already.
 
     ``engine`` (optional) must cover a whole number of output intervals that divides a revolution; without it,
     the run builds its own, on a grid at least as fine as the pressure table (:func:`pressure_substeps`). ``sink``
@@ -71,8 +75,15 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     values, linear = pressure_values, settings.pressure == "linear"
     u0 = _pressures(pressure, theta_start + np.array([0.0, dth]), values, linear)[:, 0]
     z = lay.pack(to_scaled(state0, omega, lay.state_names), initial_activations(functions, theta_start, state0, params, u0))
-    part = _Part(functions, params, theta_start, omega, sink, first=z.copy(), first_pressures=u0)
-    stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0)
+    if continue_from is None:
+        done = 0  # revolutions in the sink before the first call
+        part = _Part(functions, params, theta_start, omega, sink, first=z.copy(), first_pressures=u0)
+        stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0)
+    else:  # the run was checked when it started from its scene's state
+        done, z = continue_from[0], np.array(continue_from[1], float)
+        part = _Part(functions, params, theta_start, omega, sink, first=None, first_pressures=None)
+        part.after(done * 2 * np.pi, z)
+        stop = None
     status = "completed" if stop is None else "failed"
     leased = None
     if engine is None and stop is None:  # no compiling for a run that cannot start
@@ -91,12 +102,12 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     sink.begin(info)  # what is known before the first step: a killed run's progress record says how it was run
     stats_total: dict = {}
     check = RunChecks(functions, settings, params, theta_start)
-    bar = tqdm(total=revolutions, unit="rev", disable=not progress, leave=False)
+    bar = tqdm(total=revolutions, initial=done, unit="rev", disable=not progress, leave=False)
     z_rev = z.copy()
     with StopSignals() as signals:
         signals.watch(engine)
         try:
-            for call in range(revolutions * calls if stop is None else 0):
+            for call in range(done * calls, revolutions * calls if stop is None else 0):
                 rev, c = divmod(call, calls)
                 if signals.requested:
                     status, stop = "interrupted", StopInfo(part.theta_done, lay.mode(z[lay.active]), signals.reason())
@@ -132,7 +143,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 if "n_events" not in stats:  # a compiled integrator reports no statistics: count
                     stats["n_events"] = int(z_end[lay.counts].sum() - z[lay.counts].sum())  # from the hybrid state
                 if Z.shape[1]:
-                    part.add(Z, ends[:Z.shape[1]], P[:, :Z.shape[1]])
+                    part.add(Z, ends[:Z.shape[1]], P[:, :Z.shape[1]], z_end)
                 z = z_end
                 for k, v in stats.items():
                     if k.startswith("n_") and isinstance(v, int | float):
@@ -211,10 +222,16 @@ class _Part:
         self.first, self.first_pressures = first, first_pressures
         self.blocks, self.thetas, self.pressures = [], [], []
         self.theta_done = 0.0  # crank angle of the last sample, from the start
-        self._last = first
+        self._last = self.z_end = first
         self.assemble_s = self.save_s = 0.0  # wall seconds of flush(): assembling, then handing to the sink
 
-    def add(self, Z, thetas, P) -> None:
+    def after(self, theta_done: float, z) -> None:
+        """Continue a run whose samples up to ``theta_done`` (from the start) are in the sink, ending in state ``z``."""
+        self.theta_done, self._last, self.z_end = theta_done, z, z
+
+    def add(self, Z, thetas, P, z_end) -> None:
+        """The samples ``Z`` of a call at ``thetas``, and ``z_end``, the state the next call starts from."""
+        self.z_end = z_end
         self.blocks.append(Z)
         self.thetas.append(thetas)
         self.pressures.append(P)
@@ -230,9 +247,10 @@ class _Part:
         w0 = time.perf_counter()
         part = assemble_blocks(self.functions, self.params, self.blocks, self.thetas, self.pressures,
                                self.theta_start, self.omega, first=self.first, first_pressures=self.first_pressures)
+        z_end = self.z_end  # where a run continuing this one starts (runtime/results/continuation.py)
         self.blocks, self.thetas, self.pressures, self.first = [], [], [], None
         w1 = time.perf_counter()
-        self.sink.append(part)
+        self.sink.append(part, z_end)
         self.assemble_s += w1 - w0
         self.save_s += time.perf_counter() - w1
 

@@ -7,6 +7,7 @@ Public API::
 
     scene = apexseal.load_scene()            # the embedded default (the paper's case study)
     result = apexseal.simulate(scene)        # a SimulationResult
+    apexseal.resume("apexseal-out/default")  # continue a stopped run (or a finished one, for more revolutions)
     apexseal.Model(scene).rhs(theta, state)  # the state derivative, numpy
     result.plot("fig12"); result.to_xarray(); result.to_pandas(); result.summary()
     apexseal.plot_comparison([result_a, result_b], ["x", "Pf_total"])  # several results in one Figure
@@ -22,6 +23,7 @@ _LAZY = {
     "Scene": ("runtime.scenes.scene", "Scene"),
     "SceneError": ("runtime.scenes.errors", "SceneError"),
     "simulate": ("runtime.api", "simulate"),
+    "resume": ("runtime.api", "resume"),
     "Model": ("runtime.api", "Model"),
     "SimulationResult": ("runtime.results.result", "SimulationResult"),
     "plot_comparison": ("runtime.results.plots", "plot_comparison"),

@@ -28,13 +28,18 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
                    "scene.toml).")
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder [default: apexseal-out/<scene name>].")
+@click.option("--resume", "resume", type=click.Path(file_okay=False, exists=True, path_type=Path), default=None,
+              metavar="FOLDER",
+              help="Continue the run of the result FOLDER (interrupted, failed, or a killed run's "
+                   "OUT.partial-<run id>) after its last whole revolution, with its scene and settings, up to the "
+                   "revolutions it was asked for or --revolutions; the same samples as a run never stopped.")
 @click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv (text; slower than the binary parts).")
 @click.option("--no-figures", is_flag=True, help="Skip the figures.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, progress bar).")
 @click.option("--timings", is_flag=True, help="Print where the wall time went (startup, import, scene, load, compile, "
               "integrate, assemble, save, figures).")
-def simulate(scene: Path | None, sets, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet,
-             timings) -> None:
+def simulate(scene: Path | None, sets, revolutions, method, rtol, max_wall_time, out, resume, csv, no_figures,
+             quiet, timings) -> None:
     """Simulate SCENE (a TOML file; default: the embedded case study of the paper; a result folder's scene.toml
     re-runs that result).
 
@@ -46,10 +51,11 @@ def simulate(scene: Path | None, sets, revolutions, method, rtol, max_wall_time,
     from . import progress
 
     with progress.enabled(not quiet):  # derivation, code generation and compilations report on stderr
-        _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet, timings)
+        _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume, csv, no_figures, quiet, timings)
 
 
-def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, csv, no_figures, quiet, timings) -> None:
+def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume, csv, no_figures, quiet,
+              timings) -> None:
     watch = Stopwatch()  # stages always timed (two clock reads each), printed with --timings
     with watch.stage("import"):  # light: matplotlib is imported by the worker
         from .runtime.results.figure_worker import FigureWorker
@@ -58,10 +64,10 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, csv, n
     # result is handed to it
     with FigureWorker.started(not no_figures) as worker:
         with watch.stage("import"):
-            from .runtime.api import model_functions, run_scene, settings_of
+            from .runtime.api import continuing, model_functions, run_scene, same_model, settings_of
             from .runtime.results.figure_job import FigureJob
             from .runtime.results.figures import force_panels, ports_of
-            from .runtime.results.folder import ResultFolder, ResultStorageError
+            from .runtime.results.folder import ResultFolder, ResultFolderError, ResultStorageError
             from .runtime.results.plausibility import PenetrationWarning
             from .runtime.results.summary import summarise  # noqa: F401  (timed here; used by _save)
             from .runtime.solving.settings import SettingsError
@@ -71,30 +77,51 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, csv, n
                 import casadi  # noqa: F401
 
         with watch.stage("scene"):
-            sc = scene_of(scene, sets)
+            cont = None
             try:
-                settings = settings_of(sc, revolutions=revolutions, method=method, rtol=rtol,
-                                       max_wall_time=max_wall_time)
+                if resume is not None:
+                    given = [n for n, v in (("SCENE", scene), ("--set", sets), ("--method", method), ("--rtol", rtol),
+                                            ("--out", out)) if v]
+                    if given:
+                        raise click.UsageError(f"--resume continues a run with its own scene, settings and folder; "
+                                               f"{', '.join(given)} cannot change them")
+                    cont, settings = continuing(resume, revolutions=revolutions, max_wall_time=max_wall_time)
+                    sc, out = cont.scene, cont.target
+                else:
+                    sc = scene_of(scene, sets)
+                    settings = settings_of(sc, revolutions=revolutions, method=method, rtol=rtol,
+                                           max_wall_time=max_wall_time)
             except SettingsError as err:
                 key = err.errors[0].key
                 raise click.BadParameter("\n".join(p.message for p in err.errors),
                                          param_hint=OPTIONS.get(key, key)) from err
-            out = default_folder(scene, out)
-            result_folder(out)
-        click.echo(f"{scene_label(scene, sets)}; method {settings.method}; "
-                   f"writing to {out}/")
+            except ResultFolderError as err:
+                raise click.BadParameter(str(err), param_hint="--resume") from err
+            if cont is None:
+                out = default_folder(scene, out)
+                result_folder(out)
+        if cont is not None:
+            click.echo(f"continuing {resume} after {cont.revolutions} revolution(s), up to {settings.revolutions}; "
+                       f"method {settings.method}; writing to {out}/")
+        else:
+            click.echo(f"{scene_label(scene, sets)}; method {settings.method}; writing to {out}/")
         with StopSignals() as signals:  # a second signal during the writing is noted, not raised
             try:
                 with watch.stage("load"):
                     functions = model_functions(sc)
+                    if cont is not None:
+                        try:
+                            same_model(cont, functions)
+                        except ResultFolderError as err:
+                            raise click.BadParameter(str(err), param_hint="--resume") from err
                     if worker is not None:  # it builds the figures' frames while this one integrates
                         worker.prepare(force_panels(functions.output_names), ports_of(sc))
                 with watch.stage("run"):
-                    writer = ResultFolder(out)
+                    writer = ResultFolder(out) if cont is None else ResultFolder.continuing(cont)
                     with warnings.catch_warnings():  # the penetration check is printed below, with the summary
                         warnings.simplefilter("ignore", PenetrationWarning)
                         result = run_scene(sc, settings, progress=not quiet and sys.stderr.isatty(), sink=writer,
-                                           functions=functions)
+                                           functions=functions, continuation=cont)
                 watch.split("run", result.info.get("timings_s", {}))
                 figures = None
                 if not no_figures and result.n > 1 and not signals.requested:

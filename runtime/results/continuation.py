@@ -1,0 +1,79 @@
+"""Where a stopped run continues from: the whole revolutions of its result folder and the integrator's state
+after them.
+
+A run interrupted (Ctrl-C, SIGTERM, a wall-time budget), stopped by a failure, killed outright (its
+``<out>.partial-<run id>`` folder), or completed and asked for more revolutions, continues with
+``apexseal simulate --resume <folder>`` (:func:`apexseal.runtime.api.resume`). Each part of a result folder
+stores the integrator's state after its last sample (``z_end``), and every integrator call starts afresh from
+such a state, so continuing after the last whole revolution makes the calls the uninterrupted run makes: the
+continued result equals it to the bit (tests/runtime/test_continuation.py). A revolution in progress when the
+run stopped is computed again.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .folder import ResultFolderError, read, read_record
+
+#: the folder a run killed outright leaves beside its target (runtime/results/folder.py)
+_PARTIAL = re.compile(r"^(?P<name>.+)\.partial-(?P<run>[0-9a-f]{12})$")
+
+
+@dataclass
+class Continuation:
+    """A result folder's whole revolutions, to continue a run from."""
+
+    source: Path  # the folder read
+    target: Path  # where the continued result goes: the folder itself, or the target of a killed run's folder
+    record: dict  # its result.json
+    scene: object  # the scene that ran (its scene.toml)
+    revolutions: int  # whole revolutions kept
+    parts: list[dict]  # their entries in result.json
+    z: np.ndarray  # the integrator's state after them
+    last: tuple[float, str]  # crank angle (from the start) and contact mode of their last sample
+
+    @property
+    def in_place(self) -> bool:
+        """The source is the folder the continued run writes into (a killed run's ``.partial-`` folder)."""
+        return self.source != self.target
+
+
+def continuation(folder: str | Path) -> Continuation:
+    """The revolutions of the result in ``folder`` to continue from; a :class:`ResultFolderError` says why a folder
+    cannot be continued (not a result, mixed files, no scene, no whole revolution, written before parts stored
+    the integrator's state)."""
+    folder = Path(folder)
+    result = read(folder)  # every part checked: run id, sha256, shapes
+    record = read_record(folder)
+    if result.scene is None:
+        raise ResultFolderError(f"{folder} has no scene.toml, so the run's scene and settings are unknown: "
+                                "simulate again")
+    per_revolution = int(record["info"].get("samples_per_revolution", 0))
+    kept = 0
+    for i, entry in enumerate(record["parts"]):  # the first part also holds the initial sample
+        if per_revolution == 0 or entry["samples"] != per_revolution + (i == 0):
+            break
+        kept += 1
+    if kept == 0:
+        raise ResultFolderError(f"{folder} holds no whole revolution to continue from: simulate again")
+    with np.load(folder / record["parts"][kept - 1]["file"]) as data:
+        if "z_end" not in data.files:
+            raise ResultFolderError(f"the parts of {folder} do not hold the integrator's state (a result saved "
+                                    "from memory with SimulationResult.save, or written by an older apexseal): "
+                                    "simulate again, with out= or on the command line")
+        z = np.array(data["z_end"], float)
+    samples = sum(e["samples"] for e in record["parts"][:kept])
+    match = _PARTIAL.match(folder.name)
+    killed = match is not None and record["run_id"].startswith(match["run"])
+    newer = folder.with_name(f"{folder.name}.partial-{record['run_id'][:12]}")
+    if not killed and newer.exists():
+        raise ResultFolderError(f"a continuation of this run was stopped outright and left {newer}: resume that "
+                                "folder, which holds more of the run, or remove it")
+    return Continuation(source=folder, target=folder.with_name(match["name"]) if killed else folder, record=record,
+                        scene=result.scene, revolutions=kept, parts=list(record["parts"][:kept]), z=z,
+                        last=(float(result.theta[samples - 1]), result.modes[samples - 1]))

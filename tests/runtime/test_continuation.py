@@ -1,0 +1,103 @@
+"""A stopped run continues after its last whole revolution, to the samples of a run never stopped
+(runtime/results/continuation.py, ``apexseal simulate --resume``, :func:`apexseal.resume`)."""
+
+from __future__ import annotations
+
+import types
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from test_faults import SCENES_DIR, _start, _wait_for_parts, slow_scene  # noqa: F401  (a fixture)
+
+import apexseal
+from apexseal.cli import main
+from apexseal.runtime.api import same_model
+from apexseal.runtime.results.continuation import continuation
+from apexseal.runtime.results.folder import ResultFolderError
+from apexseal.runtime.results.result import SimulationResult
+
+
+def _same_samples(a: SimulationResult, b: SimulationResult) -> None:
+    assert a.n == b.n
+    assert np.array_equal(a.theta, b.theta) and np.array_equal(a.state, b.state)
+    assert np.array_equal(a.closed, b.closed) and np.array_equal(a.events, b.events) and a.modes == b.modes
+    assert a.outputs.keys() == b.outputs.keys()
+    assert all(np.array_equal(a.outputs[k], b.outputs[k]) for k in a.outputs)
+
+
+@pytest.fixture(scope="module")
+def light(tmp_path_factory):
+    """The default scene at 1° samples, and a 3-revolution run of it never stopped."""
+    scene = apexseal.load_scene().with_overrides(**{"solver.samples_per_revolution": 360})
+    return scene, apexseal.simulate(scene, revolutions=3, out=tmp_path_factory.mktemp("whole") / "o")
+
+
+def test_a_finished_run_given_more_revolutions_on_the_command_line(light, tmp_path):
+    scene, whole = light
+    out = tmp_path / "b"
+    first = apexseal.simulate(scene, revolutions=1, out=out)
+    r = CliRunner().invoke(main, ["simulate", "--resume", str(out), "-n", "3", "-q", "--no-figures"])
+    assert r.exit_code == 0, r.output
+    assert f"continuing {out} after 1 revolution(s), up to 3" in r.output
+    continued = SimulationResult.load(out)
+    _same_samples(continued, whole)
+    assert continued.status == "completed" and continued.revolutions == 3
+    assert continued.info["run_id"] == first.info["run_id"]  # one run, written as one unit
+    assert continued.info["scene"] == first.info["scene"]
+    (before,) = continued.info["continued"]
+    assert before["after_revolutions"] == 1 and before["status"] == "completed"
+    assert before["solver_stats"]["n_engine_calls"] == 1 and continued.info["solver_stats"]["n_engine_calls"] == 2
+    assert continued.scene.operation.revolutions == 3  # its scene.toml re-runs the whole of it
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b"]
+
+
+def test_a_killed_run_continues_in_its_partial_folder(slow_scene, tmp_path):  # noqa: F811
+    """SIGKILL after three revolutions: the OUT.partial-<run id> folder continues (a revolution in progress is
+    computed again) into OUT, with the samples of the run never stopped."""
+    out = tmp_path / "o"
+    proc = _start(slow_scene, out)
+    staging = _wait_for_parts(out, proc, 3)
+    proc.kill()
+    proc.wait(timeout=30)
+    killed = continuation(staging)
+    assert killed.target == out and killed.revolutions >= 3 and killed.in_place
+    continued = apexseal.resume(staging, revolutions=killed.revolutions + 1)
+    assert not staging.exists() and SimulationResult.load(out).n == continued.n
+    scene = apexseal.load_scene(slow_scene)
+    _same_samples(continued, apexseal.simulate(scene, revolutions=killed.revolutions + 1))
+    assert continued.info["continued"][0]["status"] == "interrupted"
+
+
+def test_what_cannot_be_continued_is_refused_with_the_reason(light, tmp_path):
+    scene, _ = light
+    done = tmp_path / "done"
+    apexseal.simulate(scene, revolutions=1, out=done)
+    with pytest.raises(ResultFolderError, match="holds 1 whole revolution\\(s\\), as many as asked \\(1\\)"):
+        apexseal.resume(done)
+    saved = tmp_path / "saved"
+    apexseal.simulate(scene, revolutions=1).save(saved)
+    with pytest.raises(ResultFolderError, match="do not hold the integrator's state"):
+        apexseal.resume(saved, revolutions=2)
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(ResultFolderError, match="no result.json"):
+        apexseal.resume(tmp_path / "empty")
+    failed = tmp_path / "failed"
+    hard = apexseal.load_scene(SCENES_DIR / "hard" / "stiff-housing-1e10.toml")
+    assert apexseal.simulate(hard, method="euler", out=failed).status == "failed"
+    with pytest.raises(ResultFolderError, match="no whole revolution"):
+        apexseal.resume(failed)
+    other = types.SimpleNamespace(model_hash="0" * 64)
+    with pytest.raises(ResultFolderError, match="another model"):
+        same_model(continuation(done), other)
+
+
+def test_the_command_line_refuses_to_change_what_ran(tmp_path, light):
+    scene, _ = light
+    out = tmp_path / "o"
+    apexseal.simulate(scene, revolutions=1, out=out)
+    r = CliRunner().invoke(main, ["simulate", "--resume", str(out), "-n", "2", "--method", "rk"])
+    assert r.exit_code == 2 and "--method cannot change them" in r.output
+    r = CliRunner().invoke(main, ["simulate", "--resume", str(out)])
+    assert r.exit_code == 2 and "Invalid value for --resume" in r.output and "give more revolutions" in r.output
+    assert SimulationResult.load(out).n == 361  # untouched
