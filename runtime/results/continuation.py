@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .folder import ResultFolderError, read, read_record
+from .folder import SCENE_FILE, ResultFolderError, check_stamp, read_part, read_record
 
 #: the folder a run killed outright leaves beside its target (runtime/results/folder.py)
 _PARTIAL = re.compile(r"^(?P<name>.+)\.partial-(?P<run>[0-9a-f]{12})$")
@@ -48,32 +48,45 @@ def continuation(folder: str | Path) -> Continuation:
     cannot be continued (not a result, mixed files, no scene, no whole revolution, written before parts stored
     the integrator's state)."""
     folder = Path(folder)
-    result = read(folder)  # every part checked: run id, sha256, shapes
     record = read_record(folder)
-    if result.scene is None:
-        raise ResultFolderError(f"{folder} has no scene.toml, so the run's scene and settings are unknown: "
+    run_id = record["run_id"]
+    if not (folder / SCENE_FILE).is_file():
+        raise ResultFolderError(f"{folder} has no {SCENE_FILE}, so the run's scene and settings are unknown: "
                                 "simulate again")
+    check_stamp(folder / SCENE_FILE, run_id)
+    if record["parts"] and not _holds_state(folder / record["parts"][0]["file"]):
+        raise ResultFolderError(f"the parts of {folder} do not hold the integrator's state (a result saved "
+                                "from memory with SimulationResult.save, or written by an older apexseal): "
+                                "simulate again, with out= or on the command line")
     per_revolution = int(record["info"].get("samples_per_revolution", 0))
-    kept = 0
+    kept, last = 0, None
     for i, entry in enumerate(record["parts"]):  # the first part also holds the initial sample
         if per_revolution == 0 or entry["samples"] != per_revolution + (i == 0):
             break
+        # checked one at a time (run id, sha256, shapes): a long run's parts need not fit in memory together
+        last = read_part(folder, entry, run_id, len(record["guard_names"]), list(record["outputs"]),
+                         record.get("state_rows"))
         kept += 1
-    if kept == 0:
+    if last is None:
         raise ResultFolderError(f"{folder} holds no whole revolution to continue from: simulate again")
     with np.load(folder / record["parts"][kept - 1]["file"]) as data:
-        if "z_end" not in data.files:
-            raise ResultFolderError(f"the parts of {folder} do not hold the integrator's state (a result saved "
-                                    "from memory with SimulationResult.save, or written by an older apexseal): "
-                                    "simulate again, with out= or on the command line")
         z = np.array(data["z_end"], float)
-    samples = sum(e["samples"] for e in record["parts"][:kept])
     match = _PARTIAL.match(folder.name)
     killed = match is not None and record["run_id"].startswith(match["run"])
     newer = folder.with_name(f"{folder.name}.partial-{record['run_id'][:12]}")
     if not killed and newer.exists():
         raise ResultFolderError(f"a continuation of this run was stopped outright and left {newer}: resume that "
                                 "folder, which holds more of the run, or remove it")
+    from ..scenes.scene import load_scene
+
     return Continuation(source=folder, target=folder.with_name(match["name"]) if killed else folder, record=record,
-                        scene=result.scene, revolutions=kept, parts=list(record["parts"][:kept]), z=z,
-                        last=(float(result.theta[samples - 1]), result.modes[samples - 1]))
+                        scene=load_scene(folder / SCENE_FILE), revolutions=kept, parts=list(record["parts"][:kept]),
+                        z=z, last=(float(last.theta[-1]), last.modes[-1]))
+
+
+def _holds_state(path: Path) -> bool:
+    try:
+        with np.load(path) as data:
+            return "z_end" in data.files
+    except (OSError, ValueError) as err:
+        raise ResultFolderError(f"{path} is missing or unreadable ({err}): the folder is incomplete") from err

@@ -431,7 +431,7 @@ def read(folder: str | Path) -> SimulationResult:
         raise ResultFolderError(f"{folder}: result.json lists no part (the run was killed before its first sample "
                                 "was written)")
     for name in ("summary.json", "trajectory.csv", SCENE_FILE):
-        _check_stamp(folder / name, run_id)
+        check_stamp(folder / name, run_id)
     for p in parts:
         p.guard_names = tuple(guards)
     stop = StopInfo(**meta["stop"]) if meta["stop"] else None
@@ -447,7 +447,7 @@ def read(folder: str | Path) -> SimulationResult:
     return result
 
 
-def _check_stamp(path: Path, run_id: str) -> None:
+def check_stamp(path: Path, run_id: str) -> None:
     if not path.exists():
         return
     try:

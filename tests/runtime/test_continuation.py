@@ -76,9 +76,9 @@ def test_what_cannot_be_continued_is_refused_with_the_reason(light, tmp_path):
     with pytest.raises(ResultFolderError, match="holds 1 whole revolution\\(s\\), as many as asked \\(1\\)"):
         apexseal.resume(done)
     saved = tmp_path / "saved"
-    apexseal.simulate(scene, revolutions=1).save(saved)
+    apexseal.simulate(scene, revolutions=2).save(saved)  # one part of two revolutions
     with pytest.raises(ResultFolderError, match="do not hold the integrator's state"):
-        apexseal.resume(saved, revolutions=2)
+        apexseal.resume(saved, revolutions=3)
     (tmp_path / "empty").mkdir()
     with pytest.raises(ResultFolderError, match="no result.json"):
         apexseal.resume(tmp_path / "empty")
