@@ -53,15 +53,16 @@ def test_a_finished_run_given_more_revolutions_on_the_command_line(light, tmp_pa
 
 
 def test_a_killed_run_continues_in_its_partial_folder(slow_scene, tmp_path):  # noqa: F811
-    """SIGKILL after three revolutions: the OUT.partial-<run id> folder continues (a revolution in progress is
-    computed again) into OUT, with the samples of the run never stopped."""
+    """SIGKILL after three revolutions: the OUT.partial-<run id> folder continues (a revolution in progress, or
+    one whose part was being written, is computed again) into OUT, with the samples of the run never stopped."""
     out = tmp_path / "o"
     proc = _start(slow_scene, out)
     staging = _wait_for_parts(out, proc, 3)
     proc.kill()
     proc.wait(timeout=30)
     killed = continuation(staging)
-    assert killed.target == out and killed.revolutions >= 3 and killed.in_place
+    # the third part's file may be written without the record that lists it yet: then it is computed again
+    assert killed.target == out and killed.revolutions >= 2 and killed.in_place
     continued = apexseal.resume(staging, revolutions=killed.revolutions + 1)
     assert not staging.exists() and SimulationResult.load(out).n == continued.n
     scene = apexseal.load_scene(slow_scene)
