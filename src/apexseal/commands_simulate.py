@@ -46,7 +46,8 @@ def simulate(scene: Path | None, sets, revolutions, method, rtol, max_wall_time,
     Revolutions are written to disk as they finish; the folder is written beside OUT and renamed into place at
     the end. SIGINT (Ctrl-C) and SIGTERM stop the run between integrator calls, and the revolutions completed
     are written as a result with status "interrupted" (exit code 130 or 143). A run killed outright leaves its
-    folder as OUT.partial-<run id>, which `SimulationResult.load` reads as an interrupted result.
+    folder as OUT.partial-<run id>, which `SimulationResult.load` reads as an interrupted result; `--resume`
+    continues any of them.
     """
     from . import progress
 
