@@ -186,4 +186,6 @@ def _report(result, summary, files, out, timings, watch, signals) -> None:
         click.echo(watch.report())
     if not result.ok:
         click.echo(f"  {result.stop.describe()}", err=True)
+        if result.status == "interrupted":
+            click.echo(f"  continue it: apexseal simulate --resume {out}", err=True)
         sys.exit(signals.exit_code() or 2)

@@ -328,6 +328,7 @@ def test_a_signal_keeps_every_completed_revolution(slow_scene, tmp_path, signum,
     assert time.monotonic() - sent < 10.0, "the run must end within a few seconds"
     assert proc.returncode == code, (stdout, stderr)
     assert "Traceback" not in stderr and "NotImplementedError" not in stderr, stderr
+    assert f"continue it: apexseal simulate --resume {out}" in stderr
     r = SimulationResult.load(out)
     assert r.status == "interrupted" and words in r.stop.reason
     assert r.n >= 1 + 2 * 360 and (r.n - 1) % 360 == 0  # whole revolutions: every completed call kept
