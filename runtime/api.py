@@ -134,7 +134,10 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
         from .results.folder import ResultFolder
 
         sink = ResultFolder(out)
-        result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)
+        try:
+            result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)
+        finally:
+            sink.release()  # a run that raised leaves a .partial- folder another process may continue
         sink.commit()
         return result
 
@@ -158,8 +161,12 @@ def resume(folder, *, revolutions: int | None = None, max_wall_time: float | Non
     functions = functions or model_functions(cont.scene)
     same_model(cont, functions)
     sink = ResultFolder.continuing(cont)
-    with stages.enabled(progress):
-        result = run_scene(cont.scene, st, progress=progress, functions=functions, sink=sink, continuation=cont)
+    try:
+        with stages.enabled(progress):
+            result = run_scene(cont.scene, st, progress=progress, functions=functions, sink=sink,
+                               continuation=cont)
+    finally:
+        sink.release()
     sink.commit()
     return result
 

@@ -12,12 +12,14 @@ run stopped is computed again.
 
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ...files import try_lock_folder
 from .folder import SCENE_FILE, ResultFolderError, check_stamp, read_part, read_record
 
 #: the folder a run killed outright leaves beside its target (runtime/results/folder.py)
@@ -50,6 +52,7 @@ def continuation(folder: str | Path) -> Continuation:
     folder = Path(folder)
     record = read_record(folder)
     run_id = record["run_id"]
+    _not_being_written(folder)
     if not (folder / SCENE_FILE).is_file():
         raise ResultFolderError(f"{folder} has no {SCENE_FILE}, so the run's scene and settings are unknown: "
                                 "simulate again")
@@ -75,6 +78,7 @@ def continuation(folder: str | Path) -> Continuation:
     killed = match is not None and record["run_id"].startswith(match["run"])
     newer = folder.with_name(f"{folder.name}.partial-{record['run_id'][:12]}")
     if not killed and newer.exists():
+        _not_being_written(newer)
         raise ResultFolderError(f"a continuation of this run was stopped outright and left {newer}: resume that "
                                 "folder, which holds more of the run, or remove it")
     from ..scenes.scene import load_scene
@@ -82,6 +86,14 @@ def continuation(folder: str | Path) -> Continuation:
     return Continuation(source=folder, target=folder.with_name(match["name"]) if killed else folder, record=record,
                         scene=load_scene(folder / SCENE_FILE), revolutions=kept, parts=list(record["parts"][:kept]),
                         z=z, last=(float(last.theta[-1]), last.modes[-1]))
+
+
+def _not_being_written(folder: Path) -> None:
+    """Refuse a folder a running process writes (it holds the folder's lock, runtime/results/folder.py)."""
+    lock = try_lock_folder(folder)
+    if lock is None:
+        raise ResultFolderError(f"{folder} is being written by a running process: wait for it to end, or stop it")
+    os.close(lock)
 
 
 def _holds_state(path: Path) -> bool:

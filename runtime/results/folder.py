@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from ...cores import available_cores
-from ...files import atomic_open, atomic_write, sha256_bytes
+from ...files import atomic_open, atomic_write, sha256_bytes, try_lock_folder
 from .parts import join
 from .result import SimulationResult, StopInfo
 
@@ -130,9 +130,13 @@ class ResultFolder:
         self.staging = self.target.parent / f"{self.target.name}.partial-{self.run_id[:12]}"
         try:
             (self.staging / PARTS).mkdir(parents=True, exist_ok=_reuse)
+            self._lock = try_lock_folder(self.staging)  # held while this process writes the folder
         except OSError as err:
             raise ResultStorageError(err.errno, f"cannot create the result folder {self.staging}: "
                                      f"{err.strerror}") from err
+        if self._lock is None:
+            raise ResultFolderError(f"{self.staging} is being written by a running process: wait for it to end, "
+                                    "or stop it")
         self.parts: list[dict] = []
         self.samples = 0
         self.guard_names: tuple[str, ...] = ()
@@ -310,6 +314,8 @@ class ResultFolder:
         except OSError as err:
             raise ResultStorageError(err.errno, f"could not move the finished result {self.staging} to {target}: "
                                      f"{err.strerror}; the result is complete in {self.staging}") from err
+        finally:
+            self.release()
         return target
 
     def abandon(self) -> None:
@@ -319,6 +325,17 @@ class ResultFolder:
         except Exception:  # noqa: BLE001  (the folder goes anyway)
             pass
         shutil.rmtree(self.staging, ignore_errors=True)
+        self.release()
+
+    def release(self) -> None:
+        """Let go of the folder: another process may continue it from now on (``apexseal simulate --resume``).
+        Done by :meth:`commit` and :meth:`abandon`; a run that raised leaves its ``.partial-`` folder released."""
+        lock, self._lock = getattr(self, "_lock", None), None
+        if lock is not None:
+            os.close(lock)
+
+    def __del__(self) -> None:
+        self.release()
 
     # ------------------------------------------------------------------ helpers
     def _record(self, status: str, stop: StopInfo | None) -> dict:

@@ -136,6 +136,18 @@ def atomic_write(path: Path, data: bytes | str, *, durable: bool = False) -> Non
         fh.write(data)
 
 
+def try_lock_folder(path: Path) -> int | None:
+    """An exclusive ``flock`` on the folder ``path``, held until the returned descriptor is closed or the process
+    ends, however it ends (a killed process holds none); None while another holder has it."""
+    fd = os.open(path, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        return None
+    return fd
+
+
 @contextmanager
 def file_lock(path: Path) -> Iterator[None]:
     """An exclusive ``fcntl`` lock on ``path`` (created if needed), held for the ``with`` block."""

@@ -58,6 +58,8 @@ def test_a_killed_run_continues_in_its_partial_folder(slow_scene, tmp_path):  # 
     out = tmp_path / "o"
     proc = _start(slow_scene, out)
     staging = _wait_for_parts(out, proc, 3)
+    with pytest.raises(ResultFolderError, match="being written by a running process"):
+        apexseal.resume(staging)  # its parts are not touched while the run writes them
     proc.kill()
     proc.wait(timeout=30)
     killed = continuation(staging)
