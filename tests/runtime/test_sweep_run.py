@@ -185,3 +185,21 @@ def test_cli_sweep_writes_table_and_figures(serial, tmp_path):
     assert r.exit_code == 1 and "collect.quantities" in r.output and "did you mean 'revolutions'" in r.output
     r = CliRunner().invoke(main, ["sweep", "--list-quantities"])
     assert r.exit_code == 0 and "friction_power.total" in r.output and "liftoff_fraction" in r.output
+
+
+@pytest.mark.slow
+def test_a_script_without_the_main_guard_is_told_to_add_it(tmp_path):
+    """A script that calls run_sweep at its top level: Dask's workers import it and fail to start; the error says
+    why and what to write, instead of Dask's bare "Nanny failed to start"."""
+    import subprocess
+    import sys
+
+    from sweep_helpers import LIGHT
+
+    (tmp_path / "light.toml").write_text(LIGHT)
+    (tmp_path / "sweep.py").write_text("from apexseal.runtime.studies.sweep import load_study, run_sweep\n"
+                                       "run_sweep(load_study('light.toml'), 'out', workers=2, quiet=True)\n")
+    run = subprocess.run([sys.executable, "sweep.py"], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert run.returncode != 0
+    assert "Each worker imports the script sweep.py" in run.stderr
+    assert 'if __name__ == "__main__":' in run.stderr.splitlines()[-1]

@@ -144,6 +144,21 @@ def local_cluster(workers: int):
                         silence_logs=logging.CRITICAL)  # shutdown races of dask print ERRORs
 
 
+def _started_cluster(workers: int):
+    """:func:`local_cluster`, its failure to start explained where the usual cause is a script's missing guard."""
+    import __main__
+
+    try:
+        return local_cluster(workers)
+    except RuntimeError as err:
+        script = getattr(__main__, "__file__", None)
+        if script is None or "failed to start" not in str(err):
+            raise
+        raise RuntimeError(f"Dask could not start the sweep's worker processes ({err}). Each worker imports the "
+                           f"script {Path(script).name}; a script that calls run_sweep at its top level starts "
+                           "another sweep in every worker: call it under `if __name__ == \"__main__\":`") from err
+
+
 def _dask(todo, args, record, study, n, scheduler, client):
     from dask.distributed import Client, as_completed
 
@@ -153,7 +168,7 @@ def _dask(todo, args, record, study, n, scheduler, client):
             if scheduler:
                 client = own_client = Client(scheduler)
             else:
-                own_cluster = local_cluster(n)
+                own_cluster = _started_cluster(n)
                 client = own_client = Client(own_cluster)
         where = scheduler or ("LocalCluster" if own_cluster is not None else str(client.scheduler.address))
         n = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})) or n)
