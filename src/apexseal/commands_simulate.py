@@ -65,42 +65,20 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
     # result is handed to it
     with FigureWorker.started(not no_figures) as worker:
         with watch.stage("import"):
-            from .runtime.api import continuing, model_functions, run_scene, same_model, settings_of
+            from .runtime.api import model_functions, run_scene, same_model
             from .runtime.results.figure_job import FigureJob
             from .runtime.results.figures import force_panels, ports_of
             from .runtime.results.folder import ResultFolder, ResultFolderError, ResultStorageError
             from .runtime.results.plausibility import PenetrationWarning
             from .runtime.results.summary import summarise  # noqa: F401  (timed here; used by _save)
-            from .runtime.solving.settings import SettingsError
             from .runtime.solving.signals import StopSignals
 
             if timings:  # imported by the load stage anyway; up front, so that the split shows what importing costs
                 import casadi  # noqa: F401
 
         with watch.stage("scene"):
-            cont = None
-            try:
-                if resume is not None:
-                    given = [n for n, v in (("SCENE", scene), ("--set", sets), ("--method", method), ("--rtol", rtol),
-                                            ("--out", out)) if v]
-                    if given:
-                        raise click.UsageError(f"--resume continues a run with its own scene, settings and folder; "
-                                               f"{', '.join(given)} cannot change them")
-                    cont, settings = continuing(resume, revolutions=revolutions, max_wall_time=max_wall_time)
-                    sc, out = cont.scene, cont.target
-                else:
-                    sc = scene_of(scene, sets)
-                    settings = settings_of(sc, revolutions=revolutions, method=method, rtol=rtol,
-                                           max_wall_time=max_wall_time)
-            except SettingsError as err:
-                key = err.errors[0].key
-                raise click.BadParameter("\n".join(p.message for p in err.errors),
-                                         param_hint=OPTIONS.get(key, key)) from err
-            except ResultFolderError as err:
-                raise click.BadParameter(str(err), param_hint="--resume") from err
-            if cont is None:
-                out = default_folder(scene, out)
-                result_folder(out)
+            sc, settings, out, cont = _what_runs(scene, sets, revolutions, method, rtol, max_wall_time, out, resume)
+        source = str(scene or "default") if cont is None else str(cont.record["info"].get("scene", resume))
         if cont is not None:
             click.echo(f"continuing {resume} after {cont.revolutions} revolution(s), up to {settings.revolutions}; "
                        f"method {settings.method}; writing to {out}/")
@@ -110,15 +88,15 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
             try:
                 with watch.stage("load"):
                     functions = model_functions(sc)
-                    if cont is not None:
-                        try:
-                            same_model(cont, functions)
-                        except ResultFolderError as err:
-                            raise click.BadParameter(str(err), param_hint="--resume") from err
                     if worker is not None:  # it builds the figures' frames while this one integrates
                         worker.prepare(force_panels(functions.output_names), ports_of(sc))
                 with watch.stage("run"):
-                    writer = ResultFolder(out) if cont is None else ResultFolder.continuing(cont)
+                    try:
+                        if cont is not None:
+                            same_model(cont, functions)
+                        writer = ResultFolder(out) if cont is None else ResultFolder.continuing(cont)
+                    except ResultFolderError as err:
+                        raise click.BadParameter(str(err), param_hint="--resume") from err
                     with warnings.catch_warnings():  # the penetration check is printed below, with the summary
                         warnings.simplefilter("ignore", PenetrationWarning)
                         result = run_scene(sc, settings, progress=not quiet and sys.stderr.isatty(), sink=writer,
@@ -132,7 +110,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                 elif worker is not None:  # stopped here, where a further Ctrl-C is still only noted
                     worker.cancel()
                 try:
-                    summary, files = _save(watch, writer, result, scene, csv)
+                    summary, files = _save(watch, writer, result, source, csv)
                 except BaseException:
                     if figures is not None:
                         figures.cancel()
@@ -149,12 +127,40 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
         _report(result, summary, files, out, timings, watch, signals)
 
 
-def _save(watch, writer, result, scene, csv) -> tuple[dict, list[str]]:
+def _what_runs(scene, sets, revolutions, method, rtol, max_wall_time, out, resume):
+    """The scene, the run's settings and output folder, and the run it continues (``--resume``; else None), checked
+    before any work: a bad value is reported against its option."""
+    from .runtime.api import continuing, settings_of
+    from .runtime.results.folder import ResultFolderError
+    from .runtime.solving.settings import SettingsError
+
+    try:
+        if resume is None:
+            sc = scene_of(scene, sets)
+            settings = settings_of(sc, revolutions=revolutions, method=method, rtol=rtol, max_wall_time=max_wall_time)
+            out = default_folder(scene, out)
+            result_folder(out)
+            return sc, settings, out, None
+        given = [n for n, v in (("SCENE", scene), ("--set", sets), ("--method", method), ("--rtol", rtol),
+                                ("--out", out)) if v]
+        if given:
+            raise click.UsageError(f"--resume continues a run with its own scene, settings and folder; "
+                                   f"{', '.join(given)} cannot change them")
+        cont, settings = continuing(resume, revolutions=revolutions, max_wall_time=max_wall_time)
+        return cont.scene, settings, cont.target, cont
+    except SettingsError as err:
+        key = err.errors[0].key
+        raise click.BadParameter("\n".join(p.message for p in err.errors), param_hint=OPTIONS.get(key, key)) from err
+    except ResultFolderError as err:
+        raise click.BadParameter(str(err), param_hint="--resume") from err
+
+
+def _save(watch, writer, result, source: str, csv) -> tuple[dict, list[str]]:
     """summary.json and, on request, trajectory.csv (result.json and the parts are written by the run)."""
     from .runtime.results.summary import summarise
 
     with watch.stage("save"):
-        summary = summarise(result, {"source": str(scene or "default")})
+        summary = summarise(result, {"source": source})
         writer.write_json("summary.json", summary)
         files = ["result.json", f"parts/ ({len(writer.parts)} files)", "scene.toml", "summary.json"]
         if (writer.staging / "pressure.csv").is_file():

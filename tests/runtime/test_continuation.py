@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import json
 import types
 
 import numpy as np
@@ -49,6 +50,7 @@ def test_a_finished_run_given_more_revolutions_on_the_command_line(light, tmp_pa
     assert before["after_revolutions"] == 1 and before["status"] == "completed"
     assert before["solver_stats"]["n_engine_calls"] == 1 and continued.info["solver_stats"]["n_engine_calls"] == 2
     assert continued.scene.operation.revolutions == 3  # its scene.toml re-runs the whole of it
+    assert json.loads((out / "summary.json").read_text())["scene"]["source"] == first.info["scene"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["b"]
 
 
