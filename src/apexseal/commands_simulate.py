@@ -192,6 +192,6 @@ def _report(result, summary, files, out, timings, watch, signals) -> None:
         click.echo(watch.report())
     if not result.ok:
         click.echo(f"  {result.stop.describe()}", err=True)
-        if result.status == "interrupted":
+        if result.status == "interrupted" and result.revolutions >= 1:  # a whole revolution to continue from
             click.echo(f"  continue it: apexseal simulate --resume {out}", err=True)
         sys.exit(signals.exit_code() or 2)
