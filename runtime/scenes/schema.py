@@ -176,7 +176,9 @@ def _option_fields(table: str) -> dict[str, Any]:
 
 
 @functools.lru_cache(maxsize=8)
-def _sections(names: tuple[str, ...]) -> dict[str, tuple[type[Section], bool]]:
+def _sections(classes: tuple[type, ...]) -> dict[str, tuple[type[Section], bool]]:
+    """The sections for the registered submodels ``classes`` (the key: the classes themselves, which the cache
+    keeps alive, so that a class defined again never meets the sections of one whose id it took over)."""
     from apexseal.derive.submodels.registry import parameters
 
     by_section: dict[str, list] = {}
@@ -206,7 +208,7 @@ def sections() -> dict[str, tuple[type[Section], bool]]:
     """Section name -> (model, required), for the submodels registered now."""
     from apexseal.derive.submodels.registry import submodels
 
-    return _sections(tuple(f"{c.__module__}.{c.__qualname__}:{id(c)}" for c in submodels()))
+    return _sections(submodels())
 
 
 def __getattr__(name: str):
