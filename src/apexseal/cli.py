@@ -17,6 +17,7 @@ import click
 COMMANDS = {
     "simulate": "commands_simulate:simulate",
     "scene": "commands_scene:scene",
+    "show": "commands_show:show",
     "derive": "commands_derive:derive",
     "generate": "commands_generate:generate",
     "optimise-preload": "commands_optimise:optimise_preload",

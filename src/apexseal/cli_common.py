@@ -92,3 +92,23 @@ def result_folder(folder: Path) -> None:
     except ResultFolderError as err:
         raise click.BadParameter(str(err), param_hint="--out") from err
     writable(folder.parent if folder.parent != Path("") else Path("."))
+
+
+def describe_result(result, summary: dict) -> None:
+    """The designer's numbers of a result on the console (``simulate`` at its end, ``show``): status, revolutions,
+    switches, displacement ranges, friction power, deepest penetrations (a warning when implausible)."""
+    from .runtime.results.plausibility import describe
+
+    ext = summary["extremes"]
+    wall = result.info.get("wall_time_s")
+    click.echo(f"{result.status}: {summary['revolutions']:.2f} revolutions, {summary['events_total']} contact switches"
+               + (f", wall {wall:.2f} s" if wall is not None else ""))
+    click.echo(f"  x {ext['x']['min']:.3f}..{ext['x']['max']:.3f} µm, y {ext['y']['min']:.2f}..{ext['y']['max']:.2f} µm, "
+               f"phi {ext['phi']['min']:.3f}..{ext['phi']['max']:.3f} mrad; "
+               f"friction power {summary['mean_friction_power_W'].get('total', 0.0):.2f} W")
+    check = summary.get("plausibility")
+    if check is not None and check["penetration_um"]:
+        depth = ", ".join(f"{c} {d:.3g}" for c, d in check["penetration_um"].items())
+        click.echo(f"  deepest penetration (µm): {depth}; side clearance {check['side_clearance_um']:.3g} µm")
+        if not check["ok"]:
+            click.echo(f"  warning: {describe(check)}", err=True)

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import default_folder, result_folder, scene_label, scene_of, scene_settings
+from .cli_common import default_folder, describe_result, result_folder, scene_label, scene_of, scene_settings
 from .runtime.solving.methods import METHODS
 from .stopwatch import Stopwatch
 
@@ -173,20 +173,7 @@ def _save(watch, writer, result, source: str, csv) -> tuple[dict, list[str]]:
 
 def _report(result, summary, files, out, timings, watch, signals) -> None:
     """What the run gave, on the console (and where the time went, with --timings); exit code of a failed run."""
-    from .runtime.results.plausibility import describe
-
-    ext = summary["extremes"]
-    click.echo(f"{result.status}: {summary['revolutions']:.2f} revolutions, {summary['events_total']} contact switches, "
-               f"wall {result.info['wall_time_s']:.2f} s")
-    click.echo(f"  x {ext['x']['min']:.3f}..{ext['x']['max']:.3f} µm, y {ext['y']['min']:.2f}..{ext['y']['max']:.2f} µm, "
-               f"phi {ext['phi']['min']:.3f}..{ext['phi']['max']:.3f} mrad; "
-               f"friction power {summary['mean_friction_power_W'].get('total', 0.0):.2f} W")
-    check = summary.get("plausibility")
-    if check is not None and check["penetration_um"]:
-        depth = ", ".join(f"{c} {d:.3g}" for c, d in check["penetration_um"].items())
-        click.echo(f"  deepest penetration (µm): {depth}; side clearance {check['side_clearance_um']:.3g} µm")
-        if not check["ok"]:
-            click.echo(f"  warning: {describe(check)}", err=True)
+    describe_result(result, summary)
     click.echo(f"  wrote {', '.join(files)} to {out}/")
     if timings:
         click.echo(watch.report())

@@ -64,6 +64,9 @@ def test_a_killed_run_continues_in_its_partial_folder(slow_scene, tmp_path):  # 
         apexseal.resume(staging)  # its parts are not touched while the run writes them
     proc.kill()
     proc.wait(timeout=30)
+    shown = CliRunner().invoke(main, ["show", str(staging)])
+    assert shown.exit_code == 0 and "interrupted" in shown.output, shown.output
+    assert f"whole revolution(s): apexseal simulate --resume {staging}" in shown.output
     killed = continuation(staging)
     # the third part's file may be written without the record that lists it yet: then it is computed again
     assert killed.target == out and killed.revolutions >= 2 and killed.in_place

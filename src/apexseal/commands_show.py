@@ -1,0 +1,52 @@
+"""``apexseal show``: what a result folder holds, and whether ``simulate --resume`` can continue it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from .cli_common import describe_result
+
+
+@click.command()
+@click.argument("folder", type=click.Path(file_okay=False, exists=True, path_type=Path))
+@click.option("--figures", is_flag=True, help="Also draw the figures into FOLDER (a run stopped by a signal or "
+              "killed outright has none).")
+def show(folder: Path, figures: bool) -> None:
+    """Check and describe the result in FOLDER (a result folder, or the OUT.partial-<run id> folder of a killed run):
+    the run and its settings, where and why it stopped, the designer's numbers, and how to continue it."""
+    from .runtime.results.continuation import continuation
+    from .runtime.results.folder import ResultFolderError, read
+    from .runtime.results.summary import summarise
+
+    try:
+        result = read(folder)
+    except ResultFolderError as err:
+        raise click.ClickException(str(err)) from err
+    info = result.info
+    asked = info.get("revolutions_asked", "?")
+    click.echo(f"{folder}: run {str(info.get('run_id', '?'))[:12]} of scene {info.get('scene', '?')}; method "
+               f"{info.get('method', '?')}, rtol {info.get('rtol', '?')}, {asked} revolution(s) asked")
+    for before in info.get("continued", []):
+        click.echo(f"  continued after {before['after_revolutions']} revolution(s) of a run {before['status']}")
+    describe_result(result, summarise(result, {"source": str(info.get("scene", folder))}))
+    if result.stop is not None:
+        click.echo(f"  {result.stop.describe()}")
+    try:
+        cont = continuation(folder)
+    except ResultFolderError as err:
+        click.echo(f"  cannot be continued: {err}")
+    else:
+        if isinstance(asked, int) and asked > cont.revolutions:
+            click.echo(f"  continue it after its {cont.revolutions} whole revolution(s): apexseal simulate --resume "
+                       f"{folder}")
+        else:
+            click.echo(f"  more revolutions: apexseal simulate --resume {folder} -n <total>")
+    if figures:
+        from .runtime.results.figure_job import FigureJob
+        from .runtime.results.figures import ports_of
+
+        ports = ports_of(result.scene) if result.scene is not None else None
+        drawn = FigureJob(result, folder, ports).start().finish()
+        click.echo(f"  drew {', '.join(p.name for p in drawn)} in {folder}/")

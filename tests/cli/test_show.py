@@ -1,0 +1,30 @@
+"""``apexseal show FOLDER``: a result folder checked and described, with how to continue it."""
+
+from __future__ import annotations
+
+from click.testing import CliRunner
+
+import apexseal
+from apexseal.cli import main
+
+
+def test_show_describes_a_result_and_how_to_continue_it(tmp_path):
+    scene = apexseal.load_scene().with_overrides(**{"solver.samples_per_revolution": 360})
+    done, saved = tmp_path / "done", tmp_path / "saved"
+    result = apexseal.simulate(scene, revolutions=1, out=done)
+    r = CliRunner().invoke(main, ["show", str(done), "--figures"])
+    assert r.exit_code == 0, r.output
+    assert f"run {result.info['run_id'][:12]} of scene default; method erk" in r.output
+    assert "completed: 1.00 revolutions" in r.output and "friction power" in r.output
+    assert f"more revolutions: apexseal simulate --resume {done} -n <total>" in r.output
+    assert sorted(p.name for p in done.glob("*.png")) == ["fig12_displacements.png", "fig13_forces.png",
+                                                          "fig14_housing_spectrum.png", "mode_timeline.png"]
+    assert apexseal.SimulationResult.load(done).n == result.n  # the figures are files a result folder may hold
+    result.save(saved)
+    r = CliRunner().invoke(main, ["show", str(saved)])
+    assert r.exit_code == 0 and "cannot be continued: the parts of" in r.output, r.output
+
+
+def test_show_refuses_a_folder_that_is_not_a_result(tmp_path):
+    r = CliRunner().invoke(main, ["show", str(tmp_path)])
+    assert r.exit_code == 1 and "is not a result folder: it has no result.json" in r.output
