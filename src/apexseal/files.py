@@ -145,6 +145,8 @@ def try_lock_folder(path: Path) -> int | None:
     except BlockingIOError:
         os.close(fd)
         return None
+    except OSError:  # a file system without locks: the folder goes unlocked, as before locks were taken
+        pass
     return fd
 
 
