@@ -62,9 +62,9 @@ def scene_of(scene: Path | None, sets: dict[str, object] | None = None):
 
 def scene_label(scene: Path | None, sets: dict[str, object] | None = None) -> str:
     """How a command's first line names its scene: the file (or the embedded default) and the --set keys."""
-    label = f"scene {scene or '(embedded default: the paper case study)'}"
     import json
 
+    label = f"scene {scene or '(embedded default: the paper case study)'}"
     shown = {k: v if isinstance(v, str) else json.dumps(v) for k, v in (sets or {}).items()}  # true, not True
     return label + (" with " + ", ".join(f"{k}={v}" for k, v in shown.items()) if shown else "")
 
