@@ -109,3 +109,16 @@ def test_the_command_line_refuses_to_change_what_ran(tmp_path, light):
     r = CliRunner().invoke(main, ["simulate", "--resume", str(out)])
     assert r.exit_code == 2 and "Invalid value for --resume" in r.output and "give more revolutions" in r.output
     assert SimulationResult.load(out).n == 361  # untouched
+
+
+def test_a_model_with_states_of_its_own_continues_to_the_same_samples(tmp_path):
+    """The chamber gas model integrates the chambers' gas with the seal: its states continue as the seal's do."""
+    from apexseal.runtime.scenes.scene import embedded_scene_path
+
+    scene = apexseal.load_scene(embedded_scene_path("expander-gas.toml"))
+    scene = scene.with_overrides(**{"solver.samples_per_revolution": 360})
+    whole = apexseal.simulate(scene, revolutions=2)
+    apexseal.simulate(scene, revolutions=1, out=tmp_path / "o")
+    continued = apexseal.resume(tmp_path / "o", revolutions=2)
+    assert continued.state.shape[0] > 6  # the gas states
+    _same_samples(continued, whole)
