@@ -83,9 +83,14 @@ def continuation(folder: str | Path) -> Continuation:
                                 "folder, which holds more of the run, or remove it")
     from ..scenes.scene import load_scene
 
+    scene = load_scene(folder / SCENE_FILE)
+    if scene.content_hash() != record["info"].get("scene_hash"):
+        raise ResultFolderError(f"{folder / SCENE_FILE} is not the scene the run computed (its content hash differs "
+                                "from the one result.json records: edited since?); to run the edited scene, "
+                                f"simulate it: apexseal simulate {folder / SCENE_FILE} --out <new folder>")
     return Continuation(source=folder, target=folder.with_name(match["name"]) if killed else folder, record=record,
-                        scene=load_scene(folder / SCENE_FILE), revolutions=kept, parts=list(record["parts"][:kept]),
-                        z=z, last=(float(last.theta[-1]), last.modes[-1]))
+                        scene=scene, revolutions=kept, parts=list(record["parts"][:kept]), z=z,
+                        last=(float(last.theta[-1]), last.modes[-1]))
 
 
 def _not_being_written(folder: Path) -> None:

@@ -95,6 +95,11 @@ def test_what_cannot_be_continued_is_refused_with_the_reason(light, tmp_path):
     assert apexseal.simulate(hard, method="euler", out=failed).status == "failed"
     with pytest.raises(ResultFolderError, match="no whole revolution"):
         apexseal.resume(failed)
+    text = (done / "scene.toml").read_text()
+    (done / "scene.toml").write_text(text.replace('ks = "5000.0 N/m"', 'ks = "7000.0 N/m"'))
+    with pytest.raises(ResultFolderError, match="is not the scene the run computed"):
+        apexseal.resume(done, revolutions=2)
+    (done / "scene.toml").write_text(text)
     other = types.SimpleNamespace(model_hash="0" * 64)
     with pytest.raises(ResultFolderError, match="another model"):
         same_model(continuation(done), other)
