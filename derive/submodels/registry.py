@@ -131,10 +131,12 @@ def _replace(old: type[Submodel], new: type[Submodel]) -> type[Submodel]:
     del _registry[old.name]
     try:
         register(new)
-    finally:
-        registered_now = _registry.get(new.name)
+    except RegistryError:
         _registry.clear()
-        _registry.update({n: (registered_now or c) if n == old.name else c for n, c in saved.items()})
+        _registry.update(saved)
+        raise
+    _registry.clear()
+    _registry.update({n: new if n == old.name else c for n, c in saved.items()})
     return new
 
 
