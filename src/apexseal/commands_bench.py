@@ -27,7 +27,7 @@ def _command_line(ctx: click.Context) -> str:
 
 @click.command()
 @click.option("--quick", is_flag=True, help="Smaller run (< 2 min): default scene, fewer methods, tolerances, repeats.")
-@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=Path("apexseal-out/bench"),
+@click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=Path("apexseal-out/bench"),
               show_default=True, help="Folder for results.json, table.md, effects.md, work-precision.png "
               "(the repository's docs/bench/ only when asked: --out docs/bench).")
 @click.option("--methods", default="", help="Comma-separated method ids to keep (e.g. erk-C,scipy-RK45).")

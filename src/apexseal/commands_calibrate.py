@@ -19,7 +19,7 @@ from .cli_common import scene_and_folder, scene_label, scene_settings
               help="Nelder-Mead simulations after the grid (0: none).")
 @click.option("--revolutions", "-n", type=click.IntRange(2, 50), default=2, show_default=True,
               help="Revolutions per simulation; the last one is analysed.")
-@click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
+@click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder for calibration.json [default: apexseal-out/<scene name>].")
 def calibrate(scene: Path | None, sets, grid, polish, revolutions, out) -> None:
     """Fit kw, kg (kg1..kg4), zeta_w and zeta_g of SCENE (default: the embedded case study) within their plausible

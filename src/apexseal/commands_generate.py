@@ -69,7 +69,7 @@ def _check_default(echo) -> bool:
 
 @click.command("generate")
 @click.argument("scene", required=False, type=click.Path(exists=True, dir_okay=False, path_type=Path))
-@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=None,
+@click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder [default: the cache folder load_functions uses]. "
                    "`--out generated/default` refreshes the committed default artefacts.")
 @click.option("--flags", type=click.Choice(["quick", "optimised"]), default="optimised", show_default=True,

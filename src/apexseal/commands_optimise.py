@@ -79,7 +79,7 @@ def _rate(ctx, param, value):
                    "design over (delta_s, ks) together is the curve ks*delta_s = optimal force (docs/preload.md).")
 @click.option("--check/--no-check", "check", default=True, show_default=True,
               help="Also run the derivative-free bisection of the constant preload over full simulations.")
-@click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
+@click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder for preload.json, preload.md, preload.png [default: apexseal-out/<scene name>].")
 @click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, IPOPT iterations).")
 def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_force, exclude, knots, max_rate, objective,

@@ -14,7 +14,7 @@ from .cli_common import scene_of, scene_settings
 @scene_settings
 @click.option("--default", "default", is_flag=True, help="Print the embedded default scene (the paper's case study), "
               "with its comments: `apexseal scene --default > my.toml`.")
-@click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=None,
+@click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="With --default: write default.toml and its pressure table into this folder instead.")
 @click.option("--resolved", is_flag=True, help="Print SCENE (default: the embedded one) with every value explicit, in SI "
               "with its unit, as a saved result's scene.toml has it.")

@@ -26,7 +26,7 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
               help="Wall-time budget: past it the run stops and keeps the revolutions done, as Ctrl-C does (above "
                    "0, at most 1e7 s; each revolution is then cut into 36 integrator calls, written into the result's "
                    "scene.toml).")
-@click.option("--out", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
+@click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder [default: apexseal-out/<scene name>].")
 @click.option("--resume", "resume", type=click.Path(file_okay=False, exists=True, path_type=Path), default=None,
               metavar="FOLDER",

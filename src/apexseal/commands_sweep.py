@@ -38,7 +38,7 @@ def _quantities(ctx, param, value) -> None:
               help="Worker processes of the local Dask cluster [default: every core]; 1 runs serially here.")
 @click.option("--scheduler", metavar="ADDRESS",
               help="Address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786) to send the points to.")
-@click.option("--out", type=click.Path(file_okay=False, path_type=Path),
+@click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path),
               help="Output folder [default: apexseal-out/<study name>].")
 @click.option("--resume/--fresh", default=True, show_default=True,
               help="Keep the points already in --out and compute only the others, or discard them.")

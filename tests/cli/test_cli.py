@@ -15,7 +15,7 @@ from apexseal.runtime.results.result import SimulationResult
 
 def test_simulate_default_scene_end_to_end(tmp_path):
     out = tmp_path / "run"
-    r = CliRunner().invoke(main, ["simulate", "--revolutions", "1", "--out", str(out), "--quiet", "--csv"])
+    r = CliRunner().invoke(main, ["simulate", "--revolutions", "1", "-o", str(out), "--quiet", "--csv"])
     assert r.exit_code == 0, r.output
     for name in ("trajectory.csv", "parts/part-00000.npz", "result.json", "summary.json", "scene.toml",
                  "pressure.csv", "fig12_displacements.png", "fig13_forces.png", "fig14_housing_spectrum.png",

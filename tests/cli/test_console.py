@@ -45,3 +45,24 @@ def test_the_command_line_of_a_subprocess_runs_the_console_script():
     assert proc.returncode == 0 and "version" in proc.stdout
     proc = subprocess.run(cli.command("simulate", "--rtol", "1"), capture_output=True, text=True, check=False)
     assert proc.returncode == 2 and "--rtol" in proc.stderr  # a bad option: click's exit code, through console()
+
+
+#: long option -> the short form it has on every command that takes it
+SHORT_FORMS = {"--out": "-o", "--quiet": "-q", "--revolutions": "-n", "--help": "-h"}
+
+
+@pytest.mark.parametrize("name", sorted(cli.COMMANDS))
+def test_every_command_spells_the_shared_options_alike(name):
+    """A user who typed ``-o`` for one command's output folder can type it for every command's."""
+    import click
+
+    group = click.Context(cli.main, info_name="apexseal", **cli.main.context_settings)
+    command = cli.main.get_command(group, name)
+    ctx = click.Context(command, info_name=name, parent=group)
+    options = [p for p in command.get_params(ctx) if isinstance(p, click.Option)]
+    for option in options:
+        for long_form, short in SHORT_FORMS.items():
+            if long_form in option.opts:
+                assert short in option.opts, f"apexseal {name} {long_form} has no {short}"
+    shorts = [o for option in options for o in option.opts if not o.startswith("--")]
+    assert len(shorts) == len(set(shorts)), f"apexseal {name}: a short option used twice: {shorts}"

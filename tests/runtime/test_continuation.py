@@ -63,7 +63,7 @@ def test_a_killed_run_continues_in_its_partial_folder(slow_scene, tmp_path):  # 
     with pytest.raises(ResultFolderError, match="being written by a running process"):
         apexseal.resume(staging)  # its parts are not touched while the run writes them
     proc.kill()
-    proc.wait(timeout=30)
+    proc.communicate(timeout=30)  # reaps it and closes its pipes
     shown = CliRunner().invoke(main, ["show", str(staging)])
     assert shown.exit_code == 0 and "interrupted" in shown.output, shown.output
     assert f"whole revolution(s): apexseal simulate --resume {staging}" in shown.output

@@ -361,7 +361,7 @@ def test_a_killed_run_leaves_the_previous_result_intact(slow_scene, tmp_path, tw
     proc = _start(slow_scene, out)
     staging = _wait_for_parts(out, proc, 3)
     proc.kill()  # SIGKILL: no handler runs
-    proc.wait(timeout=30)
+    proc.communicate(timeout=30)  # reaps it and closes its pipes
     after = SimulationResult.load(out)
     assert after.info["run_id"] == before.info["run_id"] and after.n == before.n and after.ok
     partial = SimulationResult.load(staging)  # what the killed run had completed and recorded
