@@ -47,8 +47,9 @@ def test_the_command_line_of_a_subprocess_runs_the_console_script():
     assert proc.returncode == 2 and "--rtol" in proc.stderr  # a bad option: click's exit code, through console()
 
 
-#: long option -> the short form it has on every command that takes it
-SHORT_FORMS = {"--out": "-o", "--quiet": "-q", "--revolutions": "-n", "--help": "-h"}
+#: long option -> the short form it has on every command that takes it (-h for --help comes from the group's
+#: context settings, and click caches each command's help option, so it is not read here)
+SHORT_FORMS = {"--out": "-o", "--quiet": "-q", "--revolutions": "-n"}
 
 
 @pytest.mark.parametrize("name", sorted(cli.COMMANDS))
