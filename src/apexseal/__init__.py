@@ -11,6 +11,7 @@ Public API::
     apexseal.Model(scene).rhs(theta, state)  # the state derivative, numpy
     result.plot("fig12"); result.to_xarray(); result.to_pandas(); result.summary()
     apexseal.plot_comparison([result_a, result_b], ["x", "Pf_total"])  # several results in one Figure
+    apexseal.compare(["out/a", "out/b"])    # the scene keys that differ and the runs' numbers, side by side
     with apexseal.reusing_engines(): ...     # many runs of one model and settings share one integrator
 """
 
@@ -27,6 +28,7 @@ _LAZY = {
     "Model": ("runtime.api", "Model"),
     "SimulationResult": ("runtime.results.result", "SimulationResult"),
     "plot_comparison": ("runtime.results.plots", "plot_comparison"),
+    "compare": ("runtime.results.compare", "compare"),
     "optimise_preload": ("runtime.studies.preload.study", "optimise_preload"),
     "reusing_engines": ("runtime.solving.engine_pool", "reusing"),
 }

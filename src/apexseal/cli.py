@@ -18,6 +18,7 @@ COMMANDS = {
     "simulate": "commands_simulate:simulate",
     "scene": "commands_scene:scene",
     "show": "commands_show:show",
+    "compare": "commands_compare:compare",
     "derive": "commands_derive:derive",
     "generate": "commands_generate:generate",
     "optimise-preload": "commands_optimise:optimise_preload",

@@ -23,7 +23,7 @@ def example_path(name: str) -> Path:
 def _quantities(ctx, param, value) -> None:
     if not value or ctx.resilient_parsing:
         return
-    from .runtime.studies.sweep.quantities import QUANTITY_HELP
+    from .runtime.results.quantities import QUANTITY_HELP
 
     for name, (unit, meaning) in QUANTITY_HELP.items():
         click.echo(f"{name:24s} {unit:5s} {meaning}")

@@ -19,8 +19,8 @@ import pandas as pd
 from apexseal.files import atomic_open
 
 from ...results.figures import new_figure
+from ...results.quantities import QUANTITY_HELP
 from ...scenes.units import registry
-from .quantities import QUANTITY_HELP
 
 
 def _scale(p) -> tuple[float, str]:

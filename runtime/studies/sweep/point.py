@@ -30,8 +30,8 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
     """Simulate ``scene`` (the study's base scene with ``overrides`` applied) and return its row."""
     import apexseal
 
+    from ...results.quantities import collect
     from ...solving import engine_pool
-    from .quantities import collect
 
     t0 = time.perf_counter()
     row: dict[str, Any] = {"point": int(index), "scene_hash": scene.content_hash(), **overrides}

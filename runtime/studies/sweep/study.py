@@ -48,9 +48,9 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from apexseal.suggest import did_you_mean
 
+from ...results.quantities import QUANTITY_HELP, quantity_unit
 from ...scenes.errors import Problem, show_value
 from .design import Parameter, parameter_of
-from .quantities import QUANTITY_HELP, quantity_unit
 
 #: the designs of experiments (design.py)
 DESIGNS = ("grid", "random", "sobol", "halton", "lhs")

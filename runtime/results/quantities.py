@@ -1,8 +1,9 @@
-"""The quantities a sweep can collect: named scalars, with units, read from a run's summary.
+"""A run's named scalars, with units, read from its summary: what a sweep collects and ``apexseal compare`` sets
+side by side.
 
 Every quantity comes from the summary a single run writes (``summary.json`` of ``apexseal simulate``), so a sweep
-point and a single run report the same numbers. A quantity a model does not have (friction at a contact whose
-effect is off) is NaN.
+point, a comparison and a single run report the same numbers. A quantity a model does not have (friction at a
+contact whose effect is off) is NaN.
 """
 
 from __future__ import annotations
@@ -13,6 +14,8 @@ import math
 CONTACTS = ("total", "housing", "spring", "i1", "c2", "i2", "c4")
 GUARDS = ("total", "xs5", "spring", "b1", "b2", "b3", "b4")
 _EXTREMES = {"x": "um", "y": "um", "phi": "mrad"}
+#: the contacts whose penetration the plausibility check measures (runtime/results/plausibility.py)
+PENETRATING = ("housing", "i1", "c2", "i2", "c4")
 
 #: name -> (unit, meaning); units as pint spells them ("1": a plain number or a count)
 QUANTITY_HELP: dict[str, tuple[str, str]] = {
@@ -29,6 +32,8 @@ QUANTITY_HELP: dict[str, tuple[str, str]] = {
     "gap.max": ("um", "largest seal-groove leakage gap b_gap"),
     **{f"events.{g}": ("1", f"contact switches of guard {g}" if g != "total" else "contact switches, all guards")
        for g in GUARDS},
+    **{f"penetration.{c}": ("um", f"deepest penetration of the {c} contact into its wall (force / stiffness; "
+                                  "the plausibility check)") for c in PENETRATING},
     "revolutions": ("rev", "revolutions computed (less than asked when a point stopped early)"),
 }
 
@@ -40,8 +45,8 @@ def quantity_unit(name: str) -> str | None:
 
 
 def summarise(result) -> dict:
-    """The summary of a run. The one place the sweep imports the summary function (lazily: workers import it)."""
-    from apexseal.runtime.results.summary import summarise as summary_of
+    """The summary of a run (the summary function imported lazily: a sweep's workers import this module)."""
+    from .summary import summarise as summary_of
 
     return summary_of(result)
 
@@ -63,6 +68,8 @@ def _get(summary: dict, name: str) -> float:
         return float(summary["housing_force_N"]["max_at_deg" if tail == "max_at" else tail])
     if head == "gap":
         return float(summary["leakage_gap"]["open_fraction" if tail == "open_fraction" else f"{tail}_um"])
+    if head == "penetration":
+        return float((summary.get("plausibility") or {}).get("penetration_um", {}).get(tail, math.nan))
     if head in _EXTREMES:
         return float(summary["extremes"][head][tail.replace("_at", "_at_deg")])
     raise KeyError(name)  # pragma: no cover - names are checked when the study is loaded

@@ -1,0 +1,156 @@
+"""Several results side by side: what their scenes differ in, and the designer's numbers of each.
+
+``apexseal compare A B ...`` (and :func:`compare` from Python) answers the question an engineer asks after
+changing a design: which keys of the scene changed, and what that did to friction power, displacements, forces,
+lift-off and penetrations. The numbers are the named quantities of each run's summary that a sweep collects
+(:mod:`.quantities`: the names a study file uses); the scene keys are those of each result's ``scene.toml``,
+written in full (:func:`..scenes.resolved.resolved_toml`), so a default value and the same value given explicitly
+compare equal.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import tomllib
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import pandas as pd
+
+from .quantities import CONTACTS, PENETRATING, QUANTITY_HELP, collect
+from .result import SimulationResult
+
+#: the scene keys of a result whose scene is not known (saved without its scene.toml)
+UNKNOWN = "(no scene.toml)"
+#: what :meth:`Comparison.figure` draws against crank angle
+FIGURE_QUANTITIES = ("x", "y", "phi", "Pf_total")
+
+
+@dataclass
+class Comparison:
+    """``scenes``: a row per scene key whose value differs between the results (a column per result);
+    ``numbers``: a row per quantity (its unit in the row's name), a column per result."""
+
+    labels: list[str]
+    scenes: pd.DataFrame
+    numbers: pd.DataFrame
+    results: list[SimulationResult]
+
+    def figure(self, quantities: Sequence[str] = FIGURE_QUANTITIES, *, pyplot: bool = False):
+        """The results' quantities against crank angle, a line per result (:func:`.plots.plot_comparison`)."""
+        from .plots import plot_comparison
+
+        return plot_comparison(self.results, quantities, self.labels, pyplot=pyplot)
+
+    def save(self, folder: str | Path) -> list[Path]:
+        """Write the numbers (comparison.csv), the scene keys that differ (scene-differences.csv) and the figure
+        (comparison.png) into ``folder``; the paths written."""
+        from ...files import atomic_open, atomic_write
+
+        folder = Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        paths = [folder / "comparison.csv", folder / "scene-differences.csv", folder / "comparison.png"]
+        atomic_write(paths[0], self.numbers.to_csv())
+        atomic_write(paths[1], self.scenes.to_csv())
+        with atomic_open(paths[2], "wb") as fh:  # a half-written file never carries the final name
+            self.figure().savefig(fh, format="png", dpi=120)
+        return paths
+
+    def text(self) -> str:
+        """Both tables for a console, each result's numbers with their change against the first result's."""
+        if self.scenes.empty:
+            scenes = "the scenes are the same"
+        else:
+            scenes = "scene keys that differ:\n" + self.scenes.to_string()
+        numbers = self.numbers.copy().astype(object)
+        base = self.numbers.iloc[:, 0]
+        for column in numbers.columns:
+            numbers[column] = [_cell(v, b, column != numbers.columns[0]) for v, b in
+                               zip(self.numbers[column], base, strict=True)]
+        return f"{scenes}\n\nresults (change against {self.labels[0]}):\n{numbers.to_string()}"
+
+
+def compare(results: Sequence[SimulationResult | str | Path], labels: Sequence[str] | None = None) -> Comparison:
+    """Results (or result folders) side by side; ``labels`` default to the folders' names, or the scenes'."""
+    loaded, names = [], []
+    for i, r in enumerate(results):
+        if isinstance(r, (str, Path)):
+            r = SimulationResult.load(r)
+            names.append(Path(results[i]))
+        else:
+            names.append(None)
+        loaded.append(r)
+    if len(loaded) < 2:
+        raise ValueError(f"compare needs at least two results, not {len(loaded)}")
+    labels = list(labels) if labels is not None else _labels(loaded, names)
+    if len(labels) != len(loaded) or len(set(labels)) != len(labels):
+        raise ValueError(f"compare needs one distinct label per result, not {labels}")
+    keys = [scene_keys(r.scene) for r in loaded]
+    differing = sorted({k for ks in keys for k in ks if len({ks.get(k, "–") for ks in keys}) > 1})
+    scenes = pd.DataFrame({label: [ks.get(k, "–") for k in differing] for label, ks in zip(labels, keys, strict=True)},
+                          index=pd.Index(differing, name="scene key"))
+    return Comparison(labels, scenes, designer_numbers(loaded, labels), loaded)
+
+
+def scene_keys(scene) -> dict[str, str]:
+    """Every key of ``scene`` as a saved result's scene.toml writes it (dotted name -> value with its unit); a
+    pressure table by the sha256 of its rows."""
+    if scene is None:
+        return {"scene": UNKNOWN}
+    from ..scenes.resolved import TABLE_FILE, resolved_toml
+
+    text, files = resolved_toml(scene)
+    out = dict(_flatten(tomllib.loads(text)))
+    if TABLE_FILE in files:
+        out["pressure.file"] = "table sha256 " + hashlib.sha256(files[TABLE_FILE].encode()).hexdigest()[:12]
+    return out
+
+
+#: the quantities set side by side (runtime/results/quantities.py, the names a sweep's study file uses)
+COMPARED = ("revolutions", "events.total", *(f"friction_power.{c}" for c in CONTACTS), "liftoff_fraction",
+            "housing_force.mean", "housing_force.max", *(f"{s}.{e}" for s in ("x", "y", "phi") for e in ("min", "max")),
+            "gap.open_fraction", "gap.max", *(f"penetration.{c}" for c in PENETRATING))
+
+
+def designer_numbers(results: Sequence[SimulationResult], labels: Sequence[str]) -> pd.DataFrame:
+    """A row per quantity of :data:`COMPARED` (named as in a sweep, its unit beside), after the runs' status; a
+    quantity no result has (friction at a contact whose effect is off everywhere) is left out."""
+    columns = {label: {"status": r.status, **collect(r, COMPARED)} for label, r in zip(labels, results, strict=True)}
+    table = pd.DataFrame(columns, index=["status", *COMPARED])
+    table = table.loc[[q == "status" or table.loc[q].notna().any() for q in table.index]]
+    table.index = pd.Index([q if q == "status" else f"{q} ({QUANTITY_HELP[q][0]})" for q in table.index],
+                           name="quantity")
+    return table
+
+
+def _flatten(table: dict, prefix: str = ""):
+    for key, value in table.items():
+        if isinstance(value, dict):
+            yield from _flatten(value, f"{prefix}{key}.")
+        else:
+            yield f"{prefix}{key}", str(value)
+
+
+def _labels(results: list[SimulationResult], paths: list[Path | None]) -> list[str]:
+    """The folders' names (their paths where two names coincide), else the scenes' names and hashes; numbered
+    where they still coincide (a folder given twice)."""
+    from .plots import _label
+
+    labels = [p.name if p is not None else _label(r, i) for i, (r, p) in enumerate(zip(results, paths, strict=True))]
+    if len(set(labels)) < len(labels):
+        labels = [str(p) if p is not None else label for label, p in zip(labels, paths, strict=True)]
+    if len(set(labels)) < len(labels):
+        labels = [f"{label} ({i + 1})" for i, label in enumerate(labels)]
+    return labels
+
+
+def _cell(value, base, relative: bool) -> str:
+    if value is None or isinstance(value, float) and value != value:  # not in this result (NaN)
+        return "–"
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        text = f"{value:.4g}"
+        if relative and isinstance(base, (int, float)) and base != 0 and value != base:
+            text += f" ({100 * (value - base) / abs(base):+.1f} %)"
+        return text
+    return str(value)

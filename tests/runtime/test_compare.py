@@ -1,0 +1,94 @@
+"""Results side by side (runtime/results/compare.py, ``apexseal compare``): the scene keys that differ, each run's
+numbers as a sweep names them, their change against the first."""
+
+from __future__ import annotations
+
+import math
+
+import pandas as pd
+import pytest
+from click.testing import CliRunner
+
+import apexseal
+from apexseal.cli import main
+from apexseal.runtime.results.compare import COMPARED, compare, scene_keys
+from apexseal.runtime.results.plausibility import PENETRATIONS
+from apexseal.runtime.results.quantities import PENETRATING, QUANTITY_HELP, collect
+
+
+@pytest.fixture(scope="module")
+def folders(tmp_path_factory):
+    """The default scene, the same with a stiffer spring, and with groove friction off (one revolution each)."""
+    root = tmp_path_factory.mktemp("compare")
+    scene = apexseal.load_scene()
+    scenes = {"default": scene, "stiff": scene.with_overrides(**{"spring.ks": "2e4 N/m"}),
+              "smooth": scene.with_overrides(**{"effects.groove_friction": False})}
+    for name, s in scenes.items():
+        apexseal.simulate(s, out=root / name, samples_per_revolution=360)
+    return {name: root / name for name in scenes}
+
+
+def test_the_changed_key_and_each_runs_numbers(folders):
+    c = compare([folders["default"], folders["stiff"]])
+    assert c.labels == ["default", "stiff"]
+    assert list(c.scenes.index) == ["spring.ks"]
+    assert list(c.scenes.loc["spring.ks"]) == ["5000.0 N/m", "20000.0 N/m"]
+    assert c.numbers.loc["status"].tolist() == ["completed", "completed"]
+    for label, folder in zip(c.labels, (folders["default"], folders["stiff"]), strict=True):
+        expected = collect(apexseal.SimulationResult.load(folder), COMPARED)
+        for q, value in expected.items():
+            row = f"{q} ({QUANTITY_HELP[q][0]})"
+            assert c.numbers.loc[row, label] == value, row
+    text = c.text()
+    assert "spring.ks" in text and "change against default" in text
+    base = c.numbers.loc["friction_power.total (W)", "default"]
+    stiff = c.numbers.loc["friction_power.total (W)", "stiff"]
+    assert f"{stiff:.4g} ({100 * (stiff - base) / base:+.1f} %)" in text
+
+
+def test_an_effect_off_shows_as_a_key_and_its_quantities_as_missing(folders):
+    c = compare([folders["default"], folders["smooth"]])
+    assert list(c.scenes.index) == ["effects.groove_friction"]
+    row = c.numbers.loc["friction_power.i1 (W)"]
+    assert row["default"] > 0 and math.isnan(row["smooth"])
+    line = next(ln for ln in c.text().splitlines() if ln.startswith("friction_power.i1"))
+    assert line.split()[-1] == "–"
+
+
+def test_a_value_given_explicitly_equals_its_default():
+    scene = apexseal.load_scene()
+    same = scene.with_overrides(**{"spring.ks": "5 kN/m", "friction.v_eps": scene.friction.v_eps})
+    assert scene_keys(scene) == scene_keys(same)
+    assert scene_keys(scene)["pressure.file"].startswith("table sha256 ")  # the default's table, by its rows
+
+
+def test_the_penetrations_are_the_plausibility_checks(folders):
+    assert set(PENETRATING) == set(PENETRATIONS)
+    result = apexseal.SimulationResult.load(folders["default"])
+    depths = result.summary()["plausibility"]["penetration_um"]
+    assert collect(result, tuple(f"penetration.{c}" for c in PENETRATING)) == \
+        {f"penetration.{c}": depths[c] for c in PENETRATING}
+    assert all(d > 0 for d in depths.values())  # every contact touched in the revolution
+
+
+def test_the_command_prints_both_tables_and_writes_them(folders, tmp_path):
+    out = tmp_path / "cmp"
+    r = CliRunner().invoke(main, ["compare", str(folders["default"]), str(folders["stiff"]), "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "spring.ks" in r.output and "friction_power.total (W)" in r.output
+    numbers = pd.read_csv(out / "comparison.csv", index_col=0)
+    expected = compare([folders["default"], folders["stiff"]]).numbers
+    assert numbers.loc["friction_power.total (W)"].astype(float).tolist() == \
+        expected.loc["friction_power.total (W)"].tolist()
+    assert pd.read_csv(out / "scene-differences.csv", index_col=0).index.tolist() == ["spring.ks"]
+    assert (out / "comparison.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_the_command_refuses_one_folder_and_a_folder_without_a_result(folders, tmp_path):
+    one = CliRunner().invoke(main, ["compare", str(folders["default"])])
+    assert one.exit_code == 2 and "two or more result folders, got 1" in one.output
+    bad = CliRunner().invoke(main, ["compare", str(folders["default"]), str(tmp_path)])
+    assert bad.exit_code == 1 and str(tmp_path) in bad.output and "result.json" in bad.output
+    twice = CliRunner().invoke(main, ["compare", str(folders["default"]), str(folders["default"])])
+    assert twice.exit_code == 0 and "the scenes are the same" in twice.output
+    assert f"{folders['default']} (1)" in twice.output and f"{folders['default']} (2)" in twice.output
