@@ -73,14 +73,8 @@ class Comparison:
 
 def compare(results: Sequence[SimulationResult | str | Path], labels: Sequence[str] | None = None) -> Comparison:
     """Results (or result folders) side by side; ``labels`` default to the folders' names, or the scenes'."""
-    loaded, names = [], []
-    for i, r in enumerate(results):
-        if isinstance(r, (str, Path)):
-            r = SimulationResult.load(r)
-            names.append(Path(results[i]))
-        else:
-            names.append(None)
-        loaded.append(r)
+    names = [Path(r) if isinstance(r, (str, Path)) else None for r in results]
+    loaded = [r if p is None else SimulationResult.load(p) for r, p in zip(results, names, strict=True)]
     if len(loaded) < 2:
         raise ValueError(f"compare needs at least two results, not {len(loaded)}")
     labels = list(labels) if labels is not None else _labels(loaded, names)
@@ -135,9 +129,9 @@ def _flatten(table: dict, prefix: str = ""):
 def _labels(results: list[SimulationResult], paths: list[Path | None]) -> list[str]:
     """The folders' names (their paths where two names coincide), else the scenes' names and hashes; numbered
     where they still coincide (a folder given twice)."""
-    from .plots import _label
+    from .plots import result_label
 
-    labels = [p.name if p is not None else _label(r, i) for i, (r, p) in enumerate(zip(results, paths, strict=True))]
+    labels = [p.name if p is not None else result_label(r, i) for i, (r, p) in enumerate(zip(results, paths, strict=True))]
     if len(set(labels)) < len(labels):
         labels = [str(p) if p is not None else label for label, p in zip(labels, paths, strict=True)]
     if len(set(labels)) < len(labels):

@@ -57,7 +57,7 @@ def quantities(results, names: Sequence[str], labels: Sequence[str] | None = Non
     names = list(names)
     for r in results:
         _check_quantities(r, names)
-    labels = list(labels) if labels is not None else [_label(r, i) for i, r in enumerate(results)]
+    labels = list(labels) if labels is not None else [result_label(r, i) for i, r in enumerate(results)]
     if len(labels) != len(results):
         raise ValueError(f"{len(labels)} labels for {len(results)} results")
     fig = figures.new_figure((10, 1.2 + 2.0 * len(names)), pyplot)
@@ -74,7 +74,8 @@ def quantities(results, names: Sequence[str], labels: Sequence[str] | None = Non
     return fig
 
 
-def _label(result, i: int) -> str:
+def result_label(result, i: int) -> str:
+    """A result's name in a legend: its scene's name and the start of its content hash."""
     scene = result.info.get("scene") or f"result {i + 1}"
     h = str(result.info.get("scene_hash", ""))[:8]
     return f"{scene} {h}".strip()
