@@ -21,6 +21,7 @@ import numpy as np
 
 from ...files import try_lock_folder
 from .folder import SCENE_FILE, ResultFolderError, check_stamp, read_part, read_record
+from .result import SimulationResult
 
 #: the folder a run killed outright leaves beside its target (runtime/results/folder.py)
 _PARTIAL = re.compile(r"^(?P<name>.+)\.partial-(?P<run>[0-9a-f]{12})$")
@@ -45,10 +46,11 @@ class Continuation:
         return self.source != self.target
 
 
-def continuation(folder: str | Path) -> Continuation:
+def continuation(folder: str | Path, read: SimulationResult | None = None) -> Continuation:
     """The revolutions of the result in ``folder`` to continue from; a :class:`ResultFolderError` says why a folder
     cannot be continued (not a result, mixed files, no scene, no whole revolution, written before parts stored
-    the integrator's state)."""
+    the integrator's state). ``read``: the folder's result as :func:`.folder.read` returned it (its parts checked
+    already), so that they are not read again."""
     folder = Path(folder)
     record = read_record(folder)
     run_id = record["run_id"]
@@ -62,16 +64,22 @@ def continuation(folder: str | Path) -> Continuation:
                                 "from memory with SimulationResult.save, or written by an older apexseal): "
                                 "simulate again, with out= or on the command line")
     per_revolution = int(record["info"].get("samples_per_revolution", 0))
-    kept, last = 0, None
+    kept = 0
     for i, entry in enumerate(record["parts"]):  # the first part also holds the initial sample
         if per_revolution == 0 or entry["samples"] != per_revolution + (i == 0):
             break
-        # checked one at a time (run id, sha256, shapes): a long run's parts need not fit in memory together
-        last = read_part(folder, entry, run_id, len(record["guard_names"]), list(record["outputs"]),
-                         record.get("state_rows"))
         kept += 1
-    if last is None:
+    if kept == 0:
         raise ResultFolderError(f"{folder} holds no whole revolution to continue from: simulate again")
+    if read is None:
+        for entry in record["parts"][:kept]:
+            # checked one at a time (run id, sha256, shapes): a long run's parts need not fit in memory together
+            part = read_part(folder, entry, run_id, len(record["guard_names"]), list(record["outputs"]),
+                             record.get("state_rows"))
+        last = (float(part.theta[-1]), part.modes[-1])
+    else:
+        end = sum(entry["samples"] for entry in record["parts"][:kept]) - 1
+        last = (float(read.theta[end]), read.modes[end])
     with np.load(folder / record["parts"][kept - 1]["file"]) as data:
         z = np.array(data["z_end"], float)
     match = _PARTIAL.match(folder.name)
@@ -90,7 +98,7 @@ def continuation(folder: str | Path) -> Continuation:
                                 f"simulate it: apexseal simulate {folder / SCENE_FILE} --out <new folder>")
     return Continuation(source=folder, target=folder.with_name(match["name"]) if killed else folder, record=record,
                         scene=scene, revolutions=kept, parts=list(record["parts"][:kept]), z=z,
-                        last=(float(last.theta[-1]), last.modes[-1]))
+                        last=last)
 
 
 def _not_being_written(folder: Path) -> None:

@@ -34,7 +34,7 @@ def show(folder: Path, figures: bool) -> None:
     if result.stop is not None:
         click.echo(f"  {result.stop.describe()}")
     try:
-        cont = continuation(folder)
+        cont = continuation(folder, result)  # its parts were read and checked above
     except ResultFolderError as err:
         click.echo(f"  cannot be continued: {err}")
     else:

@@ -54,6 +54,18 @@ def test_a_finished_run_given_more_revolutions_on_the_command_line(light, tmp_pa
     assert sorted(p.name for p in tmp_path.iterdir()) == ["b"]
 
 
+def test_a_folder_read_once_gives_the_same_continuation(light, tmp_path):
+    """`apexseal show` hands continuation() the result it read: the same revolutions, last sample and state as
+    continuation() reading the parts itself."""
+    scene, _ = light
+    folder = tmp_path / "o"
+    whole = apexseal.simulate(scene, revolutions=2, out=folder)
+    own, given = continuation(folder), continuation(folder, SimulationResult.load(folder))
+    assert own.revolutions == given.revolutions == 2
+    assert own.last == given.last == (float(whole.theta[-1]), whole.modes[-1])
+    assert np.array_equal(own.z, given.z)
+
+
 def test_a_killed_run_continues_in_its_partial_folder(slow_scene, tmp_path):  # noqa: F811
     """SIGKILL after three revolutions: the OUT.partial-<run id> folder continues (a revolution in progress, or
     one whose part was being written, is computed again) into OUT, with the samples of the run never stopped."""
@@ -68,6 +80,9 @@ def test_a_killed_run_continues_in_its_partial_folder(slow_scene, tmp_path):  # 
     assert shown.exit_code == 0 and "interrupted" in shown.output, shown.output
     assert f"whole revolution(s): apexseal simulate --resume {staging}" in shown.output
     killed = continuation(staging)
+    shown_from = continuation(staging, SimulationResult.load(staging))  # as `apexseal show` asks, parts read once
+    assert (shown_from.revolutions, shown_from.last) == (killed.revolutions, killed.last)
+    assert np.array_equal(shown_from.z, killed.z)
     # the third part's file may be written without the record that lists it yet: then it is computed again
     assert killed.target == out and killed.revolutions >= 2 and killed.in_place
     continued = apexseal.resume(staging, revolutions=killed.revolutions + 1)
