@@ -46,15 +46,15 @@ class Comparison:
     def save(self, folder: str | Path) -> list[Path]:
         """Write the numbers (comparison.csv), the scene keys that differ (scene-differences.csv) and the figure
         (comparison.png) into ``folder``; the paths written."""
-        from ...files import atomic_open, atomic_write
+        from ...files import atomic_write
+        from .figures import save_png
 
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
         paths = [folder / "comparison.csv", folder / "scene-differences.csv", folder / "comparison.png"]
         atomic_write(paths[0], self.numbers.to_csv())
         atomic_write(paths[1], self.scenes.to_csv())
-        with atomic_open(paths[2], "wb") as fh:  # a half-written file never carries the final name
-            self.figure().savefig(fh, format="png", dpi=120)
+        save_png(self.figure(), paths[2], 120)
         return paths
 
     def text(self) -> str:

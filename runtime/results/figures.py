@@ -38,6 +38,15 @@ def new_figure(figsize: tuple[float, float], pyplot: bool = False):
     return Figure(figsize=figsize, layout="constrained")
 
 
+def save_png(fig, path, dpi: int) -> None:
+    """Save ``fig`` as the PNG file ``path`` at ``dpi``, atomically: a half-written PNG never carries the final
+    name."""
+    from ...files import atomic_open
+
+    with atomic_open(path, "wb") as fh:
+        fig.savefig(fh, format="png", dpi=dpi)
+
+
 def crank_angle_ticks(ax, value_ticks: int | None = 4) -> None:
     """At most five crank-angle ticks (x, deg) at multiples of 90 deg (of 1.5 or 4.5 times a power of ten on
     longer runs), and at most ``value_ticks`` on the value axis (None: left as they are): every tick costs

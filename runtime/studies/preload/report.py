@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ....files import atomic_open, atomic_write
+from ....files import atomic_write
 from .problem import MM
 
 
@@ -109,6 +109,8 @@ def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=
                  valley=None) -> list:
     """Write preload.json, preload.md and preload.png; return their paths. ``valley``: the constant optimum's
     spring force at other stiffnesses (runtime/studies/preload/stiffness.py)."""
+    from ...results.figures import save_png
+
     folder = Path(folder)
     payload = {"scene": scene_name} | {k: (r.to_dict() if r is not None else None) for k, r in results.items()}
     if bisection is not None:
@@ -123,7 +125,5 @@ def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=
     paths = [folder / "preload.json", folder / "preload.md", folder / "preload.png"]
     atomic_write(paths[0], json.dumps(payload, indent=2, default=str) + "\n")
     atomic_write(paths[1], markdown(scene_name, results, bisection, valley) + "\n")
-    fig = figure(scene, results, min_force)
-    with atomic_open(paths[2], "wb") as fh:
-        fig.savefig(fh, format="png", dpi=100)
+    save_png(figure(scene, results, min_force), paths[2], 100)
     return paths

@@ -16,9 +16,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from apexseal.files import atomic_open
-
-from ...results.figures import new_figure
+from ...results.figures import new_figure, save_png
 from ...results.quantities import QUANTITY_HELP
 from ...scenes.units import registry
 
@@ -143,7 +141,7 @@ def quantity_figure(study, table: pd.DataFrame, column: str, path: Path, *, ax=N
         title += f" (mean over {', '.join(p.key for p in study.parameters[2:])})"
     ax.set_title(title, fontsize=9)
     if own:
-        _save(fig, path)
+        save_png(fig, path, 120)
         return path
     return None
 
@@ -161,13 +159,8 @@ def feasible_figure(study, table: pd.DataFrame, path: Path) -> Path | None:
     rule = "; ".join(c.describe() for c in study.constraints)
     fig.suptitle(f"{study.name}: feasible region (unhatched, white border) where {rule} "
                  f"- {int(feasible.sum())} of {len(table)} points", fontsize=10)
-    _save(fig, path)
+    save_png(fig, path, 120)
     return path
-
-
-def _save(fig, path: Path) -> None:
-    with atomic_open(path, "wb") as fh:  # a half-written PNG never carries the final name
-        fig.savefig(fh, dpi=120, format="png")
 
 
 def sweep_figures(study, table: pd.DataFrame, folder: str | Path) -> list[Path]:
