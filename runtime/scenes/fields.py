@@ -50,7 +50,8 @@ class SI:
         try:
             x = parse_quantity(value, self.unit, bare=self.bare)
         except QuantityError as exc:
-            raise _fail(exc.reason) from None
+            bounded = "" if self.range == Range() else f"; allowed: {self.allowed()}"
+            raise _fail(exc.reason + bounded) from None
         if not self.range.holds(x):
             raise _fail(f"{self._shown(x)} is out of range; allowed: {self.allowed()}")
         return x

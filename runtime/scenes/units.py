@@ -103,6 +103,10 @@ EXAMPLES: dict[str, str] = {
 
 #: a quantity string starts with a number: "3 mm", "-25 deg", ".5 bar", "5e3 N/m"
 NUMBER_FIRST = re.compile(r"^[+-]?\.?\d")
+#: the one number a quantity string starts with; the rest is its unit, which holds no number of its own
+LEADING_NUMBER = re.compile(r"^[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+#: words that spell a number that is not finite
+NOT_FINITE = re.compile(r"^[+-]?(?:inf|infinity|nan)\b", re.IGNORECASE)
 
 #: units that contain an angle, so bare numbers are ambiguous and an angle must be spelled out
 ANGULAR = ("rad", "rad/s", "rpm")
@@ -151,23 +155,12 @@ def _parse_quantity(value: Any, unit: str, key: str, bare: str | None) -> float:
         text = value.strip()
         if "," in text:
             raise QuantityError(key, value, f"use a decimal point, not a comma; expected {expected(unit)}")
+        if NOT_FINITE.match(text):
+            raise QuantityError(key, value, f"must be finite; expected {expected(unit)}")
         if not NUMBER_FIRST.match(text):
-            raise QuantityError(key, value, f"needs a number first, then the unit; expected {expected(unit)}")
-        import pint
-
-        ureg = registry()
-        try:
-            q = ureg.Quantity(text)
-        except pint.UndefinedUnitError as exc:
-            raise QuantityError(
-                key, value, f"unknown unit {exc.args[0]!r}; expected {expected(unit)}"
-            ) from None
-        except Exception:  # pint's parser raises several kinds for malformed text
-            raise QuantityError(
-                key, value, f"cannot read this as a quantity; expected {expected(unit)}"
-            ) from None
-        if not isinstance(q, pint.Quantity):  # a bare number in a string
-            q = ureg.Quantity(float(q), "dimensionless")
+            what = "is not a number" if unit == "1" else "needs a number first, then the unit"
+            raise QuantityError(key, value, f"{what}; expected {expected(unit)}")
+        q = _number_and_unit(text, unit, key, value)
         if tuple(q.unit_items()):  # written with a unit (pint's `unitless` is also true for "%")
             return _convert(q, unit, key, value, angular)
         if unit != "1" and (not angular or bare is not None):  # "2.0" for a length: the quotes promise a unit
@@ -186,6 +179,34 @@ def _parse_quantity(value: Any, unit: str, key: str, bare: str | None) -> float:
     if bare is not None and bare != unit:
         return _convert(registry().Quantity(number, bare), unit, key, value, angular)
     return _round(_finite(number, key, value, unit))
+
+
+def _number_and_unit(text: str, unit: str, key: str, raw: Any) -> pint.Quantity:
+    """``text`` as one number followed by a unit that holds no number: ``"3 mm"``, ``"5e3 N/m"``, ``"1 kg*m^2"``.
+
+    pint would evaluate an expression (``"3 mm 4"`` as 12 mm, ``"6 mm / 2"`` as 3 mm): a typo would pass as another
+    value, so a second number is refused.
+    """
+    import pint
+
+    ureg = registry()
+    number = LEADING_NUMBER.match(text)
+    rest = text[number.end():].strip() if number else text
+    if number is None:
+        raise QuantityError(key, raw, f"cannot read this as a quantity; expected {expected(unit)}")
+    if not rest:
+        return ureg.Quantity(float(number.group()), "dimensionless")
+    try:
+        units = ureg.parse_units(rest)
+    except pint.UndefinedUnitError as exc:
+        raise QuantityError(key, raw, f"unknown unit {exc.args[0]!r}; expected {expected(unit)}") from None
+    except Exception as exc:  # pint's parser raises several kinds for malformed text
+        if "scaling factor" in str(exc):  # a number in what follows the first
+            reason = f"write one number, then its unit: {rest!r} after {number.group()} holds a number"
+        else:
+            reason = f"cannot read this as a quantity ({rest!r} is not a unit)"
+        raise QuantityError(key, raw, f"{reason}; expected {expected(unit)}") from None
+    return ureg.Quantity(float(number.group()), units)
 
 
 def _convert(q: pint.Quantity, unit: str, key: str, raw: Any, angular: bool) -> float:

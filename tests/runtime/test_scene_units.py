@@ -62,6 +62,10 @@ def test_rounding_makes_unit_spellings_equal():
         ("25 1/s", "rad/s", ["ambiguous", "rad/s"]),
         ("3 mmm", "m", ["unknown unit 'mmm'", "length in m"]),
         ("3 (mm", "m", ["cannot read", "length in m"]),
+        ("3 mm 4", "m", ["one number, then its unit", "'mm 4'", "length in m"]),  # pint alone reads 12 mm
+        ("6 mm / 2", "m", ["one number, then its unit", "length in m"]),  # pint alone reads 3 mm
+        ("inf mm", "m", ["must be finite", "length in m"]),
+        ("abc", "1", ["is not a number", "plain number"]),
         ("mm", "m", ["needs a number first", "length in m"]),
         ("3,5 mm", "m", ["decimal point", "length in m"]),
         (True, "m", ["got bool", "length in m"]),

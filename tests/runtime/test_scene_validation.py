@@ -65,6 +65,7 @@ CASES = [
     ),
     ("unknown-unit", {"seal.Ws": "3 mmm"}, "seal.Ws", '"3 mmm"', ["unknown unit 'mmm'", "length in m"]),
     ("unreadable-quantity", {"seal.Ws": "3 (mm"}, "seal.Ws", '"3 (mm"', ["cannot read", "length in m"]),
+    ("two-numbers", {"seal.Ws": "3 mm 4"}, "seal.Ws", '"3 mm 4"', ["one number, then its unit", "length in m"]),
     ("unit-without-number", {"seal.Ws": "mm"}, "seal.Ws", '"mm"', ["needs a number first", "length in m"]),
     ("decimal-comma", {"seal.Ws": "3,0 mm"}, "seal.Ws", '"3,0 mm"', ["decimal point", "length in m"]),
     ("not-finite", {"seal.Ws": float("inf")}, "seal.Ws", "inf", ["finite", "length in m"]),
