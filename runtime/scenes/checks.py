@@ -263,6 +263,15 @@ def resolve_effects(
                     f"{parent.replace('_', ' ')}); allowed: false, or set effects.{parent} = true",
                 )
             )
+    if values.get("housing_contact") is False and values.get("groove_contact") is False:
+        out.append(
+            Problem(
+                "effects.groove_contact",
+                False,
+                "with effects.housing_contact = false too, nothing holds the seal (it would leave its groove with "
+                "no contact force to say where); allowed: true, or set effects.housing_contact = true",
+            )
+        )
     if pressure_source == "none":
         if values.get("chamber_pressure") is True:
             out.append(

@@ -71,6 +71,8 @@ def start_problem(functions, params, theta, X, u) -> str | None:
     penalty = [i for i, n in enumerate(names) if n != "spring"]  # the spring's guard is its compression
     p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
     limit = MAX_START_PENETRATION * p["Ws"]
+    if not penalty:  # no contact to start inside
+        return None
 
     def worst(state) -> tuple[float, int]:
         g = np.array(functions.guards(theta, state, params, u)).ravel()[penalty]

@@ -414,6 +414,14 @@ CASES = [
         ["needs effects.housing_contact = true", "allowed: false, or set effects.housing_contact = true"],
     ),
     (
+        "no-contact-at-all",
+        {key: False for key in ("effects.housing_contact", "effects.housing_damping", "effects.housing_friction",
+                                "effects.groove_contact", "effects.groove_damping", "effects.groove_friction")},
+        "effects.groove_contact",
+        "false",
+        ["nothing holds the seal", "allowed: true, or set effects.housing_contact = true"],
+    ),
+    (
         "pressure-effect-without-source",
         {"pressure.source": "none", "pressure.file": None, "pressure.unit": None},
         "effects.chamber_pressure",
