@@ -28,6 +28,9 @@ from .fields import setting_bounds as _bounds
 from .fields import setting_int as _int
 from .fields import validated as _v
 
+#: one revolution in rad as a scene value reads it (rounded to 15 digits), so that "360 deg" is inside
+FULL_TURN = round(TWO_PI, 14)
+
 # ---------------------------------------------------------------------------
 # sections
 
@@ -83,7 +86,8 @@ class OperationSection(Section):
     revolutions: _v(_int("revolutions"), int) = Field(
         1, description="revolutions to run (the most, with until_periodic)"
     )
-    start_angle: _q("rad", show="deg") = Field(0.0, description="crank angle theta at the start")
+    start_angle: _q("rad", ge=-FULL_TURN, le=FULL_TURN, show="deg") = Field(
+        0.0, description="crank angle theta at the start (within one revolution either way)")
     initial_state: InitialState = Field(default_factory=InitialState)
     until_periodic: _v(Flag(), bool) = Field(
         False, description="stop once a revolution repeats the previous one"

@@ -87,7 +87,9 @@ def start_problem(functions, params, theta, X, u) -> str | None:
     keys = STATE_KEYS + tuple((f"[{i}]", "", 1.0) for i in range(len(STATE_KEYS), X.size))
     shown = ", ".join(f"operation.initial_state.{keys[i][0]} = {X[i] * keys[i][2]:.6g} {keys[i][1]}".rstrip()
                       for i in culprits)
-    return (f"{shown} starts the seal {-depth * 1e6:.4g} µm inside a wall (guard {names[where]}); allowed: at most "
+    where_ = (f"{-depth * 1e6:.4g} µm inside a wall (guard {names[where]})" if math.isfinite(depth) else
+              f"where a contact's geometry is not defined (guard {names[where]} is not finite: far outside its groove)")
+    return (f"{shown} starts the seal {where_}; allowed: at most "
             f"{MAX_START_PENETRATION:g} Ws = {limit * 1e6:.4g} µm of penetration at the start: check the initial "
             "state's units and sign")
 

@@ -67,6 +67,8 @@ def test_messages_quote_a_short_excerpt(tmp_path):
     ({"operation.initial_state.x": "1 m"}, ["operation.initial_state.x = 1 m", "inside a wall", "guard xs5"]),
     ({"operation.initial_state.phi": "90 deg"}, ["operation.initial_state.phi = 90 deg", "inside a wall"]),
     ({"operation.initial_state.y": "1 mm"}, ["operation.initial_state.y = 0.001 m", "inside a wall"]),
+    ({"operation.initial_state.y": "5 mm"}, ["operation.initial_state.y = 0.005 m", "geometry is not defined",
+                                              "is not finite"]),
     ({"operation.rpm": 1e-300}, ["operation.rpm = 1e-300 rpm is too slow", "allowed: rpm >="]),
 ])
 @pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")  # inside a wall
