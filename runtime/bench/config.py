@@ -150,6 +150,10 @@ class BenchConfig:
         unknown = [m for m in methods if m not in METHODS]
         if unknown:
             raise ValueError(f"unknown method(s) {', '.join(unknown)}; known: {', '.join(METHODS)}")
+        names = [s.name for s in self.scenes]
+        unknown = [s for s in scenes if s not in names]
+        if unknown:
+            raise ValueError(f"unknown scene(s) {', '.join(unknown)}; known: {', '.join(names)}")
         sc = tuple(s for s in self.scenes if not scenes or s.name in scenes)
         if methods:
             sc = tuple(replace(s, sweeps={k: v for k, v in s.sweeps.items() if k in methods}) for s in sc)

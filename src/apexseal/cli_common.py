@@ -8,14 +8,18 @@ from pathlib import Path
 import click
 
 
-def writable(folder: Path) -> None:
-    """Fail before computing anything if the output folder cannot be written."""
+def writable(folder: Path, option: str = "--out") -> None:
+    """Fail before computing anything if the output folder (given by ``option``) cannot be written."""
+    existing = next((f for f in (folder, *folder.parents) if f.exists()), None)
+    if existing is not None and not existing.is_dir():
+        raise click.BadParameter(f"cannot create the output folder {folder}: {existing} is a file; allowed: a folder "
+                                 "(created if missing)", param_hint=option)
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as err:
-        raise click.BadParameter(f"cannot create the output folder {folder}: {err.strerror}", param_hint="--out") from err
+        raise click.BadParameter(f"cannot create the output folder {folder}: {err.strerror}", param_hint=option) from None
     if not os.access(folder, os.W_OK):
-        raise click.BadParameter(f"the output folder {folder} is not writable", param_hint="--out")
+        raise click.BadParameter(f"the output folder {folder} is not writable", param_hint=option)
 
 
 def _toml_value(text: str):

@@ -60,7 +60,8 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
                              check_reference=False if no_check else None, e2e=e2e, pressure=pressure,
                              gas=gas)
     except ValueError as err:
-        raise click.BadParameter(str(err)) from err
+        hint = "--scenes" if str(err).startswith("unknown scene") else "--methods"
+        raise click.BadParameter(str(err), param_hint=hint) from None
     command = _command_line(click.get_current_context())
     t0 = time.perf_counter()
     results = run_benchmark(cfg, log=lambda msg: click.echo(msg, err=True))

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import scene_of, scene_settings
+from .cli_common import scene_of, scene_settings, writable
 
 
 @click.command()
@@ -22,8 +22,12 @@ def derive(scene: Path | None, sets, check: bool, report: Path | None, refresh: 
     from . import progress
     from .derive.cache import cached_model
 
+    if report is not None and not check:
+        raise click.UsageError("--report names where --check writes its report: give it with --check")
     report = report or Path("apexseal-out") / "paper-check.md"
     sc = scene_of(scene, sets)
+    if check:
+        writable(report.parent, "--report")
     t0 = time.perf_counter()
     with progress.enabled(True), progress.stage("deriving the equations of motion (sympy)"):
         model = cached_model(sc.effects, sc.assumptions, refresh=refresh)
@@ -36,7 +40,6 @@ def derive(scene: Path | None, sets, check: bool, report: Path | None, refresh: 
     if check:
         from .derive.paper_check import write_report
 
-        report.parent.mkdir(parents=True, exist_ok=True)
         rows = write_report(report)
         counts: dict[str, int] = {}
         for r in rows or []:

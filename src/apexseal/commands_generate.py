@@ -10,6 +10,7 @@ import click
 
 from .derive.assumptions import Assumptions
 from .derive.effects import EFFECTS, Effects
+from .derive.options import OptionError
 
 _ON = {"on": True, "true": True, "1": True, "yes": True, "off": False, "false": False, "0": False, "no": False}
 
@@ -94,9 +95,16 @@ def generate(scene: Path | None, out: Path | None, flags: str, effect_opts: tupl
 
     effects, assumptions = _scene_inputs(scene)
     if effect_opts:
-        effects = _with_overrides(effects, _pairs(effect_opts, "--effects"))
+        try:
+            effects = _with_overrides(effects, _pairs(effect_opts, "--effects"))
+        except OptionError as exc:
+            raise click.BadParameter(str(exc), param_hint="--effects") from None
     if assumption_opts:
-        assumptions = Assumptions.from_mapping({**assumptions.as_dict(), **_pairs(assumption_opts, "--assumptions")})
+        try:
+            assumptions = Assumptions.from_mapping({**assumptions.as_dict(),
+                                                    **_pairs(assumption_opts, "--assumptions")})
+        except OptionError as exc:
+            raise click.BadParameter(str(exc), param_hint="--assumptions") from None
     if out is None:
         from .derive.cache import cache_dir
 

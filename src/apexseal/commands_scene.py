@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import scene_of, scene_settings
+from .cli_common import scene_of, scene_settings, writable
 
 
 @click.command()
@@ -25,6 +25,8 @@ def scene(scene: Path | None, sets, default: bool, out: Path | None, resolved: b
     if default:
         _write_default(out)
         return
+    if out is not None:
+        raise click.UsageError("--out writes the default scene's files: give it with --default")
     sc = scene_of(scene, sets)
     if resolved:
         from .runtime.scenes.resolved import TABLE_FILE, resolved_toml
@@ -44,19 +46,31 @@ def scene(scene: Path | None, sets, default: bool, out: Path | None, resolved: b
 
 def _write_default(out: Path | None) -> None:
     """The default scene on stdout (its pressure table written to the current folder, which a redirected
-    ``> my.toml`` shares) or, with ``out``, both files into that folder."""
+    ``> my.toml`` shares) or, with ``out``, both files into that folder. A file there that differs from what would
+    be written is never replaced: refused with ``--out``, named on stderr without it."""
     from .runtime.scenes.scene import _scenes_folder, default_scene_text, load_scene
 
     table = load_scene().pressure.file
-    table_text = _scenes_folder().joinpath(table).read_text(encoding="utf-8")
+    texts = {"default.toml": default_scene_text(),
+             table: _scenes_folder().joinpath(table).read_text(encoding="utf-8")}
     folder = out or Path(".")
-    folder.mkdir(parents=True, exist_ok=True)
     if out is not None:
-        (folder / "default.toml").write_text(default_scene_text(), encoding="utf-8")
+        writable(out)
+    differ = [n for n, text in texts.items()
+              if (folder / n).exists() and (folder / n).read_text(encoding="utf-8", errors="replace") != text]
+    if out is not None:
+        if differ:
+            raise click.BadParameter(f"{folder} already holds {' and '.join(differ)}, different from the default "
+                                     "scene's; allowed: a folder without them (nothing is overwritten)",
+                                     param_hint="--out")
+        for name, text in texts.items():
+            (folder / name).write_text(text, encoding="utf-8")
         click.echo(f"wrote {folder / 'default.toml'} and {folder / table}")
-    else:
-        click.echo(default_scene_text(), nl=False)
-    if not (folder / table).exists():
-        (folder / table).write_text(table_text, encoding="utf-8")
-        if out is None:
-            click.echo(f"# wrote the scene's pressure table {table} to the current folder", err=True)
+        return
+    click.echo(texts["default.toml"], nl=False)
+    if table in differ:
+        click.echo(f"# kept {table} in the current folder, which differs from the default scene's table: the "
+                   "scene printed reads it", err=True)
+    elif not (folder / table).exists():
+        (folder / table).write_text(texts[table], encoding="utf-8")
+        click.echo(f"# wrote the scene's pressure table {table} to the current folder", err=True)

@@ -30,13 +30,29 @@ def _quantities(ctx, param, value) -> None:
     ctx.exit()
 
 
+def _address(ctx, param, value: str | None) -> str | None:
+    """A Dask scheduler's address as distributed reads it (scheme://host:port, or host:port for tcp)."""
+    if value is None:
+        return None
+    from distributed.comm import parse_address
+    from distributed.comm.addressing import parse_host_port
+
+    try:
+        scheme, location = parse_address(value)
+        if scheme in ("tcp", "tls", "ws", "wss"):
+            parse_host_port(location)
+    except ValueError as err:
+        raise click.BadParameter(f"{value!r}: {err}; allowed: an address such as tcp://10.0.0.5:8786") from None
+    return value
+
+
 @click.command()
 @click.argument("study", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", type=click.Choice(EXAMPLES), help="Run a study shipped with apexseal instead of STUDY "
               "(preload-map: the design map of the default machine over spring preload and stiffness).")
 @click.option("--workers", "-w", type=click.IntRange(1, 4096),
               help="Worker processes of the local Dask cluster [default: every core]; 1 runs serially here.")
-@click.option("--scheduler", metavar="ADDRESS",
+@click.option("--scheduler", metavar="ADDRESS", callback=_address,
               help="Address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786) to send the points to.")
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path),
               help="Output folder [default: apexseal-out/<study name>].")

@@ -171,3 +171,37 @@ def test_progress_reports_stages_with_elapsed_time(capsys):
     with progress.stage("silent"):  # no handler: nothing printed
         pass
     assert "silent" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(("args", "names"), [
+    (["generate", "--no-compile", "--effects", "foo=on"], ["--effects", "effects.foo is not an effect"]),
+    (["generate", "--no-compile", "--effects", "housing_contact=off,housing_friction=on"],
+     ["--effects", "needs effects.housing_contact = true"]),
+    (["generate", "--no-compile", "--assumptions", "damping=bogus"], ["--assumptions", "'bogus'", "allowed"]),
+    (["generate", "--no-compile", "--assumptions", "foo=bar"], ["--assumptions", "not a modelling choice"]),
+    (["sweep", "--example", "preload-map", "--scheduler", "foo"], ["--scheduler", "'foo'", "missing port"]),
+    (["bench", "--quick", "--scenes", "bogus"], ["--scenes", "unknown scene(s) bogus", "known: default"]),
+    (["bench", "--quick", "--methods", "bogus"], ["--methods", "unknown method(s) bogus"]),
+    (["scene", "--out", "{tmp}/o"], ["--out", "with --default"]),
+    (["scene", "--default", "--out", "{tmp}/file/sub"], ["--out", "file is a file"]),
+    (["derive", "--report", "{tmp}/r.md"], ["--report", "with --check"]),
+    (["derive", "--check", "--report", "{tmp}/file/r.md"], ["--report", "file is a file"]),
+])
+def test_a_bad_option_is_refused_naming_it_before_any_work(args, names, tmp_path):
+    """Exit code 2 (click's usage error), the option and the value named, no traceback, nothing written."""
+    (tmp_path / "file").write_text("not a folder")
+    r = CliRunner().invoke(main, [a.replace("{tmp}", str(tmp_path)) for a in args])
+    assert r.exit_code == 2 and "Traceback" not in r.output, r.output
+    assert all(n in r.output for n in names), r.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]
+
+
+def test_scene_default_never_overwrites_a_different_file(tmp_path):
+    out = tmp_path / "s"
+    assert CliRunner().invoke(main, ["scene", "--default", "-o", str(out)]).exit_code == 0
+    assert CliRunner().invoke(main, ["scene", "--default", "-o", str(out)]).exit_code == 0  # the same files again
+    table = next(out.glob("*.csv"))
+    table.write_text(table.read_text() + "# mine\n")
+    r = CliRunner().invoke(main, ["scene", "--default", "-o", str(out)])
+    assert r.exit_code == 2 and table.name in r.output and "nothing is overwritten" in r.output, r.output
+    assert table.read_text().endswith("# mine\n")
