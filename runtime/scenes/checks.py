@@ -163,17 +163,23 @@ def check_seal(s: SealSection, raw: dict[str, Any]) -> list[Problem]:
 
 
 def check_seal_in_rotor(m: MachineSection, s: SealSection, raw: dict[str, Any]) -> list[Problem]:
-    """The groove bottom must lie inside the rotor: ds1 + ds2 < L, i.e. Li = L - ds1 > ds2 (Eq. 12)."""
-    if s.ds1 + s.ds2 < m.L:
-        return []
-    return [
-        Problem(
+    """The groove bottom must lie inside the rotor: ds1 + ds2 < L, i.e. Li = L - ds1 > ds2 (Eq. 12); the seal
+    fits in the machine's depth: Bs <= H (the default scene's estimates: Bs = 99.9 mm in H = 100 mm)."""
+    out = []
+    if s.ds1 + s.ds2 >= m.L:
+        out.append(Problem(
             "seal.ds2",
             raw_at(raw, ["seal", "ds2"]),
             f"seal.ds1 + seal.ds2 = {_mm(s.ds1 + s.ds2)} reaches past the chord centre (Eq. 12: the groove "
             f"bottom must lie inside the rotor); allowed: ds1 + ds2 < machine.L = {_mm(m.L)}",
-        )
-    ]
+        ))
+    if s.Bs > m.H:
+        out.append(Problem(
+            "seal.Bs",
+            raw_at(raw, ["seal", "Bs"]),
+            f"a seal cannot be longer than the machine is deep; allowed: <= machine.H = {_mm(m.H)}",
+        ))
+    return out
 
 
 def zeta0_of(m: MachineSection, s: SealSection) -> tuple[float | None, str | None]:

@@ -413,6 +413,8 @@ CASES = [
         "true",
         ["needs effects.housing_contact = true", "allowed: false, or set effects.housing_contact = true"],
     ),
+    ("seal-longer-than-machine", {"seal.Bs": "150 mm"}, "seal.Bs", '"150 mm"',
+     ["longer than the machine is deep", "machine.H = 100 mm"]),
     (
         "no-contact-at-all",
         {key: False for key in ("effects.housing_contact", "effects.housing_damping", "effects.housing_friction",
