@@ -25,7 +25,7 @@ from .schema import (
     Section,
     raw_at,
 )
-from .units import MIN_ABSOLUTE_PRESSURE, PLAUSIBLE, implausible
+from .units import PLAUSIBLE, TABLE_PRESSURES, implausible
 
 #: largest aspect ratio b = r/L of a dimple-free limaçon (Eq. 4; derive.geometry.looping_free_limit)
 MAX_ASPECT_RATIO = 0.25
@@ -336,7 +336,7 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
 
 def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure: Any) -> list[Problem]:
     """Values far outside engineering practice (:data:`.units.PLAUSIBLE`), each against the key the user wrote,
-    and a pressure table whose absolute pressures are below :data:`.units.MIN_ABSOLUTE_PRESSURE`."""
+    and a pressure table whose absolute pressures leave :data:`.units.TABLE_PRESSURES`."""
     values = {}
     for key in PLAUSIBLE:
         section, name = key.split(".")
@@ -346,11 +346,12 @@ def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure:
     out = [Problem(key, raw_at(raw, key.split(".")), message) for key, _, message in implausible(values)]
     pa, pb = getattr(pressure, "pa", None), getattr(pressure, "pb", None)
     if getattr(pressure, "kind", "") == "table" and pa is not None and pa.size:
-        low = float(min(np.min(pa), np.min(pb)))
-        if low < MIN_ABSOLUTE_PRESSURE:
-            high = float(max(np.max(pa), np.max(pb)))
+        low, high = float(min(np.min(pa), np.min(pb))), float(max(np.max(pa), np.max(pb)))
+        lo, hi = TABLE_PRESSURES.lo, TABLE_PRESSURES.hi
+        if low < lo or high > hi:
+            why = (f"below {lo:g} Pa (a vacuum far beyond engineering practice)" if low < lo else
+                   f"above {hi:g} Pa (far beyond engineering practice)")
             out.append(Problem("pressure.unit", raw_at(raw, ["pressure", "unit"]) if "unit" in raw.get("pressure", {})
-                               else "Pa", f"the table's absolute pressures span {low:.4g}..{high:.4g} Pa, below "
-                               f"{MIN_ABSOLUTE_PRESSURE:g} Pa (a vacuum far beyond engineering practice): is the table in "
-                               "another unit (unit = \"bar\" or \"kPa\")?"))
+                               else "Pa", f"the table's absolute pressures span {low:.4g}..{high:.4g} Pa, {why}: is "
+                               "the table in another unit (unit = \"Pa\", \"kPa\" or \"bar\")?"))
     return out

@@ -371,8 +371,9 @@ PLAUSIBLE: dict[str, Plausible] = {
     "pressure.Pb": Plausible(1e3, 1e8, "kPa"),
 }
 
-#: absolute chamber pressures of a table below this are implausible (a table in bar declared in Pa)
-MIN_ABSOLUTE_PRESSURE = 1e3
+#: absolute chamber pressures of a table outside this span are implausible (a table in bar declared in Pa, in Pa
+#: declared in kPa): the span of a constant pressure's keys
+TABLE_PRESSURES = PLAUSIBLE["pressure.Pa"]
 
 
 def implausible(values: dict[str, tuple[float, Any]]) -> list[tuple[str, float, str]]:

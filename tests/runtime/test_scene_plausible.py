@@ -54,6 +54,14 @@ def test_a_pressure_table_in_bar_declared_in_pa_warns(default_scene, tmp_path):
     assert scene.pressure.pa.max() == pytest.approx(9e5)
 
 
+def test_a_pressure_table_in_pa_declared_in_bar_warns(default_scene, tmp_path):
+    """A table in Pa declared unit = "bar" (1.5e10 Pa) loaded with no warning and failed at the first step."""
+    table = tmp_path / "pa.csv"
+    table.write_text("theta_deg,Pa,Pb\n0,150000,900000\n180,900000,150000\n")
+    with pytest.warns(PlausibilityWarning, match=r"pressure\.unit.*1\.5e\+10\.\.9e\+10 Pa, above 1e\+08 Pa"):
+        default_scene.with_overrides(**{"pressure.file": str(table), "pressure.unit": "bar"})
+
+
 def test_the_default_and_hard_scenes_are_plausible():
     """Every shipped scene lies inside the documented ranges (no warning on a correct scene)."""
     import apexseal
