@@ -253,7 +253,7 @@ class Model:
     """The seal model of a scene, evaluated pointwise (for checks and small scripts; slow in loops)."""
 
     def __init__(self, scene, functions=None):
-        self.scene = scene
+        self.scene = scene = scene_of(scene)
         self.functions = functions or model_functions(scene)
         self.params = scene.parameter_vector()
 

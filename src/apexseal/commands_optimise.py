@@ -34,10 +34,10 @@ def _force(ctx, param, value) -> float | None:
 
 
 def _windows(ctx, param, values) -> tuple:
-    from .runtime.studies.preload.problem import PreloadStudyError, parse_window
+    from .runtime.studies.preload.problem import PreloadStudyError, parse_window, windows
 
     try:
-        return tuple(parse_window(v) for v in values)
+        return windows(tuple(parse_window(v) for v in values))
     except PreloadStudyError as err:
         raise click.BadParameter(str(err).replace("exclude = ", "")) from None
 

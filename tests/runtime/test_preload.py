@@ -168,6 +168,13 @@ def test_nlp_jacobian_agrees_with_finite_differences(soft_scene, functions):
     ({"exclude": [(0.0, 360.0 - 1e-9)]}, ["exclude", "every sample"]),
     ({"max_groove_force": -3.0}, ["max_groove_force", "-3.0", "> 0"]),
     ({"max_groove_force": float("inf")}, ["max_groove_force", "inf", "finite"]),
+    ({"min_force": "abc"}, ["min_force = 'abc'", "> 0 N"]),
+    ({"max_iter": -5}, ["max_iter = -5", ">= 1"]),
+    ({"knots": True}, ["knots = True", "1..72"]),
+    ({"exclude": [(0.0, 360.0)]}, ["exclude = (0, 360)", "0 < |END - START| < 360"]),  # was an empty window
+    ({"exclude": [(1.0,)]}, ["(1.0,) is not a (start_deg, end_deg) pair"]),
+    ({"exclude": "180:200"}, ["exclude = '180:200'", "list of (start_deg, end_deg) pairs"]),
+    ({"exclude": [(0.0, 10.0)] * 5}, ["5 windows", "at most 4"]),
 ])
 def test_bad_input_names_the_option_value_and_range(soft_scene, functions, kwargs, words):
     args = {"min_force": MIN_FORCE, "samples": SAMPLES, "functions": functions} | kwargs
@@ -218,6 +225,8 @@ def test_study_needs_the_spring_and_the_housing_contact(default_scene):
     (["--min-force", "5 bar"], ["--min-force", "5 bar"]),
     (["--min-force", "1e9 N"], ["--min-force", "1e9", "<= 100000"]),
     (["--exclude", "abc"], ["--exclude", "abc", "START:END"]),
+    (["--exclude", "0:360"], ["--exclude", "0:360", "0 < |END - START| < 360"]),
+    ([arg for w in ("0:1", "2:3", "4:5", "6:7", "8:9") for arg in ("--exclude", w)], ["--exclude", "at most 4"]),
     (["--samples", "10"], ["--samples", "10"]),
     (["--schedule", "1"], ["--schedule", "1"]),
     (["--max-rate", "-2"], ["--max-rate", "-2", "> 0"]),

@@ -24,7 +24,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from .problem import MM, PreloadSetup, PreloadStudyError
+from .problem import MM, PreloadSetup, PreloadStudyError, windows
 
 
 @dataclass
@@ -58,11 +58,13 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
     above is then bisected. A failing stretch narrower than ``scan_step`` can be missed; passing
     preloads below the answer (islands) are kept in ``probes`` and flagged by ``monotone = False``.
     """
-    from ...api import model_functions
+    from ...api import model_functions, scene_of
     from .periodic import periodic, periodic_many
     from .result import DEFICIT_TOL
     from .schedule import SegmentGrid
     from .shooting import study_functions
+
+    scene = scene_of(scene)
 
     deficit_tol = DEFICIT_TOL if deficit_tol is None else deficit_tol
     if not (isinstance(probes, int) and 1 <= probes <= 16):
@@ -70,7 +72,7 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
     if not (tol > 0 and scan_step >= tol):
         raise PreloadStudyError(f"tol = {tol!r}, scan_step = {scan_step!r}: need 0 < tol <= scan_step (m)")
     setup = setup or PreloadSetup(scene, functions or model_functions(scene), float(min_force),
-                                  tuple((float(a), float(b)) for a, b in exclude), samples, rtol, revolutions)
+                                  windows(exclude), samples, rtol, revolutions)
     min_force = setup.min_force
     if setup.samples % nodes:
         raise PreloadStudyError(f"nodes = {nodes}: must divide the {setup.samples} samples per revolution")

@@ -119,14 +119,46 @@ def excluded(exclude: tuple[tuple[float, float], ...]) -> str:
 
 
 def parse_window(text: str) -> tuple[float, float]:
-    """'START:END' in degrees of crank angle -> (start, end)."""
+    """'START:END' in degrees of crank angle -> (start, end), checked as :func:`windows` checks it."""
     try:
         start, end = (float(v) for v in text.split(":"))
     except ValueError:
         raise PreloadStudyError(f"exclude = {text!r}: not a window START:END in degrees (e.g. 180:200)") from None
-    if not (math.isfinite(start) and math.isfinite(end)) or start == end:
-        raise PreloadStudyError(f"exclude = {text!r}: START and END must be finite and differ (degrees, e.g. 180:200)")
+    return check_window(start, end, repr(text))
+
+
+def check_window(start: float, end: float, shown: str) -> tuple[float, float]:
+    """One excluded window (degrees of crank angle, taken mod 360: 350:10 wraps through 0). Its ends finite and less
+    than a revolution apart: a whole revolution would exclude nothing (mod 360) although meant as everything."""
+    if not (math.isfinite(start) and math.isfinite(end)):
+        raise PreloadStudyError(f"exclude = {shown}: START and END must be finite (degrees, e.g. 180:200)")
+    if start == end or abs(end - start) >= 360.0:
+        raise PreloadStudyError(f"exclude = {shown}: END - START = {end - start:g} deg; allowed: 0 < |END - START| < 360 "
+                                "deg (taken mod 360, a whole revolution would be an empty window), e.g. 180:200 or "
+                                "350:10")
     return start, end
+
+
+#: the most excluded windows a study takes (the compiled functions' parameters hold this many)
+MAX_WINDOWS = 4
+
+
+def windows(exclude) -> tuple[tuple[float, float], ...]:
+    """``exclude`` of the API (pairs of degrees) as checked windows, or a :class:`PreloadStudyError` naming it."""
+    if isinstance(exclude, str | bytes) or not hasattr(exclude, "__iter__"):
+        raise PreloadStudyError(f"exclude = {exclude!r}: expected a list of (start_deg, end_deg) pairs, e.g. "
+                                "[(180, 200)]")
+    out = []
+    for w in exclude:
+        try:
+            a, b = (float(v) for v in w)
+        except (TypeError, ValueError):
+            raise PreloadStudyError(f"exclude = {list(exclude)!r}: {w!r} is not a (start_deg, end_deg) pair of "
+                                    "numbers, e.g. (180, 200)") from None
+        out.append(check_window(a, b, f"({a:g}, {b:g})"))
+    if len(out) > MAX_WINDOWS:
+        raise PreloadStudyError(f"exclude = {out}: {len(out)} windows; allowed: at most {MAX_WINDOWS}")
+    return tuple(out)
 
 
 @dataclass

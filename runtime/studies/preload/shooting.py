@@ -39,13 +39,12 @@ import numpy as np
 from ...solving.event_integrator import events_tested
 from ...solving.hybrid import build_hybrid_dae
 from ...solving.scaling import state_scale
+from .problem import MAX_WINDOWS, windows
 
 #: the deficit quadrature is in units of F_REF (N)
 F_REF = 1.0
 #: regularises the size of a groove contact force at zero (N): |F| is overstated by at most F_EPS
 F_EPS = 1e-3
-#: excluded crank-angle windows the compiled functions take as parameters (unused ones are empty)
-MAX_WINDOWS = 4
 #: forward directions of the interval integrator: the 6 states at the node, the preload there, its slope
 DIRECTIONS = 8
 #: directions per call of the compiled forward derivative. Each call integrates the nominal trajectory again, so
@@ -91,10 +90,7 @@ def groove_forces(functions) -> tuple[tuple[int, int], ...]:
 
 def window_vector(exclude) -> np.ndarray:
     """The excluded windows (deg) as the parameters of the compiled functions: [start, end] rad pairs."""
-    if len(exclude) > MAX_WINDOWS:
-        from .problem import PreloadStudyError
-
-        raise PreloadStudyError(f"exclude = {list(exclude)}: at most {MAX_WINDOWS} windows")
+    exclude = windows(exclude)
     w = np.zeros(2 * MAX_WINDOWS)
     for i, (a, b) in enumerate(exclude):
         w[2 * i:2 * i + 2] = np.radians([a, b])

@@ -57,6 +57,7 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -66,7 +67,7 @@ from ....derive.symbols import PARAMETER_NAMES
 from ....progress import announce, stage
 from .nlp import ShootingNlp
 from .periodic import periodic
-from .problem import KW, MM, PreloadSetup, PreloadStudyError
+from .problem import KW, MM, PreloadSetup, PreloadStudyError, windows
 from .result import DEFICIT_TOL, PreloadResult, contact_powers, fill_result
 from .schedule import SegmentGrid, simulate_schedule, simulate_schedules
 from .shooting import study_functions
@@ -91,10 +92,11 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     seal-groove contact force between samples too (the excess quadrature within ``deficit_tol``; with a
     ``setup``, its own bound is used). See the module docstring.
     """
-    from ...api import model_functions
+    from ...api import model_functions, scene_of
 
-    _check(knots, nodes, objective, deficit_tol, max_rate, rounds)
-    exclude = tuple((float(a), float(b)) for a, b in exclude)
+    scene = scene_of(scene)
+    _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter)
+    exclude = windows(exclude)
     setup = setup or PreloadSetup(scene, functions or model_functions(scene), float(min_force), exclude, samples,
                                   rtol, revolutions, flags, max_groove_force)
     S = np.lcm(nodes, knots)
@@ -208,19 +210,27 @@ def _polish_constant(setup, sf, grid, knots_m, sim, min_force, exclude, deficit_
     return np.array([d_ok]), best
 
 
-def _check(knots, nodes, objective, deficit_tol, max_rate, rounds) -> None:
+def _integer(x) -> bool:
+    return isinstance(x, int) and not isinstance(x, bool)
+
+
+def _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter) -> None:
     problems = []
-    if not (isinstance(nodes, int) and 2 <= nodes <= 64):
+    if not (_integer(nodes) and 2 <= nodes <= 64):
         problems.append(f"nodes = {nodes!r}: must be an integer in 2..64")
-    if not (isinstance(knots, int) and 1 <= knots <= 72):
+    if not (_integer(knots) and 1 <= knots <= 72):
         problems.append(f"knots = {knots!r}: must be an integer in 1..72 (1: a constant preload)")
+    if not (isinstance(min_force, int | float) and not isinstance(min_force, bool) and 0 < min_force < math.inf):
+        problems.append(f"min_force = {min_force!r}: must be a force > 0 N (a number, in N)")
+    if not (_integer(max_iter) and max_iter >= 1):
+        problems.append(f"max_iter = {max_iter!r}: must be an integer >= 1 (IPOPT's iterations)")
     if objective not in OBJECTIVES:
         problems.append(f"objective = {objective!r}: must be one of {', '.join(OBJECTIVES)}")
     if not (isinstance(deficit_tol, int | float) and 0 < deficit_tol < 1e3):
         problems.append(f"deficit_tol = {deficit_tol!r}: must be in (0, 1000) N^2 rad")
     if max_rate is not None and not (isinstance(max_rate, int | float) and max_rate > 0):
         problems.append(f"max_rate = {max_rate!r}: must be > 0 m per degree (or None: no bound)")
-    if not (isinstance(rounds, int) and 1 <= rounds <= 10):
+    if not (_integer(rounds) and 1 <= rounds <= 10):
         problems.append(f"rounds = {rounds!r}: must be an integer in 1..10")
     if problems:
         raise PreloadStudyError("; ".join(problems))
