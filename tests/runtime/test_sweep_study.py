@@ -45,7 +45,7 @@ def test_listed_values_are_categorical_in_a_sampled_design():
 BAD = [
     ({'[parameters."spring.ks"]': '[parameters."spring.kss"]'}, "parameters.spring.kss", "did you mean 'spring.ks'"),
     ({'from = "3e3 N/m"': 'from = "3e3 kg"'}, "parameters.spring.ks.from", "wrong unit"),
-    ({"points = 4": "points = 1"}, "parameters.spring.ks.points", "greater than or equal to 2"),
+    ({"points = 4": "points = 1"}, "parameters.spring.ks.points", "1 is out of range; allowed: n >= 2"),
     ({'from = "3e3 N/m"': 'from = "-3e3 N/m"'}, "parameters.spring.ks.from", "log scale needs from > 0"),
     ({'to = "2e4 N/m"': 'to = "2e3 N/m"'}, "parameters.spring.ks", "from must be below to"),
     ({'"revolutions"]': '"revolution"]'}, "collect.quantities", "did you mean 'revolutions'"),
@@ -60,6 +60,13 @@ BAD = [
     ({'{ max = "35 W" }': '{ max = "35 N" }'}, "feasible.friction_power.total.max", "wrong unit"),
     ({"[run]": "[runn]"}, "runn", "unknown key (did you mean 'run'?)"),
     ({'"solver.rtol" = 1e-4': '"solver.rtol" = 5'}, "scene.solver.rtol", "out of range"),
+    ({'name = "light"': 'name = "../../elsewhere"'}, "study.name", "not a plain folder name"),  # the output folder
+    ({'name = "light"': 'name = ""'}, "study.name", "not a plain folder name"),
+    ({"points = 4": 'points = "4"'}, "parameters.spring.ks.points", "expected an integer"),
+    ({"[collect]": '[design]\nseed = -1\n\n[collect]'}, "design.seed", "-1 is out of range; allowed: n >= 0"),
+    ({'[parameters."spring.delta_s"]\nvalues = ["1 mm", "2 mm", "3 mm", "4 mm"]':
+      '[parameters."operation.revolutions"]\nfrom = 1\nto = 1.4\npoints = 3'},
+     "parameters.operation.revolutions.points", "at least 3 integers"),  # collapsed to one point before
 ]
 
 

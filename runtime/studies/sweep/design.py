@@ -133,6 +133,10 @@ def parameter_of(key: str, ps) -> tuple[Parameter | None, list[Problem]]:
     if unit == "1" and type(v).__name__ == "Int":
         grid = np.unique(np.round(grid).astype(int))
         values = tuple(int(x) for x in grid)
+        if len(values) < ps.points:  # an integer key has fewer distinct values in the range than points asked
+            return None, [Problem(f"{where}.points", ps.points, f"an integer key takes {len(values)} distinct "
+                                  f"value(s) from {ps.from_} to {ps.to}; allowed: a range holding at least {ps.points} "
+                                  "integers, or fewer points")]
     else:
         values = tuple(float(f"{x:.12g}") for x in grid)  # 12 digits, as scenes hash them
     return Parameter(key, unit, values, low, high, ps.scale, _unit_written(ps.from_)), problems

@@ -76,8 +76,12 @@ class _Model(BaseModel):
     model_config = ConfigDict(extra="forbid", populate_by_name=True)
 
 
+#: a study's name names its default output folder (apexseal-out/<name>): one plain folder name
+NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9._-]{0,99}$"
+
+
 class StudySection(_Model):
-    name: str = "sweep"
+    name: str = Field("sweep", pattern=NAME_PATTERN)
     scene: str = "default"
     description: str = ""
 
@@ -86,14 +90,14 @@ class ParameterSection(_Model):
     values: list[Any] | None = None
     from_: Any = Field(None, alias="from")
     to: Any = None
-    points: int | None = Field(None, ge=2, le=100_000)
+    points: int | None = Field(None, ge=2, le=100_000, strict=True)
     scale: Literal["linear", "log"] = "linear"
 
 
 class DesignSection(_Model):
     kind: Literal["grid", "random", "sobol", "halton", "lhs"] = "grid"
-    points: int | None = Field(None, ge=1, le=MAX_POINTS)
-    seed: int = Field(0, ge=0)
+    points: int | None = Field(None, ge=1, le=MAX_POINTS, strict=True)
+    seed: int = Field(0, ge=0, strict=True)
 
 
 class CollectSection(_Model):
@@ -216,6 +220,11 @@ def study_from_toml(text: str, *, base_dir: str | Path | None = None, source: st
     return study_from_dict(raw, base_dir=Path(base_dir) if base_dir is not None else Path.cwd(), source=source)
 
 
+#: pydantic's range errors: their bound in the error's context, and its sign
+BOUNDS = {"greater_than": ("gt", ">"), "greater_than_equal": ("ge", ">="), "less_than": ("lt", "<"),
+          "less_than_equal": ("le", "<=")}
+
+
 def _pydantic_problems(exc: ValidationError, raw: dict) -> list[Problem]:
     out = []
     for err in exc.errors():
@@ -231,6 +240,14 @@ def _pydantic_problems(exc: ValidationError, raw: dict) -> list[Problem]:
                 f"; known: {', '.join(parent)}" if parent else "")
         elif err["type"] == "literal_error":
             msg = "not allowed; allowed: " + err["ctx"]["expected"]
+        elif err["type"] == "string_pattern_mismatch" and key == "study.name":
+            msg = ("not a plain folder name (it names the output folder apexseal-out/<name>); allowed: up to 100 "
+                   "letters, digits, '.', '_' and '-', starting with a letter or digit")
+        elif err["type"] in BOUNDS:
+            bound, sign = BOUNDS[err["type"]]
+            msg = f"{value} is out of range; allowed: n {sign} {err['ctx'][bound]}"
+        elif err["type"] == "int_type":
+            msg = "expected an integer (a TOML integer, not a string or a float)"
         elif err["type"] == "model_type" and loc[0] == "parameters" and len(loc) == 2:
             msg = ("give the values to try as a list, e.g. [1e3, \"3e3 N/m\"], or a table with values or "
                    "from, to and points")
