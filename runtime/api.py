@@ -138,8 +138,18 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
             result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)
         finally:
             sink.release()  # a run that raised leaves a .partial- folder another process may continue
-        sink.commit()
+        _commit(sink)
         return result
+
+
+def _commit(sink) -> None:
+    """Move the result folder into place; a result that stayed aside (see ResultFolder.commit) is warned of."""
+    from .results.folder import KeptAsideWarning
+
+    where = sink.commit()
+    if where != sink.target:
+        warnings.warn(f"the run ended {sink.status}, so the completed result at {sink.target} was kept; this run's "
+                      f"result is in {where}", KeptAsideWarning, stacklevel=3)
 
 
 def resume(folder, *, revolutions: int | None = None, max_wall_time: float | None = None, progress: bool = False,
@@ -167,7 +177,7 @@ def resume(folder, *, revolutions: int | None = None, max_wall_time: float | Non
                                continuation=cont)
     finally:
         sink.release()
-    sink.commit()
+    _commit(sink)
     return result
 
 

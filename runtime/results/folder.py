@@ -82,11 +82,31 @@ def check_replaceable(target: Path) -> None:
         return
     if not target.is_dir():
         raise ResultFolderError(f"{target} exists and is not a folder: choose another output folder")
-    foreign = sorted(p.name for p in target.iterdir() if p.name not in KNOWN and p.suffix not in KNOWN_SUFFIXES)
+    foreign = sorted(p.name for p in target.iterdir()
+                     if p.name not in KNOWN and p.suffix not in KNOWN_SUFFIXES and not _stray_temporary(p))
     if foreign:
         shown = ", ".join(foreign[:5]) + (", ..." if len(foreign) > 5 else "")
         raise ResultFolderError(f"{target} holds files that are not part of an apexseal result ({shown}); a result "
                                 "replaces its folder as a whole, so choose an empty or new output folder")
+
+
+def _stray_temporary(path: Path) -> bool:
+    """A temporary file of :func:`~apexseal.files.atomic_open` (``.<name>.<random>.tmp``) that a killed writer (a
+    figure worker stopped mid-file) left behind: part of no result, removed at the commit."""
+    return path.name.startswith(".") and path.name.endswith(".tmp") and path.is_file()
+
+
+def completed_result(folder: Path) -> str | None:
+    """The run id of the completed result in ``folder``, or None (no result there, or one that did not complete)."""
+    try:
+        record = json.loads((Path(folder) / "result.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return record.get("run_id") if isinstance(record, dict) and record.get("status") == "completed" else None
+
+
+class KeptAsideWarning(UserWarning):
+    """A run that did not complete left a completed result of another run at its target in place."""
 
 
 def _write_bytes(path: Path, data: bytes) -> None:
@@ -144,7 +164,7 @@ class ResultFolder:
         self.last: tuple[float, str] = (0.0, "")
         self.state_rows = 0
         self.info: dict = {}
-        self.final = False
+        self.final, self.status = False, ""
         self.error: ResultStorageError | None = None  # the first storage error, if any
         self.kept: list[SimulationResult] | None = []  # the parts written, while they fit in KEEP_BYTES
         self.kept_bytes = 0
@@ -256,7 +276,7 @@ class ResultFolder:
         record = self._record(status, stop)
         data = _json_bytes(record)
         self._store("result.json", data, "the final record")
-        self.final = True
+        self.final, self.status = True, status
         if self.kept is None:
             return read(self.staging)
         meta = json.loads(data)  # the record as read() would see it (JSON types)
@@ -294,10 +314,19 @@ class ResultFolder:
             raise self._storage_error(path, err, "trajectory.csv") from err
 
     def commit(self) -> Path:
-        """Rename the finished folder into place (replacing a previous result there) and return its path."""
+        """Rename the finished folder into place (replacing a previous result there) and return its path.
+
+        A run that did not complete never replaces a completed result of another run: that one stays at the target,
+        and this one in its ``.partial-`` folder (loadable, and continued by ``--resume``), whose path is returned.
+        A continuation (the same run id) replaces its own earlier result."""
         if not self.final:
             raise RuntimeError("commit() before finish(): the folder has no final record")
         target = self.target
+        for stray in self.staging.glob(".*.tmp"):  # a figure worker stopped by a signal mid-file
+            stray.unlink(missing_ok=True)
+        if self.status != "completed" and completed_result(target) not in (None, self.run_id):
+            self.release()
+            return self.staging
         try:
             if target.exists():
                 check_replaceable(target)

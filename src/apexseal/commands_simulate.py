@@ -119,12 +119,12 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                     with watch.stage("figures"):
                         files += [p.name for p in figures.finish()]
                 with watch.stage("save"):
-                    writer.commit()
+                    where = writer.commit()
                 if signals.requested:  # the process ends with 128 + signal: a further Ctrl-C changes nothing
                     signals.ignore_after()
             except ResultStorageError as err:
                 raise click.ClickException(str(err)) from err
-        _report(result, summary, files, out, timings, watch, signals)
+        _report(result, summary, files, out, where, timings, watch, signals)
 
 
 def _what_runs(scene, sets, revolutions, method, rtol, max_wall_time, out, resume):
@@ -171,10 +171,14 @@ def _save(watch, writer, result, source: str, csv) -> tuple[dict, list[str]]:
     return summary, files
 
 
-def _report(result, summary, files, out, timings, watch, signals) -> None:
-    """What the run gave, on the console (and where the time went, with --timings); exit code of a failed run."""
+def _report(result, summary, files, out, where, timings, watch, signals) -> None:
+    """What the run gave, on the console (and where the time went, with --timings); exit code of a failed run.
+    ``where``: the folder the result is in, ``out`` unless a completed result there was kept (ResultFolder.commit)."""
     describe_result(result, summary)
-    click.echo(f"  wrote {', '.join(files)} to {out}/")
+    click.echo(f"  wrote {', '.join(files)} to {where}/")
+    if where != out:
+        click.echo(f"  kept the completed result at {out}/: this run ended {result.status}", err=True)
+    out = where
     if timings:
         click.echo(watch.report())
     if not result.ok:

@@ -196,6 +196,44 @@ def test_a_full_disk_during_a_streamed_run_keeps_the_completed_revolutions(defau
     assert SimulationResult.load(tmp_path / "o").status == "failed"
 
 
+def test_a_run_that_did_not_complete_never_replaces_a_completed_result(default_scene, default_functions, tmp_path,
+                                                                        two_results):
+    """A rerun at the same --out that is interrupted or fails (here: a full disk at its third part) leaves the
+    completed result of the earlier run in place; its own result stays whole in its .partial- folder. Before, the
+    failed rerun replaced a finished result with a fraction of a revolution."""
+    out = tmp_path / "o"
+    two_results[0].save(out)
+    before = SimulationResult.load(out)
+    monkeypatch = pytest.MonkeyPatch()
+    _disk_full_at(monkeypatch, "part-00002.npz")
+    sink = ResultFolder(out)
+    failed = _run(default_scene, default_functions, 4, sink=sink)
+    monkeypatch.undo()
+    where = sink.commit()
+    assert failed.status == "failed" and where == sink.staging != out
+    after = SimulationResult.load(out)
+    assert after.info["run_id"] == before.info["run_id"] and after.status == "completed" and after.n == before.n
+    assert SimulationResult.load(where).status == "failed"
+    done = ResultFolder(out)  # a completed rerun replaces it, as before
+    _run(default_scene, default_functions, 1, sink=done)
+    assert done.commit() == out and SimulationResult.load(out).info["run_id"] == done.run_id
+
+
+def test_a_killed_writer_s_temporary_file_is_not_committed(tmp_path, two_results):
+    """A figure worker stopped by a signal mid-file leaves .<name>.<random>.tmp in the folder being written: the
+    commit removes it, and a folder holding one is still a result that a new run may replace."""
+    out = tmp_path / "o"
+    writer = ResultFolder(out)
+    writer.append(two_results[1])
+    writer.finish("completed", None, two_results[1].info)
+    (writer.staging / ".fig12_displacements.png.x1y2z3.tmp").write_bytes(b"half a png")
+    writer.commit()
+    assert not list(out.glob(".*.tmp"))
+    (out / ".fig13_forces.png.a1b2c3.tmp").write_bytes(b"left by an older version")
+    two_results[0].save(out)  # replaces it: the temporary is apexseal's own
+    assert SimulationResult.load(out).n == two_results[0].n
+
+
 def test_a_part_is_written_beside_the_run_and_a_failed_write_stops_all_later_ones(two_results, tmp_path,
                                                                                     monkeypatch):
     """append() hands a part to a writer thread; the next append() (or sync()) raises that write's error, and no
