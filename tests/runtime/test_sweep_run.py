@@ -113,6 +113,28 @@ def test_an_interrupted_sweep_resumes_without_recomputing_or_losing_anything(ser
     assert again.computed == 0 and again.skipped == 16
 
 
+def test_sigterm_stops_a_dask_sweep_as_ctrl_c_does(tmp_path):
+    """SIGTERM (kill, timeout, a batch scheduler) to a sweep on a LocalCluster: exit 130, every finished point in
+    results.parquet. It used to kill the process outright, with no table written and nothing said."""
+    study = tmp_path / "light.toml"
+    study.write_text(LIGHT)
+    out = tmp_path / "out"
+    proc = subprocess.Popen(command("sweep", str(study), "--workers", "2", "--out", str(out), "-q", "--no-figures"),
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    parts = out / "points"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if parts.is_dir() and len(list(parts.glob("point-*.parquet"))) >= 2:
+            break
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 130, stdout + stderr
+    assert "interrupted" in stderr and "Traceback" not in stderr, stderr
+    finished = len(list(parts.glob("point-*.parquet")))
+    assert 2 <= finished < 16 and len(read_results(out)) == finished
+
+
 def test_resume_refuses_a_folder_of_another_study_and_fresh_recomputes(serial, tmp_path):
     from apexseal.runtime.studies.sweep.store import StoreError
 

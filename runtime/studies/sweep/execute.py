@@ -9,7 +9,10 @@ the points it was running. Ctrl-C stops after writing every finished point; the 
 
 from __future__ import annotations
 
+import contextlib
 import logging
+import signal
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -159,7 +162,32 @@ def _started_cluster(workers: int):
                            "another sweep in every worker: call it under `if __name__ == \"__main__\":`") from err
 
 
+@contextlib.contextmanager
+def _terminate_as_interrupt():
+    """SIGTERM raises ``KeyboardInterrupt`` as Ctrl-C does, while this process only starts a cluster and waits for
+    its points (no CasADi call runs here, so raising is safe): ``kill`` and batch schedulers stop a Dask sweep as
+    cleanly as Ctrl-C, with every finished point kept."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def _dask(todo, args, record, study, n, scheduler, client):
+    """The points on a Dask cluster (the one at ``scheduler``, ``client``'s, or a LocalCluster of ``n`` workers).
+    SIGINT and SIGTERM stop it: the points in flight are dropped, every finished one is kept."""
+    with _terminate_as_interrupt():
+        try:
+            return _on_cluster(todo, args, record, study, n, scheduler, client)
+        except KeyboardInterrupt:  # while the cluster starts or stops
+            return scheduler or "LocalCluster", n, True
+
+
+def _on_cluster(todo, args, record, study, n, scheduler, client):
     from dask.distributed import Client, as_completed
 
     own_cluster = own_client = None
