@@ -135,6 +135,19 @@ def test_sigterm_stops_a_dask_sweep_as_ctrl_c_does(tmp_path):
     assert 2 <= finished < 16 and len(read_results(out)) == finished
 
 
+def test_a_second_sweep_into_a_folder_being_written_is_refused(tmp_path):
+    """Two sweeps at once into one folder mixed their rows (and results.parquet named the other study)."""
+    from apexseal.runtime.studies.sweep.store import Store, StoreError
+
+    first = Store(tmp_path / "o")
+    first.open(light_study())
+    with pytest.raises(StoreError, match="being written by another sweep"):
+        run_sweep(light_study(**{"points = 4": "points = 2"}), tmp_path / "o", workers=1, quiet=True)
+    first.close()
+    assert run_sweep(light_study(**{"points = 4": "points = 2"}), tmp_path / "o", workers=1, quiet=True,
+                     resume=False).complete
+
+
 def test_resume_refuses_a_folder_of_another_study_and_fresh_recomputes(serial, tmp_path):
     from apexseal.runtime.studies.sweep.store import StoreError
 

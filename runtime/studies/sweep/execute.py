@@ -81,11 +81,18 @@ def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, sche
     ``scheduler``: address of a running Dask scheduler (``tcp://host:8786``) to use instead. ``client``: a
     ``dask.distributed.Client`` to use as it is. ``resume=False`` discards earlier results in ``out``.
     """
-    from tqdm.auto import tqdm
-
     t0 = time.perf_counter()
     points = scenes_of(study)
     store = Store(out)
+    try:
+        return _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, on_row)
+    finally:
+        store.close()
+
+
+def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, on_row) -> SweepReport:
+    from tqdm.auto import tqdm
+
     done = store.open(study, resume=resume)
     todo = [p for p in points if p[0] not in done]
     skipped = len(points) - len(todo)
@@ -111,7 +118,7 @@ def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, sche
     finally:
         bar.close()
     table = store.consolidate(study)
-    return SweepReport(table=table, folder=Path(out), total=len(points), skipped=skipped,
+    return SweepReport(table=table, folder=store.folder, total=len(points), skipped=skipped,
                        computed=len(table) - skipped, failed=int((table["status"] != "completed").sum()),
                        wall_time_s=time.perf_counter() - t0, interrupted=interrupted, workers=n, where=where)
 

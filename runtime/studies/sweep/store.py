@@ -17,13 +17,14 @@ from __future__ import annotations
 
 import io
 import json
+import os
 import re
 import shutil
 from pathlib import Path
 
 import pandas as pd
 
-from apexseal.files import atomic_write
+from apexseal.files import atomic_write, try_lock_folder
 
 #: columns every row has, before the parameters and quantities, with their units
 HEAD = {"point": "", "scene_hash": "", "status": "", "stop": ""}
@@ -42,8 +43,13 @@ class Store:
 
     # ------------------------------------------------------------------ opening
     def open(self, study, *, resume: bool = True) -> set[int]:
-        """Prepare the folder for ``study``; returns the points already done (empty unless resuming)."""
+        """Prepare the folder for ``study``; returns the points already done (empty unless resuming). The folder
+        is locked until :meth:`close`: a second sweep into it is refused (two sweeps mixed their rows)."""
         self.folder.mkdir(parents=True, exist_ok=True)
+        self._lock = try_lock_folder(self.folder)
+        if self._lock is None:
+            raise StoreError(f"{self.folder} is being written by another sweep running now: wait for it to end, or "
+                             "choose another --out folder")
         record = self.folder / "study.json"
         digest = study.content_hash()
         if record.exists() and resume:
@@ -62,6 +68,12 @@ class Store:
         atomic_write(record, json.dumps({"name": study.name, "hash": digest, "source": study.source,
                                          "study": study.raw, "units": study.units()}, indent=2, default=str) + "\n")
         return self.done()
+
+    def close(self) -> None:
+        """Let go of the folder (another sweep may resume it from now on)."""
+        lock, self._lock = getattr(self, "_lock", None), None
+        if lock is not None:
+            os.close(lock)
 
     def done(self) -> set[int]:
         if not self.parts.is_dir():
