@@ -55,6 +55,10 @@ def main() -> None:
     """Derive, generate and run the apex-seal model of limaçon machines (Phung et al. 2018)."""
 
 
+#: exit code of a command stopped by Ctrl-C (128 + SIGINT), whenever the signal lands
+INTERRUPTED = 130
+
+
 def console() -> None:
     """The ``apexseal`` console script: :func:`main` (which ends the process with its exit code), and before the
     interpreter exits, ``gc.freeze()``. Python's shutdown otherwise runs the cyclic garbage collector over every
@@ -62,9 +66,19 @@ def console() -> None:
     are freed with the process. Everything the command writes is closed and on disk by then. In-process callers
     (click's test runner, a notebook) call :func:`main`, which does not freeze anything."""
     try:
-        main(prog_name="apexseal")
+        code = main.main(prog_name="apexseal", standalone_mode=False)
+    except click.exceptions.Abort:  # Ctrl-C before a run catches it (imports, the scene, a compilation)
+        click.echo("Aborted (Ctrl-C)", err=True)
+        code = INTERRUPTED
+    except click.ClickException as err:  # what standalone mode does with them
+        err.show()
+        code = err.exit_code
+    except BrokenPipeError:  # the output piped into a reader that stopped (`| head`), as standalone mode ends
+        sys.stdout = None  # nothing more to flush at exit
+        code = 1
     finally:
         gc.freeze()
+    sys.exit(code if isinstance(code, int) else 0)
 
 
 def command(*args: str) -> list[str]:

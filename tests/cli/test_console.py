@@ -29,15 +29,41 @@ def test_python_dash_m_apexseal_is_the_command_under_its_name():
 def test_console_freezes_the_collector_after_main_whatever_its_exit(monkeypatch, code):
     calls = []
 
-    def main(**kwargs):
-        calls.append("main")
-        raise SystemExit(code)  # click's main ends the process this way, success or not
+    class Main:
+        def main(self, **kwargs):
+            calls.append("main")
+            raise SystemExit(code)  # sys.exit in a command
 
-    monkeypatch.setattr(cli, "main", main)
+    monkeypatch.setattr(cli, "main", Main())
     monkeypatch.setattr(gc, "freeze", lambda: calls.append("freeze"))
     with pytest.raises(SystemExit) as ended:
         cli.console()
     assert ended.value.code == code and calls == ["main", "freeze"]
+
+
+def test_ctrl_c_before_a_run_catches_it_exits_with_130(monkeypatch, capsys):
+    """Ctrl-C while the command imports, reads the scene or compiles (before the run's own handling): exit code
+    130 as for a run it stops, not click's 1 ("Aborted!")."""
+    import apexseal.commands_simulate as simulate
+
+    def interrupted(*args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(simulate, "_simulate", interrupted)
+    monkeypatch.setattr("sys.argv", ["apexseal", "simulate"])
+    monkeypatch.setattr(gc, "freeze", lambda: None)
+    with pytest.raises(SystemExit) as ended:
+        cli.console()
+    assert ended.value.code == cli.INTERRUPTED == 130 and "Aborted (Ctrl-C)" in capsys.readouterr().err
+
+
+def test_a_reader_that_stops_reading_ends_the_command_quietly():
+    """`apexseal scene --resolved | head -1`: a broken pipe ends the command with no traceback."""
+    proc = subprocess.Popen(cli.command("scene", "--resolved"), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc.stdout.close()  # the reader is gone before the command writes
+    stderr = proc.stderr.read().decode()
+    proc.stderr.close()
+    assert proc.wait(timeout=120) in (0, 1) and "Traceback" not in stderr, stderr
 
 
 def test_the_command_line_of_a_subprocess_runs_the_console_script():
