@@ -73,15 +73,18 @@ def scene_label(scene: Path | None, sets: dict[str, object] | None = None) -> st
     return label + (" with " + ", ".join(f"{k}={v}" for k, v in shown.items()) if shown else "")
 
 
-def default_folder(scene: Path | None, out: Path | None) -> Path:
-    return out or Path("apexseal-out") / (scene.stem if scene else "default")
+def default_folder(scene: Path | None, out: Path | None, study: str = "") -> Path:
+    """``out``, or ``apexseal-out/<scene name>`` (a simulation's result) or ``apexseal-out/<scene name>-<study>``
+    (a study's report: never in a result folder, which a later simulation replaces as a whole)."""
+    name = (scene.stem if scene else "default") + (f"-{study}" if study else "")
+    return out or Path("apexseal-out") / name
 
 
-def scene_and_folder(scene: Path | None, out: Path | None, sets: dict[str, object] | None = None):
-    """The loaded scene (with the --set keys replaced) and the output folder (default
-    ``apexseal-out/<scene name>``), created and checked writable."""
+def scene_and_folder(scene: Path | None, out: Path | None, sets: dict[str, object] | None, study: str):
+    """The loaded scene (with the --set keys replaced) and the output folder of ``study`` (default
+    ``apexseal-out/<scene name>-<study>``), created and checked writable."""
     sc = scene_of(scene, sets)
-    folder = default_folder(scene, out)
+    folder = default_folder(scene, out, study)
     writable(folder)
     return sc, folder
 

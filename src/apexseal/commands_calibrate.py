@@ -20,7 +20,7 @@ from .cli_common import scene_and_folder, scene_label, scene_settings
 @click.option("--revolutions", "-n", type=click.IntRange(2, 50), default=2, show_default=True,
               help="Revolutions per simulation; the last one is analysed.")
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Output folder for calibration.json [default: apexseal-out/<scene name>].")
+              help="Output folder for calibration.json [default: apexseal-out/<scene name>-calibration].")
 def calibrate(scene: Path | None, sets, grid, polish, revolutions, out) -> None:
     """Fit kw, kg (kg1..kg4), zeta_w and zeta_g of SCENE (default: the embedded case study) within their plausible
     ranges to the paper's Fig. 14 main peak and the crank angle of the largest x (Fig. 12a), and say which
@@ -28,7 +28,7 @@ def calibrate(scene: Path | None, sets, grid, polish, revolutions, out) -> None:
     from .runtime.studies.calibration import CalibrationError
     from .runtime.studies.calibration import calibrate as run_study
 
-    sc, out = scene_and_folder(scene, out, sets)
+    sc, out = scene_and_folder(scene, out, sets, "calibration")
     click.echo(f"{scene_label(scene, sets)}; grid {grid}, polish {polish}, "
                f"{revolutions} revolutions per simulation; writing to {out}/")
     try:

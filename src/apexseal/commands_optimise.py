@@ -80,7 +80,7 @@ def _rate(ctx, param, value):
 @click.option("--check/--no-check", "check", default=True, show_default=True,
               help="Also run the derivative-free bisection of the constant preload over full simulations.")
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Output folder for preload.json, preload.md, preload.png [default: apexseal-out/<scene name>].")
+              help="Output folder for preload.json, preload.md, preload.png [default: apexseal-out/<scene name>-preload].")
 @click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, IPOPT iterations).")
 def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_force, exclude, knots, max_rate, objective,
                      samples, nodes, vary_stiffness, check, out, quiet) -> None:
@@ -103,7 +103,7 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     from .runtime.studies.preload.study import optimise_preload as run_study
     from .stopwatch import Stopwatch
 
-    sc, out = scene_and_folder(scene, out, sets)
+    sc, out = scene_and_folder(scene, out, sets, "preload")
     bound = f"; groove forces <= {max_groove_force:g} N" if max_groove_force is not None else ""
     click.echo(f"{scene_label(scene, sets)}; min force {min_force:g} N"
                f"{excluded(exclude)}{bound}; writing to {out}/")

@@ -205,3 +205,18 @@ def test_scene_default_never_overwrites_a_different_file(tmp_path):
     r = CliRunner().invoke(main, ["scene", "--default", "-o", str(out)])
     assert r.exit_code == 2 and table.name in r.output and "nothing is overwritten" in r.output, r.output
     assert table.read_text().endswith("# mine\n")
+
+
+def test_a_study_s_default_folder_is_not_a_simulation_result_s(tmp_path, monkeypatch):
+    """optimise-preload wrote preload.json into apexseal-out/default, a result folder, which a later simulate then
+    refused to replace ("holds files that are not part of an apexseal result")."""
+    from apexseal.cli_common import default_folder, scene_and_folder
+    from apexseal.runtime.scenes.scene import default_scene_text
+
+    monkeypatch.chdir(tmp_path)
+    assert default_folder(None, None) == Path("apexseal-out/default")
+    assert scene_and_folder(None, None, None, "preload")[1] == Path("apexseal-out/default-preload")
+    (tmp_path / "my.toml").write_text(default_scene_text())
+    assert scene_and_folder(Path("my.toml"), None, None, "calibration")[1] == Path("apexseal-out/my-calibration")
+    for name, folder in (("optimise-preload", "<scene name>-preload"), ("calibrate", "<scene name>-calibration")):
+        assert folder in CliRunner().invoke(main, [name, "--help"]).output
