@@ -211,12 +211,12 @@ def test_a_study_s_default_folder_is_not_a_simulation_result_s(tmp_path, monkeyp
     """optimise-preload wrote preload.json into apexseal-out/default, a result folder, which a later simulate then
     refused to replace ("holds files that are not part of an apexseal result")."""
     from apexseal.cli_common import default_folder, scene_and_folder
-    from apexseal.runtime.scenes.scene import default_scene_text
 
     monkeypatch.chdir(tmp_path)
     assert default_folder(None, None) == Path("apexseal-out/default")
     assert scene_and_folder(None, None, None, "preload")[1] == Path("apexseal-out/default-preload")
-    (tmp_path / "my.toml").write_text(default_scene_text())
-    assert scene_and_folder(Path("my.toml"), None, None, "calibration")[1] == Path("apexseal-out/my-calibration")
+    assert CliRunner().invoke(main, ["scene", "--default", "-o", str(tmp_path / "mine")]).exit_code == 0
+    scene = Path("mine/default.toml")
+    assert scene_and_folder(scene, None, None, "calibration")[1] == Path("apexseal-out/default-calibration")
     for name, folder in (("optimise-preload", "<scene name>-preload"), ("calibrate", "<scene name>-calibration")):
         assert folder in CliRunner().invoke(main, [name, "--help"]).output
