@@ -78,10 +78,14 @@ class StopSignals:
 
     def reason(self) -> str:
         """The stop reason of a run that a signal ended."""
+        return f"interrupted by {self.sender()}; every completed integrator call is kept"
+
+    def sender(self) -> str:
+        """Who stopped the work, in words: ``the user (Ctrl-C, SIGINT)`` or ``SIGTERM (kill, ...)``."""
         first = self.received[0]
-        name = signal.Signals(first).name
-        who = "the user (Ctrl-C, SIGINT)" if first == signal.SIGINT else f"{name} (kill, timeout or a batch scheduler)"
-        return f"interrupted by {who}; every completed integrator call is kept"
+        if first == signal.SIGINT:
+            return "the user (Ctrl-C, SIGINT)"
+        return f"{signal.Signals(first).name} (kill, timeout or a batch scheduler)"
 
     def exit_code(self) -> int:
         """The shell's convention for a process ended by a signal: 128 + its number."""

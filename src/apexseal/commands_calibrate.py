@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import click
@@ -21,20 +22,30 @@ from .cli_common import scene_and_folder, scene_label, scene_settings
               help="Revolutions per simulation; the last one is analysed.")
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder for calibration.json [default: apexseal-out/<scene name>-calibration].")
-def calibrate(scene: Path | None, sets, grid, polish, revolutions, out) -> None:
+@click.option("--quiet", "-q", is_flag=True, help="No line per simulation on stderr.")
+def calibrate(scene: Path | None, sets, grid, polish, revolutions, out, quiet) -> None:
     """Fit kw, kg (kg1..kg4), zeta_w and zeta_g of SCENE (default: the embedded case study) within their plausible
     ranges to the paper's Fig. 14 main peak and the crank angle of the largest x (Fig. 12a), and say which
-    features no plausible set matches and why."""
+    features no plausible set matches and why. Ctrl-C or SIGTERM stops it: the simulations completed are written
+    (exit code 130 or 143)."""
+    from .files import atomic_write
     from .runtime.studies.calibration import CalibrationError
     from .runtime.studies.calibration import calibrate as run_study
+    from .runtime.studies.calibration.fit import CalibrationInterrupted
 
     sc, out = scene_and_folder(scene, out, sets, "calibration")
     click.echo(f"{scene_label(scene, sets)}; grid {grid}, polish {polish}, "
                f"{revolutions} revolutions per simulation; writing to {out}/")
+    say = None if quiet else (lambda line: click.echo(line, err=True))
     try:
-        result = run_study(sc, grid=grid, polish=polish, revolutions=revolutions, progress=click.echo)
+        result = run_study(sc, grid=grid, polish=polish, revolutions=revolutions, progress=say)
+    except CalibrationInterrupted as err:
+        click.echo(str(err), err=True)
+        sys.exit(err.exit_code)
     except CalibrationError as err:
         raise click.BadParameter(str(err)) from None
-    (out / "calibration.json").write_text(json.dumps(result.to_dict(), indent=2) + "\n")
+    atomic_write(out / "calibration.json", json.dumps(result.to_dict(), indent=2) + "\n")
     click.echo(result.describe())
     click.echo(f"  wrote calibration.json to {out}/")
+    if result.exit_code:
+        sys.exit(result.exit_code)

@@ -37,6 +37,18 @@ class CalibrationError(ValueError):
     """A request the study cannot run (an unknown name, a range outside the plausible one)."""
 
 
+class CalibrationInterrupted(CalibrationError):
+    """SIGINT or SIGTERM before any candidate completed: nothing to report. ``exit_code``: 128 + the signal."""
+
+    def __init__(self, message: str, exit_code: int) -> None:
+        super().__init__(message)
+        self.exit_code = exit_code
+
+
+class _Stopped(Exception):
+    """A signal arrived: the candidate in progress is dropped and the study ends with what it has."""
+
+
 def overrides(values: dict[str, float]) -> dict[str, float]:
     """Scene overrides of the unknowns (kg sets kg1..kg4; ratios go to contacts.zeta_*)."""
     out = {}
@@ -68,6 +80,8 @@ class Calibration:
     revolutions: int = 2
     wall_time_s: float = 0.0
     mass: float = float("nan")  # the seal's mass ms, kg (for the stiffness a feature would need)
+    stopped: str = ""  # why the study ended early (a signal), or "" for a study that ran to its end
+    exit_code: int = 0  # 128 + the signal that stopped it, or 0
 
     def residuals(self) -> dict:
         f = self.best.features
@@ -104,12 +118,15 @@ class Calibration:
     def to_dict(self) -> dict:
         return {"best": self.best.to_dict(), "residuals": self.residuals(), "verdicts": self.verdicts(),
                 "ranges": {k: list(v) for k, v in self.ranges.items()}, "revolutions": self.revolutions,
-                "evaluations": [e.to_dict() for e in self.evaluations], "wall_time_s": self.wall_time_s}
+                "evaluations": [e.to_dict() for e in self.evaluations], "wall_time_s": self.wall_time_s,
+                "stopped": self.stopped}
 
     def describe(self) -> str:
         b = self.best
         lines = ["best plausible set: " + ", ".join(f"{k} = {v:.3g}" for k, v in b.values.items())
                  + f" (cost {b.cost:.3g}, {len(self.evaluations)} simulations, {self.wall_time_s:.1f} s)"]
+        if self.stopped:
+            lines.insert(0, f"{self.stopped}: the best of the {len(self.evaluations)} simulations completed")
         for name, v in self.verdicts().items():
             paper = v.get("paper_rad_s", v.get("paper_deg"))
             fit = v.get("fit_rad_s", v.get("fit_deg"))
@@ -132,10 +149,8 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     ``grid``: points per unknown (log-spaced); ``polish``: Nelder-Mead evaluations after the grid (0: none);
     ``samples``: samples per revolution (default: the scene's).
     """
-    from scipy.optimize import minimize
-
-    from ...api import model_functions, simulate
-    from ...solving import engine_pool
+    from ...api import model_functions
+    from ...solving.signals import StopSignals
 
     ranges = dict(PLAUSIBLE if ranges is None else ranges)
     for name, (lo, hi) in ranges.items():
@@ -159,14 +174,43 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
                        ranges["kg"][1] if "kg" in ranges else max(p[f"kg{i}"] for i in range(1, 5)))
         fastest = math.sqrt(stiffest / p["ms"])
         samples = max(scene.solver.samples_per_revolution, 360 * math.ceil(2.4 * fastest / scene.omega / 360))
+    with StopSignals() as signals:  # a signal stops the candidate in progress; the others are kept
+        try:
+            _search(scene, functions, names, lo, hi, grid, polish, revolutions, samples, evaluations, say, signals)
+        except _Stopped:
+            pass
+    finite = [e for e in evaluations if math.isfinite(e.cost)]
+    if not finite and signals.requested:
+        raise CalibrationInterrupted(f"interrupted by {signals.sender()} before any candidate completed: nothing "
+                                     "to report", signals.exit_code())
+    if not finite:
+        raise CalibrationError("no candidate completed; see the statuses of the evaluations")
+    best = min(finite, key=lambda e: e.cost)
+    stopped = f"interrupted by {signals.sender()}" if signals.requested else ""
+    return Calibration(best, evaluations, ranges, revolutions, time.perf_counter() - start, mass=scene.parameters["ms"],
+                       stopped=stopped, exit_code=signals.exit_code())
+
+
+def _search(scene, functions, names, lo, hi, grid, polish, revolutions, samples, evaluations, say, signals) -> None:
+    """The grid, then Nelder-Mead from its best point; every completed simulation appended to ``evaluations``.
+    Raises :class:`_Stopped` when a signal arrives (the simulation it stopped is not a candidate)."""
+    from scipy.optimize import minimize
+
+    from ...api import simulate
+    from ...solving import engine_pool
+
     extra = {"samples_per_revolution": samples}
 
     def evaluate(u: np.ndarray) -> float:
+        if signals.requested:
+            raise _Stopped
         values = {n: float(np.exp(v)) for n, v in zip(names, np.clip(u, lo, hi), strict=True)}
         sc = scene.with_overrides(**overrides(values))
         with warnings.catch_warnings(), engine_pool.reusing():  # every candidate runs the same engine
             warnings.simplefilter("ignore")
             r = simulate(sc, revolutions=revolutions, functions=functions, **extra)
+        if signals.requested:  # cut short: not a result of this candidate
+            raise _Stopped
         if not r.ok:
             ev = Evaluation(values, None, float("inf"), r.status)
         else:
@@ -183,12 +227,7 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     for point in itertools.product(*axes):
         evaluate(np.array(point))
     finite = [e for e in evaluations if math.isfinite(e.cost)]
-    if not finite:
-        raise CalibrationError("no candidate completed; see the statuses of the evaluations")
-    best = min(finite, key=lambda e: e.cost)
-    if polish > 0:
-        u0 = np.log([best.values[n] for n in names])
+    if polish > 0 and finite:
+        u0 = np.log([min(finite, key=lambda e: e.cost).values[n] for n in names])
         minimize(evaluate, u0, method="Nelder-Mead", bounds=list(zip(lo, hi, strict=True)),
                  options={"maxfev": polish, "xatol": 0.05, "fatol": 1e-3})
-        best = min((e for e in evaluations if math.isfinite(e.cost)), key=lambda e: e.cost)
-    return Calibration(best, evaluations, ranges, revolutions, time.perf_counter() - start, mass=scene.parameters["ms"])
