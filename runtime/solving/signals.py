@@ -30,7 +30,11 @@ class StopSignals:
 
     _active: StopSignals | None = None
 
-    def __init__(self) -> None:
+    def __init__(self, *, raising: bool = False) -> None:
+        #: also raise ``KeyboardInterrupt`` (after noting the signal) while True: for work that a signal abandons
+        #: wherever it is, IPOPT's iterations among it (a study; the caller tells an interruption from the error
+        #: it turned into by ``requested``), and that writes what it had once this is set back to False
+        self.raising = raising
         self.received: list[int] = []
         self._previous: dict[int, object] = {}
         self._engines: list = []
@@ -58,6 +62,8 @@ class StopSignals:
         self.received.append(signum)
         for engine in self._engines:  # engines that check their deadline inside a call stop at the next check
             engine.deadline = -math.inf
+        if self.raising:
+            raise KeyboardInterrupt
 
     def ignore_after(self) -> None:
         """On leaving, ignore further SIGINT/SIGTERM instead of restoring the previous handlers: for a process that

@@ -96,11 +96,12 @@ def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_forc
 
 def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes,
               vary_stiffness, check, out) -> None:
-    from .runtime.api import model_functions
-    from .runtime.studies.preload.bisect import bisect_preload
-    from .runtime.studies.preload.problem import MM, PreloadSetup, PreloadStudyError, excluded
+    """The stages in turn (constant optimum, schedule, bisection, stiffness valley), then the report. SIGINT or
+    SIGTERM abandons the stage in progress wherever it is (IPOPT included) and writes the report of the stages
+    completed before it, with the reason; exit code 130 or 143."""
+    from .runtime.solving.signals import StopSignals
+    from .runtime.studies.preload.problem import PreloadStudyError, excluded
     from .runtime.studies.preload.report import write_report
-    from .runtime.studies.preload.study import optimise_preload as run_study
     from .stopwatch import Stopwatch
 
     sc, out = scene_and_folder(scene, out, sets, "preload")
@@ -108,44 +109,79 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     click.echo(f"{scene_label(scene, sets)}; min force {min_force:g} N"
                f"{excluded(exclude)}{bound}; writing to {out}/")
     watch = Stopwatch()
-    results = {"constant": None}
-    try:
-        setup = PreloadSetup(sc, model_functions(sc), min_force, tuple(exclude), samples,
-                             max_groove_force=max_groove_force)
-        with watch.stage("constant"):
-            results["constant"] = run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes, objective=objective,
-                                            setup=setup)
-        click.echo(results["constant"].describe())
-        if knots and results["constant"].ok:
-            with watch.stage("schedule"):
-                results["schedule"] = run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes, knots=knots,
-                                                objective=objective, max_rate=max_rate, start=results["constant"],
-                                                setup=setup)
-            click.echo(results["schedule"].describe())
-    except PreloadStudyError as err:
-        raise click.BadParameter(str(err)) from None
-    b = None
-    c = results["constant"]
+    done = {"results": {"constant": None}, "bisection": None, "valley": None, "stage": "set-up"}
+    with StopSignals(raising=True) as signals:
+        try:
+            _stages(sc, done, watch, signals, min_force, max_groove_force, exclude, knots, max_rate, objective,
+                    samples, nodes, vary_stiffness, check)
+        except PreloadStudyError as err:
+            raise click.BadParameter(str(err)) from None
+        except BaseException:  # a signal surfaces as whatever the call it landed in made of it
+            if not signals.requested:
+                raise
+        signals.raising = False  # the report is written whole; a further signal is only noted
+        stopped = ""
+        if signals.requested:
+            stopped = f"interrupted by {signals.sender()} during the {done['stage']}"
+            kept = "the report holds the stages before it" if done["results"]["constant"] else "nothing to report"
+            click.echo(f"  {stopped}: {kept}", err=True)
+            signals.ignore_after()
+        results, b, valley = done["results"], done["bisection"], done["valley"]
+        c, s = results["constant"], results.get("schedule")
+        if c is not None:
+            paths = write_report(out, sc, str(scene or "default"), results, b, min_force, valley, stopped)
+            click.echo(f"  wrote {', '.join(p.name for p in paths)} to {out}/; wall time "
+                       + ", ".join(f"{k} {v:.1f} s" for k, v in watch.stages.items()))
+    if signals.requested:
+        sys.exit(signals.exit_code())
+    if not c.ok or (s is not None and not s.ok):
+        sys.exit(2)
+
+
+def _stages(sc, done, watch, signals, min_force, max_groove_force, exclude, knots, max_rate, objective, samples,
+            nodes, vary_stiffness, check) -> None:
+    """Run the study's stages, each one's result kept in ``done`` once it completed (a signal that IPOPT turned into
+    a failure is raised again after it, so that the stage is not kept)."""
+    from .runtime.api import model_functions
+    from .runtime.studies.preload.bisect import bisect_preload
+    from .runtime.studies.preload.problem import MM, PreloadSetup
+    from .runtime.studies.preload.study import optimise_preload as run_study
+
+    def finished(value):
+        if signals.requested:
+            raise KeyboardInterrupt
+        return value
+
+    def stage(name: str, words: str):
+        done["stage"] = words
+        return watch.stage(name)
+
+    results = done["results"]
+    setup = PreloadSetup(sc, model_functions(sc), min_force, tuple(exclude), samples, max_groove_force=max_groove_force)
+    with stage("constant", "constant optimum"):
+        c = results["constant"] = finished(run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes,
+                                                     objective=objective, setup=setup))
+    click.echo(c.describe())
+    if knots and c.ok:
+        with stage("schedule", "schedule"):
+            results["schedule"] = finished(run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes,
+                                                     knots=knots, objective=objective, max_rate=max_rate, start=c,
+                                                     setup=setup))
+        click.echo(results["schedule"].describe())
     if c.ok and check:
-        with watch.stage("bisection"):
-            b = bisect_preload(sc, min_force=min_force, exclude=exclude, setup=setup, nodes=nodes,
-                               upper=c.start_delta_s)
+        with stage("bisection", "bisection"):
+            b = done["bisection"] = finished(bisect_preload(sc, min_force=min_force, exclude=exclude, setup=setup,
+                                                            nodes=nodes, upper=c.start_delta_s))
         click.echo(f"  bisection over full simulations: delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm "
                    f"({b.simulations} simulations, {b.wall_time_s:.1f} s); IPOPT differs by "
                    f"{abs(b.delta_s - c.delta_s) / MM:.4f} mm")
-    valley = None
     if c.ok and vary_stiffness:
         from .runtime.studies.preload.stiffness import describe, stiffness_valley
 
-        with watch.stage("stiffness"):
-            valley = stiffness_valley(setup, c, nodes=nodes)
+        with stage("stiffness", "stiffness valley"):
+            valley = done["valley"] = finished(stiffness_valley(setup, c, nodes=nodes))
         click.echo(describe(valley, c.deficit_tol))
     s = results.get("schedule")
     if s is not None and s.ok and c.ok:
         click.echo(f"schedule saves {c.friction_power - s.friction_power:.3f} W of friction power against the best "
                    f"constant preload ({s.friction_power:.3f} vs {c.friction_power:.3f} W)")
-    paths = write_report(out, sc, str(scene or "default"), results, b, min_force, valley)
-    click.echo(f"  wrote {', '.join(p.name for p in paths)} to {out}/; wall time "
-               + ", ".join(f"{k} {v:.1f} s" for k, v in watch.stages.items()))
-    if not c.ok or (s is not None and not s.ok):
-        sys.exit(2)

@@ -369,3 +369,63 @@ def test_report_writes_json_markdown_and_figure(tmp_path):
     assert data["constant"]["knots"] == [1e-3] and "simulation" not in data["constant"]
     assert "constant preload delta_s* = 1.0000 mm" in paths[1].read_text()
     assert paths[2].stat().st_size > 10000
+
+
+# ---- Ctrl-C and SIGTERM: the stages completed are kept ------------------------------------------------------------
+
+def _interrupt(tmp_path, when, signum, *args):
+    """optimise-preload on the soft-contacts scene (360 samples), sent ``signum`` once a line of its output
+    (stdout or stderr) satisfies ``when``; its exit code, stdout and stderr."""
+    import subprocess
+    import threading
+
+    from apexseal.cli import command
+
+    scene = embedded_scene_path("soft-contacts.toml")
+    proc = subprocess.Popen(command("optimise-preload", str(scene), "--samples", "360", "--out", str(tmp_path / "o"),
+                                    *args), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    seen = {"stdout": [], "stderr": []}
+    sent = threading.Event()
+
+    def read(name):
+        for line in getattr(proc, name):
+            seen[name].append(line)
+            if not sent.is_set() and when(line):
+                sent.set()
+                proc.send_signal(signum)
+
+    readers = [threading.Thread(target=read, args=(n,)) for n in seen]
+    for t in readers:
+        t.start()
+    code = proc.wait(timeout=600)
+    for t in readers:
+        t.join()
+    assert sent.is_set(), seen
+    return code, "".join(seen["stdout"]), "".join(seen["stderr"])
+
+
+def test_a_signal_during_ipopt_stops_the_study_as_interrupted_not_failed(tmp_path):
+    """SIGTERM at IPOPT's first iteration of the constant optimum: exit 143, said to be an interruption, nothing to
+    write. IPOPT turned it into "NonIpopt_Exception_Thrown", reported as a failed study with exit code 2."""
+    import signal
+
+    code, out, err = _interrupt(tmp_path, lambda line: "IPOPT iteration" in line, signal.SIGTERM, "--no-check")
+    assert code == 143, out + err
+    assert "interrupted by SIGTERM (kill, timeout or a batch scheduler) during the constant optimum: nothing to " \
+           "report" in err
+    assert "NonIpopt" not in out and "failed" not in out and not (tmp_path / "o" / "preload.json").exists()
+
+
+@pytest.mark.slow
+def test_ctrl_c_during_the_schedule_keeps_the_constant_optimum(tmp_path):
+    """Ctrl-C once the constant optimum is printed, while the schedule runs: exit 130, and the report holds the
+    constant optimum and says why it ends there (everything was lost before)."""
+    import signal
+
+    code, out, err = _interrupt(tmp_path, lambda line: line.startswith("constant preload"), signal.SIGINT,
+                                   "--schedule", "4", "--no-check")
+    assert code == 130, out + err
+    data = json.loads((tmp_path / "o" / "preload.json").read_text())
+    assert data["stopped"] == "interrupted by the user (Ctrl-C, SIGINT) during the schedule"
+    assert data["constant"]["ok"] and "schedule" not in data
+    assert (tmp_path / "o" / "preload.md").read_text().startswith(f"**{data['stopped']}.**")

@@ -106,13 +106,15 @@ def figure(scene, results: dict, min_force: float):
 
 
 def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=None, min_force: float = 5.0,
-                 valley=None) -> list:
+                 valley=None, stopped: str = "") -> list:
     """Write preload.json, preload.md and preload.png; return their paths. ``valley``: the constant optimum's
-    spring force at other stiffnesses (runtime/studies/preload/stiffness.py)."""
+    spring force at other stiffnesses (runtime/studies/preload/stiffness.py); ``stopped``: why the study ended
+    before its last stage (a signal), stated at the top of both reports."""
     from ...results.figures import save_png
 
     folder = Path(folder)
-    payload = {"scene": scene_name} | {k: (r.to_dict() if r is not None else None) for k, r in results.items()}
+    payload = {"scene": scene_name} | ({"stopped": stopped} if stopped else {}) \
+        | {k: (r.to_dict() if r is not None else None) for k, r in results.items()}
     if bisection is not None:
         payload["bisection"] = bisection.to_dict()
     if valley:
@@ -124,6 +126,7 @@ def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=
         payload["saved_friction_power_W"] = c.friction_power - s.friction_power
     paths = [folder / "preload.json", folder / "preload.md", folder / "preload.png"]
     atomic_write(paths[0], json.dumps(payload, indent=2, default=str) + "\n")
-    atomic_write(paths[1], markdown(scene_name, results, bisection, valley) + "\n")
+    atomic_write(paths[1], (f"**{stopped}.**\n\n" if stopped else "") + markdown(scene_name, results, bisection, valley)
+                 + "\n")
     save_png(figure(scene, results, min_force), paths[2], 100)
     return paths
