@@ -10,6 +10,7 @@ from __future__ import annotations
 import gc
 import importlib
 import sys
+import warnings
 
 import click
 
@@ -59,12 +60,19 @@ def main() -> None:
 INTERRUPTED = 130
 
 
+def show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as the command's user reads it, ``warning: <message> (<kind>)`` on stderr: not Python's
+    ``<source file>:<line>: <kind>: <message>`` and the source line that warned."""
+    click.echo(f"warning: {message} ({category.__name__})", err=True)
+
+
 def console() -> None:
     """The ``apexseal`` console script: :func:`main` (which ends the process with its exit code), and before the
     interpreter exits, ``gc.freeze()``. Python's shutdown otherwise runs the cyclic garbage collector over every
     object of the process (a run holds about 200 000: 45 of its 55 ms of exit, docs/performance.md); frozen, they
     are freed with the process. Everything the command writes is closed and on disk by then. In-process callers
     (click's test runner, a notebook) call :func:`main`, which does not freeze anything."""
+    warnings.showwarning = show_warning
     try:
         code = main.main(prog_name="apexseal", standalone_mode=False)
     except click.exceptions.Abort:  # Ctrl-C before a run catches it (imports, the scene, a compilation)

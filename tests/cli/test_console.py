@@ -93,3 +93,12 @@ def test_every_command_spells_the_shared_options_alike(name):
                 assert short in option.opts, f"apexseal {name} {long_form} has no {short}"
     shorts = [o for option in options for o in option.opts if not o.startswith("--")]
     assert len(shorts) == len(set(shorts)), f"apexseal {name}: a short option used twice: {shorts}"
+
+
+def test_a_warning_reads_as_a_message_not_a_source_line():
+    """A plausibility warning printed Python's `<file>.py:<line>: PlausibilityWarning: ...` and the source line."""
+    proc = subprocess.run(cli.command("scene", "--set", "spring.delta_s=2.0"), capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr.startswith("warning: scene default: spring.delta_s = 2.0: 2000 mm is far outside")
+    assert proc.stderr.rstrip().endswith("(PlausibilityWarning)") and ".py:" not in proc.stderr, proc.stderr
