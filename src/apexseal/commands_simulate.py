@@ -90,6 +90,10 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                     functions = model_functions(sc)
                     if worker is not None:  # it builds the figures' frames while this one integrates
                         worker.prepare(force_panels(functions.output_names), ports_of(sc))
+                if signals.requested:  # while the model was derived or compiled: no run to keep
+                    click.echo(f"  interrupted by {signals.sender()} before the run started: nothing written",
+                               err=True)
+                    sys.exit(signals.exit_code())
                 with watch.stage("run"):
                     try:
                         if cont is not None:

@@ -220,3 +220,25 @@ def test_a_study_s_default_folder_is_not_a_simulation_result_s(tmp_path, monkeyp
     assert scene_and_folder(scene, None, None, "calibration")[1] == Path("apexseal-out/default-calibration")
     for name, folder in (("optimise-preload", "<scene name>-preload"), ("calibrate", "<scene name>-calibration")):
         assert folder in " ".join(CliRunner().invoke(main, [name, "--help"]).output.split())  # unwrapped
+
+
+def test_ctrl_c_while_the_model_loads_writes_nothing(tmp_path, monkeypatch):
+    """A signal while the model is derived or compiled (it is noted, not raised, so that no compilation is left
+    half done): the command stops before the run with exit code 130 and writes nothing. Before, it went on to
+    start the run and wrote a 0-revolution "result" over any result at --out."""
+    import os
+    import signal
+
+    import apexseal.runtime.api as api
+
+    real = api.model_functions
+
+    def loading(scene, *args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C while the model loads
+        return real(scene, *args, **kwargs)
+
+    monkeypatch.setattr(api, "model_functions", loading)
+    r = CliRunner().invoke(main, ["simulate", "-n", "1", "-q", "--no-figures", "--out", str(tmp_path / "o")])
+    assert r.exit_code == 130, r.output
+    assert "interrupted by the user (Ctrl-C, SIGINT) before the run started: nothing written" in r.output
+    assert list(tmp_path.iterdir()) == []
