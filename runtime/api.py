@@ -133,6 +133,9 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
             return run_scene(scene, st, progress=progress, functions=functions)
         from .results.folder import ResultFolder
 
+        if not isinstance(out, str | Path):
+            raise TypeError(f"out = {out!r}: expected a folder (str or Path), or None to keep the result in memory")
+
         sink = ResultFolder(out)
         try:
             result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)
@@ -189,7 +192,9 @@ def continuing(folder, *, revolutions: int | None = None, max_wall_time: float |
     from .results.folder import ResultFolderError
 
     cont = continuation(folder)
-    asked = revolutions or int(cont.record["info"].get("revolutions_asked") or 0)
+    if revolutions is not None:  # its range named first (0 and -5 were taken as "as many as it was asked for")
+        settings_of(cont.scene, revolutions=revolutions)
+    asked = int(cont.record["info"].get("revolutions_asked") or 0) if revolutions is None else revolutions
     if asked <= cont.revolutions:
         raise ResultFolderError(f"{cont.source} holds {cont.revolutions} whole revolution(s), as many as asked "
                                 f"({asked}): give more revolutions to continue it")
@@ -268,6 +273,8 @@ class Model:
         self.params = scene.parameter_vector()
 
     def pressures(self, theta: float) -> np.ndarray:
+        """The chamber pressures (Pa, Pb) at crank angle ``theta`` (rad), as a run sees them (Eq. 75)."""
+        theta = self._theta(theta)
         if not self.scene.effects.chamber_pressure:
             return np.zeros(2)
         return np.asarray(self.scene.pressure.interval_means(np.array([theta, theta + 1e-9])), float)[:, 0]
@@ -284,14 +291,19 @@ class Model:
         u = self.pressures(theta)
         return np.array(self.functions.rhs_switched(theta, state, self.params, u)).ravel()
 
-    def _point(self, theta, state) -> tuple[float, np.ndarray]:
-        """theta as a finite float and state as 6 finite floats, or a ValueError naming what is wrong."""
+    @staticmethod
+    def _theta(theta) -> float:
         try:
-            theta = float(theta)
+            value = float(theta)
         except (TypeError, ValueError):
             raise ValueError(f"theta = {theta!r}: expected a crank angle in rad (a finite number)") from None
-        if not np.isfinite(theta):
+        if not np.isfinite(value):
             raise ValueError(f"theta = {theta!r}: expected a finite crank angle in rad")
+        return value
+
+    def _point(self, theta, state) -> tuple[float, np.ndarray]:
+        """theta as a finite float and state as 6 finite floats, or a ValueError naming what is wrong."""
+        theta = self._theta(theta)
         try:
             x = np.asarray(state, dtype=float)
         except (TypeError, ValueError):

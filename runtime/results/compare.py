@@ -73,6 +73,8 @@ class Comparison:
 
 def compare(results: Sequence[SimulationResult | str | Path], labels: Sequence[str] | None = None) -> Comparison:
     """Results (or result folders) side by side; ``labels`` default to the folders' names, or the scenes'."""
+    if isinstance(results, str | Path | SimulationResult):  # one result, not a sequence of them (nor of characters)
+        raise TypeError(f"results = {results!r}: compare needs a list of at least two results or result folders")
     names = [Path(r) if isinstance(r, (str, Path)) else None for r in results]
     loaded = [r if p is None else SimulationResult.load(p) for r, p in zip(results, names, strict=True)]
     if len(loaded) < 2:

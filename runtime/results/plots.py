@@ -7,6 +7,7 @@ shown in the display units of :mod:`.outputs` against crank angle in degrees.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
@@ -54,7 +55,9 @@ def _check_quantities(result, names: Sequence[str]) -> None:
 
 def quantities(results, names: Sequence[str], labels: Sequence[str] | None = None, *, pyplot: bool = False):
     """One panel per quantity against crank angle (deg), one line per result, a shared legend."""
-    names = list(names)
+    names = [names] if isinstance(names, str) else list(names)  # one quantity, not its characters
+    if not names:
+        raise ValueError("quantities: name at least one quantity, e.g. ['x', 'Pf_total']")
     for r in results:
         _check_quantities(r, names)
     labels = list(labels) if labels is not None else [result_label(r, i) for i, r in enumerate(results)]
@@ -101,7 +104,10 @@ def plot_comparison(results, quantities_: Sequence[str] = ("x", "y", "phi", "Pf_
                     labels: Sequence[str] | None = None, *, pyplot: bool = False):
     """Several results in one Figure: a panel per quantity, a line per result (labels: the scenes' names and
     content hashes unless given)."""
-    results = list(results)
+    from .result import SimulationResult
+
+    results = [SimulationResult.load(r) if isinstance(r, str | Path) else r
+               for r in ([results] if isinstance(results, str | Path | SimulationResult) else results)]
     if not results:
         raise ValueError("plot_comparison needs at least one result")
     return quantities(results, quantities_, labels, pyplot=pyplot)

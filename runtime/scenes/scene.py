@@ -70,6 +70,8 @@ def load_scene(path: str | Path | None = None) -> Scene:
         folder = _scenes_folder()
         source = Path(str(folder.joinpath(DEFAULT_SCENE))) if isinstance(folder, Path) else None
         return Scene.from_toml_string(default_scene_text(), folder, name="default", source_path=source)
+    if not isinstance(path, str | Path):
+        raise TypeError(f"path = {path!r}: expected the path of a scene file (str or Path), or None for the default")
     p = Path(path)
     try:
         text = p.read_text(encoding="utf-8")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -99,6 +100,34 @@ def test_simulate_accepts_a_path_and_names_a_wrong_type(tmp_path):
         apexseal.simulate(42)
     with pytest.raises(SceneError, match="x.toml"):
         apexseal.simulate(str(tmp_path / "x.toml"))
+
+
+@pytest.mark.parametrize("call, error, fragment", [
+    (lambda sc, r: apexseal.load_scene(123), TypeError, "path = 123: expected the path of a scene file"),
+    (lambda sc, r: apexseal.simulate(sc, out=123), TypeError, "out = 123: expected a folder"),
+    (lambda sc, r: apexseal.Model(None), TypeError, "scene: expected a Scene"),
+    (lambda sc, r: apexseal.Model(sc).pressures(math.nan), ValueError, "theta = nan: expected a finite crank angle"),
+    (lambda sc, r: apexseal.compare(str(r)), TypeError, "a list of at least two results"),  # not its characters
+    (lambda sc, r: apexseal.resume(r, revolutions=-5), SettingsError, "-5 is out of range; allowed: 1 <= n"),
+    (lambda sc, r: apexseal.resume(r, revolutions=0), SettingsError, "0 is out of range; allowed: 1 <= n"),
+    (lambda sc, r: apexseal.plot_comparison([r], []), ValueError, "name at least one quantity"),
+])
+def test_the_api_names_an_argument_of_the_wrong_kind(default_scene, default_functions, tmp_path, call, error,
+                                                      fragment):
+    """Each gave an AttributeError, a bare pathlib TypeError, a plot of characters or a message without the range."""
+    folder = tmp_path / "r"
+    apexseal.simulate(default_scene, functions=default_functions.sx, samples_per_revolution=36, compile_c=False,
+                      out=folder)
+    with pytest.raises(error, match=re.escape(fragment)):
+        call(default_scene, folder)
+
+
+def test_plot_comparison_takes_folders_and_one_quantity_by_name(default_scene, default_functions, tmp_path):
+    folder = tmp_path / "r"
+    apexseal.simulate(default_scene, functions=default_functions.sx, samples_per_revolution=36, compile_c=False,
+                      out=folder)
+    fig = apexseal.plot_comparison([folder, str(folder)], "phi")  # was: three panels, 'p', 'h' and 'i'
+    assert len(fig.axes) == 1 and len(fig.axes[0].lines) == 2
 
 
 @pytest.mark.parametrize("state,fragment", [
