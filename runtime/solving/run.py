@@ -16,6 +16,7 @@ by runtime/results/folder.py), so the loop holds one revolution whatever the len
 from __future__ import annotations
 
 import math
+import sys
 import time
 
 import numpy as np
@@ -33,6 +34,9 @@ from .preflight import initial_activations, preflight
 from .scaling import to_scaled
 from .settings import RunSettings, out_of_time, samples_per_call
 from .signals import StopSignals
+
+#: seconds between the progress lines of a run whose stderr is a log, not a terminal
+LOG_INTERVAL = 10.0
 
 
 def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: float, state0: np.ndarray,
@@ -102,7 +106,10 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     sink.begin(info)  # what is known before the first step: a killed run's progress record says how it was run
     stats_total: dict = {}
     check = RunChecks(functions, settings, params, theta_start)
-    bar = tqdm(total=revolutions, initial=done, unit="rev", disable=not progress, leave=False)
+    # on a terminal a bar redrawn in place; in a log (stderr not a terminal) a line every LOG_INTERVAL s, kept
+    tty = sys.stderr.isatty()
+    bar = tqdm(total=revolutions, initial=done, unit="rev", disable=not progress, leave=not tty,
+               mininterval=0.1 if tty else LOG_INTERVAL, file=sys.stderr)
     z_rev = z.copy()
     with StopSignals() as signals:
         signals.watch(engine)

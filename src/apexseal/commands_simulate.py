@@ -35,7 +35,7 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
                    "revolutions it was asked for or --revolutions; the same samples as a run never stopped.")
 @click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv (text; slower than the binary parts).")
 @click.option("--no-figures", is_flag=True, help="Skip the figures.")
-@click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, progress bar).")
+@click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, the revolutions' bar; in a log, a line every 10 s).")
 @click.option("--timings", is_flag=True, help="Print where the wall time went (startup, import, scene, load, compile, "
               "integrate, assemble, save, figures).")
 def simulate(scene: Path | None, sets, revolutions, method, rtol, max_wall_time, out, resume, csv, no_figures,
@@ -103,7 +103,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                         raise click.BadParameter(str(err), param_hint="--resume") from err
                     with warnings.catch_warnings():  # the penetration check is printed below, with the summary
                         warnings.simplefilter("ignore", PenetrationWarning)
-                        result = run_scene(sc, settings, progress=not quiet and sys.stderr.isatty(), sink=writer,
+                        result = run_scene(sc, settings, progress=not quiet, sink=writer,
                                            functions=functions, continuation=cont)
                 watch.split("run", result.info.get("timings_s", {}))
                 figures = None

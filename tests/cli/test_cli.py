@@ -242,3 +242,19 @@ def test_ctrl_c_while_the_model_loads_writes_nothing(tmp_path, monkeypatch):
     assert r.exit_code == 130, r.output
     assert "interrupted by the user (Ctrl-C, SIGINT) before the run started: nothing written" in r.output
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_run_logged_to_a_file_shows_its_progress(tmp_path):
+    """stderr not a terminal (a log, a batch job): the revolutions' progress is printed there too (it was shown on a
+    terminal only), at most a line every LOG_INTERVAL s and the last one kept; -q prints none."""
+    import subprocess
+
+    from apexseal.cli import command
+
+    runs = {}
+    for name, extra in (("shown", []), ("quiet", ["-q"])):
+        runs[name] = subprocess.run(command("simulate", "-n", "2", "--no-figures", "-o", str(tmp_path / name), *extra),
+                                    capture_output=True, text=True, timeout=300)
+        assert runs[name].returncode == 0, runs[name].stderr
+    assert "100%" in runs["shown"].stderr and "rev/s" in runs["shown"].stderr, runs["shown"].stderr
+    assert "rev/s" not in runs["quiet"].stderr
