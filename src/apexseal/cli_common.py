@@ -8,6 +8,19 @@ from pathlib import Path
 import click
 
 
+class Choice(click.Choice):
+    """click's choice of names, refused in the project's words: the value, a "did you mean" and what is allowed
+    (click says only that the value is not one of the choices)."""
+
+    def convert(self, value, param, ctx):
+        if value in self.choices:
+            return value
+        from .suggest import did_you_mean
+
+        self.fail(f"{value!r} is not allowed{did_you_mean(value, self.choices)}; allowed: {', '.join(self.choices)}",
+                  param, ctx)
+
+
 def writable(folder: Path, option: str = "--out") -> None:
     """Fail before computing anything if the output folder (given by ``option``) cannot be written."""
     existing = next((f for f in (folder, *folder.parents) if f.exists()), None)

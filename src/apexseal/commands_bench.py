@@ -8,6 +8,8 @@ from pathlib import Path
 
 import click
 
+from .cli_common import Choice
+
 
 def _command_line(ctx: click.Context) -> str:
     """The command as typed, rebuilt from the options that differ from their defaults."""
@@ -38,10 +40,10 @@ def _command_line(ctx: click.Context) -> str:
 @click.option("--repeats", type=click.IntRange(1, 100), help="Timed runs after the warm-up.")
 @click.option("--no-effects", is_flag=True, help="Skip the effects-cost table.")
 @click.option("--no-check", is_flag=True, help="Skip checking the reference with a second method.")
-@click.option("--flags", type=click.Choice(["optimised", "quick"]), help="C compiler flag set (default optimised).")
+@click.option("--flags", type=Choice(["optimised", "quick"]), help="C compiler flag set (default optimised).")
 @click.option("--e2e/--no-e2e", default=None, help="Time the stages of a warm `apexseal simulate --revolutions 20` "
               "with and without figures (default: in the full run only).")
-@click.option("--pressure", type=click.Choice(["steps", "linear"]), help="Chamber pressures over an output interval: "
+@click.option("--pressure", type=Choice(["steps", "linear"]), help="Chamber pressures over an output interval: "
               "linear between the values at its ends (linear, default: as a run) or held at their means (steps).")
 @click.option("--gas/--no-gas", default=None, help="Time the pressure table, the chamber gas model and the gas model with "
               "leakage on the expander-gas scene (default: in the full run only).")

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import scene_and_folder, scene_label, scene_settings
+from .cli_common import Choice, scene_and_folder, scene_label, scene_settings
 
 #: the largest min-force accepted (N): far above any contact force of a seal
 MAX_FORCE = 1e5
@@ -67,7 +67,7 @@ def _rate(ctx, param, value):
                    "constant optimum.")
 @click.option("--max-rate", type=float, default=None, callback=_rate, metavar="MM_PER_DEG",
               help="Bound on |d delta_s / d theta| of the schedule in mm per degree [default: none].")
-@click.option("--objective", type=click.Choice(["friction", "preload"]), default="friction", show_default=True,
+@click.option("--objective", type=Choice(["friction", "preload"]), default="friction", show_default=True,
               help="Minimise the cycle-mean friction power, or the (mean) preload.")
 @click.option("--samples", type=click.IntRange(36, 100000),
               help="Output samples per revolution [default: the scene's samples_per_revolution].")

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import default_folder, describe_result, result_folder, scene_label, scene_of, scene_settings
+from .cli_common import Choice, default_folder, describe_result, result_folder, scene_label, scene_of, scene_settings
 from .runtime.solving.methods import METHODS
 from .stopwatch import Stopwatch
 
@@ -20,7 +20,7 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @scene_settings
 @click.option("--revolutions", "-n", type=int, help="Revolutions to simulate (default: the scene's; 1 to 100000).")
-@click.option("--method", type=click.Choice(list(METHODS)), help="Integration method (default: the scene's).")
+@click.option("--method", type=Choice(list(METHODS)), help="Integration method (default: the scene's).")
 @click.option("--rtol", type=float, help="Relative tolerance (default: the scene's; 1e-12 to 0.01).")
 @click.option("--max-wall-time", type=float, metavar="SECONDS",
               help="Wall-time budget: past it the run stops and keeps the revolutions done, as Ctrl-C does (above "
@@ -35,7 +35,8 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
                    "revolutions it was asked for or --revolutions; the same samples as a run never stopped.")
 @click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv (text; slower than the binary parts).")
 @click.option("--no-figures", is_flag=True, help="Skip the figures.")
-@click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, the revolutions' bar; in a log, a line every 10 s).")
+@click.option("--quiet", "-q", is_flag=True,
+              help="No progress (stages, compilation times, the revolutions' bar; in a log, a line every 10 s).")
 @click.option("--timings", is_flag=True, help="Print where the wall time went (startup, import, scene, load, compile, "
               "integrate, assemble, save, figures).")
 def simulate(scene: Path | None, sets, revolutions, method, rtol, max_wall_time, out, resume, csv, no_figures,

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import writable
+from .cli_common import Choice, writable
 
 EXAMPLES = ("preload-map",)
 
@@ -48,7 +48,7 @@ def _address(ctx, param, value: str | None) -> str | None:
 
 @click.command()
 @click.argument("study", required=False, type=click.Path(dir_okay=False, path_type=Path))
-@click.option("--example", type=click.Choice(EXAMPLES), help="Run a study shipped with apexseal instead of STUDY "
+@click.option("--example", type=Choice(EXAMPLES), help="Run a study shipped with apexseal instead of STUDY "
               "(preload-map: the design map of the default machine over spring preload and stiffness).")
 @click.option("--workers", "-w", type=click.IntRange(1, 4096),
               help="Worker processes of the local Dask cluster [default: every core]; 1 runs serially here.")
