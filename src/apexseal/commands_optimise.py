@@ -89,6 +89,8 @@ def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_forc
     periodic revolution (between samples too), as a constant and, with --schedule, as a schedule delta_s(theta)."""
     from . import progress
 
+    if max_rate is not None and knots is None:
+        raise click.UsageError("--max-rate bounds the slope of a schedule: give it with --schedule KNOTS")
     with progress.enabled(not quiet):  # generation, compilation (elapsed time) and IPOPT iterations on stderr
         _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes,
                   vary_stiffness, check, out)

@@ -182,6 +182,7 @@ def test_progress_reports_stages_with_elapsed_time(capsys):
     (["sweep", "--example", "preload-map", "--scheduler", "foo"], ["--scheduler", "'foo'", "missing port"]),
     (["bench", "--quick", "--scenes", "bogus"], ["--scenes", "unknown scene(s) bogus", "known: default"]),
     (["bench", "--quick", "--methods", "bogus"], ["--methods", "unknown method(s) bogus"]),
+    (["optimise-preload", "--max-rate", "0.05", "--out", "{tmp}/o"], ["--max-rate", "with --schedule"]),
     (["simulate", "--method", "cvode"], ["--method", "'cvode' is not allowed (did you mean 'cvodes'?)", "erk"]),
     (["scene", "--out", "{tmp}/o"], ["--out", "with --default"]),
     (["scene", "--default", "--out", "{tmp}/file/sub"], ["--out", "file is a file"]),
