@@ -150,9 +150,8 @@ def _commit(sink) -> None:
     from .results.folder import KeptAsideWarning
 
     where = sink.commit()
-    if where != sink.target:
-        warnings.warn(f"the run ended {sink.status}, so the completed result at {sink.target} was kept; this run's "
-                      f"result is in {where}", KeptAsideWarning, stacklevel=3)
+    if sink.kept_aside:
+        warnings.warn(f"{sink.kept_aside}; this run's result is in {where}", KeptAsideWarning, stacklevel=3)
 
 
 def resume(folder, *, revolutions: int | None = None, max_wall_time: float | None = None, progress: bool = False,

@@ -96,17 +96,17 @@ def _stray_temporary(path: Path) -> bool:
     return path.name.startswith(".") and path.name.endswith(".tmp") and path.is_file()
 
 
-def completed_result(folder: Path) -> str | None:
-    """The run id of the completed result in ``folder``, or None (no result there, or one that did not complete)."""
+def result_at(folder: Path) -> tuple[str | None, str | None]:
+    """The run id and status of the result in ``folder``, or (None, None) where there is none."""
     try:
         record = json.loads((Path(folder) / "result.json").read_text(encoding="utf-8"))
     except (OSError, ValueError):
-        return None
-    return record.get("run_id") if isinstance(record, dict) and record.get("status") == "completed" else None
+        return None, None
+    return (record.get("run_id"), record.get("status")) if isinstance(record, dict) else (None, None)
 
 
 class KeptAsideWarning(UserWarning):
-    """A run that did not complete left a completed result of another run at its target in place."""
+    """A result that was not moved into place, so as not to replace another run's (see ResultFolder.commit)."""
 
 
 def _write_bytes(path: Path, data: bytes) -> None:
@@ -146,6 +146,8 @@ class ResultFolder:
         self.target = Path(target)
         self.background = write_behind() if background is None else background  # parts written by a thread
         check_replaceable(self.target)
+        self.found = result_at(self.target)[0]  # the run whose result is at the target now (commit() checks it)
+        self.kept_aside = ""
         self.run_id = run_id or uuid.uuid4().hex
         self.staging = self.target.parent / f"{self.target.name}.partial-{self.run_id[:12]}"
         try:
@@ -316,15 +318,22 @@ class ResultFolder:
     def commit(self) -> Path:
         """Rename the finished folder into place (replacing a previous result there) and return its path.
 
-        A run that did not complete never replaces a completed result of another run: that one stays at the target,
-        and this one in its ``.partial-`` folder (loadable, and continued by ``--resume``), whose path is returned.
-        A continuation (the same run id) replaces its own earlier result."""
+        A run that did not complete never replaces a completed result of another run, and no run replaces a result
+        that another run wrote at the target while it ran: that one stays at the target, and this one in its
+        ``.partial-`` folder (loadable, and continued by ``--resume``), whose path is returned, with the reason in
+        ``kept_aside``. A continuation (the same run id) replaces its own earlier result."""
         if not self.final:
             raise RuntimeError("commit() before finish(): the folder has no final record")
         target = self.target
         for stray in self.staging.glob(".*.tmp"):  # a figure worker stopped by a signal mid-file
             stray.unlink(missing_ok=True)
-        if self.status != "completed" and completed_result(target) not in (None, self.run_id):
+        there, status = result_at(target)
+        if there not in (None, self.run_id):
+            if there != self.found:
+                self.kept_aside = f"another run ({there[:12]}) wrote {target} while this one ran"
+            elif status == "completed" and self.status != "completed":
+                self.kept_aside = f"this run ended {self.status}, so the completed result at {target} was kept"
+        if self.kept_aside:
             self.release()
             return self.staging
         try:

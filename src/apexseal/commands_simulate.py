@@ -129,7 +129,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                     signals.ignore_after()
             except ResultStorageError as err:
                 raise click.ClickException(str(err)) from err
-        _report(result, summary, files, out, where, timings, watch, signals)
+        _report(result, summary, files, out, (where, writer.kept_aside), timings, watch, signals)
 
 
 def _what_runs(scene, sets, revolutions, method, rtol, max_wall_time, out, resume):
@@ -178,11 +178,12 @@ def _save(watch, writer, result, source: str, csv) -> tuple[dict, list[str]]:
 
 def _report(result, summary, files, out, where, timings, watch, signals) -> None:
     """What the run gave, on the console (and where the time went, with --timings); exit code of a failed run.
-    ``where``: the folder the result is in, ``out`` unless a completed result there was kept (ResultFolder.commit)."""
+    ``where``: the folder the result is in, and why it is not ``out`` (ResultFolder.commit) or ""."""
+    where, kept_aside = where
     describe_result(result, summary)
     click.echo(f"  wrote {', '.join(files)} to {where}/")
-    if where != out:
-        click.echo(f"  kept the completed result at {out}/: this run ended {result.status}", err=True)
+    if kept_aside:
+        click.echo(f"  {kept_aside}; this run's result is in {where}/", err=True)
     out = where
     if timings:
         click.echo(watch.report())

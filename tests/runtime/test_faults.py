@@ -211,12 +211,27 @@ def test_a_run_that_did_not_complete_never_replaces_a_completed_result(default_s
     monkeypatch.undo()
     where = sink.commit()
     assert failed.status == "failed" and where == sink.staging != out
+    assert sink.kept_aside == f"this run ended failed, so the completed result at {out} was kept"
     after = SimulationResult.load(out)
     assert after.info["run_id"] == before.info["run_id"] and after.status == "completed" and after.n == before.n
     assert SimulationResult.load(where).status == "failed"
     done = ResultFolder(out)  # a completed rerun replaces it, as before
     _run(default_scene, default_functions, 1, sink=done)
     assert done.commit() == out and SimulationResult.load(out).info["run_id"] == done.run_id
+
+
+def test_a_run_never_replaces_a_result_written_at_its_target_while_it_ran(tmp_path, two_results):
+    """Two runs into one --out at once: the one that ends second keeps its result in its .partial- folder and says
+    why, instead of replacing the other's without a word."""
+    out = tmp_path / "o"
+    first = ResultFolder(out)
+    first.append(two_results[0])
+    two_results[1].save(out)  # another run, started later, ends first
+    other = SimulationResult.load(out).info["run_id"]
+    first.finish("completed", None, two_results[0].info)
+    where = first.commit()
+    assert where == first.staging and first.kept_aside == f"another run ({other[:12]}) wrote {out} while this one ran"
+    assert SimulationResult.load(out).info["run_id"] == other and SimulationResult.load(where).n == two_results[0].n
 
 
 def test_a_killed_writer_s_temporary_file_is_not_committed(tmp_path, two_results):
