@@ -46,6 +46,13 @@ class Continuation:
         return self.source != self.target
 
 
+def partial_target(folder: Path, run_id: str) -> Path | None:
+    """The target of ``folder`` if it is run ``run_id``'s ``<out>.partial-<run id>`` folder (a run killed outright,
+    or one kept aside so as not to replace another run's result), else None."""
+    match = _PARTIAL.match(Path(folder).name)
+    return Path(folder).with_name(match["name"]) if match and run_id.startswith(match["run"]) else None
+
+
 def continuation(folder: str | Path, read: SimulationResult | None = None) -> Continuation:
     """The revolutions of the result in ``folder`` to continue from; a :class:`ResultFolderError` says why a folder
     cannot be continued (not a result, mixed files, no scene, no whole revolution, written before parts stored
@@ -82,8 +89,8 @@ def continuation(folder: str | Path, read: SimulationResult | None = None) -> Co
         last = (float(read.theta[end]), read.modes[end])
     with np.load(folder / record["parts"][kept - 1]["file"]) as data:
         z = np.array(data["z_end"], float)
-    match = _PARTIAL.match(folder.name)
-    killed = match is not None and record["run_id"].startswith(match["run"])
+    target = partial_target(folder, record["run_id"])
+    killed = target is not None
     newer = folder.with_name(f"{folder.name}.partial-{record['run_id'][:12]}")
     if not killed and newer.exists():
         _not_being_written(newer)
@@ -96,7 +103,7 @@ def continuation(folder: str | Path, read: SimulationResult | None = None) -> Co
         raise ResultFolderError(f"{folder / SCENE_FILE} is not the scene the run computed (its content hash differs "
                                 "from the one result.json records: edited since?); to run the edited scene, "
                                 f"simulate it: apexseal simulate {folder / SCENE_FILE} --out <new folder>")
-    return Continuation(source=folder, target=folder.with_name(match["name"]) if killed else folder, record=record,
+    return Continuation(source=folder, target=target or folder, record=record,
                         scene=scene, revolutions=kept, parts=list(record["parts"][:kept]), z=z,
                         last=last)
 

@@ -16,7 +16,7 @@ from .cli_common import describe_result
 def show(folder: Path, figures: bool) -> None:
     """Check and describe the result in FOLDER (a result folder, or the OUT.partial-<run id> folder of a killed run):
     the run and its settings, where and why it stopped, the designer's numbers, and how to continue it."""
-    from .runtime.results.continuation import continuation
+    from .runtime.results.continuation import continuation, partial_target
     from .runtime.results.folder import ResultFolderError, read
     from .runtime.results.summary import summarise
 
@@ -33,6 +33,11 @@ def show(folder: Path, figures: bool) -> None:
     describe_result(result, summarise(result, {"source": str(info.get("scene", folder))}))
     if result.stop is not None:
         click.echo(f"  {result.stop.describe()}")
+    target = partial_target(folder, str(info.get("run_id", "")))
+    if target is not None:
+        click.echo(f"  not moved into place at {target} (the run was killed, or kept this result aside so as not to "
+                   f"replace the one there)" + (f"; it is complete: rename it to {target} to make it that folder's "
+                                                "result" if result.status == "completed" else ""))
     try:
         cont = continuation(folder, result)  # its parts were read and checked above
     except ResultFolderError as err:

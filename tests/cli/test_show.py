@@ -28,3 +28,20 @@ def test_show_describes_a_result_and_how_to_continue_it(tmp_path):
 def test_show_refuses_a_folder_that_is_not_a_result(tmp_path):
     r = CliRunner().invoke(main, ["show", str(tmp_path)])
     assert r.exit_code == 1 and "is not a result folder: it has no result.json" in r.output
+
+
+def test_show_says_a_complete_result_was_not_moved_into_place(tmp_path):
+    """A completed result left in its .partial- folder (killed between its final record and the rename, or kept
+    aside beside another run's result) loaded as any result, with nothing saying where it belongs."""
+    from apexseal.runtime import api
+    from apexseal.runtime.results.folder import ResultFolder
+
+    scene = apexseal.load_scene().with_overrides(**{"solver.samples_per_revolution": 360})
+    out = tmp_path / "o"
+    first, second = ResultFolder(out), ResultFolder(out)  # two runs into one folder at once
+    for sink in (first, second):
+        api.run_scene(scene, api.settings_of(scene, revolutions=1), sink=sink)
+    assert first.commit() == out and second.commit() == second.staging  # the first wrote out while the second ran
+    r = CliRunner().invoke(main, ["show", str(second.staging)])
+    assert r.exit_code == 0, r.output
+    assert f"not moved into place at {out}" in r.output and f"it is complete: rename it to {out}" in r.output
