@@ -114,6 +114,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                                    worker.submit(result, writer.staging, ports_of(sc)))
                 elif worker is not None:  # stopped here, where a further Ctrl-C is still only noted
                     worker.cancel()
+                figures_skipped = not no_figures and result.n > 1 and signals.requested  # said below, with the folder
                 try:
                     summary, files = _save(watch, writer, result, source, csv)
                 except BaseException:
@@ -129,7 +130,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                     signals.ignore_after()
             except ResultStorageError as err:
                 raise click.ClickException(str(err)) from err
-        _report(result, summary, files, out, (where, writer.kept_aside), timings, watch, signals)
+        _report(result, summary, files, out, (where, writer.kept_aside), timings, watch, signals, figures_skipped)
 
 
 def _what_runs(scene, sets, revolutions, method, rtol, max_wall_time, out, resume):
@@ -176,14 +177,17 @@ def _save(watch, writer, result, source: str, csv) -> tuple[dict, list[str]]:
     return summary, files
 
 
-def _report(result, summary, files, out, where, timings, watch, signals) -> None:
+def _report(result, summary, files, out, where, timings, watch, signals, figures_skipped=False) -> None:
     """What the run gave, on the console (and where the time went, with --timings); exit code of a failed run.
-    ``where``: the folder the result is in, and why it is not ``out`` (ResultFolder.commit) or ""."""
+    ``where``: the folder the result is in, and why it is not ``out`` (ResultFolder.commit) or "";
+    ``figures_skipped``: the figures were not drawn because a signal came."""
     where, kept_aside = where
     describe_result(result, summary)
     click.echo(f"  wrote {', '.join(files)} to {where}/")
     if kept_aside:
         click.echo(f"  {kept_aside}; this run's result is in {where}/", err=True)
+    if figures_skipped:
+        click.echo(f"  figures not drawn (a signal came): apexseal show {where} --figures draws them", err=True)
     out = where
     if timings:
         click.echo(watch.report())

@@ -390,6 +390,19 @@ def test_a_signal_keeps_every_completed_revolution(slow_scene, tmp_path, signum,
     assert not list(tmp_path.glob("o.partial-*"))
 
 
+def test_a_signal_says_the_figures_were_not_drawn_and_how_to_draw_them(slow_scene, tmp_path):
+    """The figures of a run a signal stopped are skipped (the user asked it to stop); it was not said."""
+    out = tmp_path / "o"
+    proc = subprocess.Popen(command("simulate", str(slow_scene), "-n", "200", "--out", str(out), "-q"),
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ.copy())
+    _wait_for_parts(out, proc, 2)
+    proc.send_signal(signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 130, (stdout, stderr)
+    assert f"figures not drawn (a signal came): apexseal show {out} --figures draws them" in stderr
+    assert not list(out.glob("*.png"))
+
+
 def test_a_second_signal_while_saving_corrupts_nothing(slow_scene, tmp_path):
     out = tmp_path / "o"
     proc = _start(slow_scene, out)
