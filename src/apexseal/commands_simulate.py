@@ -172,7 +172,10 @@ def _save(watch, writer, result, source: str, csv) -> tuple[dict, list[str]]:
         if (writer.staging / "pressure.csv").is_file():
             files.insert(3, "pressure.csv")
         if csv:
-            writer.write_csv()
+            from .progress import stage
+
+            with stage(f"writing trajectory.csv ({writer.samples} samples)"):
+                writer.write_csv()
             files.append("trajectory.csv")
     return summary, files
 
