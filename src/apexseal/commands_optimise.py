@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import Choice, scene_and_folder, scene_label, scene_settings
+from .cli_common import Choice, default_folder, scene_label, scene_of, scene_settings, writable
 
 #: the largest min-force accepted (N): far above any contact force of a seal
 MAX_FORCE = 1e5
@@ -102,11 +102,17 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     SIGTERM abandons the stage in progress wherever it is (IPOPT included) and writes the report of the stages
     completed before it, with the reason; exit code 130 or 143."""
     from .runtime.solving.signals import StopSignals
-    from .runtime.studies.preload.problem import PreloadStudyError, excluded
+    from .runtime.studies.preload.problem import PreloadStudyError, check_grid, excluded
     from .runtime.studies.preload.report import write_report
     from .stopwatch import Stopwatch
 
-    sc, out = scene_and_folder(scene, out, sets, "preload")
+    sc = scene_of(scene, sets)
+    try:
+        check_grid(samples or sc.solver.samples_per_revolution, nodes, knots or 1)
+    except PreloadStudyError as err:
+        raise click.BadParameter(str(err), param_hint="--samples, --nodes, --schedule") from None
+    out = default_folder(scene, out, "preload")
+    writable(out)
     bound = f"; groove forces <= {max_groove_force:g} N" if max_groove_force is not None else ""
     click.echo(f"{scene_label(scene, sets)}; min force {min_force:g} N"
                f"{excluded(exclude)}{bound}; writing to {out}/")

@@ -226,6 +226,7 @@ def test_study_needs_the_spring_and_the_housing_contact(default_scene):
     (["--min-force", "1e9 N"], ["--min-force", "1e9", "<= 100000"]),
     (["--exclude", "abc"], ["--exclude", "abc", "START:END"]),
     (["--exclude", "0:360"], ["--exclude", "0:360", "0 < |END - START| < 360"]),
+    (["--samples", "37"], ["--samples", "least common multiple 4 must divide the 37 samples"]),  # before any work
     ([arg for w in ("0:1", "2:3", "4:5", "6:7", "8:9") for arg in ("--exclude", w)], ["--exclude", "at most 4"]),
     (["--samples", "10"], ["--samples", "10"]),
     (["--schedule", "1"], ["--schedule", "1"]),

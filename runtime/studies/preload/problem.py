@@ -139,6 +139,16 @@ def check_window(start: float, end: float, shown: str) -> tuple[float, float]:
     return start, end
 
 
+def check_grid(samples: int, nodes: int, knots: int) -> int:
+    """lcm(nodes, knots), which must divide the samples: the shooting nodes and the schedule's knots fall on
+    samples."""
+    common = math.lcm(nodes, knots)
+    if samples % common:
+        raise PreloadStudyError(f"nodes = {nodes}, knots = {knots}: their least common multiple {common} must divide "
+                                f"the {samples} samples per revolution")
+    return common
+
+
 #: the most excluded windows a study takes (the compiled functions' parameters hold this many)
 MAX_WINDOWS = 4
 

@@ -67,7 +67,7 @@ from ....derive.symbols import PARAMETER_NAMES
 from ....progress import announce, stage
 from .nlp import ShootingNlp
 from .periodic import periodic
-from .problem import KW, MM, PreloadSetup, PreloadStudyError, windows
+from .problem import KW, MM, PreloadSetup, PreloadStudyError, check_grid, windows
 from .result import DEFICIT_TOL, PreloadResult, contact_powers, fill_result
 from .schedule import SegmentGrid, simulate_schedule, simulate_schedules
 from .shooting import study_functions
@@ -99,10 +99,7 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     exclude = windows(exclude)
     setup = setup or PreloadSetup(scene, functions or model_functions(scene), float(min_force), exclude, samples,
                                   rtol, revolutions, flags, max_groove_force)
-    S = np.lcm(nodes, knots)
-    if setup.samples % S:
-        raise PreloadStudyError(f"nodes = {nodes}, knots = {knots}: their least common multiple {S} must divide the "
-                                f"{setup.samples} samples per revolution")
+    S = check_grid(setup.samples, nodes, knots)
     if not (isinstance(max_preload, int | float) and max_preload > 0):
         raise PreloadStudyError(f"max_preload = {max_preload!r}: must be a length > 0 m")
     keep = setup.mask(setup.theta_start + setup.dth * np.arange(1, setup.samples + 1))
