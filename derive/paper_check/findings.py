@@ -73,7 +73,8 @@ def _findings() -> dict[str, Finding]:
             "component of the housing force is N (cos λ + μ1 sin λ) = N cos λ (1 + μ1 tan λ), which is what Algorithm 2's "
             "Fs5y = Fw (tan λ − μ1)/(1 + μ1 tan λ) implies (row A2 agrees). Eq. 9's (1 − μ1 tan λ) belongs to a tip "
             "sliding backwards.",
-            "N = Fw / (cos λ + μ1 sign(v_slide) sin λ), Fw = kw xs5 the groove-axis component (forces/housing.py)"),
+            "N = Fw / (cos λ + μ1 sign(v_slide) sin λ), Fw = kw xs5 the groove-axis component "
+            "(derive/submodels/housing.py)"),
         "19.c4": Finding(
             "typesetting", (ds2 - ds1, 0), "(ds2 − ds1) X̂s",
             "c4 is the back corner on the +Ŷs side, on the back face at −ds2 X̂s like c2. The paper's own Eq. 43 "
@@ -113,14 +114,14 @@ def _findings() -> dict[str, Finding]:
             "the force jumps from ks δs (10 N) to 0 at x̃s6 = 0. A compression spring pushes while its compression "
             "x̃s6 + δs is positive.",
             "Fsp = ks max(δs − (X_s6 + ds2), 0), acting while the compression is positive (guard 'spring'; "
-            "forces/spring.py)"),
+            "derive/submodels/spring.py)"),
         "A1.friction": Finding(
             "physics", _friction_difference(),
             "μ2 γi cr max(v_close,i, 0) t̂i while bi < 0 (t̂ = X̂s at i1, i2 and X̂ at c2, c4; v_close = −v·n̂)",
             "Coulomb friction is μ times the whole normal force of the contact. Algorithm 1 takes the elastic part "
             "|bi| kgi only, although the damping of Eqs. 55 and 62 acts along the same normal (Eq. 63 adds them); the "
             "paper's own Eq. 73 uses the total normal force (Fsp − cs v·X̂) at the spring.",
-            "friction −μ2 sign(v_slide) (kgi max(−bi, 0) + cr max(v_close, 0)) t̂ (forces/groove.py)",
+            "friction −μ2 sign(v_slide) (kgi max(−bi, 0) + cr max(v_close, 0)) t̂ (derive/submodels/groove.py)",
             example={"y": -4.0e-5, "phi": -2.0e-3, "phid": 0.0}),
         "44": Finding(
             "typesetting", tuple((ds1 - ds0) * paper.Xs), "(ds1 − ds0) X̂s",
@@ -147,7 +148,7 @@ def _findings() -> dict[str, Finding]:
             "2 r ω cos θ − ω Y(s5) = 2 r ω cos θ since s5 stays on the axis. At 1500 rpm 2 r ω = 3.14 m/s: about 650 N "
             "of damping on a seal at rest in its groove, against a 10 N preload.",
             "Fd = −cw max(v_rel·X̂, 0) X̂, v_rel the seal's velocity at s5 relative to the groove, in contact only "
-            "(forces/housing.py)",
+            "(derive/submodels/housing.py)",
             example={"theta": 0.0, "x": 0.0, "y": 0.0, "phi": 0.0, "xd": 0.0, "yd": 0.0, "phid": 0.0}),
         "68": Finding(
             "physics", (paper.x * I["Fs5Y"] - paper.y * I["Fs5X"],), "x Fs5y − y Fs5x (= (rc × Fs5)·Ẑ)",
@@ -162,7 +163,7 @@ def _findings() -> dict[str, Finding]:
             "The normal force at the spring is Fsp + cs max(−v_s6·X̂, 0) (Eq. 73's damping acts only while the seal moves "
             "down). The print's Fsp − cs v_s6·X̂ equals it while v_s6·X̂ < 0, but while the seal moves out it lowers the "
             "normal force by cs v_s6·X̂ although the damping is off (and can make it negative, reversing the friction).",
-            "friction −μs sign(v_s6·Ŷ) (Fsp + cs max(−v_s6·X̂, 0)) Ŷ (forces/spring.py)"),
+            "friction −μs sign(v_s6·Ŷ) (Fsp + cs max(−v_s6·X̂, 0)) Ŷ (derive/submodels/spring.py)"),
         "76.Pend": Finding(
             "assumption", (-Pb,), "−Pb",
             "The text says Pend is 'half that of the difference of Pa and Pb'. (Pa − Pb)/2 is not a pressure: it "
@@ -275,8 +276,8 @@ def assumption_points() -> list[tuple[str, str]]:
          "A circular tip actually touches the tilted wall where the arc's normal is the wall's, at β + ϕ = −λ "
          f"(|λ| ≤ λ0 = {fmt(math.degrees(lam0))}° inside the arc's ±βo = ±{fmt(beta_o)}°), up to ro sin λ0 = "
          f"{fmt(v['ro'] * math.sin(lam0) * 1e3)} mm from the axis."),
-        ("Friction sign regularised", "sign(v) is tanh(v / v_eps) in every Coulomb law (forces/base.slip_sign, scene "
-         "parameter v_eps); the check compares in the limit v_eps → 0."),
+        ("Friction sign regularised", "sign(v) is tanh(v / v_eps) in every Coulomb law "
+         "(derive/submodels/laws.slip_sign, scene parameter v_eps); the check compares in the limit v_eps → 0."),
         ("Contacts never pull", "elastic forces are kg max(−b, 0), kw max(xs5, 0), ks max(compression, 0) on top of "
          "the activations, which is the print's |b| kg for b < 0."),
         ("Groove protrusion ζ0 (Eqs. 6-7)", "a scene parameter, because Eqs. 6-7 give a negative truncation z for "

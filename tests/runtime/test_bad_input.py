@@ -20,6 +20,7 @@ from apexseal.generated.manifest import StaleArtefactError, verify
 from apexseal.runtime.scenes.errors import SceneError
 from apexseal.runtime.scenes.scene import default_scene_text, load_scene
 from apexseal.runtime.solving import run as sim
+from apexseal.runtime.solving.settings import SettingsError
 
 TEXT = default_scene_text()
 SCENES_DIR = Path(__file__).resolve().parents[2] / "runtime" / "scenes"
@@ -133,7 +134,7 @@ def test_table_with_a_wide_angular_gap_is_accepted_and_interpolated_across(tmp_p
 
 # ---------------------------------------------------------------- the run API
 def test_unknown_method_in_the_api(default_scene, default_functions):
-    with pytest.raises(ValueError, match="did you mean 'cvodes'"):
+    with pytest.raises(SettingsError, match="method = \"cvode\": not a method \\(did you mean 'cvodes'\\?\\); allowed: erk"):
         apexseal.simulate(default_scene, method="cvode", functions=default_functions.sx)
 
 
