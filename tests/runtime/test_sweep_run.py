@@ -148,6 +148,16 @@ def test_a_second_sweep_into_a_folder_being_written_is_refused(tmp_path):
                      resume=False).complete
 
 
+def test_reading_a_killed_sweep_says_where_its_points_are(tmp_path):
+    """A sweep killed outright (SIGKILL) leaves its points but no results.parquet: reading it raised a bare
+    FileNotFoundError."""
+    run_sweep(light_study(**{"points = 4": "points = 2"}), tmp_path / "o", workers=1, quiet=True)
+    (tmp_path / "o" / "results.parquet").unlink()  # as if killed before the table was written
+    with pytest.raises(FileNotFoundError, match=r"its 8 finished point\(s\) are in .*points/, and running the same "
+                                                r"sweep again writes the table"):
+        read_results(tmp_path / "o")
+
+
 def test_resume_refuses_a_folder_of_another_study_and_fresh_recomputes(serial, tmp_path):
     from apexseal.runtime.studies.sweep.store import StoreError
 

@@ -130,6 +130,12 @@ def read_results(folder_or_file: str | Path) -> pd.DataFrame:
     path = Path(folder_or_file)
     if path.is_dir():
         path = path / "results.parquet"
+    if not path.is_file():
+        parts = path.parent / "points"
+        found = len([p for p in parts.iterdir() if _PART.match(p.name)]) if parts.is_dir() else 0
+        raise FileNotFoundError(f"{path} does not exist" + (
+            f": the sweep was stopped before writing it; its {found} finished point(s) are in {parts}/, and running "
+            "the same sweep again writes the table (without recomputing them)" if found else ""))
     table = pq.read_table(path)
     df = table.to_pandas()
     df.attrs["units"] = {f.name: (f.metadata or {}).get(b"unit", b"").decode() for f in table.schema}
