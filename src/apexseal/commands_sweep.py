@@ -81,6 +81,7 @@ def sweep(study, example, workers, scheduler, out, resume, figures, bench, repea
     except StudyError as err:
         raise click.ClickException(str(err)) from None
     out = out or Path("apexseal-out") / st.name
+    created = not out.exists()  # removed again if a point is refused before anything is written
     writable(out)
     if bench:
         _bench(st, out, repeats)
@@ -90,6 +91,8 @@ def sweep(study, example, workers, scheduler, out, resume, figures, bench, repea
     try:
         report = run_sweep(st, out, workers=workers, scheduler=scheduler, resume=resume, quiet=quiet)
     except StudyError as err:
+        if created and not any(out.iterdir()):
+            out.rmdir()
         raise click.ClickException(str(err)) from None
     except StoreError as err:
         raise click.ClickException(str(err)) from None

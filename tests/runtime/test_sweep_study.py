@@ -88,6 +88,19 @@ def test_a_point_outside_the_scene_range_is_refused_before_any_work():
     assert "-0.002" in text and "out of range" in text and ">= 0" in text and "(point 1)" in text
 
 
+def test_the_command_refusing_a_point_leaves_no_empty_folder(tmp_path):
+    from click.testing import CliRunner
+    from sweep_helpers import LIGHT
+
+    from apexseal.cli import main
+
+    study = tmp_path / "bad.toml"
+    study.write_text(LIGHT.replace('values = ["1 mm", "2 mm", "3 mm", "4 mm"]', 'values = ["1 mm", "-2 mm"]'))
+    r = CliRunner().invoke(main, ["sweep", str(study), "-w", "1", "-q", "-o", str(tmp_path / "out")])
+    assert r.exit_code == 1 and "(point 1)" in r.output, r.output
+    assert not (tmp_path / "out").exists()
+
+
 def test_a_list_is_short_for_values_and_a_bare_value_is_refused_with_both_forms():
     short = study_from_toml('[parameters]\n"spring.ks" = ["1e3 N/m", 3e3]\n')
     assert short.parameters[0].values == (1000.0, 3000.0)
