@@ -69,14 +69,16 @@ class Ports(Section):
 
 
 class InitialState(Section):
-    """Initial seal state in the groove frame (Eq. 10)."""
+    """Initial seal state in the groove frame (Eq. 10). The bounds refuse only the absurd (a unit slip, an
+    overflow): a seal displaced by a metre, turned by more than a half turn, or moving faster than 1 km/s in its
+    groove; whether the start is inside a wall is the run's start check (runtime/solving/preflight.py)."""
 
-    x: _q("m") = 0.0
-    y: _q("m") = 0.0
-    phi: _q("rad", show="deg") = 0.0
-    xd: _q("m/s") = 0.0
-    yd: _q("m/s") = 0.0
-    phid: _q("rad/s") = 0.0
+    x: _q("m", ge=-1.0, le=1.0) = 0.0
+    y: _q("m", ge=-1.0, le=1.0) = 0.0
+    phi: _q("rad", ge=-math.pi, le=math.pi, show="deg") = 0.0
+    xd: _q("m/s", ge=-1e3, le=1e3) = 0.0
+    yd: _q("m/s", ge=-1e3, le=1e3) = 0.0
+    phid: _q("rad/s", ge=-1e6, le=1e6) = 0.0
 
 
 class OperationSection(Section):

@@ -413,6 +413,8 @@ CASES = [
         "true",
         ["needs effects.housing_contact = true", "allowed: false, or set effects.housing_contact = true"],
     ),
+    ("initial-speed-overflow", {"operation.initial_state.xd": "1e300 m/s"}, "operation.initial_state.xd",
+     '"1e300 m/s"', ["out of range", "-1000 <= value <= 1000 m/s"]),  # a derivative message blamed parameters
     ("seal-longer-than-machine", {"seal.Bs": "150 mm"}, "seal.Bs", '"150 mm"',
      ["longer than the machine is deep", "machine.H = 100 mm"]),
     (
