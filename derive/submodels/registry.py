@@ -111,10 +111,17 @@ def register(cls: type[Submodel]) -> type[Submodel]:
         clash = sorted(set(mine) & set(theirs))
         if clash:
             raise RegistryError(f"submodel {cls.name!r} declares {what}s that exist already: {', '.join(clash)}")
+    keys = {p.key: p.name for p in parameters(all_inputs=True) if p.key is not None}
+    taken = sorted(f"{p.key} (already {keys[p.key]}'s)" for p in cls.parameters if p.key in keys)
+    if taken:
+        raise RegistryError(f"submodel {cls.name!r} declares scene keys that exist already: {', '.join(taken)}")
     known = set(options()) | {o.name for o in cls.options}
     for o in cls.options:
         if o.parent is not None and o.parent not in known:
             raise RegistryError(f"option {o.name!r} of {cls.name!r} names an unknown parent {o.parent!r}")
+        if o.parent is not None and o.table != "effects":
+            raise RegistryError(f"option {o.name!r} of {cls.name!r} is a modelling choice ([{o.table}]) with a "
+                                f"parent: only an effect has one (a choice applies whether its effect is on or not)")
     _registry[cls.name] = cls
     return cls
 

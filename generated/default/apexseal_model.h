@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: bfa984207ce9685eba31c28da4b238319d590e99c93ca937c5213d9d19aa8e05.
+ * Effects: all. Input hash: c74493b50dddbbdf43e8797d1268d132676b8b222a6c00965a7ae1d61e1f06f9.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "bfa984207ce9685eba31c28da4b238319d590e99c93ca937c5213d9d19aa8e05"
+#define APEXSEAL_INPUT_HASH "c74493b50dddbbdf43e8797d1268d132676b8b222a6c00965a7ae1d61e1f06f9"
 
 /* state x */
 #define APEXSEAL_NX 6

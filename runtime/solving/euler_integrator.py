@@ -44,7 +44,13 @@ def contact_frequencies(params: np.ndarray, names=None) -> dict[str, float]:
     """sqrt(k/ms) of each penalty contact the submodels declare (rad/s), by the name of its stiffness."""
     names = parameter_names() if names is None else names
     p = dict(zip(names, np.asarray(params, float), strict=True))
-    return {k_name: math.sqrt(p[k_name] / p["ms"]) for k_name, _ in oscillators()}
+    return {k_name: math.sqrt(p[k_name] / p["ms"]) for k_name, _ in _present(oscillators(), p)}
+
+
+def _present(pairs, p: dict) -> list[tuple[str, str]]:
+    """The (stiffness, damping) pairs whose parameters are in the vector: a submodel switched off with its own
+    parameters (``own_vector``) has none there."""
+    return [(k, c) for k, c in pairs if k in p and c in p]
 
 
 def contact_growth(params: np.ndarray, steps_per_revolution: int, names=None) -> list[ContactGrowth]:
@@ -61,7 +67,8 @@ def contact_growth(params: np.ndarray, steps_per_revolution: int, names=None) ->
     p = dict(zip(names, np.asarray(params, float), strict=True))
     n = int(steps_per_revolution)
     out = []
-    for (k_name, c_name), w in zip(oscillators(), contact_frequencies(params, names).values(), strict=True):
+    for (k_name, c_name), w in zip(_present(oscillators(), p), contact_frequencies(params, names).values(),
+                                   strict=True):
         k, c, ms = p[k_name], p[c_name], p["ms"]
         zeta = 0.5 * c / (2 * math.sqrt(k * ms))
         hw = 2 * math.pi * w / (n * p["omega"])

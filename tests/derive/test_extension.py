@@ -149,3 +149,36 @@ def test_a_class_defined_again_replaces_its_earlier_definition_in_place():
         registry.unregister("pad")
         registry.unregister("cushion")
     assert not registry.extended()
+
+
+def test_a_scene_key_taken_or_a_choice_with_a_parent_is_refused():
+    """A parameter under another's scene key silently took that key's value under its unit and range; an
+    assumption with a parent made every scene fail to load."""
+    taken = type("Film", (Submodel,), {"name": "film", "__module__": "elsewhere", "parameters": (
+        Parameter("c_film", "N*s/m", "film damping", key="friction.mu1", default=1.0, gt=0),)})
+    with pytest.raises(registry.RegistryError, match=r"scene keys that exist already: friction.mu1 \(already mu1's\)"):
+        registry.register(taken)
+    ruled = type("Law", (Submodel,), {"name": "law", "__module__": "elsewhere", "switch": "law", "options": (
+        Option("law", (NONE, ON), "a law"),
+        Option("law_rule", ("linear", "cubic"), "its rule", table="assumptions", parent="law"))})
+    with pytest.raises(registry.RegistryError, match="modelling choice .* with a parent"):
+        registry.register(ruled)
+    assert not registry.extended()
+
+
+def test_a_submodel_off_with_its_own_parameters_does_not_break_the_start_check(default_scene):
+    """own_vector: the parameters of a submodel that is off are not in the vector, so the start check's contact
+    frequencies skip its oscillator (every run with it off raised KeyError: 'kpad')."""
+    from apexseal.runtime.solving.euler_integrator import contact_frequencies
+
+    pad = type("Pad", (Submodel,), {
+        "name": "pad", "__module__": "elsewhere", "switch": "pad", "own_vector": True,
+        "parameters": (Parameter("kpad", "N/m", "pad stiffness", key="contacts.kpad", default=1e4, gt=0),
+                       Parameter("cpad", "N*s/m", "pad damping", key="contacts.cpad", default=1.0, gt=0)),
+        "options": (Option("pad", (NONE, ON), "a pad"),), "oscillators": (("kpad", "cpad"),)})
+    with registry.registered(pad):
+        scene = apexseal.load_scene().with_overrides(**{"effects.pad": False})
+        names = tuple(scene.parameters)  # the vector of a scene with the pad off
+        assert "kpad" not in names
+        freq = contact_frequencies(scene.parameter_vector(), names)
+        assert "kpad" not in freq and "kw" in freq
