@@ -119,6 +119,8 @@ class Submodel:
     own_vector: ClassVar[bool] = False
     #: (stiffness, damping) parameter names of the oscillators it adds (explicit-Euler stability check)
     oscillators: ClassVar[tuple[tuple[str, str], ...]] = ()
+    #: (name, SI unit, meaning) of each of its named :meth:`outputs`: the result's column, its CSV header and docs
+    output_columns: ClassVar[tuple[tuple[str, str, str], ...]] = ()
     #: (damping coefficient, damping ratio) parameter names: unless the scene gives the coefficient, it is
     #: c = 2 zeta sqrt(k ms), k the mean stiffness of the oscillators damped by c (Eqs. 55, 62, 67, 73 take c; the
     #: ratio is the scene's way of stating it). A scene gives at most one of the two (an error names both).
@@ -166,7 +168,8 @@ class Submodel:
         return None
 
     def outputs(self, ctx: Context) -> dict[str, Any]:
-        """Named outputs besides the loads' forces and moments (e.g. chamber volumes, mass flows)."""
+        """Named outputs besides the loads' forces and moments (e.g. chamber volumes, mass flows); declare each
+        one's unit and meaning in :attr:`output_columns`."""
         return {}
 
     @classmethod

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: c74493b50dddbbdf43e8797d1268d132676b8b222a6c00965a7ae1d61e1f06f9.
+ * Effects: all. Input hash: 2cd4cbb9eec9718605210e10265b36cd0d73e63eba13bbbfb7308b460733b25a.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "c74493b50dddbbdf43e8797d1268d132676b8b222a6c00965a7ae1d61e1f06f9"
+#define APEXSEAL_INPUT_HASH "2cd4cbb9eec9718605210e10265b36cd0d73e63eba13bbbfb7308b460733b25a"
 
 /* state x */
 #define APEXSEAL_NX 6

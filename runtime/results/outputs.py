@@ -119,6 +119,14 @@ def describe(name: str) -> Column:
             part = m.group(1) if m.groups() else ""
             text = meaning.format(c=CONTACTS.get(part, part), n=part)
             return Column(name, unit, text, display, scale)
+    from ...derive.submodels.registry import extended, submodels
+
+    for cls in submodels():  # a submodel's own named outputs
+        for column, unit, meaning in cls.output_columns:
+            if column == name:
+                return Column(name, unit, meaning)
+    if extended():  # a user's submodel may output what it does not declare: the run's files still hold it
+        return Column(name, "", "an output of a user's submodel that declares no unit for it (Submodel.output_columns)")
     raise KeyError(f"no description of the result column {name!r}; add it to runtime/results/outputs.py")
 
 

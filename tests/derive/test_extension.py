@@ -33,6 +33,10 @@ class Cushion(Submodel):
     guards = (Guard("cb", "s_cb", "height of the back face above hb", output="cushion_gap", sign=1,
                     closed_label="c", open_label="c0"),)
     oscillators = (("kb", "cs"),)
+    output_columns = (("cushion_height", "m", "height of the seal's back face above its rest position"),)
+
+    def outputs(self, ctx: Context) -> dict:
+        return {"cushion_height": ctx.g.X_s6 + ctx.P["ds2"]}
 
     def contacts(self, ctx: Context) -> list[ContactModel]:
         from apexseal.derive.submodels import laws
@@ -94,6 +98,12 @@ def test_a_contact_declared_in_a_test_is_derived_generated_and_simulated(cushion
     assert np.all(F[~closed] == 0) and np.all(F[closed] >= 0) and F[closed].max() > 0
     np.testing.assert_allclose(r.outputs["cushion_gap"][closed] < 1e-9, True)
     assert any(m.endswith("_c") for m in r.modes) and any(m.endswith("_c0") for m in r.modes)
+    # its own output is a column with the unit it declares (a KeyError in the CSV, to_pandas and to_xarray before)
+    df = r.to_pandas()
+    np.testing.assert_array_equal(df["cushion_height"].to_numpy(), r.outputs["cushion_height"])
+    assert r.to_xarray()["cushion_height"].attrs["units"] == "m"
+    r.save(tmp_path / "saved", csv=True)
+    assert "cushion_height [m]" in (tmp_path / "saved" / "trajectory.csv").read_text().splitlines()[1]
 
     without = apexseal.simulate(scene.with_overrides(**{"effects.cushion": False}), revolutions=1)
     assert "cb" not in without.guard_names  # off: not derived, not generated, not run
