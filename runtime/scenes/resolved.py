@@ -56,6 +56,12 @@ def _table(name: str, items: list[tuple[str, Any]]) -> list[str]:
     return [f"[{name}]", *(f"{k} = {_toml_value(v)}" for k, v in items), ""]
 
 
+#: the built-in sections of model parameters, written first in this order
+PARAMETER_SECTIONS = ("machine", "operation", "seal", "spring", "contacts", "friction")
+#: the built-in sections written after them, each its own way
+OTHER_SECTIONS = ("pressure", "gas", "effects", "assumptions", "solver")
+
+
 def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:
     """The scene as TOML text with every value explicit, and the extra files it names (file name -> text)."""
     lines = [f"# {line}" if line else "#" for line in header.splitlines()]
@@ -75,8 +81,11 @@ def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:
         for sub_name, sub in tables:
             walk(sub_name, sub)
 
-    for section in ("machine", "operation", "seal", "spring", "contacts", "friction"):
+    for section in PARAMETER_SECTIONS:
         walk(section, getattr(scene, section))
+    for section, model in getattr(scene, "_sections", {}).items():  # the sections of a user's submodels
+        if section not in PARAMETER_SECTIONS + OTHER_SECTIONS and model is not None:
+            walk(section, model)
     p = scene.pressure
     d = p.to_dict()
     if d["source"] == "table":

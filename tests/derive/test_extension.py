@@ -192,3 +192,23 @@ def test_a_submodel_off_with_its_own_parameters_does_not_break_the_start_check(d
         assert "kpad" not in names
         freq = contact_frequencies(scene.parameter_vector(), names)
         assert "kpad" not in freq and "kw" in freq
+
+
+def test_a_submodel_s_own_scene_section_is_written_to_the_resolved_scene(tmp_path):
+    """A parameter in a section of its own ([film]) ran with the scene's value but was left out of the result's
+    scene.toml, which then re-ran another scene (its content hash differed from the result's)."""
+    from apexseal.runtime.scenes.resolved import resolved_toml
+
+    film = type("Film", (Submodel,), {
+        "name": "film", "__module__": "elsewhere", "switch": "film",
+        "parameters": (Parameter("c_film", "N*s/m", "film damping", key="film.c", default=2.0, gt=0),),
+        "options": (Option("film", (NONE, ON), "an oil film"),)})
+    with registry.registered(film):
+        scene = apexseal.load_scene().with_overrides(**{"film.c": "30 N*s/m"})
+        text, files = resolved_toml(scene)
+        assert "[film]" in text
+        (tmp_path / "scene.toml").write_text(text)
+        for name, content in files.items():
+            (tmp_path / name).write_text(content)
+        again = apexseal.load_scene(tmp_path / "scene.toml")
+        assert again.parameters["c_film"] == 30.0 and again.content_hash() == scene.content_hash()
