@@ -329,11 +329,6 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
             out += check_zeta0(m, s)
     if "pressure" in sections:
         out += check_pressure(sections["pressure"], raw)
-        source = sections["pressure"].source
-        if isinstance(raw.get("gas"), dict) and raw["gas"] and source not in GAS_SOURCES:
-            n = len(raw["gas"])
-            out.append(Problem("gas", f"[gas] ({n} key{'s' * (n != 1)})", f'not used with pressure.source = "{source}"; '
-                               'only with "chamber" or "chamber+leakage" (remove it, or change the source)'))
         if m is not None:
             out += check_chamber_volumes(m, sections["pressure"], raw)
     return out

@@ -415,7 +415,6 @@ CASES = [
     ),
     ("initial-speed-overflow", {"operation.initial_state.xd": "1e300 m/s"}, "operation.initial_state.xd",
      '"1e300 m/s"', ["out of range", "-1000 <= value <= 1000 m/s"]),  # a derivative message blamed parameters
-    ("gas-keys-unused", {"gas.gamma": 1.3}, "gas", '"[gas] (1 key)"', ['not used with pressure.source = "table"']),
     ("seal-longer-than-machine", {"seal.Bs": "150 mm"}, "seal.Bs", '"150 mm"',
      ["longer than the machine is deep", "machine.H = 100 mm"]),
     (
