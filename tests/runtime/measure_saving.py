@@ -32,9 +32,9 @@ class TimedFolder(ResultFolder):
         self.write_s: list[float] = []
         self.peaks: list[float] = []
 
-    def append(self, part):
+    def append(self, part, z_end=None):
         t = time.perf_counter()
-        super().append(part)
+        super().append(part, z_end)
         self.write_s.append(time.perf_counter() - t)
         self.peaks.append(peak_mb())
 
