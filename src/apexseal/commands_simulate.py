@@ -130,7 +130,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                     signals.ignore_after()
             except ResultStorageError as err:
                 raise click.ClickException(str(err)) from err
-        _report(result, summary, files, out, (where, writer.kept_aside), timings, watch, signals, figures_skipped)
+        _report(result, summary, files, out, where, writer.kept_aside, timings, watch, signals, figures_skipped)
 
 
 def _what_runs(scene, sets, revolutions, method, rtol, max_wall_time, out, resume):
@@ -180,11 +180,10 @@ def _save(watch, writer, result, source: str, csv) -> tuple[dict, list[str]]:
     return summary, files
 
 
-def _report(result, summary, files, out, where, timings, watch, signals, figures_skipped=False) -> None:
+def _report(result, summary, files, out, where, kept_aside, timings, watch, signals, figures_skipped) -> None:
     """What the run gave, on the console (and where the time went, with --timings); exit code of a failed run.
-    ``where``: the folder the result is in, and why it is not ``out`` (ResultFolder.commit) or "";
+    ``where``: the folder the result is in, ``kept_aside``: why it is not ``out`` (ResultFolder.commit) or "";
     ``figures_skipped``: the figures were not drawn because a signal came."""
-    where, kept_aside = where
     describe_result(result, summary)
     click.echo(f"  wrote {', '.join(files)} to {where}/")
     if kept_aside:
