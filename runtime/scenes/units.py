@@ -191,9 +191,9 @@ def _number_and_unit(text: str, unit: str, key: str, raw: Any) -> pint.Quantity:
 
     ureg = registry()
     number = LEADING_NUMBER.match(text)
-    rest = text[number.end():].strip() if number else text
     if number is None:
         raise QuantityError(key, raw, f"cannot read this as a quantity; expected {expected(unit)}")
+    rest = text[number.end():].strip()
     if not rest:
         return ureg.Quantity(float(number.group()), "dimensionless")
     try:
@@ -371,8 +371,8 @@ PLAUSIBLE: dict[str, Plausible] = {
     "pressure.Pb": Plausible(1e3, 1e8, "kPa"),
 }
 
-#: absolute chamber pressures of a table outside this span are implausible (a table in bar declared in Pa, in Pa
-#: declared in kPa): the span of a constant pressure's keys
+#: absolute chamber pressures of a table outside this span are implausible (a table in bar declared in Pa, or in
+#: Pa declared in bar): the span of a constant pressure's keys
 TABLE_PRESSURES = PLAUSIBLE["pressure.Pa"]
 
 
