@@ -100,8 +100,12 @@ def continuation(folder: str | Path, read: SimulationResult | None = None) -> Co
 
     scene = load_scene(folder / SCENE_FILE)
     if scene.content_hash() != record["info"].get("scene_hash"):
+        from ...derive.submodels.registry import installed
+
+        packages = ", ".join(f"{name} from {dist}" for name, dist in installed().items())
+        why = "edited since?" + (f" or read with other submodels installed now: {packages}" if packages else "")
         raise ResultFolderError(f"{folder / SCENE_FILE} is not the scene the run computed (its content hash differs "
-                                "from the one result.json records: edited since?); to run the edited scene, "
+                                f"from the one result.json records: {why}); to run the scene as it reads now, "
                                 f"simulate it: apexseal simulate {folder / SCENE_FILE} --out <new folder>")
     return Continuation(source=folder, target=target or folder, record=record,
                         scene=scene, revolutions=kept, parts=list(record["parts"][:kept]), z=z,

@@ -112,8 +112,16 @@ def test_what_cannot_be_continued_is_refused_with_the_reason(light, tmp_path):
         apexseal.resume(failed)
     text = (done / "scene.toml").read_text()
     (done / "scene.toml").write_text(text.replace('ks = "5000.0 N/m"', 'ks = "7000.0 N/m"'))
-    with pytest.raises(ResultFolderError, match="is not the scene the run computed"):
+    with pytest.raises(ResultFolderError, match="is not the scene the run computed") as err:
         apexseal.resume(done, revolutions=2)
+    assert "edited since?)" in str(err.value)  # no submodels installed: the edit is the one cause named
+    from apexseal.derive.submodels import registry
+
+    with pytest.MonkeyPatch.context() as mp:  # a package of submodels installed since: a cause too
+        mp.setattr(registry, "installed", lambda: {"film": "my-seal-models 0.2"})
+        with pytest.raises(ResultFolderError, match="or read with other submodels installed now: film from "
+                                                    "my-seal-models 0.2"):
+            apexseal.resume(done, revolutions=2)
     (done / "scene.toml").write_text(text)
     other = types.SimpleNamespace(model_hash="0" * 64)
     with pytest.raises(ResultFolderError, match="another model"):
