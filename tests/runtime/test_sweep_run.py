@@ -135,6 +135,25 @@ def test_sigterm_stops_a_dask_sweep_as_ctrl_c_does(tmp_path):
     assert 2 <= finished < 16 and len(read_results(out)) == finished
 
 
+def test_ctrl_c_on_the_terminal_stops_a_dask_sweep_without_the_workers_tracebacks(tmp_path):
+    """A terminal's Ctrl-C reaches the whole process group: each worker printed a KeyboardInterrupt traceback
+    (68 lines for two workers) before the sweep's own message. The workers now start with SIGINT ignored."""
+    study = tmp_path / "light.toml"
+    study.write_text(LIGHT)
+    out = tmp_path / "out"
+    proc = subprocess.Popen(command("sweep", str(study), "--workers", "2", "--out", str(out), "-q", "--no-figures"),
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if len(list((out / "points").glob("point-*.parquet"))) >= 2:
+            break
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGINT)  # what a terminal does
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 130, stdout + stderr
+    assert "Traceback" not in stderr and "interrupted: run the same command again" in stderr, stderr
+
+
 def test_a_second_sweep_into_a_folder_being_written_is_refused(tmp_path):
     """Two sweeps at once into one folder mixed their rows (and results.parquet named the other study)."""
     from apexseal.runtime.studies.sweep.store import Store, StoreError

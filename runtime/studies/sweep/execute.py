@@ -147,11 +147,29 @@ def _serial(todo, args, record) -> bool:
 
 
 def local_cluster(workers: int):
-    """A LocalCluster of ``workers`` processes with one thread each (the model is single-threaded C)."""
+    """A LocalCluster of ``workers`` processes with one thread each (the model is single-threaded C).
+
+    Its processes start with SIGINT ignored: a Ctrl-C on the terminal reaches the whole process group, and this
+    process, which stops the sweep and then the cluster, is the one to act on it (each worker printed a
+    KeyboardInterrupt traceback)."""
     from dask.distributed import LocalCluster
 
-    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                        silence_logs=logging.CRITICAL)  # shutdown races of dask print ERRORs
+    with _workers_ignore_ctrl_c():
+        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                            silence_logs=logging.CRITICAL)  # shutdown races of dask print ERRORs
+
+
+@contextlib.contextmanager
+def _workers_ignore_ctrl_c():
+    """SIGINT ignored while processes are started, which inherit it (Python keeps an ignored SIGINT ignored)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def _started_cluster(workers: int):
