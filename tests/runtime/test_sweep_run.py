@@ -141,8 +141,12 @@ def test_ctrl_c_on_the_terminal_stops_a_dask_sweep_without_the_workers_traceback
     study = tmp_path / "light.toml"
     study.write_text(LIGHT)
     out = tmp_path / "out"
+    def foreground():  # as a command typed at a terminal: Ctrl-C acts (a job started in the background ignores it)
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+
     proc = subprocess.Popen(command("sweep", str(study), "--workers", "2", "--out", str(out), "-q", "--no-figures"),
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+                            preexec_fn=foreground)
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
         if len(list((out / "points").glob("point-*.parquet"))) >= 2:
