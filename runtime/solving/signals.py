@@ -14,6 +14,7 @@ Outside the main thread signals cannot be caught: there the context does nothing
 
 from __future__ import annotations
 
+import contextlib
 import math
 import signal
 import threading
@@ -96,3 +97,17 @@ class StopSignals:
     def exit_code(self) -> int:
         """The shell's convention for a process ended by a signal: 128 + its number."""
         return 128 + int(self.received[0]) if self.received else 0
+
+
+@contextlib.contextmanager
+def handling(signum: int, handler):
+    """``handler`` for ``signum`` inside the block, the previous one restored after it (nothing changes outside the
+    main thread, where signals cannot be handled)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signum, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signum, previous)

@@ -9,10 +9,8 @@ the points it was running. Ctrl-C stops after writing every finished point; the 
 
 from __future__ import annotations
 
-import contextlib
 import logging
 import signal
-import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -154,22 +152,12 @@ def local_cluster(workers: int):
     KeyboardInterrupt traceback)."""
     from dask.distributed import LocalCluster
 
-    with _workers_ignore_ctrl_c():
+    from ...solving.signals import handling
+
+    # started with SIGINT ignored, the processes inherit it (Python keeps an ignored SIGINT ignored)
+    with handling(signal.SIGINT, signal.SIG_IGN):
         return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
                             silence_logs=logging.CRITICAL)  # shutdown races of dask print ERRORs
-
-
-@contextlib.contextmanager
-def _workers_ignore_ctrl_c():
-    """SIGINT ignored while processes are started, which inherit it (Python keeps an ignored SIGINT ignored)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
 
 
 def _started_cluster(workers: int):
@@ -187,25 +175,14 @@ def _started_cluster(workers: int):
                            "another sweep in every worker: call it under `if __name__ == \"__main__\":`") from err
 
 
-@contextlib.contextmanager
-def _terminate_as_interrupt():
-    """SIGTERM raises ``KeyboardInterrupt`` as Ctrl-C does, while this process only starts a cluster and waits for
-    its points (no CasADi call runs here, so raising is safe): ``kill`` and batch schedulers stop a Dask sweep as
-    cleanly as Ctrl-C, with every finished point kept."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGTERM, signal.default_int_handler)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
-
-
 def _dask(todo, args, record, study, n, scheduler, client):
     """The points on a Dask cluster (the one at ``scheduler``, ``client``'s, or a LocalCluster of ``n`` workers).
-    SIGINT and SIGTERM stop it: the points in flight are dropped, every finished one is kept."""
-    with _terminate_as_interrupt():
+    SIGINT and SIGTERM stop it: the points in flight are dropped, every finished one is kept. SIGTERM raises
+    ``KeyboardInterrupt`` as Ctrl-C does while this process only starts a cluster and waits for its points (no
+    CasADi call runs here, so raising is safe): ``kill`` and batch schedulers stop it as cleanly as Ctrl-C."""
+    from ...solving.signals import handling
+
+    with handling(signal.SIGTERM, signal.default_int_handler):
         try:
             return _on_cluster(todo, args, record, study, n, scheduler, client)
         except KeyboardInterrupt:  # while the cluster starts or stops
