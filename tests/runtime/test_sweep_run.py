@@ -83,6 +83,15 @@ def test_a_killed_worker_loses_nothing_and_no_point_is_written_twice(serial, tmp
     pd.testing.assert_frame_equal(stable(report.table), stable(serial.table), check_exact=True)
 
 
+def _wait_for_points(out, proc, count: int, timeout: float = 120.0) -> None:
+    """Until the sweep writing ``out`` has ``count`` finished points (or has ended, or ``timeout`` s passed)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and proc.poll() is None:
+        if len(list((out / "points").glob("point-*.parquet"))) >= count:
+            return
+        time.sleep(0.05)
+
+
 def test_an_interrupted_sweep_resumes_without_recomputing_or_losing_anything(serial, tmp_path):
     study = tmp_path / "light.toml"
     study.write_text(LIGHT)
@@ -90,11 +99,7 @@ def test_an_interrupted_sweep_resumes_without_recomputing_or_losing_anything(ser
     cmd = command("sweep", str(study), "--workers", "1", "--out", str(out), "-q")
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     parts = out / "points"
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline and proc.poll() is None:
-        if parts.is_dir() and len(list(parts.glob("point-*.parquet"))) >= 4:
-            break
-        time.sleep(0.05)
+    _wait_for_points(out, proc, 4)
     proc.send_signal(signal.SIGINT)  # Ctrl-C
     stdout, stderr = proc.communicate(timeout=120)
     assert proc.returncode == 130, stdout + stderr
@@ -122,11 +127,7 @@ def test_sigterm_stops_a_dask_sweep_as_ctrl_c_does(tmp_path):
     proc = subprocess.Popen(command("sweep", str(study), "--workers", "2", "--out", str(out), "-q", "--no-figures"),
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     parts = out / "points"
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline and proc.poll() is None:
-        if parts.is_dir() and len(list(parts.glob("point-*.parquet"))) >= 2:
-            break
-        time.sleep(0.05)
+    _wait_for_points(out, proc, 2)
     proc.send_signal(signal.SIGTERM)
     stdout, stderr = proc.communicate(timeout=120)
     assert proc.returncode == 130, stdout + stderr
@@ -147,11 +148,7 @@ def test_ctrl_c_on_the_terminal_stops_a_dask_sweep_without_the_workers_traceback
     proc = subprocess.Popen(command("sweep", str(study), "--workers", "2", "--out", str(out), "-q", "--no-figures"),
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
                             preexec_fn=foreground)
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline and proc.poll() is None:
-        if len(list((out / "points").glob("point-*.parquet"))) >= 2:
-            break
-        time.sleep(0.05)
+    _wait_for_points(out, proc, 2)
     os.killpg(proc.pid, signal.SIGINT)  # what a terminal does
     stdout, stderr = proc.communicate(timeout=120)
     assert proc.returncode == 130, stdout + stderr
