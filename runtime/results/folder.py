@@ -325,7 +325,7 @@ class ResultFolder:
         if not self.final:
             raise RuntimeError("commit() before finish(): the folder has no final record")
         target = self.target
-        for stray in self.staging.glob(".*.tmp"):  # a figure worker stopped by a signal mid-file
+        for stray in filter(_stray_temporary, self.staging.iterdir()):  # a figure worker stopped mid-file
             stray.unlink(missing_ok=True)
         there, status = result_at(target)
         if there not in (None, self.run_id):
