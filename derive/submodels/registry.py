@@ -14,23 +14,22 @@ A package adds its submodels to every process (the command line, a sweep's worke
     [project.entry-points."apexseal.submodels"]
     cushion = "my_seal_models.cushion:Cushion"
 
-The content of the registry (the source of every registered class) enters the derivation's cache key, so a
+The content of the registry (the source of every registered class and of the helper modules of its own package
+that it imports, :mod:`.sources`) enters the derivation's cache key, so a
 new or changed submodel is never served an old derivation.
 """
 
 from __future__ import annotations
 
-import functools
 import hashlib
 import importlib
-import inspect
 from collections.abc import Iterator
 from contextlib import contextmanager
-from pathlib import Path
 
 from ..options import Option
 from ..parameters import Parameter
 from .base import Guard, State, Submodel
+from .sources import source_key
 
 #: the built-in submodels, in registration order
 BUILTIN = (".seal:SealBody", ".housing:HousingContact", ".groove:GrooveContacts", ".spring:SpringContact",
@@ -264,24 +263,10 @@ def alternatives() -> tuple[tuple[str, str], ...]:
 
 
 def digest() -> str:
-    """sha256 over the source of every registered submodel (part of the derivation's cache key)."""
+    """sha256 over the source of every registered submodel and its helpers (part of the derivation's cache key;
+    :func:`.sources.source_key`)."""
     h = hashlib.sha256()
     for cls in submodels():
         h.update(cls.name.encode())
-        h.update(_source(cls).encode())
+        h.update(source_key(cls).encode())
     return h.hexdigest()
-
-
-@functools.cache
-def _source(cls) -> str:
-    """The source of the file that declares a submodel (read once per class and process: a run asks for the
-    digest several times). The whole file, not the class's lines: any edit of it invalidates the cache, and
-    reading it costs microseconds where ``inspect.getsource`` tokenizes the file (8 ms a submodel). A class
-    defined without a file (a notebook cell) gives its own source; one without any source, its declarations."""
-    try:
-        path = inspect.getsourcefile(cls)
-        if path is not None and Path(path).is_file():
-            return Path(path).read_text(encoding="utf-8")
-        return inspect.getsource(cls)
-    except (OSError, TypeError):  # defined where no source is available: its declarations stand in
-        return repr((cls.parameters, cls.options, cls.guards, cls.switch))

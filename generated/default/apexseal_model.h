@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 2cd4cbb9eec9718605210e10265b36cd0d73e63eba13bbbfb7308b460733b25a.
+ * Effects: all. Input hash: 60262affb4b152007722c3959ef2bdc12a542708a2188c985bd64ca4f24d82f1.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "2cd4cbb9eec9718605210e10265b36cd0d73e63eba13bbbfb7308b460733b25a"
+#define APEXSEAL_INPUT_HASH "60262affb4b152007722c3959ef2bdc12a542708a2188c985bd64ca4f24d82f1"
 
 /* state x */
 #define APEXSEAL_NX 6

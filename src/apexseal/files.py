@@ -29,7 +29,7 @@ def sha256_bytes(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-#: digests of files computed in this process, under the files' identity and stat (see :func:`_remembered`)
+#: digests of files computed in this process, under the files' identity and stat (see :func:`remembered`)
 _DIGESTS: dict[tuple, str] = {}
 #: a file modified less than this long (ns) before it is hashed is never remembered: a second change within its
 #: timestamp's resolution could leave size and modification time as they were (git's "racily clean" files)
@@ -42,7 +42,7 @@ def stat_key(path: Path) -> tuple:
     return (os.fspath(path), st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns)
 
 
-def _remembered(key: tuple, paths: list[Path], compute) -> str:
+def remembered(key: tuple, paths: list[Path], compute) -> str:
     """``compute()``, remembered for this process while none of ``paths`` changes its stat (device, inode, size,
     modification and change times): every simulation of a sweep or a notebook checks the same sources and
     artefacts against their manifest, and a file is read and hashed once instead of once per run."""
@@ -64,7 +64,7 @@ def sha256_file(path: Path) -> str:
                 h.update(block)
         return h.hexdigest()
 
-    return _remembered(("sha256_file",), [Path(path)], compute)
+    return remembered(("sha256_file",), [Path(path)], compute)
 
 
 def files_digest(root: Path, names: Iterable[str]) -> str:
@@ -79,7 +79,7 @@ def files_digest(root: Path, names: Iterable[str]) -> str:
             h.update(path.read_bytes())
         return h.hexdigest()
 
-    return _remembered(("files_digest", *names), paths, compute)
+    return remembered(("files_digest", *names), paths, compute)
 
 
 def read_json_object(path: Path) -> dict | None:

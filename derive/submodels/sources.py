@@ -1,0 +1,179 @@
+"""The source text a registered submodel puts into the derivation's cache key.
+
+A submodel's laws may sit in helper modules of its own: a ``laws.py`` beside the class, imported at the top of the
+file or inside :meth:`~.base.Submodel.contacts`. The key therefore covers the file that declares the class and
+every module of the same package (for a module outside any package: of the same folder) that it imports, directly
+or through another such module, wherever the import statement stands. The imports are read from the files'
+syntax trees, so a helper counts whether or not it has been imported yet. Other libraries enter the key by their
+versions only where the derivation names them (sympy); apexseal's own derivation is keyed by
+:func:`apexseal.derive.cache.source_digest`, so a built-in submodel contributes its file alone.
+"""
+
+from __future__ import annotations
+
+import ast
+import hashlib
+import importlib.util
+import inspect
+import sys
+import time
+from pathlib import Path
+
+from ...files import RACY_NS, remembered, stat_key
+
+_OWN_PACKAGE = __package__.split(".")[0]  # "apexseal"
+
+#: class -> (the stat of each of its files, :func:`source_files`): its import graph changes only with its files
+_FOUND: dict[type, tuple[tuple, tuple | None]] = {}
+
+
+def source_key(cls) -> str:
+    """sha256 of :func:`source_text`, remembered while none of the class's files changes (a notebook that edits
+    and reloads a helper gets a new key; a run that asks for the key again reads no file)."""
+    found = _found(cls)
+    if found is None:
+        return hashlib.sha256(source_text(cls).encode()).hexdigest()
+    _, own, helpers = found
+    return remembered(("submodel source", cls.__module__, cls.__qualname__), [own, *helpers],
+                      lambda: hashlib.sha256(source_text(cls, found).encode()).hexdigest())
+
+
+def _found(cls) -> tuple | None:
+    cached = _FOUND.get(cls)
+    if cached is not None:
+        stats, found = cached
+        try:
+            if all(stat_key(Path(s[0])) == s for s in stats):
+                return found
+        except OSError:
+            pass
+    found = source_files(cls)
+    try:
+        stats = tuple(stat_key(p) for p in ([found[1], *found[2]] if found else []))
+    except OSError:  # a file vanished meanwhile: find them again next time
+        return found
+    now = time.time_ns()
+    if all(now - s[4] > RACY_NS and now - s[5] > RACY_NS for s in stats):  # as files.remembered
+        _FOUND[cls] = (stats, found)
+    return found
+
+
+def source_text(cls, found: tuple | None = None) -> str:
+    """The text a submodel class contributes to the cache key (see the module docstring): the source of the file
+    that declares it, then, for each helper of :func:`source_files`, its path relative to the package's (or
+    folder's) root and its source. A class defined without a file (a notebook cell) gives its own source; one
+    without any source, its declarations."""
+    found = found or source_files(cls)
+    if found is None:
+        try:
+            return inspect.getsource(cls)
+        except (OSError, TypeError):  # defined where no source is available: its declarations stand in
+            return repr((cls.parameters, cls.options, cls.guards, cls.switch))
+    root, own, helpers = found
+    return own.read_text(encoding="utf-8") + "".join(
+        f"\n{f.relative_to(root).as_posix()}\n{f.read_text(encoding='utf-8')}" for f in helpers)
+
+
+def source_files(cls) -> tuple[Path, Path, list[Path]] | None:
+    """The root folder, the file that declares a submodel class, and its helpers in sorted order: unless the
+    class is one of apexseal's own, the modules below the root that the file imports, transitively. None for a
+    class without a source file."""
+    try:
+        path = inspect.getsourcefile(cls)
+    except TypeError:
+        return None
+    if path is None or not Path(path).is_file():
+        return None
+    path = Path(path).resolve()
+    module = cls.__module__
+    if module.split(".")[0] == _OWN_PACKAGE:
+        return path.parent, path, []
+    root = _root(module, path)
+    return root, path, sorted(_imported_files(path, module, root) - {path})
+
+
+def _root(module: str, path: Path) -> Path:
+    """The folder whose modules belong to the submodel: its top-level package's, or its own file's folder."""
+    package = _package_of(module, path)
+    if package:
+        top = sys.modules.get(package.split(".")[0])
+        where = getattr(top, "__path__", None)
+        if where:
+            return Path(list(where)[0]).resolve()
+    return path.parent
+
+
+def _package_of(module: str, path: Path) -> str:
+    """The package that relative imports in ``module`` (file ``path``) resolve against."""
+    if path.name == "__init__.py":
+        return module
+    return module.rpartition(".")[0] if module != "__main__" else ""
+
+
+def _imported_files(start: Path, module: str, root: Path) -> set[Path]:
+    """``start`` and every file below ``root`` that it imports, transitively."""
+    seen: set[Path] = set()
+    todo = [(start, module)]
+    while todo:
+        path, name = todo.pop()
+        if path in seen:
+            continue
+        seen.add(path)
+        try:
+            tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+        except (OSError, SyntaxError, ValueError):
+            continue
+        for target in _targets(tree, _package_of(name, path)):
+            found = _file_of(target, root)
+            if found is not None and found not in seen:
+                todo.append((found, target))
+    return seen
+
+
+def _targets(tree: ast.AST, package: str) -> set[str]:
+    """The absolute names of the modules an import statement of ``tree`` may load (``from p import n``: p, and
+    p.n in case n is a module)."""
+    names: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                if not package:
+                    continue
+                try:
+                    base = importlib.util.resolve_name("." * node.level + base, package)
+                except ImportError:
+                    continue
+            if base:
+                names.add(base)
+            names.update(f"{base}.{alias.name}" if base else alias.name for alias in node.names if alias.name != "*")
+    return names
+
+
+def _file_of(name: str, root: Path) -> Path | None:
+    """The source file of module ``name`` if it lies below ``root`` (None for a package without one)."""
+    spec = _spec_below(name, root)
+    origin = getattr(spec, "origin", None)
+    if not origin or not origin.endswith(".py"):
+        return None
+    return Path(origin).resolve()
+
+
+def _spec_below(name: str, root: Path):
+    """The import spec of module ``name`` if its file or folder lies below ``root``, found without importing
+    anything outside the submodel's own package: a dotted name is looked up only when its parent is below
+    ``root`` (``find_spec`` imports the parent)."""
+    head = name.rpartition(".")[0]
+    if head and _spec_below(head, root) is None:
+        return None
+    try:
+        spec = importlib.util.find_spec(name)
+    except (ImportError, ValueError, AttributeError):
+        return None
+    if spec is None:
+        return None
+    places = [spec.origin] if spec.origin and spec.has_location else []
+    places += list(spec.submodule_search_locations or [])
+    return spec if any(Path(p).resolve().is_relative_to(root) for p in places) else None
