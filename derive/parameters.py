@@ -16,6 +16,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+#: the plausible range of a contact's stiffness (Parameter.plausible): 1e3 N/m (a soft pad) to 1e13 N/m (beyond a
+#: hardened steel line contact of this size)
+CONTACT_STIFFNESS = (1e3, 1e13, "N/m")
+
 
 @dataclass(frozen=True)
 class Parameter:
@@ -42,6 +46,9 @@ class Parameter:
     sign: str = "positive"
     #: False for scene inputs that only feed derived parameters (e.g. the seal's density)
     in_vector: bool = True
+    #: the range of engineering practice (SI low, SI high, unit to show it in): outside it a scene still loads,
+    #: with a warning (docs/scenes.md, "Plausible ranges"); None: no such range
+    plausible: tuple[float, float, str] | None = None
 
     @property
     def section(self) -> str | None:

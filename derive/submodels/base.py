@@ -52,6 +52,8 @@ class Guard:
     group: str | None = None
     #: closed at rest by design (a preloaded spring): its depth says nothing about leaving the model's domain
     closed_at_rest: bool = False
+    #: the contact it opens and closes (the prefix of that contact's outputs); None: the submodel's name
+    contact: str | None = None
 
 
 @dataclass
@@ -130,6 +132,8 @@ class Submodel:
     alternatives: ClassVar[tuple[tuple[str, str], ...]] = ()
     #: one line for the docs
     summary: ClassVar[str] = ""
+    #: what each of its contacts is, for the result's columns and docs/outputs.md (default: :attr:`summary`)
+    contact_meanings: ClassVar[dict[str, str]] = {}
 
     @classmethod
     def active(cls, options) -> bool:

@@ -10,20 +10,22 @@ guards b1..b4 name the paper's nine contact cases together (Algorithm 3).
 from __future__ import annotations
 
 from ..options import NONE, ON, Option
-from ..parameters import Parameter
+from ..parameters import CONTACT_STIFFNESS, Parameter
 from .base import ContactModel, Context, Guard, Load, Submodel
 
-#: contact -> (gap, seal point, stiffness, normal direction (frame, axis, sign), tangent direction (frame, axis))
+#: contact -> (seal point, stiffness, normal direction (frame, axis, sign), tangent direction (frame, axis)); its
+#: gap is the guard that names it as its contact
 _CONTACTS = {
-    "i1": ("b1", "r_i1", "kg1", ("S", "y", +1), ("S", "x")),
-    "c2": ("b2", "r_c2", "kg2", ("G", "y", +1), ("G", "x")),
-    "i2": ("b3", "r_i2", "kg3", ("S", "y", -1), ("S", "x")),
-    "c4": ("b4", "r_c4", "kg4", ("G", "y", -1), ("G", "x")),
+    "i1": ("r_i1", "kg1", ("S", "y", +1), ("S", "x")),
+    "c2": ("r_c2", "kg2", ("G", "y", +1), ("G", "x")),
+    "i2": ("r_i2", "kg3", ("S", "y", -1), ("S", "x")),
+    "c4": ("r_c4", "kg4", ("G", "y", -1), ("G", "x")),
 }
 
 
-def _gap(name: str, where: str, eq: str) -> Guard:
-    return Guard(name, "s_" + name, f"gap at {where} (Eq. {eq})", output=name, sign=1, group="groove")
+def _gap(name: str, contact: str, where: str, eq: str) -> Guard:
+    return Guard(name, "s_" + name, f"gap at {where} (Eq. {eq})", output=name, sign=1, group="groove",
+                 contact=contact)
 
 
 class GrooveContacts(Submodel):
@@ -32,7 +34,8 @@ class GrooveContacts(Submodel):
     switch = "groove_contact"
     contact_names = tuple(_CONTACTS)
     parameters = (
-        *(Parameter(f"kg{i}", "N/m", f"groove stiffness at g{i} (Algorithm 1)", key=f"contacts.kg{i}", gt=0)
+        *(Parameter(f"kg{i}", "N/m", f"groove stiffness at g{i} (Algorithm 1)", key=f"contacts.kg{i}", gt=0,
+                    plausible=CONTACT_STIFFNESS)
           for i in range(1, 5)),
         Parameter("cr", "N*s/m", "seal-groove contact damping (Eq. 55); default 2 zeta_g sqrt(kg ms), kg the mean "
                   "of kg1..kg4", key="contacts.cr", ge=0, optional=True),
@@ -48,10 +51,16 @@ class GrooveContacts(Submodel):
         Option("groove_friction", (ON, NONE), "Coulomb friction at the seal-groove contacts, Algorithm 1",
                parent="groove_contact"),
     )
-    guards = (_gap("b1", "g1, the mouth corner on the seal's negative side", "40"),
-              _gap("b2", "g2, the back corner c2 on the negative wall", "41"),
-              _gap("b3", "g3, the mouth corner on the seal's positive side", "42"),
-              _gap("b4", "g4, the back corner c4 on the positive wall", "43"))
+    contact_meanings = {
+        "i1": "seal-groove contact i1 (corner g1, seal's -Ys side; Algorithm 1, Eq. 63)",
+        "c2": "seal-groove contact c2 (back corner g2 on the -Y groove wall; Algorithm 1, Eq. 63)",
+        "i2": "seal-groove contact i2 (corner g3, seal's +Ys side; Algorithm 1, Eq. 63)",
+        "c4": "seal-groove contact c4 (back corner g4 on the +Y groove wall; Algorithm 1, Eq. 63)",
+    }
+    guards = (_gap("b1", "i1", "g1, the mouth corner on the seal's negative side", "40"),
+              _gap("b2", "c2", "g2, the back corner c2 on the negative wall", "41"),
+              _gap("b3", "i2", "g3, the mouth corner on the seal's positive side", "42"),
+              _gap("b4", "c4", "g4, the back corner c4 on the positive wall", "43"))
     oscillators = tuple((f"kg{i}", "cr") for i in range(1, 5))
     damping_ratios = (("cr", "zeta_g"),)
 
@@ -63,11 +72,12 @@ class GrooveContacts(Submodel):
 
         k, g, P, opts = ctx.k, ctx.g, ctx.P, ctx.options
         frames = {"S": k.S, "G": k.G}
-        guard_of = {gd.name: gd for gd in self.guards}
+        guard_of = {gd.contact: gd for gd in self.guards}
         models = []
-        for point, (gap_name, r_name, k_name, (nf, na, sgn), (tf, ta)) in _CONTACTS.items():
+        for point, (r_name, k_name, (nf, na, sgn), (tf, ta)) in _CONTACTS.items():
+            gap_name = guard_of[point].name
             gap = g.gaps[gap_name]
-            act = ctx.activation(guard_of[gap_name])
+            act = ctx.activation(guard_of[point])
             r = getattr(g, r_name)
             n = sgn * getattr(frames[nf], na)  # direction the groove pushes the seal
             tangent = getattr(frames[tf], ta)

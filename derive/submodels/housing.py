@@ -10,7 +10,7 @@ the normal penetration xs5 cos(lambda) (``"normal"``).
 from __future__ import annotations
 
 from ..options import NONE, ON, Option
-from ..parameters import Parameter
+from ..parameters import CONTACT_STIFFNESS, Parameter
 from .base import ContactModel, Context, Guard, Load, Submodel
 
 
@@ -18,8 +18,10 @@ class HousingContact(Submodel):
     name = "housing"
     summary = "the seal tip on the housing wall (Eqs. 33-34, 64-68, Algorithm 2)"
     switch = "housing_contact"
+    contact_meanings = {"housing": "seal-housing contact Fs5 (Algorithm 2, Eq. 68)"}
     parameters = (
-        Parameter("kw", "N/m", "equivalent housing stiffness along the groove axis (Eq. 34)", key="contacts.kw", gt=0),
+        Parameter("kw", "N/m", "equivalent housing stiffness along the groove axis (Eq. 34)", key="contacts.kw",
+                  plausible=CONTACT_STIFFNESS, gt=0),
         Parameter("cw", "N*s/m", "housing contact damping (Eq. 67); default 2 zeta_w sqrt(kw ms)", key="contacts.cw",
                   ge=0, optional=True),
         Parameter("zeta_w", "1", "damping ratio of the housing contact: cw = 2 zeta_w sqrt(kw ms) unless "

@@ -36,6 +36,7 @@ class ChamberPressure(Submodel):
     name = "pressure"
     summary = "the gas pressures of the two chambers on the seal's faces and tip (Eqs. 75-79)"
     switch = "chamber_pressure"
+    contact_meanings = {"pressure": "chamber pressure on the seal (Eq. 75)"}
     options = (
         Option("chamber_pressure", (ON, NONE), "gas pressure of the two chambers on the seal, Eqs. 75-79"),
         Option("pend_rule", ("mean", "half-difference"), "groove-bottom pressure Pend under the seal (Eq. 75): the "

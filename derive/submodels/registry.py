@@ -114,6 +114,11 @@ def register(cls: type[Submodel]) -> type[Submodel]:
     taken = sorted(f"{p.key} (already {keys[p.key]}'s)" for p in cls.parameters if p.key in keys)
     if taken:
         raise RegistryError(f"submodel {cls.name!r} declares scene keys that exist already: {', '.join(taken)}")
+    own = cls.contact_names or (cls.name,)
+    strays = sorted({g.contact for g in cls.guards if g.contact is not None} - set(own))
+    if strays:
+        raise RegistryError(f"submodel {cls.name!r} declares guards of contacts it does not declare: "
+                            f"{', '.join(strays)} (its contacts: {', '.join(own)})")
     known = set(options()) | {o.name for o in cls.options}
     for o in cls.options:
         if o.parent is not None and o.parent not in known:
@@ -235,6 +240,24 @@ def state(name: str) -> State:
 
 def guards() -> tuple[Guard, ...]:
     return tuple(g for cls in submodels() for g in cls.guards)
+
+
+def contacts() -> dict[str, str]:
+    """Every contact or load a submodel declares (the prefixes of the outputs F_<c>_X, F_<c>_Y, M_<c>, Pf_<c>) ->
+    what it is (the submodel's :attr:`~.base.Submodel.contact_meanings`, else its summary), in registration
+    order."""
+    return {c: cls.contact_meanings.get(c, cls.summary) for cls in submodels() if _has_contacts(cls)
+            for c in (cls.contact_names or (cls.name,))}
+
+
+def _has_contacts(cls: type[Submodel]) -> bool:
+    return bool(cls.contact_names or cls.guards or cls.contact_meanings) or cls.contacts is not Submodel.contacts
+
+
+def guard_contacts() -> dict[str, str]:
+    """The contact each guard opens and closes, by the guard's name (the guard's ``contact``, else its
+    submodel's name)."""
+    return {g.name: g.contact or cls.name for cls in submodels() for g in cls.guards}
 
 
 def guard(name: str) -> Guard:

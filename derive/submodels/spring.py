@@ -17,9 +17,11 @@ class SpringContact(Submodel):
     name = "spring"
     summary = "the groove-bottom spring and its preload (Eqs. 35-39, 69-74)"
     switch = "spring"
+    contact_meanings = {"spring": "groove-bottom spring Fs6 (Eqs. 37-39, 73)"}
     parameters = (
-        Parameter("ks", "N/m", "spring stiffness (Eq. 39)", key="spring.ks", gt=0),
-        Parameter("delta_s", "m", "spring preload deflection (Eq. 9)", key="spring.delta_s", ge=0, sign="real"),
+        Parameter("ks", "N/m", "spring stiffness (Eq. 39)", key="spring.ks", plausible=(1.0, 1e8, "N/m"), gt=0),
+        Parameter("delta_s", "m", "spring preload deflection (Eq. 9)", key="spring.delta_s",
+                  plausible=(0.0, 30e-3, "mm"), ge=0, sign="real"),
         Parameter("cs", "N*s/m", "seal-spring contact damping (Eq. 73); default 2 zeta_s sqrt(ks ms)",
                   key="contacts.cs", ge=0, optional=True),
         Parameter("zeta_s", "1", "damping ratio of the seal-spring contact: cs = 2 zeta_s sqrt(ks ms) unless "

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 60262affb4b152007722c3959ef2bdc12a542708a2188c985bd64ca4f24d82f1.
+ * Effects: all. Input hash: 602a966bacb8e9eea0591593247af9505f4fc6252ab7cc384cb318a899e5f0c7.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "60262affb4b152007722c3959ef2bdc12a542708a2188c985bd64ca4f24d82f1"
+#define APEXSEAL_INPUT_HASH "602a966bacb8e9eea0591593247af9505f4fc6252ab7cc384cb318a899e5f0c7"
 
 /* state x */
 #define APEXSEAL_NX 6

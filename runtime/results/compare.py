@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from .quantities import CONTACTS, PENETRATING, QUANTITY_HELP, collect
+from .quantities import collect, friction_contacts, penetrations, quantity_help
 from .result import SimulationResult
 
 #: the scene keys of a result whose scene is not known (saved without its scene.toml)
@@ -103,19 +103,22 @@ def scene_keys(scene) -> dict[str, str]:
     return out
 
 
-#: the quantities set side by side (runtime/results/quantities.py, the names a sweep's study file uses)
-COMPARED = ("revolutions", "events.total", *(f"friction_power.{c}" for c in CONTACTS), "liftoff_fraction",
-            "housing_force.mean", "housing_force.max", *(f"{s}.{e}" for s in ("x", "y", "phi") for e in ("min", "max")),
-            "gap.open_fraction", "gap.max", *(f"penetration.{c}" for c in PENETRATING))
+def compared() -> tuple[str, ...]:
+    """The quantities set side by side (runtime/results/quantities.py, the names a sweep's study file uses)."""
+    return ("revolutions", "events.total", *(f"friction_power.{c}" for c in friction_contacts()),
+            "liftoff_fraction", "housing_force.mean", "housing_force.max",
+            *(f"{s}.{e}" for s in ("x", "y", "phi") for e in ("min", "max")), "gap.open_fraction", "gap.max",
+            *(f"penetration.{c}" for c in penetrations()))
 
 
 def designer_numbers(results: Sequence[SimulationResult], labels: Sequence[str]) -> pd.DataFrame:
-    """A row per quantity of :data:`COMPARED` (named as in a sweep, its unit beside), after the runs' status; a
+    """A row per quantity of :func:`compared` (named as in a sweep, its unit beside), after the runs' status; a
     quantity no result has (friction at a contact whose effect is off everywhere) is left out."""
-    columns = {label: {"status": r.status, **collect(r, COMPARED)} for label, r in zip(labels, results, strict=True)}
-    table = pd.DataFrame(columns, index=["status", *COMPARED])
+    names, units = compared(), quantity_help()
+    columns = {label: {"status": r.status, **collect(r, names)} for label, r in zip(labels, results, strict=True)}
+    table = pd.DataFrame(columns, index=["status", *names])
     table = table.loc[[q == "status" or table.loc[q].notna().any() for q in table.index]]
-    table.index = pd.Index([q if q == "status" else f"{q} ({QUANTITY_HELP[q][0]})" for q in table.index],
+    table.index = pd.Index([q if q == "status" else f"{q} ({units[q][0]})" for q in table.index],
                            name="quantity")
     return table
 

@@ -11,16 +11,6 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-#: the contacts and loads of the model (derive/submodels/), by the suffix of their output columns
-CONTACTS: dict[str, str] = {
-    "i1": "seal-groove contact i1 (corner g1, seal's -Ys side; Algorithm 1, Eq. 63)",
-    "c2": "seal-groove contact c2 (back corner g2 on the -Y groove wall; Algorithm 1, Eq. 63)",
-    "i2": "seal-groove contact i2 (corner g3, seal's +Ys side; Algorithm 1, Eq. 63)",
-    "c4": "seal-groove contact c4 (back corner g4 on the +Y groove wall; Algorithm 1, Eq. 63)",
-    "housing": "seal-housing contact Fs5 (Algorithm 2, Eq. 68)",
-    "spring": "groove-bottom spring Fs6 (Eqs. 37-39, 73)",
-    "pressure": "chamber pressure on the seal (Eq. 75)",
-}
 
 def guard_outputs() -> dict[str, tuple[str, str]]:
     """Output column of each contact's guard -> (guard name, meaning), as the submodels declare them."""
@@ -113,13 +103,14 @@ def describe(name: str) -> Column:
     if name in guard_cols:
         display, scale = ("mm", 1e3) if name == "spring_compression" else ("µm", 1e6)
         return Column(name, "m", guard_cols[name][1], display, scale)
+    from ...derive.submodels.registry import contacts, extended, submodels
+
     for pattern, unit, meaning, display, scale in _PATTERNS:
         m = re.fullmatch(pattern, name)
         if m:
             part = m.group(1) if m.groups() else ""
-            text = meaning.format(c=CONTACTS.get(part, part), n=part)
+            text = meaning.format(c=contacts().get(part, part), n=part)
             return Column(name, unit, text, display, scale)
-    from ...derive.submodels.registry import extended, submodels
 
     for cls in submodels():  # a submodel's own named outputs
         for column, unit, meaning in cls.output_columns:

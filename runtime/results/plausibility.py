@@ -5,11 +5,12 @@ stiffnesses that is a fraction of a micrometre; a penetration that is a large pa
 stiffness is not a metal's (or the load is not a machine's), and the kinematics of the contacts (which corner
 touches which wall, Algorithm 3) are then no longer those of the real seal.
 
-The check compares the deepest penetration of the housing contact (the output ``xs5``, Eq. 33) and of each
-seal-groove contact (minus the gaps ``b1..b4`` of Eqs. 40-43) with ``PENETRATION_FRACTION`` of the side
-clearance ``(Wg - Ws) / 2`` (Eq. 17), the smallest fit of the seal. The spring is left out: it is compressed by
-design. :func:`apexseal.simulate` records the clearance in the result, warns with
-:class:`PenetrationWarning` when the check fails, and ``summary.json`` carries the check as ``plausibility``.
+The check compares the deepest penetration of every contact that a guard opens and closes (as the submodels
+declare them: the housing contact's ``xs5``, Eq. 33, minus the seal-groove gaps ``b1..b4`` of Eqs. 40-43, and a
+user's contact's guard output) with ``PENETRATION_FRACTION`` of the side clearance ``(Wg - Ws) / 2`` (Eq. 17),
+the smallest fit of the seal. A contact closed at rest by design (the preloaded spring) is left out.
+:func:`apexseal.simulate` records the clearance in the result, warns with :class:`PenetrationWarning` when the
+check fails, and ``summary.json`` carries the check as ``plausibility``.
 """
 
 from __future__ import annotations
@@ -17,13 +18,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..scenes.units import PlausibilityWarning
+from .quantities import penetrations
 
 #: a contact whose penetration exceeds this fraction of the side clearance (Wg - Ws)/2 is implausible
 PENETRATION_FRACTION = 0.25
-
-#: contact -> (output, sign that turns it into a penetration)
-PENETRATIONS = {"housing": ("xs5", 1.0), "i1": ("b1", -1.0), "c2": ("b2", -1.0), "i2": ("b3", -1.0),
-                "c4": ("b4", -1.0)}
 
 
 class PenetrationWarning(PlausibilityWarning):
@@ -47,7 +45,7 @@ def penetration_check(result, clearance: float | None = None, fraction: float = 
         raise ValueError("the result records no side clearance (run it with apexseal.simulate, or pass clearance)")
     limit = fraction * clearance
     depths = {}
-    for contact, (name, sign) in PENETRATIONS.items():
+    for contact, (name, sign) in penetrations().items():
         if name in result.outputs and result.n:
             depths[contact] = max(0.0, float(np.max(sign * np.asarray(result.outputs[name], float))))
     beyond = sorted(c for c, d in depths.items() if d > limit)

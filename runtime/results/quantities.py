@@ -10,37 +10,59 @@ from __future__ import annotations
 
 import math
 
-#: friction contacts of the model (derive/model.py names their powers Pf_<contact>) and the event guards
-CONTACTS = ("total", "housing", "spring", "i1", "c2", "i2", "c4")
-GUARDS = ("total", "xs5", "spring", "b1", "b2", "b3", "b4")
 _EXTREMES = {"x": "um", "y": "um", "phi": "mrad"}
-#: the contacts whose penetration the plausibility check measures (runtime/results/plausibility.py)
-PENETRATING = ("housing", "i1", "c2", "i2", "c4")
 
-#: name -> (unit, meaning); units as pint spells them ("1": a plain number or a count)
-QUANTITY_HELP: dict[str, tuple[str, str]] = {
-    **{f"friction_power.{c}": ("W", f"mean friction power, {c} contact" if c != "total" else
-                               "mean friction power, all contacts") for c in CONTACTS},
-    "liftoff_fraction": ("1", "fraction of the samples with the seal tip off the housing (modes *_h0_*)"),
-    "housing_force.mean": ("N", "mean seal-housing contact force |Fs5| (Eq. 68)"),
-    "housing_force.max": ("N", "largest seal-housing contact force"),
-    "housing_force.max_at": ("deg", "crank angle of the largest housing force"),
-    **{f"{s}.{e}": (u, f"{e}imum of {s}") for s, u in _EXTREMES.items() for e in ("min", "max")},
-    **{f"{s}.{e}_at": ("deg", f"crank angle of the {e}imum of {s}") for s in _EXTREMES for e in ("min", "max")},
-    "gap.open_fraction": ("1", "fraction of the samples with a seal-groove leakage gap (Algorithm 4)"),
-    "gap.mean": ("um", "mean seal-groove leakage gap b_gap"),
-    "gap.max": ("um", "largest seal-groove leakage gap b_gap"),
-    **{f"events.{g}": ("1", f"contact switches of guard {g}" if g != "total" else "contact switches, all guards")
-       for g in GUARDS},
-    **{f"penetration.{c}": ("um", f"deepest penetration of the {c} contact into its wall (force / stiffness; "
-                                  "the plausibility check)") for c in PENETRATING},
-    "revolutions": ("rev", "revolutions computed (less than asked when a point stopped early)"),
-}
+
+def friction_contacts() -> tuple[str, ...]:
+    """"total", then every contact a guard opens and closes (where friction can act; the model names its power
+    Pf_<contact>), as the registered submodels declare them."""
+    from ...derive.submodels.registry import guard_contacts
+
+    return ("total", *dict.fromkeys(guard_contacts().values()))
+
+
+def guard_names() -> tuple[str, ...]:
+    """"total", then every guard the registered submodels declare (their switches are counted by guard)."""
+    from ...derive.submodels.registry import guards
+
+    return ("total", *(g.name for g in guards()))
+
+
+def penetrations() -> dict[str, tuple[str, float]]:
+    """contact -> (the output of its guard, the sign that turns it into a penetration) for every contact that is
+    open at rest (a preloaded spring, closed by design, is left out): what the plausibility check measures."""
+    from ...derive.submodels.registry import guard_contacts, guards
+
+    contact = guard_contacts()
+    return {contact[g.name]: (g.output, -float(g.sign)) for g in guards() if not g.closed_at_rest}
+
+
+def quantity_help() -> dict[str, tuple[str, str]]:
+    """Every quantity's name -> (unit, meaning), units as pint spells them ("1": a plain number or a count), for
+    the registered submodels."""
+    return {
+        **{f"friction_power.{c}": ("W", f"mean friction power, {c} contact" if c != "total" else
+                                   "mean friction power, all contacts") for c in friction_contacts()},
+        "liftoff_fraction": ("1", "fraction of the samples with the seal tip off the housing (modes *_h0_*)"),
+        "housing_force.mean": ("N", "mean seal-housing contact force |Fs5| (Eq. 68)"),
+        "housing_force.max": ("N", "largest seal-housing contact force"),
+        "housing_force.max_at": ("deg", "crank angle of the largest housing force"),
+        **{f"{s}.{e}": (u, f"{e}imum of {s}") for s, u in _EXTREMES.items() for e in ("min", "max")},
+        **{f"{s}.{e}_at": ("deg", f"crank angle of the {e}imum of {s}") for s in _EXTREMES for e in ("min", "max")},
+        "gap.open_fraction": ("1", "fraction of the samples with a seal-groove leakage gap (Algorithm 4)"),
+        "gap.mean": ("um", "mean seal-groove leakage gap b_gap"),
+        "gap.max": ("um", "largest seal-groove leakage gap b_gap"),
+        **{f"events.{g}": ("1", f"contact switches of guard {g}" if g != "total" else "contact switches, all guards")
+           for g in guard_names()},
+        **{f"penetration.{c}": ("um", f"deepest penetration of the {c} contact into its wall (force / stiffness; "
+                                      "the plausibility check)") for c in penetrations()},
+        "revolutions": ("rev", "revolutions computed (less than asked when a point stopped early)"),
+    }
 
 
 def quantity_unit(name: str) -> str | None:
     """The unit of a quantity, or None if there is no such quantity."""
-    entry = QUANTITY_HELP.get(name)
+    entry = quantity_help().get(name)
     return entry[0] if entry else None
 
 

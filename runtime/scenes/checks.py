@@ -25,7 +25,7 @@ from .schema import (
     Section,
     raw_at,
 )
-from .units import PLAUSIBLE, TABLE_PRESSURES, implausible
+from .units import TABLE_PRESSURES, implausible, plausible_ranges
 
 #: largest aspect ratio b = r/L of a dimple-free limaçon (Eq. 4; derive.geometry.looping_free_limit)
 MAX_ASPECT_RATIO = 0.25
@@ -335,10 +335,10 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
 
 
 def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure: Any) -> list[Problem]:
-    """Values far outside engineering practice (:data:`.units.PLAUSIBLE`), each against the key the user wrote,
-    and a pressure table whose absolute pressures leave :data:`.units.TABLE_PRESSURES`."""
+    """Values far outside engineering practice (:func:`.units.plausible_ranges`), each against the key the user
+    wrote, and a pressure table whose absolute pressures leave :data:`.units.TABLE_PRESSURES`."""
     values = {}
-    for key in PLAUSIBLE:
+    for key in plausible_ranges():
         section, name = key.split(".")
         written = raw_at(raw, [section, name])
         if section in sections and written is not MISSING:

@@ -345,27 +345,9 @@ def _si_of(show: str) -> str:
     return {"mm": "m", "um": "m", "rpm": "rpm", "N/m": "N/m", "kPa": "Pa", "bar": "Pa", "g": "kg"}.get(show, show)
 
 
-#: key -> range of engineering practice for limaçon machines of rotary-engine size (docs/scenes.md,
-#: "Plausible ranges"). Outside it a scene still loads, with a :class:`PlausibilityWarning`; when the scene
-#: also has errors, the implausible keys are reported first, as the likely cause.
-PLAUSIBLE: dict[str, Plausible] = {
-    "machine.r": Plausible(0.5e-3, 0.5, "mm"),
-    "machine.L": Plausible(2e-3, 2.0, "mm"),
-    "machine.H": Plausible(2e-3, 2.0, "mm"),
-    "seal.Ws": Plausible(0.3e-3, 30e-3, "mm"),
-    "seal.Wg": Plausible(0.3e-3, 30e-3, "mm"),
-    "seal.ds1": Plausible(0.2e-3, 50e-3, "mm"),
-    "seal.ds2": Plausible(0.2e-3, 50e-3, "mm"),
-    "seal.ro": Plausible(0.2e-3, 10.0, "mm"),  # a tip radius of metres stands for a flat tip
-    "seal.Bs": Plausible(2e-3, 2.0, "mm"),
-    "seal.ms": Plausible(1e-4, 2.0, "g"),
-    "spring.delta_s": Plausible(0.0, 30e-3, "mm"),
-    "spring.ks": Plausible(1.0, 1e8, "N/m"),
-    "contacts.kw": Plausible(1e3, 1e13, "N/m"),
-    "contacts.kg1": Plausible(1e3, 1e13, "N/m"),
-    "contacts.kg2": Plausible(1e3, 1e13, "N/m"),
-    "contacts.kg3": Plausible(1e3, 1e13, "N/m"),
-    "contacts.kg4": Plausible(1e3, 1e13, "N/m"),
+#: the scene's own settings (not parameters of a submodel) -> their range of engineering practice; the
+#: parameters declare theirs (``Parameter.plausible``)
+SETTINGS_PLAUSIBLE: dict[str, Plausible] = {
     "operation.rpm": Plausible(1.0, 50000.0, "rpm"),
     "pressure.Pa": Plausible(1e3, 1e8, "kPa"),
     "pressure.Pb": Plausible(1e3, 1e8, "kPa"),
@@ -373,15 +355,27 @@ PLAUSIBLE: dict[str, Plausible] = {
 
 #: absolute chamber pressures of a table outside this span are implausible (a table in bar declared in Pa, or in
 #: Pa declared in bar): the span of a constant pressure's keys
-TABLE_PRESSURES = PLAUSIBLE["pressure.Pa"]
+TABLE_PRESSURES = SETTINGS_PLAUSIBLE["pressure.Pa"]
+
+
+def plausible_ranges() -> dict[str, Plausible]:
+    """Scene key -> range of engineering practice for limaçon machines of rotary-engine size (docs/scenes.md,
+    "Plausible ranges"): the registered submodels' parameters' (``Parameter.plausible``), then the scene's own
+    settings. Outside it a scene still loads, with a :class:`PlausibilityWarning`; when the scene also has errors,
+    the implausible keys are reported first, as the likely cause."""
+    from ...derive.submodels.registry import parameters
+
+    declared = {p.key: Plausible(*p.plausible) for p in parameters(all_inputs=True) if p.plausible and p.key}
+    return declared | SETTINGS_PLAUSIBLE
 
 
 def implausible(values: dict[str, tuple[float, Any]]) -> list[tuple[str, float, str]]:
     """``(key, SI value, message)`` for each entry of ``values`` (key -> (SI value, value as written)) outside
-    :data:`PLAUSIBLE`; a bare number of a length that would be plausible in mm gets a "did you mean"."""
+    :func:`plausible_ranges`; a bare number of a length that would be plausible in mm gets a "did you mean"."""
     out = []
+    ranges = plausible_ranges()
     for key, (x, written) in values.items():
-        rule = PLAUSIBLE.get(key)
+        rule = ranges.get(key)
         if rule is None or x is None or rule.lo <= x <= rule.hi:
             continue
         f = float(registry().Quantity(1.0, _si_of(rule.show)).to(rule.show).magnitude)

@@ -23,9 +23,9 @@ def example_path(name: str) -> Path:
 def _quantities(ctx, param, value) -> None:
     if not value or ctx.resilient_parsing:
         return
-    from .runtime.results.quantities import QUANTITY_HELP
+    from .runtime.results.quantities import quantity_help
 
-    for name, (unit, meaning) in QUANTITY_HELP.items():
+    for name, (unit, meaning) in quantity_help().items():
         click.echo(f"{name:24s} {unit:5s} {meaning}")
     ctx.exit()
 

@@ -18,6 +18,7 @@ from apexseal.derive.parameters import Parameter
 from apexseal.derive.submodels import registry
 from apexseal.derive.submodels.base import ContactModel, Context, Guard, Load, Submodel
 from apexseal.runtime.scenes.errors import SceneError
+from apexseal.runtime.scenes.units import PlausibilityWarning
 
 
 class Cushion(Submodel):
@@ -25,7 +26,7 @@ class Cushion(Submodel):
     summary = "a linear spring between the seal's back face and the groove bottom"
     switch = "cushion"
     parameters = (
-        Parameter("kb", "N/m", "cushion stiffness", key="contacts.kb", default=2e5, gt=0),
+        Parameter("kb", "N/m", "cushion stiffness", key="contacts.kb", default=2e5, gt=0, plausible=(1e3, 1e9, "N/m")),
         Parameter("hb", "m", "height of the back face above rest below which the cushion acts", key="contacts.hb",
                   default=4e-6, sign="real"),
     )
@@ -66,6 +67,30 @@ def test_the_registry_builds_everything_from_the_declarations(cushion):
     assert on.effects.cushion and on.parameters["kb"] == 3e5
     with pytest.raises(SceneError, match="contacts.hb"):
         scene.with_overrides(**{"contacts.hb": "4 kg"})
+    with pytest.warns(PlausibilityWarning, match=r"contacts.kb.*1000 to 1e\+09 N/m"):  # its declared range
+        scene.with_overrides(**{"contacts.kb": "1e12 N/m"})
+
+
+def test_the_results_name_quantities_and_check_penetrations_of_a_users_contact(cushion):
+    """The result's columns, a sweep's and a comparison's quantities and the plausibility check come from the
+    registry: a user's contact has them as the built-in ones do."""
+    from apexseal.runtime.results.outputs import describe
+    from apexseal.runtime.results.quantities import penetrations, quantity_help
+
+    assert registry.contacts()["cushion"] == Cushion.summary and registry.guard_contacts()["cb"] == "cushion"
+    assert Cushion.summary in describe("F_cushion_X").meaning
+    assert {"events.cb", "penetration.cushion", "friction_power.cushion"} <= set(quantity_help())
+    assert penetrations()["cushion"] == ("cushion_gap", -1.0)  # a gap: its negative is the penetration
+    assert "spring" not in penetrations()  # closed at rest by design
+
+
+def test_a_guard_of_a_contact_the_submodel_does_not_declare_is_refused():
+    stray = type("Film", (Submodel,), {"name": "film", "__module__": "elsewhere", "guards": (
+        Guard("gf", "s_gf", "film gap", output="film_gap", contact="wiper"),)})
+    with pytest.raises(registry.RegistryError, match=r"guards of contacts it does not declare: wiper \(its contacts: "
+                                                     r"film\)"):
+        registry.register(stray)
+    assert not registry.extended()
 
 
 @pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")  # soft contacts
@@ -75,6 +100,7 @@ def test_a_contact_declared_in_a_test_is_derived_generated_and_simulated(cushion
     with the cushion off, the model comes from the cache, without a warning that they are stale."""
     from apexseal.derive.cache import cached_model
     from apexseal.generated.generate import generate
+    from apexseal.runtime.results.quantities import collect
 
     # the former soft contacts (kw = 6.2e7, kg = 1.05e6 N/m) let the seal travel tens of micrometres, past the
     # cushion's 4 um: on metal contacts (the default) the back face moves about 1 um and the cushion never opens
@@ -98,6 +124,9 @@ def test_a_contact_declared_in_a_test_is_derived_generated_and_simulated(cushion
     assert np.all(F[~closed] == 0) and np.all(F[closed] >= 0) and F[closed].max() > 0
     np.testing.assert_allclose(r.outputs["cushion_gap"][closed] < 1e-9, True)
     assert any(m.endswith("_c") for m in r.modes) and any(m.endswith("_c0") for m in r.modes)
+    q = collect(r, ("events.cb", "penetration.cushion", "friction_power.cushion"))
+    assert q["events.cb"] == r.events[i, -1] and np.isnan(q["friction_power.cushion"])  # no friction law
+    assert q["penetration.cushion"] == pytest.approx(max(0.0, -r.outputs["cushion_gap"].min()) * 1e6)
     # its own output is a column with the unit it declares (a KeyError in the CSV, to_pandas and to_xarray before)
     df = r.to_pandas()
     np.testing.assert_array_equal(df["cushion_height"].to_numpy(), r.outputs["cushion_height"])

@@ -132,11 +132,11 @@ def test_the_shipped_example_is_the_200_point_design_map():
 def test_docs_list_every_quantity_and_design():
     from pathlib import Path
 
-    from apexseal.runtime.results.quantities import QUANTITY_HELP
+    from apexseal.runtime.results.quantities import quantity_help
     from apexseal.runtime.studies.sweep.study import DESIGNS
 
     docs = (Path(__file__).resolve().parents[2] / "docs" / "sweeps.md").read_text(encoding="utf-8")
-    assert [q for q in QUANTITY_HELP if f"`{q}`" not in docs] == []
+    assert [q for q in quantity_help() if f"`{q}`" not in docs] == []
     assert [d for d in DESIGNS if f'`"{d}"`' not in docs] == []
 
 

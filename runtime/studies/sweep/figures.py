@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 from ...results.figures import new_figure, save_png
-from ...results.quantities import QUANTITY_HELP
+from ...results.quantities import quantity_help
 from ...scenes.units import registry
 
 
@@ -96,7 +96,7 @@ def quantity_figure(study, table: pd.DataFrame, column: str, path: Path, *, ax=N
         ax = fig.add_subplot()
     unit = study.units().get(column, "")
     ok = table["status"] == "completed"
-    title = QUANTITY_HELP.get(column, (unit, column))[1]
+    title = quantity_help().get(column, (unit, column))[1]
     if len(study.parameters) == 1 or not _numeric(study):
         p = study.parameters[0]
         f, _ = _scale(p)

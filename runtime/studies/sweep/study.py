@@ -48,7 +48,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from apexseal.suggest import did_you_mean
 
-from ...results.quantities import QUANTITY_HELP, quantity_unit
+from ...results.quantities import quantity_help, quantity_unit
 from ...scenes.errors import Problem, show_value
 from .design import Parameter, parameter_of
 
@@ -318,10 +318,11 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
             problems.append(Problem("design.points", d.points, "a Sobol design needs a power of 2 (balance "
                                     "properties); allowed: 1, 2, 4, ..., e.g. 64 or 128"))
 
+    known = quantity_help()
     for q in spec.collect.quantities:
-        if quantity_unit(q) is None:
+        if q not in known:
             problems.append(Problem("collect.quantities", q, "unknown quantity" + did_you_mean(
-                q, QUANTITY_HELP, cutoff=0.5) + f"; known: {', '.join(QUANTITY_HELP)}"))
+                q, known, cutoff=0.5) + f"; known: {', '.join(known)}"))
     if not spec.collect.quantities:
         problems.append(Problem("collect.quantities", [], "collect at least one quantity"))
 
