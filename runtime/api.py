@@ -10,7 +10,7 @@ import numpy as np
 from .results.plausibility import PenetrationWarning, describe, penetration_check, side_clearance
 from .results.result import SimulationResult
 from .solving.run import run
-from .solving.settings import RunSettings
+from .solving.settings import RunSettings, merged
 
 
 def model_functions(scene, *, compiled: bool | None = None):
@@ -38,7 +38,7 @@ def settings_of(scene, **overrides) -> RunSettings:
                 chatter_events=s.chatter_events, compile_c=not s.interpreted,
                 flags="quick" if s.compile == "quick" else "optimised", revolutions=scene.operation.revolutions,
                 pressure=s.pressure, calls_per_revolution=s.calls_per_revolution)
-    return RunSettings(**(base | {k: v for k, v in overrides.items() if v is not None}))
+    return RunSettings(**merged(base, overrides))
 
 
 def scene_of(scene):

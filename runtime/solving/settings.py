@@ -128,6 +128,37 @@ def _flag(value: Any) -> bool:
     raise _fail("expected true or false")
 
 
+#: the scene's ``[solver]`` name of a setting whose field here is named otherwise -> that field: the API takes
+#: either (``apexseal.simulate(scene, interpreted=True)`` is ``compile_c=False``)
+SCENE_NAMES = {"compile": "flags", "interpreted": "compile_c", "euler_steps_per_revolution": "steps_per_revolution"}
+
+
+def merged(base: dict[str, Any], changes: dict[str, Any]) -> dict[str, Any]:
+    """``base`` with the ``changes`` that are not None; a change under a scene's name (:data:`SCENE_NAMES`)
+    replaces the base's value of its field."""
+    changes = {k: v for k, v in changes.items() if v is not None}
+    return {k: v for k, v in base.items() if k not in {SCENE_NAMES.get(c) for c in changes}} | changes
+
+
+def _field_names(values: dict[str, Any]) -> dict[str, Any]:
+    """``values`` with the scene's names of :data:`SCENE_NAMES` turned into the fields' (``interpreted`` into
+    ``compile_c``, negated); a setting given under both names is refused naming the two."""
+    out = dict(values)
+    for scene_name, field in SCENE_NAMES.items():
+        if scene_name not in out:
+            continue
+        value = out.pop(scene_name)
+        if field in out:
+            raise SettingsError([(scene_name, value, f"the scene's name of the setting {field}, also given "
+                                  f"({field} = {out[field]!r}): give one of the two")])
+        if scene_name == "interpreted":
+            if not isinstance(value, bool):
+                raise SettingsError([(scene_name, value, "expected true or false")])
+            value = not value
+        out[field] = value
+    return out
+
+
 class RunSettings(BaseModel):
     """Settings of one run: method, tolerances, samples, budgets and revolutions (see the module docstring)."""
 
@@ -152,10 +183,11 @@ class RunSettings(BaseModel):
     pressure: Annotated[str, BeforeValidator(_pressure)] = DEFAULT_PRESSURE
 
     def __init__(self, **values: Any) -> None:
+        given = {SCENE_NAMES[k]: k for k in values if k in SCENE_NAMES}  # errors name what the caller wrote
         try:
-            super().__init__(**values)
+            super().__init__(**_field_names(values))
         except ValidationError as exc:
-            raise settings_error(exc) from None
+            raise settings_error(exc, given) from None
         if self.pressure != "steps" and self.pressure not in _profiles_of(self.method):  # imports the engine
             allowed = ", ".join(_profiles_of(self.method))
             raise SettingsError([("pressure", self.pressure, f"method {self.method!r} integrates the pressure "
@@ -164,20 +196,23 @@ class RunSettings(BaseModel):
 
     def replace(self, **changes: Any) -> RunSettings:
         """A copy with ``changes`` (validated like the original; ``None`` values are ignored)."""
-        return RunSettings(**(dict(self) | {k: v for k, v in changes.items() if v is not None}))
+        return RunSettings(**merged(dict(self), changes))
 
 
-def settings_error(exc: ValidationError) -> SettingsError:
-    """The :class:`SettingsError` of pydantic's errors: ``field = value: message``."""
+def settings_error(exc: ValidationError, given: dict[str, str] | None = None) -> SettingsError:
+    """The :class:`SettingsError` of pydantic's errors: ``field = value: message`` (a field given under the
+    scene's name, ``given``: field -> that name, is named so)."""
     out = []
     for err in exc.errors():
         name = ".".join(str(p) for p in err["loc"]) or "settings"
+        name = (given or {}).get(name, name)
         if err["type"] == "extra_forbidden":
             import difflib
 
-            near = difflib.get_close_matches(name, RunSettings.model_fields, n=1)
+            known = [*RunSettings.model_fields, *SCENE_NAMES]
+            near = difflib.get_close_matches(name, known, n=1)
             hint = f" (did you mean '{near[0]}'?)" if near else ""
-            out.append((name, err["input"], f"unknown setting{hint}; known: {', '.join(RunSettings.model_fields)}"))
+            out.append((name, err["input"], f"unknown setting{hint}; known: {', '.join(known)}"))
         else:
             out.append((name, err.get("input"), err["msg"]))
     return SettingsError(out)

@@ -34,6 +34,9 @@ BAD = [
     ("max_wall_time", math.inf, "0 < value <= 1e+07"),
     ("method", "rk45", "not a method"),
     ("flags", "fast", "not allowed"),
+    ("compile", "fast", "not allowed"),  # the scene's names are the API's too
+    ("interpreted", "no", "expected true or false"),
+    ("euler_steps_per_revolution", 0, "1 <= n <= 1e+09"),
 ]
 
 
@@ -49,6 +52,22 @@ def test_api_refuses_bad_settings_naming_field_value_and_range(default_scene, fi
 def test_unknown_setting_is_named_with_a_suggestion():
     with pytest.raises(SettingsError, match=r"rtl = 1e-06: unknown setting \(did you mean 'rtol'\?\)"):
         RunSettings(rtl=1e-6)
+
+
+def test_the_api_takes_the_scene_s_names_of_settings(default_scene):
+    """``solver.compile``, ``solver.interpreted`` and ``solver.euler_steps_per_revolution`` are the fields
+    ``flags``, ``compile_c`` (negated) and ``steps_per_revolution``; either name sets them, and the scene's value
+    of the one is replaced by an override under the other."""
+    scene = default_scene.with_overrides(**{"solver.interpreted": True, "solver.compile": "quick"})
+    st = settings_of(scene, compile="optimised", interpreted=False, euler_steps_per_revolution=1000)
+    assert (st.flags, st.compile_c, st.steps_per_revolution) == ("optimised", True, 1000)
+    assert settings_of(scene).compile_c is False and settings_of(scene, compile_c=True).compile_c is True
+    assert RunSettings(interpreted=True).replace(compile="quick") == RunSettings(compile_c=False, flags="quick")
+    with pytest.raises(SettingsError, match=r"interpreted = true: the scene's name of the setting compile_c, also "
+                                            r"given \(compile_c = True\): give one of the two"):
+        RunSettings(interpreted=True, compile_c=True)
+    with pytest.raises(SettingsError, match=r"interpretd = true: unknown setting \(did you mean 'interpreted'\?\)"):
+        RunSettings(interpretd=True)
 
 
 def test_every_problem_is_reported_at_once():
