@@ -88,8 +88,8 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
         with StopSignals() as signals:  # a second signal during the writing is noted, not raised
             try:
                 with watch.stage("load"):
-                    functions = model_functions(sc)
-                    if worker is not None:  # it builds the figures' frames while this one integrates
+                    functions = _load_abandoned_on_signal(model_functions, sc, signals)
+                    if worker is not None and functions is not None:  # it builds the figures' frames meanwhile
                         worker.prepare(force_panels(functions.output_names), ports_of(sc))
                 if signals.requested:  # while the model was derived or compiled: no run to keep
                     click.echo(f"  interrupted by {signals.sender()} before the run started: nothing written",
@@ -178,6 +178,21 @@ def _save(watch, writer, result, source: str, csv) -> tuple[dict, list[str]]:
                 writer.write_csv()
             files.append("trajectory.csv")
     return summary, files
+
+
+def _load_abandoned_on_signal(model_functions, scene, signals):
+    """The scene's model functions; a signal abandons their derivation, generation or compilation where it is
+    (None), since nothing is computed yet: the caches are written atomically, a compiler is killed, and its build
+    folder swept by the next build."""
+    signals.raising = True
+    try:
+        return model_functions(scene)
+    except KeyboardInterrupt:
+        if not signals.requested:  # not one of ours: an interrupt raised by other means
+            raise
+        return None
+    finally:
+        signals.raising = False
 
 
 def _report(result, summary, files, out, where, kept_aside, timings, watch, signals, figures_skipped) -> None:

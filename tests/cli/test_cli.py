@@ -168,6 +168,10 @@ def test_progress_reports_stages_with_elapsed_time(capsys):
         pass
     err = capsys.readouterr().err
     assert "apexseal: compiling something ..." in err and "compiling something: done in" in err
+    with pytest.raises(KeyboardInterrupt), progress.enabled(True), progress.stage("deriving"):
+        raise KeyboardInterrupt  # a stage left by an exception is not "done"
+    err = capsys.readouterr().err
+    assert "deriving: abandoned after" in err and "done in" not in err
     with progress.stage("silent"):  # no handler: nothing printed
         pass
     assert "silent" not in capsys.readouterr().err
@@ -225,25 +229,27 @@ def test_a_study_s_default_folder_is_not_a_simulation_result_s(tmp_path, monkeyp
 
 
 def test_ctrl_c_while_the_model_loads_writes_nothing(tmp_path, monkeypatch):
-    """A signal while the model is derived or compiled (it is noted, not raised, so that no compilation is left
-    half done): the command stops before the run with exit code 130 and writes nothing. Before, it went on to
-    start the run and wrote a 0-revolution "result" over any result at --out."""
+    """A signal while the model is derived, generated or compiled abandons that work where it is (its caches are
+    written atomically: tests/generated/test_cache_heals.py): the command stops before the run with exit code 130
+    and writes nothing. Before, the derivation (20 s for the gas model) and the compilation went on to their ends
+    first, and earlier still the run started and wrote a 0-revolution "result" over any result at --out."""
     import os
     import signal
 
     import apexseal.runtime.api as api
 
-    real = api.model_functions
+    real, went_on = api.model_functions, []
 
     def loading(scene, *args, **kwargs):
         os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C while the model loads
+        went_on.append(True)
         return real(scene, *args, **kwargs)
 
     monkeypatch.setattr(api, "model_functions", loading)
-    r = CliRunner().invoke(main, ["simulate", "-n", "1", "-q", "--no-figures", "--out", str(tmp_path / "o")])
+    r = CliRunner().invoke(main, ["simulate", "-n", "1", "--no-figures", "--out", str(tmp_path / "o")])
     assert r.exit_code == 130, r.output
     assert "interrupted by the user (Ctrl-C, SIGINT) before the run started: nothing written" in r.output
-    assert list(tmp_path.iterdir()) == []
+    assert went_on == [] and list(tmp_path.iterdir()) == []
 
 
 def test_a_run_logged_to_a_file_shows_its_progress(tmp_path):
