@@ -168,3 +168,16 @@ def test_library_refuses_a_foreign_generation_record(loaded):
     other = Manifest(dict(loaded.manifest.data, input_hash="0" * 64))
     with pytest.raises(StaleArtefactError, match="built from the record"):
         check_library(loaded.library, other)
+
+
+def test_the_stage_timing_command_reads_every_stage_of_both_generations(capsys):
+    """runtime/bench/generate_stages.py (the README's stage table) parses what ``apexseal generate`` prints: if
+    that output changed, the table's command would silently time nothing."""
+    from apexseal.runtime.bench.generate_stages import main
+
+    times = main(1)
+    for flags in ("quick", "optimised"):
+        assert set(times[flags]) == {"derive", "lower", "codegen", "render", "compile"}, times
+        assert all(len(v) == 1 and v[0] >= 0 for v in times[flags].values())
+    assert times["optimised"]["derive"][0] < times["quick"]["derive"][0]  # the derivation came from the cache
+    assert "medians of 1, quick: derive" in capsys.readouterr().out
