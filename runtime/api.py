@@ -19,12 +19,16 @@ def model_functions(scene, *, compiled: bool | None = None):
     Compiled (the default unless the scene asks for ``solver.interpreted``): ``casadi.external`` of the
     model library, each carrying the SX Functions it was generated from (``.sx()``), which the integrators
     embed. Derivation (sympy) happens only when the model's artefacts are missing or stale.
+    A signal caught by an active :class:`~.solving.signals.StopSignals` (the command line's, a serial sweep's)
+    abandons a derivation or compilation at once with ``KeyboardInterrupt``: nothing is computed yet.
     """
     from ..generated.load import load_functions
+    from .solving.signals import StopSignals
 
     compiled = (not scene.solver.interpreted) if compiled is None else compiled
     flags = "quick" if scene.solver.compile == "quick" else "optimised"
-    loaded = load_functions(scene.effects, scene.assumptions, compiled=compiled, flags=flags)
+    with StopSignals.abandoning():
+        loaded = load_functions(scene.effects, scene.assumptions, compiled=compiled, flags=flags)
     return loaded.c if compiled else loaded.sx
 
 

@@ -74,6 +74,26 @@ class StopSignals:
         for s in target._previous:
             target._previous[s] = signal.SIG_IGN
 
+    @classmethod
+    @contextlib.contextmanager
+    def abandoning(cls):
+        """Work with nothing to keep yet (deriving, generating or compiling a model): inside the block a signal
+        caught by the active :class:`StopSignals` raises ``KeyboardInterrupt`` at once, as does one it caught
+        before the block, instead of letting the work run to its end. Its caches are written atomically, so
+        abandoning it leaves nothing half done. Without an active instance the block runs as it is (a
+        signal acts as Python's default handler makes it)."""
+        active = cls._active
+        if active is None:
+            yield
+            return
+        if active.requested:
+            raise KeyboardInterrupt
+        raising, active.raising = active.raising, True
+        try:
+            yield
+        finally:
+            active.raising = raising
+
     def watch(self, engine) -> None:
         """Stop ``engine`` at its next deadline check when a signal arrives."""
         if engine is not None:

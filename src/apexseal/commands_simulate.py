@@ -181,18 +181,15 @@ def _save(watch, writer, result, source: str, csv) -> tuple[dict, list[str]]:
 
 
 def _load_abandoned_on_signal(model_functions, scene, signals):
-    """The scene's model functions; a signal abandons their derivation, generation or compilation where it is
-    (None), since nothing is computed yet: the caches are written atomically, a compiler is killed, and its build
-    folder swept by the next build."""
-    signals.raising = True
+    """The scene's model functions, or None when a signal abandoned their derivation, generation or compilation
+    where it was (:meth:`StopSignals.abandoning`: nothing is computed yet, the caches are written atomically, a
+    compiler is killed and its build folder swept by the next build)."""
     try:
         return model_functions(scene)
     except KeyboardInterrupt:
         if not signals.requested:  # not one of ours: an interrupt raised by other means
             raise
         return None
-    finally:
-        signals.raising = False
 
 
 def _report(result, summary, files, out, where, kept_aside, timings, watch, signals, figures_skipped) -> None:

@@ -236,16 +236,16 @@ def test_ctrl_c_while_the_model_loads_writes_nothing(tmp_path, monkeypatch):
     import os
     import signal
 
-    import apexseal.runtime.api as api
+    import apexseal.generated.load as load
 
-    real, went_on = api.model_functions, []
+    real, went_on = load.load_functions, []
 
-    def loading(scene, *args, **kwargs):
+    def loading(*args, **kwargs):
         os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C while the model loads
         went_on.append(True)
-        return real(scene, *args, **kwargs)
+        return real(*args, **kwargs)
 
-    monkeypatch.setattr(api, "model_functions", loading)
+    monkeypatch.setattr(load, "load_functions", loading)
     r = CliRunner().invoke(main, ["simulate", "-n", "1", "--no-figures", "--out", str(tmp_path / "o")])
     assert r.exit_code == 130, r.output
     assert "interrupted by the user (Ctrl-C, SIGINT) before the run started: nothing written" in r.output

@@ -434,3 +434,29 @@ def test_a_killed_run_leaves_the_previous_result_intact(slow_scene, tmp_path, tw
     assert partial.status == "interrupted" and partial.n >= 1 + 2 * 360 and (partial.n - 1) % 360 == 0
     # how it was run, recorded before its first step
     assert partial.info["method"] == "erk" and partial.info["revolutions_asked"] == 200 and partial.info["rtol"] > 0
+
+
+def test_a_signal_abandons_a_model_load_at_once_but_only_under_stop_signals():
+    """StopSignals.abandoning (around the derivation, generation and compilation of a model): a signal raises at
+    once inside it, one noted before it raises on entry, the previous raising is restored after it, and without
+    an active StopSignals the block is left to Python's own handler."""
+    import os
+    import signal
+
+    from apexseal.runtime.solving.signals import StopSignals
+
+    with StopSignals() as signals:
+        with StopSignals.abandoning():
+            assert signals.raising
+        assert not signals.raising
+        reached = []
+        with pytest.raises(KeyboardInterrupt), StopSignals.abandoning():
+            os.kill(os.getpid(), signal.SIGTERM)
+            reached.append(True)  # not reached: the handler raised at the next bytecode
+        assert reached == [] and signals.received == [signal.SIGTERM] and not signals.raising
+        with pytest.raises(KeyboardInterrupt), StopSignals.abandoning():  # a signal noted before: no work begins
+            reached.append(True)
+        assert reached == []
+    with StopSignals.abandoning():  # nothing active: nothing changes
+        reached.append(True)
+    assert reached == [True]
