@@ -49,8 +49,7 @@ class SealBody(Submodel):
         Parameter("density", "kg/m^3", "seal material density", key="seal.density", gt=0, optional=True,
                   in_vector=False),
         Parameter("ms", "kg", "seal mass (Eq. 80); default density Ws (ds1 + ds2) Bs", key="seal.ms",
-                  plausible=(1e-4, 2.0, "g"), gt=0,
-                  optional=True),
+                  plausible=(1e-4, 2.0, "g"), gt=0, optional=True),
         Parameter("Icg", "kg*m^2", "seal moment of inertia about its centre of gravity (Eq. 80); default "
                   "ms (Ws^2 + (ds1 + ds2)^2) / 12", key="seal.Icg", gt=0, optional=True),
         Parameter("zeta0", "m", "initial protrusion of the seal out of the groove (Eq. 17); default the groove "

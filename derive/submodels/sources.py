@@ -12,6 +12,7 @@ versions only where the derivation names them (sympy); apexseal's own derivation
 from __future__ import annotations
 
 import ast
+import functools
 import hashlib
 import importlib.util
 import inspect
@@ -31,11 +32,16 @@ def source_key(cls) -> str:
     """sha256 of :func:`source_text`, remembered while none of the class's files changes (a notebook that edits
     and reloads a helper gets a new key; a run that asks for the key again reads no file)."""
     found = _found(cls)
-    if found is None:
-        return hashlib.sha256(source_text(cls).encode()).hexdigest()
+    if found is None:  # a class without a file: its source cannot change without a new class
+        return _key_without_file(cls)
     _, own, helpers = found
     return remembered(("submodel source", cls.__module__, cls.__qualname__), [own, *helpers],
                       lambda: hashlib.sha256(source_text(cls, found).encode()).hexdigest())
+
+
+@functools.cache
+def _key_without_file(cls) -> str:
+    return hashlib.sha256(source_text(cls).encode()).hexdigest()
 
 
 def _found(cls) -> tuple | None:

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 602a966bacb8e9eea0591593247af9505f4fc6252ab7cc384cb318a899e5f0c7.
+ * Effects: all. Input hash: 5a9ac773e5f016077469ad99f7ce9192a2605e91aae83c29123ca992f8d6d1d0.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "602a966bacb8e9eea0591593247af9505f4fc6252ab7cc384cb318a899e5f0c7"
+#define APEXSEAL_INPUT_HASH "5a9ac773e5f016077469ad99f7ce9192a2605e91aae83c29123ca992f8d6d1d0"
 
 /* state x */
 #define APEXSEAL_NX 6
