@@ -49,6 +49,9 @@ class Parameter:
     #: the range of engineering practice (SI low, SI high, unit to show it in): outside it a scene still loads,
     #: with a warning (docs/scenes.md, "Plausible ranges"); None: no such range
     plausible: tuple[float, float, str] | None = None
+    #: the effect that must be on for any law to read it (e.g. "groove_friction" for mu2); None: the switch of
+    #: its submodel. While that effect is off a scene may omit it (registry.needing)
+    needs: str | None = None
 
     @property
     def section(self) -> str | None:

@@ -129,6 +129,14 @@ class ModelFunctions:
         """The SX Functions (to embed in an integrator): this set, or the one it was compiled from."""
         return self if self.symbolic is None else self.symbolic
 
+    def parameters_read(self) -> frozenset[str]:
+        """The parameters some expression of the model reads (its right-hand side, guards or outputs): those of an
+        effect that is off are in the vector but read by none (their slot may hold NaN, registry.needing)."""
+        sx = self.sx()
+        read = [any(flags) for flags in zip(*(f.which_depends("p", [f.name_out(0)], 1, False)
+                                              for f in (sx.rhs, sx.guards, sx.outputs)), strict=True)]
+        return frozenset(n for n, r in zip(self.parameter_names, read, strict=True) if r)
+
     def mode_rhs(self, label: str):
         """``f(theta, x, p, u) -> xdot`` of one mode (Algorithm 3 label): ``rhs`` with that mode's activations."""
         mode = next(m for m in self.mode_list if m.label == label)

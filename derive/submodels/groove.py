@@ -38,11 +38,12 @@ class GrooveContacts(Submodel):
                     plausible=CONTACT_STIFFNESS)
           for i in range(1, 5)),
         Parameter("cr", "N*s/m", "seal-groove contact damping (Eq. 55); default 2 zeta_g sqrt(kg ms), kg the mean "
-                  "of kg1..kg4", key="contacts.cr", ge=0, optional=True),
+                  "of kg1..kg4", key="contacts.cr", ge=0, optional=True, needs="groove_damping"),
         Parameter("zeta_g", "1", "damping ratio of the seal-groove contacts: cr = 2 zeta_g sqrt(kg ms), kg the mean "
                   "of kg1..kg4, unless contacts.cr is given", key="contacts.zeta_g", default=0.1, ge=0, le=5,
-                  in_vector=False),
-        Parameter("mu2", "1", "seal-groove friction coefficient (Algorithm 1)", key="friction.mu2", ge=0, lt=1),
+                  in_vector=False, needs="groove_damping"),
+        Parameter("mu2", "1", "seal-groove friction coefficient (Algorithm 1)", key="friction.mu2", ge=0, lt=1,
+                  needs="groove_friction"),
     )
     options = (
         Option("groove_contact", (ON, NONE), "elastic seal-groove contacts at g1..g4, Algorithm 1"),

@@ -23,10 +23,12 @@ class HousingContact(Submodel):
         Parameter("kw", "N/m", "equivalent housing stiffness along the groove axis (Eq. 34)", key="contacts.kw",
                   plausible=CONTACT_STIFFNESS, gt=0),
         Parameter("cw", "N*s/m", "housing contact damping (Eq. 67); default 2 zeta_w sqrt(kw ms)", key="contacts.cw",
-                  ge=0, optional=True),
+                  ge=0, optional=True, needs="housing_damping"),
         Parameter("zeta_w", "1", "damping ratio of the housing contact: cw = 2 zeta_w sqrt(kw ms) unless "
-                  "contacts.cw is given", key="contacts.zeta_w", default=0.1, ge=0, le=5, in_vector=False),
-        Parameter("mu1", "1", "seal-housing friction coefficient (Algorithm 2)", key="friction.mu1", ge=0, lt=1),
+                  "contacts.cw is given", key="contacts.zeta_w", default=0.1, ge=0, le=5, in_vector=False,
+                  needs="housing_damping"),
+        Parameter("mu1", "1", "seal-housing friction coefficient (Algorithm 2)", key="friction.mu1", ge=0, lt=1,
+                  needs="housing_friction"),
     )
     options = (
         Option("housing_contact", (ON, NONE), "elastic seal tip-housing contact, Eqs. 33-34"),

@@ -120,6 +120,9 @@ def register(cls: type[Submodel]) -> type[Submodel]:
         raise RegistryError(f"submodel {cls.name!r} declares guards of contacts it does not declare: "
                             f"{', '.join(strays)} (its contacts: {', '.join(own)})")
     known = set(options()) | {o.name for o in cls.options}
+    unknown = sorted({p.needs for p in cls.parameters if p.needs is not None} - known)
+    if unknown:
+        raise RegistryError(f"submodel {cls.name!r} declares parameters that need unknown effects: {', '.join(unknown)}")
     for o in cls.options:
         if o.parent is not None and o.parent not in known:
             raise RegistryError(f"option {o.name!r} of {cls.name!r} names an unknown parent {o.parent!r}")
@@ -207,6 +210,17 @@ def parameters(*, all_inputs: bool = False, opts=None) -> tuple[Parameter, ...]:
 def parameter_names(*, all_inputs: bool = False, opts=None) -> tuple[str, ...]:
     """The names of the parameter vector of the generated Functions, in order (for the options ``opts``)."""
     return tuple(p.name for p in parameters(all_inputs=all_inputs, opts=opts))
+
+
+def needing(p: Parameter) -> str | None:
+    """The effect that must be on for ``p`` to be read: its ``needs``, else its submodel's switch; None for a
+    parameter read whatever the effects (the seal body's)."""
+    if p.needs is not None:
+        return p.needs
+    for cls in submodels():
+        if p in cls.parameters:
+            return cls.switch
+    raise KeyError(p.name)
 
 
 def parameter(name: str) -> Parameter:

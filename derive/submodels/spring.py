@@ -23,10 +23,12 @@ class SpringContact(Submodel):
         Parameter("delta_s", "m", "spring preload deflection (Eq. 9)", key="spring.delta_s",
                   plausible=(0.0, 30e-3, "mm"), ge=0, sign="real"),
         Parameter("cs", "N*s/m", "seal-spring contact damping (Eq. 73); default 2 zeta_s sqrt(ks ms)",
-                  key="contacts.cs", ge=0, optional=True),
+                  key="contacts.cs", ge=0, optional=True, needs="spring_damping"),
         Parameter("zeta_s", "1", "damping ratio of the seal-spring contact: cs = 2 zeta_s sqrt(ks ms) unless "
-                  "contacts.cs is given", key="contacts.zeta_s", default=0.1, ge=0, le=5, in_vector=False),
-        Parameter("mus", "1", "seal-spring friction coefficient (Eq. 73)", key="friction.mus", ge=0, lt=1),
+                  "contacts.cs is given", key="contacts.zeta_s", default=0.1, ge=0, le=5, in_vector=False,
+                  needs="spring_damping"),
+        Parameter("mus", "1", "seal-spring friction coefficient (Eq. 73)", key="friction.mus", ge=0, lt=1,
+                  needs="spring_friction"),
     )
     options = (
         Option("spring", (ON, NONE), "the groove-bottom spring and its preload, Eqs. 37-39"),

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 5a9ac773e5f016077469ad99f7ce9192a2605e91aae83c29123ca992f8d6d1d0.
+ * Effects: all. Input hash: 6f4d32b10ec4f7595dc74dad7d20a541e93e680276ba1634ee4e3773c104809d.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "5a9ac773e5f016077469ad99f7ce9192a2605e91aae83c29123ca992f8d6d1d0"
+#define APEXSEAL_INPUT_HASH "6f4d32b10ec4f7595dc74dad7d20a541e93e680276ba1634ee4e3773c104809d"
 
 /* state x */
 #define APEXSEAL_NX 6

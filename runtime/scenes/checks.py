@@ -24,6 +24,7 @@ from .schema import (
     SealSection,
     Section,
     raw_at,
+    validator_of,
 )
 from .units import TABLE_PRESSURES, implausible, plausible_ranges
 
@@ -331,6 +332,23 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
         out += check_pressure(sections["pressure"], raw)
         if m is not None:
             out += check_chamber_volumes(m, sections["pressure"], raw)
+    return out
+
+
+def check_needed(sections: dict[str, Section], effects: Effects) -> list[Problem]:
+    """The parameters that an effect switched on reads and the scene leaves out (a parameter without a default
+    is required only while the effect that reads it is on: ``registry.needing``)."""
+    from apexseal.derive.submodels.registry import needing, parameters
+
+    out = []
+    for p in parameters(all_inputs=True):
+        need = needing(p) if p.key is not None and p.default is None and not p.optional else None
+        model = sections.get(p.section) if need is not None else None
+        if model is None or getattr(model, p.leaf) is not None or not getattr(effects, need, False):
+            continue
+        spec = validator_of(type(model), p.leaf)
+        out.append(Problem(p.key, MISSING, f"required while effects.{need} is on; give {spec.expects()}, or set "
+                                           f"effects.{need} = false"))
     return out
 
 

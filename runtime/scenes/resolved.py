@@ -76,7 +76,7 @@ def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:
         # a damping coefficient given explicitly replaces its ratio, whose default is then not written either
         dropped = {b for a, b in alternatives() if a in given and b in given}
         plain = [(k, v) for k, v in plain if f"{name}.{k}" not in dropped]
-        if plain or not tables:
+        if plain:  # a section of nothing but keys left out (an effect that is off) is left out too
             lines.extend(_table(name, plain))
         for sub_name, sub in tables:
             walk(sub_name, sub)

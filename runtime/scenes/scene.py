@@ -20,6 +20,7 @@ import copy
 import hashlib
 import importlib.resources
 import json
+import math
 import numbers
 import re
 import tomllib
@@ -33,7 +34,7 @@ import numpy as np
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects
 
-from .checks import check_consistency, check_plausible, resolve_assumptions, resolve_effects
+from .checks import check_consistency, check_needed, check_plausible, resolve_assumptions, resolve_effects
 from .errors import Problem, SceneError
 from .pressure import PressureSource, make_source
 from .schema import OperationSection, Section, SolverSection, validate_sections
@@ -109,15 +110,17 @@ def derive_parameters(sections: dict[str, Section], effects: Effects,
     delta_w of Eq. 9 and Li of Eq. 12; see derive/submodels/seal.py).
     """
     from apexseal.derive.options import options_of
-    from apexseal.derive.submodels.registry import parameters
+    from apexseal.derive.submodels.registry import needing, parameters
 
     options = options_of(effects, assumptions or Assumptions())
     values = parameter_values(sections, options)
     names = parameters(opts=options)
-    missing = [p.name for p in names if values.get(p.name) is None]
+    unread = {p.name for p in names if (need := needing(p)) is not None and not options.on(need)}
+    missing = [p.name for p in names if values.get(p.name) is None and p.name not in unread]
     if missing:  # pragma: no cover - a submodel declares a parameter that nothing computes
         raise RuntimeError(f"the scene gives no value for parameters {missing}: a submodel's derived() must")
-    return {p.name: float(values[p.name]) for p in names}
+    # a parameter of an effect that is off and that the scene leaves out keeps its slot as NaN: read by no law
+    return {p.name: math.nan if values.get(p.name) is None else float(values[p.name]) for p in names}
 
 
 def parameter_values(sections: dict[str, Section], options, **changes) -> dict[str, Any]:
@@ -131,7 +134,9 @@ def parameter_values(sections: dict[str, Section], options, **changes) -> dict[s
             values[p.name] = getattr(sections[p.section], p.leaf)
     values.update(changes)
     for cls in submodels():
-        values.update(cls.derived(values, sections, options))
+        left_out = any(values.get(p.name) is None and p.key is not None and not p.optional for p in cls.parameters)
+        if cls.active(options) or not left_out:  # one that is off with inputs left out: its derived values unset
+            values.update(cls.derived(values, sections, options))
     return values
 
 
@@ -149,6 +154,8 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
         src = sections["pressure"].source if "pressure" in sections else None
         effects, more = resolve_effects(sections["effects"], src, raw)
         problems += more
+        if effects is not None:
+            problems += check_needed(sections, effects)
     doubtful = check_plausible(sections, raw, pressure)
     if problems:  # an implausible value (a unit slip) is the likely cause of the rest: report it first
         raise SceneError([p for p in doubtful if p.key not in {q.key for q in problems}] + problems, source=name)

@@ -45,10 +45,10 @@ class RunChecks:
         k = int(np.argmin(ok))
         last = Z[lay.active, k - 1] if k else np.zeros(lay.n_g)
         reason = f"non-finite state (NaN or Inf) at {np.degrees(thetas[k] - self.theta_start):.3f} deg"
-        if self.settings.method == "euler":
-            reason += "; " + contact_growth(self.params, self.settings.steps_per_revolution,
-                                             self.functions.parameter_names)[0].describe(
-                self.settings.steps_per_revolution)
+        growth = contact_growth(self.params, self.settings.steps_per_revolution, self.functions.parameter_names,
+                                self.functions.parameters_read()) if self.settings.method == "euler" else []
+        if growth:
+            reason += "; " + growth[0].describe(self.settings.steps_per_revolution)
         return Z[:, :k], ("failed", StopInfo(thetas[k] - self.theta_start, lay.mode(last), reason))
 
     def events(self, Z, z_start, thetas, P, z_rev) -> tuple | None:

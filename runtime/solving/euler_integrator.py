@@ -40,34 +40,36 @@ class ContactGrowth:
                 f"least {self.steps_needed} solver.euler_steps_per_revolution, or method 'rosenbrock'")
 
 
-def contact_frequencies(params: np.ndarray, names=None) -> dict[str, float]:
-    """sqrt(k/ms) of each penalty contact the submodels declare (rad/s), by the name of its stiffness."""
+def contact_frequencies(params: np.ndarray, names=None, read=None) -> dict[str, float]:
+    """sqrt(k/ms) of each penalty contact the submodels declare (rad/s), by the name of its stiffness; with
+    ``read`` (the parameters the model reads, ``ModelFunctions.parameters_read``), of its contacts only."""
     names = parameter_names() if names is None else names
     p = dict(zip(names, np.asarray(params, float), strict=True))
-    return {k_name: math.sqrt(p[k_name] / p["ms"]) for k_name, _ in _present(oscillators(), p)}
+    return {k_name: math.sqrt(p[k_name] / p["ms"]) for k_name, _ in _present(oscillators(), p, read)}
 
 
-def _present(pairs, p: dict) -> list[tuple[str, str]]:
-    """The (stiffness, damping) pairs whose parameters are in the vector: a submodel switched off with its own
-    parameters (``own_vector``) has none there."""
-    return [(k, c) for k, c in pairs if k in p and c in p]
+def _present(pairs, p: dict, read=None) -> list[tuple[str, str]]:
+    """The (stiffness, damping) pairs whose parameters are in the vector (a submodel switched off with its own
+    parameters, ``own_vector``, has none there) and, with ``read``, whose stiffness the model reads (a contact
+    whose effect is off is not in the model, whatever its slot holds)."""
+    return [(k, c) for k, c in pairs if k in p and c in p and (read is None or k in read)]
 
 
-def contact_growth(params: np.ndarray, steps_per_revolution: int, names=None) -> list[ContactGrowth]:
+def contact_growth(params: np.ndarray, steps_per_revolution: int, names=None, read=None) -> list[ContactGrowth]:
     """Stability of explicit Euler on each contact, most amplified first.
 
     Per step, explicit Euler multiplies a damped oscillation (frequency w, damping
     ratio zeta) by |1 + h lambda| = sqrt(1 - 2 zeta h w + (h w)^2): it grows unless
     h w < 2 zeta, and an undamped contact always grows. Over the n steps of one
     revolution the logarithm of the growth is n/2 ln(1 - 2 zeta h w + (h w)^2).
-    The contacts are the (stiffness, damping) pairs the submodels declare; ``names`` are the parameter
-    vector's (default: the registry's).
+    The contacts are the (stiffness, damping) pairs the submodels declare (with ``read``, those whose stiffness
+    the model reads); ``names`` are the parameter vector's (default: the registry's).
     """
     names = parameter_names() if names is None else names
     p = dict(zip(names, np.asarray(params, float), strict=True))
     n = int(steps_per_revolution)
     out = []
-    for (k_name, c_name), w in zip(_present(oscillators(), p), contact_frequencies(params, names).values(),
+    for (k_name, c_name), w in zip(_present(oscillators(), p, read), contact_frequencies(params, names, read).values(),
                                    strict=True):
         k, c, ms = p[k_name], p[c_name], p["ms"]
         zeta = 0.5 * c / (2 * math.sqrt(k * ms))

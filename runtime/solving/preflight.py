@@ -55,7 +55,10 @@ def speed_problem(functions, params) -> str | None:
     """The rotor speed, if it is too slow for the stiffest contact to be followed in crank angle."""
     p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
     omega = p["omega"]
-    name, w = max(contact_frequencies(params, functions.parameter_names).items(), key=lambda item: item[1])
+    frequencies = contact_frequencies(params, functions.parameter_names, functions.parameters_read())
+    if not frequencies:  # no contact in the model
+        return None
+    name, w = max(frequencies.items(), key=lambda item: item[1])
     ratio = w / omega if omega > 0 else math.inf
     if ratio <= MAX_OSCILLATIONS_PER_RAD:
         return None
@@ -118,8 +121,10 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u) -> 
         return StopInfo(0.0, mode, "the right-hand side is not finite at the start (NaN or Inf in "
                         f"{names_where(functions.state_names, ~np.isfinite(xdot))}): check the scene's values")
     if settings.method == "euler":
-        worst = contact_growth(params, settings.steps_per_revolution, functions.parameter_names)[0]
-        if worst.log_growth > math.log(MAX_GROWTH):
+        growth = contact_growth(params, settings.steps_per_revolution, functions.parameter_names,
+                                functions.parameters_read())
+        worst = growth[0] if growth else None
+        if worst is not None and worst.log_growth > math.log(MAX_GROWTH):
             return StopInfo(0.0, mode, worst.describe(settings.steps_per_revolution))
     if settings.method not in NEEDS_DERIVATIVES:
         return None

@@ -81,3 +81,13 @@ def test_bad_ranges_are_refused(scene, ranges, fragment):
     with pytest.raises(CalibrationError, match=fragment):
         calibrate(scene, ranges=ranges)
     assert set(PLAUSIBLE) == {"kw", "kg", "zeta_w", "zeta_g"}
+
+
+def test_a_scene_without_the_contacts_it_fits_is_refused(scene):
+    """With the groove contacts off, their stiffnesses may be left out of the scene (NaN, read by no law): the
+    study refuses before it starts instead of fitting what nothing reads."""
+    off = scene.with_overrides(**{"effects.groove_contact": False, "effects.groove_damping": False,
+                                  "effects.groove_friction": False})
+    with pytest.raises(CalibrationError, match=r"effects.groove_contact = false: .*allowed: "
+                                               r"effects.groove_contact = true"):
+        calibrate(off)

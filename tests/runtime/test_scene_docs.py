@@ -31,3 +31,15 @@ def test_key_paths_cover_nested_tables():
     keys = key_paths()
     assert "machine.ports.outlet.width" in keys and "operation.initial_state.phid" in keys
     assert key_paths("friction.") == ["friction.mu1", "friction.mu2", "friction.mus", "friction.v_eps"]
+
+
+def test_the_keys_an_effect_needs_are_documented_as_such(docs):
+    """Each key without a default that an effect reads says, in its row's default column, which effect needs it
+    (registry.needing)."""
+    from apexseal.derive.submodels.registry import needing, parameters
+
+    rows = {line.split(" | ")[0]: line.split(" | ") for line in docs.splitlines()
+            if line.startswith("| `") and line.count(" | ") == 5}  # the sections' tables: key, unit, default, ...
+    for p in parameters(all_inputs=True):
+        if p.key and p.default is None and not p.optional and needing(p) is not None:
+            assert rows[f"| `{p.key}`"][2] == f"required while `{needing(p)}` is on", p.key

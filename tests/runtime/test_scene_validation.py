@@ -5,6 +5,7 @@ problem it provokes: its line ``key = value: message`` in the SceneError, and
 fragments of the message that state the allowed range (or the allowed values).
 """
 
+import re
 from pathlib import Path
 
 import pytest
@@ -262,6 +263,14 @@ CASES = [
         ["required; give a table with keys angle, width, length"],
     ),
     ("missing-section", {"machine": None}, "machine", MISSING, ["required section [machine] is missing"]),
+    (
+        "missing-key-of-an-effect-on",
+        {"friction.mu2": None},
+        "friction.mu2",
+        MISSING,
+        ["required while effects.groove_friction is on; give a plain number, 0 <= value < 1, or set "
+         "effects.groove_friction = false"],
+    ),
     ("section-not-a-table", {"seal": 5}, "seal", "5", ["expected a table: [seal]"]),
     ("key-not-a-table", {"operation.initial_state": 3}, "operation.initial_state", "3", ["expected a table"]),
     # physical consistency
@@ -528,12 +537,20 @@ def test_unreadable_scene_file(tmp_path):
     assert (problem.key, problem.value) == ("scene", str(tmp_path)) and "cannot read" in problem.message
 
 
-def test_empty_scene_lists_every_required_section():
+def test_empty_scene_lists_every_required_section_and_every_key_an_effect_on_needs():
+    """Every effect is on by default, so the keys they read are required too; each names the effect."""
+    from apexseal.derive.submodels.registry import needing, parameters
+
     with pytest.raises(SceneError) as info:
         Scene.from_toml_string("")
     required = [name for name, (_, req) in SECTIONS.items() if req]
-    assert info.value.keys() == required
+    needed = [p.key for p in parameters(all_inputs=True) if p.key and p.default is None and not p.optional
+              and needing(p) is not None]
+    assert info.value.keys() == required + needed
     assert all(p.value is MISSING for p in info.value.errors)
+    assert {"contacts.kw", "spring.ks", "friction.mu2"} <= set(needed)
+    for p in info.value.errors[len(required):]:
+        assert re.search(r"required while effects\.\w+ is on; give .*, or set effects\.\w+ = false", p.message)
 
 
 @pytest.mark.parametrize(

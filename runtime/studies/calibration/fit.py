@@ -161,6 +161,10 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
             raise CalibrationError(f"{name} = {lo:g}..{hi:g}: allowed: a range inside the plausible {plo:g}..{phi:g}")
     if grid < 1 or revolutions < 2:
         raise CalibrationError("grid must be >= 1 and revolutions >= 2 (the first revolution is the start transient)")
+    off = [e for e in ("housing_contact", "groove_contact") if not getattr(scene.effects, e)]
+    if off:  # their stiffnesses and damping are the unknowns
+        raise CalibrationError(f"effects.{off[0]} = false: the calibration fits the contacts' stiffness and damping; "
+                               f"allowed: {' and '.join(f'effects.{e} = true' for e in off)}")
     say = progress or (lambda _: None)
     names = list(ranges)
     lo = np.log([ranges[n][0] for n in names])

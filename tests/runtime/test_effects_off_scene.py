@@ -1,0 +1,89 @@
+"""A scene leaves out what an effect that is off would read (registry.needing): it loads, runs as if it gave the
+values, writes a resolved scene without them, and asks for them again once the effect is switched back on."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+import apexseal
+from apexseal.runtime.scenes.errors import SceneError
+
+#: the default scene without its spring: every key only the spring (and its damping and friction) reads left out
+NO_SPRING = {"effects.spring": False, "effects.spring_damping": False, "effects.spring_friction": False}
+SPRING_KEYS = ("spring.ks", "spring.delta_s", "friction.mus", "contacts.zeta_s")
+
+
+def _without(scene, *keys: str):
+    return scene.with_overrides(**dict.fromkeys(keys))
+
+
+@pytest.fixture(scope="module")
+def scenes():
+    given = apexseal.load_scene().with_overrides(**NO_SPRING, **{"solver.samples_per_revolution": 360})
+    return given, _without(given, *SPRING_KEYS)
+
+
+def test_the_keys_of_an_effect_that_is_off_may_be_left_out(scenes):
+    given, left_out = scenes
+    p = left_out.parameters
+    assert all(math.isnan(p[n]) for n in ("ks", "delta_s", "mus", "cs"))  # slots kept, read by no law
+    assert all(math.isfinite(v) for n, v in p.items() if n not in ("ks", "delta_s", "mus", "cs"))
+    assert {n: v for n, v in p.items() if n not in ("ks", "delta_s", "mus", "cs")} == \
+        {n: v for n, v in given.parameters.items() if n not in ("ks", "delta_s", "mus", "cs")}
+
+
+def test_it_runs_as_the_scene_that_gives_them(scenes, tmp_path):
+    given, left_out = scenes
+    a = apexseal.simulate(given)
+    b = apexseal.simulate(left_out, out=tmp_path / "run")
+    assert a.status == b.status == "completed"
+    np.testing.assert_array_equal(a.state, b.state)
+    np.testing.assert_array_equal(a.outputs["Pf_total"], b.outputs["Pf_total"])
+    # the result's scene leaves them out too, and loads as the scene that ran
+    text = (tmp_path / "run" / "scene.toml").read_text()
+    assert "[spring]" not in text and not re.search(r"^(ks|delta_s|mus) =", text, re.M)
+    assert apexseal.load_scene(tmp_path / "run" / "scene.toml").content_hash() == left_out.content_hash()
+
+
+def test_switching_the_effect_on_asks_for_its_keys(scenes):
+    _, left_out = scenes
+    with pytest.raises(SceneError) as info:
+        left_out.with_overrides(**{"effects.spring": True})
+    assert info.value.keys() == ["spring.ks", "spring.delta_s"]
+    assert "spring.ks = (missing): required while effects.spring is on; give a stiffness in N/m" in str(info.value)
+    on = left_out.with_overrides(**{"effects.spring": True, "spring.ks": "5 kN/m", "spring.delta_s": "1 mm"})
+    assert on.parameters["ks"] == 5e3 and math.isnan(on.parameters["mus"])  # its friction is still off
+
+
+def test_a_friction_coefficient_is_needed_only_with_its_friction(default_scene):
+    smooth = default_scene.with_overrides(**{"effects.groove_friction": False, "friction.mu2": None})
+    assert math.isnan(smooth.parameters["mu2"]) and smooth.parameters["mu1"] == default_scene.parameters["mu1"]
+    with pytest.raises(SceneError, match=r"friction.mu2 = \(missing\): required while effects.groove_friction is on"):
+        default_scene.with_overrides(**{"friction.mu2": None})
+
+
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.scenes.units.PlausibilityWarning")  # 0.5 rpm
+def test_the_start_checks_weigh_only_the_contacts_in_the_model(default_scene):
+    """The speed check (the stiffest contact followed in crank angle) and the explicit-Euler stability check took
+    every declared contact, an effect that is off included: a housing switched off with a stiffness of 1e13 N/m
+    refused a slow run, and a left-out stiffness (NaN) broke them."""
+    from apexseal.runtime.api import model_functions
+    from apexseal.runtime.solving.euler_integrator import contact_growth
+    from apexseal.runtime.solving.preflight import speed_problem
+
+    off = default_scene.with_overrides(**{"effects.housing_contact": False, "effects.housing_damping": False,
+                                          "effects.housing_friction": False, "contacts.kw": "1e13 N/m",
+                                          "operation.rpm": "0.5 rpm"})
+    fns = model_functions(off)
+    assert "kw" not in fns.parameters_read() and {"kg1", "ks", "mu2"} <= fns.parameters_read()
+    assert speed_problem(fns, off.parameter_vector()) is None
+    on = default_scene.with_overrides(**{"contacts.kw": "1e13 N/m", "operation.rpm": "0.5 rpm"})
+    assert "the stiffest contact (kw," in speed_problem(model_functions(on), on.parameter_vector())
+    left_out = off.with_overrides(**{"contacts.kw": None})
+    names = [g.name for g in contact_growth(left_out.parameter_vector(), 200000, fns.parameter_names,
+                                            fns.parameters_read())]
+    assert "kw" not in names and "kg1" in names
