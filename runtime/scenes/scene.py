@@ -296,7 +296,8 @@ class Scene:
         sym = {n: ca.SX.sym(n) for n in names}
         options = options_of(self.effects, self.assumptions)
         values = parameter_values(self._sections, options, **sym)
-        p = ca.vertcat(*[values[q.name] for q in parameters(opts=options)])
+        # a slot left out (an effect that is off) holds NaN, as in parameter_vector()
+        p = ca.vertcat(*[math.nan if values[q.name] is None else values[q.name] for q in parameters(opts=options)])
         return ca.Function("parameters_of_" + "_".join(names), list(sym.values()), [p], list(names), ["p"])
 
     @property

@@ -87,3 +87,16 @@ def test_the_start_checks_weigh_only_the_contacts_in_the_model(default_scene):
     names = [g.name for g in contact_growth(left_out.parameter_vector(), 200000, fns.parameter_names,
                                             fns.parameters_read())]
     assert "kw" not in names and "kg1" in names
+
+
+def test_the_parameters_as_a_function_of_the_preload_keep_a_left_out_slot(default_scene):
+    """Scene.parameter_function (the preload study's p(delta_s)) holds NaN where the vector does, so the study
+    runs on a scene that leaves out what an effect that is off reads (it raised a CasADi type error on None)."""
+    from apexseal.runtime.studies.preload.problem import DELTA_S, preload_parameters
+
+    smooth = default_scene.with_overrides(**{"effects.groove_friction": False, "friction.mu2": None})
+    own = smooth.parameter_vector()
+    f = smooth.parameter_function("delta_s")
+    np.testing.assert_array_equal(np.array(f(own[DELTA_S])).ravel(), own)  # NaN where own has NaN
+    pmap = preload_parameters(smooth)
+    assert np.isnan(pmap.p0).sum() == 1 and np.all(np.isfinite(pmap.dp))
