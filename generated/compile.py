@@ -39,7 +39,7 @@ from ..cores import parallel_threads
 from ..derive.cache import cache_dir
 from ..files import atomic_write, content_key, file_lock, sha256_bytes, sha256_file
 from ..progress import stage
-from .compiler import CompilerUnavailable, compiler, compiler_identity, flag_list, lib_root, run_compiler
+from .compiler import CompilerUnavailable, compiler, compiler_identity, flag_list, lib_root, run_compiler, stop
 from .manifest import StaleArtefactWarning, verify
 
 #: the model library's file name; unique per cache key, because an integrator that links against it finds it by
@@ -92,15 +92,22 @@ def _compile_all(cc: str, flags: tuple[str, ...], sources: list[Path], build_dir
     sources = sorted(sources, key=lambda p: -p.stat().st_size)  # biggest first: better load balance
     includes = sorted({f"-I{p.parent}" for p in sources})
 
+    running: set = set()  # the compilers of this build, stopped if it is abandoned
+
     def one(src: Path) -> Path:
         obj = build_dir / (src.stem + ".o")
-        out = run_compiler([cc, *flags, "-fPIC", *includes, "-c", str(src), "-o", str(obj)])
+        out = run_compiler([cc, *flags, "-fPIC", *includes, "-c", str(src), "-o", str(obj)], running=running)
         if out.returncode != 0:
             raise CompilerUnavailable(f"{cc} failed on {src.name}: {out.stderr.strip()[-600:]}")
         return obj
 
     with ThreadPoolExecutor(max_workers=parallel_threads(len(sources))) as pool:
-        objects = list(pool.map(one, sources))
+        try:
+            objects = list(pool.map(one, sources))
+        except KeyboardInterrupt:  # a signal abandoned the build: its compilers go too, not after their ends
+            pool.shutdown(wait=False, cancel_futures=True)
+            stop(running)
+            raise
     out = run_compiler([cc, "-shared", *[str(o) for o in objects], "-o", str(target), *link, "-lm"])
     if out.returncode != 0:
         raise CompilerUnavailable(f"{cc} failed to link {target.name}: {out.stderr.strip()[-600:]}")
@@ -170,6 +177,12 @@ def load_externals(library: Path, names: Sequence[str]) -> dict[str, ca.Function
 
 
 def fallback(reason: str | Exception, *, stacklevel: int = 3) -> None:
+    """Warn that the interpreted Functions stand in for compiled ones; a compiler that failed because a signal
+    stopped the work (Ctrl-C reaches the compiler too) is no missing compiler: the interruption goes on."""
+    from ..runtime.solving.signals import StopSignals
+
+    if StopSignals.pending():
+        raise KeyboardInterrupt
     warnings.warn(f"no compiled C: {reason}. {FALLBACK_COST}", CompilerFallbackWarning, stacklevel=stacklevel)
 
 

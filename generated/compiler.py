@@ -14,6 +14,7 @@ import os
 import platform
 import re
 import shutil
+import signal
 import subprocess
 from collections.abc import Sequence
 from pathlib import Path
@@ -43,11 +44,41 @@ def flag_list(flags: str) -> tuple[str, ...]:
     return FLAG_SETS[flags]
 
 
-def run_compiler(cmd: Sequence[str], cwd: Path | None = None) -> subprocess.CompletedProcess:
+def run_compiler(cmd: Sequence[str], cwd: Path | None = None, running: set | None = None) -> subprocess.CompletedProcess:
+    """Run a compiler command to its end; its process is in ``running`` meanwhile (so that an interrupted build
+    can stop the compilers it started, see :func:`stop`)."""
     try:
-        return subprocess.run(list(cmd), cwd=cwd, capture_output=True, text=True, check=False)
+        # a session of its own: stopping it stops the programs it runs (cc1, as), and a terminal's Ctrl-C reaches
+        # this process, which stops it
+        proc = subprocess.Popen(list(cmd), cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                start_new_session=True)
     except OSError as exc:  # FileNotFoundError, PermissionError
         raise CompilerUnavailable(f"C compiler {cmd[0]!r} cannot be run ({exc.strerror or exc})") from exc
+    if running is not None:
+        running.add(proc)
+    try:
+        out, err = proc.communicate()
+    except BaseException:  # interrupted while waiting (in the main thread): the compiler goes with it
+        _kill(proc)
+        proc.wait()
+        raise
+    finally:
+        if running is not None:
+            running.discard(proc)
+    return subprocess.CompletedProcess(list(cmd), proc.returncode, out, err)
+
+
+def stop(running: set) -> None:
+    """Kill the compilers in ``running`` (a build abandoned by a signal: SIGTERM reaches only this process)."""
+    for proc in list(running):
+        _kill(proc)
+
+
+def _kill(proc: subprocess.Popen) -> None:
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except OSError:  # ended meanwhile
+        pass
 
 
 #: the compiler identities probed before, in :func:`lib_root`: ``{identity key: identity}``

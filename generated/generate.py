@@ -146,6 +146,10 @@ def generate(effects: Effects | None = None, assumptions: Assumptions | None = N
             try:
                 manifest.library = compile_library(out_dir, flags=flags)
             except CompilerUnavailable as exc:
+                from ..runtime.solving.signals import StopSignals
+
+                if StopSignals.pending():  # the compiler failed because a signal stopped the work
+                    raise KeyboardInterrupt from exc
                 warnings.warn(str(exc), stacklevel=2)
     manifest.timings = timer.timings
     return manifest

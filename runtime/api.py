@@ -224,7 +224,7 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     ran = scene_that_ran(scene, settings)
     if hasattr(sink, "write_scene"):
         sink.write_scene(ran)
-    functions = functions or model_functions(scene)
+    functions = functions or model_functions(ran)  # the settings' compile and interpreted too
     op = scene.operation
     pressure = scene.pressure if scene.effects.chamber_pressure else None
     clearance = side_clearance(scene.seal.Ws, scene.seal.Wg)

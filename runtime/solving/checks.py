@@ -47,7 +47,7 @@ class RunChecks:
         reason = f"non-finite state (NaN or Inf) at {np.degrees(thetas[k] - self.theta_start):.3f} deg"
         growth = contact_growth(self.params, self.settings.steps_per_revolution, self.functions.parameter_names,
                                 self.functions.parameters_read()) if self.settings.method == "euler" else []
-        if growth:
+        if growth and growth[0].log_growth > 0:  # an amplified contact: the likely cause
             reason += "; " + growth[0].describe(self.settings.steps_per_revolution)
         return Z[:, :k], ("failed", StopInfo(thetas[k] - self.theta_start, lay.mode(last), reason))
 

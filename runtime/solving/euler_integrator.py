@@ -71,7 +71,8 @@ def contact_growth(params: np.ndarray, steps_per_revolution: int, names=None, re
     out = []
     for (k_name, c_name), w in zip(_present(oscillators(), p, read), contact_frequencies(params, names, read).values(),
                                    strict=True):
-        k, c, ms = p[k_name], p[c_name], p["ms"]
+        k, ms = p[k_name], p["ms"]
+        c = p[c_name] if read is None or c_name in read else 0.0  # its damping switched off: undamped
         zeta = 0.5 * c / (2 * math.sqrt(k * ms))
         hw = 2 * math.pi * w / (n * p["omega"])
         log_growth = 0.5 * n * math.log1p(hw * hw - 2 * zeta * hw)

@@ -92,7 +92,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     leased = None
     if engine is None and stop is None:  # no compiling for a run that cannot start
         m = samples_per_call(settings) * sub
-        leased = engine_pool.lease(functions, settings, n_samples=m, span=m * dth, make=make_engine)  # kept, or new
+        with StopSignals.abandoning():  # nothing computed yet: a signal abandons the integrator's compilation
+            leased = engine_pool.lease(functions, settings, n_samples=m, span=m * dth, make=make_engine)
         engine = leased.engine
     t_engine = time.perf_counter()
     m = engine.n_samples if engine is not None else N * sub

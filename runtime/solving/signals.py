@@ -75,6 +75,11 @@ class StopSignals:
             target._previous[s] = signal.SIG_IGN
 
     @classmethod
+    def pending(cls) -> bool:
+        """True when the active instance has caught a signal (work it abandons may have failed because of it)."""
+        return cls._active is not None and cls._active.requested
+
+    @classmethod
     @contextlib.contextmanager
     def abandoning(cls):
         """Work with nothing to keep yet (deriving, generating or compiling a model): inside the block a signal

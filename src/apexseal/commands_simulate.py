@@ -104,8 +104,19 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                         raise click.BadParameter(str(err), param_hint="--resume") from err
                     with warnings.catch_warnings():  # the penetration check is printed below, with the summary
                         warnings.simplefilter("ignore", PenetrationWarning)
-                        result = run_scene(sc, settings, progress=not quiet, sink=writer,
-                                           functions=functions, continuation=cont)
+                        try:
+                            result = run_scene(sc, settings, progress=not quiet, sink=writer,
+                                               functions=functions, continuation=cont)
+                        except KeyboardInterrupt:  # the integrator's compilation abandoned: no step was taken
+                            if not signals.requested:
+                                raise
+                            if cont is None:
+                                writer.abandon()
+                            else:  # the result it continues stays as it was
+                                writer.release()
+                            click.echo(f"  interrupted by {signals.sender()} before the run started: nothing "
+                                       "written", err=True)
+                            sys.exit(signals.exit_code())
                 watch.split("run", result.info.get("timings_s", {}))
                 figures = None
                 if not no_figures and result.n > 1 and not signals.requested:

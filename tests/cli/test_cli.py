@@ -266,3 +266,25 @@ def test_a_run_logged_to_a_file_shows_its_progress(tmp_path):
         assert runs[name].returncode == 0, runs[name].stderr
     assert "100%" in runs["shown"].stderr and "rev/s" in runs["shown"].stderr, runs["shown"].stderr
     assert "rev/s" not in runs["quiet"].stderr
+
+
+def test_ctrl_c_while_the_integrator_compiles_writes_nothing(tmp_path, monkeypatch):
+    """The integrator is compiled after the model loads, inside the run: a signal there abandons it too (before,
+    the run went on and wrote a 0-revolution result)."""
+    import os
+    import signal
+
+    from apexseal.runtime.solving import engine_pool
+
+    real, went_on = engine_pool.lease, []
+
+    def leasing(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C while the integrator compiles
+        went_on.append(True)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(engine_pool, "lease", leasing)
+    r = CliRunner().invoke(main, ["simulate", "-n", "1", "--no-figures", "--out", str(tmp_path / "o")])
+    assert r.exit_code == 130, r.output
+    assert "interrupted by the user (Ctrl-C, SIGINT) before the run started: nothing written" in r.output
+    assert went_on == [] and list(tmp_path.iterdir()) == []

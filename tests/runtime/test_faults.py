@@ -460,3 +460,32 @@ def test_a_signal_abandons_a_model_load_at_once_but_only_under_stop_signals():
     with StopSignals.abandoning():  # nothing active: nothing changes
         reached.append(True)
     assert reached == [True]
+
+
+def test_an_abandoned_build_stops_its_compilers_and_is_no_missing_compiler():
+    """SIGTERM reaches only this process: the compilers a build started are killed with their own programs, not
+    waited for; and a compiler that failed because a signal stopped the work raises the interruption instead of
+    warning that no compiler is there."""
+    import os
+    import signal
+    import threading
+    import time
+
+    from apexseal.generated.compile import fallback
+    from apexseal.generated.compiler import run_compiler, stop
+    from apexseal.runtime.solving.signals import StopSignals
+
+    running: set = set()
+    done = []
+    worker = threading.Thread(target=lambda: done.append(run_compiler(["sleep", "30"], running=running)))
+    worker.start()
+    while not running:
+        time.sleep(0.01)
+    t0 = time.perf_counter()
+    stop(running)
+    worker.join(5)
+    assert done and done[0].returncode == -signal.SIGKILL and time.perf_counter() - t0 < 5 and not running
+    with StopSignals():
+        os.kill(os.getpid(), signal.SIGTERM)
+        with pytest.raises(KeyboardInterrupt):
+            fallback("gcc failed on casadi_model.c")
