@@ -164,3 +164,21 @@ def test_model_rhs_validates_theta(default_scene, default_functions):
     model = apexseal.Model(default_scene, functions=default_functions.sx)
     with pytest.raises(ValueError, match="theta"):
         model.rhs(math.nan, np.zeros(6))
+
+
+def test_interpreted_through_the_api_runs_the_interpreted_functions(default_scene, monkeypatch):
+    """``simulate(scene, interpreted=True, compile="quick")`` loads the model as ``solver.interpreted = true``
+    and ``solver.compile = "quick"`` do (it was loaded from the scene as given, compiled, while its saved scene
+    said interpreted)."""
+    import apexseal.generated.load as load
+
+    asked, real = [], load.load_functions
+
+    def spy(*args, **kwargs):
+        asked.append((kwargs.get("compiled"), kwargs.get("flags")))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(load, "load_functions", spy)
+    r = apexseal.simulate(default_scene, interpreted=True, compile="quick", samples_per_revolution=36,
+                          method="rk", steps_per_revolution=3600)
+    assert asked == [(False, "quick")] and r.info["compiled"] is False and r.scene.solver.interpreted is True
