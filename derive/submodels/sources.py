@@ -2,8 +2,9 @@
 
 A submodel's laws may sit in helper modules of its own: a ``laws.py`` beside the class, imported at the top of the
 file or inside :meth:`~.base.Submodel.contacts`. The key therefore covers the file that declares the class and
-every module of the same package (for a module outside any package: of the same folder) that it imports, directly
-or through another such module, wherever the import statement stands. The imports are read from the files'
+every module of the same package (for a module outside any package: every module directly in its folder, not
+the packages or virtual environments below it) that it imports, directly or through another such module,
+wherever the import statement stands. The imports are read from the files'
 syntax trees, so a helper counts whether or not it has been imported yet. Other libraries enter the key by their
 versions only where the derivation names them (sympy); apexseal's own derivation is keyed by
 :func:`apexseal.derive.cache.source_digest`, so a built-in submodel contributes its file alone.
@@ -54,8 +55,9 @@ def _found(cls) -> tuple | None:
         except OSError:
             pass
     found = source_files(cls)
-    try:
-        stats = tuple(stat_key(p) for p in ([found[1], *found[2]] if found else []))
+    files = [found[1], *found[2]] if found else []
+    try:  # the files and their folders: a helper created since (a folder's times change) is looked for again
+        stats = tuple(stat_key(p) for p in [*files, *sorted({f.parent for f in files})])
     except OSError:  # a file vanished meanwhile: find them again next time
         return found
     now = time.time_ns()
@@ -95,7 +97,8 @@ def source_files(cls) -> tuple[Path, Path, list[Path]] | None:
     if module.split(".")[0] == _OWN_PACKAGE:
         return path.parent, path, []
     root = _root(module, path)
-    return root, path, sorted(_imported_files(path, module, root) - {path})
+    flat = not _package_of(module, path)
+    return root, path, sorted(_imported_files(path, module, root, flat) - {path})
 
 
 def _root(module: str, path: Path) -> Path:
@@ -116,8 +119,10 @@ def _package_of(module: str, path: Path) -> str:
     return module.rpartition(".")[0] if module != "__main__" else ""
 
 
-def _imported_files(start: Path, module: str, root: Path) -> set[Path]:
-    """``start`` and every file below ``root`` that it imports, transitively."""
+def _imported_files(start: Path, module: str, root: Path, flat: bool) -> set[Path]:
+    """``start`` and every file below ``root`` that it imports, transitively (``flat``: a module outside any
+    package, whose helpers are the modules directly in its folder, not the packages or virtual environments
+    below it)."""
     seen: set[Path] = set()
     todo = [(start, module)]
     while todo:
@@ -130,7 +135,7 @@ def _imported_files(start: Path, module: str, root: Path) -> set[Path]:
         except (OSError, SyntaxError, ValueError):
             continue
         for target in _targets(tree, _package_of(name, path)):
-            found = _file_of(target, root)
+            found = _file_of(target, root, flat)
             if found is not None and found not in seen:
                 todo.append((found, target))
     return seen
@@ -158,21 +163,21 @@ def _targets(tree: ast.AST, package: str) -> set[str]:
     return names
 
 
-def _file_of(name: str, root: Path) -> Path | None:
-    """The source file of module ``name`` if it lies below ``root`` (None for a package without one)."""
-    spec = _spec_below(name, root)
+def _file_of(name: str, root: Path, flat: bool) -> Path | None:
+    """The source file of module ``name`` if it belongs to the submodel's code (None for a package without one)."""
+    spec = _spec_below(name, root, flat)
     origin = getattr(spec, "origin", None)
     if not origin or not origin.endswith(".py"):
         return None
     return Path(origin).resolve()
 
 
-def _spec_below(name: str, root: Path):
-    """The import spec of module ``name`` if its file or folder lies below ``root``, found without importing
-    anything outside the submodel's own package: a dotted name is looked up only when its parent is below
-    ``root`` (``find_spec`` imports the parent)."""
+def _spec_below(name: str, root: Path, flat: bool):
+    """The import spec of module ``name`` if its file or folder lies below ``root`` (``flat``: a module directly in
+    ``root``), found without importing anything outside the submodel's own package: a dotted name is looked up
+    only when its parent is below ``root`` (``find_spec`` imports the parent)."""
     head = name.rpartition(".")[0]
-    if head and _spec_below(head, root) is None:
+    if head and (flat or _spec_below(head, root, flat) is None):
         return None
     try:
         spec = importlib.util.find_spec(name)
@@ -180,6 +185,8 @@ def _spec_below(name: str, root: Path):
         return None
     if spec is None:
         return None
+    if flat:
+        return spec if spec.origin and spec.has_location and Path(spec.origin).resolve().parent == root else None
     places = [spec.origin] if spec.origin and spec.has_location else []
     places += list(spec.submodule_search_locations or [])
     return spec if any(Path(p).resolve().is_relative_to(root) for p in places) else None

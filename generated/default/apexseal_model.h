@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 7d51bbcedbc8e90c825ce89bee7b3486d6e33b05ceea12ca3811a6cee3de2565.
+ * Effects: all. Input hash: 9b685fefdf894fcbee3191b47db87b9755bd7b83b2aa26ac1af62237bf9ee0d1.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "7d51bbcedbc8e90c825ce89bee7b3486d6e33b05ceea12ca3811a6cee3de2565"
+#define APEXSEAL_INPUT_HASH "9b685fefdf894fcbee3191b47db87b9755bd7b83b2aa26ac1af62237bf9ee0d1"
 
 /* state x */
 #define APEXSEAL_NX 6

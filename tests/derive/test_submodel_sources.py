@@ -53,6 +53,18 @@ def _package(root, tag: str):
         sys.path.remove(str(root))
 
 
+@pytest.fixture(autouse=True)
+def remembered_at_once(monkeypatch):
+    """No racy window: every key and import graph is remembered at once, so the tests exercise the remembered
+    path (files written a moment ago are otherwise never remembered)."""
+    import apexseal.derive.submodels.sources as sources
+    import apexseal.files as files
+
+    monkeypatch.setattr(files, "RACY_NS", -1)
+    monkeypatch.setattr(sources, "RACY_NS", -1)
+    sources._FOUND.clear()
+
+
 @pytest.fixture
 def pad(tmp_path):
     cls = _package(tmp_path, "a")
@@ -93,11 +105,41 @@ def test_the_key_of_a_registered_class_follows_an_edit_in_the_same_process(pad):
     assert source_key(cls) != after
 
 
+def test_a_helper_created_after_the_first_key_enters_it(tmp_path):
+    """A helper imported (inside contacts()) before it existed: creating it changes its folder, and the key."""
+    cls = _package(tmp_path, "late")
+    pkg = tmp_path / "pads_late"
+    (pkg / "laws.py").unlink()
+    before = source_key(cls)
+    (pkg / "laws.py").write_text("def force(k, d):\n    return k * d\n")
+    assert source_key(cls) != before and "\nlaws.py\n" in source_text(cls)
+    for name in [m for m in sys.modules if m.startswith("pads_late")]:
+        del sys.modules[name]
+
+
 def test_editing_a_module_it_does_not_import_keeps_the_key(pad):
     cls, pkg = pad
     before = source_text(cls)
     (pkg / "unused.py").write_text("x = 2\n")
     assert source_text(cls) == before
+
+
+def test_a_module_outside_any_package_takes_the_modules_of_its_folder_only(tmp_path):
+    """Not a library in a virtual environment below its folder (it imported sympy: 596 files, 6 s a process)."""
+    venv = tmp_path / ".venv" / "lib" / "site-packages" / "padlib"
+    venv.mkdir(parents=True)
+    (venv / "__init__.py").write_text("x = 1\n")
+    (tmp_path / "flat_pad_lib.py").write_text(
+        "from apexseal.derive.submodels.base import Submodel\n\n\nclass LibPad(Submodel):\n    name = 'lib_pad'\n\n"
+        "    def contacts(self, ctx):\n        import padlib\n\n        return []\n")
+    sys.path[:0] = [str(tmp_path), str(venv.parent)]
+    try:
+        cls = importlib.import_module("flat_pad_lib").LibPad
+        assert source_files(cls)[2] == []
+    finally:
+        sys.path.remove(str(tmp_path))
+        sys.path.remove(str(venv.parent))
+        sys.modules.pop("flat_pad_lib", None)
 
 
 def test_a_module_outside_any_package_takes_its_folder_s_helpers(tmp_path):
