@@ -115,14 +115,18 @@ def register(cls: type[Submodel]) -> type[Submodel]:
     if taken:
         raise RegistryError(f"submodel {cls.name!r} declares scene keys that exist already: {', '.join(taken)}")
     own = cls.contact_names or (cls.name,)
-    strays = sorted({g.contact for g in cls.guards if g.contact is not None} - set(own))
+    strays = sorted({g.contact or cls.name for g in cls.guards} - set(own))
     if strays:
         raise RegistryError(f"submodel {cls.name!r} declares guards of contacts it does not declare: "
-                            f"{', '.join(strays)} (its contacts: {', '.join(own)})")
+                            f"{', '.join(strays)} (its contacts: {', '.join(own)}; a guard names its contact "
+                            "with contact=...)")
     known = set(options()) | {o.name for o in cls.options}
-    unknown = sorted({p.needs for p in cls.parameters if p.needs is not None} - known)
+    effects = {n for n, o in options().items() if o.table == "effects"} | {o.name for o in cls.options
+                                                                            if o.table == "effects"}
+    unknown = sorted({p.needs for p in cls.parameters if p.needs is not None} - effects)
     if unknown:
-        raise RegistryError(f"submodel {cls.name!r} declares parameters that need unknown effects: {', '.join(unknown)}")
+        raise RegistryError(f"submodel {cls.name!r} declares parameters that need what is not an effect: "
+                            f"{', '.join(unknown)} (needs names an effect, a switch of [effects])")
     for o in cls.options:
         if o.parent is not None and o.parent not in known:
             raise RegistryError(f"option {o.name!r} of {cls.name!r} names an unknown parent {o.parent!r}")

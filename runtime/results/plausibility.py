@@ -45,9 +45,11 @@ def penetration_check(result, clearance: float | None = None, fraction: float = 
         raise ValueError("the result records no side clearance (run it with apexseal.simulate, or pass clearance)")
     limit = fraction * clearance
     depths = {}
-    for contact, (name, sign) in penetrations().items():
-        if name in result.outputs and result.n:
-            depths[contact] = max(0.0, float(np.max(sign * np.asarray(result.outputs[name], float))))
+    for contact, guards in penetrations().items():
+        deepest = [float(np.max(sign * np.asarray(result.outputs[name], float))) for name, sign in guards
+                   if name in result.outputs and result.n]
+        if deepest:
+            depths[contact] = max(0.0, *deepest)
     beyond = sorted(c for c, d in depths.items() if d > limit)
     return {"side_clearance_um": clearance * 1e6, "fraction": fraction, "limit_um": limit * 1e6,
             "penetration_um": {c: d * 1e6 for c, d in depths.items()}, "beyond_limit": beyond, "ok": not beyond}

@@ -28,13 +28,17 @@ def guard_names() -> tuple[str, ...]:
     return ("total", *(g.name for g in guards()))
 
 
-def penetrations() -> dict[str, tuple[str, float]]:
-    """contact -> (the output of its guard, the sign that turns it into a penetration) for every contact that is
-    open at rest (a preloaded spring, closed by design, is left out): what the plausibility check measures."""
+def penetrations() -> dict[str, tuple[tuple[str, float], ...]]:
+    """contact -> (the output of each of its guards, the sign that turns it into a penetration) for every contact
+    that is open at rest (a preloaded spring, closed by design, is left out): what the plausibility check
+    measures, the deepest over a contact's guards."""
     from ...derive.submodels.registry import guard_contacts, guards
 
-    contact = guard_contacts()
-    return {contact[g.name]: (g.output, -float(g.sign)) for g in guards() if not g.closed_at_rest}
+    contact, out = guard_contacts(), {}
+    for g in guards():
+        if not g.closed_at_rest:
+            out.setdefault(contact[g.name], []).append((g.output, -float(g.sign)))
+    return {c: tuple(v) for c, v in out.items()}
 
 
 def quantity_help() -> dict[str, tuple[str, str]]:

@@ -80,7 +80,7 @@ def test_the_results_name_quantities_and_check_penetrations_of_a_users_contact(c
     assert registry.contacts()["cushion"] == Cushion.summary and registry.guard_contacts()["cb"] == "cushion"
     assert Cushion.summary in describe("F_cushion_X").meaning
     assert {"events.cb", "penetration.cushion", "friction_power.cushion"} <= set(quantity_help())
-    assert penetrations()["cushion"] == ("cushion_gap", -1.0)  # a gap: its negative is the penetration
+    assert penetrations()["cushion"] == (("cushion_gap", -1.0),)  # a gap: its negative is the penetration
     assert "spring" not in penetrations()  # closed at rest by design
 
 
@@ -88,8 +88,34 @@ def test_a_guard_of_a_contact_the_submodel_does_not_declare_is_refused():
     stray = type("Film", (Submodel,), {"name": "film", "__module__": "elsewhere", "guards": (
         Guard("gf", "s_gf", "film gap", output="film_gap", contact="wiper"),)})
     with pytest.raises(registry.RegistryError, match=r"guards of contacts it does not declare: wiper \(its contacts: "
-                                                     r"film\)"):
+                                                     r"film;"):
         registry.register(stray)
+    # a guard without contact= stands for the submodel's name, which is no contact of one that names its contacts
+    unnamed = type("Pads", (Submodel,), {"name": "pads", "__module__": "elsewhere", "contact_names": ("p1", "p2"),
+                                         "guards": (Guard("gp1", "s_gp1", "pad gap", output="p1_gap"),)})
+    with pytest.raises(registry.RegistryError, match=r"does not declare: pads \(its contacts: p1, p2;"):
+        registry.register(unnamed)
+    assert not registry.extended()
+
+
+def test_a_contact_with_two_guards_is_checked_at_its_deepest():
+    from apexseal.runtime.results.plausibility import penetration_check
+    from apexseal.runtime.results.quantities import penetrations
+
+    two = type("Pads", (Submodel,), {"name": "pads", "__module__": "elsewhere", "guards": (
+        Guard("gp1", "s_gp1", "first gap", output="p1_gap"), Guard("gp2", "s_gp2", "second gap", output="p2_gap"))})
+    with registry.registered(two):
+        assert penetrations()["pads"] == (("p1_gap", -1.0), ("p2_gap", -1.0))
+        result = type("R", (), {"n": 3, "info": {}, "outputs": {"p1_gap": np.array([1e-6, -2e-6, 0.0]),
+                                                               "p2_gap": np.array([0.0, -5e-6, 1e-6])}})()
+        assert penetration_check(result, clearance=30e-6)["penetration_um"]["pads"] == pytest.approx(5.0)
+
+
+def test_needs_names_an_effect():
+    film = type("Film", (Submodel,), {"name": "film", "__module__": "elsewhere", "parameters": (
+        Parameter("eta", "1", "film viscosity ratio", key="friction.eta", needs="damping"),)})
+    with pytest.raises(registry.RegistryError, match=r"need what is not an effect: damping"):
+        registry.register(film)
     assert not registry.extended()
 
 

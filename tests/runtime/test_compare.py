@@ -62,8 +62,8 @@ def test_a_value_given_explicitly_equals_its_default():
 
 
 def test_the_penetrations_are_the_plausibility_checks(folders):
-    assert penetrations() == {"housing": ("xs5", 1.0), "i1": ("b1", -1.0), "c2": ("b2", -1.0), "i2": ("b3", -1.0),
-                              "c4": ("b4", -1.0)}  # the spring, closed at rest, is left out
+    assert penetrations() == {"housing": (("xs5", 1.0),), "i1": (("b1", -1.0),), "c2": (("b2", -1.0),),
+                              "i2": (("b3", -1.0),), "c4": (("b4", -1.0),)}  # the spring, closed at rest, left out
     result = apexseal.SimulationResult.load(folders["default"])
     depths = result.summary()["plausibility"]["penetration_um"]
     assert collect(result, tuple(f"penetration.{c}" for c in penetrations())) == \
