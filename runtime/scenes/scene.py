@@ -1,8 +1,8 @@
 """Scenes: one TOML file holds everything a run needs, checked before anything is built.
 
-A scene has the sections ``[machine]``, ``[operation]``, ``[seal]``, ``[spring]``,
-``[contacts]``, ``[friction]`` (required) and ``[pressure]``, ``[effects]``,
-``[assumptions]``, ``[solver]`` (optional); ``docs/scenes.md`` lists every key.
+A scene has the sections ``[machine]``, ``[operation]``, ``[seal]`` (required) and ``[spring]``,
+``[contacts]``, ``[friction]``, ``[pressure]``, ``[effects]``, ``[assumptions]``, ``[solver]``
+(optional; the keys an effect reads are required while it is on); ``docs/scenes.md`` lists every key.
 Quantities carry units (``"3 mm"``, ``"1500 rpm"``, ``"6 bar"``); bare numbers are SI.
 
 >>> scene = load_scene()                       # the embedded default (the paper's case study)

@@ -335,22 +335,24 @@ class Plausible:
     lo: float
     hi: float
     show: str
+    #: the unit ``lo`` and ``hi`` (and the values checked) are in: the key's SI unit
+    si: str
+
+    @property
+    def factor(self) -> float:
+        """Multiplies a value in :attr:`si` into :attr:`show` (pint)."""
+        return float(registry().Quantity(1.0, self.si).to(self.show).magnitude)
 
     def describe(self) -> str:
-        f = float(registry().Quantity(1.0, _si_of(self.show)).to(self.show).magnitude)
-        return f"{_g(self.lo * f)} to {_g(self.hi * f)} {self.show}"
-
-
-def _si_of(show: str) -> str:
-    return {"mm": "m", "um": "m", "rpm": "rpm", "N/m": "N/m", "kPa": "Pa", "bar": "Pa", "g": "kg"}.get(show, show)
+        return f"{_g(self.lo * self.factor)} to {_g(self.hi * self.factor)} {self.show}"
 
 
 #: the scene's own settings (not parameters of a submodel) -> their range of engineering practice; the
 #: parameters declare theirs (``Parameter.plausible``)
 SETTINGS_PLAUSIBLE: dict[str, Plausible] = {
-    "operation.rpm": Plausible(1.0, 50000.0, "rpm"),
-    "pressure.Pa": Plausible(1e3, 1e8, "kPa"),
-    "pressure.Pb": Plausible(1e3, 1e8, "kPa"),
+    "operation.rpm": Plausible(1.0, 50000.0, "rpm", "rpm"),
+    "pressure.Pa": Plausible(1e3, 1e8, "kPa", "Pa"),
+    "pressure.Pb": Plausible(1e3, 1e8, "kPa", "Pa"),
 }
 
 #: absolute chamber pressures of a table outside this span are implausible (a table in bar declared in Pa, or in
@@ -365,7 +367,8 @@ def plausible_ranges() -> dict[str, Plausible]:
     the implausible keys are reported first, as the likely cause."""
     from ...derive.submodels.registry import parameters
 
-    declared = {p.key: Plausible(*p.plausible) for p in parameters(all_inputs=True) if p.plausible and p.key}
+    declared = {p.key: Plausible(*p.plausible, si=p.unit) for p in parameters(all_inputs=True)
+                if p.plausible and p.key}
     return declared | SETTINGS_PLAUSIBLE
 
 
@@ -378,10 +381,10 @@ def implausible(values: dict[str, tuple[float, Any]]) -> list[tuple[str, float, 
         rule = ranges.get(key)
         if rule is None or x is None or rule.lo <= x <= rule.hi:
             continue
-        f = float(registry().Quantity(1.0, _si_of(rule.show)).to(rule.show).magnitude)
+        f = rule.factor
         hint = ""
         bare = isinstance(written, int | float) and not isinstance(written, bool)
-        if bare and _si_of(rule.show) == "m" and rule.lo <= x * 1e-3 <= rule.hi:
+        if bare and rule.si == "m" and rule.lo <= x * 1e-3 <= rule.hi:
             hint = f"; a bare number is in m: did you mean \"{_g(x)} mm\"?"
         out.append((key, x, f"{_g(x * f)} {rule.show} is far outside engineering practice for this key "
                             f"({rule.describe()}){hint}"))

@@ -71,6 +71,16 @@ def test_the_registry_builds_everything_from_the_declarations(cushion):
         scene.with_overrides(**{"contacts.kb": "1e12 N/m"})
 
 
+def test_a_plausible_range_is_shown_in_the_unit_it_declares():
+    """Any unit pint converts to (kN/m here): the range and the value were shown unconverted, 1000x off."""
+    pad = type("Pad", (Submodel,), {"name": "pad", "__module__": "elsewhere", "parameters": (
+        Parameter("kpad", "N/m", "pad stiffness", key="contacts.kpad", default=1e4, gt=0,
+                  plausible=(1e3, 1e9, "kN/m")),)})
+    with registry.registered(pad):
+        with pytest.warns(PlausibilityWarning, match=r"contacts.kpad.*5e\+06 kN/m is far outside .*\(1 to 1e\+06 kN/m\)"):
+            apexseal.load_scene().with_overrides(**{"contacts.kpad": "5e9 N/m"})
+
+
 def test_the_results_name_quantities_and_check_penetrations_of_a_users_contact(cushion):
     """The result's columns, a sweep's and a comparison's quantities and the plausibility check come from the
     registry: a user's contact has them as the built-in ones do."""
