@@ -140,23 +140,23 @@ def merged(base: dict[str, Any], changes: dict[str, Any]) -> dict[str, Any]:
     return {k: v for k, v in base.items() if k not in {SCENE_NAMES.get(c) for c in changes}} | changes
 
 
-def _field_names(values: dict[str, Any]) -> dict[str, Any]:
+def _field_names(values: dict[str, Any]) -> tuple[dict[str, Any], list[tuple[str, Any, str]]]:
     """``values`` with the scene's names of :data:`SCENE_NAMES` turned into the fields' (``interpreted`` into
-    ``compile_c``, negated); a setting given under both names is refused naming the two."""
-    out = dict(values)
+    ``compile_c``, negated), and the problems of those names: one given under both names, a non-boolean
+    ``interpreted`` (the others are checked with every field)."""
+    out, problems = dict(values), []
     for scene_name, field in SCENE_NAMES.items():
         if scene_name not in out:
             continue
         value = out.pop(scene_name)
         if field in out:
-            raise SettingsError([(scene_name, value, f"the scene's name of the setting {field}, also given "
-                                  f"({field} = {out[field]!r}): give one of the two")])
-        if scene_name == "interpreted":
-            if not isinstance(value, bool):
-                raise SettingsError([(scene_name, value, "expected true or false")])
-            value = not value
-        out[field] = value
-    return out
+            problems.append((scene_name, value, f"the scene's name of the setting {field}, also given "
+                             f"({field} = {out[field]!r}): give one of the two"))
+        elif scene_name == "interpreted" and not isinstance(value, bool):
+            problems.append((scene_name, value, "expected true or false"))
+        else:
+            out[field] = (not value) if scene_name == "interpreted" else value
+    return out, problems
 
 
 class RunSettings(BaseModel):
@@ -184,10 +184,13 @@ class RunSettings(BaseModel):
 
     def __init__(self, **values: Any) -> None:
         given = {SCENE_NAMES[k]: k for k in values if k in SCENE_NAMES}  # errors name what the caller wrote
+        values, problems = _field_names(values)
         try:
-            super().__init__(**_field_names(values))
-        except ValidationError as exc:
-            raise settings_error(exc, given) from None
+            super().__init__(**values)
+        except ValidationError as exc:  # every problem at once, the scene names' with the others
+            raise SettingsError(problems + [tuple(p) for p in settings_error(exc, given).errors]) from None
+        if problems:
+            raise SettingsError(problems)
         if self.pressure != "steps" and self.pressure not in _profiles_of(self.method):  # imports the engine
             allowed = ", ".join(_profiles_of(self.method))
             raise SettingsError([("pressure", self.pressure, f"method {self.method!r} integrates the pressure "

@@ -91,3 +91,10 @@ def test_a_scene_without_the_contacts_it_fits_is_refused(scene):
     with pytest.raises(CalibrationError, match=r"effects.groove_contact = false: .*allowed: "
                                                r"effects.groove_contact = true"):
         calibrate(off)
+
+
+def test_a_damping_ratio_whose_damping_is_off_is_no_unknown(scene):
+    off = scene.with_overrides(**{"effects.housing_damping": False})
+    with pytest.raises(CalibrationError, match=r"unknown = 'zeta_w': effects.housing_damping is off, so nothing "
+                                               r"reads it"):
+        calibrate(off, ranges={"kw": (3e8, 1e9), "zeta_w": (0.05, 0.2)})

@@ -68,6 +68,9 @@ def test_the_api_takes_the_scene_s_names_of_settings(default_scene):
         RunSettings(interpreted=True, compile_c=True)
     with pytest.raises(SettingsError, match=r"interpretd = true: unknown setting \(did you mean 'interpreted'\?\)"):
         RunSettings(interpretd=True)
+    with pytest.raises(SettingsError) as err:  # every problem at once, a scene name's among them
+        RunSettings(interpreted="no", rtol=-1, compile="fast")
+    assert err.value.keys() == ["interpreted", "rtol", "compile"]
 
 
 def test_every_problem_is_reported_at_once():

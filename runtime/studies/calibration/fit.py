@@ -144,7 +144,8 @@ def cost_of(f: Features) -> float:
 def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, grid: int = 3, revolutions: int = 2,
               polish: int = 20, samples: int | None = None,
               progress: Callable[[str], None] | None = None) -> Calibration:
-    """Fit the unknowns within ``ranges`` (default :data:`PLAUSIBLE`) to the paper's features (module docstring).
+    """Fit the unknowns within ``ranges`` (default :data:`PLAUSIBLE`, less a damping ratio whose damping is off)
+    to the paper's features (module docstring).
 
     ``grid``: points per unknown (log-spaced); ``polish``: Nelder-Mead evaluations after the grid (0: none);
     ``samples``: samples per revolution (default: the scene's).
@@ -152,7 +153,16 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     from ...api import model_functions
     from ...solving.signals import StopSignals
 
-    ranges = dict(PLAUSIBLE if ranges is None else ranges)
+    # a damping ratio whose damping is off is read by nothing: not an unknown by default, refused if asked for
+    unread = {"zeta_w": "housing_damping", "zeta_g": "groove_damping"}
+    unread = {n: e for n, e in unread.items() if not getattr(scene.effects, e)}
+    if ranges is None:
+        ranges = {n: r for n, r in PLAUSIBLE.items() if n not in unread}
+    ranges = dict(ranges)
+    for name in ranges:
+        if name in unread:
+            raise CalibrationError(f"unknown = {name!r}: effects.{unread[name]} is off, so nothing reads it; "
+                                   f"allowed: leave it out, or set effects.{unread[name]} = true")
     for name, (lo, hi) in ranges.items():
         if name not in PLAUSIBLE:
             raise CalibrationError(f"unknown = {name!r}: not an unknown of the study; allowed: {', '.join(PLAUSIBLE)}")
