@@ -228,24 +228,29 @@ def test_a_study_s_default_folder_is_not_a_simulation_result_s(tmp_path, monkeyp
         assert folder in " ".join(CliRunner().invoke(main, [name, "--help"]).output.split())  # unwrapped
 
 
-def test_ctrl_c_while_the_model_loads_writes_nothing(tmp_path, monkeypatch):
-    """A signal while the model is derived, generated or compiled abandons that work where it is (its caches are
-    written atomically: tests/generated/test_cache_heals.py): the command stops before the run with exit code 130
-    and writes nothing. Before, the derivation (20 s for the gas model) and the compilation went on to their ends
-    first, and earlier still the run started and wrote a 0-revolution "result" over any result at --out."""
+@pytest.mark.parametrize("module, name", [("apexseal.generated.load", "load_functions"),
+                                          ("apexseal.runtime.solving.engine_pool", "lease")],
+                         ids=["model", "integrator"])
+def test_ctrl_c_while_the_model_or_integrator_builds_writes_nothing(tmp_path, monkeypatch, module, name):
+    """A signal while the model is derived, generated or compiled, or its integrator compiled (inside the run,
+    before its first step), abandons that work where it is (its caches are written atomically:
+    tests/generated/test_cache_heals.py): the command stops before the run with exit code 130 and writes nothing.
+    Before, the derivation (20 s for the gas model) and the compilation went on to their ends first, a signal
+    during the integrator's compilation wrote a 0-revolution result, and earlier still the run started and wrote
+    a 0-revolution "result" over any result at --out."""
+    import importlib
     import os
     import signal
 
-    import apexseal.generated.load as load
+    where = importlib.import_module(module)
+    real, went_on = getattr(where, name), []
 
-    real, went_on = load.load_functions, []
-
-    def loading(*args, **kwargs):
-        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C while the model loads
+    def building(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C while it builds
         went_on.append(True)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(load, "load_functions", loading)
+    monkeypatch.setattr(where, name, building)
     r = CliRunner().invoke(main, ["simulate", "-n", "1", "--no-figures", "--out", str(tmp_path / "o")])
     assert r.exit_code == 130, r.output
     assert "interrupted by the user (Ctrl-C, SIGINT) before the run started: nothing written" in r.output
@@ -266,25 +271,3 @@ def test_a_run_logged_to_a_file_shows_its_progress(tmp_path):
         assert runs[name].returncode == 0, runs[name].stderr
     assert "100%" in runs["shown"].stderr and "rev/s" in runs["shown"].stderr, runs["shown"].stderr
     assert "rev/s" not in runs["quiet"].stderr
-
-
-def test_ctrl_c_while_the_integrator_compiles_writes_nothing(tmp_path, monkeypatch):
-    """The integrator is compiled after the model loads, inside the run: a signal there abandons it too (before,
-    the run went on and wrote a 0-revolution result)."""
-    import os
-    import signal
-
-    from apexseal.runtime.solving import engine_pool
-
-    real, went_on = engine_pool.lease, []
-
-    def leasing(*args, **kwargs):
-        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C while the integrator compiles
-        went_on.append(True)
-        return real(*args, **kwargs)
-
-    monkeypatch.setattr(engine_pool, "lease", leasing)
-    r = CliRunner().invoke(main, ["simulate", "-n", "1", "--no-figures", "--out", str(tmp_path / "o")])
-    assert r.exit_code == 130, r.output
-    assert "interrupted by the user (Ctrl-C, SIGINT) before the run started: nothing written" in r.output
-    assert went_on == [] and list(tmp_path.iterdir()) == []
