@@ -181,8 +181,7 @@ def fallback(reason: str | Exception, *, stacklevel: int = 3) -> None:
     stopped the work (Ctrl-C reaches the compiler too) is no missing compiler: the interruption goes on."""
     from ..runtime.solving.signals import StopSignals
 
-    if StopSignals.pending():
-        raise KeyboardInterrupt
+    StopSignals.raise_pending()
     warnings.warn(f"no compiled C: {reason}. {FALLBACK_COST}", CompilerFallbackWarning, stacklevel=stacklevel)
 
 

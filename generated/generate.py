@@ -148,8 +148,7 @@ def generate(effects: Effects | None = None, assumptions: Assumptions | None = N
             except CompilerUnavailable as exc:
                 from ..runtime.solving.signals import StopSignals
 
-                if StopSignals.pending():  # the compiler failed because a signal stopped the work
-                    raise KeyboardInterrupt from exc
+                StopSignals.raise_pending()  # the compiler failed because a signal stopped the work
                 warnings.warn(str(exc), stacklevel=2)
     manifest.timings = timer.timings
     return manifest

@@ -227,6 +227,14 @@ def needing(p: Parameter) -> str | None:
     raise KeyError(p.name)
 
 
+def omissible_while_off(p: Parameter) -> str | None:
+    """The effect while which is off a scene may leave ``p`` out: for a scene key without a default that an effect
+    reads (:func:`needing`); None for any other parameter (required, defaulted, optional or derived)."""
+    if p.key is None or p.default is not None or p.optional:
+        return None
+    return needing(p)
+
+
 def parameter(name: str) -> Parameter:
     for p in parameters(all_inputs=True):
         if p.name == name:

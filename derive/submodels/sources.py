@@ -18,10 +18,9 @@ import hashlib
 import importlib.util
 import inspect
 import sys
-import time
 from pathlib import Path
 
-from ...files import RACY_NS, remembered, stat_key
+from ...files import remembered, settled, stat_key
 
 _OWN_PACKAGE = __package__.split(".")[0]  # "apexseal"
 
@@ -60,8 +59,7 @@ def _found(cls) -> tuple | None:
         stats = tuple(stat_key(p) for p in [*files, *sorted({f.parent for f in files})])
     except OSError:  # a file vanished meanwhile: find them again next time
         return found
-    now = time.time_ns()
-    if all(now - s[4] > RACY_NS and now - s[5] > RACY_NS for s in stats):  # as files.remembered
+    if settled(stats):
         _FOUND[cls] = (stats, found)
     return found
 

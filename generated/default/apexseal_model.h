@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 22475547ac0b7d054a6617b3c6f356cf700a48be61e2def3399bf85b6f28a104.
+ * Effects: all. Input hash: b682706fa8a5db255d5be63cdcdcaca10c1c9c9c9ab5873787471db6a9fa7e1f.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "22475547ac0b7d054a6617b3c6f356cf700a48be61e2def3399bf85b6f28a104"
+#define APEXSEAL_INPUT_HASH "b682706fa8a5db255d5be63cdcdcaca10c1c9c9c9ab5873787471db6a9fa7e1f"
 
 /* state x */
 #define APEXSEAL_NX 6

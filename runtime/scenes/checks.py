@@ -338,11 +338,11 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
 def check_needed(sections: dict[str, Section], effects: Effects) -> list[Problem]:
     """The parameters that an effect switched on reads and the scene leaves out (a parameter without a default
     is required only while the effect that reads it is on: ``registry.needing``)."""
-    from apexseal.derive.submodels.registry import needing, parameters
+    from apexseal.derive.submodels.registry import omissible_while_off, parameters
 
     out = []
     for p in parameters(all_inputs=True):
-        need = needing(p) if p.key is not None and p.default is None and not p.optional else None
+        need = omissible_while_off(p)
         model = sections.get(p.section) if need is not None else None
         if model is None or getattr(model, p.leaf) is not None or not getattr(effects, need, False):
             continue

@@ -126,7 +126,7 @@ def derive_parameters(sections: dict[str, Section], effects: Effects,
 def parameter_values(sections: dict[str, Section], options, **changes) -> dict[str, Any]:
     """Every declared value (scene inputs and parameters) by name: the sections' keys, ``changes`` (numbers or
     CasADi symbols) in their place, then each submodel's derived parameters computed from them."""
-    from apexseal.derive.submodels.registry import parameters, submodels
+    from apexseal.derive.submodels.registry import omissible_while_off, parameters, submodels
 
     values: dict[str, Any] = {}
     for p in parameters(all_inputs=True):
@@ -134,7 +134,7 @@ def parameter_values(sections: dict[str, Section], options, **changes) -> dict[s
             values[p.name] = getattr(sections[p.section], p.leaf)
     values.update(changes)
     for cls in submodels():
-        left_out = any(values.get(p.name) is None and p.key is not None and not p.optional for p in cls.parameters)
+        left_out = any(values.get(p.name) is None and omissible_while_off(p) for p in cls.parameters)
         if cls.active(options) or not left_out:  # one that is off with inputs left out: its derived values unset
             values.update(cls.derived(values, sections, options))
     return values

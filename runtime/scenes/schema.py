@@ -163,9 +163,9 @@ def _parameter_field(p) -> tuple[Any, Any]:
     """The pydantic field of a declared parameter: its unit, range, default and meaning. A parameter without a
     default that an effect switches (``registry.needing``) may be left out here: it is required only while that
     effect is on (:func:`.checks.check_needed`, once the effects are known)."""
-    from apexseal.derive.submodels.registry import needing
+    from apexseal.derive.submodels.registry import omissible_while_off
 
-    omissible = p.optional or (p.default is None and needing(p) is not None)
+    omissible = p.optional or omissible_while_off(p) is not None
     validator = SI(p.unit, bare=p.bare, optional=omissible, show=p.show, **p.range_kwargs())
     kind = float | None if omissible else float
     default = None if omissible else (p.default if p.default is not None else ...)

@@ -75,9 +75,11 @@ class StopSignals:
             target._previous[s] = signal.SIG_IGN
 
     @classmethod
-    def pending(cls) -> bool:
-        """True when the active instance has caught a signal (work it abandons may have failed because of it)."""
-        return cls._active is not None and cls._active.requested
+    def raise_pending(cls) -> None:
+        """Raise ``KeyboardInterrupt`` when the active instance has caught a signal: for work that failed, maybe
+        because of it (a compiler that got the terminal's Ctrl-C), and is to be abandoned, not reported."""
+        if cls._active is not None and cls._active.requested:
+            raise KeyboardInterrupt
 
     @classmethod
     @contextlib.contextmanager
@@ -91,8 +93,7 @@ class StopSignals:
         if active is None:
             yield
             return
-        if active.requested:
-            raise KeyboardInterrupt
+        cls.raise_pending()
         raising, active.raising = active.raising, True
         try:
             yield

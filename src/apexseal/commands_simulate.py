@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 import warnings
 from pathlib import Path
+from typing import NoReturn
 
 import click
 
@@ -92,9 +93,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                     if worker is not None and functions is not None:  # it builds the figures' frames meanwhile
                         worker.prepare(force_panels(functions.output_names), ports_of(sc))
                 if signals.requested:  # while the model was derived or compiled: no run to keep
-                    click.echo(f"  interrupted by {signals.sender()} before the run started: nothing written",
-                               err=True)
-                    sys.exit(signals.exit_code())
+                    _stopped_before_the_run(signals)
                 with watch.stage("run"):
                     try:
                         if cont is not None:
@@ -110,13 +109,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                         except KeyboardInterrupt:  # the integrator's compilation abandoned: no step was taken
                             if not signals.requested:
                                 raise
-                            if cont is None:
-                                writer.abandon()
-                            else:  # the result it continues stays as it was
-                                writer.release()
-                            click.echo(f"  interrupted by {signals.sender()} before the run started: nothing "
-                                       "written", err=True)
-                            sys.exit(signals.exit_code())
+                            _stopped_before_the_run(signals, writer, resumed=cont is not None)
                 watch.split("run", result.info.get("timings_s", {}))
                 figures = None
                 if not no_figures and result.n > 1 and not signals.requested:
@@ -189,6 +182,17 @@ def _save(watch, writer, result, source: str, csv) -> tuple[dict, list[str]]:
                 writer.write_csv()
             files.append("trajectory.csv")
     return summary, files
+
+
+def _stopped_before_the_run(signals, writer=None, *, resumed: bool = False) -> NoReturn:
+    """Exit as a signal asks before the run's first step: the folder begun for it removed (a resumed result stays
+    as it was), nothing written."""
+    if writer is not None and resumed:
+        writer.release()
+    elif writer is not None:
+        writer.abandon()
+    click.echo(f"  interrupted by {signals.sender()} before the run started: nothing written", err=True)
+    sys.exit(signals.exit_code())
 
 
 def _load_abandoned_on_signal(model_functions, scene, signals):

@@ -51,9 +51,16 @@ def remembered(key: tuple, paths: list[Path], compute) -> str:
     if hit is not None:
         return hit
     digest = compute()
-    if all(time.time_ns() - s[4] > RACY_NS and time.time_ns() - s[5] > RACY_NS for s in stats[1:]):
+    if settled(stats[1:]):
         _DIGESTS[stats] = digest
     return digest
+
+
+def settled(stats) -> bool:
+    """Every :func:`stat_key` of ``stats`` older than the racy window: what is computed from those files may be
+    remembered by their stat."""
+    now = time.time_ns()
+    return all(now - s[4] > RACY_NS and now - s[5] > RACY_NS for s in stats)
 
 
 def sha256_file(path: Path) -> str:

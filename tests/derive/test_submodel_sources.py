@@ -61,7 +61,6 @@ def remembered_at_once(monkeypatch):
     import apexseal.files as files
 
     monkeypatch.setattr(files, "RACY_NS", -1)
-    monkeypatch.setattr(sources, "RACY_NS", -1)
     sources._FOUND.clear()
 
 

@@ -36,10 +36,10 @@ def test_key_paths_cover_nested_tables():
 def test_the_keys_an_effect_needs_are_documented_as_such(docs):
     """Each key without a default that an effect reads says, in its row's default column, which effect needs it
     (registry.needing)."""
-    from apexseal.derive.submodels.registry import needing, parameters
+    from apexseal.derive.submodels.registry import omissible_while_off, parameters
 
     rows = {line.split(" | ")[0]: line.split(" | ") for line in docs.splitlines()
             if line.startswith("| `") and line.count(" | ") == 5}  # the sections' tables: key, unit, default, ...
     for p in parameters(all_inputs=True):
-        if p.key and p.default is None and not p.optional and needing(p) is not None:
-            assert rows[f"| `{p.key}`"][2] == f"required while `{needing(p)}` is on", p.key
+        if omissible_while_off(p):
+            assert rows[f"| `{p.key}`"][2] == f"required while `{omissible_while_off(p)}` is on", p.key

@@ -539,13 +539,12 @@ def test_unreadable_scene_file(tmp_path):
 
 def test_empty_scene_lists_every_required_section_and_every_key_an_effect_on_needs():
     """Every effect is on by default, so the keys they read are required too; each names the effect."""
-    from apexseal.derive.submodels.registry import needing, parameters
+    from apexseal.derive.submodels.registry import omissible_while_off, parameters
 
     with pytest.raises(SceneError) as info:
         Scene.from_toml_string("")
     required = [name for name, (_, req) in SECTIONS.items() if req]
-    needed = [p.key for p in parameters(all_inputs=True) if p.key and p.default is None and not p.optional
-              and needing(p) is not None]
+    needed = [p.key for p in parameters(all_inputs=True) if omissible_while_off(p)]
     assert info.value.keys() == required + needed
     assert all(p.value is MISSING for p in info.value.errors)
     assert {"contacts.kw", "spring.ks", "friction.mu2"} <= set(needed)
