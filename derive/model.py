@@ -19,7 +19,7 @@ from .effects import Effects
 from .kinematics import plain
 from .options import Options, options_of
 from .submodels.base import ContactModel, Context
-from .submodels.registry import guard, parameter_names, state_names, submodels
+from .submodels.registry import guard, laws_of, parameter_names, state_names, submodels
 from .symbols import STATE_NAMES, P, Pa, Pb, state_symbol
 
 
@@ -64,7 +64,12 @@ def _context(k, g, options: Options) -> Context:
 
 def _contacts(k, g, options: Options) -> list[ContactModel]:
     ctx = _context(k, g, options)
-    return [c for cls in submodels() if cls.active(options) for c in cls().contacts(ctx)]
+    out = []
+    for cls in submodels():
+        if cls.active(options):
+            with laws_of(cls, "contacts()"):
+                out += cls().contacts(ctx)
+    return out
 
 
 def _own_states(k, g, options: Options) -> tuple[dict, dict, dict]:
@@ -75,13 +80,18 @@ def _own_states(k, g, options: Options) -> tuple[dict, dict, dict]:
         if not cls.active(options):
             continue
         model = cls()
-        rates.update({n: plain(e) for n, e in model.rates(ctx).items()})
-        pa_pb = model.chamber_pressures(ctx)
+        with laws_of(cls, "rates()"):
+            own_rates = model.rates(ctx)
+        rates.update({n: plain(e) for n, e in own_rates.items()})
+        with laws_of(cls, "chamber_pressures()"):
+            pa_pb = model.chamber_pressures(ctx)
         if pa_pb is not None:
             if pressures:
                 raise ValueError(f"two submodels compute the chamber pressures ({cls.name!r} is the second)")
             pressures = {"Pa": plain(pa_pb[0]), "Pb": plain(pa_pb[1])}
-        outputs.update({n: plain(e) for n, e in model.outputs(ctx).items()})
+        with laws_of(cls, "outputs()"):
+            own_outputs = model.outputs(ctx)
+        outputs.update({n: plain(e) for n, e in own_outputs.items()})
     own = [n for n in state_names(options) if n not in STATE_NAMES]
     missing = sorted(set(own) - set(rates))
     if missing:

@@ -236,7 +236,7 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
             "after_revolutions": continuation.revolutions, "status": continuation.record["status"],
             "stop": continuation.record["stop"], "wall_time_s": before.get("wall_time_s"),
             "solver_stats": before.get("solver_stats")}]
-    result = run(functions, scene.parameter_vector(), settings, theta_start=op.start_angle,
+    result = run(functions, scene.parameter_vector(functions.parameter_names), settings, theta_start=op.start_angle,
                  state0=initial_state(scene, functions), pressure=pressure, until_periodic=op.until_periodic,
                  periodic_tol=op.periodic_tol, progress=progress, info=info, sink=sink,
                  continue_from=None if continuation is None else (continuation.revolutions, continuation.z))
@@ -273,7 +273,7 @@ class Model:
     def __init__(self, scene, functions=None):
         self.scene = scene = scene_of(scene)
         self.functions = functions or model_functions(scene)
-        self.params = scene.parameter_vector()
+        self.params = scene.parameter_vector(self.functions.parameter_names)
 
     def pressures(self, theta: float) -> np.ndarray:
         """The chamber pressures (Pa, Pb) at crank angle ``theta`` (rad), as a run sees them (Eq. 75)."""

@@ -117,8 +117,6 @@ class Submodel:
     contact_names: ClassVar[tuple[str, ...]] = ()
     #: the option slot that switches the submodel on (None: always on)
     switch: ClassVar[str | None] = None
-    #: its parameters join the parameter vector only while it is on (so a model without it keeps its vector)
-    own_vector: ClassVar[bool] = False
     #: (stiffness, damping) parameter names of the oscillators it adds (explicit-Euler stability check)
     oscillators: ClassVar[tuple[tuple[str, str], ...]] = ()
     #: (name, SI unit, meaning) of each of its named :meth:`outputs`: the result's column, its CSV header and docs

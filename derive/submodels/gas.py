@@ -65,7 +65,6 @@ def enthalpy_flow(mdot, T1, T2, cp):
 class ChamberGas(Submodel):
     name = "gas"
     summary = "ideal gas in the two chambers: ports, leakage past the seal, Pa and Pb for Eq. 75"
-    own_vector = True
     parameters = (
         Parameter("H_gas", "m", "machine depth H (machine.H) in the gas model's parameters: chamber volumes, "
                   "leakage areas"),

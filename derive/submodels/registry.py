@@ -83,6 +83,21 @@ def _load_installed() -> None:
         _installed[cls.name] = dist
 
 
+@contextmanager
+def laws_of(cls: type[Submodel], method: str):
+    """Around a call of a submodel's laws (``contacts()``, ``rates()``, ...) while a model is derived: an error of
+    a user's or an installed package's submodel names the submodel, its method and where it comes from (the
+    package and its version, or its module), as a loading error does."""
+    try:
+        yield
+    except Exception as exc:
+        if cls.__module__.split(".")[0] == __package__.split(".")[0]:
+            raise  # apexseal's own: a bug to report as it is
+        where = (f"installed by {_installed[cls.name]}" if cls.name in _installed else f"from module {cls.__module__}")
+        raise RegistryError(f"the submodel {cls.name} ({where}) failed in {method}: {type(exc).__name__}: {exc}; "
+                            "fix its code, or switch it off in the scene") from exc
+
+
 def installed() -> dict[str, str]:
     """The submodels added by installed packages: name -> "distribution version" (part of a run's provenance)."""
     _ensure()
@@ -202,17 +217,26 @@ def contact_names(name: str) -> tuple[str, ...]:
 
 
 def parameters(*, all_inputs: bool = False, opts=None) -> tuple[Parameter, ...]:
-    """Every declared parameter in order (``all_inputs``: also the scene inputs outside the vector). The
-    parameters of a submodel with ``own_vector`` are in the vector only while ``opts`` switch it on."""
+    """The parameter vector of the model of the options ``opts`` (None: the default options), in order: the
+    parameters of the submodels that are on whose effect (:func:`needing`) is on. What is off has no slot, so it
+    never enters the generated C, not even as an index. ``all_inputs``: every declared parameter and scene input."""
+    if all_inputs:
+        return tuple(p for cls in submodels() for p in cls.parameters)
+    if opts is None:
+        from ..options import Options
 
-    def in_vector(cls, p) -> bool:
-        return p.in_vector and (not cls.own_vector or (opts is not None and cls.active(opts)))
+        opts = Options()
 
-    return tuple(p for cls in submodels() for p in cls.parameters if all_inputs or in_vector(cls, p))
+    def read(cls, p) -> bool:
+        need = p.needs if p.needs is not None else cls.switch  # needing(p), knowing its submodel
+        return p.in_vector and cls.active(opts) and (need is None or opts.on(need))
+
+    return tuple(p for cls in submodels() for p in cls.parameters if read(cls, p))
 
 
 def parameter_names(*, all_inputs: bool = False, opts=None) -> tuple[str, ...]:
-    """The names of the parameter vector of the generated Functions, in order (for the options ``opts``)."""
+    """The names of the parameter vector of the generated Functions, in order (for the options ``opts``; None:
+    the default options)."""
     return tuple(p.name for p in parameters(all_inputs=all_inputs, opts=opts))
 
 

@@ -107,6 +107,7 @@ def _root(module: str, path: Path) -> Path:
         where = getattr(top, "__path__", None)
         if where:
             return Path(list(where)[0]).resolve()
+        return path.parents[package.count(".")]  # not imported (yet): the folder as many levels up as it is deep
     return path.parent
 
 
@@ -162,29 +163,16 @@ def _targets(tree: ast.AST, package: str) -> set[str]:
 
 
 def _file_of(name: str, root: Path, flat: bool) -> Path | None:
-    """The source file of module ``name`` if it belongs to the submodel's code (None for a package without one)."""
-    spec = _spec_below(name, root, flat)
-    origin = getattr(spec, "origin", None)
-    if not origin or not origin.endswith(".py"):
-        return None
-    return Path(origin).resolve()
-
-
-def _spec_below(name: str, root: Path, flat: bool):
-    """The import spec of module ``name`` if its file or folder lies below ``root`` (``flat``: a module directly in
-    ``root``), found without importing anything outside the submodel's own package: a dotted name is looked up
-    only when its parent is below ``root`` (``find_spec`` imports the parent)."""
-    head = name.rpartition(".")[0]
-    if head and (flat or _spec_below(head, root, flat) is None):
-        return None
-    try:
-        spec = importlib.util.find_spec(name)
-    except (ImportError, ValueError, AttributeError):
-        return None
-    if spec is None:
-        return None
+    """The source file of module ``name`` if it belongs to the submodel's code, found on the file system alone:
+    nothing is imported (a helper with an error is not run to hash it; ``find_spec`` would import its parent).
+    ``root`` is the top-level package's folder (``flat``: the folder of a module outside any package, whose own
+    modules are the files directly in it)."""
+    parts = name.split(".")
     if flat:
-        return spec if spec.origin and spec.has_location and Path(spec.origin).resolve().parent == root else None
-    places = [spec.origin] if spec.origin and spec.has_location else []
-    places += list(spec.submodule_search_locations or [])
-    return spec if any(Path(p).resolve().is_relative_to(root) for p in places) else None
+        candidates = [root / f"{name}.py"] if len(parts) == 1 else []
+    elif parts[0] != root.name:
+        candidates = []
+    else:
+        base = root.joinpath(*parts[1:])
+        candidates = ([base.with_name(base.name + ".py")] if len(parts) > 1 else []) + [base / "__init__.py"]
+    return next((f.resolve() for f in candidates if f.is_file()), None)

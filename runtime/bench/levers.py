@@ -66,7 +66,6 @@ def _cpu(fn) -> float:
 
 
 def measure(*, rtol: float = 1e-8, steps: int = 20000, rounds: int = 9, log=print) -> list[dict]:
-    from ...derive.symbols import PARAMETER_NAMES
     from ..scenes.scene import load_scene
     from ..solving.event_integrator import EventIntegrator
     from .methods import EngineCache
@@ -86,7 +85,7 @@ def measure(*, rtol: float = 1e-8, steps: int = 20000, rounds: int = 9, log=prin
     problem = make_problem("default", scene, scene.effects, sx, samples=360, span=2 * math.pi, settle_revolutions=3,
                            settle_engine=settle_engine, settle_settings=settle_settings)
     n_par = sx.rhs.size1_in(3)
-    OMEGA = PARAMETER_NAMES.index("omega")  # noqa: N806
+    OMEGA = tuple(sx.parameter_names).index("omega")  # noqa: N806
     variants = [("tree walk + casadi.cse", sx, BASE), ("sympy.cse + tree walk + casadi.cse", sx_cse, BASE)]
     variants += [("tree walk + casadi.cse", sx, f) for f in FLAGS if f != BASE]
     rows = []

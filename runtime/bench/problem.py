@@ -21,7 +21,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...derive.effects import Effects
-from ...derive.symbols import PARAMETER_NAMES
 from ..solving.preflight import initial_activations
 from ..solving.run import RunSettings, run
 from ..solving.scaling import to_scaled
@@ -45,7 +44,7 @@ class Problem:
 
     @property
     def omega(self) -> float:
-        return float(self.params[PARAMETER_NAMES.index("omega")])
+        return float(self.params[tuple(self.functions.parameter_names).index("omega")])
 
     @property
     def n_guards(self) -> int:
@@ -98,7 +97,7 @@ def make_problem(name: str, scene, effects: Effects, functions, *, samples: int,
                  settle_engine=None, settle_settings: RunSettings | None = None,
                  pressure_profile: str = DEFAULT_PRESSURE) -> Problem:
     """Settle the scene (``settle_revolutions`` revolutions with ``settle_engine``) and build the problem."""
-    params = scene.parameter_vector()
+    params = scene.parameter_vector(tuple(functions.parameter_names))  # the effects' own vector
     op = scene.operation
     X = np.array([getattr(op.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float)
     theta = float(op.start_angle)

@@ -28,7 +28,7 @@ def main(argv=None) -> None:
     X = rng.normal(size=(len(f.state_names), n)) * np.array([1e-6, 3e-5, 5e-3, 1e-3, 0.1, 1.0])[:, None]
     closed = rng.integers(0, 2, (len(f.guard_names), n)).astype(float)
     U = np.full((f.outputs.size1_in(4), n), 2e5)
-    P = sc.parameter_vector()
+    P = sc.parameter_vector(f.parameter_names)
     ways = {"library loop": lambda: looped_outputs(f, theta, X, closed, P, U),
             "CasADi map": lambda: mapped_outputs(f, theta, X, closed, P, U)}
     times = {k: [] for k in ways}

@@ -63,6 +63,11 @@ class Comparison:
             scenes = "the scenes are the same"
         else:
             scenes = "scene keys that differ:\n" + self.scenes.to_string()
+        models = [str(r.info.get("model_hash", "?"))[:12] for r in self.results]
+        if len(set(models)) > 1:  # the same scene may have run with another derivation, submodel or generator
+            scenes += ("\nthe models differ (model hash " + ", ".join(f"{label} {m}" for label, m in
+                                                           zip(self.labels, models, strict=True))
+                       + "): the derivation, a submodel or the generator changed between the runs")
         numbers = self.numbers.copy().astype(object)
         base = self.numbers.iloc[:, 0]
         for column in numbers.columns:

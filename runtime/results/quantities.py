@@ -87,7 +87,8 @@ def _get(summary: dict, name: str) -> float:
     if name == "revolutions":
         return float(summary["revolutions"])
     if head == "friction_power":
-        return float(summary["mean_friction_power_W"].get(tail, math.nan))
+        value = summary["mean_friction_power_W"].get(tail, math.nan)
+        return math.nan if value is None else float(value)  # None: no output interval computed
     if head == "events":
         return float(summary["events_total"] if tail == "total" else summary["events"].get(tail, math.nan))
     if head == "housing_force":

@@ -9,6 +9,7 @@ computed before it stopped and says where (crank angle, mode) and why.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -18,6 +19,15 @@ import numpy as np
 from ...derive.submodels.registry import state_names
 
 STATUS = ("completed", "interrupted", "failed", "chattering")
+
+
+def run_mean(values: np.ndarray) -> float:
+    """The mean of an output over a run: of its samples after the first (each the end of an output interval; the
+    start is where the run began, not a computed interval). NaN for a run that ended before its first interval (one
+    sample, or none): a value there would be the start's alone (it printed 8.76 W for a run stopped at 0
+    revolutions)."""
+    values = np.asarray(values, float)
+    return float(np.mean(values[1:])) if values.size > 1 else math.nan
 
 
 @dataclass
@@ -106,9 +116,10 @@ class SimulationResult:
 
     @property
     def friction_power(self) -> float:
-        """Mean friction power of all contacts over the run, W (Pf_total; 0 without friction)."""
+        """Mean friction power of all contacts over the run, W (Pf_total; 0 without friction; NaN before the first
+        output interval ends: nothing computed)."""
         p = self.outputs.get("Pf_total")
-        return float(np.mean(p[1:] if p.size > 1 else p)) if p is not None and p.size else 0.0
+        return run_mean(p) if p is not None else 0.0
 
     @property
     def solver_stats(self) -> dict:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import platform
 from collections import Counter
 
@@ -9,7 +10,7 @@ import numpy as np
 
 from ...derive.modes import GAP_GUARDS, gap_width
 from .plausibility import penetration_check
-from .result import SimulationResult
+from .result import SimulationResult, run_mean
 
 
 def housing_force(result: SimulationResult) -> np.ndarray:
@@ -73,7 +74,8 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     out["mode_fraction"] = {m: counts[m] / total for m in sorted(counts, key=lambda m: -counts[m])}
     out["events"] = {g: int(result.events[i, -1]) for i, g in enumerate(result.guard_names)}
     out["events_total"] = int(result.events[:, -1].sum()) if result.events.size else 0
-    powers = {k[3:]: float(np.mean(v[1:] if v.size > 1 else v)) for k, v in result.outputs.items() if k.startswith("Pf_")}
+    means = {k[3:]: run_mean(v) for k, v in result.outputs.items() if k.startswith("Pf_")}
+    powers = {k: None if math.isnan(v) else v for k, v in means.items()}  # null: no interval computed
     out["mean_friction_power_W"] = powers
     gaps = gap_series(result)
     out["leakage_gap"] = {"open_fraction": float(np.mean(gaps > 0)), "mean_um": float(gaps.mean() * 1e6),

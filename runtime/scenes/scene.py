@@ -6,7 +6,7 @@ A scene has the sections ``[machine]``, ``[operation]``, ``[seal]`` (required) a
 Quantities carry units (``"3 mm"``, ``"1500 rpm"``, ``"6 bar"``); bare numbers are SI.
 
 >>> scene = load_scene()                       # the embedded default (the paper's case study)
->>> scene.parameter_vector()                   # derive.symbols.PARAMETERS order, SI
+>>> scene.parameter_vector()                   # the vector of its model (its effects), SI
 >>> fast = scene.with_overrides(**{"operation.rpm": 6000, "contacts.kw": "2e9 N/m"})
 
 Every problem of a scene (unknown keys, wrong units or types, out-of-range and
@@ -20,7 +20,6 @@ import copy
 import hashlib
 import importlib.resources
 import json
-import math
 import numbers
 import re
 import tomllib
@@ -65,12 +64,15 @@ def default_scene_text() -> str:
     return _scenes_folder().joinpath(DEFAULT_SCENE).read_text(encoding="utf-8")
 
 
-def load_scene(path: str | Path | None = None) -> Scene:
-    """Load and check a scene file; ``None`` loads the embedded default (the paper's case study)."""
+def load_scene(path: str | Path | None = None, overrides: dict[str, Any] | None = None) -> Scene:
+    """Load and check a scene file; ``None`` loads the embedded default (the paper's case study). ``overrides``
+    (dotted keys, as :meth:`Scene.with_overrides` takes them) replace the file's keys before anything is checked,
+    so they can repair a file that would not load alone."""
     if path is None:
         folder = _scenes_folder()
         source = Path(str(folder.joinpath(DEFAULT_SCENE))) if isinstance(folder, Path) else None
-        return Scene.from_toml_string(default_scene_text(), folder, name="default", source_path=source)
+        return Scene.from_toml_string(default_scene_text(), folder, name="default", source_path=source,
+                                      overrides=overrides)
     if not isinstance(path, str | Path):
         raise TypeError(f"path = {path!r}: expected the path of a scene file (str or Path), or None for the default")
     p = Path(path)
@@ -80,7 +82,7 @@ def load_scene(path: str | Path | None = None) -> Scene:
         raise SceneError([("scene", str(path), "file not found")], source=str(path)) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise SceneError([("scene", str(path), f"cannot read: {exc}")], source=str(path)) from None
-    return Scene.from_toml_string(text, p.parent, name=p.name, source_path=p)
+    return Scene.from_toml_string(text, p.parent, name=p.name, source_path=p, overrides=overrides)
 
 
 def _parse_toml(text: str, name: str) -> dict[str, Any]:
@@ -102,7 +104,8 @@ def _parse_toml(text: str, name: str) -> dict[str, Any]:
 
 def derive_parameters(sections: dict[str, Section], effects: Effects,
                       assumptions: Assumptions | None = None) -> dict[str, float]:
-    """Every parameter of the model's vector, in SI, from validated sections.
+    """Every parameter of the model's vector, in SI, from validated sections: the parameters its effects read
+    (an effect that is off has no slot, :func:`~apexseal.derive.submodels.registry.parameters`).
 
     The keys each submodel declares are read from their sections; then each submodel
     computes its derived parameters from them with plain numeric functions (the seal
@@ -110,17 +113,15 @@ def derive_parameters(sections: dict[str, Section], effects: Effects,
     delta_w of Eq. 9 and Li of Eq. 12; see derive/submodels/seal.py).
     """
     from apexseal.derive.options import options_of
-    from apexseal.derive.submodels.registry import needing, parameters
+    from apexseal.derive.submodels.registry import parameters
 
     options = options_of(effects, assumptions or Assumptions())
     values = parameter_values(sections, options)
     names = parameters(opts=options)
-    unread = {p.name for p in names if (need := needing(p)) is not None and not options.on(need)}
-    missing = [p.name for p in names if values.get(p.name) is None and p.name not in unread]
+    missing = [p.name for p in names if values.get(p.name) is None]
     if missing:  # pragma: no cover - a submodel declares a parameter that nothing computes
         raise RuntimeError(f"the scene gives no value for parameters {missing}: a submodel's derived() must")
-    # a parameter of an effect that is off and that the scene leaves out keeps its slot as NaN: read by no law
-    return {p.name: math.nan if values.get(p.name) is None else float(values[p.name]) for p in names}
+    return {p.name: float(values[p.name]) for p in names}
 
 
 def parameter_values(sections: dict[str, Section], options, **changes) -> dict[str, Any]:
@@ -138,6 +139,43 @@ def parameter_values(sections: dict[str, Section], options, **changes) -> dict[s
         if cls.active(options) or not left_out:  # one that is off with inputs left out: its derived values unset
             values.update(cls.derived(values, sections, options))
     return values
+
+
+def _overridden(raw: dict[str, Any], dotted: dict[str, Any], name: str) -> dict[str, Any]:
+    """A copy of the raw TOML content with the dotted keys replaced (``None`` removes one); see
+    :meth:`Scene.with_overrides`."""
+    from apexseal.derive.submodels.registry import alternatives
+
+    raw = copy.deepcopy(raw)
+    for pair in alternatives():
+        for mine, other in (pair, pair[::-1]):
+            if dotted.get(mine) is not None and other not in dotted:
+                section, leaf = other.split(".", 1)
+                if isinstance(raw.get(section), dict):
+                    raw[section].pop(leaf, None)
+    problems = []
+    for key, value in dotted.items():
+        parts = key.split(".")
+        if not all(parts):
+            problems.append(Problem(key, value, "not a key path such as 'seal.Ws'"))
+            continue
+        node = raw
+        for i, part in enumerate(parts[:-1]):
+            nxt = node.get(part)
+            if nxt is None:
+                nxt = node[part] = {}
+            elif not isinstance(nxt, dict):
+                problems.append(Problem(key, value, f"{'.'.join(parts[: i + 1])} is a value, not a table"))
+                break
+            node = nxt
+        else:
+            if value is None:
+                node.pop(parts[-1], None)
+            else:
+                node[parts[-1]] = _plain(value)
+    if problems:
+        raise SceneError(problems, source=f"{name} overrides")
+    return raw
 
 
 def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: str) -> Scene:
@@ -243,10 +281,13 @@ class Scene:
         *,
         name: str = "<string>",
         source_path: Path | None = None,
+        overrides: dict[str, Any] | None = None,
     ) -> Scene:
         """Parse and check TOML ``text``; a pressure table's path is taken relative to ``base_dir``
-        (default: the current directory)."""
+        (default: the current directory); ``overrides`` as :func:`load_scene` takes them."""
         raw = _parse_toml(text, name)
+        if overrides:
+            raw = _overridden(raw, dict(overrides), name)
         folder = Path.cwd() if base_dir is None else Path(base_dir) if isinstance(base_dir, str) else base_dir
         return _build(raw, folder, source_path, name)
 
@@ -264,20 +305,22 @@ class Scene:
 
     @property
     def parameters(self) -> dict[str, float]:
-        """Every parameter of the model, by name, in SI (see :func:`derive_parameters`)."""
+        """Every parameter of the scene's model, by name, in SI (see :func:`derive_parameters`): those its effects
+        read (an effect that is off has none here; its keys are in the scene's sections)."""
         return dict(zip(self._names, self._values, strict=True))
 
     def parameter_vector(self, names=None) -> np.ndarray:
-        """The parameters as a float array, in the order of ``names`` (default: the registry's parameter vector,
-        the generated Functions' order; pass ``functions.parameter_names`` to match a model)."""
+        """The parameters as a float array, in the order of ``names`` (default: the vector of the scene's model, the
+        generated Functions' order for its effects; pass ``functions.parameter_names`` to match another model)."""
         values = self.parameters
         if names is None:
             names = self._names
         try:
             return np.array([values[n] for n in names], dtype=float)
         except KeyError as exc:
-            raise KeyError(f"the scene has no parameter {exc.args[0]!r} (was its submodel registered after the "
-                           "scene was loaded? load the scene again)") from None
+            raise KeyError(f"the scene has no parameter {exc.args[0]!r}: the effect that reads it is off in this scene "
+                           "(a model of other effects), or its submodel was registered after the scene was loaded "
+                           "(load the scene again)") from None
 
     def parameter_function(self, *names: str):
         """The parameter vector as a CasADi Function of the named parameters (the others at the scene's values).
@@ -296,8 +339,7 @@ class Scene:
         sym = {n: ca.SX.sym(n) for n in names}
         options = options_of(self.effects, self.assumptions)
         values = parameter_values(self._sections, options, **sym)
-        # a slot left out (an effect that is off) holds NaN, as in parameter_vector()
-        p = ca.vertcat(*[math.nan if values[q.name] is None else values[q.name] for q in parameters(opts=options)])
+        p = ca.vertcat(*[values[q.name] for q in parameters(opts=options)])
         return ca.Function("parameters_of_" + "_".join(names), list(sym.values()), [p], list(names), ["p"])
 
     @property
@@ -314,40 +356,7 @@ class Scene:
         ``None`` removes a key, restoring its default. Setting one key of a pair that states one thing two ways
         (``contacts.cw`` or the damping ratio ``contacts.zeta_w``, ...) removes the other, unless both are given.
         """
-        from apexseal.derive.submodels.registry import alternatives
-
-        raw = copy.deepcopy(self._raw)
-        for pair in alternatives():
-            for mine, other in (pair, pair[::-1]):
-                if dotted.get(mine) is not None and other not in dotted:
-                    section, leaf = other.split(".", 1)
-                    if isinstance(raw.get(section), dict):
-                        raw[section].pop(leaf, None)
-        problems = []
-        for key, value in dotted.items():
-            parts = key.split(".")
-            if not all(parts):
-                problems.append(Problem(key, value, "not a key path such as 'seal.Ws'"))
-                continue
-            node = raw
-            for i, part in enumerate(parts[:-1]):
-                nxt = node.get(part)
-                if nxt is None:
-                    nxt = node[part] = {}
-                elif not isinstance(nxt, dict):
-                    problems.append(
-                        Problem(key, value, f"{'.'.join(parts[: i + 1])} is a value, not a table")
-                    )
-                    break
-                node = nxt
-            else:
-                if value is None:
-                    node.pop(parts[-1], None)
-                else:
-                    node[parts[-1]] = _plain(value)
-        if problems:
-            raise SceneError(problems, source=f"{self.name} overrides")
-        return _build(raw, self._base_dir, self.source_path, self.name)
+        return _build(_overridden(self._raw, dotted, self.name), self._base_dir, self.source_path, self.name)
 
     # -- content ------------------------------------------------------------
 
@@ -372,10 +381,12 @@ class Scene:
         """sha256 of the normalised content (including the pressure table's numbers).
 
         Independent of where the scene lives, of the table's file name and of how
-        units are spelled (``"3 mm"`` and ``0.003`` hash alike).
+        units are spelled (``"3 mm"`` and ``0.003`` hash alike; a table in bar and the same numbers in Pa too,
+        as the result's scene.toml writes it).
         """
         content = self.to_dict()
         content["pressure"].pop("file", None)
+        content["pressure"].pop("unit", None)  # its numbers are hashed in Pa
         text = json.dumps(_normalise(content), sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode("utf-8")).hexdigest()
 

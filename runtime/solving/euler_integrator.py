@@ -49,10 +49,9 @@ def contact_frequencies(params: np.ndarray, names=None, read=None) -> dict[str, 
 
 
 def _present(pairs, p: dict, read=None) -> list[tuple[str, str]]:
-    """The (stiffness, damping) pairs whose parameters are in the vector (a submodel switched off with its own
-    parameters, ``own_vector``, has none there) and, with ``read``, whose stiffness the model reads (a contact
-    whose effect is off is not in the model, whatever its slot holds)."""
-    return [(k, c) for k, c in pairs if k in p and c in p and (read is None or k in read)]
+    """The (stiffness, damping) pairs whose stiffness is in the vector (a contact whose effect is off has no
+    slot there) and, with ``read``, is read by the model. Its damping may be off (no slot): then undamped."""
+    return [(k, c) for k, c in pairs if k in p and (read is None or k in read)]
 
 
 def contact_growth(params: np.ndarray, steps_per_revolution: int, names=None, read=None) -> list[ContactGrowth]:
@@ -72,7 +71,7 @@ def contact_growth(params: np.ndarray, steps_per_revolution: int, names=None, re
     for (k_name, c_name), w in zip(_present(oscillators(), p, read), contact_frequencies(params, names, read).values(),
                                    strict=True):
         k, ms = p[k_name], p["ms"]
-        c = p[c_name] if read is None or c_name in read else 0.0  # its damping switched off: undamped
+        c = p[c_name] if c_name in p and (read is None or c_name in read) else 0.0  # its damping off: undamped
         zeta = 0.5 * c / (2 * math.sqrt(k * ms))
         hw = 2 * math.pi * w / (n * p["omega"])
         log_growth = 0.5 * n * math.log1p(hw * hw - 2 * zeta * hw)

@@ -71,8 +71,7 @@ def scene_of(scene: Path | None, sets: dict[str, object] | None = None):
     from .runtime.scenes.scene import load_scene
 
     try:
-        loaded = load_scene(scene)
-        return loaded.with_overrides(**sets) if sets else loaded
+        return load_scene(scene, overrides=sets)  # the keys replaced before the file is checked: --set can repair it
     except SceneError as err:
         raise click.ClickException(str(err)) from err
 
@@ -114,6 +113,10 @@ def result_folder(folder: Path) -> None:
     writable(folder.parent if folder.parent != Path("") else Path("."))
 
 
+def _power(total: float | None) -> str:
+    return "friction power: none computed (no output interval)" if total is None else f"friction power {total:.2f} W"
+
+
 def describe_result(result, summary: dict) -> None:
     """The designer's numbers of a result on the console (``simulate`` at its end, ``show``): status, revolutions,
     switches, displacement ranges, friction power, deepest penetrations (a warning when implausible)."""
@@ -125,7 +128,7 @@ def describe_result(result, summary: dict) -> None:
                + (f", wall {wall:.2f} s" if wall is not None else ""))
     click.echo(f"  x {ext['x']['min']:.3f}..{ext['x']['max']:.3f} µm, y {ext['y']['min']:.2f}..{ext['y']['max']:.2f} µm, "
                f"phi {ext['phi']['min']:.3f}..{ext['phi']['max']:.3f} mrad; "
-               f"friction power {summary['mean_friction_power_W'].get('total', 0.0):.2f} W")
+               + _power(summary["mean_friction_power_W"].get("total", 0.0)))
     check = summary.get("plausibility")
     if check is not None and check["penetration_um"]:
         depth = ", ".join(f"{c} {d:.3g}" for c, d in check["penetration_um"].items())

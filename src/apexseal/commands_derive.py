@@ -40,7 +40,8 @@ def derive(scene: Path | None, sets, check: bool, report: Path | None, refresh: 
     if check:
         from .derive.paper_check import write_report
 
-        rows = write_report(report)
+        with progress.enabled(True), progress.stage("checking every derived equation against the paper's print (sympy)"):
+            rows = write_report(report)
         counts: dict[str, int] = {}
         for r in rows or []:
             counts[r.status] = counts.get(r.status, 0) + 1

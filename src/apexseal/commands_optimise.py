@@ -53,7 +53,7 @@ def _rate(ctx, param, value):
 @click.command("optimise-preload")
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @scene_settings
-@click.option("--min-force", default="5 N", show_default=True, callback=_force,
+@click.option("--min-force", default="5 N", show_default=True, callback=_force, metavar="FORCE",
               help="Smallest contact force of the tip on the housing, everywhere outside --exclude (a force, e.g. 5N; "
                    "a bare number is in N).")
 @click.option("--max-groove-force", default=None, callback=_force, metavar="FORCE",

@@ -15,27 +15,29 @@ from .cli_common import scene_of, scene_settings, writable
 @click.option("--default", "default", is_flag=True, help="Print the embedded default scene (the paper's case study), "
               "with its comments: `apexseal scene --default > my.toml`.")
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="With --default: write default.toml and its pressure table into this folder instead.")
-@click.option("--resolved", is_flag=True, help="Print SCENE (default: the embedded one) with every value explicit, in SI "
-              "with its unit, as a saved result's scene.toml has it.")
+              help="With --default or --resolved: write the scene (default.toml, scene.toml) and its pressure table "
+                   "into this folder instead of printing it.")
+@click.option("--resolved", is_flag=True, help="Print SCENE (default: the embedded one) with every key explicit, in SI "
+              "with its unit, as a saved result's scene.toml has it; its pressure table is written beside it.")
 def scene(scene: Path | None, sets, default: bool, out: Path | None, resolved: bool) -> None:
     """Print a scene file to start from, or check SCENE and print its content hash."""
     if default and (resolved or scene or sets):
         raise click.UsageError("--default prints the embedded scene; give it alone")
     if default:
-        _write_default(out)
+        from .runtime.scenes.scene import _scenes_folder, default_scene_text, load_scene
+
+        table = load_scene().pressure.file
+        _write({"default.toml": default_scene_text(),
+                table: _scenes_folder().joinpath(table).read_text(encoding="utf-8")}, out)
         return
-    if out is not None:
-        raise click.UsageError("--out writes the default scene's files: give it with --default")
+    if out is not None and not resolved:
+        raise click.UsageError("--out writes a scene's files: give it with --default or --resolved")
     sc = scene_of(scene, sets)
     if resolved:
-        from .runtime.scenes.resolved import TABLE_FILE, resolved_toml
+        from .runtime.scenes.resolved import resolved_toml
 
         text, files = resolved_toml(sc, header=f"scene {sc.name}, content hash {sc.content_hash()}")
-        click.echo(text)
-        if files:
-            click.echo(f"# the pressure table is not printed: `apexseal simulate` writes it beside scene.toml as "
-                       f"{TABLE_FILE}", err=True)
+        _write({"scene.toml": text, **files}, out)
         return
     click.echo(f"{sc.name}: valid; content hash {sc.content_hash()}; effects {sc.effects.label}")
     from .derive.submodels.registry import installed
@@ -44,15 +46,12 @@ def scene(scene: Path | None, sets, default: bool, out: Path | None, resolved: b
         click.echo(f"  submodel {name} from {dist}")
 
 
-def _write_default(out: Path | None) -> None:
-    """The default scene on stdout (its pressure table written to the current folder, which a redirected
-    ``> my.toml`` shares) or, with ``out``, both files into that folder. A file there that differs from what would
-    be written is never replaced: refused with ``--out``, named on stderr without it."""
-    from .runtime.scenes.scene import _scenes_folder, default_scene_text, load_scene
-
-    table = load_scene().pressure.file
-    texts = {"default.toml": default_scene_text(),
-             table: _scenes_folder().joinpath(table).read_text(encoding="utf-8")}
+def _write(texts: dict[str, str], out: Path | None) -> None:
+    """A scene (the first of ``texts``) on stdout, the files it reads (a pressure table) written to the current
+    folder, which a redirected ``> my.toml`` shares; or, with ``out``, all of them into that folder. A file there
+    that differs from what would be written is never replaced: refused with ``--out``, named on stderr without
+    it."""
+    main, *others = texts
     folder = out or Path(".")
     if out is not None:
         writable(out)
@@ -60,17 +59,17 @@ def _write_default(out: Path | None) -> None:
               if (folder / n).exists() and (folder / n).read_text(encoding="utf-8", errors="replace") != text]
     if out is not None:
         if differ:
-            raise click.BadParameter(f"{folder} already holds {' and '.join(differ)}, different from the default "
-                                     "scene's; allowed: a folder without them (nothing is overwritten)",
-                                     param_hint="--out")
+            raise click.BadParameter(f"{folder} already holds {' and '.join(differ)}, different from the scene's; "
+                                     "allowed: a folder without them (nothing is overwritten)", param_hint="--out")
         for name, text in texts.items():
             (folder / name).write_text(text, encoding="utf-8")
-        click.echo(f"wrote {folder / 'default.toml'} and {folder / table}")
+        click.echo(f"wrote {' and '.join(str(folder / n) for n in texts)}")
         return
-    click.echo(texts["default.toml"], nl=False)
-    if table in differ:
-        click.echo(f"# kept {table} in the current folder, which differs from the default scene's table: the "
-                   "scene printed reads it", err=True)
-    elif not (folder / table).exists():
-        (folder / table).write_text(texts[table], encoding="utf-8")
-        click.echo(f"# wrote the scene's pressure table {table} to the current folder", err=True)
+    click.echo(texts[main], nl=False)
+    for name in others:
+        if name in differ:
+            click.echo(f"# kept {name} in the current folder, which differs from the scene's table: the scene "
+                       "printed reads it", err=True)
+        elif not (folder / name).exists():
+            (folder / name).write_text(texts[name], encoding="utf-8")
+            click.echo(f"# wrote the scene's pressure table {name} to the current folder", err=True)

@@ -16,6 +16,7 @@ from .cli_common import describe_result
 def show(folder: Path, figures: bool) -> None:
     """Check and describe the result in FOLDER (a result folder, or the OUT.partial-<run id> folder of a killed run):
     the run and its settings, where and why it stopped, the designer's numbers, and how to continue it."""
+    from .runtime.api import same_model
     from .runtime.results.continuation import continuation, partial_target
     from .runtime.results.folder import ResultFolderError, read
     from .runtime.results.summary import summarise
@@ -40,6 +41,7 @@ def show(folder: Path, figures: bool) -> None:
                                                 "result" if result.status == "completed" else ""))
     try:
         cont = continuation(folder, result)  # its parts were read and checked above
+        same_model(cont, None)  # as --resume checks it: the model it was computed with is the current one
     except ResultFolderError as err:
         click.echo(f"  cannot be continued: {err}")
     else:

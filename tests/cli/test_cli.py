@@ -107,6 +107,23 @@ def test_set_refuses_a_bad_key_or_value_naming_both(args, names, tmp_path):
     assert not (tmp_path / "o").exists()
 
 
+def test_set_repairs_a_scene_file_that_would_not_load_alone(tmp_path, monkeypatch):
+    """--set replaces the keys before the file is checked: it was applied to the loaded scene, so a file with a bad
+    value could not be repaired from the command line (the bad value was still reported)."""
+    import re
+
+    monkeypatch.chdir(tmp_path)
+    r = CliRunner().invoke(main, ["scene", "--default"])  # writes its pressure table here
+    assert r.exit_code == 0
+    bad = tmp_path / "bad.toml"
+    bad.write_text(re.sub(r"^ks = .*$", 'ks = "-5e3 N/m"', r.stdout, flags=re.M))
+    alone = CliRunner().invoke(main, ["scene", str(bad)])
+    assert alone.exit_code != 0 and "spring.ks" in alone.output
+    repaired = CliRunner().invoke(main, ["scene", str(bad), "--set", "spring.ks=6e3 N/m", "--resolved"])
+    assert repaired.exit_code == 0, repaired.output
+    assert re.search(r"^ks = \"6000(\.0)? N/m\"", repaired.output, re.M), repaired.output
+
+
 def test_derive_and_generate_refuse_a_bad_scene_file_naming_the_key(tmp_path):
     scene = tmp_path / "bad.toml"
     from apexseal.runtime.scenes.scene import default_scene_text
@@ -147,6 +164,12 @@ def test_scene_default_writes_a_loadable_scene(tmp_path, monkeypatch):
     assert r.exit_code == 0 and load_scene(tmp_path / "start" / "default.toml") == load_scene()
     resolved = CliRunner().invoke(main, ["scene", "--resolved"])
     assert resolved.exit_code == 0 and 'Ws = "0.003 m"' in resolved.output
+    # the resolved scene loads as it is printed: its table was written beside it (it was not, and the file failed
+    # with "pressure.csv: file not found"), and it is the same scene
+    Path("resolved.toml").write_text(resolved.stdout)
+    assert Path("pressure.csv").is_file() and load_scene("resolved.toml") == load_scene()
+    r = runner.invoke(main, ["scene", "--resolved", "--out", str(tmp_path / "resolved")])
+    assert r.exit_code == 0 and load_scene(tmp_path / "resolved" / "scene.toml") == load_scene()
 
 
 def test_report_commands_write_under_apexseal_out_not_docs(tmp_path, monkeypatch):
@@ -157,6 +180,8 @@ def test_report_commands_write_under_apexseal_out_not_docs(tmp_path, monkeypatch
     r = CliRunner().invoke(main, ["derive", "--check"])
     assert r.exit_code == 0, r.output
     assert Path("apexseal-out/paper-check.md").is_file() and not Path("docs").exists()
+    # the check takes seconds: it reports its stage (it was silent between the derivation and its result)
+    assert "checking every derived equation against the paper's print (sympy): done in" in r.output
     out = next(p for p in bench.params if p.name == "out")
     assert str(out.default) == "apexseal-out/bench"
 

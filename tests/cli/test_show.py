@@ -45,3 +45,22 @@ def test_show_says_a_complete_result_was_not_moved_into_place(tmp_path):
     r = CliRunner().invoke(main, ["show", str(second.staging)])
     assert r.exit_code == 0, r.output
     assert f"not moved into place at {out}" in r.output and f"it is complete: rename it to {out}" in r.output
+
+
+def test_show_does_not_offer_to_continue_a_result_of_another_model(tmp_path):
+    """show offered `--resume` for a result computed with another model (a submodel edited since), which --resume
+    then refused: show now checks the model as --resume does."""
+    import json
+
+    scene = apexseal.load_scene().with_overrides(**{"solver.samples_per_revolution": 360})
+    done = tmp_path / "done"
+    apexseal.simulate(scene, revolutions=1, out=done)
+    record = json.loads((done / "result.json").read_text())
+    record["info"]["model_hash"] = "0" * 64  # what a model of other sources would have written
+    (done / "result.json").write_text(json.dumps(record))
+    r = CliRunner().invoke(main, ["show", str(done)])
+    assert r.exit_code == 0, r.output
+    assert "cannot be continued:" in r.output and "was computed with another model" in r.output
+    assert "--resume" not in r.output
+    r = CliRunner().invoke(main, ["simulate", "--resume", str(done), "-n", "2", "-q", "--no-figures"])
+    assert r.exit_code != 0 and "was computed with another model" in r.output

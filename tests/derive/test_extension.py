@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import apexseal
-from apexseal.derive.options import NONE, ON, Option
+from apexseal.derive.options import NONE, ON, Option, Options
 from apexseal.derive.parameters import Parameter
 from apexseal.derive.submodels import registry
 from apexseal.derive.submodels.base import ContactModel, Context, Guard, Load, Submodel
@@ -59,10 +59,12 @@ def test_the_registry_builds_everything_from_the_declarations(cushion):
     from apexseal.runtime.scenes.schema import key_paths
 
     assert registry.extended()
-    assert registry.parameter_names()[-2:] == ("kb", "hb")
+    assert registry.parameter_names(opts=Options({"cushion": ON}))[-2:] == ("kb", "hb")
     assert {"contacts.kb", "contacts.hb", "effects.cushion"} <= set(key_paths())
     scene = apexseal.load_scene()
-    assert scene.effects.cushion is False and scene.parameters["kb"] == 2e5  # off unless a scene asks for it
+    assert scene.effects.cushion is False and scene.contacts.kb == 2e5  # off unless a scene asks for it
+    # off: no slot in the vector, which stays the built-in model's
+    assert "kb" not in scene.parameters and tuple(scene.parameters) == registry.parameter_names()
     on = scene.with_overrides(**{"effects.cushion": True, "contacts.kb": "3e5 N/m"})
     assert on.effects.cushion and on.parameters["kb"] == 3e5
     with pytest.raises(SceneError, match="contacts.hb"):
@@ -242,12 +244,12 @@ def test_a_scene_key_taken_or_a_choice_with_a_parent_is_refused():
 
 
 def test_a_submodel_off_with_its_own_parameters_does_not_break_the_start_check(default_scene):
-    """own_vector: the parameters of a submodel that is off are not in the vector, so the start check's contact
-    frequencies skip its oscillator (every run with it off raised KeyError: 'kpad')."""
+    """The parameters of a submodel that is off are not in the vector, so the start check's contact frequencies
+    skip its oscillator (every run with it off raised KeyError: 'kpad')."""
     from apexseal.runtime.solving.euler_integrator import contact_frequencies
 
     pad = type("Pad", (Submodel,), {
-        "name": "pad", "__module__": "elsewhere", "switch": "pad", "own_vector": True,
+        "name": "pad", "__module__": "elsewhere", "switch": "pad",
         "parameters": (Parameter("kpad", "N/m", "pad stiffness", key="contacts.kpad", default=1e4, gt=0),
                        Parameter("cpad", "N*s/m", "pad damping", key="contacts.cpad", default=1.0, gt=0)),
         "options": (Option("pad", (NONE, ON), "a pad"),), "oscillators": (("kpad", "cpad"),)})
@@ -269,7 +271,7 @@ def test_a_submodel_s_own_scene_section_is_written_to_the_resolved_scene(tmp_pat
         "parameters": (Parameter("c_film", "N*s/m", "film damping", key="film.c", default=2.0, gt=0),),
         "options": (Option("film", (NONE, ON), "an oil film"),)})
     with registry.registered(film):
-        scene = apexseal.load_scene().with_overrides(**{"film.c": "30 N*s/m"})
+        scene = apexseal.load_scene().with_overrides(**{"effects.film": True, "film.c": "30 N*s/m"})
         text, files = resolved_toml(scene)
         assert "[film]" in text
         (tmp_path / "scene.toml").write_text(text)
@@ -277,3 +279,20 @@ def test_a_submodel_s_own_scene_section_is_written_to_the_resolved_scene(tmp_pat
             (tmp_path / name).write_text(content)
         again = apexseal.load_scene(tmp_path / "scene.toml")
         assert again.parameters["c_film"] == 30.0 and again.content_hash() == scene.content_hash()
+
+
+def test_an_error_in_a_users_laws_names_the_submodel(tmp_path):
+    """contacts() of a user's submodel that raises (here: a helper it imports there does not exist) is reported as
+    that submodel's failure, with its module, not as a bare traceback out of the derivation."""
+    from apexseal.derive.cache import cached_model
+    from apexseal.derive.effects import Effects
+
+    broken = type("Broken", (Submodel,), {
+        "name": "broken", "__module__": "my_models.broken", "switch": "broken",
+        "options": (Option("broken", (NONE, ON), "a contact whose laws fail"),),
+        "contacts": lambda self, ctx: __import__("my_models_missing_helper")})
+    with registry.registered(broken), pytest.raises(registry.RegistryError) as info:
+        cached_model(Effects.from_mapping({"broken": True}), refresh=True)
+    message = str(info.value)
+    assert "the submodel broken (from module my_models.broken) failed in contacts()" in message
+    assert "ModuleNotFoundError" in message and "switch it off in the scene" in message

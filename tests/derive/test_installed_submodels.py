@@ -14,6 +14,7 @@ import subprocess
 import pytest
 
 from apexseal.cli import command
+from apexseal.derive.options import ON, Options
 
 PLUGIN = '''
 from apexseal.derive.options import NONE, ON, Option
@@ -107,7 +108,9 @@ def test_installed_submodels_come_after_the_built_in_ones_and_enter_the_provenan
     names = [cls.name for cls in fresh_registry.submodels()]
     assert names[-1] == "wiper" and len(names) == len(fresh_registry.BUILTIN) + 1
     assert fresh_registry.extended() and fresh_registry.installed() == {"wiper": "seal-extras-in-process 0.2"}
-    assert "kwp" in fresh_registry.parameter_names()
+    # off by default: the default model's vector is the built-in one; switched on, its parameter comes last
+    assert "kwp" not in fresh_registry.parameter_names() and "kwp" in fresh_registry.parameter_names(all_inputs=True)
+    assert fresh_registry.parameter_names(opts=Options({"wiper": ON}))[-1] == "kwp"
     assert versions()["submodel wiper"] == "seal-extras-in-process 0.2"
 
 

@@ -163,3 +163,29 @@ def test_a_built_in_submodel_gives_its_file_and_a_class_without_a_file_its_decla
     assert source_text(HousingContact) == open(path, encoding="utf-8").read()
     cls = type("Made", (Submodel,), {"name": "made", "__module__": "nowhere"})
     assert "()" in source_text(cls)
+
+
+def test_a_broken_helper_is_hashed_not_run(tmp_path):
+    """The helpers are found on the file system: nothing of the submodel's package is imported to hash it. A helper
+    with a syntax error, imported inside contacts() (``from .helpers import scale``), crashed every command that
+    loads a model, the default scene's too, because looking up ``helpers.scale`` imported ``helpers``; one with
+    side effects ran them."""
+    pkg = tmp_path / "pads_broken"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "pad.py").write_text(CLASS.format(tag="broken").replace("from . import laws", "from .helpers import scale"))
+    (pkg / "shared.py").write_text("constants = 1\n")
+    (pkg / "helpers.py").write_text(f"open({str(tmp_path / 'ran')!r}, 'w').close()\ndef scale(:\n")
+    sys.path.insert(0, str(tmp_path))
+    try:
+        cls = importlib.import_module("pads_broken.pad").Pad
+        root, _, helpers = source_files(cls)
+        assert [h.name for h in helpers] == ["helpers.py", "shared.py"]
+        first = source_key(cls)
+        assert not (tmp_path / "ran").exists()
+        (pkg / "helpers.py").write_text("def scale(x):\n    return x\n")  # repaired: another key
+        assert source_key(cls) != first
+    finally:
+        sys.path.remove(str(tmp_path))
+        for name in [m for m in sys.modules if m.startswith("pads_broken")]:
+            del sys.modules[name]

@@ -18,11 +18,12 @@ def default_parameters() -> dict[str, float]:
                 mu1=0.1, mu2=0.12, mus=0.1, v_eps=1e-3, beta_o=tip_half_angle(Ws, 3e-3))
 
 
-def parameter_vector(**changes: float) -> np.ndarray:
+def parameter_vector(names=PARAMETER_NAMES, **changes: float) -> np.ndarray:
+    """The case study's parameters in the order of ``names`` (default: the default effects' vector)."""
     values = default_parameters() | changes
     if "beta_o" not in changes:  # derived from Ws and ro, as the scene does
         values["beta_o"] = tip_half_angle(values["Ws"], values["ro"])
-    return np.array([values[n] for n in PARAMETER_NAMES], float)
+    return np.array([values[n] for n in names], float)
 
 
 def random_point(rng: np.random.Generator) -> tuple[float, np.ndarray, np.ndarray]:

@@ -92,3 +92,19 @@ def test_the_command_refuses_one_folder_and_a_folder_without_a_result(folders, t
     twice = CliRunner().invoke(main, ["compare", str(folders["default"]), str(folders["default"])])
     assert twice.exit_code == 0 and "the scenes are the same" in twice.output
     assert f"{folders['default']} (1)" in twice.output and f"{folders['default']} (2)" in twice.output
+
+
+def test_results_of_the_same_scene_and_other_models_say_so(folders, tmp_path):
+    """Two runs of one scene with models of other sources read as "the scenes are the same" and nothing else."""
+    import json
+    import shutil
+
+    other = tmp_path / "other"
+    shutil.copytree(folders["default"], other)
+    record = json.loads((other / "result.json").read_text())
+    record["info"]["model_hash"] = "f" * 64
+    (other / "result.json").write_text(json.dumps(record))
+    text = compare([folders["default"], other]).text()
+    assert "the scenes are the same" in text and "the models differ (model hash default " in text
+    assert "other ffffffffffff" in text
+    assert "the models differ" not in compare([folders["default"], folders["stiff"]]).text()

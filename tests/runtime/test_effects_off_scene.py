@@ -1,5 +1,6 @@
 """A scene leaves out what an effect that is off would read (registry.needing): it loads, runs as if it gave the
-values, writes a resolved scene without them, and asks for them again once the effect is switched back on."""
+values, writes a resolved scene without them, and asks for them again once the effect is switched back on. What is
+off has no slot in the parameter vector, given or not."""
 
 from __future__ import annotations
 
@@ -30,10 +31,9 @@ def scenes():
 def test_the_keys_of_an_effect_that_is_off_may_be_left_out(scenes):
     given, left_out = scenes
     p = left_out.parameters
-    assert all(math.isnan(p[n]) for n in ("ks", "delta_s", "mus", "cs"))  # slots kept, read by no law
-    assert all(math.isfinite(v) for n, v in p.items() if n not in ("ks", "delta_s", "mus", "cs"))
-    assert {n: v for n, v in p.items() if n not in ("ks", "delta_s", "mus", "cs")} == \
-        {n: v for n, v in given.parameters.items() if n not in ("ks", "delta_s", "mus", "cs")}
+    assert not {"ks", "delta_s", "mus", "cs"} & set(p)  # no slots: given or not, the spring is not in the model
+    assert all(math.isfinite(v) for v in p.values())
+    assert p == given.parameters and list(p) == list(given.parameters)
 
 
 def test_it_runs_as_the_scene_that_gives_them(scenes, tmp_path):
@@ -56,12 +56,12 @@ def test_switching_the_effect_on_asks_for_its_keys(scenes):
     assert info.value.keys() == ["spring.ks", "spring.delta_s"]
     assert "spring.ks = (missing): required while effects.spring is on; give a stiffness in N/m" in str(info.value)
     on = left_out.with_overrides(**{"effects.spring": True, "spring.ks": "5 kN/m", "spring.delta_s": "1 mm"})
-    assert on.parameters["ks"] == 5e3 and math.isnan(on.parameters["mus"])  # its friction is still off
+    assert on.parameters["ks"] == 5e3 and "mus" not in on.parameters  # its friction is still off
 
 
 def test_a_friction_coefficient_is_needed_only_with_its_friction(default_scene):
     smooth = default_scene.with_overrides(**{"effects.groove_friction": False, "friction.mu2": None})
-    assert math.isnan(smooth.parameters["mu2"]) and smooth.parameters["mu1"] == default_scene.parameters["mu1"]
+    assert "mu2" not in smooth.parameters and smooth.parameters["mu1"] == default_scene.parameters["mu1"]
     with pytest.raises(SceneError, match=r"friction.mu2 = \(missing\): required while effects.groove_friction is on"):
         default_scene.with_overrides(**{"friction.mu2": None})
 
@@ -89,14 +89,19 @@ def test_the_start_checks_weigh_only_the_contacts_in_the_model(default_scene):
     assert "kw" not in names and "kg1" in names
 
 
-def test_the_parameters_as_a_function_of_the_preload_keep_a_left_out_slot(default_scene):
-    """Scene.parameter_function (the preload study's p(delta_s)) holds NaN where the vector does, so the study
-    runs on a scene that leaves out what an effect that is off reads (it raised a CasADi type error on None)."""
-    from apexseal.runtime.studies.preload.problem import DELTA_S, preload_parameters
+def test_the_parameters_as_a_function_of_the_preload_follow_the_scene_s_vector(default_scene):
+    """Scene.parameter_function (the preload study's p(delta_s)) has the scene's own vector, so the study runs on a
+    scene with an effect off (it raised a CasADi type error on a left-out key), and the study finds a parameter by
+    its name: with the groove friction off, ks and delta_s sit one slot earlier than in the default vector."""
+    from apexseal.derive.symbols import PARAMETER_NAMES
+    from apexseal.runtime.studies.preload.problem import preload_parameters
 
     smooth = default_scene.with_overrides(**{"effects.groove_friction": False, "friction.mu2": None})
-    own = smooth.parameter_vector()
+    own, names = smooth.parameter_vector(), tuple(smooth.parameters)
     f = smooth.parameter_function("delta_s")
-    np.testing.assert_array_equal(np.array(f(own[DELTA_S])).ravel(), own)  # NaN where own has NaN
+    np.testing.assert_array_equal(np.array(f(smooth.parameters["delta_s"])).ravel(), own)
     pmap = preload_parameters(smooth)
-    assert np.isnan(pmap.p0).sum() == 1 and np.all(np.isfinite(pmap.dp))
+    assert pmap.names == names and "mu2" not in names and np.all(np.isfinite(pmap.p0)) and np.all(np.isfinite(pmap.dp))
+    assert names.index("ks") == PARAMETER_NAMES.index("ks") - 1
+    assert pmap.at("ks") == smooth.parameters["ks"] and pmap.at("kw") == smooth.parameters["kw"]
+    np.testing.assert_allclose(pmap(smooth.parameters["delta_s"]), own, rtol=1e-12)

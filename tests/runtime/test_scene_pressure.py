@@ -329,3 +329,24 @@ def test_a_table_read_again_is_shared_read_only_and_a_changed_one_is_read_anew(t
     path.write_text(SIMPLE.replace("100,400", "150,400"))
     again = load_table("p.csv", tmp_path)
     assert again is not first and again.Pa(0.0) == 150.0 and first.Pa(0.0) == 100.0
+
+
+def test_a_table_in_bar_hashes_as_its_resolved_scene_in_pa(tmp_path):
+    """The result's scene.toml writes the table in Pa: a scene whose table was in bar could never be continued (its
+    content hash kept the unit, so the written scene was "not the scene the run computed")."""
+    from apexseal.runtime.scenes.resolved import resolved_toml
+
+    (tmp_path / "p.csv").write_text("theta_deg,Pa,Pb\n0,6,1.013\n180,1.013,6\n")
+    scene = load_scene().with_overrides(**{"pressure": {"source": "table", "file": str(tmp_path / "p.csv"),
+                                                        "unit": "bar"}})
+    assert scene.pressure.unit == "bar" and scene.pressure.pa[0] == 6e5
+    toml, files = resolved_toml(scene)
+    out = tmp_path / "run"
+    out.mkdir()
+    (out / "scene.toml").write_text(toml)
+    for name, content in files.items():
+        (out / name).write_text(content)
+    again = load_scene(out / "scene.toml")
+    assert again.pressure.unit == "Pa"
+    np.testing.assert_array_equal(again.pressure.pa, scene.pressure.pa)
+    assert again.content_hash() == scene.content_hash()

@@ -168,6 +168,33 @@ def test_summary_has_the_promised_fields(erk_result):
     assert s["extremes"]["y"]["min"] <= s["extremes"]["y"]["max"]
 
 
+def test_a_run_that_computed_no_interval_has_no_friction_power(erk_result, capsys):
+    """A run stopped before its first output interval ended (a wall-time budget spent on compiling) reported the
+    start's friction power as the run's mean (8.76 W at 0 revolutions)."""
+    import dataclasses
+
+    from apexseal.cli_common import describe_result
+    from apexseal.runtime.results.summary import summarise
+
+    def first(v):
+        if isinstance(v, np.ndarray):
+            return v[..., :1]
+        if isinstance(v, dict) and all(isinstance(a, np.ndarray) for a in v.values()):
+            return {k: a[..., :1] for k, a in v.items()}
+        return v
+
+    start = dataclasses.replace(erk_result, **{f.name: first(getattr(erk_result, f.name))
+                                                for f in dataclasses.fields(erk_result)
+                                                if f.init and f.name not in ("modes", "status")},
+                                modes=list(erk_result.modes[:1]), status="interrupted")
+    assert start.n == 1 and erk_result.outputs["Pf_total"][0] > 0  # the start itself has friction
+    assert np.isnan(start.friction_power) and erk_result.friction_power > 0
+    s = summarise(start)
+    assert s["mean_friction_power_W"]["total"] is None
+    describe_result(start, s)
+    assert "friction power: none computed (no output interval)" in capsys.readouterr().out
+
+
 class _FlakyEngine:
     """Wraps a real engine; raises on the given revolution (to test that nothing computed is lost)."""
 

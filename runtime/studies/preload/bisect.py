@@ -96,7 +96,7 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
         # with a groove-force bound (setup.max_groove_force) its excess must be within the same bound too
         return np.array([s.deficit <= deficit_tol and s.groove_excess <= deficit_tol for s in sims])
 
-    scene_ds = float(scene.parameter_vector()[_DS])
+    scene_ds = float(scene.parameters["delta_s"])
     if upper is None:
         base = scene_ds if scene_ds > 0 else MM
         for k in range(0, 60, probes):
@@ -141,7 +141,3 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
                            sim.friction_power, sim.change, sim.deficit, n_sim, time.perf_counter() - t, monotone,
                            sorted(seen))
 
-
-from ....derive.symbols import PARAMETER_NAMES  # noqa: E402
-
-_DS = PARAMETER_NAMES.index("delta_s")

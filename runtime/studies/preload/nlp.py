@@ -10,7 +10,6 @@ import casadi as ca
 import numpy as np
 
 from ....cores import parallel_threads
-from ....derive.symbols import PARAMETER_NAMES
 from ....progress import announce
 from ...solving.scaling import state_scale
 from .problem import MM
@@ -94,7 +93,7 @@ class ShootingNlp:
         self.nz = nz
         per = g.per_node
         U = setup.controls(g.edges(), g.m)  # (4, n): each segment's call from its start
-        omega = float(setup.pmap.p0[PARAMETER_NAMES.index("omega")])
+        omega = setup.pmap.at("omega")
         sc = state_scale(omega)
         nd = -(-(6 + knots) // CHUNK) * CHUNK  # the directions, padded to whole chunks
         self.nd = nd

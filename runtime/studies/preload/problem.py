@@ -40,13 +40,10 @@ import casadi as ca
 import numpy as np
 
 from ....cores import parallel_threads
-from ....derive.symbols import PARAMETER_NAMES
 from ...solving.hybrid import controls as engine_controls
 from ...solving.preflight import initial_activations
 from ...solving.scaling import LENGTH, to_scaled
 
-KW = PARAMETER_NAMES.index("kw")
-DELTA_S = PARAMETER_NAMES.index("delta_s")
 #: the study's preload unit: decision variables and tolerances are in mm
 MM = 1e-3
 
@@ -57,13 +54,24 @@ class PreloadStudyError(ValueError):
 
 @dataclass(frozen=True)
 class PreloadMap:
-    """The simulator's parameter vector as an affine function of delta_s (m)."""
+    """The simulator's parameter vector (the scene's model's, ``names``) as an affine function of delta_s (m)."""
 
     p0: np.ndarray
     dp: np.ndarray
+    names: tuple[str, ...]
 
     def __call__(self, delta_s):
         return self.p0 + self.dp * delta_s
+
+    def at(self, name: str) -> float:
+        """A parameter's value at delta_s = 0 (the same at every preload for all but delta_s, delta_w and Li)."""
+        return float(self.p0[self.names.index(name)])
+
+    def state_scale(self) -> np.ndarray:
+        """The scales of the integrated state (they depend on omega only)."""
+        from ...solving.scaling import state_scale
+
+        return state_scale(self.at("omega"))
 
 
 def preload_parameters(scene) -> PreloadMap:
@@ -75,9 +83,9 @@ def preload_parameters(scene) -> PreloadMap:
     f = scene.parameter_function("delta_s")
     d = ca.SX.sym("d")
     dp = ca.Function("dp", [d], [ca.jacobian(f(d), d)])
-    pmap = PreloadMap(np.array(f(0.0)).ravel(), np.array(dp(0.0)).ravel())
+    pmap = PreloadMap(np.array(f(0.0)).ravel(), np.array(dp(0.0)).ravel(), tuple(scene.parameters))
     own = scene.parameter_vector()
-    if not np.allclose(pmap(own[DELTA_S]), own, rtol=1e-12, atol=1e-15, equal_nan=True):  # pragma: no cover
+    if not np.allclose(pmap(scene.parameters["delta_s"]), own, rtol=1e-12, atol=1e-15):  # pragma: no cover
         raise RuntimeError("the scene's parameters are not affine in spring.delta_s; update preload_parameters")
     return pmap
 
@@ -89,11 +97,11 @@ def contact_measure(functions) -> ca.Function:
     """
     g_names, o_names = tuple(functions.guard_names), tuple(functions.output_names)
     theta, X, a, p, u = (functions.outputs.sx_in(i) for i in range(5))
-    ih, ifx = g_names.index("xs5"), o_names.index("F_housing_X")
+    ih, ifx, kw = g_names.index("xs5"), o_names.index("F_housing_X"), tuple(functions.parameter_names).index("kw")
     xs5 = -functions.guards(theta, X, p, u)[ih]  # the guard is -xs5 (closed while negative)
     force = -functions.outputs(theta, X, a, p, u)[ifx]
     act = a[ih]
-    return ca.Function("tip_contact_measure", [theta, X, a, p, u], [act * force + (1 - act) * p[KW] * xs5],
+    return ca.Function("tip_contact_measure", [theta, X, a, p, u], [act * force + (1 - act) * p[kw] * xs5],
                        ["theta", "x", "a", "p", "u"], ["measure"])
 
 
@@ -289,7 +297,7 @@ class PreloadSetup:
         p = self.pmap(delta_s)
         u0 = self.engine_pressures(self.theta_start + np.array([0.0, self.dth]))[:, 0]  # the run's start
         act = initial_activations(self.functions, self.theta_start, X, p, u0)
-        return np.r_[to_scaled(X, float(p[PARAMETER_NAMES.index("omega")])), act, np.zeros(self.n_guards)]
+        return np.r_[to_scaled(X, self.pmap.at("omega")), act, np.zeros(self.n_guards)]
 
     def periodic(self, deltas) -> Periodic:
         """Simulate ``revolutions`` revolutions from the scene's start at each preload (one mapped call per
@@ -326,12 +334,12 @@ class PreloadSetup:
 
     def measure_at(self, Z: np.ndarray, thetas: np.ndarray, p: np.ndarray, U: np.ndarray) -> np.ndarray:
         n, ng = thetas.size, self.n_guards
-        X = Z[:6] * _scale(p)[:, None]
+        X = Z[:6] * self.pmap.state_scale()[:, None]
         return np.array(self.measure_fn.map(n)(thetas[None, :], X, Z[6:6 + ng], np.repeat(p[:, None], n, 1), U)).ravel()
 
     def friction_power(self, Z: np.ndarray, thetas: np.ndarray, p: np.ndarray, U: np.ndarray) -> float:
         n, ng = thetas.size, self.n_guards
-        X = Z[:6] * _scale(p)[:, None]
+        X = Z[:6] * self.pmap.state_scale()[:, None]
         Y = np.array(self.functions.outputs.map(n)(thetas[None, :], X, Z[6:6 + ng], np.repeat(p[:, None], n, 1), U))
         return float(Y[tuple(self.functions.output_names).index("Pf_total")].mean())
 
@@ -344,12 +352,6 @@ class PreloadSetup:
         m = np.where(keep[None, :], periodic.measure, np.inf)
         k = np.argmin(m, axis=1)
         return m[np.arange(m.shape[0]), k], np.degrees(periodic.thetas[k]) % 360.0
-
-
-def _scale(p: np.ndarray) -> np.ndarray:
-    from ...solving.scaling import state_scale
-
-    return state_scale(float(p[PARAMETER_NAMES.index("omega")]))
 
 
 def check_request(scene, min_force, samples, revolutions, max_groove_force=None) -> None:

@@ -7,11 +7,8 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from ....derive.symbols import PARAMETER_NAMES
-from .problem import MM, _scale
+from .problem import MM
 from .schedule import Schedule
-
-_KS = PARAMETER_NAMES.index("ks")
 
 #: default bound of the squared force deficit: (0.2 N)^2 over 0.1 deg of crank angle (N^2 rad); at (0.1 N)^2 over
 #: 0.05 deg the deficit of the iterates near the optimum was noisy at ~10 % of the bound (the rattle's impacts at
@@ -108,7 +105,7 @@ def fill_result(res, setup, grid, knots_m, sim) -> None:
     res.knots = [float(v) for v in knots_m]
     res.delta_s = float(np.mean(Schedule(tuple(res.knot_angles_deg), tuple(res.knots))(
         np.degrees(sim.thetas))))
-    res.spring_force = float(setup.pmap.p0[_KS] * res.delta_s)
+    res.spring_force = float(setup.pmap.at("ks") * res.delta_s)
     res.friction_power = sim.friction_power
     res.deficit = sim.deficit
     res.min_measure, res.min_measure_angle = float(m[j]), float(np.degrees(sim.thetas[j]) % 360.0)
@@ -124,6 +121,6 @@ def contact_powers(setup, sim) -> dict:
     names = tuple(setup.functions.output_names)
     ng, n = setup.n_guards, sim.thetas.size
     P = setup.pmap.p0[:, None] + setup.pmap.dp[:, None] * sim.delta_s[None, :]
-    X = sim.z[:6, 1:] * _scale(setup.pmap.p0)[:, None]
+    X = sim.z[:6, 1:] * setup.pmap.state_scale()[:, None]
     Y = np.array(setup.functions.outputs.map(n)(sim.thetas[None, :], X, sim.z[6:6 + ng, 1:], P, sim.pressures))
     return {k[3:]: float(Y[i].mean()) for i, k in enumerate(names) if k.startswith("Pf_") and k != "Pf_total"}

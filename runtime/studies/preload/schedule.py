@@ -23,7 +23,7 @@ import casadi as ca
 import numpy as np
 
 from ....cores import parallel_threads
-from .problem import DELTA_S, MM
+from .problem import MM
 from .shooting import TWO_PI, q_layout, window_vector
 
 
@@ -185,7 +185,7 @@ def simulate_schedules(setup, sf, grid: SegmentGrid, knots_list, min_force: floa
         for knots_m in knots_list:
             p = grid.q_columns(setup, knots_m, min_force, exclude)[:setup.pmap.p0.size, 0]
             act = initial_activations(setup.functions, grid.theta_first, X, p, C[:2, 0])
-            z_starts.append(np.r_[to_scaled(X, float(p[_omega()])), act, np.zeros(ng)])
+            z_starts.append(np.r_[to_scaled(X, setup.pmap.at("omega")), act, np.zeros(ng)])
     z = np.column_stack([np.asarray(z0, float) for z0 in z_starts])  # one column per schedule
     interval = sf.interval if n == 1 else sf.interval.map(n, "thread", parallel_threads(n))
     m = grid.m
@@ -213,7 +213,6 @@ def _resimulation(setup, sf, grid: SegmentGrid, knots_m, revolutions: int, U: np
     """The last revolution ``Z`` (its start included) of a chained schedule, with its quadratures ``qsum``, as a
     :class:`Resimulation`: the tip's contact measure at the samples (pressures ``U`` there), and the groove forces
     where they are bounded."""
-    from .problem import _scale
 
     ng = setup.n_guards
     Z[6 + ng:, 0] = 0.0
@@ -224,7 +223,7 @@ def _resimulation(setup, sf, grid: SegmentGrid, knots_m, revolutions: int, U: np
     # the physical parameters at each sample (delta_s varies along the segment)
     d_at = Schedule(tuple(grid.knot_angles_deg), tuple(knots_m))(np.degrees(thetas))
     P = setup.pmap.p0[:, None] + setup.pmap.dp[:, None] * d_at[None, :]
-    X = Z[:6, 1:] * _scale(setup.pmap.p0)[:, None]  # the scale depends on omega only
+    X = Z[:6, 1:] * setup.pmap.state_scale()[:, None]
     meas = np.array(setup.measure_fn.map(thetas.size)(thetas[None, :], X, Z[6:6 + ng, 1:], P, U)).ravel()
     sim = Resimulation(thetas, Z, float(qsum[1]), float(qsum[0] / TWO_PI), change, meas, U, d_at)
     if sf.groove:
@@ -236,11 +235,5 @@ def _resimulation(setup, sf, grid: SegmentGrid, knots_m, revolutions: int, U: np
     return sim
 
 
-def _omega() -> int:
-    from ....derive.symbols import PARAMETER_NAMES
-
-    return PARAMETER_NAMES.index("omega")
-
-
-__all__ = ["DELTA_S", "MM", "Resimulation", "Schedule", "SegmentGrid", "chain_function", "simulate_schedule",
+__all__ = ["MM", "Resimulation", "Schedule", "SegmentGrid", "chain_function", "simulate_schedule",
            "simulate_schedules"]

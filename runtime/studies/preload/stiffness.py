@@ -41,7 +41,6 @@ def stiffness_valley(setup: PreloadSetup, result, *, nodes: int = 4, factors=FAC
     Uses the study's compiled interval integrator (the same cache entry as the study: for a constant preload the
     integrator's built-in d p / d delta_s multiplies a zero slope, so the scene's units serve every ks).
     """
-    from ....derive.symbols import PARAMETER_NAMES
     from .periodic import periodic
     from .schedule import SegmentGrid
     from .shooting import study_functions
@@ -50,7 +49,7 @@ def stiffness_valley(setup: PreloadSetup, result, *, nodes: int = 4, factors=FAC
         raise PreloadStudyError("stiffness_valley: needs a solved constant-preload result (knots = 1)")
     if not all(isinstance(f, int | float) and 0 < f <= 100 for f in factors):
         raise PreloadStudyError(f"factors = {list(factors)!r}: each must be in (0, 100] (times the scene's ks)")
-    ks0 = float(setup.pmap.p0[PARAMETER_NAMES.index("ks")])
+    ks0 = setup.pmap.at("ks")
     force = ks0 * float(result.knots[0])
     sf = study_functions(setup, setup.samples // nodes)
     grid = SegmentGrid(setup.samples, nodes, 1, setup.theta_start, setup.dth)

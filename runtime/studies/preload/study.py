@@ -63,16 +63,14 @@ import time
 import numpy as np
 
 from ....cores import parallel_threads
-from ....derive.symbols import PARAMETER_NAMES
 from ....progress import announce, stage
 from .nlp import ShootingNlp
 from .periodic import periodic
-from .problem import KW, MM, PreloadSetup, PreloadStudyError, check_grid, windows
+from .problem import MM, PreloadSetup, PreloadStudyError, check_grid, windows
 from .result import DEFICIT_TOL, PreloadResult, contact_powers, fill_result
 from .schedule import SegmentGrid, simulate_schedule, simulate_schedules
 from .shooting import study_functions
 
-_DS = PARAMETER_NAMES.index("delta_s")
 OBJECTIVES = ("friction", "preload")
 
 
@@ -105,7 +103,7 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     keep = setup.mask(setup.theta_start + setup.dth * np.arange(1, setup.samples + 1))
     if not keep.any():
         raise PreloadStudyError(f"exclude = {list(exclude)}: the windows cover every sample; nothing left to check")
-    scene_ds = float(scene.parameter_vector()[_DS])
+    scene_ds = float(scene.parameters["delta_s"])
     res = PreloadResult(False, "", float(min_force), [list(w) for w in exclude], objective=objective,
                         scene_delta_s=scene_ds, deficit_tol=float(deficit_tol), nodes=nodes, samples=setup.samples,
                         rtol=setup.rtol, max_groove_force=setup.max_groove_force)
@@ -255,7 +253,7 @@ def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, defici
                    f"force >= {setup.min_force:g} N between samples: at {d / MM:.4g} mm the force deficit is "
                    f"{sim.deficit:.3g} N^2 rad (bound {deficit_tol:.3g}); the smallest force at the samples is "
                    f"{sim.measure[j]:.3g} N at crank angle {np.degrees(sim.thetas[j]) % 360:.1f} deg (negative: the "
-                   f"tip lifts off there, by {-sim.measure[j] / setup.pmap.p0[KW] * 1e6:.3g} um). Exclude a window "
+                   f"tip lifts off there, by {-sim.measure[j] / setup.pmap.at('kw') * 1e6:.3g} um). Exclude a window "
                    "around that angle (exclude=[(start, end)] / --exclude START:END), lower min_force, or raise "
                    "max_preload.")
     return None
