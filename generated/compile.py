@@ -39,7 +39,7 @@ from ..cores import parallel_threads
 from ..derive.cache import cache_dir
 from ..files import atomic_write, content_key, file_lock, sha256_bytes, sha256_file
 from ..progress import stage
-from .compiler import CompilerUnavailable, compiler, compiler_identity, flag_list, lib_root, run_compiler, stop
+from .compiler import CompilerUnavailable, compiler, compiler_identity, flag_list, lib_root, run_compiler, stop, stop_all
 from .manifest import StaleArtefactWarning, verify
 
 #: the model library's file name; unique per cache key, because an integrator that links against it finds it by
@@ -289,6 +289,21 @@ def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: s
 def build_function(source: FunctionSource, *, flags: str) -> Path:
     """The cached library of a :class:`FunctionSource` (built if missing)."""
     return build_library(source.key_payload, [source.c_file], source.library_name, flags=flags, link=source.link)
+
+
+def build_functions(sources: Sequence[FunctionSource], *, flags: str) -> list[Path]:
+    """The libraries of several sources, built at once (a thread each). A signal abandons them together: the
+    worker threads, which the signal does not reach, are not waited for, and every compiler is killed (they ran to
+    their ends, tens of seconds after a Ctrl-C)."""
+    pool = ThreadPoolExecutor(max(1, len(sources)))
+    try:
+        return list(pool.map(lambda s: build_function(s, flags=flags), sources))
+    except KeyboardInterrupt:
+        pool.shutdown(wait=False, cancel_futures=True)
+        stop_all()
+        raise
+    finally:
+        pool.shutdown(wait=False)
 
 
 def compile_function(fn: ca.Function, *, flags: str = "optimised", derivatives: bool = False,

@@ -44,9 +44,13 @@ def flag_list(flags: str) -> tuple[str, ...]:
     return FLAG_SETS[flags]
 
 
+#: every compiler this process runs, while it runs (:func:`stop_all`)
+_RUNNING: set = set()
+
+
 def run_compiler(cmd: Sequence[str], cwd: Path | None = None, running: set | None = None) -> subprocess.CompletedProcess:
     """Run a compiler command to its end; its process is in ``running`` meanwhile (so that an interrupted build
-    can stop the compilers it started, see :func:`stop`)."""
+    can stop the compilers it started, see :func:`stop`), and in the process-wide set of :func:`stop_all`."""
     try:
         # a session of its own: stopping it stops the programs it runs (cc1, as), and a terminal's Ctrl-C reaches
         # this process, which stops it
@@ -56,6 +60,7 @@ def run_compiler(cmd: Sequence[str], cwd: Path | None = None, running: set | Non
         raise CompilerUnavailable(f"C compiler {cmd[0]!r} cannot be run ({exc.strerror or exc})") from exc
     if running is not None:
         running.add(proc)
+    _RUNNING.add(proc)
     try:
         out, err = proc.communicate()
     except BaseException:  # interrupted while waiting (in the main thread): the compiler goes with it
@@ -65,6 +70,7 @@ def run_compiler(cmd: Sequence[str], cwd: Path | None = None, running: set | Non
     finally:
         if running is not None:
             running.discard(proc)
+        _RUNNING.discard(proc)
     return subprocess.CompletedProcess(list(cmd), proc.returncode, out, err)
 
 
@@ -72,6 +78,13 @@ def stop(running: set) -> None:
     """Kill the compilers in ``running`` (a build abandoned by a signal: SIGTERM reaches only this process)."""
     for proc in list(running):
         _kill(proc)
+
+
+def stop_all() -> None:
+    """Kill every compiler this process is running, whichever thread started it: for work abandoned by a signal
+    while builds run in worker threads, which the signal does not reach (the preload study builds two libraries
+    at once)."""
+    stop(_RUNNING)
 
 
 def _kill(proc: subprocess.Popen) -> None:

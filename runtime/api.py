@@ -129,10 +129,12 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
     the side clearance (:mod:`apexseal.runtime.results.plausibility`).
     """
     from .. import progress as stages
+    from .solving.signals import StopSignals
 
     scene = scene_of(scene)
     st = settings_of(scene, method=method, rtol=rtol, revolutions=revolutions, **settings)
-    with stages.enabled(progress):
+    # a SIGTERM stops the run, keeps its result (written when ``out`` is given) and then ends the process
+    with stages.enabled(progress), StopSignals(redeliver_term=True):
         if out is None:
             return run_scene(scene, st, progress=progress, functions=functions)
         from .results.folder import ResultFolder
@@ -172,18 +174,20 @@ def resume(folder, *, revolutions: int | None = None, max_wall_time: float | Non
     """
     from .. import progress as stages
     from .results.folder import ResultFolder
+    from .solving.signals import StopSignals
 
     cont, st = continuing(folder, revolutions=revolutions, max_wall_time=max_wall_time)
-    functions = functions or model_functions(cont.scene)
-    same_model(cont, functions)
-    sink = ResultFolder.continuing(cont)
-    try:
-        with stages.enabled(progress):
-            result = run_scene(cont.scene, st, progress=progress, functions=functions, sink=sink,
-                               continuation=cont)
-    finally:
-        sink.release()
-    _commit(sink)
+    with StopSignals(redeliver_term=True):  # as simulate: a SIGTERM ends the process once the result is written
+        functions = functions or model_functions(cont.scene)
+        same_model(cont, functions)
+        sink = ResultFolder.continuing(cont)
+        try:
+            with stages.enabled(progress):
+                result = run_scene(cont.scene, st, progress=progress, functions=functions, sink=sink,
+                                   continuation=cont)
+        finally:
+            sink.release()
+        _commit(sink)
     return result
 
 

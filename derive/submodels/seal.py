@@ -47,7 +47,7 @@ class SealBody(Submodel):
         Parameter("Bs", "m", "seal length along the machine axis (Eq. 76)", key="seal.Bs",
                   plausible=(2e-3, 2.0, "mm"), gt=0),
         Parameter("density", "kg/m^3", "seal material density", key="seal.density", gt=0, optional=True,
-                  in_vector=False),
+                  in_vector=False, plausible=(500.0, 20000.0, "kg/m^3")),  # polymers and carbon to carbides
         Parameter("ms", "kg", "seal mass (Eq. 80); default density Ws (ds1 + ds2) Bs", key="seal.ms",
                   plausible=(1e-4, 2.0, "g"), gt=0, optional=True),
         Parameter("Icg", "kg*m^2", "seal moment of inertia about its centre of gravity (Eq. 80); default "

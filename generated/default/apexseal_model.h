@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 5103323b5e8a2e22614c6f2ecc991c0035adcd13f9e9ba7de078f6a0a93406b1.
+ * Effects: all. Input hash: aee9855ab718395da194c0bc97f7b32ff80a74e166939989965948cd8acd8c2c.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "5103323b5e8a2e22614c6f2ecc991c0035adcd13f9e9ba7de078f6a0a93406b1"
+#define APEXSEAL_INPUT_HASH "aee9855ab718395da194c0bc97f7b32ff80a74e166939989965948cd8acd8c2c"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -424,9 +424,26 @@ def save(result: SimulationResult, folder: str | Path, *, csv: bool = False) -> 
 
 
 # ---------------------------------------------------------------------- reading
+def _began(folder: Path) -> str:
+    """The run id in the first line of ``folder``'s scene.toml, as a run writes it before its first step ("" when
+    there is none)."""
+    try:
+        with (folder / SCENE_FILE).open(encoding="utf-8") as fh:
+            first = fh.readline()
+    except (OSError, UnicodeDecodeError):
+        return ""
+    words = first.lstrip("# ").split()
+    return words[2].rstrip(",") if len(words) > 2 and words[:2] == ["apexseal", "result"] else ""
+
+
 def read_record(folder: Path) -> dict:
     path = folder / "result.json"
     if not path.is_file():
+        began = _began(folder)
+        if began:  # scene.toml is written before the first step: a run killed before its first part
+            raise ResultFolderError(f"{folder} holds no result: run {began} began here and was killed before it wrote "
+                                    "its first revolution, so there is nothing to load or continue; simulate the "
+                                    f"scene again ({folder / SCENE_FILE}) and delete this folder")
         raise ResultFolderError(f"{folder} is not a result folder: it has no result.json")
     try:
         meta = json.loads(path.read_text())

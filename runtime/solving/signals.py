@@ -31,7 +31,11 @@ class StopSignals:
 
     _active: StopSignals | None = None
 
-    def __init__(self, *, raising: bool = False) -> None:
+    def __init__(self, *, raising: bool = False, redeliver_term: bool = False) -> None:
+        #: when this is the outermost instance, end the process with a SIGTERM it caught once its block is left (the
+        #: run's result kept): for a library call (``apexseal.simulate``), so that a script looping over runs stops
+        #: as a batch scheduler asks, not only its current run (the CLI exits with 143 itself)
+        self.redeliver_term = redeliver_term
         #: also raise ``KeyboardInterrupt`` (after noting the signal) while True: for work that a signal abandons
         #: wherever it is, IPOPT's iterations among it (a study; the caller tells an interruption from the error
         #: it turned into by ``requested``), and that writes what it had once this is set back to False
@@ -56,8 +60,12 @@ class StopSignals:
             return
         for s, handler in self._previous.items():
             signal.signal(s, handler)
+        caught = bool(self._previous)
         self._previous.clear()
         StopSignals._active = None
+        if self.redeliver_term and caught and signal.SIGTERM in self.received and \
+                signal.getsignal(signal.SIGTERM) not in (signal.SIG_IGN, None):
+            signal.raise_signal(signal.SIGTERM)  # its handler now: by default the process ends, as it was asked
 
     def _note(self, signum, frame) -> None:
         self.received.append(signum)

@@ -102,7 +102,7 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     SIGTERM abandons the stage in progress wherever it is (IPOPT included) and writes the report of the stages
     completed before it, with the reason; exit code 130 or 143."""
     from .runtime.solving.signals import StopSignals
-    from .runtime.studies.preload.problem import PreloadStudyError, check_grid, excluded
+    from .runtime.studies.preload.problem import PreloadSetup, PreloadStudyError, check_grid, check_request, excluded
     from .runtime.studies.preload.report import write_report
     from .stopwatch import Stopwatch
 
@@ -111,17 +111,37 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
         check_grid(samples or sc.solver.samples_per_revolution, nodes, knots or 1)
     except PreloadStudyError as err:
         raise click.BadParameter(str(err), param_hint="--samples, --nodes, --schedule") from None
+    try:  # what the study cannot answer, before a model is built or a folder made
+        check_request(sc, min_force, samples, PreloadSetup.revolutions, max_groove_force)
+    except PreloadStudyError as err:
+        raise click.BadParameter(str(err)) from None
     out = default_folder(scene, out, "preload")
+    created = not out.exists()
     writable(out)
     bound = f"; groove forces <= {max_groove_force:g} N" if max_groove_force is not None else ""
     click.echo(f"{scene_label(scene, sets)}; min force {min_force:g} N"
                f"{excluded(exclude)}{bound}; writing to {out}/")
     watch = Stopwatch()
     done = {"results": {"constant": None}, "bisection": None, "valley": None, "stage": "set-up"}
+
+    def report(stopped: str) -> list:
+        return write_report(out, sc, str(scene or "default"), done["results"], done["bisection"], min_force,
+                            done["valley"], stopped)
+
     with StopSignals(raising=True) as signals:
+
+        def checkpoint(words: str) -> None:
+            """The report of the stages done so far, written whole after each (a killed study leaves it)."""
+            signals.raising = False
+            report(f"written after the {words}, while the study went on (a study killed then leaves this report; "
+                   "one that goes on replaces it)")
+            signals.raising = True
+            if signals.requested:
+                raise KeyboardInterrupt
+
         try:
-            _stages(sc, done, watch, signals, min_force, max_groove_force, exclude, knots, max_rate, objective,
-                    samples, nodes, vary_stiffness, check)
+            _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, exclude, knots, max_rate,
+                    objective, samples, nodes, vary_stiffness, check)
         except PreloadStudyError as err:
             raise click.BadParameter(str(err)) from None
         except BaseException:  # a signal surfaces as whatever the call it landed in made of it
@@ -134,22 +154,25 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
             kept = "the report holds the stages before it" if done["results"]["constant"] else "nothing to report"
             click.echo(f"  {stopped}: {kept}", err=True)
             signals.ignore_after()
-        results, b, valley = done["results"], done["bisection"], done["valley"]
+        results = done["results"]
         c, s = results["constant"], results.get("schedule")
         if c is not None:
-            paths = write_report(out, sc, str(scene or "default"), results, b, min_force, valley, stopped)
+            paths = report(stopped)
             click.echo(f"  wrote {', '.join(p.name for p in paths)} to {out}/; wall time "
                        + ", ".join(f"{k} {v:.1f} s" for k, v in watch.stages.items()))
+        elif created and not any(out.iterdir()):  # nothing to report: no empty folder left behind
+            out.rmdir()
     if signals.requested:
         sys.exit(signals.exit_code())
     if not c.ok or (s is not None and not s.ok):
         sys.exit(2)
 
 
-def _stages(sc, done, watch, signals, min_force, max_groove_force, exclude, knots, max_rate, objective, samples,
-            nodes, vary_stiffness, check) -> None:
+def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, exclude, knots, max_rate, objective,
+            samples, nodes, vary_stiffness, check) -> None:
     """Run the study's stages, each one's result kept in ``done`` once it completed (a signal that IPOPT turned into
-    a failure is raised again after it, so that the stage is not kept)."""
+    a failure is raised again after it, so that the stage is not kept) and written (``checkpoint``) but for the
+    last, whose report the caller writes."""
     from .runtime.api import model_functions
     from .runtime.studies.preload.bisect import bisect_preload
     from .runtime.studies.preload.problem import MM, PreloadSetup
@@ -170,12 +193,17 @@ def _stages(sc, done, watch, signals, min_force, max_groove_force, exclude, knot
         c = results["constant"] = finished(run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes,
                                                      objective=objective, setup=setup))
     click.echo(c.describe())
+    plan = [w for w, on in (("schedule", knots), ("bisection", check), ("stiffness valley", vary_stiffness)) if on and c.ok]
+    if plan:
+        checkpoint("constant optimum")
     if knots and c.ok:
         with stage("schedule", "schedule"):
             results["schedule"] = finished(run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes,
                                                      knots=knots, objective=objective, max_rate=max_rate, start=c,
                                                      setup=setup))
         click.echo(results["schedule"].describe())
+        if plan[-1] != "schedule":
+            checkpoint("schedule")
     if c.ok and check:
         with stage("bisection", "bisection"):
             b = done["bisection"] = finished(bisect_preload(sc, min_force=min_force, exclude=exclude, setup=setup,
@@ -183,6 +211,8 @@ def _stages(sc, done, watch, signals, min_force, max_groove_force, exclude, knot
         click.echo(f"  bisection over full simulations: delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm "
                    f"({b.simulations} simulations, {b.wall_time_s:.1f} s); IPOPT differs by "
                    f"{abs(b.delta_s - c.delta_s) / MM:.4f} mm")
+        if plan[-1] != "bisection":
+            checkpoint("bisection")
     if c.ok and vary_stiffness:
         from .runtime.studies.preload.stiffness import describe, stiffness_valley
 

@@ -24,7 +24,8 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
 @click.option("--method", type=Choice(list(METHODS)), help="Integration method (default: the scene's).")
 @click.option("--rtol", type=float, help="Relative tolerance (default: the scene's; 1e-12 to 0.01).")
 @click.option("--max-wall-time", type=float, metavar="SECONDS",
-              help="Wall-time budget: past it the run stops and keeps the revolutions done, as Ctrl-C does (above "
+              help="Wall-time budget: past it the run stops and keeps the revolutions done, as Ctrl-C does; it "
+                   "counts from the run's start, a first use's compilation included (above "
                    "0, at most 1e7 s; each revolution is then cut into 36 integrator calls, written into the result's "
                    "scene.toml).")
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,

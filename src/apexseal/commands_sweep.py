@@ -104,10 +104,13 @@ def sweep(study, example, workers, scheduler, out, resume, figures, bench, repea
         click.echo(f"  point {row['point']}: {row['status']}: {row['stop']}", err=True)
     if len(bad) > 5:
         click.echo(f"  ... {len(bad) - 5} more (see the status and stop columns)", err=True)
+    drawing = None
     if figures and not report.table.empty:
+        from .runtime.solving.signals import StopSignals
         from .runtime.studies.sweep.figures import sweep_figures
 
-        paths = sweep_figures(st, report.table, out)
+        with StopSignals() as drawing:  # a signal while they are drawn is noted: each figure is written whole
+            paths = sweep_figures(st, report.table, out)
         click.echo(f"  wrote results.parquet, results.csv and {len(paths)} figures to {out}/")
     if st.constraints and "feasible" in report.table:
         click.echo(f"  feasible ({'; '.join(c.describe() for c in st.constraints)}): "
@@ -115,6 +118,10 @@ def sweep(study, example, workers, scheduler, out, resume, figures, bench, repea
     if report.interrupted:
         click.echo("  interrupted: run the same command again to compute the remaining points", err=True)
         sys.exit(130)
+    if drawing is not None and drawing.requested:  # every point was done: only the figures were being drawn
+        click.echo(f"  interrupted by {drawing.sender()} while the figures were drawn: they were finished first",
+                   err=True)
+        sys.exit(drawing.exit_code())
 
 
 def _bench(st, out: Path, repeats: int) -> None:

@@ -57,9 +57,10 @@ def test_ctrl_c_before_a_run_catches_it_exits_with_130(monkeypatch, capsys):
     assert ended.value.code == cli.INTERRUPTED == 130 and "Aborted (Ctrl-C)" in capsys.readouterr().err
 
 
-def test_a_reader_that_stops_reading_ends_the_command_quietly():
+def test_a_reader_that_stops_reading_ends_the_command_quietly(tmp_path):
     """`apexseal scene --resolved | head -1`: a broken pipe ends the command with no traceback."""
-    proc = subprocess.Popen(cli.command("scene", "--resolved"), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(cli.command("scene", "--resolved"), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            cwd=tmp_path)  # it writes the scene's pressure table to the current folder
     proc.stdout.close()  # the reader is gone before the command writes
     stderr = proc.stderr.read().decode()
     proc.stderr.close()

@@ -150,3 +150,22 @@ def test_a_model_with_states_of_its_own_continues_to_the_same_samples(tmp_path):
     continued = apexseal.resume(tmp_path / "o", revolutions=2)
     assert continued.state.shape[0] > 6  # the gas states
     _same_samples(continued, whole)
+
+
+def test_a_run_killed_before_its_first_revolution_is_named_as_such(light, tmp_path):
+    """A run killed while it wrote its first part leaves scene.toml (written before the first step) and no
+    result.json: show and --resume called it "not a result folder", with nothing said of the run."""
+    scene, _ = light
+    done = tmp_path / "done"
+    apexseal.simulate(scene, revolutions=1, out=done)
+    killed = tmp_path / "killed.partial-0123"
+    killed.mkdir()
+    (killed / "scene.toml").write_text((done / "scene.toml").read_text())
+    run_id = json.loads((done / "result.json").read_text())["info"]["run_id"]
+    for args in (["show", str(killed)], ["simulate", "--resume", str(killed), "-q", "--no-figures"]):
+        r = CliRunner().invoke(main, args)
+        assert r.exit_code != 0 and f"run {run_id} began here and was killed before it wrote its first " \
+            "revolution" in r.output, r.output
+    (killed / "scene.toml").write_text("[machine]\n")  # a scene file of a user's: no run named
+    r = CliRunner().invoke(main, ["show", str(killed)])
+    assert r.exit_code != 0 and "is not a result folder: it has no result.json" in r.output

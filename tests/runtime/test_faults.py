@@ -12,6 +12,7 @@ import os
 import shutil
 import signal
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -489,3 +490,59 @@ def test_an_abandoned_build_stops_its_compilers_and_is_no_missing_compiler():
         os.kill(os.getpid(), signal.SIGTERM)
         with pytest.raises(KeyboardInterrupt):
             fallback("gcc failed on casadi_model.c")
+
+
+def test_a_signal_abandons_builds_running_in_worker_threads(monkeypatch):
+    """The preload study builds two libraries at once, in worker threads, which a signal does not reach: Ctrl-C
+    waited for both compilations to end (tens of seconds). Now their compilers are killed and nothing waits."""
+    import os
+    import signal
+    import threading
+    import time
+
+    import apexseal.generated.compile as compile_module
+    from apexseal.generated.compiler import run_compiler
+    from apexseal.runtime.solving.signals import StopSignals
+
+    ended = []
+
+    def slow_build(source, *, flags):  # a compiler that would run for 30 s
+        ended.append(run_compiler(["sleep", "30"]).returncode)
+
+    monkeypatch.setattr(compile_module, "build_function", slow_build)
+    t0 = time.perf_counter()
+    threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()
+    with StopSignals(raising=True), pytest.raises(KeyboardInterrupt):
+        compile_module.build_functions(["interval", "forward"], flags="optimised")
+    assert time.perf_counter() - t0 < 5
+    deadline = time.perf_counter() + 5
+    while len(ended) < 2 and time.perf_counter() < deadline:
+        time.sleep(0.05)
+    assert ended == [-signal.SIGKILL, -signal.SIGKILL]
+
+
+def test_sigterm_in_a_script_that_loops_over_runs_ends_it_once_the_run_is_kept(slow_scene, tmp_path):
+    """apexseal.simulate caught a SIGTERM, returned the interrupted run and the script went on to its next design
+    (a batch scheduler could not stop it): the run is kept, then the signal ends the process."""
+    script = tmp_path / "loop.py"
+    script.write_text(f"""
+import sys
+import apexseal
+
+scene = apexseal.load_scene({str(slow_scene)!r})
+for k in ("5e3 N/m", "1e4 N/m", "2e4 N/m"):
+    r = apexseal.simulate(scene.with_overrides(**{{"spring.ks": k}}), revolutions=200, out={str(tmp_path)!r} + "/" + k[:3])
+    print("returned", k, r.status, flush=True)
+print("the loop went on to its end", flush=True)
+""")
+    proc = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    _wait_for_parts(tmp_path / "5e3", proc, 2)
+    proc.send_signal(signal.SIGTERM)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == -signal.SIGTERM, out + err
+    assert "returned" not in out and "the loop went on" not in out
+    from apexseal.runtime.results.result import SimulationResult
+
+    kept = SimulationResult.load(tmp_path / "5e3")  # the interrupted run, moved into place
+    assert kept.status == "interrupted" and kept.revolutions >= 2 and "SIGTERM" in kept.stop.describe()
+    assert not list(tmp_path.glob("1e4*"))

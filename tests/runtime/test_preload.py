@@ -415,6 +415,38 @@ def test_a_signal_during_ipopt_stops_the_study_as_interrupted_not_failed(tmp_pat
     assert "interrupted by SIGTERM (kill, timeout or a batch scheduler) during the constant optimum: nothing to " \
            "report" in err
     assert "NonIpopt" not in out and "failed" not in out and not (tmp_path / "o" / "preload.json").exists()
+    assert not (tmp_path / "o").exists()  # the folder it made is not left behind empty
+
+
+def test_a_study_it_cannot_answer_is_refused_before_a_folder_is_made(tmp_path):
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+
+    off = [f"effects.{e}=false" for e in ("housing_contact", "housing_damping", "housing_friction")]
+    r = CliRunner().invoke(main, ["optimise-preload", *(a for e in off for a in ("--set", e)), "--out",
+                                  str(tmp_path / "o")])
+    assert r.exit_code == 2 and "the preload study needs both 'spring' and 'housing_contact' on" in r.output
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.slow
+def test_a_killed_study_keeps_the_report_of_the_stages_it_finished(tmp_path):
+    """SIGKILL while the schedule runs: the constant optimum, done minutes before, was lost (the report was written
+    once, at the end); its report is now written before the schedule starts."""
+    import signal
+
+    starts = []
+
+    def schedule_started(line):  # IPOPT's second start: the schedule's, after the constant optimum's report
+        starts.extend(["start"] if "(the start)" in line else [])
+        return len(starts) == 2
+
+    code, out, err = _interrupt(tmp_path, schedule_started, signal.SIGKILL, "--schedule", "4", "--no-check")
+    assert code == -signal.SIGKILL, out + err
+    data = json.loads((tmp_path / "o" / "preload.json").read_text())
+    assert data["stopped"].startswith("written after the constant optimum, while the study went on")
+    assert data["constant"]["ok"] and "schedule" not in data
 
 
 @pytest.mark.slow

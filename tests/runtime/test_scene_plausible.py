@@ -77,3 +77,11 @@ def test_the_plausible_ranges_are_documented():
     doc = (REPO / "docs" / "scenes.md").read_text().split("## Plausible ranges")[1]
     rows = [line for line in doc.splitlines() if line.startswith("| `")]
     assert rows[:len(plausible_ranges())] == [f"| `{k}` | {r.describe()} |" for k, r in plausible_ranges().items()]
+
+
+@pytest.mark.parametrize("density", ["1e30 kg/m^3", "1e-30 kg/m^3"])
+def test_a_density_beyond_any_seal_material_warns(default_scene, density):
+    """seal.density had no plausible range: 1e30 kg/m^3 loaded without a word (its mass 1e30 times too big) and the
+    run left the model's domain at 20 deg."""
+    with pytest.warns(PlausibilityWarning, match=r"seal.density.*500 to 20000 kg/m\^3"):
+        default_scene.with_overrides(**{"seal.density": density})

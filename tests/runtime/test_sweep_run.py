@@ -252,6 +252,32 @@ def test_cli_sweep_writes_table_and_figures(serial, tmp_path):
     assert r.exit_code == 0 and "friction_power.total" in r.output and "liftoff_fraction" in r.output
 
 
+def test_a_signal_while_the_figures_are_drawn_finishes_them_and_exits_as_interrupted(serial, tmp_path, monkeypatch):
+    """SIGTERM while a finished sweep drew its figures killed it (exit -15, half-written figure files left)."""
+    import os
+    import signal
+
+    from click.testing import CliRunner
+
+    import apexseal.runtime.studies.sweep.figures as figures
+    from apexseal.cli import main
+
+    draw = figures.sweep_figures
+
+    def signalled(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGTERM)  # noted, not acted on, until the figures are written
+        return draw(*args, **kwargs)
+
+    monkeypatch.setattr(figures, "sweep_figures", signalled)
+    study = tmp_path / "light.toml"
+    study.write_text(LIGHT)
+    out = Path(serial.folder)
+    r = CliRunner().invoke(main, ["sweep", str(study), "--workers", "1", "--out", str(out), "-q"])
+    assert r.exit_code == 128 + signal.SIGTERM, r.output
+    assert "while the figures were drawn: they were finished first" in r.output
+    assert "wrote results.parquet, results.csv and" in r.output and not list(out.glob(".*.tmp"))
+
+
 @pytest.mark.slow
 def test_a_script_without_the_main_guard_is_told_to_add_it(tmp_path):
     """A script that calls run_sweep at its top level: Dask's workers import it and fail to start; the error says

@@ -66,11 +66,14 @@ class _Progress(ca.Callback):
         return ca.Sparsity.dense(self.nx)
 
     def eval(self, arg):
-        self.k += 1
+        """One line per IPOPT iteration, numbered as IPOPT counts them (0: the starting point), so the last number
+        is the result's iteration count."""
         g = np.array(arg[2]).ravel()
         groove = f", groove-force excess {g[self.n_def + 1]:.3g} x its bound" if self.groove else ""
-        announce(f"  IPOPT iteration {self.k}: objective {float(arg[1]):.6g}, force deficit {g[self.n_def]:.3g} x its "
+        announce(f"  IPOPT iteration {self.k}{' (the start)' if self.k == 0 else ''}: objective {float(arg[1]):.6g}, "
+                 f"force deficit {g[self.n_def]:.3g} x its "
                  f"bound{groove}, largest node defect {np.abs(g[:self.n_def]).max():.2g}")
+        self.k += 1
         return [0]
 
 

@@ -159,9 +159,8 @@ def study_functions(setup, m: int, *, compile_c: bool = True) -> StudyFunctions:
     each compiled into its own cached library (in parallel: both cores); with the groove-force excess
     quadrature when the setup bounds the groove forces (``setup.max_groove_force``)."""
     import time
-    from concurrent.futures import ThreadPoolExecutor
 
-    from ....generated.compile import build_function, fallback, function_source
+    from ....generated.compile import build_functions, fallback, function_source
     from ....generated.compiler import CompilerUnavailable
     from ....progress import stage
 
@@ -183,8 +182,7 @@ def study_functions(setup, m: int, *, compile_c: bool = True) -> StudyFunctions:
     with stage(f"generating the preload study's C (interval integrator, its forward derivative in {CHUNK} directions)"):
         sources = [function_source(f, model_hash=setup.functions.model_hash) for f in (interval, fwd)]
     try:
-        with ThreadPoolExecutor(2) as pool:
-            libs = list(pool.map(lambda s: build_function(s, flags=setup.flags), sources))
+        libs = build_functions(sources, flags=setup.flags)  # both at once; a signal abandons both
     except CompilerUnavailable as exc:
         fallback(exc)
         return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False, groove)

@@ -282,13 +282,13 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
 
     # base scene and its fixed overrides
     scene = None
-    try:
-        base = apexseal.load_scene(None if spec.study.scene == "default" else base_dir / spec.study.scene)
-        scene = base.with_overrides(**spec.scene) if spec.scene else base
-    except SceneError as exc:
-        where = "study.scene" if not spec.scene else "scene"
-        problems += [Problem(f"{where}.{p.key}" if where == "scene" else where,
-                             p.value if where == "scene" else spec.study.scene, p.message) for p in exc.errors]
+    try:  # the [scene] keys replace the base file's before it is checked (as --set does)
+        scene = apexseal.load_scene(None if spec.study.scene == "default" else base_dir / spec.study.scene,
+                                    overrides=spec.scene)
+    except SceneError as exc:  # a key of [scene] is named as such, anything else is the base scene's
+        problems += [Problem(f"scene.{p.key}", p.value, p.message) if p.key in spec.scene else
+                     Problem("study.scene", spec.study.scene, f"{p.key} = {p.value!r}: {p.message}"
+                             if p.key != "scene" else p.message) for p in exc.errors]
 
     parameters = []
     for key, ps in spec.parameters.items():
