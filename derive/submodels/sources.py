@@ -99,6 +99,12 @@ def source_files(cls) -> tuple[Path, Path, list[Path]] | None:
     return root, path, sorted(_imported_files(path, module, root, flat) - {path})
 
 
+def _top(module: str) -> str:
+    """The top-level package of a module's name (whatever its folder is called: a setuptools ``package-dir`` may
+    put package ``mysub`` in a folder ``code``)."""
+    return module.split(".")[0]
+
+
 def _root(module: str, path: Path) -> Path:
     """The folder whose modules belong to the submodel: its top-level package's, or its own file's folder."""
     package = _package_of(module, path)
@@ -134,7 +140,7 @@ def _imported_files(start: Path, module: str, root: Path, flat: bool) -> set[Pat
         except (OSError, SyntaxError, ValueError):
             continue
         for target in _targets(tree, _package_of(name, path)):
-            found = _file_of(target, root, flat)
+            found = _file_of(target, root, flat, _top(module))
             if found is not None and found not in seen:
                 todo.append((found, target))
     return seen
@@ -162,15 +168,15 @@ def _targets(tree: ast.AST, package: str) -> set[str]:
     return names
 
 
-def _file_of(name: str, root: Path, flat: bool) -> Path | None:
+def _file_of(name: str, root: Path, flat: bool, top: str) -> Path | None:
     """The source file of module ``name`` if it belongs to the submodel's code, found on the file system alone:
     nothing is imported (a helper with an error is not run to hash it; ``find_spec`` would import its parent).
-    ``root`` is the top-level package's folder (``flat``: the folder of a module outside any package, whose own
-    modules are the files directly in it)."""
+    ``root`` is the folder of the top-level package ``top`` (``flat``: the folder of a module outside any package,
+    whose own modules are the files directly in it)."""
     parts = name.split(".")
     if flat:
         candidates = [root / f"{name}.py"] if len(parts) == 1 else []
-    elif parts[0] != root.name:
+    elif parts[0] != top:
         candidates = []
     else:
         base = root.joinpath(*parts[1:])

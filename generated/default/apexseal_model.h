@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: aee9855ab718395da194c0bc97f7b32ff80a74e166939989965948cd8acd8c2c.
+ * Effects: all. Input hash: f93a72f2ac8d5bbb6e24f4b0137fe37c42a417feabbf7efcffff5a7f6e64a9fc.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "aee9855ab718395da194c0bc97f7b32ff80a74e166939989965948cd8acd8c2c"
+#define APEXSEAL_INPUT_HASH "f93a72f2ac8d5bbb6e24f4b0137fe37c42a417feabbf7efcffff5a7f6e64a9fc"
 
 /* state x */
 #define APEXSEAL_NX 6

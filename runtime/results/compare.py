@@ -64,7 +64,8 @@ class Comparison:
         else:
             scenes = "scene keys that differ:\n" + self.scenes.to_string()
         models = [str(r.info.get("model_hash", "?"))[:12] for r in self.results]
-        if len(set(models)) > 1:  # the same scene may have run with another derivation, submodel or generator
+        options = {repr((r.scene.effects, r.scene.assumptions)) if r.scene is not None else "?" for r in self.results}
+        if len(set(models)) > 1 and len(options) == 1:  # same effects and choices: the model's sources differ
             scenes += ("\nthe models differ (model hash " + ", ".join(f"{label} {m}" for label, m in
                                                            zip(self.labels, models, strict=True))
                        + "): the derivation, a submodel or the generator changed between the runs")

@@ -103,7 +103,8 @@ def continuation(folder: str | Path, read: SimulationResult | None = None) -> Co
         from ...derive.submodels.registry import installed
 
         packages = ", ".join(f"{name} from {dist}" for name, dist in installed().items())
-        why = "edited since?" + (f" or read with other submodels installed now: {packages}" if packages else "")
+        why = "edited since, or written by an earlier apexseal whose hash counted the pressure table's unit?" + \
+              (f" or read with other submodels installed now: {packages}" if packages else "")
         raise ResultFolderError(f"{folder / SCENE_FILE} is not the scene the run computed (its content hash differs "
                                 f"from the one result.json records: {why}); to run the scene as it reads now, "
                                 f"simulate it: apexseal simulate {folder / SCENE_FILE} --out <new folder>")

@@ -128,39 +128,43 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
         return write_report(out, sc, str(scene or "default"), done["results"], done["bisection"], min_force,
                             done["valley"], stopped)
 
-    with StopSignals(raising=True) as signals:
+    try:
+        with StopSignals(raising=True) as signals:
 
-        def checkpoint(words: str) -> None:
-            """The report of the stages done so far, written whole after each (a killed study leaves it)."""
-            signals.raising = False
-            report(f"written after the {words}, while the study went on (a study killed then leaves this report; "
-                   "one that goes on replaces it)")
-            signals.raising = True
+            def checkpoint(words: str, following: str) -> None:
+                """The report of the stages done so far, written whole after each (a killed study leaves it) as the
+                ``following`` stage begins (a signal meanwhile stops that stage)."""
+                done["stage"] = following
+                signals.raising = False
+                report(f"written after the {words}, while the study went on (a study killed then leaves this report; "
+                       "one that goes on replaces it)")
+                signals.raising = True
+                if signals.requested:
+                    raise KeyboardInterrupt
+
+            try:
+                _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, exclude, knots, max_rate,
+                        objective, samples, nodes, vary_stiffness, check)
+            except PreloadStudyError as err:
+                raise click.BadParameter(str(err)) from None
+            except BaseException:  # a signal surfaces as whatever the call it landed in made of it
+                if not signals.requested:
+                    raise
+            signals.raising = False  # the report is written whole; a further signal is only noted
+            stopped = ""
             if signals.requested:
-                raise KeyboardInterrupt
-
-        try:
-            _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, exclude, knots, max_rate,
-                    objective, samples, nodes, vary_stiffness, check)
-        except PreloadStudyError as err:
-            raise click.BadParameter(str(err)) from None
-        except BaseException:  # a signal surfaces as whatever the call it landed in made of it
-            if not signals.requested:
-                raise
-        signals.raising = False  # the report is written whole; a further signal is only noted
-        stopped = ""
-        if signals.requested:
-            stopped = f"interrupted by {signals.sender()} during the {done['stage']}"
-            kept = "the report holds the stages before it" if done["results"]["constant"] else "nothing to report"
-            click.echo(f"  {stopped}: {kept}", err=True)
-            signals.ignore_after()
-        results = done["results"]
-        c, s = results["constant"], results.get("schedule")
-        if c is not None:
-            paths = report(stopped)
-            click.echo(f"  wrote {', '.join(p.name for p in paths)} to {out}/; wall time "
-                       + ", ".join(f"{k} {v:.1f} s" for k, v in watch.stages.items()))
-        elif created and not any(out.iterdir()):  # nothing to report: no empty folder left behind
+                stopped = f"interrupted by {signals.sender()} during the {done['stage']}"
+                kept = "the report holds the stages before it" if done["results"]["constant"] else "nothing to report"
+                click.echo(f"  {stopped}: {kept}", err=True)
+                signals.ignore_after()
+            results = done["results"]
+            c, s = results["constant"], results.get("schedule")
+            if c is not None:
+                paths = report(stopped)
+                click.echo(f"  wrote {', '.join(p.name for p in paths)} to {out}/; wall time "
+                           + ", ".join(f"{k} {v:.1f} s" for k, v in watch.stages.items()))
+    finally:  # nothing reported (interrupted early, refused, failed): no empty folder left behind
+        if created and out.is_dir() and not any(out.iterdir()):
             out.rmdir()
     if signals.requested:
         sys.exit(signals.exit_code())
@@ -195,7 +199,7 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
     click.echo(c.describe())
     plan = [w for w, on in (("schedule", knots), ("bisection", check), ("stiffness valley", vary_stiffness)) if on and c.ok]
     if plan:
-        checkpoint("constant optimum")
+        checkpoint("constant optimum", plan[0])
     if knots and c.ok:
         with stage("schedule", "schedule"):
             results["schedule"] = finished(run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes,
@@ -203,7 +207,7 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
                                                      setup=setup))
         click.echo(results["schedule"].describe())
         if plan[-1] != "schedule":
-            checkpoint("schedule")
+            checkpoint("schedule", plan[1])
     if c.ok and check:
         with stage("bisection", "bisection"):
             b = done["bisection"] = finished(bisect_preload(sc, min_force=min_force, exclude=exclude, setup=setup,
@@ -212,7 +216,7 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
                    f"({b.simulations} simulations, {b.wall_time_s:.1f} s); IPOPT differs by "
                    f"{abs(b.delta_s - c.delta_s) / MM:.4f} mm")
         if plan[-1] != "bisection":
-            checkpoint("bisection")
+            checkpoint("bisection", plan[-1])
     if c.ok and vary_stiffness:
         from .runtime.studies.preload.stiffness import describe, stiffness_valley
 

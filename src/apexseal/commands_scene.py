@@ -18,7 +18,7 @@ from .cli_common import scene_of, scene_settings, writable
               help="With --default or --resolved: write the scene (default.toml, scene.toml) and its pressure table "
                    "into this folder instead of printing it.")
 @click.option("--resolved", is_flag=True, help="Print SCENE (default: the embedded one) with every key explicit, in SI "
-              "with its unit, as a saved result's scene.toml has it; its pressure table is written beside it.")
+              "with its unit, as a saved result's scene.toml has it (with --out: written with its pressure table).")
 def scene(scene: Path | None, sets, default: bool, out: Path | None, resolved: bool) -> None:
     """Print a scene file to start from, or check SCENE and print its content hash."""
     if default and (resolved or scene or sets):
@@ -37,7 +37,13 @@ def scene(scene: Path | None, sets, default: bool, out: Path | None, resolved: b
         from .runtime.scenes.resolved import resolved_toml
 
         text, files = resolved_toml(sc, header=f"scene {sc.name}, content hash {sc.content_hash()}")
-        _write({"scene.toml": text, **files}, out)
+        if out is not None:
+            _write({"scene.toml": text, **files}, out)
+        else:  # printed only: nothing is written into the current folder
+            click.echo(text, nl=False)
+            if files:
+                click.echo(f"# its pressure table ({', '.join(files)}, in Pa) is not printed: `--out FOLDER` writes the "
+                           "scene with it, and `apexseal simulate` writes it beside a result's scene.toml", err=True)
         return
     click.echo(f"{sc.name}: valid; content hash {sc.content_hash()}; effects {sc.effects.label}")
     from .derive.submodels.registry import installed

@@ -189,3 +189,31 @@ def test_a_broken_helper_is_hashed_not_run(tmp_path):
         sys.path.remove(str(tmp_path))
         for name in [m for m in sys.modules if m.startswith("pads_broken")]:
             del sys.modules[name]
+
+
+def test_a_package_in_a_folder_of_another_name_takes_its_helpers(tmp_path):
+    """A package imported as ``pads_renamed`` from a folder ``code`` (setuptools' package-dir, as apexseal's own
+    layout): its helpers were looked for under the folder's name and none was found, so editing one kept the key."""
+    import importlib.util
+
+    folder = tmp_path / "code"
+    folder.mkdir()
+    (folder / "__init__.py").write_text("")
+    (folder / "pad.py").write_text("from apexseal.derive.submodels.base import Submodel\n\nfrom . import laws\n\n\n"
+                                   "class Pad(Submodel):\n    name = 'pad_renamed'\n")
+    (folder / "laws.py").write_text("k = 1\n")
+    spec = importlib.util.spec_from_file_location("pads_renamed", folder / "__init__.py",
+                                                  submodule_search_locations=[str(folder)])
+    package = importlib.util.module_from_spec(spec)
+    sys.modules["pads_renamed"] = package
+    try:
+        spec.loader.exec_module(package)
+        cls = importlib.import_module("pads_renamed.pad").Pad
+        root, _, helpers = source_files(cls)
+        assert root == folder.resolve() and [h.name for h in helpers] == ["__init__.py", "laws.py"]
+        first = source_key(cls)
+        (folder / "laws.py").write_text("k = 2\n")
+        assert source_key(cls) != first
+    finally:
+        for name in [m for m in sys.modules if m.startswith("pads_renamed")]:
+            del sys.modules[name]

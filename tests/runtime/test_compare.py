@@ -108,3 +108,10 @@ def test_results_of_the_same_scene_and_other_models_say_so(folders, tmp_path):
     assert "the scenes are the same" in text and "the models differ (model hash default " in text
     assert "other ffffffffffff" in text
     assert "the models differ" not in compare([folders["default"], folders["stiff"]]).text()
+
+
+def test_results_of_other_effects_are_not_said_to_differ_in_their_models(folders):
+    """Their model hashes differ because their effects do (the scene keys say so): "the derivation, a submodel or
+    the generator changed" was false there."""
+    text = compare([folders["default"], folders["smooth"]]).text()
+    assert "effects.groove_friction" in text and "the models differ" not in text

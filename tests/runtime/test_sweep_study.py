@@ -64,6 +64,7 @@ BAD = [
     ({'name = "light"': 'name = ""'}, "study.name", "not a plain folder name"),
     # a base scene file that is not there, beside a [scene] table: it was named "scene.scene"
     ({'name = "light"': 'name = "light"\nscene = "nope.toml"'}, "study.scene", "file not found"),
+    ({'"solver.rtol" = 1e-4': 'solver.rtol = 5'}, "scene.solver.rtol", "out of range"),  # a nested key
     ({"points = 4": 'points = "4"'}, "parameters.spring.ks.points", "expected an integer"),
     ({"[collect]": '[design]\nseed = -1\n\n[collect]'}, "design.seed", "-1 is out of range; allowed: n >= 0"),
     ({'[parameters."spring.delta_s"]\nvalues = ["1 mm", "2 mm", "3 mm", "4 mm"]':

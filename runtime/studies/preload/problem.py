@@ -213,6 +213,11 @@ class PreloadSetup:
             self.functions = self.functions.sx()
         check_request(self.scene, self.min_force, self.samples, self.revolutions, self.max_groove_force)
         self.pmap = preload_parameters(self.scene)
+        names = tuple(self.functions.parameter_names)
+        if names != self.pmap.names:  # the vectors of models of other effects differ: slots would be misread
+            raise PreloadStudyError(f"functions: a model of other effects than the scene's (its parameters "
+                                    f"{', '.join(sorted(set(names) ^ set(self.pmap.names)))} are not the scene's); "
+                                    "allowed: the scene's own, model_functions(scene)")
         self.measure_fn = contact_measure(self.functions)
         self.samples = int(self.samples or self.scene.solver.samples_per_revolution)
         self.rtol = float(self.rtol or self.scene.solver.rtol)
@@ -374,6 +379,10 @@ def check_request(scene, min_force, samples, revolutions, max_groove_force=None)
     if not (eff.spring and eff.housing_contact):
         problems.append("effects: the preload study needs both 'spring' and 'housing_contact' on (the spring presses "
                         "the tip on the housing)")
+    source = scene.pressure.to_dict()["source"]
+    if source in ("chamber", "chamber+leakage"):
+        problems.append(f"pressure.source = {source!r}: the preload study takes the chamber pressures as the run's "
+                        "inputs (allowed: \"table\", \"constant\", \"none\"), not as states of the gas model")
     if problems:
         raise PreloadStudyError("; ".join(problems))
 

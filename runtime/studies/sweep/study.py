@@ -282,13 +282,22 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
 
     # base scene and its fixed overrides
     scene = None
-    try:  # the [scene] keys replace the base file's before it is checked (as --set does)
-        scene = apexseal.load_scene(None if spec.study.scene == "default" else base_dir / spec.study.scene,
-                                    overrides=spec.scene)
-    except SceneError as exc:  # a key of [scene] is named as such, anything else is the base scene's
-        problems += [Problem(f"scene.{p.key}", p.value, p.message) if p.key in spec.scene else
-                     Problem("study.scene", spec.study.scene, f"{p.key} = {p.value!r}: {p.message}"
-                             if p.key != "scene" else p.message) for p in exc.errors]
+    path = None if spec.study.scene == "default" else base_dir / spec.study.scene
+    try:
+        base = apexseal.load_scene(path)
+    except SceneError as exc:
+        base, broken = None, exc
+    try:
+        if base is not None:  # a problem now is one of the [scene] keys
+            scene = base.with_overrides(**spec.scene) if spec.scene else base
+        else:  # the [scene] keys may repair the base file (they replace its keys before it is checked, as --set)
+            scene = apexseal.load_scene(path, overrides=spec.scene) if spec.scene and path.is_file() else None
+            if scene is None:
+                raise broken
+    except SceneError as exc:
+        problems += [Problem(f"scene.{p.key}", p.value, p.message) if base is not None else
+                     Problem("study.scene", spec.study.scene, p.message if p.key == "scene" else
+                             f"{p.key} = {p.value!r}: {p.message}") for p in exc.errors]
 
     parameters = []
     for key, ps in spec.parameters.items():
