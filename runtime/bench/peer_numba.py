@@ -353,6 +353,11 @@ class NumbaPeer:
     METHODS = ("numba-scipy-LSODA", "numbalsoda-LSODA", "numbalsoda-DOP853")
 
     def __init__(self, problem, nm):
+        names = tuple(problem.functions.parameter_names)
+        if names != tuple(PARAMETER_NAMES):  # the peer is printed from the default effects' model, with its vector
+            raise ValueError(f"the numba peer is printed for the default effects (parameters {', '.join(PARAMETER_NAMES)}); "
+                             f"problem {problem.name} has others ({', '.join(names)}): run the peer on a scene of the "
+                             "default effects")
         self.problem, self.nm = problem, nm
         self.layout = Layout(nm.n_guards, problem.samples, linear=problem.pressure == "linear")
         self.data = self.layout.data(problem)

@@ -172,3 +172,18 @@ def test_dop853_locates_the_earliest_of_the_crossings_in_a_step(numba_model):
     counts = HybridLayout.of(f).counts  # each contact's switches so far, at the end of every output interval
     np.testing.assert_array_equal(np.asarray(z)[counts], np.asarray(ref_z)[counts])
     assert errors(trajectory(problem, z), ref)["state"] < 1e-4
+
+
+def test_the_peer_refuses_a_problem_of_other_effects():
+    """The peer is printed from the default effects' model: a problem with an effect off has a shorter parameter
+    vector now (it had the default's, and the peer computed the default effects' physics for it)."""
+    import types
+
+    pytest.importorskip("numba")
+    from apexseal.derive.symbols import PARAMETER_NAMES
+    from apexseal.runtime.bench.peer_numba import NumbaPeer
+
+    names = tuple(n for n in PARAMETER_NAMES if n != "cw")  # housing damping off
+    problem = types.SimpleNamespace(name="no-housing-damping", functions=types.SimpleNamespace(parameter_names=names))
+    with pytest.raises(ValueError, match="problem no-housing-damping has others"):
+        NumbaPeer(problem, None)
