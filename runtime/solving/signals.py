@@ -23,6 +23,11 @@ import threading
 CAUGHT = (signal.SIGINT, signal.SIGTERM)
 
 
+def _main() -> bool:
+    """True in the main thread, the one Python runs signal handlers in."""
+    return threading.current_thread() is threading.main_thread()
+
+
 class StopSignals:
     """Context manager: while inside, SIGINT/SIGTERM are recorded in ``received`` instead of raising.
 
@@ -46,17 +51,18 @@ class StopSignals:
         self._outer: StopSignals | None = None
 
     def __enter__(self) -> StopSignals:
-        if StopSignals._active is not None:
+        if StopSignals._active is not None:  # nested (in another thread too: it sees the main thread's signals)
             self._outer = StopSignals._active
             return self._outer
-        if threading.current_thread() is threading.main_thread():
-            for s in CAUGHT:
-                self._previous[s] = signal.signal(s, self._note)
+        if not _main():  # signals reach the main thread only: an instance here is inert and never the active one,
+            return self  # so that the main thread's, entered later, still catches them
+        for s in CAUGHT:
+            self._previous[s] = signal.signal(s, self._note)
         StopSignals._active = self
         return self
 
     def __exit__(self, *exc) -> None:
-        if self._outer is not None:
+        if self._outer is not None or StopSignals._active is not self:
             return
         for s, handler in self._previous.items():
             signal.signal(s, handler)
@@ -86,7 +92,7 @@ class StopSignals:
     def raise_pending(cls) -> None:
         """Raise ``KeyboardInterrupt`` when the active instance has caught a signal: for work that failed, maybe
         because of it (a compiler that got the terminal's Ctrl-C), and is to be abandoned, not reported."""
-        if cls._active is not None and cls._active.requested:
+        if _main() and cls._active is not None and cls._active.requested:
             raise KeyboardInterrupt
 
     @classmethod
@@ -97,7 +103,7 @@ class StopSignals:
         before the block, instead of letting the work run to its end. Its caches are written atomically, so
         abandoning it leaves nothing half done. Without an active instance the block runs as it is (a
         signal acts as Python's default handler makes it)."""
-        active = cls._active
+        active = cls._active if _main() else None  # another thread's work: left to run as it is
         if active is None:
             yield
             return

@@ -116,7 +116,7 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     except PreloadStudyError as err:
         raise click.BadParameter(str(err)) from None
     out = default_folder(scene, out, "preload")
-    created = not out.exists()
+    made = [f for f in (out, *out.parents) if not f.exists()]  # what writable() creates, the folder first
     writable(out)
     bound = f"; groove forces <= {max_groove_force:g} N" if max_groove_force is not None else ""
     click.echo(f"{scene_label(scene, sets)}; min force {min_force:g} N"
@@ -145,7 +145,10 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
             try:
                 _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, exclude, knots, max_rate,
                         objective, samples, nodes, vary_stiffness, check)
-            except PreloadStudyError as err:
+            except PreloadStudyError as err:  # a stage refused: the stages before it are reported as they ended
+                if done["results"]["constant"] is not None:
+                    signals.raising = False
+                    report(f"the {done['stage']} failed: {err}")
                 raise click.BadParameter(str(err)) from None
             except BaseException:  # a signal surfaces as whatever the call it landed in made of it
                 if not signals.requested:
@@ -163,9 +166,11 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
                 paths = report(stopped)
                 click.echo(f"  wrote {', '.join(p.name for p in paths)} to {out}/; wall time "
                            + ", ".join(f"{k} {v:.1f} s" for k, v in watch.stages.items()))
-    finally:  # nothing reported (interrupted early, refused, failed): no empty folder left behind
-        if created and out.is_dir() and not any(out.iterdir()):
-            out.rmdir()
+    finally:  # nothing reported (interrupted early, refused, failed): no empty folder left behind, parents included
+        for folder in made:
+            if not folder.is_dir() or any(folder.iterdir()):
+                break
+            folder.rmdir()
     if signals.requested:
         sys.exit(signals.exit_code())
     if not c.ok or (s is not None and not s.ok):

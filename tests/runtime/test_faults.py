@@ -546,3 +546,30 @@ print("the loop went on to its end", flush=True)
     kept = SimulationResult.load(tmp_path / "5e3")  # the interrupted run, moved into place
     assert kept.status == "interrupted" and kept.revolutions >= 2 and "SIGTERM" in kept.stop.describe()
     assert not list(tmp_path.glob("1e4*"))
+
+
+def test_a_run_in_another_thread_started_first_does_not_take_the_main_thread_s_signals(slow_scene, tmp_path):
+    """A simulate in a worker thread, started before the main thread's, became the active StopSignals (which installs
+    no handler outside the main thread): a SIGTERM then killed the process at once and neither result was written.
+    Now the main thread's run is stopped, written and moved into place before the signal ends the process."""
+    script = tmp_path / "threads.py"
+    script.write_text(f"""
+import threading
+import time
+import apexseal
+
+scene = apexseal.load_scene({str(slow_scene)!r})
+threading.Thread(target=apexseal.simulate, args=(scene,), kwargs=dict(revolutions=400, out={str(tmp_path / "T")!r}),
+                 daemon=True).start()
+time.sleep(1)
+apexseal.simulate(scene, revolutions=400, out={str(tmp_path / "M")!r})
+""")
+    proc = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    _wait_for_parts(tmp_path / "M", proc, 2)
+    proc.send_signal(signal.SIGTERM)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == -signal.SIGTERM, out + err
+    from apexseal.runtime.results.result import SimulationResult
+
+    kept = SimulationResult.load(tmp_path / "M")
+    assert kept.status == "interrupted" and "SIGTERM" in kept.stop.describe()

@@ -436,6 +436,21 @@ def test_a_study_it_cannot_answer_is_refused_before_a_folder_is_made(tmp_path, s
     assert not (tmp_path / "o").exists()
 
 
+def test_a_failed_study_leaves_no_empty_folders_it_made(tmp_path):
+    """Refused after its folder was made (the exclusions cover every sample: known once the grid is): the folder
+    went, but the parents it made (n1/n2) stayed, empty; a folder that was there before stays."""
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+
+    (tmp_path / "kept").mkdir()
+    for out in (tmp_path / "n1" / "n2" / "n3", tmp_path / "kept" / "n4"):
+        r = CliRunner().invoke(main, ["optimise-preload", "-q", "--samples", "72", "--exclude", "0:180", "--exclude",
+                                      "180:0", "--out", str(out)])
+        assert r.exit_code == 2 and "cover every sample" in r.output, r.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kept"] and not any((tmp_path / "kept").iterdir())
+
+
 def test_the_study_refuses_a_model_of_other_effects_than_its_scene(default_scene, default_functions):
     """Every model shared one parameter vector before; now a model of other effects reads other slots (its cw
     would be the scene's mu1)."""
@@ -444,6 +459,8 @@ def test_the_study_refuses_a_model_of_other_effects_than_its_scene(default_scene
     scene = default_scene.with_overrides(**{"effects.housing_damping": False})
     with pytest.raises(PreloadStudyError, match=r"functions: a model of other effects than the scene's .*cw"):
         PreloadSetup(scene, default_functions.sx, 5.0, (), 72)
+    with pytest.raises(PreloadStudyError, match=r"functions = None: the study needs the scene's model"):
+        PreloadSetup(scene, None, 5.0, (), 72)
 
 
 @pytest.mark.slow
@@ -478,3 +495,22 @@ def test_ctrl_c_during_the_schedule_keeps_the_constant_optimum(tmp_path):
     assert data["stopped"] == "interrupted by the user (Ctrl-C, SIGINT) during the schedule"
     assert data["constant"]["ok"] and "schedule" not in data
     assert (tmp_path / "o" / "preload.md").read_text().startswith(f"**{data['stopped']}.**")
+
+
+@pytest.mark.slow
+def test_a_stage_that_fails_after_the_constant_optimum_reports_why(tmp_path, monkeypatch):
+    """A later stage refused (PreloadStudyError): the command ended as a usage error and left the checkpoint's
+    report, which says the study went on."""
+    import apexseal.runtime.studies.preload.bisect as bisect
+    from apexseal.runtime.studies.preload.problem import PreloadStudyError
+
+    def refused(*args, **kwargs):
+        raise PreloadStudyError("upper = 0: the bisection needs a preload above zero")
+
+    monkeypatch.setattr(bisect, "bisect_preload", refused)
+    scene = embedded_scene_path("soft-contacts.toml")
+    r = CliRunner().invoke(main, ["optimise-preload", str(scene), "-q", "--samples", "360", "--out", str(tmp_path / "o")])
+    assert r.exit_code == 2 and "the bisection needs a preload above zero" in r.output, r.output
+    data = json.loads((tmp_path / "o" / "preload.json").read_text())
+    assert data["stopped"] == "the bisection failed: upper = 0: the bisection needs a preload above zero"
+    assert data["constant"]["ok"]

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from sweep_helpers import LIGHT, light_study
@@ -176,3 +178,26 @@ def test_figures_of_each_design_shape(design, tmp_path):
     names = {p.name for p in paths}
     assert names == {f"{q}.png" for q in st.quantities} | {"feasible.png"}
     assert all(p.stat().st_size > 5000 for p in paths)
+
+
+def test_an_unquoted_dotted_scene_key_sets_that_key_only():
+    """solver.method = "rosenbrock" (unquoted, which TOML reads as a table) replaced the base's whole [solver],
+    dropping the other keys given there and before."""
+    st = light_study(**{'"solver.rtol" = 1e-4': '"solver.rtol" = 1e-4\nsolver.method = "rosenbrock"'})
+    assert st.scene.solver.method == "rosenbrock"
+    assert st.scene.solver.samples_per_revolution == 36 and st.scene.solver.rtol == 1e-4
+
+
+def test_a_scene_key_that_repairs_a_broken_base_is_still_named_as_its_own(tmp_path):
+    """With a base scene that does not load alone, a bad [scene] key was blamed on the base file."""
+    from apexseal.runtime.scenes.scene import default_scene_text
+    from apexseal.runtime.studies.sweep import study_from_toml
+
+    (tmp_path / "base.toml").write_text(default_scene_text().replace('ks = "5e3 N/m"', 'ks = "abc"'))
+    (tmp_path / "expander-pressure.csv").write_text(
+        (Path(__file__).resolve().parents[2] / "runtime" / "scenes" / "expander-pressure.csv").read_text())
+    text = LIGHT.replace('name = "light"', 'name = "light"\nscene = "base.toml"').replace(
+        '"solver.rtol" = 1e-4', '"solver.rtol" = 5\n"spring.ks" = "5e3 N/m"')
+    with pytest.raises(StudyError) as info:
+        study_from_toml(text, source="s.toml", base_dir=tmp_path)
+    assert info.value.keys() == ["scene.solver.rtol"], str(info.value)

@@ -213,6 +213,9 @@ class PreloadSetup:
             self.functions = self.functions.sx()
         check_request(self.scene, self.min_force, self.samples, self.revolutions, self.max_groove_force)
         self.pmap = preload_parameters(self.scene)
+        if self.functions is None:
+            raise PreloadStudyError("functions = None: the study needs the scene's model; allowed: "
+                                    "model_functions(scene)")
         names = tuple(self.functions.parameter_names)
         if names != self.pmap.names:  # the vectors of models of other effects differ: slots would be misread
             raise PreloadStudyError(f"functions: a model of other effects than the scene's (its parameters "

@@ -269,6 +269,16 @@ def _known_keys(loc: list[str]) -> list[str]:
     return []
 
 
+def _dotted(table: dict, prefix: str = "") -> dict:
+    """The [scene] table as dotted keys: ``solver.rtol = 5`` (which TOML reads as a table ``solver``) sets that key,
+    as ``"solver.rtol" = 5`` does, instead of replacing the base scene's whole [solver]."""
+    out = {}
+    for key, value in table.items():
+        name = f"{prefix}{key}"
+        out.update(_dotted(value, name + ".") if isinstance(value, dict) else {name: value})
+    return out
+
+
 def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> Study:
     """Check a parsed study (see the module docstring for the keys)."""
     import apexseal
@@ -283,19 +293,21 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
     # base scene and its fixed overrides
     scene = None
     path = None if spec.study.scene == "default" else base_dir / spec.study.scene
+    overrides = _dotted(spec.scene)  # solver.rtol = 5 sets that key (a table would replace the whole section)
     try:
         base = apexseal.load_scene(path)
     except SceneError as exc:
         base, broken = None, exc
     try:
-        if base is not None:  # a problem now is one of the [scene] keys
-            scene = base.with_overrides(**spec.scene) if spec.scene else base
+        if base is not None:
+            scene = base.with_overrides(**overrides) if overrides else base
         else:  # the [scene] keys may repair the base file (they replace its keys before it is checked, as --set)
-            scene = apexseal.load_scene(path, overrides=spec.scene) if spec.scene and path.is_file() else None
+            scene = apexseal.load_scene(path, overrides=overrides) if overrides and path.is_file() else None
             if scene is None:
                 raise broken
-    except SceneError as exc:
-        problems += [Problem(f"scene.{p.key}", p.value, p.message) if base is not None else
+    except SceneError as exc:  # a key it writes, or any while the base loads alone, is [scene]'s; else the base's
+        problems += [Problem(f"scene.{p.key}", p.value, p.message)
+                     if base is not None or any(p.key == k or p.key.startswith(k + ".") for k in overrides) else
                      Problem("study.scene", spec.study.scene, p.message if p.key == "scene" else
                              f"{p.key} = {p.value!r}: {p.message}") for p in exc.errors]
 
