@@ -101,13 +101,7 @@ def _compile_all(cc: str, flags: tuple[str, ...], sources: list[Path], build_dir
             raise CompilerUnavailable(f"{cc} failed on {src.name}: {out.stderr.strip()[-600:]}")
         return obj
 
-    with ThreadPoolExecutor(max_workers=parallel_threads(len(sources))) as pool:
-        try:
-            objects = list(pool.map(one, sources))
-        except KeyboardInterrupt:  # a signal abandoned the build: its compilers go too, not after their ends
-            pool.shutdown(wait=False, cancel_futures=True)
-            stop(running)
-            raise
+    objects = _abandonable_map(one, sources, parallel_threads(len(sources)), lambda: stop(running))
     out = run_compiler([cc, "-shared", *[str(o) for o in objects], "-o", str(target), *link, "-lm"])
     if out.returncode != 0:
         raise CompilerUnavailable(f"{cc} failed to link {target.name}: {out.stderr.strip()[-600:]}")
@@ -295,15 +289,24 @@ def build_functions(sources: Sequence[FunctionSource], *, flags: str) -> list[Pa
     """The libraries of several sources, built at once (a thread each). A signal abandons them together: the
     worker threads, which the signal does not reach, are not waited for, and every compiler is killed (they ran to
     their ends, tens of seconds after a Ctrl-C)."""
-    pool = ThreadPoolExecutor(max(1, len(sources)))
+    return _abandonable_map(lambda s: build_function(s, flags=flags), sources, max(1, len(sources)), stop_all)
+
+
+def _abandonable_map(fn, items: Sequence, workers: int, stop_compilers) -> list:
+    """``fn`` over ``items`` in ``workers`` threads, waited for as a ``with`` block waits. A signal
+    (``KeyboardInterrupt`` in this thread, which the workers do not get) abandons them instead: ``stop_compilers``
+    kills the compilers they wait for, and nothing is waited for (the workers' compilers ran to their ends, tens of
+    seconds after a Ctrl-C)."""
+    pool, abandoned = ThreadPoolExecutor(max_workers=workers), False
     try:
-        return list(pool.map(lambda s: build_function(s, flags=flags), sources))
+        return list(pool.map(fn, items))
     except KeyboardInterrupt:
-        pool.shutdown(wait=False, cancel_futures=True)
-        stop_all()
+        abandoned = True
+        pool.shutdown(wait=False, cancel_futures=True)  # no further compiler starts, then those running go
+        stop_compilers()
         raise
     finally:
-        pool.shutdown(wait=False)
+        pool.shutdown(wait=not abandoned)
 
 
 def compile_function(fn: ca.Function, *, flags: str = "optimised", derivatives: bool = False,

@@ -102,6 +102,11 @@ class Context:
         return sp.Symbol(guard.activation, nonnegative=True)
 
 
+def built_in(cls: type) -> bool:
+    """True for apexseal's own submodels (and classes of its modules), False for a user's or a package's."""
+    return cls.__module__.split(".")[0] == __package__.split(".")[0]
+
+
 class Submodel:
     """A contact or load of the seal (see the module docstring)."""
 

@@ -28,7 +28,7 @@ from contextlib import contextmanager
 
 from ..options import Option
 from ..parameters import Parameter
-from .base import Guard, State, Submodel
+from .base import Guard, State, Submodel, built_in
 from .sources import source_key
 
 #: the built-in submodels, in registration order
@@ -91,7 +91,7 @@ def laws_of(cls: type[Submodel], method: str):
     try:
         yield
     except Exception as exc:
-        if cls.__module__.split(".")[0] == __package__.split(".")[0]:
+        if built_in(cls):
             raise  # apexseal's own: a bug to report as it is
         where = (f"installed by {_installed[cls.name]}" if cls.name in _installed else f"from module {cls.__module__}")
         raise RegistryError(f"the submodel {cls.name} ({where}) failed in {method}: {type(exc).__name__}: {exc}; "
@@ -177,7 +177,7 @@ def extended() -> bool:
     """True while a user's submodel is registered besides the built-in ones (the committed default artefacts,
     generated from the built-in registry, are then not for this process's models)."""
     _ensure()
-    return any(not cls.__module__.startswith(__package__) for cls in _registry.values())
+    return any(not built_in(cls) for cls in _registry.values())
 
 
 def unregister(name: str) -> None:
@@ -228,7 +228,7 @@ def parameters(*, all_inputs: bool = False, opts=None) -> tuple[Parameter, ...]:
         opts = Options()
 
     def read(cls, p) -> bool:
-        need = p.needs if p.needs is not None else cls.switch  # needing(p), knowing its submodel
+        need = _needing(cls, p)
         return p.in_vector and cls.active(opts) and (need is None or opts.on(need))
 
     return tuple(p for cls in submodels() for p in cls.parameters if read(cls, p))
@@ -243,12 +243,15 @@ def parameter_names(*, all_inputs: bool = False, opts=None) -> tuple[str, ...]:
 def needing(p: Parameter) -> str | None:
     """The effect that must be on for ``p`` to be read: its ``needs``, else its submodel's switch; None for a
     parameter read whatever the effects (the seal body's)."""
-    if p.needs is not None:
-        return p.needs
     for cls in submodels():
         if p in cls.parameters:
-            return cls.switch
+            return _needing(cls, p)
     raise KeyError(p.name)
+
+
+def _needing(cls: type[Submodel], p: Parameter) -> str | None:
+    """:func:`needing` of a parameter of submodel ``cls``."""
+    return p.needs if p.needs is not None else cls.switch
 
 
 def omissible_while_off(p: Parameter) -> str | None:

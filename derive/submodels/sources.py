@@ -21,8 +21,7 @@ import sys
 from pathlib import Path
 
 from ...files import remembered, settled, stat_key
-
-_OWN_PACKAGE = __package__.split(".")[0]  # "apexseal"
+from .base import built_in
 
 #: class -> (the stat of each of its files, :func:`source_files`): its import graph changes only with its files
 _FOUND: dict[type, tuple[tuple, tuple | None]] = {}
@@ -92,7 +91,7 @@ def source_files(cls) -> tuple[Path, Path, list[Path]] | None:
         return None
     path = Path(path).resolve()
     module = cls.__module__
-    if module.split(".")[0] == _OWN_PACKAGE:
+    if built_in(cls):
         return path.parent, path, []
     root = _root(module, path)
     flat = not _package_of(module, path)

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: f93a72f2ac8d5bbb6e24f4b0137fe37c42a417feabbf7efcffff5a7f6e64a9fc.
+ * Effects: all. Input hash: 3ec9df00138e69a0869733b05fc68ec0940f76a3f98d42c3d60592290230c4ee.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "f93a72f2ac8d5bbb6e24f4b0137fe37c42a417feabbf7efcffff5a7f6e64a9fc"
+#define APEXSEAL_INPUT_HASH "3ec9df00138e69a0869733b05fc68ec0940f76a3f98d42c3d60592290230c4ee"
 
 /* state x */
 #define APEXSEAL_NX 6

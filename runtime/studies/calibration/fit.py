@@ -150,11 +150,13 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     ``grid``: points per unknown (log-spaced); ``polish``: Nelder-Mead evaluations after the grid (0: none);
     ``samples``: samples per revolution (default: the scene's).
     """
+    from ....derive.submodels.registry import needing, parameter, submodels
     from ...api import model_functions
     from ...solving.signals import StopSignals
 
     # a damping ratio whose damping is off is read by nothing: not an unknown by default, refused if asked for
-    unread = {"zeta_w": "housing_damping", "zeta_g": "groove_damping"}
+    ratios = {zeta for cls in submodels() for _, zeta in cls.damping_ratios}
+    unread = {n: needing(parameter(n)) for n in PLAUSIBLE if n in ratios}
     unread = {n: e for n, e in unread.items() if not getattr(scene.effects, e)}
     if ranges is None:
         ranges = {n: r for n, r in PLAUSIBLE.items() if n not in unread}
