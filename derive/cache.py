@@ -1,8 +1,8 @@
 """Content-hash cache of derivations.
 
 The key is a sha256 over the derivation's inputs: the source of every module of
-``apexseal.derive``, the source of every registered submodel (a user's too), the
-effects, the assumptions and the sympy version. A hit
+``apexseal.derive``, the source of every submodel that enters the model (a user's
+too, while it is on), the effects, the assumptions and the sympy version. A hit
 loads the pickled :class:`DerivedModel` (well under a second); a miss, or an entry
 that is corrupt or not a DerivedModel, derives and stores it atomically
 (:func:`apexseal.files.atomic_write`), so two processes deriving at once never see
@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import pickle
+from dataclasses import replace
 from pathlib import Path
 
 from ..files import atomic_open, content_key, files_digest
@@ -40,14 +41,27 @@ def source_digest() -> str:
     return files_digest(_DERIVE_DIR, names)
 
 
-def derivation_key(effects: Effects, assumptions: Assumptions) -> str:
-    from .submodels.registry import digest
+def model_inputs(effects: Effects, assumptions: Assumptions) -> dict:
+    """What of the registry and the options a model is derived from: the sources of the submodels that enter it
+    and their options' values. A user's or a package's submodel that is off enters with neither
+    (:func:`~.submodels.registry.entering`), so installing one changes no other model's key, its derivation or its
+    generated artefacts."""
+    from .options import options_of
+    from .submodels.registry import digest, left_out_options
 
+    opts = options_of(effects, assumptions)
+    out = left_out_options(opts)
+    return {
+        "submodels": digest(opts),
+        "effects": {k: v for k, v in effects.as_dict().items() if k not in out},
+        "assumptions": {k: v for k, v in assumptions.as_dict().items() if k not in out},
+    }
+
+
+def derivation_key(effects: Effects, assumptions: Assumptions) -> str:
     payload = {
         "source": source_digest(),
-        "submodels": digest(),
-        "effects": effects.as_dict(),
-        "assumptions": assumptions.as_dict(),
+        **model_inputs(effects, assumptions),
         "sympy": distribution_version("sympy"),  # without importing sympy
     }
     return content_key(payload)
@@ -64,8 +78,8 @@ def cached_model(effects: Effects | None = None, assumptions: Assumptions | None
         try:
             with path.open("rb") as fh:
                 model = pickle.load(fh)
-            if isinstance(model, DerivedModel):
-                return model
+            if isinstance(model, DerivedModel):  # the same inputs, perhaps with a user's submodel off in one of
+                return replace(model, effects=effects, assumptions=assumptions)  # them and absent in the other
         except Exception:  # a corrupt or foreign file: derive again and overwrite it
             pass  # (an entry of the wrong type, a valid pickle of something else, is treated the same way)
     model = derive_model(effects, assumptions)

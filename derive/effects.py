@@ -91,5 +91,12 @@ class Effects(TableView):
 
     @property
     def label(self) -> str:
-        """Short stable label, used in cache keys and file names."""
-        return "all" if all(self._values.values()) else "+".join(self.on()) or "none"
+        """Short stable label of the model's effects, used in cache keys and file names: "all" when every effect is
+        on, but for those of a user's submodel that is off, which enter no model
+        (:func:`~.submodels.registry.left_out_options`)."""
+        from .options import Options
+        from .submodels.registry import left_out_options
+
+        out = left_out_options(Options(self.choices()))
+        values = {n: v for n, v in self._values.items() if n not in out}
+        return "all" if all(values.values()) else "+".join(n for n, v in values.items() if v) or "none"

@@ -29,6 +29,7 @@ from ..derive.assumptions import Assumptions
 from ..derive.cache import cache_dir
 from ..derive.effects import Effects
 from ..derive.modes import Mode
+from ..derive.options import options_of
 from ..derive.submodels.registry import extended
 from ..files import content_key, file_lock, stat_key
 from ..progress import stage
@@ -58,9 +59,10 @@ class LoadedFunctions:
 
 def is_default(effects: Effects, assumptions: Assumptions) -> bool:
     """The committed default artefacts are for these inputs: the default effects and assumptions, with the
-    built-in submodels alone (a user's registered submodel changes every model's inputs, so they are not stale
-    then, only not for this model: no warning, its artefacts come from the cache)."""
-    return effects == Effects() and assumptions == Assumptions() and not extended()
+    built-in submodels alone (a user's submodel that is on changes the model's inputs, so they are not stale then,
+    only not for this model: no warning, its artefacts come from the cache; one that is off changes nothing)."""
+    return (effects == Effects() and assumptions == Assumptions()
+            and not extended(options_of(effects, assumptions)))
 
 
 def _out_argument(folder: Path) -> str:

@@ -28,7 +28,7 @@ from typing import Any
 import casadi
 
 from ..derive.assumptions import Assumptions
-from ..derive.cache import cache_dir, source_digest
+from ..derive.cache import cache_dir, model_inputs, source_digest
 from ..derive.effects import Effects
 from ..files import content_key, files_digest, sha256_bytes, sha256_file
 from ..versions import distribution_version
@@ -70,14 +70,10 @@ def generator_digest() -> str:
 
 def inputs_record(effects: Effects, assumptions: Assumptions) -> dict[str, Any]:
     """Everything the generated files depend on (cheap: no derivation)."""
-    from ..derive.submodels.registry import digest
-
     return {
         "derive_source": source_digest(),
-        "submodels": digest(),
+        **model_inputs(effects, assumptions),  # submodels, effects, assumptions
         "generator_source": generator_digest(),
-        "effects": effects.as_dict(),
-        "assumptions": assumptions.as_dict(),
         "templates": {p.name: sha256_file(p) for p in template_paths()},
         "casadi": casadi.__version__,
         "sympy": distribution_version("sympy"),  # the distribution's version: reading it does not import sympy

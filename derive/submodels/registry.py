@@ -14,9 +14,9 @@ A package adds its submodels to every process (the command line, a sweep's worke
     [project.entry-points."apexseal.submodels"]
     cushion = "my_seal_models.cushion:Cushion"
 
-The content of the registry (the source of every registered class and of the helper modules of its own package
-that it imports, :mod:`.sources`) enters the derivation's cache key, so a
-new or changed submodel is never served an old derivation.
+The content of the registry (the source of every registered class that is on and of the helper modules of its own
+package that it imports, :mod:`.sources`) enters the derivation's cache key, so a new or changed submodel is never
+served an old derivation, and one that is off changes no model's key (:func:`entering`).
 """
 
 from __future__ import annotations
@@ -173,11 +173,26 @@ def _replace(old: type[Submodel], new: type[Submodel]) -> type[Submodel]:
     return new
 
 
-def extended() -> bool:
-    """True while a user's submodel is registered besides the built-in ones (the committed default artefacts,
-    generated from the built-in registry, are then not for this process's models)."""
+def extended(opts=None) -> bool:
+    """True while a user's submodel is registered besides the built-in ones; with ``opts``, while one is on under
+    those options (the committed default artefacts, generated from the built-in registry, are then not for that
+    model; a user's submodel that is off leaves every model as it was, :func:`entering`)."""
     _ensure()
-    return any(not built_in(cls) for cls in _registry.values())
+    return any(not built_in(cls) and (opts is None or cls.active(opts)) for cls in _registry.values())
+
+
+def entering(opts) -> tuple[type[Submodel], ...]:
+    """The submodels a model of the options ``opts`` is derived from, as far as its cache keys go: the built-in
+    ones (their sources are the derivation's own), and a user's or a package's while it is on. One that is off
+    never enters the derivation, so registering or installing it changes no model's key (:func:`digest`,
+    :func:`apexseal.derive.cache.model_inputs`)."""
+    return tuple(cls for cls in submodels() if built_in(cls) or cls.active(opts))
+
+
+def left_out_options(opts) -> frozenset[str]:
+    """The option slots of the submodels that do not enter a model of ``opts`` (:func:`entering`)."""
+    entered = set(entering(opts))
+    return frozenset(o.name for cls in submodels() if cls not in entered for o in cls.options)
 
 
 def unregister(name: str) -> None:
@@ -338,11 +353,11 @@ def alternatives() -> tuple[tuple[str, str], ...]:
     return tuple(pair for cls in submodels() for pair in cls.scene_alternatives())
 
 
-def digest() -> str:
-    """sha256 over the source of every registered submodel and its helpers (part of the derivation's cache key;
-    :func:`.sources.source_key`)."""
+def digest(opts) -> str:
+    """sha256 over the source of every submodel that enters a model of the options ``opts`` (:func:`entering`)
+    and of its helpers (part of the derivation's cache key; :func:`.sources.source_key`)."""
     h = hashlib.sha256()
-    for cls in submodels():
+    for cls in entering(opts):
         h.update(cls.name.encode())
         h.update(source_key(cls).encode())
     return h.hexdigest()

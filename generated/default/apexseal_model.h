@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 3ec9df00138e69a0869733b05fc68ec0940f76a3f98d42c3d60592290230c4ee.
+ * Effects: all. Input hash: 6e279e603ced8b3e634d21c4b552fb7414fa1e517c6c27c07292466be36ff30e.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "3ec9df00138e69a0869733b05fc68ec0940f76a3f98d42c3d60592290230c4ee"
+#define APEXSEAL_INPUT_HASH "6e279e603ced8b3e634d21c4b552fb7414fa1e517c6c27c07292466be36ff30e"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -134,8 +134,8 @@ def test_needs_names_an_effect():
 @pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")  # soft contacts
 @pytest.mark.filterwarnings("error::apexseal.generated.manifest.StaleArtefactWarning")
 def test_a_contact_declared_in_a_test_is_derived_generated_and_simulated(cushion, tmp_path):
-    """With the cushion registered the committed default artefacts are not for any model of this process: even
-    with the cushion off, the model comes from the cache, without a warning that they are stale."""
+    """With the cushion on, the model is derived and generated into the cache; with it off, the run is the
+    default model's (the committed artefacts, without a warning that they are stale)."""
     from apexseal.derive.cache import cached_model
     from apexseal.generated.generate import generate
     from apexseal.runtime.results.quantities import collect
@@ -175,6 +175,51 @@ def test_a_contact_declared_in_a_test_is_derived_generated_and_simulated(cushion
     without = apexseal.simulate(scene.with_overrides(**{"effects.cushion": False}), revolutions=1)
     assert "cb" not in without.guard_names  # off: not derived, not generated, not run
     assert abs(without.state[0] - r.state[0]).max() > 1e-7  # the cushion moves the seal
+
+
+def test_a_users_submodel_that_is_off_changes_no_models_keys():
+    """What is off never enters the derivation: a registered (or installed) submodel that is off leaves the default
+    model's derivation key and input hash as they were, so the cached derivations and the committed default
+    artefacts stay in use (every key changed before, and the first run after installing a package derived and
+    generated the default model again); switched on, it changes both."""
+    from apexseal.derive.assumptions import Assumptions
+    from apexseal.derive.cache import derivation_key
+    from apexseal.derive.effects import Effects
+    from apexseal.generated.load import DEFAULT_DIR, artefact_dir, is_default
+    from apexseal.generated.manifest import input_hash
+
+    before = derivation_key(Effects(), Assumptions()), input_hash(Effects(), Assumptions())
+    with registry.registered(Cushion):
+        off, on = Effects(), Effects(cushion=True)
+        assert off.as_dict()["cushion"] is False
+        assert (derivation_key(off, Assumptions()), input_hash(off, Assumptions())) == before
+        assert is_default(off, Assumptions()) and artefact_dir(off, Assumptions()) == DEFAULT_DIR
+        assert registry.extended() and not registry.extended(Options()) and registry.extended(Options({"cushion": ON}))
+        assert derivation_key(on, Assumptions()) != before[0] and input_hash(on, Assumptions()) != before[1]
+        assert not is_default(on, Assumptions())
+
+
+def test_a_derivation_cached_without_a_users_submodel_serves_the_model_with_it_off(tmp_path, monkeypatch):
+    """The same key with and without a submodel that is off: the cached model is served (not derived again) with
+    the caller's effects, so its options name the user's switch."""
+    import pickle
+
+    import sympy as sp
+
+    from apexseal.derive import cache
+    from apexseal.derive import model as derived
+    from apexseal.derive.assumptions import Assumptions
+    from apexseal.derive.effects import Effects
+
+    monkeypatch.setenv("APEXSEAL_CACHE", str(tmp_path))
+    stub = derived.DerivedModel(Effects(), Assumptions(), sp.eye(1), sp.Matrix([sp.Symbol("f")]), {}, {}, {}, {})
+    path = tmp_path / "derive" / f"{cache.derivation_key(Effects(), Assumptions())}.pkl"
+    path.parent.mkdir(parents=True)
+    path.write_bytes(pickle.dumps(stub))
+    monkeypatch.setattr(derived, "derive_model", lambda *a, **k: pytest.fail("derived again"))
+    with registry.registered(Cushion):
+        served = cache.cached_model(Effects(), Assumptions())
+        assert served.forcing == stub.forcing and served.effects == Effects() and served.options["cushion"] == NONE
 
 
 def test_without_a_users_submodel_the_registry_is_not_extended():

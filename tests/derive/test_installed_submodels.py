@@ -74,6 +74,15 @@ def test_an_installed_submodel_is_in_the_scene_of_the_command_line(tmp_path):
     assert bad.returncode != 0 and "contacts.kwp" in bad.stderr and "-3" in bad.stderr, bad.stderr
 
 
+def test_an_installed_submodel_that_is_off_leaves_the_committed_default_current(tmp_path):
+    """A package's submodel that is off enters no model: ``generate --check`` finds generated/default current with
+    it installed (it reported the committed artefacts stale, and every run derived and generated them again)."""
+    site = tmp_path / "site"
+    _install(site, PLUGIN, "seal_extras_off")
+    check = _cli(site, "generate", "--check")
+    assert check.returncode == 0 and "generated/default is current" in check.stdout, check.stdout + check.stderr
+
+
 def test_an_installed_submodel_that_cannot_load_is_named_with_its_package(tmp_path):
     site = tmp_path / "site"
     _install(site, PLUGIN + "\nraise ImportError('needs a newer sealkit')\n")
