@@ -42,7 +42,8 @@ class Parameter:
     show: str | None = None
     #: unit of bare numbers in a scene (default: ``unit``)
     bare: str | None = None
-    #: sympy assumptions of the symbol: "positive", "nonnegative" or "real"
+    #: sympy assumptions of the symbol: "positive", "nonnegative" or "real" (a scene input's range must lie within
+    #: it: a "positive" one needs a lower bound gt or ge of at least 0)
     sign: str = "positive"
     #: False for scene inputs that only feed derived parameters (e.g. the seal's density)
     in_vector: bool = True
@@ -52,6 +53,28 @@ class Parameter:
     #: the effect that must be on for any law to read it (e.g. "groove_friction" for mu2); None: the switch of
     #: its submodel. While that effect is off a scene may omit it (registry.needing)
     needs: str | None = None
+
+    def __post_init__(self) -> None:
+        """Refuse a sign the declared range contradicts: the derivation simplifies with the symbol's assumptions
+        (Max(p, 0), Abs(p), sqrt(p**2) become p for a positive p), so a scene value the sign excludes would run a
+        law that is wrong for it. Zero is admitted under "positive" (the built-in damping and friction
+        coefficients take it; tests/generated/test_gen_effects.py checks their laws there)."""
+        signs = ("positive", "nonnegative", "real")
+        if self.sign not in signs:
+            raise ValueError(f"parameter {self.name}: sign={self.sign!r} is not one of {', '.join(map(repr, signs))}")
+        if self.sign == "real" or self.key is None:  # a derived value: its submodel computes it, no scene sets it
+            return
+        low = max((b for b in (self.gt, self.ge) if b is not None), default=None)
+        why = None
+        if low is None or low < 0:
+            why = "its range admits negative values" + ("" if low is None else f" ({'gt' if low == self.gt else 'ge'}"
+                                                                             f"={low!r})")
+        elif self.default is not None and self.default < 0:
+            why = f"its default is {self.default!r}"
+        if why:
+            raise ValueError(f"parameter {self.name} ({self.key}): sign={self.sign!r} lets the derivation assume "
+                             f"{self.name} {'> 0' if self.sign == 'positive' else '>= 0'}, but {why}: declare "
+                             f"sign=\"real\" for a quantity that may be negative, or a lower bound ge=0 or gt=0")
 
     @property
     def section(self) -> str | None:

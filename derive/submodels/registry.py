@@ -312,10 +312,10 @@ def guards() -> tuple[Guard, ...]:
 
 def contacts() -> dict[str, str]:
     """Every contact or load a submodel declares (the prefixes of the outputs F_<c>_X, F_<c>_Y, M_<c>, Pf_<c>) ->
-    what it is (the submodel's :attr:`~.base.Submodel.contact_meanings`, else its summary), in registration
-    order."""
-    return {c: cls.contact_meanings.get(c, cls.summary) for cls in submodels() if _has_contacts(cls)
-            for c in (cls.contact_names or (cls.name,))}
+    what it is (the submodel's :attr:`~.base.Submodel.contact_meanings`, else its name with its summary, a noun
+    phrase either way: "... from the {meaning}"), in registration order."""
+    return {c: cls.contact_meanings.get(c, f"{c} ({cls.summary})" if cls.summary else c) for cls in submodels()
+            if _has_contacts(cls) for c in (cls.contact_names or (cls.name,))}
 
 
 def _has_contacts(cls: type[Submodel]) -> bool:

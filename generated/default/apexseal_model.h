@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 6e279e603ced8b3e634d21c4b552fb7414fa1e517c6c27c07292466be36ff30e.
+ * Effects: all. Input hash: 509b84d8e6efa60601c81a2a4458bd9b168d804ecaf1af66cfe1c6dd6bbf9bed.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "6e279e603ced8b3e634d21c4b552fb7414fa1e517c6c27c07292466be36ff30e"
+#define APEXSEAL_INPUT_HASH "509b84d8e6efa60601c81a2a4458bd9b168d804ecaf1af66cfe1c6dd6bbf9bed"
 
 /* state x */
 #define APEXSEAL_NX 6

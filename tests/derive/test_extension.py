@@ -89,8 +89,9 @@ def test_the_results_name_quantities_and_check_penetrations_of_a_users_contact(c
     from apexseal.runtime.results.outputs import describe
     from apexseal.runtime.results.quantities import penetrations, quantity_help
 
-    assert registry.contacts()["cushion"] == Cushion.summary and registry.guard_contacts()["cb"] == "cushion"
-    assert Cushion.summary in describe("F_cushion_X").meaning
+    assert registry.contacts()["cushion"] == f"cushion ({Cushion.summary})" and registry.guard_contacts()["cb"] == "cushion"
+    # a noun phrase after "the" ("from the a linear spring ..." before)
+    assert describe("F_cushion_X").meaning.endswith(f"from the cushion ({Cushion.summary})")
     assert {"events.cb", "penetration.cushion", "friction_power.cushion"} <= set(quantity_help())
     assert penetrations()["cushion"] == (("cushion_gap", -1.0),)  # a gap: its negative is the penetration
     assert "spring" not in penetrations()  # closed at rest by design
@@ -125,7 +126,7 @@ def test_a_contact_with_two_guards_is_checked_at_its_deepest():
 
 def test_needs_names_an_effect():
     film = type("Film", (Submodel,), {"name": "film", "__module__": "elsewhere", "parameters": (
-        Parameter("eta", "1", "film viscosity ratio", key="friction.eta", needs="damping"),)})
+        Parameter("eta", "1", "film viscosity ratio", key="friction.eta", ge=0, needs="damping"),)})
     with pytest.raises(registry.RegistryError, match=r"need what is not an effect: damping"):
         registry.register(film)
     assert not registry.extended()
@@ -220,6 +221,23 @@ def test_a_derivation_cached_without_a_users_submodel_serves_the_model_with_it_o
     with registry.registered(Cushion):
         served = cache.cached_model(Effects(), Assumptions())
         assert served.forcing == stub.forcing and served.effects == Effects() and served.options["cushion"] == NONE
+
+
+def test_a_sign_its_range_contradicts_is_refused():
+    """The derivation simplifies with a parameter's sign (Max(p, 0), Abs(p) become p for a positive p): a range that
+    admits negative values under the default sign "positive" ran a law that is wrong for them, silently."""
+    with pytest.raises(ValueError, match=r"theta_e \(contacts.theta_e\): sign='positive' lets the derivation assume "
+                                         r"theta_e > 0, but its range admits negative values \(ge=-3.15\): declare "
+                                         r'sign="real"'):
+        Parameter("theta_e", "rad", "load angle", key="contacts.theta_e", default=0.0, ge=-3.15, le=3.15)
+    with pytest.raises(ValueError, match=r"Fe \(contacts.Fe\): sign='nonnegative' .*>= 0, but its range admits "
+                                         r"negative values: declare"):
+        Parameter("Fe", "N", "side force", key="contacts.Fe", default=5.0, sign="nonnegative")
+    with pytest.raises(ValueError, match=r"sign='negative' is not one of 'positive', 'nonnegative', 'real'"):
+        Parameter("Fe", "N", "side force", key="contacts.Fe", default=5.0, ge=0, sign="negative")
+    angle = Parameter("theta_e", "rad", "load angle", key="contacts.theta_e", default=0.0, ge=-3.15, le=3.15,
+                      sign="real")
+    assert angle.symbol.is_positive is None and Parameter("Fe", "N", "side force", ge=0).symbol.is_positive
 
 
 def test_without_a_users_submodel_the_registry_is_not_extended():
@@ -341,3 +359,30 @@ def test_an_error_in_a_users_laws_names_the_submodel(tmp_path):
     message = str(info.value)
     assert "the submodel broken (from module my_models.broken) failed in contacts()" in message
     assert "ModuleNotFoundError" in message and "switch it off in the scene" in message
+
+
+def test_the_guide_s_load_that_always_acts_is_derived_as_written():
+    """docs/extending.md's second example (a guardless ContactModel, the crank angle, a "real" angle), run from the
+    guide's own text: its force peaks at Fe along the seal's Ys axis at theta = theta_e."""
+    import re
+    from pathlib import Path
+
+    import sympy as sp
+
+    from apexseal.derive import contact_geometry, kinematics
+    from apexseal.derive.model import submodel_contacts
+    from apexseal.derive.symbols import theta
+
+    guide = (Path(__file__).parents[2] / "docs" / "extending.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", guide, flags=re.S)
+    imports = next(b for b in blocks if "class Cushion" in b).split("\n\n\nclass")[0]
+    source = next(b for b in blocks if "class SideLoad" in b)
+    namespace = {"__name__": "guide"}
+    exec(compile(imports + "\n" + source, "docs/extending.md", "exec"), namespace)  # noqa: S102 - the guide's text
+    with registry.registered(namespace["SideLoad"]):
+        k = kinematics.build()
+        (contact,) = submodel_contacts("side_load", k, contact_geometry.build(k), Options({"side_load": ON}))
+        assert contact.guard is None and len(contact.loads) == 1
+        P = registry.parameter("Fe").symbol, registry.parameter("theta_e").symbol
+        along = contact.loads[0].force.dot(k.S.y).subs(theta, P[1])
+        assert sp.simplify(along - P[0]) == 0 and registry.parameter("theta_e").symbol.is_positive is None

@@ -1,4 +1,5 @@
-"""An effect that is off costs nothing and equals the full model with its coefficients at zero."""
+"""An effect that is off costs nothing and equals the full model with its coefficients at zero (which also checks
+the laws at the zero their "positive" parameters admit: derive/parameters.py)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,10 @@ from apexseal.generated.functions import build_functions
 #: effect switched off -> (parameter changes, pressures forced to zero) that give the same right-hand side
 EQUIVALENT = {
     "groove_friction": ({"mu2": 0.0}, False),
+    "housing_friction": ({"mu1": 0.0}, False),
     "housing_damping": ({"cw": 0.0}, False),
+    "groove_damping": ({"cr": 0.0}, False),
+    "spring_damping": ({"cs": 0.0}, False),
     "spring_friction": ({"mus": 0.0}, False),
     "chamber_pressure": ({}, True),
 }
