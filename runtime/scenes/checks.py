@@ -103,8 +103,8 @@ def check_chamber_volumes(m: MachineSection, p: PressureSection, raw: dict[str, 
 
 
 def tip_numbers(s: SealSection) -> tuple[float, float]:
-    """Half-angle of the tip arc and the start of the arc: ``beta_o = asin(Ws / (2 ro))`` (Eq. 31
-    at the seal's edge) and ``ds0 = ds1 - ro (1 - cos beta_o)`` (Eqs. 24, 27)."""
+    """Half-angle of the tip arc and the start of the arc: ``beta_o = asin(Ws / (2 ro))`` (Fig. 5;
+    Eq. 24 places the arc's end c1 at ds0) and ``ds0 = ds1 - ro (1 - cos beta_o)`` (Eqs. 24, 27)."""
     beta_o = math.asin(s.Ws / (2 * s.ro))
     return beta_o, s.ds1 - s.ro * (1 - math.cos(beta_o))
 
@@ -125,7 +125,7 @@ def check_seal(s: SealSection, raw: dict[str, Any]) -> list[Problem]:
             Problem(
                 "seal.ro",
                 raw_at(raw, ["seal", "ro"]),
-                f"the tip arc cannot span the seal width (Eq. 31: beta_o = asin(Ws / (2 ro))); "
+                f"the tip arc cannot span the seal width (Fig. 5, Eq. 24: beta_o = asin(Ws / (2 ro))); "
                 f"allowed: ro >= Ws/2 = {_mm(s.Ws / 2)}",
             )
         )
@@ -181,6 +181,27 @@ def check_seal_in_rotor(m: MachineSection, s: SealSection, raw: dict[str, Any]) 
             f"a seal cannot be longer than the machine is deep; allowed: <= machine.H = {_mm(m.H)}",
         ))
     return out
+
+
+def mouth_on_flank(s: SealSection, zeta0: float, key_value) -> list[Problem]:
+    """The groove's mouth corners must face the seal's flat sides, not its tip arc: the contacts i1 and i2 and the
+    side faces of Eqs. 20-21 and 44-47 lie between the arc's ends c1, c3 (at ds0 from C, Eq. 24) and the back face,
+    and at rest i1 is l1 = ds0 + zeta0 + delta_w - ds1 below c1 (delta_w >= 0, a few nanometres). With l1 < 0 the
+    model measured the side gap against the flank produced past the arc, and the side face's area l1 Bs (Eq. 44)
+    and the pressure force on it turned negative, silently. ``key_value``: the raw value, or MISSING when zeta0
+    is the groove truncation of Eqs. 6-8."""
+    if not s.ro >= s.Ws / 2:
+        return []  # check_seal reports the arc
+    beta_o, ds0 = tip_numbers(s)
+    need = s.ds1 - ds0  # ro (1 - cos beta_o)
+    if zeta0 > need or ds0 <= -s.ds2:  # (an arc that does not fit on the seal: check_seal reports it)
+        return []
+    given = "" if key_value is not MISSING else f"not given, and the groove truncation z of Eqs. 6-8 is {_mm(zeta0)}: "
+    return [Problem("seal.zeta0", key_value,
+                    f"{given}the groove's mouth would lie on the seal's tip arc, where the contact model has no flat "
+                    f"side (Eqs. 20, 44-47: its corner is l1 = ds0 + zeta0 - ds1 = {_mm(zeta0 - need)} from the arc's "
+                    f"end c1); allowed: zeta0 > ro (1 - cos beta_o) = {_mm(need)} for seal.ro = {_mm(s.ro)}, "
+                    f"seal.Ws = {_mm(s.Ws)} (beta_o = {math.degrees(beta_o):.4g} deg; or a larger seal.ro)")]
 
 
 def zeta0_of(m: MachineSection, s: SealSection) -> tuple[float | None, str | None]:
@@ -324,10 +345,14 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
         out += check_machine(m, raw)
     if s is not None:
         out += check_seal(s, raw)
+    if s is not None and s.zeta0 is not None:
+        out += mouth_on_flank(s, s.zeta0, raw_at(raw, ["seal", "zeta0"]))
     if m is not None and s is not None:
         out += check_seal_in_rotor(m, s, raw)
         if s.zeta0 is None:
             out += check_zeta0(m, s)
+            z, _ = zeta0_of(m, s)
+            out += [] if z is None else mouth_on_flank(s, z, MISSING)
     if "pressure" in sections:
         out += check_pressure(sections["pressure"], raw)
         if m is not None:

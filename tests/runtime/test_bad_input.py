@@ -56,6 +56,8 @@ SCENE_FILES = [
     ("tip-arc-too-small", ('ro = "3.0 mm"', 'ro = "1 mm"'), ["seal.ro", "ro >= Ws/2"]),
     ("seal-longer-than-rotor", ('ds2 = "4.0 mm"', 'ds2 = "47 mm"'), ["seal.ds2", "reaches past the chord centre"]),
     ("seal-leaves-groove", ('zeta0 = "0.71 mm"', 'zeta0 = "9 mm"'), ["seal.zeta0", "would leave its groove"]),
+    ("groove-mouth-on-tip-arc", ('zeta0 = "0.71 mm"', 'zeta0 = "0.3 mm"'),
+     ["seal.zeta0", "mouth would lie on the seal's tip arc", "zeta0 > ro (1 - cos beta_o) = 0.401924 mm"]),
     ("three-problems-at-once", ('ks = "5e3 N/m"', 'ks = "-5 N/m"\nkss = 1\ndelta = "3 Hz"'),
      ["3 problems", "spring.ks", "spring.kss", "spring.delta"]),
 ]

@@ -49,6 +49,9 @@ def hard_scenes(draw):
         "seal.Wg": Ws + draw(log_uniform(1e-6, 2e-4)),
         "seal.ro": Ws / 2 * (1 + draw(log_uniform(1e-9, 10.0))),
     }
+    # the groove's mouth on the seal's flat sides, from 10 um to 3 mm below the tip arc's end (a scene check)
+    ro = ov["seal.ro"]
+    ov["seal.zeta0"] = ro - np.sqrt(max(ro**2 - Ws**2 / 4, 0.0)) + draw(log_uniform(1e-5, 3e-3))
     for i in range(1, 5):
         ov[f"contacts.kg{i}"] = draw(log_uniform(1e5, 1e9))
     if draw(st.booleans()):

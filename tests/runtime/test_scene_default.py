@@ -9,6 +9,7 @@ import pytest
 
 from apexseal.derive.effects import EFFECTS
 from apexseal.derive.symbols import PARAMETER_NAMES
+from apexseal.runtime.scenes.errors import SceneError
 from apexseal.runtime.scenes.pressure import TablePressure
 from apexseal.runtime.scenes.scene import Scene, default_scene_text, load_scene
 
@@ -162,8 +163,14 @@ def test_explicit_mass_and_inertia_win(scene):
 def test_zeta0_from_the_truncation_of_a_circular_lobe(scene):
     from apexseal.derive.geometry import machine_numbers
 
-    s = scene.with_overrides(**{"machine.embodiment": "circolimacon", "seal.zeta0": None})
+    circular = {"machine.embodiment": "circolimacon", "seal.zeta0": None}
     z = machine_numbers("circolimacon", 0.01, 0.05, 3.06e-3, 1e-4, 0.0).truncation
+    # z = 23 um puts the groove's mouth on the default's tip arc (0.40 mm high), which the contact model does not
+    # cover: refused, naming the truncation; a nearly flat tip (ro = 100 mm: an arc 11 um high) takes it
+    with pytest.raises(SceneError, match=r"seal.zeta0 = \(missing\): not given, and the groove truncation z of "
+                                         r"Eqs. 6-8 is 0.0234614 mm: the groove's mouth would lie on the seal's tip arc"):
+        scene.with_overrides(**circular)
+    s = scene.with_overrides(**circular, **{"seal.ro": "100 mm"})
     assert z > 0 and s.parameters["zeta0"] == pytest.approx(z)
 
 

@@ -318,7 +318,22 @@ CASES = [
         ["groove must be wider than the seal", "allowed: Wg > seal.Ws = 3 mm"],
     ),
     ("groove-equal", {"seal.Wg": "3 mm"}, "seal.Wg", '"3 mm"', ["allowed: Wg > seal.Ws = 3 mm"]),
-    ("tip-radius", {"seal.ro": "1 mm"}, "seal.ro", '"1 mm"', ["Eq. 31", "allowed: ro >= Ws/2 = 1.5 mm"]),
+    ("tip-radius", {"seal.ro": "1 mm"}, "seal.ro", '"1 mm"', ["Eq. 24", "allowed: ro >= Ws/2 = 1.5 mm"]),
+    (  # the groove's mouth on the tip arc: the side gap and the side face's area of the model were wrong there
+        "mouth-on-tip-arc",
+        {"seal.zeta0": "0.3 mm"},
+        "seal.zeta0",
+        '"0.3 mm"',
+        ["mouth would lie on the seal's tip arc", "l1 = ds0 + zeta0 - ds1 = -0.101924 mm",
+         "allowed: zeta0 > ro (1 - cos beta_o) = 0.401924 mm for seal.ro = 3 mm"],
+    ),
+    (  # a semicircular tip (the hard scene tip-arc-edge) with the default's protrusion
+        "semicircular-tip-mouth-on-arc",
+        {"seal.ro": "1.5 mm"},
+        "seal.zeta0",
+        '"0.71 mm"',
+        ["allowed: zeta0 > ro (1 - cos beta_o) = 1.5 mm for seal.ro = 1.5 mm", "or a larger seal.ro"],
+    ),
     (
         "tip-arc-does-not-fit",
         {"seal.ds1": "0.5 mm", "seal.ds2": "0.5 mm", "seal.ro": "1.5 mm", "seal.zeta0": "0.1 mm"},
