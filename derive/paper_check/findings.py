@@ -13,6 +13,10 @@ from .. import paper
 from ..symbols import P, Pb, theta
 from .values import DEFAULTS, I, fmt
 
+#: the apex's radial speed amplitude at the default speed (the example of Eq. 67)
+_two_r_omega = 2 * DEFAULTS["r"] * DEFAULTS["omega"]
+_damping_at_rest = float(f"{DEFAULTS['cw'] * _two_r_omega:.2g}")  # to 2 digits
+
 
 @dataclass(frozen=True)
 class Finding:
@@ -145,8 +149,9 @@ def _findings() -> dict[str, Finding]:
             "the groove, and that relative velocity is what a contact damper resists. The print damps the absolute "
             "velocity v_ss5·X̂ of Eq. 66, which contains the rotor's radial following motion 2 r ω cos θ (the apex "
             "tracks the housing, so this motion is tangent to it, not an approach). Exactly, v_ss5·X̂ − v_rel·X̂ = "
-            "2 r ω cos θ − ω Y(s5) = 2 r ω cos θ since s5 stays on the axis. At 1500 rpm 2 r ω = 3.14 m/s: about 650 N "
-            "of damping on a seal at rest in its groove, against a 10 N preload.",
+            "2 r ω cos θ − ω Y(s5) = 2 r ω cos θ since s5 stays on the axis. At 1500 rpm 2 r ω = "
+            f"{_two_r_omega:.3g} m/s: about {_damping_at_rest:.0f} N of damping on a seal at rest in its "
+            f"groove, against a {DEFAULTS['ks'] * DEFAULTS['delta_s']:.3g} N preload.",
             "Fd = −cw max(v_rel·X̂, 0) X̂, v_rel the seal's velocity at s5 relative to the groove, in contact only "
             "(derive/submodels/housing.py)",
             example={"theta": 0.0, "x": 0.0, "y": 0.0, "phi": 0.0, "xd": 0.0, "yd": 0.0, "phid": 0.0}),
