@@ -70,8 +70,11 @@ def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:
 
     from apexseal.derive.submodels.registry import alternatives
 
+    left_out = scene.left_out_keys()  # a user's or a package's submodel that is off: not written
+
     def walk(name: str, model: Section) -> None:
         plain, tables = _values(model, name)
+        plain = [(k, v) for k, v in plain if f"{name}.{k}" not in left_out]
         given = {f"{name}.{k}" for k, _ in plain}
         # a damping coefficient given explicitly replaces its ratio, whose default is then not written either
         dropped = {b for a, b in alternatives() if a in given and b in given}
@@ -104,8 +107,9 @@ def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:
             walk("gas", gas)
     else:
         lines += _table("pressure", [("source", "none")])
-    lines += _table("effects", list(scene.effects.as_dict().items()))
-    lines += _table("assumptions", list(scene.assumptions.as_dict().items()))
+    lines += _table("effects", [(k, v) for k, v in scene.effects.as_dict().items() if f"effects.{k}" not in left_out])
+    lines += _table("assumptions", [(k, v) for k, v in scene.assumptions.as_dict().items()
+                                    if f"assumptions.{k}" not in left_out])
     walk("solver", scene.solver)
     assert set(SECTIONS) >= {"machine", "pressure", "solver"}  # the sections written above
     return "\n".join(lines), files

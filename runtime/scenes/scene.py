@@ -362,7 +362,7 @@ class Scene:
 
     def to_dict(self) -> dict[str, Any]:
         """Normalised content in SI: every section, the pressure source, effects, assumptions, parameters."""
-        return {
+        content = {
             "format": SCENE_FORMAT,
             "machine": self.machine.model_dump(),
             "operation": self.operation.model_dump(),
@@ -376,6 +376,34 @@ class Scene:
             "solver": self.solver.model_dump(),
             "parameters": self.parameters,
         }
+        for key in self.left_out_keys():  # a submodel that is off and enters no model (a user's or a package's)
+            *path, leaf = key.split(".")
+            section = content
+            for part in path:
+                section = section.get(part) if isinstance(section, dict) else None
+            if isinstance(section, dict):
+                section.pop(leaf, None)
+        return content
+
+    def left_out_keys(self) -> frozenset[str]:
+        """The dotted keys of the submodels that enter no model of this scene (a user's or a package's that is
+        off, :func:`~apexseal.derive.submodels.registry.entering`): their parameters, and their switches and
+        choices where the scene leaves them at their defaults. Neither the scene's content (:meth:`to_dict`,
+        :meth:`content_hash`) nor its resolved file holds them, so installing a package changes neither, and a
+        result that never ran it still loads where the package is not installed."""
+        from apexseal.derive.options import options_of
+        from apexseal.derive.submodels.registry import entering, submodels
+
+        opts = options_of(self.effects, self.assumptions)
+        entered = set(entering(opts))
+        current = {**self.effects.choices(), **self.assumptions.as_dict()}
+        keys = set()
+        for cls in submodels():
+            if cls in entered:
+                continue
+            keys |= {p.key for p in cls.parameters if p.key is not None}
+            keys |= {f"{o.table}.{o.name}" for o in cls.options if current.get(o.name) == o.default}
+        return frozenset(keys)
 
     def content_hash(self) -> str:
         """sha256 of the normalised content (including the pressure table's numbers).

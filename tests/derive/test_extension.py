@@ -240,6 +240,44 @@ def test_a_sign_its_range_contradicts_is_refused():
     assert angle.symbol.is_positive is None and Parameter("Fe", "N", "side force", ge=0).symbol.is_positive
 
 
+def test_a_scene_with_a_users_submodel_off_reads_as_one_without_it(tmp_path):
+    """A submodel that is off enters neither the scene's content hash nor its resolved file (a result's
+    scene.toml): a result of a run that never used it loads where it is not installed, and installing it changes no
+    scene's hash; switched on, it is in both."""
+    from apexseal.runtime.scenes.resolved import resolved_toml
+
+    plain = apexseal.load_scene()
+    with registry.registered(Cushion):
+        scene = apexseal.load_scene()
+        text, files = resolved_toml(scene)
+        assert scene.content_hash() == plain.content_hash()
+        assert {"contacts.kb", "contacts.hb", "effects.cushion"} <= scene.left_out_keys()
+        assert "kb =" not in text and "cushion" not in text
+        on = scene.with_overrides(**{"effects.cushion": True})
+        assert on.content_hash() != plain.content_hash() and "cushion = true" in resolved_toml(on)[0]
+    (tmp_path / "scene.toml").write_text(text)
+    for name, body in files.items():
+        (tmp_path / name).write_text(body)
+    assert apexseal.load_scene(tmp_path / "scene.toml").content_hash() == plain.content_hash()
+
+
+def test_a_result_whose_scene_needs_a_missing_submodel_names_its_package(tmp_path):
+    """show, compare, --resume and SimulationResult.load read a result's scene.toml: one that does not load here
+    (a submodel of the run's not installed) is a ResultFolderError naming the folder and the package, not a
+    traceback."""
+    from apexseal.runtime.results.folder import ResultFolderError, _scene_of
+    from apexseal.runtime.scenes.resolved import resolved_toml
+
+    with registry.registered(Cushion):
+        text, files = resolved_toml(apexseal.load_scene().with_overrides(**{"effects.cushion": True}))
+    (tmp_path / "scene.toml").write_text(text)
+    for name, body in files.items():
+        (tmp_path / name).write_text(body)
+    with pytest.raises(ResultFolderError, match=r"(?s)scene.toml does not load here; the run had submodels this "
+                                                r"process lacks: cushion \(seal-extras 0.2\).*effects.cushion"):
+        _scene_of(tmp_path, {"versions": {"apexseal": "0.1.0", "submodel cushion": "seal-extras 0.2"}})
+
+
 def test_without_a_users_submodel_the_registry_is_not_extended():
     assert not registry.extended()
     with registry.registered(Cushion):
