@@ -45,7 +45,9 @@ def show_value(value: Any) -> str:
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, str):
-        return f'"{value}"'
+        return f"'{value}'" if '"' in value and "'" not in value else f'"{value}"'
+    if isinstance(value, dict):  # an inline table, as TOML writes it
+        return "{" + ", ".join(f"{k} = {show_value(v)}" for k, v in value.items()) + "}"
     return repr(value)
 
 

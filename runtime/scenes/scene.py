@@ -24,6 +24,7 @@ import numbers
 import re
 import tomllib
 import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -97,9 +98,22 @@ def _parse_toml(text: str, name: str) -> dict[str, Any]:
         shown = lines[line - 1].strip() if 0 < line <= len(lines) else ""
         if re.search(r"=\s*[-+.\d][\w.+-]*\s+[A-Za-z%]", shown):
             reason += ' (a quantity with a unit must be a quoted string, e.g. r = "3 mm")'
+        elif reason.startswith("Cannot overwrite a value") or reason.startswith("Cannot declare"):
+            reason += " (a key or a table given twice?)"
         raise SceneError(
             [("toml", shown, f"malformed TOML at line {line}, column {col}: {reason}")], source=name
         ) from None
+
+
+@contextmanager
+def _naming_overrides(overrides: dict[str, Any]):
+    """A SceneError raised while keys are replaced says which were (a problem of a replaced key is not the file's:
+    the command line's --set, a sweep's point, an API call's overrides)."""
+    try:
+        yield
+    except SceneError as err:
+        source = f"{err.source or 'scene'} with {', '.join(overrides)} replaced"
+        raise SceneError(err.errors, source=source) from None
 
 
 def derive_parameters(sections: dict[str, Section], effects: Effects,
@@ -286,10 +300,11 @@ class Scene:
         """Parse and check TOML ``text``; a pressure table's path is taken relative to ``base_dir``
         (default: the current directory); ``overrides`` as :func:`load_scene` takes them."""
         raw = _parse_toml(text, name)
-        if overrides:
-            raw = _overridden(raw, dict(overrides), name)
         folder = Path.cwd() if base_dir is None else Path(base_dir) if isinstance(base_dir, str) else base_dir
-        return _build(raw, folder, source_path, name)
+        if not overrides:
+            return _build(raw, folder, source_path, name)
+        with _naming_overrides(overrides):
+            return _build(_overridden(raw, dict(overrides), name), folder, source_path, name)
 
     @property
     def reference(self) -> str:
@@ -356,7 +371,8 @@ class Scene:
         ``None`` removes a key, restoring its default. Setting one key of a pair that states one thing two ways
         (``contacts.cw`` or the damping ratio ``contacts.zeta_w``, ...) removes the other, unless both are given.
         """
-        return _build(_overridden(self._raw, dotted, self.name), self._base_dir, self.source_path, self.name)
+        with _naming_overrides(dotted):
+            return _build(_overridden(self._raw, dotted, self.name), self._base_dir, self.source_path, self.name)
 
     # -- content ------------------------------------------------------------
 

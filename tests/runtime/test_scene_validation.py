@@ -243,7 +243,7 @@ CASES = [
         "unknown-section",
         {"sael.Ws": 3},
         "sael",
-        "{'Ws': 3}",
+        "{Ws = 3}",  # as TOML writes an inline table (a Python dict before)
         ["unknown section (did you mean 'seal'?); known: machine, operation, seal"],
     ),
     ("top-level-key", {"title": "x"}, "title", '"x"', ["unknown top-level key", "known: machine"]),
@@ -507,7 +507,9 @@ def test_every_problem_is_reported_at_once(default):
         ["seal.Wg", "spring.ks", "contacts.kww", "machine.r", "solver.method", "effects.spring"]
     )
     lines = str(err).splitlines()
-    assert lines[0] == "scene default: 6 problems"
+    # the replaced keys are named: the problems are theirs, not the file's (the command line's --set, an API call)
+    assert lines[0] == "scene default with seal.Wg, spring.ks, contacts.kww, machine.r, solver.method, effects.spring " \
+                       "replaced: 6 problems"
     assert len(lines) == 7 and all(line.startswith("  ") for line in lines[1:])
 
 
@@ -534,8 +536,10 @@ def test_malformed_toml_at_end_of_document():
 
 
 def test_duplicate_toml_key():
-    with pytest.raises(SceneError, match="malformed TOML"):
-        Scene.from_toml_string("[seal]\nWs = 1\nWs = 2\n")
+    """The line is shown in single quotes when it holds double ones ("Ws = "4 mm"" before), with a hint."""
+    with pytest.raises(SceneError, match=r"""toml = 'Ws = "4 mm"': malformed TOML at line 3, column 12: Cannot """
+                                         r"overwrite a value \(a key or a table given twice\?\)"):
+        Scene.from_toml_string('[seal]\nWs = "3 mm"\nWs = "4 mm"\n')
 
 
 def test_missing_scene_file(tmp_path):
