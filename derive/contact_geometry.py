@@ -32,7 +32,8 @@ X_mouth = ds1 - zeta0 - delta_w
 
 @dataclass(frozen=True)
 class ContactGeometry:
-    """Vectors from C (in frames of ``k``) and gaps, as time-dependent sympy expressions."""
+    """Vectors from C (in frames of ``k``) and gaps, as time-dependent sympy expressions (Eqs. 17-47; each field
+    names its equation)."""
 
     r_g1: Vector  # from Og, Eq. 17
     r_g3: Vector  # from Og, Eq. 18
@@ -74,6 +75,9 @@ def solve_tip_angle() -> sp.Expr:
 
 
 def build(k: Kinematics) -> ContactGeometry:
+    """The contact geometry of Eqs. 17-47: the groove's mouth corners (Eqs. 17-18), the seal's corners and contact
+    points (Eqs. 19-23), the tip contact s5 and its penetration (Eqs. 25-34), the spring's point s6 (Eqs. 35-38),
+    the gaps b1..b4 (Eqs. 40-43) and the pressure points s1..s4 (Eqs. 44-47)."""
     G, S = k.G, k.S
     rc = k.C.pos_from(k.Og)
     r_g1 = X_mouth * G.x - Wg / 2 * G.y

@@ -24,6 +24,8 @@ SPEEDS = (xd, yd, phid)
 
 @dataclass(frozen=True)
 class EquationsOfMotion:
+    """Eq. 80 as M u' = f: the seal's mass matrix diag(ms, ms, Icg) and the rest of its three equations."""
+
     mass_matrix: sp.Matrix  # 3x3
     forcing: sp.Matrix  # 3x1, everything but the M u' terms
     generalized_active: sp.Matrix  # 3x1, sum of the loads' generalised forces
@@ -31,13 +33,15 @@ class EquationsOfMotion:
 
 
 def partial_velocities(k: Kinematics, r_CP: Vector) -> list[Vector]:
-    """dv_P/du_r for the seal's material point at r_CP (v_P = v_C + omega_S x r_CP)."""
+    """dv_P/du_r for the seal's material point at r_CP (v_P = v_C + omega_S x r_CP), the velocities of the contact
+    points of Eqs. 48, 64 and 69 differentiated by the speeds; Kane's form of Eq. 80."""
     v = k.C.vel(k.N) + k.S.ang_vel_in(k.N).cross(r_CP)
     return [v.diff(u, k.N, var_in_dcm=False) for u in SPEEDS]
 
 
 def generalized_forces(k: Kinematics, loads: list[Load]) -> sp.Matrix:
-    """F_r = sum over loads of F . dv_P/du_r (equivalently the forces and their moments about C)."""
+    """F_r = sum over loads of F . dv_P/du_r (equivalently the forces and their moments about C): the right-hand
+    sides of Eq. 80."""
     total = [sp.S.Zero] * 3
     for load in loads:
         for r, vr in enumerate(partial_velocities(k, load.r_CP)):

@@ -36,6 +36,9 @@ def plain(expr: sp.Expr) -> sp.Expr:
 
 @dataclass(frozen=True)
 class Kinematics:
+    """The frames and points of Eqs. 10-12: N fixed, R the rotor (turning at omega), G the groove, S the seal (turned
+    by phi in the groove); Og the groove's origin and C the seal's centre of gravity."""
+
     N: ReferenceFrame
     R: ReferenceFrame
     G: ReferenceFrame
@@ -50,7 +53,8 @@ class Kinematics:
         return plain(vec.dot(frame.x)), plain(vec.dot(frame.y))
 
     def point_on_seal(self, name: str, r_CP: Vector) -> Point:
-        """A material point of the seal at ``r_CP`` from C, with its velocity by rigid-body kinematics."""
+        """A material point of the seal at ``r_CP`` from C, with its velocity by rigid-body kinematics (the contact
+        points' velocities of Eqs. 48, 64 and 69)."""
         p = self.C.locatenew(name, r_CP)
         p.v2pt_theory(self.C, self.N, self.S)
         return p

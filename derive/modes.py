@@ -71,7 +71,8 @@ def gap_width(gaps: Sequence, ops: Ops = NUMPY):
 
 @dataclass(frozen=True)
 class Mode:
-    """One smooth piece of the hybrid model: which contacts are closed."""
+    """One smooth piece of the hybrid model: which contacts are closed (a case of Algorithm 3 for the groove, with
+    the housing, the spring and any other contact closed or open)."""
 
     closed: tuple[bool, ...]  # in the order of ``guard_names``
     guard_names: tuple[str, ...]
@@ -106,7 +107,8 @@ def _labels(name: str) -> tuple[str, str]:
 
 
 def modes(guard_names: tuple[str, ...]) -> list[Mode]:
-    """Every mode the contacts of a model allow: the nine groove cases x each other contact closed or open."""
+    """Every mode the contacts of a model allow: the nine groove cases of Algorithm 3 x each other contact closed or
+    open."""
     groove = [g for g in GROOVE_GUARDS if g in guard_names]
     others = [g for g in guard_names if g not in groove]
     out = []

@@ -36,6 +36,9 @@ def damping_of_ratio(zeta, k, ms):
 
 @dataclass(frozen=True)
 class MachineNumbers:
+    """The machine's numbers of Eqs. 4-8: the aspect ratio b = r/L (Eq. 4) and the groove truncation z with its
+    angle (Eqs. 6-8)."""
+
     aspect_ratio: float
     truncation: float
     truncation_angle: float | None

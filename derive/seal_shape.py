@@ -41,7 +41,7 @@ def corner(S: ReferenceFrame, name: str) -> Vector:
 
 
 def tip_centre(S: ReferenceFrame) -> Vector:
-    """Co, the centre of the tip arc, from C."""
+    """Co, the centre of the tip arc, from C: (ds1 - ro) along Xs (Eqs. 25, 77-78)."""
     return (ds1 - ro) * S.x
 
 

@@ -21,7 +21,8 @@ def penalty(stiffness: sp.Expr, penetration: sp.Expr, activation: sp.Expr) -> sp
 
 
 def damped(normal: sp.Expr, damping: sp.Expr, closing: sp.Expr, activation: sp.Expr, rule: str) -> sp.Expr:
-    """The normal force plus c * max(closing speed, 0), gated by the contact being closed unless rule = 'always'."""
+    """The normal force plus c * max(closing speed, 0), gated by the contact being closed unless rule = 'always'
+    (the contact dampers of Eqs. 55, 62, 67 and 73; the gate is the `damping` assumption, docs/paper-check.md)."""
     damp = damping * approach(closing)
     return normal + (activation * damp if rule == "in-contact" else damp)
 
@@ -36,7 +37,9 @@ def slip_sign(v: sp.Expr, v_eps: sp.Expr) -> sp.Expr:
 
 
 def coulomb(mu: sp.Expr, normal: sp.Expr, v_slide: sp.Expr, v_eps: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
-    """(friction force along the sliding direction, dissipated power): -mu N sigma(v), mu N sigma(v) v."""
+    """(friction force along the sliding direction, dissipated power): -mu N sigma(v), mu N sigma(v) v: the Coulomb
+    laws of Algorithm 1 (the groove), Algorithm 2 (the housing) and Eq. 73 (the spring), sign(v) of Eq. 54
+    regularised (:func:`slip_sign`)."""
     sigma = slip_sign(v_slide, v_eps)
     return -mu * sigma * normal, mu * normal * sigma * v_slide
 
