@@ -198,7 +198,8 @@ NOTES: dict[str, str] = {
     "54": "sign(v) regularised as tanh(v/v_eps); see Assumptions.",
     "63": "See Assumptions (damping).",
     "74": "The print's rs6 is not defined (Eq. 35 gives rs7 with an −x term); the derivation takes the moment about C with "
-          "the arm −ds2 X̂s + (b6 − Ws/2) Ŷs.",
+          "the arm −ds2 X̂s + (b6 − Ws/2) Ŷs. If the print's rs6 is measured from Og, as Eq. 35's −x term suggests, "
+          "Eq. 74 has the wrong arm that row 68 records as an erratum for the housing force.",
     "76.Pend": "See Assumptions (pend_rule).",
     "76.Ps": "See Assumptions (gap_pressure).",
     "7": "θ0 solves y_p1(θ0) = Wg/2, a quadratic in sin θ0 (geometry.truncation_angle).",
