@@ -3,7 +3,7 @@
 Phung, Sultan, Appuhamillage, "On the apex seal analysis of limaçon positive
 displacement machines", Mech. Mach. Theory 127 (2018) 126-145, transcribed
 equation by equation from the paper's Sections 2-4 (Eqs. 1-80, Algorithms 1-4;
-the PDF's text extraction scrambles equations, so each unclear one records the
+the paper's PDF text garbles some equations, so each unclear one records the
 reading checked and its alternative).
 
 Each :class:`Printed` holds what the paper *prints*, as sympy in the symbols of
@@ -92,7 +92,7 @@ class Printed:
     kind: str = CLOSED_FORM
     frame: str = "scalar"  # components: "scalar", "G" (X, Y), "S" (Xs, Ys), "R" (i, j), "list"
     printed: tuple[sp.Expr, ...] = ()
-    #: where the extraction is unclear or a term looks misprinted: the reading ``printed`` takes ...
+    #: where the PDF text is unclear or a term looks misprinted: the reading ``printed`` takes ...
     reading: str = ""
     #: ... and the other one, in words and (if comparable) as sympy
     alternative: str = ""
@@ -130,7 +130,7 @@ def _geometry() -> list[Printed]:
                 implemented_by="derive.symbols:PARAMETERS (zeta0 is a scene parameter)"),
         Printed("7", "truncation angle θ0 (in r, L)", "θ0 = asin(−L/(4r) + sqrt(L²/(4r)² + Wg/(4r)))",
                 printed=(sp.asin(-L / (4 * r) + s0),),
-                reading="radicand L²/(4r)² + Wg/(4r)", alternative="the radicand is scrambled in the extraction; "
+                reading="radicand L²/(4r)² + Wg/(4r)", alternative="the radicand is garbled in the paper's PDF text; "
                 "this is the reading for which the two printed forms agree"),
         Printed("7.b", "truncation angle θ0 (in b, L)", "θ0 = asin(−1/(4b) + sqrt(1/(4b)² + Wg/(4 L b)))",
                 printed=(sp.asin(-1 / (4 * b) + sp.sqrt(1 / (4 * b) ** 2 + Wg / (4 * L * b))),),
@@ -180,8 +180,8 @@ def _contact_points() -> list[Printed]:
         Printed("17", "groove mouth corner g1", "rg1 = (ds1 − ζ0 − δw) X̂ − (Wg/2) Ŷ", frame="G", printed=(Xg, -Wg / 2)),
         Printed("18", "groove mouth corner g3", "rg3 = (ds1 − ζ0 − δw) X̂ + (Wg/2) Ŷ", frame="G", printed=(Xg, Wg / 2)),
         Printed("19.c2", "back corner c2", "rcs2 = −ds2 X̂s − (Ws/2) Ŷs", frame="S", printed=(-ds2, -Ws / 2)),
-        Printed("19.c4", "back corner c4", "rcs4 = −ds1 X̂s + (Ws/2) Ŷs (extraction)", frame="S", printed=(-ds1, Ws / 2),
-                reading="−ds1 X̂s, as the extraction reads", alternative="−ds2 X̂s (the back face)",
+        Printed("19.c4", "back corner c4", "rcs4 = −ds1 X̂s + (Ws/2) Ŷs (PDF text)", frame="S", printed=(-ds1, Ws / 2),
+                reading="−ds1 X̂s, as the PDF text reads", alternative="−ds2 X̂s (the back face)",
                 alternative_printed=(-ds2, Ws / 2)),
         Printed("20", "contact point i1 (from C)",
                 "ri1 = [(l2 − ds2) cos ϕ + (Ws/2) sin ϕ] X̂ + [(l2 − ds2) sin ϕ − (Ws/2) cos ϕ] Ŷ", frame="G",
@@ -203,9 +203,9 @@ def _contact_points() -> list[Printed]:
                 free=("beta",)),
         Printed("27", "ao", "ao = ro (1 − cos β)", printed=(ro * (1 - sp.cos(beta)),), free=("beta",)),
         Printed("28", "b5", "b5 = ro sin β", printed=(ro * sp.sin(beta),), free=("beta",)),
-        Printed("29", "s5 stays on the groove axis", "y + (ds1 − ao) sin ϕ sin ϕ + b5 cos ϕ = 0 (extraction)",
+        Printed("29", "s5 stays on the groove axis", "y + (ds1 − ao) sin ϕ sin ϕ + b5 cos ϕ = 0 (PDF text)",
                 printed=(y + (ds1 - ao) * sp.sin(phi) ** 2 + b5 * sp.cos(phi),), free=("beta",),
-                reading="(ds1 − ao) sin ϕ sin ϕ, as the extraction reads",
+                reading="(ds1 − ao) sin ϕ sin ϕ, as the PDF text reads",
                 alternative="(ds1 − ao) sin ϕ (Eq. 26's Ŷ component, as Eq. 30 uses)",
                 alternative_printed=(y + (ds1 - ao) * sp.sin(phi) + b5 * sp.cos(phi),)),
         Printed("30", "Eq. 29 with Eqs. 27-28", "y + ds1 sin ϕ − ro (1 − cos β) sin ϕ + ro sin β cos ϕ = 0",
@@ -221,7 +221,7 @@ def _contact_points() -> list[Printed]:
                 printed=(sp.Piecewise((kw * xs5, xs5 > 0), (0, True)),)),
         Printed("35", "spring contact point at rest s7 / s6", "rs7 = (−x − ds2/cos ϕ − (Ws/2 − b6) sin ϕ) X̂ + "
                 "(Ws/2 − b6) cos ϕ Ŷ", kind=STRUCTURAL,
-                reading="as the PDF text extraction reads (badly scrambled; only ds2, x, Ws/2, "
+                reading="as the paper's PDF text reads (badly garbled; only ds2, x, Ws/2, "
                 "b6, sin ϕ, cos ϕ are certain)", alternative="not comparable: no reading puts the point on the back "
                 "face and on the groove axis", implemented_by="derive.contact_geometry:build (r_s6)"),
         Printed("36", "c2 to s6 along the back face", "b6 = Ws/2 + b5 − (ds1 − ao) tan ϕ − ds2 tan ϕ",
@@ -252,7 +252,7 @@ def _groove_forces() -> list[Printed]:
         Printed("40", "gap b1 at g1", "b1 = (rc + rcs2 − rg1)·Ŷs = −x sin ϕ + y cos ϕ − Ws/2 + (ds1 − ζ0 − δw) sin ϕ "
                 "+ (Wg/2) cos ϕ", printed=(-x * s + y * c - Ws / 2 + Xg * s + Wg / 2 * c,),
                 reading="order of the Ws/2, Wg/2 terms as the dot product gives",
-                alternative="the extraction scrambles the order of the Ws/2 and Wg/2 terms"),
+                alternative="the paper's PDF text garbles the order of the Ws/2 and Wg/2 terms"),
         Printed("41", "gap b2 at g2", "b2 = (rc + rcs2 − rg1)·Ŷ = y − ds2 sin ϕ − (Ws/2) cos ϕ + Wg/2",
                 printed=(y - ds2 * s - Ws / 2 * c + Wg / 2,), reading="as Eq. 40", alternative="as Eq. 40"),
         Printed("42", "gap b3 at g3", "b3 = −(rc + rcs4 − rg3)·Ŷs = x sin ϕ − y cos ϕ − Ws/2 − (ds1 − ζ0 − δw) sin ϕ "
@@ -265,17 +265,17 @@ def _groove_forces() -> list[Printed]:
         Printed("A1.friction", "Algorithm 1: groove friction, proportional to |bi| kgi",
                 "Fgi friction = −γi μ2 |bi| kgi (X̂s or X̂) if bi < 0", frame="list", printed=tuple(friction)),
         Printed("44", "pressure point s1 (mid i1-c1)", "rs1 = [(d − l1/2) cos ϕ + (Ws/2) sin ϕ] X̂ + "
-                "[(d − l1/2) sin ϕ − (Ws/2) cos ϕ] Ŷ, d = ds1 (extraction)", frame="G",
+                "[(d − l1/2) sin ϕ − (Ws/2) cos ϕ] Ŷ, d = ds1 (PDF text)", frame="G",
                 printed=((ds1 - l1 / 2) * c + Ws / 2 * s, (ds1 - l1 / 2) * s - Ws / 2 * c),
-                reading="d = ds1, as the extraction reads", alternative="d = ds0 (as Eq. 79 prints)",
+                reading="d = ds1, as the PDF text reads", alternative="d = ds0 (as Eq. 79 prints)",
                 alternative_printed=((ds0 - l1 / 2) * c + Ws / 2 * s, (ds0 - l1 / 2) * s - Ws / 2 * c)),
         Printed("45", "pressure point s2 (mid c2-i1)", "rs2 = [(l2/2 − ds2) cos ϕ + (Ws/2) sin ϕ] X̂ + "
                 "[(l2/2 − ds2) sin ϕ − (Ws/2) cos ϕ] Ŷ", frame="G",
                 printed=((l2 / 2 - ds2) * c + Ws / 2 * s, (l2 / 2 - ds2) * s - Ws / 2 * c)),
         Printed("46", "pressure point s3 (mid i2-c3)", "rs3 = [(d − l3/2) cos ϕ − (Ws/2) sin ϕ] X̂ + "
-                "[(d − l3/2) sin ϕ + (Ws/2) cos ϕ] Ŷ, d = ds1 (extraction)", frame="G",
+                "[(d − l3/2) sin ϕ + (Ws/2) cos ϕ] Ŷ, d = ds1 (PDF text)", frame="G",
                 printed=((ds1 - l3 / 2) * c - Ws / 2 * s, (ds1 - l3 / 2) * s + Ws / 2 * c),
-                reading="d = ds1, as the extraction reads", alternative="d = ds0 (as Eq. 79 prints)",
+                reading="d = ds1, as the PDF text reads", alternative="d = ds0 (as Eq. 79 prints)",
                 alternative_printed=((ds0 - l3 / 2) * c - Ws / 2 * s, (ds0 - l3 / 2) * s + Ws / 2 * c)),
         Printed("47", "pressure point s4 (mid c4-i2)", "rs4 = [(l4/2 − ds2) cos ϕ − (Ws/2) sin ϕ] X̂ + "
                 "[(l4/2 − ds2) sin ϕ + (Ws/2) cos ϕ] Ŷ", frame="G",
@@ -432,7 +432,7 @@ def _pressure() -> list[Printed]:
                 "(no rule printed)", kind=ASSUMPTION, implemented_by="derive.submodels.pressure:ChamberPressure"),
         Printed("77", "point s8 of Fs8 (moment of Fs8 about C)", "rs8 = (ds1 − ro) X̂s + ro e^{j(β − βo)/2}",
                 printed=(moment(r8, F8),), reading="each point at the middle of its arc: (β − βo)/2 for s8",
-                alternative="(β + βo)/2 for s8 (the extraction mixes the two)",
+                alternative="(β + βo)/2 for s8 (the paper's PDF text mixes the two)",
                 alternative_printed=(moment(r8_alt, F8),)),
         Printed("78", "point s9 of Fs9 (moment of Fs9 about C)", "rs9 = (ds1 − ro) X̂s + ro e^{j(β + βo)/2}",
                 printed=(moment(r9, F9),), reading="(β + βo)/2 for s9", alternative="(β − βo)/2 for s9",

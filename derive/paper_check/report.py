@@ -52,7 +52,7 @@ def _errata_section(rows) -> list[str]:
     diffs = [r for r in rows if r.status == "differs"]
     out = ["## Errata", "",
            "Where the print differs from the derivation. *physics*: the printed law or geometry is wrong or",
-           "inconsistent; *typesetting*: a misprint (or an extraction error) that the paper's own neighbouring",
+           "inconsistent; *typesetting*: a misprint (or garbled PDF text) that the paper's own neighbouring",
            "equations contradict.", "",
            "| Eq. | what | kind | printed − derived | example (printed vs derived) |", "|---|---|---|---|---|"]
     for r in diffs:
@@ -99,7 +99,7 @@ def _all_rows_section(rows) -> list[str]:
 
 
 def _readings_section(rows) -> list[str]:
-    out = ["## Readings of unclear or misprinted extractions", "",
+    out = ["## Readings of unclear or misprinted equations", "",
            "| Eq. | reading checked | alternative | alternative vs derivation |", "|---|---|---|---|"]
     for r in rows:
         if r.reading:

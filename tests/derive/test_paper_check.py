@@ -42,14 +42,14 @@ EXPECTED = {
     "A3": "agrees", "A4": "structural",
 }
 
-#: physics errata vs misprints (typesetting or extraction)
+#: physics errata vs misprints (typesetting or garbled PDF text)
 KINDS = {
     "9.F": "physics", "19.c4": "typesetting", "29": "typesetting", "36": "physics", "38": "physics", "39": "physics",
     "A1.friction": "physics", "44": "typesetting", "46": "typesetting", "67": "physics", "68": "physics",
     "73.friction": "physics",
 }
 
-#: does the alternative reading of an unclear extraction agree with the derivation?
+#: does the alternative reading of an unclear equation agree with the derivation?
 ALTERNATIVES = {"8": "differs", "19.c4": "agrees", "29": "agrees", "37": "differs", "44": "agrees", "46": "agrees",
                 "77": "differs", "78": "differs"}
 
