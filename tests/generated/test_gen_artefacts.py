@@ -181,3 +181,38 @@ def test_the_stage_timing_command_reads_every_stage_of_both_generations(capsys):
         assert all(len(v) == 1 and v[0] >= 0 for v in times[flags].values())
     assert times["optimised"]["derive"][0] < times["quick"]["derive"][0]  # the derivation came from the cache
     assert "medians of 1, quick: derive" in capsys.readouterr().out
+
+
+#: modules a generation imports that do not shape what it writes, and why
+NOT_SHAPING = {
+    "apexseal.generated": "the package",
+    "apexseal.runtime": "the package",
+    "apexseal.runtime.solving": "the package",
+    "apexseal.runtime.solving.settings": "PRESSURE_PROFILES, the names the hybrid DAE checks its argument against",
+    "apexseal.runtime.scenes": "the package (settings' errors and units)",
+    "apexseal.runtime.scenes.errors": "settings' error messages",
+    "apexseal.runtime.scenes.units": "settings' units",
+    "apexseal.runtime.scenes.unit_memo": "settings' unit conversions, remembered",
+}
+
+
+def test_every_module_that_shapes_the_generated_files_is_an_input_of_their_hash(tmp_path):
+    """The manifest's input hash covers the generator's and the hybrid DAE's modules by name (GENERATOR_MODULES,
+    SOLVING_MODULES): a module the station imports and the hash leaves out could change the C behind the
+    manifest's back (dropping hybrid.py from the list went unnoticed by every other test). A new process
+    generates, and every module of generated/ and runtime/ it imported is either in the lists or named above."""
+    import subprocess
+    import sys
+
+    from apexseal.generated.manifest import GENERATOR_MODULES, SOLVING_MODULES
+
+    code = ("import sys; from pathlib import Path; from apexseal.generated.generate import generate; "
+            f"generate(out_dir=Path({str(tmp_path / 'g')!r}), compile=False, echo=None); "
+            "print(' '.join(m for m in sys.modules if m.startswith(('apexseal.generated', 'apexseal.runtime'))))")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    imported = set(run.stdout.split())
+    hashed = {f"apexseal.generated.{m.removesuffix('.py')}" for m in GENERATOR_MODULES} | {
+        f"apexseal.runtime.solving.{m.removesuffix('.py')}" for m in SOLVING_MODULES}
+    assert imported - hashed - set(NOT_SHAPING) == set()
+    assert {"apexseal.runtime.solving.hybrid", "apexseal.generated.lower"} <= imported

@@ -97,3 +97,44 @@ def test_every_hard_scene_passes_the_preflight(default_functions):
             if sc.effects.chamber_pressure else np.zeros(2)
         assert speed_problem(fns, p) is None, name
         assert start_problem(fns, p, th, initial_state(sc), u) is None, name
+
+
+def _beyond_each_bound():
+    from apexseal.derive.submodels.registry import parameters
+
+    for p in parameters(all_inputs=True):
+        if p.key is None:
+            continue
+        for kind, bound in (("gt", p.gt), ("ge", p.ge), ("lt", p.lt), ("le", p.le)):
+            if bound is not None:
+                step = max(abs(bound), 1e-9) * 1e-6  # just past a closed bound; an open one is its own value
+                value = {"gt": bound, "ge": bound - step, "lt": bound, "le": bound + step}[kind]
+                yield pytest.param(p.key, value if p.unit == "1" else f"{value!r} {p.unit}", id=f"{p.key}-{kind}")
+
+
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.scenes.units.PlausibilityWarning")
+@pytest.mark.parametrize("key, value", list(_beyond_each_bound()))
+def test_every_declared_bound_is_enforced(default_scene, key, value):
+    """Each submodel's declared range (gt, ge, lt, le) refuses a value just past it, naming the key: a bound
+    dropped from a declaration (friction.mus < 1, which keeps the spring's friction below its normal force) went
+    unnoticed by every other test."""
+    with pytest.raises(SceneError) as info:
+        default_scene.with_overrides(**{key: value})
+    assert key in info.value.keys()
+
+
+def test_the_start_penetration_limit_is_a_tenth_of_the_seal_width(default_scene, default_functions):
+    """start_problem refuses a start more than 0.1 Ws (300 um) inside a wall and takes one just inside that: y
+    beyond the 30 um side clearance presses a groove contact in by about |y| - 30 um (a limit ten times larger
+    passed every other test)."""
+    from apexseal.runtime.solving.preflight import start_problem
+
+    fns, p = default_functions.sx, default_scene.parameter_vector()
+    u = np.array([1e5, 1e5])
+
+    def problem(y: float):
+        return start_problem(fns, p, 0.0, np.array([0.0, y, 0.0, 0.0, 0.0, 0.0]), u)
+
+    assert problem(320e-6) is None
+    refused = problem(350e-6)
+    assert refused is not None and "inside a wall" in refused and "0.1 Ws = 300 µm" in refused

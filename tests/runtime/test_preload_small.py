@@ -155,10 +155,11 @@ def test_groove_excess_is_zero_exactly_when_the_bound_holds_between_samples(ligh
     assert peak > 10.0 and excess[10.0] > 0.0 and excess[9.0] > excess[10.0] > excess[11.0] >= 0.0
 
 
-def test_groove_row_of_the_jacobian_is_the_constraint_derivative(light):
-    """The hand-assembled Jacobian's groove-excess row (compiled forward sensitivities) against central differences,
-    on a 2-knot schedule whose groove forces exceed the bound between samples (the study's compiled units, shared
-    with the studies above through the cache)."""
+def _two_knot_nlp(light):
+    """The NLP of a 2-knot schedule (1.7, 1.8 mm) whose groove forces exceed a 10 N bound between samples, at the
+    simulated schedule's node states: (the NLP, its point, the hand-assembled Jacobian there, the simulation, a
+    central difference of row ``row`` along variable ``i`` with step ``h``). The study's compiled units, shared with
+    the studies above through the cache."""
     setup = _setup(light, 10.0)  # the excess is smooth in the preload here: 8.0e-3, 8.9e-3, 9.8e-3 at 1.70, 1.75,
     sf = study_functions(setup, SAMPLES // NODES)  # 1.80 mm (measured)
     g0 = SegmentGrid(SAMPLES, NODES, 2, setup.theta_start, setup.dth)
@@ -168,19 +169,44 @@ def test_groove_row_of_the_jacobian_is_the_constraint_derivative(light):
     v0 = np.r_[kn / MM, nlp.W0]
     V = ca.MX.sym("V", v0.size)
     J = np.array(ca.Function("J", [V], [ca.jacobian(nlp.G(V), V)])(v0))
+
+    def fd(row, i, h):
+        e = np.zeros(v0.size)
+        e[i] = h
+        return (float(nlp.G(v0 + e)[row]) - float(nlp.G(v0 - e)[row])) / (2 * h)
+
+    return nlp, v0, J, sim, fd
+
+
+def test_groove_row_of_the_jacobian_is_the_constraint_derivative(light):
+    """The hand-assembled Jacobian's groove-excess row (compiled forward sensitivities) against central
+    differences."""
+    nlp, v0, J, _, fd_row = _two_knot_nlp(light)
     row = nlp.n_con - 1  # the groove excess: after the defects and the deficit
     assert J.shape[0] == nlp.n_con + 1 and abs(J[row, :2]).max() > 0
 
     def fd(i, h):
-        e = np.zeros(v0.size)
-        e[i] = h
-        return (float(nlp.G(v0 + e)[row]) - float(nlp.G(v0 - e)[row])) / (2 * h)
+        return fd_row(row, i, h)
 
     for i in (0, 1):  # both knots: ~186 and ~60 per mm (the excess over its bound); the node states move it by
         # less than the rtol noise of a difference quotient (measured: 0.08, 0.16, 2.4, -3.6 for steps 3e-2..1e-3)
         a, b = fd(i, 1e-2), fd(i, 3e-3)
         assert a == pytest.approx(b, rel=0.02)
         assert J[row, i] == pytest.approx(b, rel=0.02)
+
+
+def test_the_objective_is_the_cycle_mean_friction_power_and_its_row_its_derivative(light):
+    """The NLP's objective at the simulated schedule's states is the schedule's cycle-mean friction power (W), and
+    its Jacobian row is its derivative: a scaling of the objective (the power without its division by 2 pi) left
+    every optimum test passing, since IPOPT finds the same optimum of a scaled objective."""
+    nlp, v0, J, sim, fd = _two_knot_nlp(light)
+    row = nlp.n_con  # the objective: the last entry of G
+    # to the cycle's closure: the NLP's revolution starts at nodes shifted from the simulation's grid
+    # (_node_offset), through states of a last revolution that is periodic only to its settling (0.1 % here)
+    assert float(nlp.G(v0)[row]) == pytest.approx(sim.friction_power, rel=1e-2) and sim.friction_power > 0
+    for i in (0, 1):
+        b = fd(row, i, 3e-3)
+        assert abs(b) > 0 and J[row, i] == pytest.approx(b, rel=0.02)
 
 
 if __name__ == "__main__":  # python tests/runtime/test_preload_small.py: the numbers of README's preload section

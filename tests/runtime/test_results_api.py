@@ -105,6 +105,30 @@ def test_summary_is_public(result):
     assert s["housing_force_spectrum_peaks"]
 
 
+def test_means_are_of_the_computed_samples_and_the_spectrum_gives_amplitudes(result):
+    """The run's means leave the start sample out (each later sample ends a computed interval), and the housing
+    force spectrum reads a sine's amplitude, not half of it (both survived a mutation of the code before)."""
+    from apexseal.runtime.results.result import run_mean
+    from apexseal.runtime.results.summary import spectrum
+
+    assert run_mean(np.array([100.0, 1.0, 3.0])) == 2.0 and np.isnan(run_mean(np.array([5.0])))
+    pf = result.outputs["Pf_total"]
+    assert pf[0] != pf[1:].mean()  # a start sample that would move the mean if it were counted
+    assert result.summary()["mean_friction_power_W"]["total"] == pytest.approx(pf[1:].mean(), rel=1e-12)
+    n, dt, w0 = 4096, 1e-4, 2 * np.pi * 64 / (4096 * 1e-4)  # 64 periods: w0 on a bin
+    t = np.arange(n) * dt
+    w, amp = spectrum(3.0 * np.sin(w0 * t) + 7.0, dt)
+    assert w[np.argmax(amp)] == pytest.approx(w0) and amp.max() == pytest.approx(3.0, rel=1e-3)
+
+
+def test_liftoff_fraction_is_the_share_of_modes_with_the_tip_off_the_housing():
+    from apexseal.runtime.results.quantities import _get
+
+    summary = {"mode_fraction": {"q1_h_s": 0.6, "q1_h0_s": 0.3, "p2_h0_s0": 0.1}}
+    assert _get(summary, "liftoff_fraction") == pytest.approx(0.4)
+    assert np.isnan(_get({"mode_fraction": {"q1_s": 1.0}}, "liftoff_fraction"))  # no housing contact
+
+
 def test_plots_return_figures_and_leave_the_backend_alone(result):
     import matplotlib.pyplot as plt
 

@@ -174,6 +174,15 @@ def test_zeta0_from_the_truncation_of_a_circular_lobe(scene):
     assert z > 0 and s.parameters["zeta0"] == pytest.approx(z)
 
 
+def test_no_housing_contact_means_no_initial_wall_deflection(scene):
+    """Without the housing contact nothing deflects the wall (Eq. 9), though kw is still given: delta_w = 0 and
+    the tip starts at Li = L - ds1 (Eq. 12); with the spring alone deciding, delta_w was ks delta_s / kw."""
+    s = scene.with_overrides(**{"effects.housing_contact": False, "effects.housing_damping": False,
+                                "effects.housing_friction": False})
+    assert scene.contacts.kw is not None and scene.parameters["delta_w"] > 0
+    assert s.parameters["delta_w"] == 0.0 and s.parameters["Li"] == s.machine.L - s.seal.ds1
+
+
 def test_no_spring_means_no_initial_wall_deflection(scene):
     s = scene.with_overrides(
         **{"effects.spring": False, "effects.spring_damping": False, "effects.spring_friction": False}

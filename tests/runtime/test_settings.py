@@ -185,3 +185,15 @@ def test_interpreted_through_the_api_runs_the_interpreted_functions(default_scen
     r = apexseal.simulate(default_scene, interpreted=True, compile="quick", samples_per_revolution=36,
                           method="rk", steps_per_revolution=3600)
     assert asked == [(False, "quick")] and r.info["compiled"] is False and r.scene.solver.interpreted is True
+
+
+def test_the_absolute_tolerance_and_the_chamber_pressures_reach_the_run(default_scene, default_functions):
+    """solver.atol is the integrator's abstol (it was rtol whatever the scene said, and no test noticed), and the
+    result's Pa and Pb columns are chamber a's and chamber b's (a swap of the two went unnoticed too)."""
+    scene = default_scene.with_overrides(pressure={"source": "constant", "Pa": "6 bar", "Pb": "1 bar"})
+    kw = dict(functions=default_functions.sx, samples_per_revolution=36, compile_c=False, revolutions=1)
+    tight = apexseal.simulate(scene, rtol=1e-6, **kw)
+    loose = apexseal.simulate(scene, rtol=1e-6, atol=1e-2, **kw)
+    assert tight.status == loose.status == "completed"
+    assert np.abs(tight.state - loose.state).max() > 0  # another step sequence: the atol was used
+    assert np.all(tight.outputs["Pa"] == 6e5) and np.all(tight.outputs["Pb"] == 1e5)

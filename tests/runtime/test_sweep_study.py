@@ -36,7 +36,10 @@ def test_sampled_designs_stay_in_the_box_and_repeat_with_the_seed(kind):
     ds = np.array([p["spring.delta_s"] for p in a])
     assert ks.min() >= 3000 and ks.max() <= 20000 and ds.min() >= 0.001 and ds.max() <= 0.004
     assert len(set(ks)) == 32  # continuous, not snapped to the grid
-    assert (np.log(ks) < np.log(3000 * 20000) / 2).sum() in range(8, 25)  # log scale: spread in log space
+    # log scale: half the points below the geometric mean, as the unit cube's are below 0.5 (exactly for the
+    # balanced designs; a linear mapping put 22-23 of 32 there, and range(8, 25) let that pass)
+    below = (np.log(ks) < np.log(3000 * 20000) / 2).sum()
+    assert below == 16 if kind in ("sobol", "halton", "lhs") else below in range(10, 23)
 
 
 def test_listed_values_are_categorical_in_a_sampled_design():
