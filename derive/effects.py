@@ -91,9 +91,9 @@ class Effects(TableView):
 
     @property
     def label(self) -> str:
-        """Short stable label of the model's effects, used in cache keys and file names: "all" when every effect is
-        on, but for those of a user's submodel that is off, which enter no model
-        (:func:`~.submodels.registry.left_out_options`)."""
+        """Short label of the model's effects, for messages and the generated header: "all" when every effect is
+        on, but for those of a user's submodel that enters no model (off at its defaults,
+        :func:`~.submodels.registry.left_out_options`)."""
         from .options import Options
         from .submodels.registry import left_out_options
 

@@ -174,23 +174,35 @@ def _replace(old: type[Submodel], new: type[Submodel]) -> type[Submodel]:
 
 
 def extended(opts=None) -> bool:
-    """True while a user's submodel is registered besides the built-in ones; with ``opts``, while one is on under
-    those options (the committed default artefacts, generated from the built-in registry, are then not for that
-    model; a user's submodel that is off leaves every model as it was, :func:`entering`)."""
+    """True while a user's submodel is registered besides the built-in ones; with ``opts``, while one enters a
+    model of those options (:func:`entering`: the committed default artefacts, generated from the built-in
+    registry, are then not for that model; one that is off at its defaults leaves every model as it was)."""
     _ensure()
-    return any(not built_in(cls) and (opts is None or cls.active(opts)) for cls in _registry.values())
+    return any(not built_in(cls) and (opts is None or not untouched(cls, opts)) for cls in _registry.values())
 
 
 def entering(opts) -> tuple[type[Submodel], ...]:
     """The submodels a model of the options ``opts`` is derived from, as far as its cache keys go: the built-in
-    ones (their sources are the derivation's own), and a user's or a package's while it is on. One that is off
-    never enters the derivation, so registering or installing it changes no model's key (:func:`digest`,
-    :func:`apexseal.derive.cache.model_inputs`)."""
-    return tuple(cls for cls in submodels() if built_in(cls) or cls.active(opts))
+    ones (their sources are the derivation's own), and a user's or a package's unless it is off with every option
+    of its own at its default (:func:`untouched`). Such a one is the model without it, so registering or
+    installing it changes no model's key (:func:`digest`, :func:`apexseal.derive.cache.model_inputs`). One that is
+    on, or off against its default, or with a choice of its own made, enters: its options are then recorded (a
+    manifest reads its effects back from them) and a submodel that reads another's option gets its own key."""
+    return tuple(cls for cls in submodels() if built_in(cls) or not untouched(cls, opts))
+
+
+def untouched(cls: type[Submodel], opts) -> bool:
+    """Submodel ``cls`` is off under ``opts`` and every option slot it declares has the value the default options
+    give it (a child under a parent that is off: "none")."""
+    from ..options import Options
+
+    defaults = Options()
+    return not cls.active(opts) and all(opts[o.name] == defaults[o.name] for o in cls.options)
 
 
 def left_out_options(opts) -> frozenset[str]:
-    """The option slots of the submodels that do not enter a model of ``opts`` (:func:`entering`)."""
+    """The option slots of the submodels that do not enter a model of ``opts`` (:func:`entering`): each at its
+    default, so a record without them reads back as the same options."""
     entered = set(entering(opts))
     return frozenset(o.name for cls in submodels() if cls not in entered for o in cls.options)
 

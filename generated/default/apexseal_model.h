@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 5ca86e1d3cafb97f3d919779a66ec185e16a5c488cac2b98300403b0b5a761d3.
+ * Effects: all. Input hash: 6f6a21290b12ff13f4067b7e51046b44fcc5a1d19f510c6118ce2e410f05727b.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "5ca86e1d3cafb97f3d919779a66ec185e16a5c488cac2b98300403b0b5a761d3"
+#define APEXSEAL_INPUT_HASH "6f6a21290b12ff13f4067b7e51046b44fcc5a1d19f510c6118ce2e410f05727b"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ...files import try_lock_folder
-from .folder import SCENE_FILE, ResultFolderError, check_stamp, read_part, read_record
+from .folder import SCENE_FILE, ResultFolderError, check_stamp, read_part, read_record, scene_of_result
 from .result import SimulationResult
 
 #: the folder a run killed outright leaves beside its target (runtime/results/folder.py)
@@ -96,9 +96,7 @@ def continuation(folder: str | Path, read: SimulationResult | None = None) -> Co
         _not_being_written(newer)
         raise ResultFolderError(f"a continuation of this run was stopped outright and left {newer}: resume that "
                                 "folder, which holds more of the run, or remove it")
-    from ..scenes.scene import load_scene
-
-    scene = load_scene(folder / SCENE_FILE)
+    scene = scene_of_result(folder, record["info"])  # a SceneError becomes a ResultFolderError naming packages
     if scene.content_hash() != record["info"].get("scene_hash"):
         from ...derive.submodels.registry import installed
 

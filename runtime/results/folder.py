@@ -510,14 +510,14 @@ def read(folder: str | Path) -> SimulationResult:
     result = join(parts, meta["status"], stop, meta["info"])
     result.info.setdefault("run_id", run_id)
     if (folder / SCENE_FILE).is_file():
-        result.scene = _scene_of(folder, result.info)
+        result.scene = scene_of_result(folder, result.info)
     theta = result.theta
     if theta.size > 1 and not (np.diff(theta) > 0).all():
         raise ResultFolderError(f"{folder}: the parts do not follow each other (crank angle not increasing)")
     return result
 
 
-def _scene_of(folder: Path, info: dict):
+def scene_of_result(folder: Path, info: dict):
     """The result's scene.toml, loaded; a ResultFolderError naming the folder when it does not load here (a submodel
     of the run's that this process lacks: its package, from the result's versions, is named)."""
     from apexseal.derive.submodels.registry import installed
@@ -531,8 +531,8 @@ def _scene_of(folder: Path, info: dict):
         here = installed()
         missing = [f"{k.removeprefix('submodel ')} ({v})" for k, v in info.get("versions", {}).items()
                    if k.startswith("submodel ") and k.removeprefix("submodel ") not in here]
-        hint = (f"; the run had submodels this process lacks: {', '.join(missing)}: install them to read it"
-                if missing else "")
+        hint = (f"; the run was made where submodels this process lacks were installed: {', '.join(missing)}: if "
+                f"the scene names their keys, install them to read it" if missing else "")
         raise ResultFolderError(f"{folder}: its {SCENE_FILE} does not load here{hint}\n{err}") from err
 
 

@@ -146,8 +146,7 @@ def check_seal(s: SealSection, raw: dict[str, Any]) -> list[Problem]:
             Problem(
                 "seal.zeta0",
                 raw_at(raw, ["seal", "zeta0"]),
-                f"the seal would leave its groove (Eq. 17); allowed: 0 <= zeta0 < ds1 + ds2 = "
-                f"{_mm(s.ds1 + s.ds2)}",
+                f"the seal would leave its groove (Eq. 17); allowed: {zeta0_range(s)}",
             )
         )
     if s.density is None and (s.ms is None or s.Icg is None):
@@ -181,6 +180,15 @@ def check_seal_in_rotor(m: MachineSection, s: SealSection, raw: dict[str, Any]) 
             f"a seal cannot be longer than the machine is deep; allowed: <= machine.H = {_mm(m.H)}",
         ))
     return out
+
+
+def zeta0_range(s: SealSection) -> str:
+    """The allowed protrusion, as messages show it: the groove's mouth below the tip arc (:func:`mouth_on_flank`)
+    and the seal in its groove (Eq. 17)."""
+    top = f"zeta0 < ds1 + ds2 = {_mm(s.ds1 + s.ds2)}"
+    if not s.ro >= s.Ws / 2 or tip_numbers(s)[1] <= -s.ds2:  # no valid tip arc: check_seal reports it
+        return f"0 <= {top}"
+    return f"ro (1 - cos beta_o) = {_mm(s.ds1 - tip_numbers(s)[1])} < {top}"
 
 
 def mouth_on_flank(s: SealSection, zeta0: float, key_value) -> list[Problem]:
@@ -230,8 +238,7 @@ def check_zeta0(m: MachineSection, s: SealSection) -> list[Problem]:
         Problem(
             "seal.zeta0",
             MISSING,
-            f"not given, and {why}; give seal.zeta0 explicitly; allowed: 0 <= zeta0 < ds1 + ds2 = "
-            f"{_mm(s.ds1 + s.ds2)}",
+            f"not given, and {why}; give seal.zeta0 explicitly; allowed: {zeta0_range(s)}",
         )
     ]
 

@@ -112,7 +112,7 @@ def _naming_overrides(overrides: dict[str, Any]):
     try:
         yield
     except SceneError as err:
-        source = f"{err.source or 'scene'} with {', '.join(overrides)} replaced"
+        source = f"{err.source + ' ' if err.source else ''}with {', '.join(overrides)} replaced"
         raise SceneError(err.errors, source=source) from None
 
 
@@ -403,23 +403,17 @@ class Scene:
 
     def left_out_keys(self) -> frozenset[str]:
         """The dotted keys of the submodels that enter no model of this scene (a user's or a package's that is
-        off, :func:`~apexseal.derive.submodels.registry.entering`): their parameters, and their switches and
-        choices where the scene leaves them at their defaults. Neither the scene's content (:meth:`to_dict`,
+        off with its options at their defaults, :func:`~apexseal.derive.submodels.registry.entering`): their
+        parameters, switches and choices. Neither the scene's content (:meth:`to_dict`,
         :meth:`content_hash`) nor its resolved file holds them, so installing a package changes neither, and a
         result that never ran it still loads where the package is not installed."""
         from apexseal.derive.options import options_of
         from apexseal.derive.submodels.registry import entering, submodels
 
-        opts = options_of(self.effects, self.assumptions)
-        entered = set(entering(opts))
-        current = {**self.effects.choices(), **self.assumptions.as_dict()}
-        keys = set()
-        for cls in submodels():
-            if cls in entered:
-                continue
-            keys |= {p.key for p in cls.parameters if p.key is not None}
-            keys |= {f"{o.table}.{o.name}" for o in cls.options if current.get(o.name) == o.default}
-        return frozenset(keys)
+        entered = set(entering(options_of(self.effects, self.assumptions)))
+        return frozenset(key for cls in submodels() if cls not in entered
+                         for key in [*(p.key for p in cls.parameters if p.key is not None),
+                                     *(f"{o.table}.{o.name}" for o in cls.options)])
 
     def content_hash(self) -> str:
         """sha256 of the normalised content (including the pressure table's numbers).

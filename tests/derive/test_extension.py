@@ -200,6 +200,32 @@ def test_a_users_submodel_that_is_off_changes_no_models_keys():
         assert not is_default(on, Assumptions())
 
 
+def test_a_users_submodel_enters_the_keys_once_a_scene_touches_its_options(tmp_path):
+    """Left out only while it is off with its options at their defaults: a submodel on by default and switched
+    off, or one whose own choice is made, enters the keys, so its options are recorded and read back (a manifest
+    that left out the switch of a submodel on by default read it back on and called its own artefacts stale), and
+    two choices of it never share a key (a submodel that is on may read another's option)."""
+    from apexseal.derive.assumptions import Assumptions
+    from apexseal.derive.cache import derivation_key
+    from apexseal.derive.effects import Effects
+    from apexseal.generated.generate import generate
+    from apexseal.generated.load import is_default
+    from apexseal.generated.manifest import input_hash, verify
+
+    on_by_default = type("Pad", (Submodel,), {"name": "pad", "__module__": "elsewhere", "switch": "pad", "options": (
+        Option("pad", (ON, NONE), "a pad, on unless a scene switches it off"),
+        Option("pad_law", ("linear", "cubic"), "its law", table="assumptions"))})
+    with registry.registered(on_by_default):
+        off = Effects(pad=False)
+        assert not registry.untouched(on_by_default, Options({"pad": NONE}))
+        assert not is_default(off, Assumptions())
+        manifest = generate(off, Assumptions(), tmp_path / "gen", compile=False, echo=None)
+        assert manifest.effects == off  # read back from its record as it was asked for
+        verify(tmp_path / "gen", expected_hash=input_hash(off, Assumptions()), trusted=True)  # not stale
+        linear, cubic = (Assumptions.from_mapping({"pad_law": law}) for law in ("linear", "cubic"))
+        assert derivation_key(off, linear) != derivation_key(off, cubic)
+
+
 def test_a_derivation_cached_without_a_users_submodel_serves_the_model_with_it_off(tmp_path, monkeypatch):
     """The same key with and without a submodel that is off: the cached model is served (not derived again) with
     the caller's effects, so its options name the user's switch."""
@@ -265,7 +291,7 @@ def test_a_result_whose_scene_needs_a_missing_submodel_names_its_package(tmp_pat
     """show, compare, --resume and SimulationResult.load read a result's scene.toml: one that does not load here
     (a submodel of the run's not installed) is a ResultFolderError naming the folder and the package, not a
     traceback."""
-    from apexseal.runtime.results.folder import ResultFolderError, _scene_of
+    from apexseal.runtime.results.folder import ResultFolderError, scene_of_result
     from apexseal.runtime.scenes.resolved import resolved_toml
 
     with registry.registered(Cushion):
@@ -273,9 +299,10 @@ def test_a_result_whose_scene_needs_a_missing_submodel_names_its_package(tmp_pat
     (tmp_path / "scene.toml").write_text(text)
     for name, body in files.items():
         (tmp_path / name).write_text(body)
-    with pytest.raises(ResultFolderError, match=r"(?s)scene.toml does not load here; the run had submodels this "
-                                                r"process lacks: cushion \(seal-extras 0.2\).*effects.cushion"):
-        _scene_of(tmp_path, {"versions": {"apexseal": "0.1.0", "submodel cushion": "seal-extras 0.2"}})
+    with pytest.raises(ResultFolderError, match=r"(?s)scene.toml does not load here; the run was made where "
+                                                r"submodels this process lacks were installed: cushion "
+                                                r"\(seal-extras 0.2\).*effects.cushion"):
+        scene_of_result(tmp_path, {"versions": {"apexseal": "0.1.0", "submodel cushion": "seal-extras 0.2"}})
 
 
 def test_without_a_users_submodel_the_registry_is_not_extended():

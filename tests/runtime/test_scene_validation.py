@@ -357,7 +357,7 @@ CASES = [
         {"seal.zeta0": "9 mm"},
         "seal.zeta0",
         '"9 mm"',
-        ["leave its groove", "allowed: 0 <= zeta0 < ds1 + ds2 = 8 mm"],
+        ["leave its groove", "allowed: ro (1 - cos beta_o) = 0.401924 mm < zeta0 < ds1 + ds2 = 8 mm"],
     ),
     (
         "zeta0-not-computable",
@@ -368,7 +368,7 @@ CASES = [
             "truncation z of Eqs. 6-8",
             "-0.581553 mm (<= 0)",
             "give seal.zeta0 explicitly",
-            "allowed: 0 <= zeta0 < ds1 + ds2 = 8 mm",
+            "allowed: ro (1 - cos beta_o) = 0.401924 mm < zeta0 < ds1 + ds2 = 8 mm",
         ],
     ),
     (
@@ -379,7 +379,7 @@ CASES = [
         [
             "the groove truncation z of Eqs. 6-8 is undefined",
             "give seal.zeta0 explicitly",
-            "allowed: 0 <= zeta0",
+            "allowed: ro (1 - cos beta_o) = 0.401924 mm < zeta0",
         ],
     ),
     (
@@ -390,7 +390,7 @@ CASES = [
         [
             "not below ds1 + ds2 = 8 mm",
             "give seal.zeta0 explicitly",
-            "allowed: 0 <= zeta0 < ds1 + ds2 = 8 mm",
+            "allowed: ro (1 - cos beta_o) = 0.401924 mm < zeta0 < ds1 + ds2 = 8 mm",
         ],
     ),
     (

@@ -37,7 +37,7 @@ def test_sampled_designs_stay_in_the_box_and_repeat_with_the_seed(kind):
     assert ks.min() >= 3000 and ks.max() <= 20000 and ds.min() >= 0.001 and ds.max() <= 0.004
     assert len(set(ks)) == 32  # continuous, not snapped to the grid
     # log scale: half the points below the geometric mean, as the unit cube's are below 0.5 (exactly for the
-    # balanced designs; a linear mapping put 22-23 of 32 there, and range(8, 25) let that pass)
+    # balanced designs; a linear mapping put 8-9 of 32 there, and range(8, 25) let that pass)
     below = (np.log(ks) < np.log(3000 * 20000) / 2).sum()
     assert below == 16 if kind in ("sobol", "halton", "lhs") else below in range(10, 23)
 
