@@ -98,3 +98,10 @@ def test_a_damping_ratio_whose_damping_is_off_is_no_unknown(scene):
     with pytest.raises(CalibrationError, match=r"unknown = 'zeta_w': effects.housing_damping is off, so nothing "
                                                r"reads it"):
         calibrate(off, ranges={"kw": (3e8, 1e9), "zeta_w": (0.05, 0.2)})
+
+
+def test_the_groove_stiffness_unknown_sets_all_four_contacts():
+    """kg is one unknown for the four groove contacts (setting three of them went unnoticed)."""
+    from apexseal.runtime.studies.calibration.fit import overrides
+
+    assert overrides({"kg": 5e8, "kw": 2e9}) == {**{f"contacts.kg{i}": 5e8 for i in range(1, 5)}, "contacts.kw": 2e9}

@@ -144,6 +144,8 @@ MIXED = [
     ("truncated-guard-list", _truncated_guards, "closed has shape"),
     ("result-json-of-another-run", _old_result_json, "sha256 differs"),
     ("csv-of-another-run", lambda a, b: shutil.copy(b / "trajectory.csv", a / "trajectory.csv"), "mixed folder"),
+    ("scene-of-another-run", lambda a, b: (a / "scene.toml").write_text(  # stamped as a run writes it, b's id
+        (b / "trajectory.csv").read_text().splitlines()[0] + "\n"), "scene.toml belongs to run"),
     ("legacy-record", lambda a, b: (a / "result.json").write_text('{"status": "completed"}'), "older apexseal"),
     ("missing-part", lambda a, b: (a / "parts" / "part-00000.npz").unlink(), "missing"),
     ("not-a-result", lambda a, b: (a / "result.json").unlink(), "no result.json"),
@@ -573,3 +575,19 @@ apexseal.simulate(scene, revolutions=400, out={str(tmp_path / "M")!r})
 
     kept = SimulationResult.load(tmp_path / "M")
     assert kept.status == "interrupted" and "SIGTERM" in kept.stop.describe()
+
+
+def test_a_signal_ends_the_watched_engines_deadline_at_once():
+    """A signal sets the deadline of every engine being watched to the past, so an engine that checks its deadline
+    inside a call stops there, not at the call's end (a handler that only noted the signal went unnoticed)."""
+    import math
+    import signal
+    from types import SimpleNamespace
+
+    from apexseal.runtime.solving.signals import StopSignals
+
+    engine, other = SimpleNamespace(deadline=1e9), SimpleNamespace(deadline=1e9)
+    with StopSignals() as signals:
+        signals.watch(engine)
+        signal.raise_signal(signal.SIGINT)
+        assert signals.requested and engine.deadline == -math.inf and other.deadline == 1e9

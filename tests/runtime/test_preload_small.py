@@ -20,7 +20,7 @@ from apexseal.runtime.studies.preload.bisect import bisect_preload
 from apexseal.runtime.studies.preload.nlp import SOLVED, ShootingNlp
 from apexseal.runtime.studies.preload.problem import MM, PreloadSetup, PreloadStudyError
 from apexseal.runtime.studies.preload.result import DEFICIT_TOL
-from apexseal.runtime.studies.preload.schedule import SegmentGrid, simulate_schedule
+from apexseal.runtime.studies.preload.schedule import Schedule, SegmentGrid, simulate_schedule
 from apexseal.runtime.studies.preload.shooting import study_functions
 from apexseal.runtime.studies.preload.study import optimise_preload
 
@@ -207,6 +207,15 @@ def test_the_objective_is_the_cycle_mean_friction_power_and_its_row_its_derivati
     for i in (0, 1):
         b = fd(row, i, 3e-3)
         assert abs(b) > 0 and J[row, i] == pytest.approx(b, rel=0.02)
+
+
+def test_a_schedule_wraps_from_its_last_knot_to_its_first():
+    """delta_s(theta) is periodic: before the first knot it runs on the line from the last knot to the first
+    (wrapping at 360 deg instead held the first knot's value there)."""
+    k1, k2, k3 = 2.0e-3, 5.0e-3, 3.0e-3
+    sched = Schedule((10.0, 130.0, 250.0), (k1, k2, k3))
+    assert sched(5.0) == pytest.approx(k3 + (k1 - k3) * 115 / 120)
+    assert sched(370.0) == pytest.approx(k1) and sched(70.0) == pytest.approx((k1 + k2) / 2)
 
 
 if __name__ == "__main__":  # python tests/runtime/test_preload_small.py: the numbers of README's preload section

@@ -121,6 +121,48 @@ def test_means_are_of_the_computed_samples_and_the_spectrum_gives_amplitudes(res
     assert w[np.argmax(amp)] == pytest.approx(w0) and amp.max() == pytest.approx(3.0, rel=1e-3)
 
 
+def test_the_summary_places_extremes_and_weighs_modes_over_the_computed_samples(result):
+    """Each extreme's angle is a sample holding that extreme, and the time in each mode is counted over the samples
+    after the start (a min_at_deg taken at the maximum and a start sample counted in went unnoticed)."""
+    s = result.summary()
+    deg = np.degrees(result.theta) % 360
+    for i, (name, scale) in enumerate((("x", 1e6), ("y", 1e6), ("phi", 1e3))):
+        v, ext = result.state[i] * scale, s["extremes"][name]
+        assert v[np.isclose(deg, ext["min_at_deg"], atol=1e-9)].min() == ext["min"] == v.min()
+        assert v[np.isclose(deg, ext["max_at_deg"], atol=1e-9)].max() == ext["max"] == v.max()
+    later = np.array(result.modes[1:])
+    assert s["mode_fraction"] == pytest.approx({m: float(np.mean(later == m)) for m in set(later)})
+
+
+def test_contact_patterns_tell_every_combination_apart():
+    """The packed codes of the closed flags are distinct for every combination (a product in place of the shift
+    made patterns collide, and samples took other modes' labels)."""
+    from apexseal.runtime.results.assemble import contact_patterns
+
+    closed = np.array(list(itertools.product([0, 1], repeat=5)), bool).T  # every pattern of 5 contacts
+    patterns, which = contact_patterns(closed[:, ::-1])
+    assert patterns.shape == (5, 32) and np.array_equal(patterns[:, which], closed[:, ::-1])
+
+
+def test_an_event_angle_is_where_the_gap_interpolates_to_zero(result):
+    """An interval with one switch puts its event where the contact's gap, linear between the two samples, is zero
+    (the other end of the interval went unnoticed)."""
+    from apexseal.derive.submodels.registry import guards
+
+    gap_of = {g.name: g.output for g in guards()}
+    events = result.event_list()
+    deg = np.degrees(result.theta)
+    checked = 0
+    for row in events[events["switches"] == 1].itertuples():
+        gap = result.outputs[gap_of[row.contact]]
+        k = int(np.searchsorted(deg, row.theta_deg)) - 1
+        if 0 <= k < len(deg) - 1 and gap[k] != gap[k + 1] and deg[k] < row.theta_deg < deg[k + 1]:
+            at = np.interp(row.theta_deg, deg[k:k + 2], gap[k:k + 2])
+            assert abs(at) <= 1e-9 * max(abs(gap[k]), abs(gap[k + 1]))
+            checked += 1
+    assert checked > 0  # (3 such intervals in this run: most hold several switches)
+
+
 def test_liftoff_fraction_is_the_share_of_modes_with_the_tip_off_the_housing():
     from apexseal.runtime.results.quantities import _get
 
@@ -246,3 +288,12 @@ def test_output_columns_are_documented_and_the_csv_header_carries_units(result, 
     result.save(tmp_path / "r", csv=True)
     first = (tmp_path / "r" / "trajectory.csv").read_text().splitlines()[1].split(",")  # after the run-id line
     assert first == header(documented_names())
+
+
+def test_the_recorded_pressures_are_the_scene_s_at_each_sample(result, default_scene):
+    """With linear pressures (the default) each sample records the scene's chamber pressures at its own crank angle
+    (values lagging one interval behind went unnoticed: runs at two output densities lag alike)."""
+    at = default_scene.operation.start_angle + result.theta
+    np.testing.assert_allclose(result.outputs["Pa"], default_scene.pressure.Pa(at), rtol=1e-12)
+    np.testing.assert_allclose(result.outputs["Pb"], default_scene.pressure.Pb(at), rtol=1e-12)
+    assert np.ptp(result.outputs["Pa"]) > 1e5  # a table that varies

@@ -350,3 +350,20 @@ def test_a_table_in_bar_hashes_as_its_resolved_scene_in_pa(tmp_path):
     assert again.pressure.unit == "Pa"
     np.testing.assert_array_equal(again.pressure.pa, scene.pressure.pa)
     assert again.content_hash() == scene.content_hash()
+
+
+@pytest.mark.parametrize("pressure", [{"source": "constant", "Pa": "6 bar", "Pb": "1 bar"}, {"source": "none"}],
+                         ids=["constant", "none"])
+def test_every_pressure_source_survives_its_resolved_scene(tmp_path, pressure):
+    """The scene.toml a run writes reloads as the same scene for the sources without a table too (Pb written with
+    Pa's value went unnoticed: only the table source was round-tripped)."""
+    from apexseal.runtime.scenes.resolved import resolved_toml
+
+    over = {"pressure": pressure} | ({"effects.chamber_pressure": False} if pressure["source"] == "none" else {})
+    scene = load_scene().with_overrides(**over)
+    toml, files = resolved_toml(scene)
+    (tmp_path / "scene.toml").write_text(toml)
+    for name, content in files.items():
+        (tmp_path / name).write_text(content)
+    again = load_scene(tmp_path / "scene.toml")
+    assert again.pressure.to_dict() == scene.pressure.to_dict() and again.content_hash() == scene.content_hash()

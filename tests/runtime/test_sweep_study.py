@@ -204,3 +204,16 @@ def test_a_scene_key_that_repairs_a_broken_base_is_still_named_as_its_own(tmp_pa
     with pytest.raises(StudyError) as info:
         study_from_toml(text, source="s.toml", base_dir=tmp_path)
     assert info.value.keys() == ["scene.solver.rtol"], str(info.value)
+
+
+def test_a_row_that_did_not_complete_is_never_feasible():
+    """Feasible means completed and every constraint met: a failed or interrupted point whose quantities happen to
+    meet the constraints is not feasible, with constraints or without."""
+    import pandas as pd
+
+    table = pd.DataFrame({"status": ["completed", "failed", "interrupted"], "liftoff_fraction": [0.0] * 3,
+                          "friction_power.total": [10.0] * 3})
+    st = light_study()
+    assert st.constraints and list(st.feasible(table)) == [True, False, False]
+    bare = light_study(**{'[feasible]\nliftoff_fraction = { max = 0 }\n"friction_power.total" = { max = "35 W" }\n': ""})
+    assert not bare.constraints and list(bare.feasible(table)) == [True, False, False]
