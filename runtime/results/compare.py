@@ -88,11 +88,17 @@ def compare(results: Sequence[SimulationResult | str | Path], labels: Sequence[s
     labels = list(labels) if labels is not None else _labels(loaded, names)
     if len(labels) != len(loaded) or len(set(labels)) != len(labels):
         raise ValueError(f"compare needs one distinct label per result, not {labels}")
-    keys = [scene_keys(r.scene) for r in loaded]
-    differing = sorted({k for ks in keys for k in ks if len({ks.get(k, "–") for ks in keys}) > 1})
-    scenes = pd.DataFrame({label: [ks.get(k, "–") for k in differing] for label, ks in zip(labels, keys, strict=True)},
-                          index=pd.Index(differing, name="scene key"))
+    scenes = scene_differences([r.scene for r in loaded], labels)
     return Comparison(labels, scenes, designer_numbers(loaded, labels), loaded)
+
+
+def scene_differences(scenes, labels: Sequence[str]) -> pd.DataFrame:
+    """The scene keys whose values differ between ``scenes`` (a key of any of them; "–" where one lacks it), one
+    column per label."""
+    keys = [scene_keys(s) for s in scenes]
+    differing = sorted({k for ks in keys for k in ks if len({ks.get(k, "–") for ks in keys}) > 1})
+    return pd.DataFrame({label: [ks.get(k, "–") for k in differing] for label, ks in zip(labels, keys, strict=True)},
+                        index=pd.Index(differing, name="scene key"))
 
 
 def scene_keys(scene) -> dict[str, str]:

@@ -115,3 +115,16 @@ def test_results_of_other_effects_are_not_said_to_differ_in_their_models(folders
     the generator changed" was false there."""
     text = compare([folders["default"], folders["smooth"]]).text()
     assert "effects.groove_friction" in text and "the models differ" not in text
+
+
+def test_a_key_only_a_later_scene_has_is_a_difference():
+    """The differing keys are those of every scene, not the first's alone: a table-pressure scene after a constant one
+    shows its table, with "–" for the first (keys taken from the first scene only went unnoticed)."""
+    import apexseal
+    from apexseal.runtime.results.compare import scene_differences
+
+    table = apexseal.load_scene()
+    constant = table.with_overrides(pressure={"source": "constant", "Pa": "6 bar", "Pb": "1 bar"})
+    diff = scene_differences([constant, table], ["constant", "table"])
+    assert diff.loc["pressure.file", "constant"] == "–" and diff.loc["pressure.file", "table"].startswith("table sha256")
+    assert diff.loc["pressure.Pa", "table"] == "–"

@@ -251,3 +251,33 @@ def test_an_infinite_parameter_derivative_stops_methods_that_differentiate(defau
     euler = sim.RunSettings(method="euler", samples_per_revolution=SAMPLES, compile_c=False)
     assert sim.preflight(edgy, euler, p, 0.0, np.zeros(6), np.zeros(fns.guards.size1_out(0)),
                           np.array([1e5, 1e5])) is None
+
+
+def test_the_chatter_limit_scales_with_the_output_interval():
+    """chatter_events switches per chatter_window of crank angle: a 1 deg output interval allows 50 x 17.45 = 873
+    switches of one guard at the defaults (the limit inverted, 50, flagged ordinary ringing)."""
+    from types import SimpleNamespace
+
+    from apexseal.runtime.solving.checks import chattering
+
+    layout = SimpleNamespace(counts=slice(0, 1), guard_names=("xs5",))
+    settings = SimpleNamespace(chatter_events=50, chatter_window=1e-3, samples_per_revolution=360)
+    thetas = np.radians([1.0, 2.0, 3.0])
+    assert chattering(np.array([[100.0, 200.0, 1000.0]]), layout, thetas, np.array([0.0]), settings) is None
+    hot = chattering(np.array([[100.0, 200.0, 1100.0]]), layout, thetas, np.array([0.0]), settings)
+    assert hot is not None and hot.guard == "xs5" and hot.count == 900 and hot.theta == thetas[2]
+
+
+def test_the_event_budget_is_per_revolution(default_scene, default_functions):
+    """max_events_per_revolution counts the switches since the revolution began: a budget one above the busiest
+    revolution completes three revolutions whose total is far above it (counting from the run's start went
+    unnoticed)."""
+    import apexseal
+
+    kw = dict(samples_per_revolution=360, flags="quick", rtol=1e-8, functions=default_functions.sx, revolutions=3)
+    free = apexseal.simulate(default_scene, **kw)
+    total = free.events.sum(axis=0)  # cumulative switches at each sample
+    per_rev = np.diff(total[::360])
+    assert free.status == "completed" and per_rev.size == 3 and total[-1] > per_rev.max() + 1
+    budget = apexseal.simulate(default_scene, max_events_per_revolution=int(per_rev.max()) + 1, **kw)
+    assert budget.status == "completed"
