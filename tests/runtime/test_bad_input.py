@@ -201,6 +201,20 @@ def test_cli_run_that_cannot_start_is_labelled_failed(tmp_path):
     assert json.loads((out / "summary.json").read_text())["status"] == "failed"
 
 
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")
+def test_cli_run_that_stops_midway_exits_2_and_keeps_what_it_computed(tmp_path):
+    """A run that stops after its first step (tip-chatter: the tip chatters on the housing within a revolution):
+    exit code 2, the stop reason on stderr, and a result of status 'chattering' holding the samples computed before
+    (only a run refused before its first step was checked for its exit code)."""
+    out = tmp_path / "o"
+    r = CliRunner().invoke(main, ["simulate", str(SCENES_DIR / "hard" / "tip-chatter.toml"), "-n", "1", "--no-figures",
+                                  "--out", str(out), "-q"])
+    assert r.exit_code == 2 and "chattering on guard xs5" in r.output
+    record = json.loads((out / "result.json").read_text())
+    assert record["status"] == "chattering" and record["samples"] > 1
+    assert json.loads((out / "summary.json").read_text())["status"] == "chattering"
+
+
 # ---------------------------------------------------------------- generated artefacts
 def test_corrupted_generated_c_file(artefacts):
     """One flipped bit in a generated C file: detected by its sha256 (regeneration and library rebuild:
