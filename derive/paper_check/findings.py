@@ -65,8 +65,8 @@ def _findings() -> dict[str, Finding]:
             "assumption", (), "none: geometry.truncation_limacon is Eq. 6 with θ0 of Eq. 7",
             "Eqs. 6-7 take the groove edge on the housing limaçon in the fixed frame, where Yo = Wg/2. Near θ = 0 the "
             "housing bulges beyond the apex (Rh = L + 2 r sin θ > L), so x_p1(θ0) > L and z = L − x_p1(θ0) ≈ "
-            "−r Wg/L + Wg²/(8 L) is negative whenever Wg < 8 r, i.e. for every practical groove: the 'edge point' lies "
-            "beyond the apex.",
+            "−r Wg/L + Wg²/(8 L) (to first order; the exact bound is a little below 8 r) is negative for grooves "
+            "narrower than about 8 r, i.e. for every practical groove: the 'edge point' lies beyond the apex.",
             "ζ0 is a scene parameter (default scene: 7.1e-4 m), not Eq. 6's z",
             example={"r": DEFAULTS["r"], "L": DEFAULTS["L"], "Wg": DEFAULTS["Wg"]}),
         "9.F": Finding(
@@ -287,7 +287,7 @@ def assumption_points() -> list[tuple[str, str]]:
         ("Contacts never pull", "elastic forces are kg max(−b, 0), kw max(xs5, 0), ks max(compression, 0) on top of "
          "the activations, which is the print's |b| kg for b < 0."),
         ("Groove protrusion ζ0 (Eqs. 6-7)", "a scene parameter, because Eqs. 6-7 give a negative truncation z for "
-         "every groove narrower than 8 r (row 6.z)."),
+         "every groove narrower than about 8 r (row 6.z)."),
     ]
 
 
