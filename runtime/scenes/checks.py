@@ -182,13 +182,21 @@ def check_seal_in_rotor(m: MachineSection, s: SealSection, raw: dict[str, Any]) 
     return out
 
 
+def _mouth_bound(s: SealSection) -> tuple[float, float] | None:
+    """(ro (1 - cos beta_o), beta_o): how far the tip arc reaches down the seal, below which the groove's mouth must
+    lie (:func:`mouth_on_flank`); None without a valid tip arc (check_seal reports it)."""
+    if not s.ro >= s.Ws / 2:
+        return None
+    beta_o, ds0 = tip_numbers(s)
+    return None if ds0 <= -s.ds2 else (s.ds1 - ds0, beta_o)
+
+
 def zeta0_range(s: SealSection) -> str:
     """The allowed protrusion, as messages show it: the groove's mouth below the tip arc (:func:`mouth_on_flank`)
     and the seal in its groove (Eq. 17)."""
     top = f"zeta0 < ds1 + ds2 = {_mm(s.ds1 + s.ds2)}"
-    if not s.ro >= s.Ws / 2 or tip_numbers(s)[1] <= -s.ds2:  # no valid tip arc: check_seal reports it
-        return f"0 <= {top}"
-    return f"ro (1 - cos beta_o) = {_mm(s.ds1 - tip_numbers(s)[1])} < {top}"
+    bound = _mouth_bound(s)
+    return f"0 <= {top}" if bound is None else f"ro (1 - cos beta_o) = {_mm(bound[0])} < {top}"
 
 
 def mouth_on_flank(s: SealSection, zeta0: float, key_value) -> list[Problem]:
@@ -198,12 +206,10 @@ def mouth_on_flank(s: SealSection, zeta0: float, key_value) -> list[Problem]:
     model measured the side gap against the flank produced past the arc, and the side face's area l1 Bs (Eq. 44)
     and the pressure force on it turned negative, silently. ``key_value``: the raw value, or MISSING when zeta0
     is the groove truncation of Eqs. 6-8."""
-    if not s.ro >= s.Ws / 2:
-        return []  # check_seal reports the arc
-    beta_o, ds0 = tip_numbers(s)
-    need = s.ds1 - ds0  # ro (1 - cos beta_o)
-    if zeta0 > need or ds0 <= -s.ds2:  # (an arc that does not fit on the seal: check_seal reports it)
+    bound = _mouth_bound(s)
+    if bound is None or zeta0 > bound[0]:
         return []
+    need, beta_o = bound
     given = "" if key_value is not MISSING else f"not given, and the groove truncation z of Eqs. 6-8 is {_mm(zeta0)}: "
     return [Problem("seal.zeta0", key_value,
                     f"{given}the groove's mouth would lie on the seal's tip arc, where the contact model has no flat "
@@ -231,9 +237,11 @@ def zeta0_of(m: MachineSection, s: SealSection) -> tuple[float | None, str | Non
 
 
 def check_zeta0(m: MachineSection, s: SealSection) -> list[Problem]:
-    _, why = zeta0_of(m, s)
+    """A zeta0 the scene leaves out: the groove truncation of Eqs. 6-8 must exist, keep the seal in its groove and
+    put the groove's mouth below the tip arc (:func:`mouth_on_flank`)."""
+    z, why = zeta0_of(m, s)
     if why is None:
-        return []
+        return mouth_on_flank(s, z, MISSING)
     return [
         Problem(
             "seal.zeta0",
@@ -358,8 +366,6 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
         out += check_seal_in_rotor(m, s, raw)
         if s.zeta0 is None:
             out += check_zeta0(m, s)
-            z, _ = zeta0_of(m, s)
-            out += [] if z is None else mouth_on_flank(s, z, MISSING)
     if "pressure" in sections:
         out += check_pressure(sections["pressure"], raw)
         if m is not None:
