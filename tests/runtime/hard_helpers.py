@@ -20,6 +20,15 @@ SAMPLES = 360  # output samples per revolution in every hard-case test
 BUDGET = 60.0  # s: the wall-time budget of every hard-case run (so 36 integrator calls per revolution)
 
 
+def scene_args(args: list[str], known) -> list[str]:
+    """The scenes named on a table script's command line (all of ``known`` when none is): a name that is not one
+    of them stops the script with the list of those that are."""
+    unknown = [a for a in args if a not in known]
+    if unknown:
+        raise SystemExit(f"unknown scene(s) {', '.join(unknown)}; choose from: {', '.join(known)}")
+    return list(args) or list(known)
+
+
 def load(name: str):
     return apexseal.load_scene(HARD_DIR / f"{name}.toml")
 

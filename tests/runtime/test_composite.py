@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hard_helpers import SAMPLES, SCENES, load, simulate
+from hard_helpers import SAMPLES, SCENES, load, scene_args, simulate
 from test_hard_scenes import FAST, OUTCOME, _check
 
 import apexseal
@@ -252,8 +252,9 @@ def test_below_the_quiet_rtol_events_are_located_more_tightly(fns):
 
 
 
-def composite_table(stiff_hlam: float | None = None) -> str:
-    """The composite's table of docs/hard-cases.md: one revolution of every stress scene (360 samples, the 60 s
+def composite_table(stiff_hlam: float | None = None, scenes=SCENES) -> str:
+    """The composite's table of docs/hard-cases.md: one revolution of every stress scene (or of ``scenes``; 360
+    samples, the 60 s
     budget, compiled model library) with the scene's own method (its integrator compiled) and with the composite at
     the scene's rtol: end, contact switches, wall time; the composite's steps (tight + quiet). ``stiff_hlam``: the
     composite's stiffness threshold instead of its rule's (runtime/solving/composite.py, STIFF_HLAM)."""
@@ -269,7 +270,7 @@ def composite_table(stiff_hlam: float | None = None) -> str:
         composite.STIFF_HLAM = stiff_hlam
     rows = ["| scene | own method: end, switches, wall | composite: end, switches, RK45 + exprb32 steps, wall |",
             "|---|---|---|"]
-    for name in SCENES:
+    for name in scenes:
         scene = load(name)
         cells = []
         for method in (scene.solver.method, "composite"):
@@ -305,12 +306,15 @@ def stiff_friction_convergence(rtols=(1e-6, 1e-8)) -> str:
     return "\n".join(lines)
 
 
-if __name__ == "__main__":  # python tests/runtime/test_composite.py: the composite's table in docs/hard-cases.md
+if __name__ == "__main__":  # python tests/runtime/test_composite.py [--stiff-hlam H] [scene ...]: hard-cases.md's table
     import sys
 
-    if "--stiff-hlam" in sys.argv:  # the table with another stiffness threshold (no convergence after it)
-        print(composite_table(float(sys.argv[sys.argv.index("--stiff-hlam") + 1])))
+    args = sys.argv[1:]
+    if "--stiff-hlam" in args:  # the table with another stiffness threshold (no convergence after it)
+        i = args.index("--stiff-hlam")
+        print(composite_table(float(args[i + 1]), scene_args(args[:i] + args[i + 2:], SCENES)))
         raise SystemExit
-    print(composite_table())
-    print()
-    print(stiff_friction_convergence())
+    print(composite_table(scenes=scene_args(args, SCENES)))
+    if not args or "friction-chatter-groove" in args:
+        print()
+        print(stiff_friction_convergence())

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hard_helpers import SCENES, load, short_run
+from hard_helpers import SCENES, load, scene_args, short_run
 
 SCALE = np.array([[1e6], [1e6], [1e3]])
 RTOLS = (1e-5, 1e-6, 1e-7, 1e-8, 1e-9)
@@ -100,8 +100,9 @@ def test_rosenbrock_converges_on_stiff_friction(name, fns):
     assert order > 0.7, errors
 
 
-def convergence_table() -> str:
-    """The convergence table of docs/hard-cases.md (interpreted runs, the first 20 deg; stiff-groove-1e9: 5 deg)."""
+def convergence_table(scenes=CONVERGING) -> str:
+    """The convergence table of docs/hard-cases.md (interpreted runs, the first 20 deg; stiff-groove-1e9: 5 deg), for
+    every converging scene or those of ``scenes``."""
     import warnings
 
     from apexseal.generated.load import load_functions
@@ -110,7 +111,7 @@ def convergence_table() -> str:
     fns = load_functions(compiled=False).sx
     rows = [f"| scene | erk error at rtol {', '.join(f'{r:g}' for r in RTOLS)} (order) | rosenbrock (order) | "
             "euler error at 1e5, 2e5, 4e5 steps in the span (ratios) |", "|---|---|---|---|"]
-    for name in CONVERGING:
+    for name in scenes:
         scene, deg = load(name), (5 if name == "stiff-groove-1e9" else 20)
         cells = []
         for method in ("erk", "rosenbrock"):
@@ -145,7 +146,10 @@ def sensitivity_table(degrees: float = 180.0) -> str:
     return "\n".join(rows)
 
 
-if __name__ == "__main__":  # python tests/runtime/test_hard_convergence.py: the tables of docs/hard-cases.md
-    print(convergence_table())
-    print()
-    print(sensitivity_table())
+if __name__ == "__main__":  # python tests/runtime/test_hard_convergence.py [scene ...]: the tables of hard-cases.md
+    import sys
+
+    print(convergence_table(scene_args(sys.argv[1:], CONVERGING)))
+    if len(sys.argv) == 1:  # the sensitivity table is of five fixed scenes
+        print()
+        print(sensitivity_table())

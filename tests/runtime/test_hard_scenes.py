@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hard_helpers import BUDGET, SCENES, bound_violations, load, mode_mismatches, simulate
+from hard_helpers import BUDGET, SCENES, bound_violations, load, mode_mismatches, scene_args, simulate
 
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects
@@ -134,9 +134,10 @@ def test_scene_runs_with_erk_and_rosenbrock(name, method, fns):
     _check(name, scene, r, OUTCOME.get(name, "completed"))
 
 
-def scene_table() -> str:
-    """The table of docs/hard-cases.md: one revolution of every scene (360 samples, interpreted, 60 s budget) with
-    its own method, then erk and rosenbrock: status, contact switches, integrator steps, wall time."""
+def scene_table(scenes=SCENES) -> str:
+    """The table of docs/hard-cases.md: one revolution of every scene (or of ``scenes``; 360 samples, interpreted,
+    60 s budget) with its own method, then erk and rosenbrock: status, contact switches, integrator steps, wall
+    time."""
     import warnings
 
     from apexseal.generated.load import load_functions
@@ -145,7 +146,7 @@ def scene_table() -> str:
     fns = load_functions(compiled=False).sx
     rows = ["| scene | method (file) | end | switches | erk: end, steps, wall | rosenbrock: end, steps, wall |",
             "|---|---|---|---|---|---|"]
-    for name in SCENES:
+    for name in scenes:
         scene = load(name)
         runs = {m: simulate(scene, fns, method=m) for m in dict.fromkeys([scene.solver.method, "erk", "rosenbrock"])}
 
@@ -160,5 +161,7 @@ def scene_table() -> str:
     return "\n".join(rows)
 
 
-if __name__ == "__main__":  # python tests/runtime/test_hard_scenes.py: the measured table of docs/hard-cases.md
-    print(scene_table())
+if __name__ == "__main__":  # python tests/runtime/test_hard_scenes.py [scene ...]: the table of docs/hard-cases.md
+    import sys
+
+    print(scene_table(scene_args(sys.argv[1:], SCENES)))
