@@ -6,8 +6,11 @@ turns it into one step z_{n+1} = z_n + h Φ(theta_n, z_n). Steps are chained ins
 CasADi with ``fold`` (the steps of one output interval) and ``mapaccum`` (the
 intervals of a span), so a whole revolution is one call, and it compiles to C.
 Contact switches are not located: a step that straddles one loses the rule's
-order. Two rules: explicit Euler (the paper's method, ``solver.method = "euler"``)
-and classical RK4 (the benchmark's ``rk4-C``).
+order. They are counted at every step: the fold carries each contact's state at the
+last step's start and its running count of switches, so a contact that closes and
+opens within one output interval counts twice, and the count does not depend on how
+often the run is sampled. Two rules: explicit Euler (the paper's method,
+``solver.method = "euler"``) and classical RK4 (the benchmark's ``rk4-C``).
 """
 
 from __future__ import annotations
@@ -68,15 +71,17 @@ class FixedStepIntegrator(Engine):
                  flags: str = "optimised", model_hash: str | None = None, state_names=None, pressure: str = "steps"):
         self.pressure = pressure
         self.layout = layout = HybridLayout.sized(rhs_switched.size1_in(1), guards.size1_out(0))
-        n_x = layout.n_x
+        n_x, n_g = layout.n_x, layout.n_g
         self.n_samples = n_samples
         self.sub = sub = fixed_steps(steps_per_revolution, span / n_samples)  # steps per sample
         self.h = h = span / (n_samples * sub)
-        # accumulated: [theta, z (n_x)]; per interval: [params, [Pa, Pb] at its start theta_k, their slopes d/dtheta
+        # accumulated: [theta, z (n_x), each contact closed (1) or open (0) at the last step's start, its running
+        # count of switches (n_g each)]; per interval: [params, [Pa, Pb] at its start theta_k, their slopes d/dtheta
         # (zero for the "steps" profile: P + 0 is P exactly), theta_k]
         n_u = rhs_switched.size1_in(3)
         n_q = n_par + 2 * n_u + 1
-        acc = ca.SX.sym("acc", 1 + n_x)
+        n_a = 1 + n_x + 2 * n_g
+        acc = ca.SX.sym("acc", n_a)
         q = ca.SX.sym("q", n_q)
         par, u0, du, theta_k = q[:n_par], q[n_par:n_par + n_u], q[n_par + n_u:-1], q[-1]
         omega = par[omega_index]
@@ -85,15 +90,18 @@ class FixedStepIntegrator(Engine):
         def f(theta, z):
             return scaled_rhs(rhs_switched(theta, z * sc, par, u0 + du * (theta - theta_k)), omega, state_names)
 
-        theta, z = acc[0], acc[1:]
-        step = ca.Function(f"{self.rule.name}_step", [acc, q], [ca.vertcat(theta + h, self.rule.advance(f, theta, z, h))])
+        theta, z, before, count = acc[0], acc[1:1 + n_x], acc[1 + n_x:1 + n_x + n_g], acc[1 + n_x + n_g:]
+        closed = guards(theta, z * sc, par, u0 + du * (theta - theta_k)) < 0  # as rhs_switched's activations
+        out = ca.vertcat(theta + h, self.rule.advance(f, theta, z, h), closed, count + (closed != before))
+        step = ca.Function(f"{self.rule.name}_step", [acc, q], [ca.cse(out)])  # the guards share the rhs's gaps
         interval = step.fold(sub)  # q repeated for each step of the interval
-        ai, qi = ca.MX.sym("ai", 1 + n_x), ca.MX.sym("qi", n_q)
+        ai, qi = ca.MX.sym("ai", n_a), ca.MX.sym("qi", n_q)
         one = ca.Function("one_interval", [ai, qi], [interval(ai, ca.repmat(qi, 1, sub))])
-        a0, Q = ca.MX.sym("a0", 1 + n_x), ca.MX.sym("Q", n_q, n_samples)
+        a0, Q = ca.MX.sym("a0", n_a), ca.MX.sym("Q", n_q, n_samples)
         A = one.mapaccum(n_samples)(a0, Q)
         u_end = Q[n_par:n_par + n_u, :] + Q[n_par + n_u:-1, :] * ca.repmat(A[0, :] - Q[-1, :], n_u, 1)
-        g = guards.map(n_samples)(A[0, :], A[1:, :] * ca.repmat(state_scale(Q[omega_index, 0], state_names), 1, n_samples),
+        g = guards.map(n_samples)(A[0, :], A[1:1 + n_x, :] * ca.repmat(state_scale(Q[omega_index, 0], state_names),
+                                                                       1, n_samples),
                                   Q[:n_par, 0], u_end) / LENGTH
         self.vm = self.function = ca.Function(f"apexseal_{self.rule.name}", [a0, Q], [A, g])
         self.compiled = False
@@ -111,12 +119,14 @@ class FixedStepIntegrator(Engine):
         P = np.asarray(pressures, float)
         slope = np.zeros((P.shape[0], n)) if self.pressure == "steps" else np.diff(P, axis=1) / dth
         Q = np.vstack([np.repeat(params[:, None], n, axis=1), P[:, :n], slope, theta0 + dth * np.arange(n)])
-        A, g = self.function(np.r_[theta0, z0[lay.x]], Q)
+        n_x, n_g = lay.n_x, lay.n_g
+        A, g = self.function(np.r_[theta0, z0[lay.x], z0[lay.active], np.zeros(n_g)], Q)
         A, g = np.array(A), np.array(g)
         closed = (g < 0).astype(float)
-        prev = np.c_[z0[lay.active], closed[:, :-1]]
-        counts = z0[lay.counts, None] + np.cumsum(closed != prev, axis=1)
-        return RevolutionResult(np.vstack([A[1:], closed, counts]), dict(self.stats))
+        # the switches counted at the steps' starts, and the one between the last step's start and the sample
+        before, steps = A[1 + n_x:1 + n_x + n_g], A[1 + n_x + n_g:]
+        counts = z0[lay.counts, None] + steps + (closed != before)
+        return RevolutionResult(np.vstack([A[1:1 + n_x], closed, counts]), dict(self.stats))
 
 
 class EulerIntegrator(FixedStepIntegrator):

@@ -61,11 +61,33 @@ def test_bench_rk4_and_the_paper_euler_are_built_by_the_one_engine(default_funct
     assert spans["rk4-C"] == pytest.approx(np.pi / 2, rel=1e-12) == spans["euler-C"]
 
 
+@pytest.mark.parametrize("engine_class", [EulerIntegrator, RK4Integrator])
+def test_switches_are_counted_at_every_step_whatever_the_sampling(engine_class):
+    """A contact that closes and opens within one output interval counts twice: the engine counts switches at every
+    step, so an oscillator whose guard x < 0 is crossed 7 times in the span counts 7 (its exact zeros), with 2 output
+    samples as with 16 (counted only where two samples differ, 2 samples showed 1 switch)."""
+    k, span = 1.0e9, 0.1  # sqrt(k) = 3.2e4 rad/s: 21.1 rad of phase over the span (0.1 rad at OMEGA), 7 zeros of x
+    rhs, guards = oscillator()
+    guards = ca.Function("guards", [ca.SX.sym("t"), X := ca.SX.sym("X", 6), ca.SX.sym("p", 2), ca.SX.sym("u", 2)],
+                         [X[0]])
+    X0 = np.array([1e-6, 0.0, 0.0, 0.0, 0.0, 0.0])
+    counts = {}
+    for n in (2, 16):
+        engine = engine_class(rhs, guards, 2, 0, n_samples=n, steps_per_revolution=2_000_000, span=span,
+                              compile_c=False)
+        out = engine.run(np.r_[to_scaled(X0, OMEGA), 0.0, 0.0], np.array([OMEGA, k]), 0.0, np.zeros((2, n)))
+        counts[n] = out.z[-1]
+    t = np.linspace(0.0, span / OMEGA, 200_001)
+    exact = int(np.count_nonzero(np.diff(np.cos(np.sqrt(k) * t) < 0)))
+    assert exact == 7 and counts[2][-1] == counts[16][-1] == exact, (counts, exact)
+    np.testing.assert_array_equal(counts[16][7::8], counts[2])  # the same count at the samples both have
+
+
 @pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")  # soft contacts
 def test_switches_at_the_start_of_a_call_are_counted(soft_scene):
     """A fixed-step call counts the switch between the state it starts from and its first sample: cut into 36 calls
     a revolution has every switch count of one call, sample by sample (a switch at a call's start was dropped,
-    unnoticed; explicit Euler counts switches only at the output samples)."""
+    unnoticed)."""
     import apexseal
 
     kw = dict(method="euler", samples_per_revolution=360, flags="quick")
