@@ -42,8 +42,9 @@ def case_of(closed_b1: bool, closed_b2: bool, closed_b3: bool, closed_b4: bool) 
     return name
 
 
-#: the groove gaps whose minimum is the leakage gap b_gap of Algorithm 4
-GAP_GUARDS = ("b1", "b2", "b3", "b4")
+#: the groove's gaps b1..b4: the nine cases of Algorithm 3 name them together, and their smallest is the leakage
+#: gap b_gap of Algorithm 4
+GROOVE_GUARDS = ("b1", "b2", "b3", "b4")
 
 
 @dataclass(frozen=True)
@@ -89,10 +90,6 @@ class Mode:
                 closed_label, open_label = _labels(name)
                 parts.append(closed_label if c[name] else open_label)
         return "_".join(parts) or "free"
-
-
-#: the guards named together by the nine cases of Algorithm 3
-GROOVE_GUARDS = ("b1", "b2", "b3", "b4")
 
 
 def _labels(name: str) -> tuple[str, str]:

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import casadi as ca
 
-from ..derive.modes import GAP_GUARDS, Mode, Ops, gap_width, modes
+from ..derive.modes import GROOVE_GUARDS, Mode, Ops, gap_width, modes
 from ..derive.names import INPUT_NAMES, STATE_NAMES
 
 
@@ -232,8 +232,8 @@ def build_functions(model, *, sympy_cse: bool = False) -> ModelFunctions:
 
     output_names = list(model.outputs)
     y = [args.lower(e) for e in model.outputs.values()]
-    if all(n in model.guards for n in GAP_GUARDS):
-        y.append(gap_width([g[list(model.guards).index(n)] for n in GAP_GUARDS], CASADI_OPS))
+    if all(n in model.guards for n in GROOVE_GUARDS):
+        y.append(gap_width([g[list(model.guards).index(n)] for n in GROOVE_GUARDS], CASADI_OPS))
         output_names.append("b_gap")
     y = ca.cse(ca.vertcat(*y)) if y else ca.SX(0, 1)
 

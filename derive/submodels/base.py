@@ -48,8 +48,6 @@ class Guard:
     #: parts of a mode's label while the contact is closed / open (e.g. "h" / "h0")
     closed_label: str = ""
     open_label: str = ""
-    #: guards labelled together by a table of cases (the groove's nine cases of Algorithm 3)
-    group: str | None = None
     #: closed at rest by design (a preloaded spring): its depth says nothing about leaving the model's domain
     closed_at_rest: bool = False
     #: the contact it opens and closes (the prefix of that contact's outputs); None: the submodel's name

@@ -191,13 +191,14 @@ class ChamberGas(Submodel):
     @staticmethod
     def _gaps(ctx: Context):
         """b_gap of Algorithm 4 (0 while any groove contact is closed) and the tip's lift-off (0 while it touches)."""
+        from ..modes import GROOVE_GUARDS
         from .laws import Max_, Min_
         from .registry import guard
 
         g, opts = ctx.g, ctx.options
-        b_gap = Max_(Min_(*[g.gaps[n] for n in ("b1", "b2", "b3", "b4")]), 0)
+        b_gap = Max_(Min_(*[g.gaps[n] for n in GROOVE_GUARDS]), 0)
         if opts.on("groove_contact"):
-            for n in ("b1", "b2", "b3", "b4"):
+            for n in GROOVE_GUARDS:
                 b_gap = b_gap * (1 - ctx.activation(guard(n)))
         b_tip = Max_(-g.xs5, 0)
         if opts.on("housing_contact"):

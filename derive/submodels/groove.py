@@ -24,8 +24,7 @@ _CONTACTS = {
 
 
 def _gap(name: str, contact: str, where: str, eq: str) -> Guard:
-    return Guard(name, "s_" + name, f"gap at {where} (Eq. {eq})", output=name, sign=1, group="groove",
-                 contact=contact)
+    return Guard(name, "s_" + name, f"gap at {where} (Eq. {eq})", output=name, sign=1, contact=contact)
 
 
 class GrooveContacts(Submodel):

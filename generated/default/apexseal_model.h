@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 6f6a21290b12ff13f4067b7e51046b44fcc5a1d19f510c6118ce2e410f05727b.
+ * Effects: all. Input hash: 50856099fdf2937b44cae0e192a54a812ec15c24071598457fea55d180cf6713.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "6f6a21290b12ff13f4067b7e51046b44fcc5a1d19f510c6118ce2e410f05727b"
+#define APEXSEAL_INPUT_HASH "50856099fdf2937b44cae0e192a54a812ec15c24071598457fea55d180cf6713"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -8,7 +8,6 @@ from collections import Counter
 
 import numpy as np
 
-from ...derive.modes import GAP_GUARDS, gap_width
 from .plausibility import penetration_check
 from .result import SimulationResult, run_mean
 
@@ -52,10 +51,9 @@ def spectral_peaks(w: np.ndarray, amp: np.ndarray, count: int = 5, *, min_promin
 
 
 def gap_series(result: SimulationResult) -> np.ndarray:
-    """Algorithm 4 at every sample: b_gap (m)."""
-    if not all(n in result.outputs for n in GAP_GUARDS):
-        return np.zeros(result.n)
-    return gap_width([np.asarray(result.outputs[n], float) for n in GAP_GUARDS])
+    """Algorithm 4 at every sample: b_gap (m), the model's output (zero without the groove's contacts)."""
+    gap = result.outputs.get("b_gap")
+    return np.zeros(result.n) if gap is None else np.asarray(gap, float)
 
 
 def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
