@@ -144,10 +144,6 @@ class ModelFunctions:
         closed = [1.0 if c else 0.0 for c in mode.closed]
         return lambda theta, x, p, u: self.rhs(theta, x, closed, p, u)
 
-    def mode_of(self, closed) -> str:
-        """The label of the mode with these contacts closed (in ``guard_names`` order)."""
-        return Mode(tuple(bool(c) for c in closed), self.guard_names).label
-
     def with_functions(self, replacement: Mapping[str, ca.Function]) -> ModelFunctions:
         """A copy whose Functions are replaced by name (e.g. by compiled externals)."""
 

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from apexseal.derive.modes import CASES, case_of
+from apexseal.runtime.solving.layout import mode_label
 
 OPEN, CLOSED = 3e-6, -1e-6  # target gaps (m)
 #: case -> two groove gaps (index in b1..b4) to place; the other two must come out open
@@ -48,7 +49,7 @@ def test_states_placed_in_each_case(loaded, params, case):
         assert case_of(*groove) == case, (x_pos, g)
         assert tuple(groove) == CASES[case]
         assert (h == "h") == closed[names.index("xs5")] and (s == "s") == closed[names.index("spring")], g
-        label = loaded.sx.mode_of(closed)
+        label = mode_label(loaded.sx.guard_names, closed)
         assert label == f"{case}_{h}_{s}"
         # the manifest's mode table and the compiled rhs with the mode's activations agree with Python
         index = [m["label"] for m in loaded.manifest.modes].index(label)

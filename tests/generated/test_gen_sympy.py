@@ -10,6 +10,7 @@ from gen_helpers import random_point
 
 from apexseal.derive import symbols as S
 from apexseal.derive.modes import case_of
+from apexseal.runtime.solving.layout import mode_label
 
 ARGS = [S.theta, *S.qs, *S.us, *[S.P[n] for n in S.PARAMETER_NAMES], S.Pa, S.Pb]
 
@@ -100,7 +101,7 @@ def test_rhs_switched_is_rhs_with_guard_activations(loaded, params, rng):
         np.testing.assert_allclose(sw, np.array(loaded.c.rhs(theta, x, closed, params, u)).ravel(), rtol=1e-13)
         if case_of(*(g[_groove(loaded)] < 0)).startswith("x"):
             continue
-        label = loaded.sx.mode_of(g < 0)
+        label = mode_label(loaded.sx.guard_names, g < 0)
         np.testing.assert_allclose(sw, np.array(loaded.c.mode_rhs(label)(theta, x, params, u)).ravel(), rtol=1e-13)
 
 
