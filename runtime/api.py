@@ -26,22 +26,19 @@ def model_functions(scene, *, compiled: bool | None = None):
     from .solving.signals import StopSignals
 
     compiled = (not scene.solver.interpreted) if compiled is None else compiled
-    flags = "quick" if scene.solver.compile == "quick" else "optimised"
     with StopSignals.abandoning():
-        loaded = load_functions(scene.effects, scene.assumptions, compiled=compiled, flags=flags)
+        loaded = load_functions(scene.effects, scene.assumptions, compiled=compiled, flags=scene.solver.compile)
     return loaded.c if compiled else loaded.sx
 
 
 def settings_of(scene, **overrides) -> RunSettings:
     """RunSettings from the scene's [solver] table and [operation] revolutions, with keyword overrides (None =
     keep); every value is checked by :class:`RunSettings` (a bad one raises :class:`SettingsError`)."""
-    s = scene.solver
-    base = dict(method=s.method, rtol=s.rtol, atol=s.atol, samples_per_revolution=s.samples_per_revolution,
-                steps_per_revolution=s.euler_steps_per_revolution, event_tol=s.event_tol,
-                max_events_per_revolution=s.max_events_per_revolution, chatter_window=s.chatter_window,
-                chatter_events=s.chatter_events, compile_c=not s.interpreted,
-                flags="quick" if s.compile == "quick" else "optimised", revolutions=scene.operation.revolutions,
-                pressure=s.pressure, calls_per_revolution=s.calls_per_revolution)
+    base = {}
+    for name, (key, _) in _SCENE_KEYS.items():
+        section, field = key.split(".")
+        value = getattr(getattr(scene, section), field)
+        base[name] = (not value) if name == "compile_c" else value  # the scene's solver.interpreted
     return RunSettings(**merged(base, overrides))
 
 
@@ -69,7 +66,7 @@ _SCENE_KEYS = {
     "steps_per_revolution": ("solver.euler_steps_per_revolution", int), "event_tol": ("solver.event_tol", _radians),
     "max_events_per_revolution": ("solver.max_events_per_revolution", int),
     "chatter_window": ("solver.chatter_window", _radians), "chatter_events": ("solver.chatter_events", int),
-    "flags": ("solver.compile", lambda f: "quick" if f == "quick" else "optimised"),
+    "flags": ("solver.compile", str),
     "compile_c": ("solver.interpreted", lambda c: not c), "revolutions": ("operation.revolutions", int),
     "pressure": ("solver.pressure", str), "calls_per_revolution": ("solver.calls_per_revolution", int),
 }

@@ -25,6 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ...generated.compiler import FLAG_SETS
+
 BEFORE = "before (the integrator's C embeds the model)"
 AFTER = "after (the integrator calls the compiled model library)"
 
@@ -148,7 +150,7 @@ def main(argv=None) -> None:
     from .problem import load_model, make_problem
 
     ap = argparse.ArgumentParser(prog="python -m apexseal.runtime.bench.linking", description=__doc__.split("\n")[0])
-    ap.add_argument("--flags", default="optimised", choices=("quick", "optimised"))
+    ap.add_argument("--flags", default="optimised", choices=tuple(FLAG_SETS))
     ap.add_argument("--repeats", type=int, default=15, help="interleaved timed runs of each integrator")
     ap.add_argument("--rounds", type=int, default=1, help="rounds of (before, after, after, before) cold builds")
     a = ap.parse_args(argv)

@@ -20,7 +20,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationEr
 
 from ...suggest import did_you_mean
 from ..solving.methods import METHODS
-from ..solving.settings import DEFAULT_PRESSURE, PRESSURE_PROFILES
+from ..solving.settings import DEFAULT_PRESSURE, FLAGS, PRESSURE_PROFILES
 from .errors import MISSING, Problem
 from .fields import SI, TWO_PI, Choice, Flag, PressureUnit, Text
 from .fields import quantity as _q
@@ -131,7 +131,7 @@ class SolverSection(Section):
     euler_steps_per_revolution: _v(_int("steps_per_revolution"), int) = 200000
     chatter_window: _q("rad", **_bounds("chatter_window")) = 1e-3
     chatter_events: _v(_int("chatter_events"), int) = 50
-    compile: _v(Choice("quick", "optimised"), str) = "optimised"
+    compile: _v(Choice(*FLAGS), str) = "optimised"
     interpreted: _v(Flag(), bool) = False
     pressure: _v(Choice(*PRESSURE_PROFILES), str) = DEFAULT_PRESSURE
     calls_per_revolution: _v(_int("calls_per_revolution"), int | None) = None

@@ -17,6 +17,7 @@ from typing import Annotated, Any
 from pydantic import BaseModel, BeforeValidator, ConfigDict, ValidationError
 from pydantic_core import PydanticCustomError
 
+from ...generated.compiler import FLAG_SETS
 from ..scenes.errors import Problem
 from ..scenes.units import Range
 
@@ -38,7 +39,7 @@ LIMITS: dict[str, tuple[str, Range]] = {
     "calls_per_revolution": ("int?", Range(ge=1, le=100_000)),
     "revolutions": ("int", Range(ge=1, le=MAX_REVOLUTIONS)),
 }
-FLAGS = ("quick", "optimised")
+FLAGS = tuple(FLAG_SETS)  # the compiler's flag sets, by name
 
 
 class SettingsError(ValueError):

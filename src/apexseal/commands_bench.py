@@ -9,6 +9,7 @@ from pathlib import Path
 import click
 
 from .cli_common import Choice
+from .generated.compiler import FLAG_SETS
 
 
 def _command_line(ctx: click.Context) -> str:
@@ -40,7 +41,7 @@ def _command_line(ctx: click.Context) -> str:
 @click.option("--repeats", type=click.IntRange(1, 100), help="Timed runs after the warm-up.")
 @click.option("--no-effects", is_flag=True, help="Skip the effects-cost table.")
 @click.option("--no-check", is_flag=True, help="Skip checking the reference with a second method.")
-@click.option("--flags", type=Choice(["optimised", "quick"]), help="C compiler flag set (default optimised).")
+@click.option("--flags", type=Choice(tuple(FLAG_SETS)), help="C compiler flag set (default optimised).")
 @click.option("--e2e/--no-e2e", default=None, help="Time the stages of a warm `apexseal simulate --revolutions 20` "
               "with and without figures (default: in the full run only).")
 @click.option("--pressure", type=Choice(["steps", "linear"]), help="Chamber pressures over an output interval: "

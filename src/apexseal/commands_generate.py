@@ -12,6 +12,7 @@ from .cli_common import Choice
 from .derive.assumptions import Assumptions
 from .derive.effects import EFFECTS, Effects
 from .derive.options import OptionError
+from .generated.compiler import FLAG_SETS
 
 _ON = {"on": True, "true": True, "1": True, "yes": True, "off": False, "false": False, "0": False, "no": False}
 
@@ -74,7 +75,7 @@ def _check_default(echo) -> bool:
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder [default: the cache folder load_functions uses]. "
                    "`--out generated/default` refreshes the committed default artefacts.")
-@click.option("--flags", type=Choice(["quick", "optimised"]), default="optimised", show_default=True,
+@click.option("--flags", type=Choice(tuple(FLAG_SETS)), default="optimised", show_default=True,
               help="quick: -O1, for edit-and-try; optimised: -O3 -march=native, for long studies.")
 @click.option("--effects", "effect_opts", multiple=True, metavar="NAME=on|off[,...]",
               help="Switch effects (on top of the scene's), e.g. --effects groove_friction=off")
