@@ -36,8 +36,10 @@ def figure(result, kind: str, *, ports: dict | None = None, pyplot: bool = False
         from . import gas
 
         if not gas.has_gas(result):
-            raise ValueError(f"figure {kind!r} needs the chamber gas model (pressure.source = \"chamber\" or "
-                             f"\"chamber+leakage\")")
+            from ..scenes.schema import GAS_SOURCES
+
+            raise ValueError(f"figure {kind!r} needs the chamber gas model (pressure.source = "
+                             + " or ".join(f'"{s}"' for s in GAS_SOURCES) + ")")
         return gas.fig11_pressures(result, pyplot=pyplot) if kind == "fig11" else gas.pv_diagram(result, pyplot=pyplot)
     raise ValueError(f"unknown figure {kind!r}; figures: {', '.join(FIGURES)}")
 

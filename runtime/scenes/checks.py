@@ -19,6 +19,8 @@ from apexseal.derive.numbers import machine_numbers, smallest_chamber_volume, sm
 
 from .errors import MISSING, Problem
 from .schema import (
+    GAS_SOURCES,
+    PRESSURE_SOURCES,
     MachineSection,
     PressureSection,
     SealSection,
@@ -71,10 +73,6 @@ def check_machine(m: MachineSection, raw: dict[str, Any]) -> list[Problem]:
                     )
                 )
     return out
-
-
-#: the pressure sources that integrate the chamber gas model, whose pressure is (gamma - 1) U / V
-GAS_SOURCES = ("chamber", "chamber+leakage")
 
 
 def check_chamber_volumes(m: MachineSection, p: PressureSection, raw: dict[str, Any]) -> list[Problem]:
@@ -253,7 +251,7 @@ def check_zeta0(m: MachineSection, s: SealSection) -> list[Problem]:
 
 def check_pressure(p: PressureSection, raw: dict[str, Any]) -> list[Problem]:
     """What each source needs, and no keys that the chosen source would ignore."""
-    needs = {"none": (), "constant": ("Pa", "Pb"), "table": ("file",), "chamber": (), "chamber+leakage": ()}
+    needs = PRESSURE_SOURCES
     out = []
     for key in ("Pa", "Pb", "file"):
         given = getattr(p, key) is not None
@@ -335,7 +333,7 @@ def resolve_assumptions(given: Section, pressure_source: str | None = None) -> A
     """The assumptions of [assumptions]; ``pressure_model`` follows ``pressure.source`` (the chamber gas model)."""
     values = given.model_dump()
     if pressure_source is not None and "pressure_model" in values:
-        values["pressure_model"] = pressure_source if pressure_source in ("chamber", "chamber+leakage") else "input"
+        values["pressure_model"] = pressure_source if pressure_source in GAS_SOURCES else "input"
     return Assumptions.from_mapping(values)
 
 

@@ -351,11 +351,13 @@ def _parsed(text: str, file: str, factor: float, unit: str) -> TablePressure:
 
 
 def make_source(section: Any, base_dir: Any) -> PressureSource:
-    """The pressure source of a validated ``[pressure]`` section (see :mod:`.scene_schema`)."""
+    """The pressure source of a validated ``[pressure]`` section (see :mod:`.schema`)."""
+    from .schema import GAS_SOURCES
+
     if section.source == "constant":
         return ConstantPressure(section.Pa, section.Pb)
     if section.source == "table":
         return load_table(section.file, base_dir, section.unit)
-    if section.source in ("chamber", "chamber+leakage"):
+    if section.source in GAS_SOURCES:
         return GasModelPressure(source=section.source)
     return NoPressure()

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from .fields import SI
-from .schema import SECTIONS, Section, _sub_model, validator_of
+from .schema import GAS_SOURCES, SECTIONS, Section, _sub_model, validator_of
 
 #: the file name of the pressure table written beside a resolved scene
 TABLE_FILE = "pressure.csv"
@@ -100,7 +100,7 @@ def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:
     elif d["source"] == "constant":
         lines += _table("pressure", [("source", "constant"), ("Pa", _quantity(d["Pa"], "Pa")),
                                      ("Pb", _quantity(d["Pb"], "Pa"))])
-    elif d["source"] in ("chamber", "chamber+leakage"):  # the chamber gas model: its [gas] keys follow
+    elif d["source"] in GAS_SOURCES:  # the chamber gas model: its [gas] keys follow
         lines += _table("pressure", [("source", d["source"])])
         gas = getattr(scene, "_sections", {}).get("gas")
         if gas is not None:

@@ -102,10 +102,17 @@ class OperationSection(Section):
         return self.rpm * TWO_PI / 60.0
 
 
+#: pressure.source -> the [pressure] keys it needs
+PRESSURE_SOURCES = {"none": (), "constant": ("Pa", "Pb"), "table": ("file",), "chamber": (), "chamber+leakage": ()}
+#: the sources that integrate the chamber gas model (derive/submodels/gas.py), whose pressure is (gamma - 1) U / V:
+#: each is also the name of the gas model's ``pressure_model`` choice it sets (the others set "input")
+GAS_SOURCES = ("chamber", "chamber+leakage")
+
+
 class PressureSection(Section):
     """[pressure]: where the chamber pressures Pa(theta), Pb(theta) come from (Eq. 75)."""
 
-    source: _v(Choice("none", "constant", "table", "chamber", "chamber+leakage"), str) = Field(
+    source: _v(Choice(*PRESSURE_SOURCES), str) = Field(
         "none", description="none, constant, table, or the chamber gas model (with the leakage past the seal)")
     Pa: _q("Pa", ge=0, optional=True) = Field(None, description="chamber a (+Ys side), source = constant")
     Pb: _q("Pa", ge=0, optional=True) = Field(None, description="chamber b (-Ys side), source = constant")

@@ -141,3 +141,13 @@ def test_the_gas_figures_laid_out_from_the_memo_are_the_same(closed, tmp_path, m
     monkeypatch.setenv("APEXSEAL_CACHE", str(tmp_path))
     monkeypatch.delenv("APEXSEAL_LAYOUT_MEMO", raising=False)
     kept_layouts_draw_the_same(closed, ports_of(closed.scene))
+
+
+def test_the_gas_sources_are_the_gas_models_pressure_models():
+    """Each pressure.source that integrates the gas model names the gas model's pressure_model choice it sets (the
+    scene's checks pass the name through), and every other source sets "input"."""
+    from apexseal.derive.submodels.gas import ChamberGas
+    from apexseal.runtime.scenes.schema import GAS_SOURCES, PRESSURE_SOURCES
+
+    (option,) = [o for o in ChamberGas.options if o.name == "pressure_model"]
+    assert set(option.choices) == {"input", *GAS_SOURCES} and set(GAS_SOURCES) < set(PRESSURE_SOURCES)
