@@ -120,7 +120,7 @@ def derive_model(effects: Effects | None = None, assumptions: Assumptions | None
     for c in contacts:
         if c.guard is not None:
             guards[c.guard_name] = plain(c.guard)
-            activations[c.guard_name] = sp.Symbol(guard(c.guard_name).activation, nonnegative=True)
+            activations[c.guard_name] = guard(c.guard_name).symbol
         vguards.update({n: plain(e) for n, e in c.velocity_guards.items()})
         fx = sum((load.force.dot(k.G.x) for load in c.loads), sp.S.Zero)
         fy = sum((load.force.dot(k.G.y) for load in c.loads), sp.S.Zero)

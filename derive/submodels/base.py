@@ -53,6 +53,14 @@ class Guard:
     #: the contact it opens and closes (the prefix of that contact's outputs); None: the submodel's name
     contact: str | None = None
 
+    @property
+    def symbol(self):
+        """The activation as a sympy symbol (1 while closed, 0 while open; the one way it is made, so every
+        substitution of it matches)."""
+        import sympy as sp
+
+        return sp.Symbol(self.activation, nonnegative=True)
+
 
 @dataclass
 class Load:
@@ -95,9 +103,7 @@ class Context:
 
     def activation(self, guard: Guard):
         """The activation symbol of a guard (1 = closed)."""
-        import sympy as sp
-
-        return sp.Symbol(guard.activation, nonnegative=True)
+        return guard.symbol
 
 
 def built_in(cls: type) -> bool:

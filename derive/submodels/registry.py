@@ -349,9 +349,7 @@ def guard(name: str) -> Guard:
 
 def activation_symbols() -> dict:
     """The activation symbol of every declared guard, by the activation's name (e.g. ``"s_h"``)."""
-    import sympy as sp
-
-    return {g.activation: sp.Symbol(g.activation, nonnegative=True) for g in guards()}
+    return {g.activation: g.symbol for g in guards()}
 
 
 def oscillators(opts=None) -> tuple[tuple[str, str], ...]:

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: d1548524594dc849a4f386309cb594b4475f1ab90d6873fa31ec4cea67a5f756.
+ * Effects: all. Input hash: 81eb58080a1360cb844b1b011db821dc2176e4cfe6a483130c752c8790e54697.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "d1548524594dc849a4f386309cb594b4475f1ab90d6873fa31ec4cea67a5f756"
+#define APEXSEAL_INPUT_HASH "81eb58080a1360cb844b1b011db821dc2176e4cfe6a483130c752c8790e54697"
 
 /* state x */
 #define APEXSEAL_NX 6
