@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from .quantities import collect, friction_contacts, penetrations, quantity_help
+from .quantities import EXTREMES, collect, friction_contacts, penetrations, quantity_help
 from .result import SimulationResult
 
 #: the scene keys of a result whose scene is not known (saved without its scene.toml)
@@ -119,7 +119,7 @@ def compared() -> tuple[str, ...]:
     """The quantities set side by side (runtime/results/quantities.py, the names a sweep's study file uses)."""
     return ("revolutions", "events.total", *(f"friction_power.{c}" for c in friction_contacts()),
             "liftoff_fraction", "housing_force.mean", "housing_force.max",
-            *(f"{s}.{e}" for s in ("x", "y", "phi") for e in ("min", "max")), "gap.open_fraction", "gap.max",
+            *(f"{s}.{e}" for s in EXTREMES for e in ("min", "max")), "gap.open_fraction", "gap.max",
             *(f"penetration.{c}" for c in penetrations()))
 
 

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import math
 
-_EXTREMES = {"x": "um", "y": "um", "phi": "mrad"}
+#: the state coordinates whose extremes a summary reports -> (unit shown, factor from SI)
+EXTREMES = {"x": ("um", 1e6), "y": ("um", 1e6), "phi": ("mrad", 1e3)}
 
 
 def friction_contacts() -> tuple[str, ...]:
@@ -51,8 +52,8 @@ def quantity_help() -> dict[str, tuple[str, str]]:
         "housing_force.mean": ("N", "mean seal-housing contact force |Fs5| (Eq. 68)"),
         "housing_force.max": ("N", "largest seal-housing contact force"),
         "housing_force.max_at": ("deg", "crank angle of the largest housing force"),
-        **{f"{s}.{e}": (u, f"{e}imum of {s}") for s, u in _EXTREMES.items() for e in ("min", "max")},
-        **{f"{s}.{e}_at": ("deg", f"crank angle of the {e}imum of {s}") for s in _EXTREMES for e in ("min", "max")},
+        **{f"{s}.{e}": (u, f"{e}imum of {s}") for s, (u, _) in EXTREMES.items() for e in ("min", "max")},
+        **{f"{s}.{e}_at": ("deg", f"crank angle of the {e}imum of {s}") for s in EXTREMES for e in ("min", "max")},
         "gap.open_fraction": ("1", "fraction of the samples with a seal-groove leakage gap (Algorithm 4)"),
         "gap.mean": ("um", "mean seal-groove leakage gap b_gap"),
         "gap.max": ("um", "largest seal-groove leakage gap b_gap"),
@@ -80,10 +81,13 @@ def summarise(result) -> dict:
 def _get(summary: dict, name: str) -> float:
     head, _, tail = name.partition(".")
     if name == "liftoff_fraction":
+        from ...derive.submodels.registry import guard
+
+        tip = guard("xs5")  # the housing contact: its part of a mode's label, closed or open (e.g. "h", "h0")
         modes = summary["mode_fraction"]
-        if not any("h" in m.split("_") or "h0" in m.split("_") for m in modes):
+        if not any({tip.closed_label, tip.open_label} & set(m.split("_")) for m in modes):
             return math.nan  # no housing contact in this model
-        return float(sum(f for m, f in modes.items() if "h0" in m.split("_")))
+        return float(sum(f for m, f in modes.items() if tip.open_label in m.split("_")))
     if name == "revolutions":
         return float(summary["revolutions"])
     if head == "friction_power":
@@ -97,7 +101,7 @@ def _get(summary: dict, name: str) -> float:
         return float(summary["leakage_gap"]["open_fraction" if tail == "open_fraction" else f"{tail}_um"])
     if head == "penetration":
         return float((summary.get("plausibility") or {}).get("penetration_um", {}).get(tail, math.nan))
-    if head in _EXTREMES:
+    if head in EXTREMES:
         return float(summary["extremes"][head][tail.replace("_at", "_at_deg")])
     raise KeyError(name)  # pragma: no cover - names are checked when the study is loaded
 

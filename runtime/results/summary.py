@@ -9,6 +9,7 @@ from collections import Counter
 import numpy as np
 
 from .plausibility import penetration_check
+from .quantities import EXTREMES
 from .result import SimulationResult, run_mean
 
 
@@ -62,8 +63,8 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     out: dict = {"status": result.status, "stop": None if result.stop is None else result.stop.describe(),
                  "samples": int(result.n), "revolutions": result.revolutions}
     extremes = {}
-    for i, (name, unit, scale) in enumerate((("x", "um", 1e6), ("y", "um", 1e6), ("phi", "mrad", 1e3))):
-        v = result.state[i] * scale
+    for name, (unit, scale) in EXTREMES.items():
+        v = result.state[result.state_names.index(name)] * scale
         extremes[name] = {"unit": unit, "min": float(v.min()), "min_at_deg": float(deg[v.argmin()] % 360),
                           "max": float(v.max()), "max_at_deg": float(deg[v.argmax()] % 360)}
     out["extremes"] = extremes
