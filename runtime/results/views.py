@@ -72,8 +72,9 @@ def to_xarray(result):
 def event_list(result):
     """The contact events: one row per switch found between two samples, with its crank angle (deg, since the
     start; located by linear interpolation of the contact's gap when one switch fell in the interval, else the
-    interval's midpoint), time (s), contact, direction (``closes``, ``opens``, or ``closes+opens`` when the
-    contact switched an even number of times between two samples) and the number of switches."""
+    interval's midpoint), time (s), contact, direction (the net change, ``closes`` or ``opens``, after an odd number of
+    switches between two samples; ``closes+opens`` or ``opens+closes`` after an even number) and the number of
+    switches."""
     import pandas as pd
 
     rows = []

@@ -218,8 +218,8 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
             b = done["bisection"] = finished(bisect_preload(sc, min_force=min_force, exclude=exclude, setup=setup,
                                                             nodes=nodes, upper=c.start_delta_s))
         click.echo(f"  bisection over full simulations: delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm "
-                   f"({b.simulations} simulations, {b.wall_time_s:.1f} s); IPOPT differs by "
-                   f"{abs(b.delta_s - c.delta_s) / MM:.4f} mm")
+                   f"({b.simulations} simulations, {b.wall_time_s:.1f} s); the constant optimum above "
+                   f"({c.delta_s / MM:.4f} mm) differs by {abs(b.delta_s - c.delta_s) / MM:.4f} mm")
         if plan[-1] != "bisection":
             checkpoint("bisection", plan[-1])
     if c.ok and vary_stiffness:

@@ -24,6 +24,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from ....progress import announce
 from .problem import MM, PreloadSetup, PreloadStudyError, windows
 
 
@@ -36,7 +37,7 @@ class BisectionResult:
     friction_power: float  # W at delta_s
     periodic_change: float  # change of the scaled state over the last revolution at delta_s
     deficit: float  # N^2 rad, the force-deficit quadrature at delta_s
-    simulations: int
+    simulations: int  # the probes, then the answer's re-simulation
     wall_time_s: float
     monotone: bool  # False: a probe below the answer passed (a lower island, not taken)
     probes: list = field(default_factory=list)  # [(delta_s m, force deficit N^2 rad), ...]
@@ -89,6 +90,8 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
 
     def probe(ds):  # the probes of a round are integrated together, on every core
         nonlocal n_sim, change
+        announce(f"  bisection: {len(ds)} preload{'s' if len(ds) != 1 else ''} from {min(ds) / MM:.4f} to "
+                 f"{max(ds) / MM:.4f} mm, simulated until periodic ({n_sim} so far, {time.perf_counter() - t:.0f} s)")
         sims = periodic_many(setup, sf, grid, [np.array([d]) for d in ds], min_force, setup.exclude)
         n_sim += len(ds)
         change = max([change] + [s.change for s in sims])
