@@ -53,7 +53,8 @@ def quantity_help() -> dict[str, tuple[str, str]]:
         "housing_force.max": ("N", "largest seal-housing contact force"),
         "housing_force.max_at": ("deg", "crank angle of the largest housing force, within its revolution"),
         **{f"{s}.{e}": (u, f"{e}imum of {s}") for s, (u, _) in EXTREMES.items() for e in ("min", "max")},
-        **{f"{s}.{e}_at": ("deg", f"crank angle of the {e}imum of {s}, within its revolution") for s in EXTREMES for e in ("min", "max")},
+        **{f"{s}.{e}_at": ("deg", f"crank angle of the {e}imum of {s}, within its revolution") for s in EXTREMES
+           for e in ("min", "max")},
         "gap.open_fraction": ("1", "fraction of the samples with a seal-groove leakage gap (Algorithm 4)"),
         "gap.mean": ("um", "mean seal-groove leakage gap b_gap"),
         "gap.max": ("um", "largest seal-groove leakage gap b_gap"),

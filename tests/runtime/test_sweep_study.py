@@ -217,3 +217,32 @@ def test_a_row_that_did_not_complete_is_never_feasible():
     assert st.constraints and list(st.feasible(table)) == [True, False, False]
     bare = light_study(**{'[feasible]\nliftoff_fraction = { max = 0 }\n"friction_power.total" = { max = "35 W" }\n': ""})
     assert not bare.constraints and list(bare.feasible(table)) == [True, False, False]
+
+
+def test_every_problem_of_a_study_is_reported_at_once():
+    """A table with a wrong key or type does not hide the problems of the others: an unknown key of [design], an
+    unquoted dotted parameter, reversed bounds (shown in one unit), an unknown quantity and a constraint on a column
+    not collected come in one error (the key and type problems used to come alone, the rest on the next try)."""
+    text = """
+[parameters.operation.rpm]
+from = 1000
+to = 3000
+[parameters."spring.ks"]
+from = "5e3 N/mm"
+to = "2e4 N/m"
+points = 3
+[design]
+bogus = 1
+[collect]
+quantities = ["friction_power.total", "liftof_fraction"]
+[feasible]
+"penetration.c9" = { max = 1 }
+"""
+    with pytest.raises(StudyError) as info:
+        study_from_toml(text)
+    by_key = {p.key: p.message for p in info.value.errors}
+    assert set(by_key) == {"parameters.operation.rpm", "design.bogus", "parameters.spring.ks", "collect.quantities",
+                           "feasible.penetration.c9"}, by_key
+    assert '[parameters."operation.rpm"]' in by_key["parameters.operation.rpm"]
+    assert "5e+06 N/m is not below 20000 N/m" in by_key["parameters.spring.ks"]
+    assert "did you mean 'liftoff_fraction'" in by_key["collect.quantities"]

@@ -121,7 +121,8 @@ def parameter_of(key: str, ps) -> tuple[Parameter | None, list[Problem]]:
     if problems:
         return None, problems
     if not low < high:
-        problems.append(Problem(where, f"from {ps.from_} to {ps.to}", "from must be below to"))
+        si = f" ({low:g} {unit} is not below {high:g} {unit})" if unit not in ("", "1") else ""
+        problems.append(Problem(where, f"from {ps.from_} to {ps.to}", f"from must be below to{si}"))
     if ps.scale == "log" and low <= 0:
         problems.append(Problem(f"{where}.from", ps.from_, "a log scale needs from > 0"))
     if problems:

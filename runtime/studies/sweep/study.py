@@ -234,7 +234,12 @@ def _pydantic_problems(exc: ValidationError, raw: dict) -> list[Problem]:
         for part in err["loc"]:
             value = value.get(part, "(missing)") if isinstance(value, dict) else "(missing)"
         msg = err["msg"]
-        if err["type"] == "extra_forbidden":
+        if err["type"] == "extra_forbidden" and loc[0] == "parameters" and len(loc) == 3 and isinstance(value, dict):
+            # [parameters.operation.rpm] is TOML for a parameter "operation" with a table "rpm"
+            value = show_value(value)
+            msg = (f'a table in a parameter\'s table; to vary the scene key {loc[1]}.{loc[2]}, quote its dotted name: '
+                   f'[parameters."{loc[1]}.{loc[2]}"]')
+        elif err["type"] == "extra_forbidden":
             parent = _known_keys(loc[:-1])
             msg = "unknown key" + did_you_mean(loc[-1], parent, cutoff=0.5) + (
                 f"; known: {', '.join(parent)}" if parent else "")
@@ -279,16 +284,33 @@ def _dotted(table: dict, prefix: str = "") -> dict:
     return out
 
 
+def _structure(raw: dict, source: str) -> tuple[StudyFile, list[Problem], set[str]]:
+    """The study's tables checked for their keys and types, with the problems found and the tables that had them.
+
+    A table with a problem is left at its defaults (a parameter with one is left out), so the checks of the
+    others still run and every problem is reported at once, not the structural ones first."""
+    try:
+        return StudyFile.model_validate(raw), [], set()
+    except ValidationError as exc:
+        problems, errors = _pydantic_problems(exc, raw), exc.errors()
+    malformed = {str(e["loc"][0]) for e in errors if e["loc"]}
+    params = raw.get("parameters")
+    bad_params = {str(e["loc"][1]) for e in errors if len(e["loc"]) > 1 and e["loc"][0] == "parameters"}
+    lenient = {k: v for k, v in raw.items() if k not in malformed}
+    # the parameters that are well formed (none: their problems say why)
+    lenient["parameters"] = {k: v for k, v in params.items() if k not in bad_params} if isinstance(params, dict) else {}
+    try:
+        return StudyFile.model_validate(lenient), problems, malformed
+    except ValidationError:  # pragma: no cover - every table left is at its defaults or was valid
+        raise StudyError(problems, source=source) from None
+
+
 def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> Study:
     """Check a parsed study (see the module docstring for the keys)."""
     import apexseal
     from apexseal.runtime.scenes.errors import SceneError
 
-    try:
-        spec = StudyFile.model_validate(raw)
-    except ValidationError as exc:
-        raise StudyError(_pydantic_problems(exc, raw), source=source) from None
-    problems: list[Problem] = []
+    spec, problems, malformed = _structure(raw, source)
 
     # base scene and its fixed overrides
     scene = None
@@ -317,11 +339,13 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
         problems += more
         if par is not None:
             parameters.append(par)
-    if not spec.parameters:
+    if not spec.parameters and "parameters" not in malformed:
         problems.append(Problem("parameters", "(none)", "vary at least one scene key, e.g. [parameters.\"spring.ks\"]"))
 
     d = spec.design
-    if d.kind == "grid":
+    if "design" in malformed:
+        pass  # its problems are reported; a design left at its defaults says nothing more
+    elif d.kind == "grid":
         if d.points is not None:
             problems.append(Problem("design.points", d.points, "a grid has the product of the parameters' points; "
                                     "remove design.points or choose kind = \"sobol\", \"lhs\", \"halton\" or \"random\""))
@@ -340,11 +364,11 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
                                     "properties); allowed: 1, 2, 4, ..., e.g. 64 or 128"))
 
     known = quantity_help()
-    for q in spec.collect.quantities:
+    for q in spec.collect.quantities if "collect" not in malformed else ():
         if q not in known:
             problems.append(Problem("collect.quantities", q, "unknown quantity" + did_you_mean(
                 q, known, cutoff=0.5) + f"; known: {', '.join(known)}"))
-    if not spec.collect.quantities:
+    if not spec.collect.quantities and "collect" not in malformed:
         problems.append(Problem("collect.quantities", [], "collect at least one quantity"))
 
     from ...scenes.units import QuantityError, parse_quantity
@@ -361,7 +385,7 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
     columns = {q: quantity_unit(q) for q in spec.collect.quantities if quantity_unit(q) is not None}
     columns.update({p.key: p.unit for p in parameters if p.numeric})
     constraints = []
-    for col, b in spec.feasible.items():
+    for col, b in spec.feasible.items() if "collect" not in malformed else ():  # its columns: the collected ones
         if col not in columns:
             nested = isinstance(b.min, dict) or isinstance(b.max, dict)
             hint = f' (quote a dotted name: "{col}.{next(iter(b.max or b.min))}" = {{ max = ... }})' if nested else ""
