@@ -82,7 +82,8 @@ class PreloadResult:
                 f", excluded: {', '.join(f'{a:g}..{b:g} deg' for a, b in self.exclude_deg)}" if self.exclude_deg else ""),
             *([f"  groove forces: excess int sum max(0, |F| - {self.max_groove_force:g} N)^2 dtheta = "
                f"{self.groove_excess:.3g} N^2 rad (bound {self.deficit_tol:.3g}); largest at the samples "
-               f"{self.groove_peak:.4g} N"] if self.max_groove_force is not None else []),
+               f"{self.groove_peak:.4g} N (impacts between the samples can reach higher; the excess above counts them)"]
+              if self.max_groove_force is not None else []),
             f"  smallest contact force at the samples: {self.min_measure:.4f} N at {self.min_measure_angle:.1f} deg "
             f"(re-simulation, {self.samples} samples)",
             f"  friction power {self.friction_power:.3f} W vs {self.scene_friction_power:.3f} W at the scene's preload "
