@@ -11,6 +11,7 @@ compare equal.
 from __future__ import annotations
 
 import hashlib
+import re
 import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -97,8 +98,25 @@ def scene_differences(scenes, labels: Sequence[str]) -> pd.DataFrame:
     column per label."""
     keys = [scene_keys(s) for s in scenes]
     differing = sorted({k for ks in keys for k in ks if len({ks.get(k, "–") for ks in keys}) > 1})
-    return pd.DataFrame({label: [ks.get(k, "–") for k in differing] for label, ks in zip(labels, keys, strict=True)},
+    rows = [_shortest([ks.get(k, "–") for ks in keys]) for k in differing]
+    return pd.DataFrame({label: [row[i] for row in rows] for i, label in enumerate(labels)},
                         index=pd.Index(differing, name="scene key"))
+
+
+_NUMBER = re.compile(r"^(-?\d[\d.]*(?:[eE][+-]?\d+)?)(\s.*)?$")
+
+
+def _shortest(values: list[str]) -> list[str]:
+    """A row of scene values as a reader compares them: each number with its unit (as scene.toml writes it, to the
+    last digit: -0.436332312998582 rad) to the fewest significant digits, from 4, that keep the row's values apart."""
+    parsed = [_NUMBER.match(v) for v in values]
+    if not all(parsed):
+        return values
+    for digits in range(4, 18):
+        short = [f"{float(f'{float(m.group(1)):.{digits}g}')!r}{m.group(2) or ''}" for m in parsed]  # as TOML writes
+        if len(set(short)) == len(set(values)):
+            return short
+    return values
 
 
 def scene_keys(scene) -> dict[str, str]:
