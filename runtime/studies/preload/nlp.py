@@ -82,29 +82,31 @@ class ShootingNlp:
 
     def __init__(self, setup, sf, sim, nodes, knots, min_force, exclude, deficit_tol, objective):
         self.setup, self.N, self.K = setup, nodes, knots
-        n, ng = setup.samples, setup.n_guards
+        lay = setup.layout
+        n, nx, ng = setup.samples, lay.n_x, lay.n_g
+        self.n_x = nx  # the node states are the scaled continuous states; the directions are these, then the knots
         Z0 = sim.z  # (n_z, n + 1) from the first node of the previous grid
         first = float(sim.thetas[0] - setup.dth)
-        act0 = Z0[6:6 + ng]
+        act0 = Z0[lay.active]
         offset = _node_offset(act0, nodes, n // nodes)
         self.grid = SegmentGrid(n, nodes, knots, first + setup.dth * offset, setup.dth)
         g = self.grid
         idx = (offset + (n // nodes) * np.arange(nodes)) % n  # columns of Z0 at the new nodes
-        self.S = np.maximum(1.0, np.max(np.abs(Z0[:6]), axis=1))
+        self.S = np.maximum(1.0, np.max(np.abs(Z0[lay.x]), axis=1))
         S = self.S
         nz = Z0.shape[0]
         self.nz = nz
         per = g.per_node
         U = setup.controls(g.edges(), g.m)  # (4, n): each segment's call from its start
         omega = setup.pmap.at("omega")
-        sc = state_scale(omega)
-        nd = -(-(6 + knots) // CHUNK) * CHUNK  # the directions, padded to whole chunks
+        sc = state_scale(omega, lay.state_names)
+        nd = -(-(nx + knots) // CHUNK) * CHUNK  # the directions, padded to whole chunks
         self.nd = nd
         self.deficit_tol, self.objective = float(deficit_tol), objective
 
-        V = ca.MX.sym("V", knots + 6 * nodes)
+        V = ca.MX.sym("V", knots + nx * nodes)
         kn = V[:knots] * MM
-        W = ca.reshape(V[knots:], 6, nodes)
+        W = ca.reshape(V[knots:], nx, nodes)
         Z = W * ca.repmat(ca.DM(S), 1, nodes)
         Q = g.q_columns(setup, kn, min_force, exclude)  # (n_q, S)
         node_seg = [k * per for k in range(nodes)]
@@ -113,7 +115,7 @@ class ShootingNlp:
             p_k = Q[:setup.pmap.p0.size, node_seg[k]]
             X_k = Z[:, k] * ca.DM(sc)
             act.append(setup.functions.guards(g.psi[node_seg[k]], X_k, p_k, ca.DM(U[:2, node_seg[k] * g.m])) < 0)
-        x0 = ca.vertcat(Z, ca.horzcat(*act), ca.MX.zeros(ng, nodes))
+        x0 = ca.vertcat(Z, ca.horzcat(*act), ca.MX.zeros(ng, nodes))  # the layout's parts, in its order
         nq = Q.size1()
         Un = ca.DM(U)  # node k takes the columns of its segments, in order
         nominal = chain_function(sf, g, nz, derivatives=False)
@@ -121,7 +123,7 @@ class ShootingNlp:
         Qcols = Q
         zend, qs, _ = Fn(x0, Qcols, Un)
         nxt = ca.horzcat(*[Z[:, (k + 1) % nodes] for k in range(nodes)])
-        defects = ca.vec((zend[:6, :] - nxt) / ca.repmat(ca.DM(S), 1, nodes))
+        defects = ca.vec((zend[lay.x, :] - nxt) / ca.repmat(ca.DM(S), 1, nodes))
         deficit = ca.sum2(qs[1, :]) / self.deficit_tol
         power = ca.sum2(qs[0, :]) / TWO_PI
         obj = power if objective == "friction" else ca.sum1(V[:knots]) / knots
@@ -133,7 +135,7 @@ class ShootingNlp:
         full = chain_function(sf, g, nz, derivatives=True, nd=nd)
         Ff = full.map(nodes, "thread", parallel_threads(nodes))
         seed_z = np.zeros((nz, nd))
-        seed_z[:6, :6] = np.diag(S)
+        seed_z[lay.x, :nx] = np.diag(S)
         L = setup.pmap.p0.size
         sl = L + 1  # the slope row of q
         seeds_q = []
@@ -142,46 +144,47 @@ class ShootingNlp:
                 s = k * per + j
                 blk = np.zeros((nq, nd))
                 for i in range(knots):
-                    blk[:L, 6 + i] = setup.pmap.dp * MM * g.Lseg[s, i]
-                    blk[sl, 6 + i] = MM * g.Mseg[s, i]
+                    blk[:L, nx + i] = setup.pmap.dp * MM * g.Lseg[s, i]
+                    blk[sl, nx + i] = MM * g.Mseg[s, i]
                 seeds_q.append(blk)
         dQ = ca.DM(np.concatenate(seeds_q, axis=1))  # (n_q, S nd), node-major
         _, _, dz, dq = Ff(x0, Qcols, Un, ca.DM(np.tile(seed_z, (1, nodes))), dQ)
         rows = []
         for k in range(nodes):
-            Dk = dz[:6, k * nd:k * nd + 6 + knots] / ca.repmat(ca.DM(S), 1, 6 + knots)
-            blocks = [Dk[:, 6:]]
+            Dk = dz[lay.x, k * nd:k * nd + nx + knots] / ca.repmat(ca.DM(S), 1, nx + knots)
+            blocks = [Dk[:, nx:]]
             for j in range(nodes):
                 if j == k:
-                    blocks.append(Dk[:, :6])
+                    blocks.append(Dk[:, :nx])
                 elif j == (k + 1) % nodes:
-                    blocks.append(-ca.DM.eye(6))
+                    blocks.append(-ca.DM.eye(nx))
                 else:
-                    blocks.append(ca.DM.zeros(6, 6))
+                    blocks.append(ca.DM.zeros(nx, nx))
             rows.append(ca.horzcat(*blocks))
-        dqk = [dq[:, k * nd:k * nd + 6 + knots] for k in range(nodes)]
-        dsum = sum(d[:, 6:] for d in dqk)
-        row_def = ca.horzcat(dsum[1, :], *[d[1, :6] for d in dqk]) / self.deficit_tol
-        row_groove = [ca.horzcat(dsum[2, :], *[d[2, :6] for d in dqk]) / self.deficit_tol] if sf.groove else []
+        dqk = [dq[:, k * nd:k * nd + nx + knots] for k in range(nodes)]
+        dsum = sum(d[:, nx:] for d in dqk)
+        row_def = ca.horzcat(dsum[1, :], *[d[1, :nx] for d in dqk]) / self.deficit_tol
+        row_groove = [ca.horzcat(dsum[2, :], *[d[2, :nx] for d in dqk]) / self.deficit_tol] if sf.groove else []
         if objective == "friction":
-            row_obj = ca.horzcat(dsum[0, :], *[d[0, :6] for d in dqk]) / TWO_PI
+            row_obj = ca.horzcat(dsum[0, :], *[d[0, :nx] for d in dqk]) / TWO_PI
         else:
-            row_obj = ca.DM(np.r_[np.full(knots, 1.0 / knots), np.zeros(6 * nodes)]).T
+            row_obj = ca.DM(np.r_[np.full(knots, 1.0 / knots), np.zeros(nx * nodes)]).T
         J = ca.vertcat(*rows, row_def, *row_groove, row_obj)
         Vj, Oj = ca.MX.sym("V", V.numel()), ca.MX.sym("out", G_out.numel())
         jac = ca.Function("jac_preload_g", [Vj, Oj], [ca.substitute(J, V, Vj)])
         self.G = ca.Function("preload_g", [V], [G_out], {"custom_jacobian": jac, "jac_penalty": 0,
                                                           "never_inline": True})
         self.nominal = ca.Function("preload_nominal", [V], [zend, qs])
-        self.n_def = 6 * nodes
+        self.n_def = nx * nodes
         self.n_con = self.n_def + 1 + len(groove)  # defects, deficit (, groove excess): the objective follows
-        W0 = Z0[:6, idx] / S[:, None]
+        W0 = Z0[lay.x, idx] / S[:, None]
         self.W0 = W0.ravel(order="F")
         self.V = V
 
     def solve(self, knots0_m, res, *, upper, max_rate, max_iter, verbose, ipopt_options) -> bool:
         K, N = self.K, self.N
-        V = ca.MX.sym("V", K + 6 * N)
+        n_w = self.n_x * N  # the node states
+        V = ca.MX.sym("V", K + n_w)
         out = self.G(V)
         g = [out[:self.n_con]]
         lbg = list(np.zeros(self.n_def)) + [-np.inf] * (self.n_con - self.n_def)
@@ -205,8 +208,8 @@ class ShootingNlp:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             solver = ca.nlpsol("preload", "ipopt", {"x": V, "f": out[-1], "g": ca.vertcat(*g)}, opts)
-            lbx = np.r_[np.zeros(K), np.full(6 * N, -np.inf)]
-            ubx = np.r_[np.full(K, upper / MM), np.full(6 * N, np.inf)]
+            lbx = np.r_[np.zeros(K), np.full(n_w, -np.inf)]
+            ubx = np.r_[np.full(K, upper / MM), np.full(n_w, np.inf)]
             x0 = np.r_[np.asarray(knots0_m) / MM, self.W0]
             try:
                 sol = solver(x0=x0, lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)

@@ -28,7 +28,7 @@ def periodic_many(setup, sf, grid, knots_list, min_force, exclude) -> list:
         starts = []
         for i in todo:
             z = sims[i].z[:, -1].copy()
-            z[6 + setup.n_guards:] = 0.0
+            z[setup.layout.counts] = 0.0  # event counts per revolution
             starts.append(z)
         again = simulate_schedules(setup, sf, grid, [knots_list[i] for i in todo], min_force, exclude, revolutions=2,
                                    z_starts=starts)

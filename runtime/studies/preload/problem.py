@@ -41,8 +41,9 @@ import numpy as np
 
 from ....cores import parallel_threads
 from ...solving.hybrid import controls as engine_controls
+from ...solving.layout import HybridLayout
 from ...solving.preflight import initial_activations
-from ...solving.scaling import LENGTH, to_scaled
+from ...solving.scaling import LENGTH, to_physical, to_scaled
 
 #: the study's preload unit: decision variables and tolerances are in mm
 MM = 1e-3
@@ -66,12 +67,6 @@ class PreloadMap:
     def at(self, name: str) -> float:
         """A parameter's value at delta_s = 0 (the same at every preload for all but delta_s, delta_w and Li)."""
         return float(self.p0[self.names.index(name)])
-
-    def state_scale(self) -> np.ndarray:
-        """The scales of the integrated state (they depend on omega only)."""
-        from ...solving.scaling import state_scale
-
-        return state_scale(self.at("omega"))
 
 
 def preload_parameters(scene) -> PreloadMap:
@@ -205,6 +200,7 @@ class PreloadSetup:
     flags: str = "quick"
     max_groove_force: float | None = None  # N: bound on every seal-groove contact force (None: no bound)
     pmap: PreloadMap = field(init=False)
+    layout: HybridLayout = field(init=False)  # of the hybrid states the study integrates (runtime/solving/layout.py)
     measure_fn: ca.Function = field(init=False)
     compile_s: float = field(init=False, default=0.0)
 
@@ -221,6 +217,7 @@ class PreloadSetup:
             raise PreloadStudyError(f"functions: a model of other effects than the scene's (its parameters "
                                     f"{', '.join(sorted(set(names) ^ set(self.pmap.names)))} are not the scene's); "
                                     "allowed: the scene's own, model_functions(scene)")
+        self.layout = HybridLayout.of(self.functions)
         self.measure_fn = contact_measure(self.functions)
         self.samples = int(self.samples or self.scene.solver.samples_per_revolution)
         self.rtol = float(self.rtol or self.scene.solver.rtol)
@@ -235,10 +232,6 @@ class PreloadSetup:
     @property
     def dth(self) -> float:
         return 2 * np.pi / self.samples
-
-    @property
-    def n_guards(self) -> int:
-        return self.functions.guards.size1_out(0)
 
     @property
     def profile(self) -> str:
@@ -300,18 +293,30 @@ class PreloadSetup:
 
     def start_state(self, delta_s: float) -> np.ndarray:
         """The hybrid state at the scene's start (its initial state, contacts closed by their gaps)."""
-        op = self.scene.operation
-        X = np.array([getattr(op.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float)
-        p = self.pmap(delta_s)
         u0 = self.engine_pressures(self.theta_start + np.array([0.0, self.dth]))[:, 0]  # the run's start
-        act = initial_activations(self.functions, self.theta_start, X, p, u0)
-        return np.r_[to_scaled(X, self.pmap.at("omega")), act, np.zeros(self.n_guards)]
+        return self.hybrid_start(self.theta_start, self.pmap(delta_s), u0)
+
+    def hybrid_start(self, theta: float, p: np.ndarray, u0: np.ndarray) -> np.ndarray:
+        """The hybrid state of the scene's initial state (runtime/api.py ``initial_state``) at crank angle
+        ``theta``, parameters ``p`` and pressures ``u0``: each contact closed by its gap, no events counted."""
+        from ...api import initial_state
+
+        lay = self.layout
+        X = initial_state(self.scene, self.functions)
+        act = initial_activations(self.functions, theta, X, p, u0)
+        return lay.pack(to_scaled(X, self.pmap.at("omega"), lay.state_names), act)
+
+    def state_change(self, before: np.ndarray, after: np.ndarray) -> np.ndarray:
+        """The largest change of the scaled state from the hybrid state(s) ``before`` to ``after`` (one per
+        column), relative to max(1, its size at ``after``)."""
+        x = self.layout.x
+        return np.max(np.abs(after[x] - before[x]) / np.maximum(1.0, np.abs(after[x])), axis=0)
 
     def periodic(self, deltas) -> Periodic:
         """Simulate ``revolutions`` revolutions from the scene's start at each preload (one mapped call per
         revolution, both cores) and return the last revolution of each."""
         deltas = np.atleast_1d(np.asarray(deltas, float))
-        n, N, ng = deltas.size, self.samples, self.n_guards
+        n, N, lay = deltas.size, self.samples, self.layout
         F = self.mapped(n)
         P = np.stack([self.pmap(d) for d in deltas], axis=1)
         z = np.stack([self.start_state(d) for d in deltas], axis=1)
@@ -327,28 +332,31 @@ class PreloadSetup:
             Z = np.array(out["xf"]).reshape(z.shape[0], n, N)  # column i N + j: preload i, sample j
             z0 = z
             z = Z[:, :, -1].copy()
-            z[6 + ng:] = 0.0  # event counts per revolution
+            z[lay.counts] = 0.0  # event counts per revolution
             starts.append(z.copy())
         if not np.isfinite(Z).all():
             bad = [f"{d / MM:.4g} mm" for d, ok in zip(deltas, np.isfinite(Z).all(axis=(0, 2)), strict=True) if not ok]
             raise RuntimeError(f"the simulation turned non-finite at delta_s = {', '.join(bad)}")
         thetas = edges[1:]
         full = np.concatenate([z0[:, :, None], Z], axis=2).transpose(1, 0, 2)  # (n, n_z, N + 1)
-        full[:, 6 + ng:, 0] = 0.0
-        change = np.max(np.abs(starts[-1][:6] - starts[-2][:6]) / np.maximum(1.0, np.abs(starts[-1][:6])), axis=0)
+        full[:, lay.counts, 0] = 0.0
+        change = self.state_change(starts[-2], starts[-1])
         meas = np.stack([self.measure_at(full[i, :, 1:], thetas, self.pmap(d), U) for i, d in enumerate(deltas)])
         power = np.array([self.friction_power(full[i, :, 1:], thetas, self.pmap(d), U) for i, d in enumerate(deltas)])
         return Periodic(deltas, thetas, full, change, meas, power)
 
+    def at_samples(self, fn: ca.Function, Z: np.ndarray, thetas: np.ndarray, P: np.ndarray, U: np.ndarray) -> np.ndarray:
+        """``fn(theta, X, a, p, u)`` (the model's ``outputs`` or :attr:`measure_fn`) at the samples: hybrid states
+        ``Z`` (n_z, n) at crank angles ``thetas`` (n,), parameters ``P`` (n_par, n), pressures ``U`` (2, n)."""
+        lay = self.layout
+        X = to_physical(Z[lay.x], self.pmap.at("omega"), lay.state_names)
+        return np.array(fn.map(thetas.size)(thetas[None, :], X, Z[lay.active], P, U))
+
     def measure_at(self, Z: np.ndarray, thetas: np.ndarray, p: np.ndarray, U: np.ndarray) -> np.ndarray:
-        n, ng = thetas.size, self.n_guards
-        X = Z[:6] * self.pmap.state_scale()[:, None]
-        return np.array(self.measure_fn.map(n)(thetas[None, :], X, Z[6:6 + ng], np.repeat(p[:, None], n, 1), U)).ravel()
+        return self.at_samples(self.measure_fn, Z, thetas, np.repeat(p[:, None], thetas.size, 1), U).ravel()
 
     def friction_power(self, Z: np.ndarray, thetas: np.ndarray, p: np.ndarray, U: np.ndarray) -> float:
-        n, ng = thetas.size, self.n_guards
-        X = Z[:6] * self.pmap.state_scale()[:, None]
-        Y = np.array(self.functions.outputs.map(n)(thetas[None, :], X, Z[6:6 + ng], np.repeat(p[:, None], n, 1), U))
+        Y = self.at_samples(self.functions.outputs, Z, thetas, np.repeat(p[:, None], thetas.size, 1), U)
         return float(Y[tuple(self.functions.output_names).index("Pf_total")].mean())
 
     def mask(self, thetas: np.ndarray) -> np.ndarray:

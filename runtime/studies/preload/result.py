@@ -120,8 +120,6 @@ def fill_result(res, setup, grid, knots_m, sim) -> None:
 def contact_powers(setup, sim) -> dict:
     """Cycle-mean friction power of each contact (W) at the samples of a re-simulated revolution."""
     names = tuple(setup.functions.output_names)
-    ng, n = setup.n_guards, sim.thetas.size
     P = setup.pmap.p0[:, None] + setup.pmap.dp[:, None] * sim.delta_s[None, :]
-    X = sim.z[:6, 1:] * setup.pmap.state_scale()[:, None]
-    Y = np.array(setup.functions.outputs.map(n)(sim.thetas[None, :], X, sim.z[6:6 + ng, 1:], P, sim.pressures))
+    Y = setup.at_samples(setup.functions.outputs, sim.z[:, 1:], sim.thetas, P, sim.pressures)
     return {k[3:]: float(Y[i].mean()) for i, k in enumerate(names) if k.startswith("Pf_") and k != "Pf_total"}

@@ -170,22 +170,15 @@ def simulate_schedules(setup, sf, grid: SegmentGrid, knots_list, min_force: floa
     each. Each segment's integrator call is made for all of them together, in a threaded map of the study's
     compiled interval integrator over the schedules (:func:`parallel_threads`): the same function with the same
     inputs, so the same numbers as one schedule at a time, on every core."""
-    from ...solving.preflight import initial_activations
-    from ...solving.scaling import to_scaled
-
     knots_list = [np.asarray(k, float) for k in knots_list]
     n = len(knots_list)
     revolutions = revolutions or setup.revolutions
-    ng = setup.n_guards
+    lay = setup.layout
     C = setup.controls(grid.edges(), grid.m)  # each segment's call from its start
-    if z_starts is None:
-        op = setup.scene.operation
-        X = np.array([getattr(op.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float)
-        z_starts = []
-        for knots_m in knots_list:
-            p = grid.q_columns(setup, knots_m, min_force, exclude)[:setup.pmap.p0.size, 0]
-            act = initial_activations(setup.functions, grid.theta_first, X, p, C[:2, 0])
-            z_starts.append(np.r_[to_scaled(X, setup.pmap.at("omega")), act, np.zeros(ng)])
+    if z_starts is None:  # the scene's initial state at the first node, with each schedule's parameters there
+        n_par = setup.pmap.p0.size
+        z_starts = [setup.hybrid_start(grid.theta_first, grid.q_columns(setup, k, min_force, exclude)[:n_par, 0], C[:2, 0])
+                    for k in knots_list]
     z = np.column_stack([np.asarray(z0, float) for z0 in z_starts])  # one column per schedule
     interval = sf.interval if n == 1 else sf.interval.map(n, "thread", parallel_threads(n))
     m = grid.m
@@ -200,7 +193,7 @@ def simulate_schedules(setup, sf, grid: SegmentGrid, knots_list, min_force: floa
             qsum += np.array(r["qf"])[:, m - 1::m]
             z = xf[:, :, -1].T.copy()
         z0_rev = starts[-1]
-        z[6 + ng:] = 0.0
+        z[lay.counts] = 0.0  # event counts per revolution
         starts.append(z.copy())
     U = setup.pressures(grid.edges())  # at the samples, as the outputs see them
     return [_resimulation(setup, sf, grid, knots_list[i], revolutions, U,
@@ -214,22 +207,20 @@ def _resimulation(setup, sf, grid: SegmentGrid, knots_m, revolutions: int, U: np
     :class:`Resimulation`: the tip's contact measure at the samples (pressures ``U`` there), and the groove forces
     where they are bounded."""
 
-    ng = setup.n_guards
-    Z[6 + ng:, 0] = 0.0
+    Z[setup.layout.counts, 0] = 0.0
     if not np.isfinite(Z).all():
         raise RuntimeError("the re-simulation of the schedule turned non-finite")
     thetas = grid.edges()[1:] + (revolutions - 1) * TWO_PI
-    change = float(np.max(np.abs(start_last[:6] - start_before[:6]) / np.maximum(1.0, np.abs(start_last[:6]))))
+    change = float(setup.state_change(start_before, start_last))
     # the physical parameters at each sample (delta_s varies along the segment)
     d_at = Schedule(tuple(grid.knot_angles_deg), tuple(knots_m))(np.degrees(thetas))
     P = setup.pmap.p0[:, None] + setup.pmap.dp[:, None] * d_at[None, :]
-    X = Z[:6, 1:] * setup.pmap.state_scale()[:, None]
-    meas = np.array(setup.measure_fn.map(thetas.size)(thetas[None, :], X, Z[6:6 + ng, 1:], P, U)).ravel()
+    meas = setup.at_samples(setup.measure_fn, Z[:, 1:], thetas, P, U).ravel()
     sim = Resimulation(thetas, Z, float(qsum[1]), float(qsum[0] / TWO_PI), change, meas, U, d_at)
     if sf.groove:
         from .shooting import groove_forces
 
-        Y = np.array(setup.functions.outputs.map(thetas.size)(thetas[None, :], X, Z[6:6 + ng, 1:], P, U))
+        Y = setup.at_samples(setup.functions.outputs, Z[:, 1:], thetas, P, U)
         sim.groove_excess = float(qsum[2])
         sim.groove_peak = float(max(np.hypot(Y[ix], Y[iy]).max() for ix, iy in groove_forces(setup.functions)))
     return sim

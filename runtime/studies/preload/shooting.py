@@ -25,7 +25,8 @@ resolve them (nothing depends on the output grid but the pressure means, which t
 
 Compiled at the generation station (generated/compile.py) as two small C libraries built in parallel and
 cached by content: the interval integrator and its forward derivative in ``CHUNK`` directions (a Jacobian
-takes ``DIRECTIONS / CHUNK`` calls: 6 states, the preload at the interval start, its slope).
+takes ``ceil((n_x + K) / CHUNK)`` calls per segment, its directions the n_x scaled continuous states at the
+shooting node and the K knot values of the schedule: runtime/studies/preload/nlp.py).
 """
 
 from __future__ import annotations
@@ -45,8 +46,6 @@ from .problem import MAX_WINDOWS, windows
 F_REF = 1.0
 #: regularises the size of a groove contact force at zero (N): |F| is overstated by at most F_EPS
 F_EPS = 1e-3
-#: forward directions of the interval integrator: the 6 states at the node, the preload there, its slope
-DIRECTIONS = 8
 #: directions per call of the compiled forward derivative. Each call integrates the nominal trajectory again, so
 #: fewer calls cost less; the C grows with the directions. On the default scene's constant study (720 samples,
 #: windows 0:10 and 180:190; docs/preload.md), cold build / IPOPT: 2 directions 16.3 / 13.9 s, 4: 15.8 / 10.7 s
@@ -60,7 +59,7 @@ class StudyFunctions:
     """The compiled interval integrator, its forward derivative and the one-revolution integrator."""
 
     interval: ca.Function  # (x0, p=q, u) -> xf (n_z x m), qf (n_quad x m): [friction energy, deficit(, groove)]
-    forward: ca.Function  # interval.forward(CHUNK): called DIRECTIONS / CHUNK times for a Jacobian
+    forward: ca.Function  # interval.forward(CHUNK): called once per CHUNK directions for a Jacobian
     n_par: int
     m: int  # samples per shooting interval
     compile_s: float

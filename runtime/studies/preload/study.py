@@ -25,8 +25,9 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
   ``deficit_tol`` (default (0.2 N)^2 x 0.1 deg) keeps the constraint's gradient non-zero at the
   optimum (a zero tolerance makes LICQ fail) and bounds what it allows: e.g. a 0.2 N shortfall
   lasting 0.1 deg, or a 2 N one lasting 0.001 deg.
-* **Decision variables**: the knot values in mm and the 6 scaled states at ``nodes`` shooting nodes,
-  each divided by the largest magnitude that component reaches on the start trajectory.
+* **Decision variables**: the knot values in mm and the scaled continuous states (the hybrid state's ``x``
+  part, runtime/solving/layout.py: the seal's six) at ``nodes`` shooting nodes, each divided by the largest
+  magnitude that component reaches on the start trajectory.
 * **Shooting**: each shooting interval is a chain of segments (one per knot stretch, schedule.py),
   each one call of the compiled interval integrator; the intervals are mapped over the nodes, a
   thread per core (apexseal.cores.parallel_threads). Sensitivities (forward, including the event times)
