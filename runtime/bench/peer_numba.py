@@ -47,6 +47,7 @@ import time
 import numpy as np
 
 from ...derive.symbols import PARAMETER_NAMES
+from ..solving.euler_integrator import contact_frequencies
 from ..solving.methods import RevolutionResult
 from ..solving.scaling import LENGTH, state_scale, to_scaled
 
@@ -336,11 +337,11 @@ def dop853_max_step(params: np.ndarray) -> float:
     closes and opens again within one step is missed; on the metal default (k = 1e9 N/m) unlimited steps miss
     bounces and the seal leaves its groove (scaled error 22 over 20 deg of tests/runtime/test_bench_peer.py), a
     quarter period (1.03e-3 rad) still misses some (error 0.46), an eighth (5.2e-4 rad) and less find the
-    reference's switches (error 2e-6 to 1e-5 at rtol 1e-10, the floor of numbalsoda's event location).
+    reference's switches (error 2e-6 to 1e-5 at rtol 1e-10, the floor of numbalsoda's event location). The contacts
+    are those of :func:`contact_frequencies` (every oscillator the submodels declare, the spring's included).
     """
-    p = dict(zip(PARAMETER_NAMES, np.asarray(params, float), strict=True))
-    k = max(p["kw"], p["kg1"], p["kg2"], p["kg3"], p["kg4"])
-    return 0.125 * 2 * np.pi * p["omega"] / np.sqrt(k / p["ms"])
+    fastest = max(contact_frequencies(params, PARAMETER_NAMES).values())
+    return 0.125 * 2 * np.pi * float(params[OMEGA]) / fastest
 
 
 #: compiled kernels by (numba source file, guards, samples, linear pressures): shared by problems of one model and grid

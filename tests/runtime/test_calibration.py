@@ -105,3 +105,18 @@ def test_the_groove_stiffness_unknown_sets_all_four_contacts():
     from apexseal.runtime.studies.calibration.fit import overrides
 
     assert overrides({"kg": 5e8, "kw": 2e9}) == {**{f"contacts.kg{i}": 5e8 for i in range(1, 5)}, "contacts.kw": 2e9}
+
+
+def test_the_default_samples_follow_the_stiffest_oscillator_any_candidate_can_have(scene):
+    """The fastest contact is every unknown at the top of its range and every other oscillator the submodels declare
+    at the scene's value, the spring's included (it was left out when the stiffnesses were listed by name)."""
+    from apexseal.runtime.studies.calibration.fit import fastest_contact
+
+    p = scene.parameters
+    ms = p["ms"]
+    assert fastest_contact(scene, {"kg": (3e8, 2e9)}) == math.sqrt(2e9 / ms)  # the four groove contacts at 2e9
+    assert fastest_contact(scene, {"zeta_w": (0.05, 0.2)}) == math.sqrt(max(p["kw"], p["kg1"]) / ms)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a spring this stiff is implausible; it is the fastest oscillator here
+        stiff = scene.with_overrides(**{"spring.ks": 2e10})
+    assert fastest_contact(stiff, {"kw": (3e8, 1e9)}) == math.sqrt(2e10 / stiff.parameters["ms"])

@@ -49,15 +49,31 @@ class _Stopped(Exception):
     """A signal arrived: the candidate in progress is dropped and the study ends with what it has."""
 
 
-def overrides(values: dict[str, float]) -> dict[str, float]:
-    """Scene overrides of the unknowns (kg sets kg1..kg4; ratios go to contacts.zeta_*)."""
+def contact_settings(values: dict[str, float]) -> dict[str, float]:
+    """What the unknowns set, by name in the [contacts] section: kg sets kg1..kg4, the others themselves."""
     out = {}
     for name, v in values.items():
         if name == "kg":
-            out.update({f"contacts.kg{i}": v for i in range(1, 5)})
+            out.update({f"kg{i}": v for i in range(1, 5)})
         else:
-            out[f"contacts.{name}"] = v
+            out[name] = v
     return out
+
+
+def overrides(values: dict[str, float]) -> dict[str, float]:
+    """Scene overrides of the unknowns (kg sets kg1..kg4; ratios go to contacts.zeta_*)."""
+    return {f"contacts.{name}": v for name, v in contact_settings(values).items()}
+
+
+def fastest_contact(scene, ranges: dict[str, tuple[float, float]]) -> float:
+    """sqrt(k/ms) of the stiffest contact a candidate can have (rad/s): every unknown at the top of its range, the
+    other parameters the scene's, the contacts those of ``contact_frequencies`` (every oscillator the submodels
+    declare whose stiffness is in the scene's vector, the spring's included)."""
+    from ...solving.euler_integrator import contact_frequencies
+
+    p = dict(scene.parameters)
+    p.update({n: v for n, v in contact_settings({n: hi for n, (_, hi) in ranges.items()}).items() if n in p})
+    return max(contact_frequencies(list(p.values()), tuple(p)).values())
 
 
 @dataclass
@@ -148,7 +164,8 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     to the paper's features (module docstring).
 
     ``grid``: points per unknown (log-spaced); ``polish``: Nelder-Mead evaluations after the grid (0: none);
-    ``samples``: samples per revolution (default: the scene's).
+    ``samples``: samples per revolution (default: the scene's, or where that is fewer the least multiple of 360
+    with at least 2.4 samples per period of the stiffest contact any candidate can have, :func:`fastest_contact`).
     """
     from ....derive.submodels.registry import needing, parameter, submodels
     from ...api import model_functions
@@ -185,10 +202,7 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     evaluations: list[Evaluation] = []
     start = time.perf_counter()
     if samples is None:  # Nyquist above the stiffest contact's mode, so that no candidate's peak is aliased
-        p = scene.parameters
-        stiffest = max(ranges["kw"][1] if "kw" in ranges else p["kw"],
-                       ranges["kg"][1] if "kg" in ranges else max(p[f"kg{i}"] for i in range(1, 5)))
-        fastest = math.sqrt(stiffest / p["ms"])
+        fastest = fastest_contact(scene, ranges)
         samples = max(scene.solver.samples_per_revolution, 360 * math.ceil(2.4 * fastest / scene.omega / 360))
     with StopSignals() as signals:  # a signal stops the candidate in progress; the others are kept
         try:
