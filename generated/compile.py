@@ -285,7 +285,7 @@ def build_function(source: FunctionSource, *, flags: str) -> Path:
     return build_library(source.key_payload, [source.c_file], source.library_name, flags=flags, link=source.link)
 
 
-def build_functions(sources: Sequence[FunctionSource], *, flags: str) -> list[Path]:
+def build_function_libraries(sources: Sequence[FunctionSource], *, flags: str) -> list[Path]:
     """The libraries of several sources, built at once (a thread each). A signal abandons them together: the
     worker threads, which the signal does not reach, are not waited for, and every compiler is killed (they ran to
     their ends, tens of seconds after a Ctrl-C)."""

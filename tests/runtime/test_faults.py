@@ -515,7 +515,7 @@ def test_a_signal_abandons_builds_running_in_worker_threads(monkeypatch):
     t0 = time.perf_counter()
     threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()
     with StopSignals(raising=True), pytest.raises(KeyboardInterrupt):
-        compile_module.build_functions(["interval", "forward"], flags="optimised")
+        compile_module.build_function_libraries(["interval", "forward"], flags="optimised")
     assert time.perf_counter() - t0 < 5
     deadline = time.perf_counter() + 5
     while len(ended) < 2 and time.perf_counter() < deadline:

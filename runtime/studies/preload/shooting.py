@@ -159,7 +159,7 @@ def study_functions(setup, m: int, *, compile_c: bool = True) -> StudyFunctions:
     quadrature when the setup bounds the groove forces (``setup.max_groove_force``)."""
     import time
 
-    from ....generated.compile import build_functions, fallback, function_source
+    from ....generated.compile import build_function_libraries, fallback, function_source
     from ....generated.compiler import CompilerUnavailable
     from ....progress import stage
 
@@ -181,7 +181,7 @@ def study_functions(setup, m: int, *, compile_c: bool = True) -> StudyFunctions:
     with stage(f"generating the preload study's C (interval integrator, its forward derivative in {CHUNK} directions)"):
         sources = [function_source(f, model_hash=setup.functions.model_hash) for f in (interval, fwd)]
     try:
-        libs = build_functions(sources, flags=setup.flags)  # both at once; a signal abandons both
+        libs = build_function_libraries(sources, flags=setup.flags)  # both at once; a signal abandons both
     except CompilerUnavailable as exc:
         fallback(exc)
         return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False, groove)
