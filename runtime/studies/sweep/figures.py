@@ -11,6 +11,7 @@ Parameters are shown in the unit the study file wrote them in (``"3 mm"`` gives 
 
 from __future__ import annotations
 
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -71,8 +72,9 @@ def _region(ax, xe: np.ndarray, ye: np.ndarray, ok: np.ndarray) -> None:
     for j in range(ny):
         for i in range(nx):
             if not ok[j, i]:
-                ax.add_patch(Rectangle((xe[i], ye[j]), xe[i + 1] - xe[i], ye[j + 1] - ye[j], fill=False,
-                                       hatch="//", lw=0, color="0.85"))
+                # darkened and hatched in white: readable on the colour map's light and dark ends alike
+                ax.add_patch(Rectangle((xe[i], ye[j]), xe[i + 1] - xe[i], ye[j + 1] - ye[j], facecolor=(0, 0, 0, 0.3),
+                                       edgecolor="white", hatch="//", lw=0))
     pad = np.pad(ok, 1, constant_values=False)
     for j in range(ny + 1):  # horizontal borders: between rows j-1 and j
         for i in range(nx):
@@ -139,7 +141,7 @@ def quantity_figure(study, table: pd.DataFrame, column: str, path: Path, *, ax=N
         _axis(ax, p2, "y")
     if len(study.parameters) > 2 and study.design == "grid":
         title += f" (mean over {', '.join(p.key for p in study.parameters[2:])})"
-    ax.set_title(title, fontsize=9)
+    ax.set_title(textwrap.fill(title, 64), fontsize=9)  # a long meaning wraps instead of running off the panel
     if own:
         save_png(fig, path, 120)
         return path
@@ -157,8 +159,8 @@ def feasible_figure(study, table: pd.DataFrame, path: Path) -> Path | None:
     for ax, col in zip(axes[0], columns, strict=False):
         quantity_figure(study, table, col, path, ax=ax, feasible=feasible)
     rule = "; ".join(c.describe() for c in study.constraints)
-    fig.suptitle(f"{study.name}: feasible region (unhatched, white border) where {rule} "
-                 f"- {int(feasible.sum())} of {len(table)} points", fontsize=10)
+    fig.suptitle(textwrap.fill(f"{study.name}: feasible region (unhatched, white border) where {rule} "
+                               f"- {int(feasible.sum())} of {len(table)} points", 64 * len(axes[0])), fontsize=10)
     save_png(fig, path, 120)
     return path
 
