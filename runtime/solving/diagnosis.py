@@ -3,7 +3,8 @@
 Compiled integrators only say 'Evaluation failed'; the interpreted one counts its steps, rejections and
 events, which tell an event limit (chattering) and a step limit (too stiff) apart. Otherwise the longest
 head of the interval that still passes shows whether the model itself turns non-finite just ahead (the state
-has left the model's domain). Every search stops at the run's wall-time deadline with what it has found.
+has left the model's domain). Every search stops at the run's wall-time deadline, or at a SIGINT or SIGTERM
+(:mod:`.signals`), with what it has found.
 """
 
 from __future__ import annotations
@@ -14,12 +15,14 @@ import time
 import numpy as np
 
 from ...derive.submodels.registry import guard as declared_guard
+from ...progress import announce
 from ..results.result import StopInfo
 from .checks import Chattering
 from .layout import HybridLayout
 from .methods import WallTimeExceeded, make_engine
 from .scaling import to_physical
 from .settings import RunSettings, out_of_time
+from .signals import StopSignals
 
 
 def locate_failure(functions, settings, params, z, edges, P, err, deadline, theta_start, make=make_engine):
@@ -31,31 +34,53 @@ def locate_failure(functions, settings, params, z, edges, P, err, deadline, thet
     that fails on its own, with the reason diagnosed; or every sample and no stop when
     each interval passes alone (the run goes on from there).
     """
+    what, t0 = f"re-running a failed integrator call ({edges.size - 1} output intervals) interval by interval", \
+        time.perf_counter()
+    announce(f"{what}, interpreted ...")
+    with StopSignals() as signals:
+        Z, stop = _interval_by_interval(functions, settings, params, z, edges, P, err, deadline, theta_start, make,
+                                        signals)
+    outcome = "every interval passed" if stop is None else f"{stop[0]} at {np.degrees(stop[1].theta):.3f} deg"
+    announce(f"{what}: {outcome}, {Z.shape[1]} passed, in {time.perf_counter() - t0:.1f} s")
+    return Z, stop
+
+
+def _interval_by_interval(functions, settings, params, z, edges, P, err, deadline, theta_start, make, signals):
     lay = HybridLayout.of(functions)
     dth = edges[1] - edges[0]
     linear = int(P.shape[1] == edges.size)  # pressure = "linear": the values at the edges, one more than intervals
     single = make(functions, settings, n_samples=1, span=dth, compile_c=False)
-    single.deadline = deadline
+    single.deadline = deadline if not signals.requested else -math.inf
+    signals.watch(single)  # a signal stops it at its next deadline check
     cols = []
     for k in range(edges.size - 1):
         where = StopInfo(edges[k] - theta_start, lay.mode(z[lay.active]), "")
-        if time.perf_counter() > deadline:
-            where.reason = out_of_time(settings, deadline - settings.max_wall_time, ", while re-running a failed call "
-                                        f"interval by interval; the call failed with: {_last_line(err)}")
+        context = f", while re-running a failed call interval by interval; the call failed with: {_last_line(err)}"
+        if signals.requested or time.perf_counter() > deadline:
+            where.reason = _stopped(signals, settings, deadline, context)
             return _cols(cols, z), ("interrupted", where)
         try:
             out = single.run(z, params, edges[k], P[:, k:k + 1 + linear])
         except WallTimeExceeded:
-            where.reason = out_of_time(settings, deadline - settings.max_wall_time, ", while re-running a failed call "
-                                        "interval by interval")
+            where.reason = _stopped(signals, settings, deadline, context)
             return _cols(cols, z), ("interrupted", where)
         except RuntimeError as e:
             status, where.reason = _diagnose(functions, settings, single, e, z, edges[k], dth, params,
                                              P[:, k:k + 1 + linear], theta_start, deadline, make)
+            if signals.requested:  # the diagnosis was cut short: the signal is the run's reason
+                status, where.reason = "interrupted", _stopped(signals, settings, deadline, ", while diagnosing a "
+                                                               f"failed interval ({where.reason})")
             return _cols(cols, z), (status, where)
         z = out.z[:, -1]
         cols.append(z.copy())
     return _cols(cols, z), None
+
+
+def _stopped(signals, settings: RunSettings, deadline: float, context: str) -> str:
+    """The reason of a re-run stopped early: the signal it got, or the wall-time budget."""
+    if signals.requested:
+        return signals.reason() + context
+    return out_of_time(settings, deadline - settings.max_wall_time, context)
 
 
 def _cols(cols, z):
@@ -141,12 +166,18 @@ def _longest_head(functions, settings: RunSettings, params, z, theta, dth, P,
     ends at the value on the interval's line."""
     lo, hi, end = 0.0, dth, z
     for _ in range(12):
-        if time.perf_counter() > deadline:
+        if time.perf_counter() > deadline or StopSignals.pending():
             break
         mid = 0.5 * (lo + hi)
         try:
             head = P if P.shape[1] == 1 else np.c_[P[:, 0], P[:, 0] + (P[:, 1] - P[:, 0]) * (mid / dth)]
-            out = make(functions, settings, n_samples=1, span=mid, compile_c=False).run(z, params, theta, head)
+            engine = make(functions, settings, n_samples=1, span=mid, compile_c=False)
+            engine.deadline = deadline
+            with StopSignals() as signals:
+                signals.watch(engine)
+                out = engine.run(z, params, theta, head)
+        except WallTimeExceeded:
+            break
         except RuntimeError:
             hi = mid
             continue

@@ -96,6 +96,11 @@ class StopSignals:
             raise KeyboardInterrupt
 
     @classmethod
+    def pending(cls) -> bool:
+        """True when the active instance (of the main thread) has caught a signal: for a search that stops at one."""
+        return _main() and cls._active is not None and cls._active.requested
+
+    @classmethod
     @contextlib.contextmanager
     def abandoning(cls):
         """Work with nothing to keep yet (deriving, generating or compiling a model): inside the block a signal

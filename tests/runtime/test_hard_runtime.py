@@ -3,6 +3,9 @@ missed events, NaN, stiff explicit Euler, wall-time budgets and failed calls (do
 
 from __future__ import annotations
 
+import os
+import signal
+
 import casadi as ca
 import numpy as np
 import pytest
@@ -291,3 +294,32 @@ def test_the_event_budget_is_per_revolution(default_scene, default_functions):
     assert free.status == "completed" and per_rev.size == 3 and total[-1] > per_rev.max() + 1
     budget = apexseal.simulate(default_scene, max_events_per_revolution=int(per_rev.max()) + 1, **kw)
     assert budget.status == "completed"
+
+
+class _SignalledWhileRecovering(_FailsOnLongCalls):
+    """As :class:`_FailsOnLongCalls`, and the process gets a SIGINT during the third single-interval call."""
+
+    calls = 0
+
+    def run(self, z0, params, theta0, pressures):
+        if self.n_samples == 1:
+            type(self).calls += 1
+            if type(self).calls == 3:
+                os.kill(os.getpid(), signal.SIGINT)
+        return super().run(z0, params, theta0, pressures)
+
+
+def test_a_signal_stops_the_interval_by_interval_rerun_of_a_failed_call(default_scene, fns, monkeypatch):
+    """Ctrl-C while a failed call is re-run interval by interval (interpreted: 18 s a revolution on tip-chatter, and
+    minutes on a stiff scene) stops it at the next interval with what passed, as it stops the run's own calls; the
+    re-run went on to its end before."""
+    real = sim.make_engine
+    _SignalledWhileRecovering.calls = 0
+    monkeypatch.setattr(sim, "make_engine", lambda *a, **k: _SignalledWhileRecovering(real(*a, **k)))
+    st = sim.RunSettings(samples_per_revolution=72, compile_c=False)
+    r = sim.run(fns, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
+                pressure=default_scene.pressure)
+    assert r.status == "interrupted" and "interrupted by the user" in r.stop.reason, r.stop
+    # it stops after the third of the 720 pressure intervals (the table's rows), before the first output sample
+    assert "re-running a failed call" in r.stop.reason and r.stop.theta == pytest.approx(3 * 2 * np.pi / 720)
+    assert r.n == 1
