@@ -261,8 +261,8 @@ class ResultFolder:
         self.state_rows = part.state.shape[0]
         if part.n:
             self.last = (float(part.theta[-1]), part.modes[-1])
-        stop = StopInfo(self.last[0], self.last[1], "the run ended without its final record (killed, or the machine "
-                        f"stopped) after {len(self.parts)} completed part(s); the revolution in progress was lost")
+        stop = StopInfo(self.last[0], self.last[1], f"{UNFINISHED} (killed, or the machine stopped) after "
+                        f"{len(self.parts)} completed part(s); the revolution in progress was lost")
         self._store("result.json", _json_bytes(self._record("interrupted", stop)), "the progress record")
 
     def finish(self, status: str, stop: StopInfo | None, info: dict) -> SimulationResult:
@@ -436,6 +436,24 @@ def _began(folder: Path) -> str:
     return words[2].rstrip(",") if len(words) > 2 and words[:2] == ["apexseal", "result"] else ""
 
 
+#: the start of the stop reason of the progress record a run writes after each part (its final record replaces it)
+UNFINISHED = "the run ended without its final record"
+
+
+def _still_written(folder: Path, stop: StopInfo | None, parts: int) -> StopInfo | None:
+    """The stop of a folder read back: a progress record (:data:`UNFINISHED`) of a folder whose writer still holds
+    its lock says that the run goes on, not that it was killed."""
+    if stop is None or not stop.reason.startswith(UNFINISHED):
+        return stop
+    lock = try_lock_folder(folder)
+    if lock is not None:
+        os.close(lock)
+        return stop
+    return StopInfo(stop.theta, stop.mode, f"the run is still going on (a running process writes {folder}): this is "
+                    f"what it had written when read, {parts} completed part(s); the revolution in progress is not in "
+                    "it yet")
+
+
 def read_record(folder: Path) -> dict:
     path = folder / "result.json"
     if not path.is_file():
@@ -506,7 +524,7 @@ def read(folder: str | Path) -> SimulationResult:
         check_stamp(folder / name, run_id)
     for p in parts:
         p.guard_names = tuple(guards)
-    stop = StopInfo(**meta["stop"]) if meta["stop"] else None
+    stop = _still_written(folder, StopInfo(**meta["stop"]) if meta["stop"] else None, len(parts))
     result = join(parts, meta["status"], stop, meta["info"])
     result.info.setdefault("run_id", run_id)
     if (folder / SCENE_FILE).is_file():

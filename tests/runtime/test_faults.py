@@ -304,10 +304,13 @@ def test_a_killed_run_leaves_a_loadable_folder(default_scene, default_functions,
     sink = ResultFolder(tmp_path / "o")
     first = _run(default_scene, default_functions, 1)
     sink.append(first)  # as the run loop does after the first revolution
-    sink.sync()  # written while the second revolution integrates (sync: at the latest); then the process dies
+    sink.sync()  # written while the second revolution integrates (sync: at the latest)
+    live = SimulationResult.load(sink.staging)  # read while the run goes on: it says so, not that it was killed
+    assert live.status == "interrupted" and "still going on" in live.stop.reason, live.stop.reason
+    os.close(sink._lock)  # then the process dies, and its lock with it
     back = SimulationResult.load(sink.staging)
     assert back.status == "interrupted" and "without its final record" in back.stop.reason
-    assert back.n == 1 + SAMPLES and np.array_equal(back.state, full.state[:, :1 + SAMPLES])
+    assert back.n == live.n == 1 + SAMPLES and np.array_equal(back.state, full.state[:, :1 + SAMPLES])
     assert not (tmp_path / "o").exists()
 
 
