@@ -226,3 +226,6 @@ def _report(result, summary, files, out, where, kept_aside, timings, watch, sign
         if result.status == "interrupted" and result.revolutions >= 1:  # a whole revolution to continue from
             click.echo(f"  continue it: apexseal simulate --resume {out}", err=True)
         sys.exit(signals.exit_code() or 2)
+    if signals.requested:  # came while the completed run was saved or drawn: said, and the exit code says it too
+        click.echo(f"  interrupted by {signals.sender()} after the run completed: its result is whole", err=True)
+        sys.exit(signals.exit_code())
