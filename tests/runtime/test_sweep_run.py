@@ -185,8 +185,10 @@ def test_resume_refuses_a_folder_of_another_study_and_fresh_recomputes(serial, t
     run_sweep(light_study(**{"points = 4": "points = 2"}), out, workers=1, quiet=True)
     with pytest.raises(StoreError, match="another study"):
         run_sweep(light_study(**{"points = 4": "points = 3"}), out, workers=1, quiet=True)
+    (out / "a-quantity-of-the-old-study.png").write_bytes(b"")  # as its figures were
     report = run_sweep(light_study(**{"points = 4": "points = 3"}), out, workers=1, resume=False, quiet=True)
     assert report.computed == 12 and report.skipped == 0 and len(report.table) == 12
+    assert not (out / "a-quantity-of-the-old-study.png").exists()  # --fresh leaves no figure of the study it discards
 
 
 def test_failed_points_are_recorded_with_their_reason_and_the_sweep_goes_on(tmp_path, monkeypatch):

@@ -64,6 +64,8 @@ class Store:
             shutil.rmtree(self.parts, ignore_errors=True)
             for name in ("results.parquet", "results.csv"):
                 (self.folder / name).unlink(missing_ok=True)
+            for figure in self.folder.glob("*.png"):  # the discarded study's figures (sweep_figures writes them here)
+                figure.unlink(missing_ok=True)
         self.parts.mkdir(exist_ok=True)
         atomic_write(record, json.dumps({"name": study.name, "hash": digest, "source": study.source,
                                          "study": study.raw, "units": study.units()}, indent=2, default=str) + "\n")
