@@ -296,3 +296,26 @@ def test_a_script_without_the_main_guard_is_told_to_add_it(tmp_path):
     assert run.returncode != 0
     assert "Each worker imports the script sweep.py" in run.stderr
     assert 'if __name__ == "__main__":' in run.stderr.splitlines()[-1]
+
+
+def test_the_models_are_built_once_before_the_points_and_a_signal_there_stops_the_sweep(serial, tmp_path, monkeypatch):
+    """The sweep builds each distinct model once in its own process, its stages reported (inside the points a cold
+    model was derived and compiled silently, by every worker at once); a Ctrl-C there computes nothing."""
+    import apexseal.runtime.api as api
+
+    real, built = api.model_functions, []
+
+    def counted(scene, **kw):
+        built.append(scene.effects)
+        return real(scene, **kw)
+
+    monkeypatch.setattr(api, "model_functions", counted)
+    report = run_sweep(light_study(), tmp_path / "a", workers=1, quiet=True)
+    assert report.computed == len(report.table) > 1 and len(built) == 1 + report.computed  # once, then per point
+
+    def interrupted(scene, **kw):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(api, "model_functions", interrupted)
+    report = run_sweep(light_study(), tmp_path / "b", workers=1, quiet=True)
+    assert report.interrupted and report.computed == 0

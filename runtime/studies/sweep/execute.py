@@ -109,7 +109,9 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, 
 
     args = (study.quantities, study.max_wall_time)
     try:
-        if serial:
+        if todo and client is None and scheduler is None and not _models_built(todo, quiet):
+            where, interrupted = "nothing computed: stopped while the models were built", True
+        elif serial:
             where, interrupted = "serial" if todo else "nothing left to compute", _serial(todo, args, record)
         else:
             where, n, interrupted = _dask(todo, args, record, study, n, scheduler, client)
@@ -119,6 +121,30 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, 
     return SweepReport(table=table, folder=store.folder, total=len(points), skipped=skipped,
                        computed=len(table) - skipped, failed=int((table["status"] != "completed").sum()),
                        wall_time_s=time.perf_counter() - t0, interrupted=interrupted, workers=n, where=where)
+
+
+def _models_built(todo, quiet: bool) -> bool:
+    """Derive, generate and compile here, once, the model of each distinct set of effects and assumptions the
+    points need (usually one), with the stages' progress on stderr unless ``quiet``: the points find them in the
+    cache (a cold model takes seconds to minutes; inside the points it was built silently, by every worker at
+    once). False when a signal stopped it (nothing is computed yet)."""
+    from ....progress import enabled
+    from ...api import model_functions
+    from ...solving.signals import StopSignals
+
+    models = {}
+    for _, scene, _ in todo:
+        key = (scene.effects, scene.assumptions, scene.solver.compile, scene.solver.interpreted)
+        models.setdefault(key, scene)
+    try:
+        with StopSignals() as signals, enabled(not quiet):
+            for scene in models.values():
+                model_functions(scene)
+                if signals.requested:
+                    return False
+    except KeyboardInterrupt:  # StopSignals.abandoning stops a build at once
+        return False
+    return True
 
 
 def _serial(todo, args, record) -> bool:
