@@ -127,7 +127,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                         figures.cancel()
                     raise
                 if figures is not None:
-                    with watch.stage("figures"):
+                    with watch.stage("figures"), _said(result.n, "finishing the figures"):
                         files += [p.name for p in figures.finish()]
                 with watch.stage("save"):
                     where = writer.commit()
@@ -166,11 +166,22 @@ def _what_runs(scene, sets, revolutions, method, rtol, max_wall_time, out, resum
         raise click.BadParameter(str(err), param_hint="--resume") from err
 
 
+def _said(samples: int, what: str):
+    """A progress stage on stderr for work on a result of that many samples when it is long (seconds after the
+    revolutions' bar: runtime/solving/run.py, LONG_RESULT), else nothing."""
+    import contextlib
+
+    from .progress import stage
+    from .runtime.solving.run import LONG_RESULT
+
+    return stage(what) if samples >= LONG_RESULT else contextlib.nullcontext()
+
+
 def _save(watch, writer, result, source: str, csv) -> tuple[dict, list[str]]:
     """summary.json and, on request, trajectory.csv (result.json and the parts are written by the run)."""
     from .runtime.results.summary import summarise
 
-    with watch.stage("save"):
+    with watch.stage("save"), _said(result.n, f"summarising {result.n:,} samples"):
         summary = summarise(result, {"source": source})
         writer.write_json("summary.json", summary)
         files = ["result.json", f"parts/ ({len(writer.parts)} files)", "scene.toml", "summary.json"]

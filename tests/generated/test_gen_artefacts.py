@@ -189,6 +189,7 @@ NOT_SHAPING = {
     "apexseal.runtime": "the package",
     "apexseal.runtime.solving": "the package",
     "apexseal.runtime.solving.settings": "PRESSURE_PROFILES, the names the hybrid DAE checks its argument against",
+    "apexseal.generated.compiler": "FLAG_SETS, whose names settings check against (compiling, not generating)",
     "apexseal.runtime.scenes": "the package (settings' errors and units)",
     "apexseal.runtime.scenes.errors": "settings' error messages",
     "apexseal.runtime.scenes.units": "settings' units",
