@@ -3,8 +3,8 @@
 The housing is the limaçon traced by the rotor apex p1: in polar form about the
 pole o, ``Rh(psi) = 2 r sin(psi) + L`` (Eqs. 1-2). Everything here follows from
 that curve: its Cartesian form (Eqs. 3-4), the normal angle ``lambda`` (Eq. 9),
-the groove truncation (Eqs. 6-8), the chamber areas, and the initial deflections
-(Eq. 9).
+the groove truncation (Eqs. 6-8) and the initial deflections (Eq. 9). The chamber
+volumes (Eqs. 1-8) are in derive/chambers.py.
 """
 
 from __future__ import annotations
@@ -19,7 +19,6 @@ psi = sp.Symbol("psi", real=True)
 Wg = P["Wg"]
 Cr, k = sp.symbols("Cr k", positive=True)  # rotor-housing clearance and lobe-centre offset (Eqs. 5, 8)
 b = sp.Symbol("b", positive=True)  # aspect ratio r/L (Eq. 4)
-A_lobe = sp.Symbol("A_lobe", nonnegative=True)  # area of one rotor lobe (constant)
 
 #: Eqs. 1-2: chord centre offset s and housing radius Rh at crank angle theta
 stroke = 2 * r * sp.sin(theta)
@@ -98,19 +97,6 @@ def truncation_circular() -> sp.Expr:
     circle = sp.Eq(X**2 + (Wg / 2 + k) ** 2, lobe_radius() ** 2)
     Xe = [s for s in sp.solve(circle, X) if s.could_extract_minus_sign() is False][0]
     return L - Cr - Xe
-
-
-def chamber_areas() -> tuple[sp.Expr, sp.Expr]:
-    """Areas of chambers a and b at crank angle theta (for the pressure model).
-
-    The chord p1 p2 passes through the pole (Rh(theta) + Rh(theta + pi) = 2L), so
-    chamber a is the housing sector from theta to theta + pi less one rotor lobe,
-    and chamber b the other half: A = 1/2 integral of Rh^2 dpsi - A_lobe.
-    """
-    rho2 = (2 * r * sp.sin(psi) + L) ** 2
-    Aa = sp.simplify(sp.integrate(rho2, (psi, theta, theta + sp.pi)) / 2) - A_lobe
-    Ab = sp.simplify(sp.integrate(rho2, (psi, theta + sp.pi, theta + 2 * sp.pi)) / 2) - A_lobe
-    return Aa, Ab
 
 
 def initial_wall_deflection() -> sp.Expr:

@@ -5,14 +5,17 @@
 * :func:`initial_wall_deflection` - delta_w from the rest balance ks delta_s = kw delta_w, Eq. 9 (the symbolic
   form, checked against this one by the tests, is ``derive.geometry.initial_wall_deflection``);
 * :func:`damping_of_ratio` - a contact's damping coefficient from its damping ratio, c = 2 zeta sqrt(k ms).
-* :func:`chamber_volume`, :func:`smallest_chamber_volume`, :func:`smallest_lobe_offset` - chamber volumes, Eqs. 1-8
-  (the symbolic forms are in ``derive.chambers``), their minimum over a revolution and the circular lobes' bound on k.
+* :func:`housing_radius` - the housing's distance from the pole, Eq. 2 or the circolimaçon's circle (the ports' areas);
+* :func:`smallest_chamber_volume`, :func:`smallest_lobe_offset` - the smallest chamber volume over a revolution and
+  the circular lobes' bound on k, from the chamber volumes of Eqs. 1-8 (``derive.chambers``, evaluated on floats).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+
+from .chambers import chamber_volume, lobe_area
 
 
 def tip_half_angle(Ws: float, ro: float) -> float:
@@ -56,45 +59,20 @@ def machine_numbers(embodiment: str, r_: float, L_: float, Wg_: float, Cr_: floa
     return MachineNumbers(r_ / L_, z, None)
 
 
-def lobe_area(embodiment: str, r_: float, L_: float, Cr_: float = 0.0, k_: float = 0.0) -> float:
-    """Area between the chord and one rotor lobe (the numeric form of ``derive.chambers.lobe_area``)."""
-    if embodiment == "limacon-to-limacon":  # 1/2 integral of (L - Cr - 2 r sin a)^2 over [0, pi]
-        a = L_ - Cr_
-        return 0.5 * (math.pi * a * a - 8 * r_ * a + 2 * math.pi * r_ * r_)
-    R = math.sqrt((L_ - Cr_) ** 2 + k_**2)
-    return segment_area(R, k_)
-
-
-def segment_area(R: float, h: float) -> float:
-    """Area of a disc of radius R beyond a line at signed distance h from its centre."""
-    return R * R * math.acos(h / R) - h * math.sqrt(max(R * R - h * h, 0.0))
-
-
 def housing_radius(circle: bool, r_: float, L_: float, psi: float) -> float:
     """Distance from the pole to the housing at polar angle psi: Eq. 2, or the circolimaçon's circle."""
     s = math.sin(psi)
     return 2 * r_ * s + (math.sqrt(L_**2 + 4 * r_**2 * s * s) if circle else L_)
 
 
-def chamber_volume(side: int, theta: float, *, r: float, L: float, H: float, A_lobe: float,
-                   housing_circle: float) -> float:
-    """Va (side=1) or Vb (side=-1) at crank angle theta (the numeric form of ``derive.chambers.chamber_volumes``)."""
-    if housing_circle:
-        R = math.sqrt(L * L + 4 * r * r)
-        area = math.pi * R * R - segment_area(R, side * 2 * r * math.cos(theta))
-    else:
-        area = math.pi * r * r + math.pi * L * L / 2 + side * 4 * r * L * math.cos(theta)
-    return H * (area - A_lobe)
-
-
 def smallest_chamber_volume(embodiment: str, r_: float, L_: float, H_: float, Cr_: float = 0.0, k_: float = 0.0,
                             samples: int = 360) -> tuple[float, float, str]:
     """The smallest of Va, Vb over a revolution, the crank angle where it occurs and the chamber ("a" or "b").
 
-    Samples :func:`chamber_volume` (Eqs. 1-8) every 360/samples deg; the smallest volumes of the three embodiments
+    Samples :func:`.chambers.chamber_volume` (Eqs. 1-8) every 360/samples deg; the smallest volumes of the three embodiments
     lie at theta = 0 or pi (the chord along the Xo axis), which the grid contains for even ``samples``.
     """
-    A = lobe_area(embodiment, r_, L_, Cr_, k_)
+    A = lobe_area(embodiment, r=r_, L=L_, Cr=Cr_, k=k_)
     circle = 1.0 if embodiment == "circolimacon" else 0.0
     best = (math.inf, 0.0, "a")
     for i in range(samples):

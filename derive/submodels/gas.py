@@ -23,7 +23,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from ..numbers import chamber_volume, housing_radius, lobe_area
+from ..chambers import chamber_volume, lobe_area, symbolic
+from ..numbers import housing_radius
 from ..options import Option
 from ..parameters import Parameter
 from .base import Context, State, Submodel
@@ -112,7 +113,7 @@ class ChamberGas(Submodel):
         m = inputs["machine"]
         circle = m.embodiment == "circolimacon"
         out = {"H_gas": values["H"],
-               "A_lobe": lobe_area(m.embodiment, values["r"], values["L"], values["Cr"], values["k"]),
+               "A_lobe": lobe_area(m.embodiment, r=values["r"], L=values["L"], Cr=values["Cr"], k=values["k"]),
                "housing_circle": 1.0 if circle else 0.0}
         ports = getattr(m, "ports", None)
         for short, name in (("in", "inlet"), ("out", "outlet")):
@@ -153,14 +154,11 @@ class ChamberGas(Submodel):
         P, X = ctx.P, ctx.X
         g, R = P["gamma"], P["R_gas"]
         cv, cp = R / (g - 1), g * R / (g - 1)
-        r, L, H = P["r"], P["L"], P["H_gas"]
-        Rc = sp.sqrt(L**2 + 4 * r**2)
+        H = P["H_gas"]
         q: dict[str, Any] = {}
         for side, c in ((1, "a"), (-1, "b")):
-            d = side * 2 * r * sp.cos(theta)  # the circolimaçon's circle (derive/chambers.py)
-            circle = sp.pi * Rc**2 - (Rc**2 * sp.acos(d / Rc) - d * sp.sqrt(Rc**2 - d**2))
-            limacon = sp.pi * r**2 + sp.pi * L**2 / 2 + side * 4 * r * L * sp.cos(theta)
-            V = H * (P["housing_circle"] * circle + (1 - P["housing_circle"]) * limacon - P["A_lobe"])
+            V = chamber_volume(side, theta, r=P["r"], L=P["L"], H=H, A_lobe=P["A_lobe"],
+                               housing_circle=P["housing_circle"], ops=symbolic())  # Eqs. 1-8
             q[f"V{c}"], q[f"dV{c}"] = V, P["omega"] * sp.diff(V, theta)
             q[f"P{c}"] = (g - 1) * X[f"U{c}"] / V
             q[f"T{c}"] = X[f"U{c}"] / (X[f"m{c}"] * cv)

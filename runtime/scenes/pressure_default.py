@@ -9,9 +9,10 @@ the same character; it is not the paper's data. Regenerate the table with::
 
 Model of chamber a (the seal's +Ys side, Eq. 75), an ideal expander:
 
-* volume from :func:`apexseal.derive.geometry.chamber_areas` with ``A_lobe = 0``
-  (the depth H cancels): ``A_a = π r² + π L²/2 + 4 r L cos θ``, smallest at
-  θ = π, largest at θ = 0;
+* volume from the limaçon housing's area on chamber a's side of the chord,
+  :func:`apexseal.derive.chambers.housing_area` (Eqs. 1-2; no lobe area, and the
+  depth H cancels): ``A_a = π r² + π L²/2 + 4 r L cos θ``, smallest at θ = π,
+  largest at θ = 0;
 * admission at the supply pressure from the smallest volume for the inlet port's
   angular width (22°, Table 1), so the inlet cut-off is at θ = π + 22°;
 * isentropic expansion, ``P = P_supply (A(cut-off) / A(θ))^γ``, to the largest volume;
@@ -61,15 +62,15 @@ HEADER_LINES = (
 def _area_function(r: float, L: float) -> Callable[[np.ndarray], np.ndarray]:
     import sympy as sp
 
-    from apexseal.derive import geometry
+    from apexseal.derive import chambers
     from apexseal.derive.symbols import P, theta
 
-    area_a, _ = geometry.chamber_areas()
-    return sp.lambdify(theta, area_a.subs({geometry.A_lobe: 0, P["r"]: r, P["L"]: L}), "numpy")
+    area_a = chambers.housing_area(1, theta, r=P["r"], L=P["L"], housing_circle=0, ops=chambers.symbolic())
+    return sp.lambdify(theta, area_a.subs({P["r"]: r, P["L"]: L}), "numpy")
 
 
 def chamber_a_area(theta: np.ndarray, r: float = R_BASE, L: float = L_HALF) -> np.ndarray:
-    """Area of chamber a at crank angle ``theta`` from derive.geometry.chamber_areas, with A_lobe = 0."""
+    """Area of chamber a at crank angle ``theta``: the limaçon housing's (derive.chambers.housing_area), no lobe."""
     t = np.asarray(theta, dtype=float)
     return np.broadcast_to(_area_function(r, L)(t), t.shape).astype(float)
 

@@ -1,4 +1,5 @@
-"""Chamber volumes (derive/chambers.py) against the polygon area of the sampled housing and rotor curves."""
+"""Chamber volumes (derive/chambers.py): its closed forms against the integrals they stand for, and the volumes
+against the polygon area of the sampled housing and rotor curves."""
 
 from __future__ import annotations
 
@@ -10,6 +11,9 @@ import sympy as sp
 
 from apexseal.derive import chambers
 from apexseal.derive.symbols import P, theta
+
+PSI = sp.Symbol("psi", real=True)
+r, L, Cr = P["r"], P["L"], P["Cr"]
 
 #: r, L, H, Cr, k; k = 30 mm lets the circular lobes fit inside the housing (a valid machine)
 GEOM = {"r": 0.010, "L": 0.050, "H": 0.100, "Cr": 1e-4, "k": 0.030}
@@ -52,8 +56,8 @@ def _housing(embodiment: str, m: int = 20000) -> np.ndarray:
 
 
 def _lobe(embodiment: str, th: float, side: int, m: int = 4000) -> np.ndarray:
-    X, Y = chambers.lobe_curve(embodiment)
-    f = sp.lambdify(chambers.PSI, [X.subs(_subs()), Y.subs(_subs())], "numpy")
+    X, Y = chambers.lobe_curve(embodiment, PSI)
+    f = sp.lambdify(PSI, [X.subs(_subs()), Y.subs(_subs())], "numpy")
     s = np.linspace(0, math.pi, m)
     xr, yr = (np.broadcast_to(np.asarray(v, float), s.shape) for v in f(s))
     yr = side * yr
@@ -90,3 +94,27 @@ def test_limacon_chamber_displacement_is_8rLH():
 def test_unknown_embodiment_is_refused():
     with pytest.raises(ValueError, match="embodiment 'wankel'"):
         chambers.chamber_volumes("wankel")
+
+
+def test_segment_area_is_the_integral_of_the_chord_length():
+    R, h, t = sp.Symbol("R", positive=True), sp.Symbol("h", real=True), sp.Symbol("t", real=True)
+    integral = sp.integrate(2 * sp.sqrt(R**2 - t**2), (t, h, R), conds="none")
+    closed = chambers.segment_area(R, h, ops=chambers.symbolic())
+    for R_, h_ in ((1.0, 0.3), (1.0, -0.8), (0.05, 0.02), (2.0, 0.0)):
+        at = {R: R_, h: h_}
+        assert float(integral.subs(at)) == pytest.approx(float(closed.subs(at)), rel=1e-12)
+
+
+@pytest.mark.parametrize("side", [1, -1])
+def test_limacon_housing_area_is_half_the_integral_of_rh_squared(side):
+    """Eq. 2: 1/2 integral of Rh^2 over the half of the housing on the chamber's side of the chord."""
+    lo = theta if side == 1 else theta + sp.pi
+    integral = sp.integrate((2 * r * sp.sin(PSI) + L) ** 2, (PSI, lo, lo + sp.pi)) / 2
+    closed = chambers.housing_area(side, theta, r=r, L=L, housing_circle=0, ops=chambers.symbolic())
+    assert sp.simplify(integral - closed) == 0
+
+
+def test_limacon_lobe_area_is_half_the_integral_of_rho_squared():
+    integral = sp.integrate((L - Cr - 2 * r * sp.sin(PSI)) ** 2, (PSI, 0, sp.pi)) / 2
+    closed = chambers.lobe_area("limacon-to-limacon", r=r, L=L, Cr=Cr, ops=chambers.symbolic())
+    assert sp.expand(integral - closed) == 0

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from apexseal.derive import chambers, numbers, ports
+from apexseal.derive import chambers, ports
 from apexseal.derive.submodels.gas import orifice_flow
 from apexseal.derive.symbols import P, theta
 
@@ -16,14 +16,18 @@ GEOM = {"r": 0.010, "L": 0.050, "H": 0.100, "Cr": 1e-4, "k": 0.030}
 
 
 @pytest.mark.parametrize("embodiment", chambers.EMBODIMENTS)
-def test_numeric_volumes_equal_the_sympy_derivation(embodiment):
+def test_numeric_volumes_equal_the_sympy_ones(embodiment):
+    """The chamber formulas (derive/chambers.py) on floats, as the volume check and the initial state evaluate
+    them, and in sympy, as the gas model's equations hold them."""
     subs = {P[n]: v for n, v in GEOM.items()}
-    A = numbers.lobe_area(embodiment, GEOM["r"], GEOM["L"], GEOM["Cr"], GEOM["k"])
-    assert A == pytest.approx(float(chambers.lobe_area(embodiment).subs(subs)), rel=1e-12)
+    geom = {n: GEOM[n] for n in ("r", "L", "Cr", "k")}
+    A = chambers.lobe_area(embodiment, **geom)
+    A_sym = chambers.lobe_area(embodiment, r=P["r"], L=P["L"], Cr=P["Cr"], k=P["k"], ops=chambers.symbolic())
+    assert A == pytest.approx(float(A_sym.subs(subs)), rel=1e-12)
     for side, V in zip((1, -1), chambers.chamber_volumes(embodiment), strict=True):
         for th in (0.0, 0.7, 2.0, 3.5, 5.9):
-            num = numbers.chamber_volume(side, th, r=GEOM["r"], L=GEOM["L"], H=GEOM["H"], A_lobe=A,
-                                         housing_circle=float(embodiment == "circolimacon"))
+            num = chambers.chamber_volume(side, th, r=GEOM["r"], L=GEOM["L"], H=GEOM["H"], A_lobe=A,
+                                          housing_circle=float(embodiment == "circolimacon"))
             assert num == pytest.approx(float(V.subs(subs).subs(theta, th)), rel=1e-10)
 
 

@@ -305,7 +305,7 @@ def test_default_table_is_an_ideal_expander():
     pav = pa[expansion] * area[expansion] ** GAMMA
     np.testing.assert_allclose(pav, pav[0], rtol=1e-12)
     assert np.all(np.diff(area[expansion]) > 0) and np.all(np.diff(pa[expansion]) < 0)
-    # chamber a is smallest at theta = pi and largest at theta = 0 (derive.geometry.chamber_areas)
+    # chamber a is smallest at theta = pi and largest at theta = 0 (derive.chambers.housing_area)
     assert np.argmin(area) == 360 and np.argmax(area) == 0
 
 
