@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from . import numbers
 from .numbers import MachineNumbers, machine_numbers  # noqa: F401  (numeric Eqs. 4-8, sympy-free)
 from .symbols import P, theta
 
@@ -105,4 +106,4 @@ def initial_wall_deflection() -> sp.Expr:
     The X component of the housing force is kw delta_w (Algorithm 2 with xs5 =
     delta_w); the spring pushes with ks delta_s; nothing else acts at rest.
     """
-    return P["ks"] * P["delta_s"] / P["kw"]
+    return numbers.initial_wall_deflection(ks=P["ks"], delta_s=P["delta_s"], kw=P["kw"])

@@ -2,8 +2,8 @@
 
 * :func:`tip_half_angle` - beta_o, Eq. 24 (a derived parameter: no derivative passes through asin at ro = Ws/2);
 * :func:`machine_numbers` - aspect ratio and groove truncation, Eqs. 4-8;
-* :func:`initial_wall_deflection` - delta_w from the rest balance ks delta_s = kw delta_w, Eq. 9 (the symbolic
-  form, checked against this one by the tests, is ``derive.geometry.initial_wall_deflection``);
+* :func:`initial_wall_deflection` - delta_w from the rest balance ks delta_s = kw delta_w, Eq. 9 (also the symbolic
+  form: ``derive.geometry.initial_wall_deflection`` calls it with the parameters' symbols);
 * :func:`damping_of_ratio` - a contact's damping coefficient from its damping ratio, c = 2 zeta sqrt(k ms).
 * :func:`housing_radius` - the housing's distance from the pole, Eq. 2 or the circolimaçon's circle (the ports' areas);
 * :func:`smallest_chamber_volume`, :func:`smallest_lobe_offset` - the smallest chamber volume over a revolution and
@@ -23,8 +23,8 @@ def tip_half_angle(Ws: float, ro: float) -> float:
     return math.asin(min(1.0, Ws / (2 * ro)))
 
 
-def initial_wall_deflection(ks, delta_s, kw):
-    """Eq. 9: delta_w = ks delta_s / kw (works on numbers and on CasADi symbols alike)."""
+def initial_wall_deflection(*, ks, delta_s, kw):
+    """Eq. 9: delta_w = ks delta_s / kw (works on numbers and on CasADi and sympy symbols alike)."""
     return ks * delta_s / kw
 
 
@@ -47,55 +47,56 @@ class MachineNumbers:
     truncation_angle: float | None
 
 
-def machine_numbers(embodiment: str, r_: float, L_: float, Wg_: float, Cr_: float = 0.0, k_: float = 0.0) -> MachineNumbers:
+def machine_numbers(embodiment: str, *, r: float, L: float, Wg: float, Cr: float = 0.0, k: float = 0.0
+                    ) -> MachineNumbers:
     """Numeric Eqs. 4-8 for a scene (embodiment: limacon-to-limacon, circolimacon, limacon-to-circular)."""
     if embodiment == "limacon-to-limacon":
-        s = (-L_ + math.sqrt(L_**2 + 4 * r_ * Wg_)) / (4 * r_)
+        s = (-L + math.sqrt(L**2 + 4 * r * Wg)) / (4 * r)
         th0 = math.asin(s)
-        z = L_ - (r_ * math.sin(2 * th0) + L_ * math.cos(th0))
-        return MachineNumbers(r_ / L_, z, th0)
-    Rlc = math.sqrt((L_ - Cr_) ** 2 + k_**2)
-    z = L_ - Cr_ - math.sqrt(Rlc**2 - (k_ + Wg_ / 2) ** 2)
-    return MachineNumbers(r_ / L_, z, None)
+        z = L - (r * math.sin(2 * th0) + L * math.cos(th0))
+        return MachineNumbers(r / L, z, th0)
+    Rlc = math.sqrt((L - Cr) ** 2 + k**2)
+    z = L - Cr - math.sqrt(Rlc**2 - (k + Wg / 2) ** 2)
+    return MachineNumbers(r / L, z, None)
 
 
-def housing_radius(circle: bool, r_: float, L_: float, psi: float) -> float:
+def housing_radius(psi: float, *, r: float, L: float, circle: bool) -> float:
     """Distance from the pole to the housing at polar angle psi: Eq. 2, or the circolimaçon's circle."""
     s = math.sin(psi)
-    return 2 * r_ * s + (math.sqrt(L_**2 + 4 * r_**2 * s * s) if circle else L_)
+    return 2 * r * s + (math.sqrt(L**2 + 4 * r**2 * s * s) if circle else L)
 
 
-def smallest_chamber_volume(embodiment: str, r_: float, L_: float, H_: float, Cr_: float = 0.0, k_: float = 0.0,
+def smallest_chamber_volume(embodiment: str, *, r: float, L: float, H: float, Cr: float = 0.0, k: float = 0.0,
                             samples: int = 360) -> tuple[float, float, str]:
     """The smallest of Va, Vb over a revolution, the crank angle where it occurs and the chamber ("a" or "b").
 
     Samples :func:`.chambers.chamber_volume` (Eqs. 1-8) every 360/samples deg; the smallest volumes of the three embodiments
     lie at theta = 0 or pi (the chord along the Xo axis), which the grid contains for even ``samples``.
     """
-    A = lobe_area(embodiment, r=r_, L=L_, Cr=Cr_, k=k_)
+    A = lobe_area(embodiment, r=r, L=L, Cr=Cr, k=k)
     circle = 1.0 if embodiment == "circolimacon" else 0.0
     best = (math.inf, 0.0, "a")
     for i in range(samples):
         th = 2 * math.pi * i / samples
         for side, name in ((1, "a"), (-1, "b")):
-            V = chamber_volume(side, th, r=r_, L=L_, H=H_, A_lobe=A, housing_circle=circle)
+            V = chamber_volume(side, th, r=r, L=L, H=H, A_lobe=A, housing_circle=circle)
             if V < best[0]:
                 best = (V, th, name)
     return best
 
 
-def smallest_lobe_offset(embodiment: str, r_: float, L_: float, H_: float, Cr_: float = 0.0) -> float:
+def smallest_lobe_offset(embodiment: str, *, r: float, L: float, H: float, Cr: float = 0.0) -> float:
     """The lobe-centre offset k (Eq. 5) below which a circular lobe leaves no positive chamber volume: the lobe's
     area falls as k grows (the circle through the apices flattens), so the bound is found by bisection."""
-    def positive(k_: float) -> bool:
-        return smallest_chamber_volume(embodiment, r_, L_, H_, Cr_, k_)[0] > 0
+    def positive(k: float) -> bool:
+        return smallest_chamber_volume(embodiment, r=r, L=L, H=H, Cr=Cr, k=k)[0] > 0
 
-    lo, hi = -L_, L_
+    lo, hi = -L, L
     while positive(lo):
         lo *= 2
     while not positive(hi):
         lo, hi = hi, 2 * hi
-        if hi > 1e3 * L_:
+        if hi > 1e3 * L:
             return math.inf
     for _ in range(50):
         mid = 0.5 * (lo + hi)

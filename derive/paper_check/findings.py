@@ -254,7 +254,7 @@ def assumption_points() -> list[tuple[str, str]]:
     preload = v["ks"] * v["delta_s"]
     fy0 = preload * (math.tan(lam0) - v["mu1"]) / (1 + v["mu1"] * math.tan(lam0))
     centrifugal = v["ms"] * v["omega"] ** 2 * v["Li"]
-    beta_o = math.degrees(math.asin(v["Ws"] / (2 * v["ro"])))
+    beta_o = math.degrees(v["beta_o"])  # Eq. 24, seal_shape.tip_half_angle (values.DEFAULTS)
     return [
         ("What Pend is (Eq. 76)", "the text says half the *difference* of Pa and Pb; the model takes the mean "
          "(Pa + Pb)/2, the physical reading (pend_rule; row 76.Pend)."),

@@ -8,6 +8,7 @@ import math
 from .. import paper
 from .. import seal_shape as shape
 from ..assumptions import Assumptions
+from ..numbers import initial_wall_deflection
 from ..submodels.pressure import groove_bottom_pressure as _pend
 from ..submodels.registry import activation_symbols
 from ..symbols import Pa, Pb, qs, us
@@ -28,7 +29,7 @@ DEFAULTS: dict[str, float] = {
     "delta_s": 2.0e-3, "kw": 1e9, "kg1": 1e9, "kg2": 1e9, "kg3": 1e9, "kg4": 1e9, "cw": 831.0,
     "cr": 831.0, "cs": 1.858, "mu1": 0.10, "mu2": 0.12, "mus": 0.10, "v_eps": 1.0e-3,
 }  # ms, Icg and the damping coefficients (damping ratio 0.1) to the 3-4 digits shown (tests/derive/test_paper_check.py)
-DEFAULTS["delta_w"] = DEFAULTS["ks"] * DEFAULTS["delta_s"] / DEFAULTS["kw"]  # Eq. 9
+DEFAULTS["delta_w"] = initial_wall_deflection(ks=DEFAULTS["ks"], delta_s=DEFAULTS["delta_s"], kw=DEFAULTS["kw"])  # Eq. 9
 DEFAULTS["beta_o"] = shape.tip_half_angle(DEFAULTS["Ws"], DEFAULTS["ro"])  # a derived parameter
 EXTRA_DEFAULTS = {"Cr": 1.0e-4, "k": 0.02, "b": 0.2, "theta0": 0.03}
 

@@ -122,7 +122,7 @@ class ChamberGas(Submodel):
                 out.update({f"port_{short}_angle": 0.0, f"port_{short}_width": 1.0, f"port_{short}_area": 0.0})
                 continue
             angle = port.angle + ports.datum
-            rho = housing_radius(circle, values["r"], values["L"], angle)
+            rho = housing_radius(angle, r=values["r"], L=values["L"], circle=circle)
             out.update({f"port_{short}_angle": angle, f"port_{short}_width": port.width,
                         f"port_{short}_area": port.length * rho * port.width})
         return out

@@ -90,8 +90,8 @@ class SealBody(Submodel):
         out["beta_o"] = tip_half_angle(v["Ws"], v["ro"])
         if v.get("zeta0") is None:
             m = inputs["machine"]
-            out["zeta0"] = machine_numbers(m.embodiment, v["r"], v["L"], v["Wg"], v["Cr"], v["k"]).truncation
+            out["zeta0"] = machine_numbers(m.embodiment, r=v["r"], L=v["L"], Wg=v["Wg"], Cr=v["Cr"], k=v["k"]).truncation
         pressed = options.on("spring") and options.on("housing_contact")
-        out["delta_w"] = initial_wall_deflection(v["ks"], v["delta_s"], v["kw"]) if pressed else 0.0
+        out["delta_w"] = initial_wall_deflection(ks=v["ks"], delta_s=v["delta_s"], kw=v["kw"]) if pressed else 0.0
         out["Li"] = v["L"] - v["ds1"] + out["delta_w"]
         return out

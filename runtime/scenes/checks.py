@@ -15,7 +15,7 @@ import numpy as np
 
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects, declared
-from apexseal.derive.numbers import machine_numbers, smallest_chamber_volume, smallest_lobe_offset
+from apexseal.derive.numbers import machine_numbers, smallest_chamber_volume, smallest_lobe_offset, tip_half_angle
 
 from .errors import MISSING, Problem
 from .schema import (
@@ -85,7 +85,7 @@ def check_chamber_volumes(m: MachineSection, p: PressureSection, raw: dict[str, 
     """
     if p.source not in GAS_SOURCES or m.embodiment != "limacon-to-limacon" and m.Cr >= m.L:
         return []  # no gas model, or a lobe clearance already refused by check_machine
-    V, th, chamber = smallest_chamber_volume(m.embodiment, m.r, m.L, m.H, m.Cr, m.k)
+    V, th, chamber = smallest_chamber_volume(m.embodiment, r=m.r, L=m.L, H=m.H, Cr=m.Cr, k=m.k)
     if V > 0:
         return []
     where = (f"chamber {chamber}'s volume reaches {V * 1e6:.4g} cm^3 (<= 0) at theta = {math.degrees(th):.4g} deg "
@@ -94,7 +94,7 @@ def check_chamber_volumes(m: MachineSection, p: PressureSection, raw: dict[str, 
     if m.embodiment == "limacon-to-limacon":
         return [Problem("machine.Cr", raw_at(raw, ["machine", "Cr"]),
                         f"{where}; allowed: 0 < Cr < 2 L - 8 r / pi = {_mm(2 * m.L - 8 * m.r / math.pi)}")]
-    k_min = smallest_lobe_offset(m.embodiment, m.r, m.L, m.H, m.Cr)
+    k_min = smallest_lobe_offset(m.embodiment, r=m.r, L=m.L, H=m.H, Cr=m.Cr)
     return [Problem("machine.k", raw_at(raw, ["machine", "k"]),
                     f"{where}; allowed: k > {_mm(k_min)} for machine.r = {_mm(m.r)}, machine.L = {_mm(m.L)}, "
                     f"machine.Cr = {_mm(m.Cr)} (Eq. 5; or a larger Cr)")]
@@ -102,8 +102,9 @@ def check_chamber_volumes(m: MachineSection, p: PressureSection, raw: dict[str, 
 
 def tip_numbers(s: SealSection) -> tuple[float, float]:
     """Half-angle of the tip arc and the start of the arc: ``beta_o = asin(Ws / (2 ro))`` (Fig. 5;
-    Eq. 24 places the arc's end c1 at ds0) and ``ds0 = ds1 - ro (1 - cos beta_o)`` (Eqs. 24, 27)."""
-    beta_o = math.asin(s.Ws / (2 * s.ro))
+    Eq. 24 places the arc's end c1 at ds0; :func:`~apexseal.derive.numbers.tip_half_angle`, as the model's
+    parameter) and ``ds0 = ds1 - ro (1 - cos beta_o)`` (Eqs. 24, 27). Called with ro >= Ws/2 only."""
+    beta_o = tip_half_angle(s.Ws, s.ro)
     return beta_o, s.ds1 - s.ro * (1 - math.cos(beta_o))
 
 
@@ -221,7 +222,7 @@ def zeta0_of(m: MachineSection, s: SealSection) -> tuple[float | None, str | Non
     if s.zeta0 is not None:
         return s.zeta0, None
     try:
-        z = machine_numbers(m.embodiment, m.r, m.L, s.Wg, m.Cr, m.k).truncation
+        z = machine_numbers(m.embodiment, r=m.r, L=m.L, Wg=s.Wg, Cr=m.Cr, k=m.k).truncation
     except (ValueError, ZeroDivisionError):
         return None, "the groove truncation z of Eqs. 6-8 is undefined for this geometry"
     if not z > 0:

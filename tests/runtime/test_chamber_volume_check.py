@@ -24,7 +24,7 @@ GEOM = {"r": 0.010, "L": 0.050, "H": 0.100, "Cr": 1e-4}
 def test_the_bound_on_k_is_where_the_symbolic_volume_reaches_zero(embodiment):
     """Just above the k the check allows, the sympy volumes (derive.chambers) are positive all the revolution;
     just below it, one of them is negative somewhere."""
-    k_min = numbers.smallest_lobe_offset(embodiment, GEOM["r"], GEOM["L"], GEOM["H"], GEOM["Cr"])
+    k_min = numbers.smallest_lobe_offset(embodiment, **GEOM)
     assert 0 < k_min < GEOM["L"]
     grid = np.linspace(0, 2 * math.pi, 2001)
     for k, positive in ((k_min * (1 + 1e-6), True), (k_min * (1 - 1e-3), False)):
@@ -37,7 +37,7 @@ def test_the_bound_on_k_is_where_the_symbolic_volume_reaches_zero(embodiment):
 def test_the_smallest_volume_of_the_limacon_lobe_is_its_clearance_volume():
     """H Cr (pi L - 4 r - pi Cr / 2) (docs/gas.md), at theta = pi for chamber a (0 for b)."""
     r, L, H, Cr = GEOM["r"], GEOM["L"], GEOM["H"], GEOM["Cr"]
-    V, th, chamber = numbers.smallest_chamber_volume("limacon-to-limacon", r, L, H, Cr)
+    V, th, chamber = numbers.smallest_chamber_volume("limacon-to-limacon", r=r, L=L, H=H, Cr=Cr)
     assert V == pytest.approx(H * Cr * (math.pi * L - 4 * r - math.pi * Cr / 2), rel=1e-9)
     assert (chamber, th) in (("a", pytest.approx(math.pi)), ("b", 0.0))
 

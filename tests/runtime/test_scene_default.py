@@ -164,7 +164,7 @@ def test_zeta0_from_the_truncation_of_a_circular_lobe(scene):
     from apexseal.derive.geometry import machine_numbers
 
     circular = {"machine.embodiment": "circolimacon", "seal.zeta0": None}
-    z = machine_numbers("circolimacon", 0.01, 0.05, 3.06e-3, 1e-4, 0.0).truncation
+    z = machine_numbers("circolimacon", r=0.01, L=0.05, Wg=3.06e-3, Cr=1e-4, k=0.0).truncation
     # z = 23 um puts the groove's mouth on the default's tip arc (0.40 mm high), which the contact model does not
     # cover: refused, naming the truncation; a nearly flat tip (ro = 100 mm: an arc 11 um high) takes it
     with pytest.raises(SceneError, match=r"seal.zeta0 = \(missing\): not given, and the groove truncation z of "
