@@ -163,7 +163,8 @@ def resume(folder, *, revolutions: int | None = None, max_wall_time: float | Non
     ``<out>.partial-<run id>`` folder, or completed and given more ``revolutions``) up to ``revolutions``
     (default: the revolutions it was asked for), with its own scene and settings (``max_wall_time`` may be given).
 
-    The run continues after its last whole revolution from the integrator's state there, making the calls the
+    The run continues after its last whole revolution from the integrator's state there (and what the integrator
+    carried from there into its next call, for a method that carries more: the composite), making the calls the
     uninterrupted run makes (the same samples to the bit), and the result is written back as one unit, under the
     same run id: a killed run's folder becomes its target's. ``info["continued"]`` lists the runs before, with
     their wall times and solver statistics; ``info["wall_time_s"]`` and ``solver_stats`` are this one's.
@@ -240,7 +241,8 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     result = run(functions, scene.parameter_vector(functions.parameter_names), settings, theta_start=op.start_angle,
                  state0=initial_state(scene, functions), pressure=pressure, until_periodic=op.until_periodic,
                  periodic_tol=op.periodic_tol, progress=progress, info=info, sink=sink,
-                 continue_from=None if continuation is None else (continuation.revolutions, continuation.z))
+                 continue_from=None if continuation is None else (continuation.revolutions, continuation.z,
+                                                                   continuation.carried))
     result.scene = ran
     check = penetration_check(result, clearance)
     if not check["ok"]:

@@ -3,11 +3,15 @@ after them.
 
 A run interrupted (Ctrl-C, SIGTERM, a wall-time budget), stopped by a failure, killed outright (its
 ``<out>.partial-<run id>`` folder), or completed and asked for more revolutions, continues with
-``apexseal simulate --resume <folder>`` (:func:`apexseal.runtime.api.resume`). Each part of a result folder
-stores the integrator's state after its last sample (``z_end``), and every integrator call starts afresh from
-such a state, so continuing after the last whole revolution makes the calls the uninterrupted run makes: the
-continued result equals it to the bit (tests/runtime/test_continuation.py). A revolution in progress when the
-run stopped is computed again.
+``apexseal simulate --resume <folder>`` (:func:`apexseal.runtime.api.resume`). Each part of a result folder stores
+the integrator's state after its last sample (``z_end``) and, for a method that carries more than the state from
+one call into the next (the composite: the crank angle since the last contact event, which decides when its quiet
+phase starts), what it carried from there (``carried``, ``Engine.carried`` in runtime/solving/methods.py). Every
+integrator call starts from such a state and what it carries, so continuing after the last whole revolution makes
+the calls the uninterrupted run makes: the continued result equals it to the bit
+(tests/runtime/test_continuation.py). A revolution in progress when the run stopped is computed again. A part
+written before parts stored ``carried`` continues with nothing carried, as such a folder did then (the composite's
+next call in its tight phase: close to the run never stopped, not equal to it).
 """
 
 from __future__ import annotations
@@ -38,6 +42,7 @@ class Continuation:
     revolutions: int  # whole revolutions kept
     parts: list[dict]  # their entries in result.json
     z: np.ndarray  # the integrator's state after them
+    carried: np.ndarray | None  # what the integrator carried from there into its next call (None: nothing)
     last: tuple[float, str]  # crank angle (from the start) and contact mode of their last sample
 
     @property
@@ -89,6 +94,7 @@ def continuation(folder: str | Path, read: SimulationResult | None = None) -> Co
         last = (float(read.theta[end]), read.modes[end])
     with np.load(folder / record["parts"][kept - 1]["file"]) as data:
         z = np.array(data["z_end"], float)
+        carried = np.array(data["carried"], float) if "carried" in data.files else None
     target = partial_target(folder, record["run_id"])
     killed = target is not None
     newer = folder.with_name(f"{folder.name}.partial-{record['run_id'][:12]}")
@@ -108,7 +114,7 @@ def continuation(folder: str | Path, read: SimulationResult | None = None) -> Co
                                 f"simulate it: apexseal simulate {folder / SCENE_FILE} --out <new folder>")
     return Continuation(source=folder, target=target or folder, record=record,
                         scene=scene, revolutions=kept, parts=list(record["parts"][:kept]), z=z,
-                        last=last)
+                        carried=carried, last=last)
 
 
 def _not_being_written(folder: Path) -> None:

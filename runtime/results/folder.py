@@ -5,8 +5,10 @@ Layout (format ``apexseal-result/2``)::
     <out>/result.json          run id, status, where and why it stopped, the list of parts (samples, sha256)
     <out>/scene.toml           the scene that ran, every value explicit, run id in its first line (re-runnable)
     <out>/pressure.csv         its pressure table (Pa), when the scene has one
-    <out>/parts/part-00000.npz one per revolution (the first also holds the initial sample); run id inside, and the
-                               integrator's state after its last sample (``z_end``: a run continues from it)
+    <out>/parts/part-00000.npz one per revolution (the first also holds the initial sample); run id inside, the
+                               integrator's state after its last sample (``z_end``: a run continues from it) and,
+                               for a method that carries more from call to call, what it carried from there
+                               (``carried``; the composite: the crank angle since the last contact event)
     <out>/summary.json         (CLI) the designer's numbers, with the run id
     <out>/trajectory.csv       (on request) one row per sample; first line ``# apexseal result <run id>, <n> samples``
     <out>/*.png                (CLI) the paper's figures
@@ -127,14 +129,16 @@ def _jsonable(v):
     return str(v)
 
 
-def part_arrays(part: SimulationResult, run_id: str, index: int,
-                z_end: np.ndarray | None = None) -> dict[str, np.ndarray]:
+def part_arrays(part: SimulationResult, run_id: str, index: int, z_end: np.ndarray | None = None,
+                carried: np.ndarray | None = None) -> dict[str, np.ndarray]:
     arrays = {"run_id": np.array(run_id), "part": np.array(index), "samples": np.array(part.n),
               "theta": part.theta, "time": part.time, "state": part.state, "closed": part.closed,
               "events": part.events, "modes": np.array(part.modes, dtype="U16")}
     arrays.update({f"out_{k}": v for k, v in part.outputs.items()})
     if z_end is not None:
         arrays["z_end"] = np.asarray(z_end, float)
+    if carried is not None:
+        arrays["carried"] = np.asarray(carried, float)
     return arrays
 
 
@@ -214,8 +218,10 @@ class ResultFolder:
         record carries it, so a run killed outright still says how it was run; :meth:`finish` completes it."""
         self.info = dict(info) | {"run_id": self.run_id}
 
-    def append(self, part: SimulationResult, z_end: np.ndarray | None = None) -> None:
-        """Hand one part over (``z_end``: the integrator's state after its last sample, stored with it): a thread
+    def append(self, part: SimulationResult, z_end: np.ndarray | None = None,
+               carried: np.ndarray | None = None) -> None:
+        """Hand one part over (``z_end``: the integrator's state after its last sample, and ``carried``: what the
+        integrator carries from there into its next call, if anything; both stored with it): a thread
         writes it, then the progress record that lists it, while the run goes on (without ``background``, it is
         written here). The previous part is waited for first, and its storage error (if any) is raised here; after a
         failed write nothing more is written (a result never has a gap)."""
@@ -223,9 +229,10 @@ class ResultFolder:
         if self.error is not None:
             raise self.error
         if not self.background:  # written here, its error raised here
-            self._store_part(part, z_end)
+            self._store_part(part, z_end, carried)
             return
-        self._writer = threading.Thread(target=self._write_part, args=(part, z_end), name="apexseal-result-writer")
+        self._writer = threading.Thread(target=self._write_part, args=(part, z_end, carried),
+                                        name="apexseal-result-writer")
         self._writer.start()
 
     def sync(self) -> None:
@@ -238,18 +245,19 @@ class ResultFolder:
         if failure is not None:
             raise failure
 
-    def _write_part(self, part: SimulationResult, z_end: np.ndarray | None) -> None:
+    def _write_part(self, part: SimulationResult, z_end: np.ndarray | None, carried: np.ndarray | None) -> None:
         """The writer thread: one part, then the progress record; any error is kept for :meth:`sync`."""
         try:
-            self._store_part(part, z_end)
+            self._store_part(part, z_end, carried)
         except BaseException as err:  # noqa: BLE001  (raised in the run's thread by sync())
             self._failure = err
 
-    def _store_part(self, part: SimulationResult, z_end: np.ndarray | None = None) -> None:
+    def _store_part(self, part: SimulationResult, z_end: np.ndarray | None = None,
+                    carried: np.ndarray | None = None) -> None:
         index = len(self.parts)
         name = f"{PARTS}/part-{index:05d}.npz"
         buf = io.BytesIO()
-        np.savez(buf, **part_arrays(part, self.run_id, index, z_end))
+        np.savez(buf, **part_arrays(part, self.run_id, index, z_end, carried))
         data = buf.getvalue()
         self._store(name, data, "a part")
         self.parts.append({"file": name, "samples": int(part.n), "sha256": sha256_bytes(data)})

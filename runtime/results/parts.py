@@ -44,8 +44,10 @@ class InMemory:
     def begin(self, info: dict) -> None:
         """Nothing to record before the first part: the result exists only once :meth:`finish` joins it."""
 
-    def append(self, part: SimulationResult, z_end: np.ndarray | None = None) -> None:
-        """``z_end``: the integrator's state after the part's last sample (kept by a folder, to continue from)."""
+    def append(self, part: SimulationResult, z_end: np.ndarray | None = None,
+               carried: np.ndarray | None = None) -> None:
+        """``z_end``: the integrator's state after the part's last sample, ``carried``: what the integrator carries
+        from there into its next call (both kept by a folder, to continue from)."""
         self.parts.append(part)
         self.samples += part.n
 

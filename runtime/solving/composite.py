@@ -31,8 +31,13 @@ stop inside a call at the wall-time deadline: a run with a budget makes 36 calls
 (runtime/solving/settings.py), and the run checks the budget between them.
 
 A call that goes on from where this engine's previous call ended carries the crank angle since the last event, so
-a revolution cut into calls keeps its quiet phase (the stiffness count starts afresh in each call); any other start
-begins in the tight phase.
+a revolution cut into calls keeps its quiet phase; any other start begins in the tight phase. That angle is all a
+call carries: the stiffness count and both phases' step sizes start afresh in each call (at 1e-5 and 1e-3 rad), so
+a run cut into more calls (a wall-time budget, ``solver.calls_per_revolution``) takes other steps, but the same
+calls always take the same. The run stores the angle with each part (:meth:`CompositeIntegrator.carried`, the
+part's ``carried``), and a run continued from the part starts its first call with it
+(:meth:`CompositeIntegrator.carry_on`): the samples of the run never stopped, to the bit. A part without it (a
+result written before parts stored it) continues in the tight phase, as it did then.
 """
 
 from __future__ import annotations
@@ -157,6 +162,19 @@ class CompositeIntegrator(Engine):
         """Also forget the last call's end state: a new run starts its quiet-phase count from zero."""
         super().reset()
         self._carry = None
+
+    def carried(self, z: np.ndarray) -> np.ndarray | None:
+        """[crank angle since the last contact event] at the end of the last call, if it ended in ``z``; else None
+        (a call starting from ``z`` begins in the tight phase)."""
+        if self._carry is None or self._carry[0] != np.ascontiguousarray(z, float).tobytes():
+            return None
+        return np.array([self._carry[1]])
+
+    def carry_on(self, z: np.ndarray, carried: np.ndarray | None) -> None:
+        """The next call starting from ``z`` carries ``carried`` (see :meth:`carried`; None: it begins in the tight
+        phase)."""
+        self._carry = None if carried is None else (np.ascontiguousarray(z, float).tobytes(),
+                                                    float(np.asarray(carried, float).reshape(-1)[0]))
 
     def stats(self) -> dict:
         """The statistics of the last call."""

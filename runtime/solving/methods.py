@@ -58,6 +58,18 @@ class Engine:
         deadline (an engine that carries more from call to call resets that too)."""
         self.deadline = math.inf
 
+    def carried(self, z: np.ndarray) -> np.ndarray | None:
+        """What this engine carries into its next call, beside the hybrid state, if that call starts from ``z``
+        (the state its last call ended in): a small float array, or None for nothing (every call starts afresh
+        from its ``z0``, as here). The run stores it with each part (runtime/results/folder.py), and a run that
+        continues from the part hands it back (:meth:`carry_on`), so that its first call is the uninterrupted
+        run's."""
+        return None
+
+    def carry_on(self, z: np.ndarray, carried: np.ndarray | None) -> None:
+        """Continue from the hybrid state ``z`` as if the last call had ended there, carrying ``carried`` (what
+        :meth:`carried` gave for ``z``; None: nothing carried, the next call starts afresh)."""
+
 
 class WallTimeExceeded(RuntimeError):
     """The wall-time deadline passed inside an engine's call; ``partial`` holds the samples computed."""

@@ -47,13 +47,16 @@ LOG_INTERVAL = 10.0
 def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: float, state0: np.ndarray,
         revolutions: int | None = None, pressure=None, until_periodic: bool = False, periodic_tol: float = 1e-6,
         progress: bool = False, engine=None, info: dict | None = None, sink=None,
-        pressure_values=None, continue_from: tuple[int, np.ndarray] | None = None) -> SimulationResult:
+        pressure_values=None, continue_from: tuple | None = None) -> SimulationResult:
     """Integrate ``revolutions`` (default ``settings.revolutions``) revolutions from ``state0`` (physical) at crank
     angle ``theta_start``.
 
-    ``continue_from = (k, z)`` continues a run that completed ``k`` revolutions from its integrator state ``z``
-    after them (runtime/results/continuation.py): revolutions k+1 .. ``revolutions``, each call made as the
-    uninterrupted run makes it, so the samples are the same to the bit; the sink holds the first k already.
+    ``continue_from = (k, z)`` or ``(k, z, carried)`` continues a run that completed ``k`` revolutions from its
+    integrator state ``z`` after them and what its engine carried into the next call (``carried``, see
+    :meth:`.methods.Engine.carried`; None or left out: nothing) (runtime/results/continuation.py): revolutions
+    k+1 .. ``revolutions``, each call made as the uninterrupted run makes it, so the samples are the same to the
+    bit; the sink holds the first k already. Each part goes to the sink with its end state and what the engine
+    carries from it (``sink.append(part, z_end, carried)``).
 
     ``engine`` (optional) must cover a whole number of output intervals that divides a revolution; without it,
     the run builds its own, on a grid at least as fine as the pressure table (:func:`pressure_substeps`). ``sink``
@@ -90,8 +93,9 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0)
     else:  # the run was checked when it started from its scene's state
         done, z = continue_from[0], np.array(continue_from[1], float)
+        carried = continue_from[2] if len(continue_from) > 2 else None
         part = _Part(functions, params, theta_start, omega, sink, first=None, first_pressures=None)
-        part.after(done * 2 * np.pi, z)
+        part.after(done * 2 * np.pi, z, carried)
         stop = None
     status = "completed" if stop is None else "failed"
     leased = None
@@ -100,6 +104,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         with StopSignals.abandoning():  # nothing computed yet: a signal abandons the integrator's compilation
             leased = engine_pool.lease(functions, settings, n_samples=m, span=m * dth, make=make_engine)
         engine = leased.engine
+    if continue_from is not None and engine is not None:
+        _carry_on(engine, z, carried)  # its first call is the one the uninterrupted run made there
     t_engine = time.perf_counter()
     m = engine.n_samples if engine is not None else N * sub
     if (N * sub) % m:
@@ -156,7 +162,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 if "n_events" not in stats:  # a compiled integrator reports no statistics: count
                     stats["n_events"] = int(z_end[lay.counts].sum() - z[lay.counts].sum())  # from the hybrid state
                 if Z.shape[1]:
-                    part.add(Z, ends[:Z.shape[1]], P[:, :Z.shape[1]], z_end)
+                    part.add(Z, ends[:Z.shape[1]], P[:, :Z.shape[1]], z_end, _carried(engine, z_end))
                 z = z_end
                 for k, v in stats.items():
                     if k.startswith("n_") and isinstance(v, int | float):
@@ -221,6 +227,19 @@ def pressure_substeps(pressure, samples_per_revolution: int) -> int:
     return max(1, -(-rows // samples_per_revolution))
 
 
+def _carried(engine, z: np.ndarray):
+    """What ``engine`` carries into a call from ``z`` (:meth:`.methods.Engine.carried`; None for an engine without
+    the method, as a wrapper of tests has)."""
+    carried = getattr(engine, "carried", None)
+    return None if carried is None else carried(z)
+
+
+def _carry_on(engine, z: np.ndarray, carried) -> None:
+    """Hand ``engine`` what a stopped run's engine carried from ``z`` (:meth:`.methods.Engine.carry_on`)."""
+    if hasattr(engine, "carry_on"):
+        engine.carry_on(z, None if carried is None else np.asarray(carried, float))
+
+
 def _up_to_stop(Z: np.ndarray, edges: np.ndarray, theta_start: float, found) -> np.ndarray:
     """The samples of a call up to where the run stopped: nothing past a stop is presented as a result."""
     if found is None or not Z.shape[1]:
@@ -238,16 +257,19 @@ class _Part:
         self.blocks, self.thetas, self.pressures = [], [], []
         self.theta_done = 0.0  # crank angle of the last sample, from the start
         self._last = self.z_end = first
+        self.carried = None  # what the engine carries from z_end into the next call
         self.assemble_s = self.save_s = 0.0  # wall seconds of flush(): assembling, then handing to the sink
         self.samples_done = 0  # samples handed to the sink by this run
 
-    def after(self, theta_done: float, z) -> None:
-        """Continue a run whose samples up to ``theta_done`` (from the start) are in the sink, ending in state ``z``."""
-        self.theta_done, self._last, self.z_end = theta_done, z, z
+    def after(self, theta_done: float, z, carried=None) -> None:
+        """Continue a run whose samples up to ``theta_done`` (from the start) are in the sink, ending in state ``z``
+        (its engine carrying ``carried`` from there)."""
+        self.theta_done, self._last, self.z_end, self.carried = theta_done, z, z, carried
 
-    def add(self, Z, thetas, P, z_end) -> None:
-        """The samples ``Z`` of a call at ``thetas``, and ``z_end``, the state the next call starts from."""
-        self.z_end = z_end
+    def add(self, Z, thetas, P, z_end, carried=None) -> None:
+        """The samples ``Z`` of a call at ``thetas``, and ``z_end``, the state the next call starts from, with what
+        the engine carries into it (``carried``, :meth:`.methods.Engine.carried`)."""
+        self.z_end, self.carried = z_end, carried
         self.blocks.append(Z)
         self.thetas.append(thetas)
         self.pressures.append(P)
@@ -267,7 +289,7 @@ class _Part:
         self.blocks, self.thetas, self.pressures, self.first = [], [], [], None
         w1 = time.perf_counter()
         self.samples_done += part.n
-        self.sink.append(part, z_end)
+        self.sink.append(part, z_end, self.carried)
         self.assemble_s += w1 - w0
         self.save_s += time.perf_counter() - w1
 

@@ -170,3 +170,50 @@ def test_a_run_killed_before_its_first_revolution_is_named_as_such(light, tmp_pa
     (killed / "scene.toml").write_text("[machine]\n")  # a scene file of a user's: no run named
     r = CliRunner().invoke(main, ["show", str(killed)])
     assert r.exit_code != 0 and "is not a result folder: it has no result.json" in r.output
+
+
+@pytest.fixture(scope="module")
+def composite_scene():
+    """The default scene with the composite method at 10° samples: its quiet phase starts from the crank angle
+    since the last contact event, which a call carries over from the call before."""
+    return apexseal.load_scene().with_overrides(**{"solver.method": "composite", "solver.samples_per_revolution": 36})
+
+
+@pytest.mark.parametrize("calls", [1, 4])
+def test_a_composite_run_continues_to_the_same_samples(composite_scene, tmp_path, calls):
+    """The composite carries the crank angle since the last contact event from call to call: the part stores it
+    (``carried``), so the continued run's first call is the uninterrupted run's (a new engine counted from 0, and the
+    states differed from the first sample after the resume point); in one call per revolution and in four."""
+    scene = composite_scene.with_overrides(**{"solver.calls_per_revolution": calls})
+    whole = apexseal.simulate(scene, revolutions=3)
+    assert whole.info["calls_per_revolution"] == calls
+    apexseal.simulate(scene, revolutions=1, out=tmp_path / "o")
+    with np.load(tmp_path / "o" / "parts" / "part-00000.npz") as part:
+        assert part["carried"].shape == (1,) and part["carried"][0] >= 0.0
+    _same_samples(apexseal.resume(tmp_path / "o", revolutions=3), whole)
+
+
+def test_a_composite_folder_without_what_it_carried_continues_as_before(composite_scene, tmp_path):
+    """A folder written before parts stored ``carried`` loads and continues with nothing carried: the first call
+    after the resume point begins in the tight phase, so the samples from there differ from the run never stopped."""
+    import hashlib
+    import io
+
+    whole = apexseal.simulate(composite_scene, revolutions=2)
+    out = tmp_path / "o"
+    apexseal.simulate(composite_scene, revolutions=1, out=out)
+    record = json.loads((out / "result.json").read_text())
+    (entry,) = record["parts"]
+    with np.load(out / entry["file"]) as part:
+        arrays = {k: part[k] for k in part.files if k != "carried"}
+    buf = io.BytesIO()
+    np.savez(buf, **arrays)
+    (out / entry["file"]).write_bytes(buf.getvalue())
+    entry["sha256"] = hashlib.sha256(buf.getvalue()).hexdigest()
+    (out / "result.json").write_text(json.dumps(record))
+    assert continuation(out).carried is None
+    continued = apexseal.resume(out, revolutions=2)
+    assert continued.status == "completed" and np.array_equal(continued.theta, whole.theta)
+    first = 1 + 36  # the initial sample and the first revolution: read back as written
+    assert np.array_equal(continued.state[:, :first], whole.state[:, :first])
+    assert not np.array_equal(continued.state[:, first:], whole.state[:, first:])
