@@ -15,10 +15,12 @@ ks and shows the valley: :func:`stiffness_valley` re-simulates the optimum's spr
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import numpy as np
 
+from ....progress import announce
 from .problem import MM, PreloadSetup, PreloadStudyError
 
 #: the stiffnesses tried, as factors of the scene's ks
@@ -54,11 +56,14 @@ def stiffness_valley(setup: PreloadSetup, result, *, nodes: int = 4, factors=FAC
     sf = study_functions(setup, setup.samples // nodes)
     grid = SegmentGrid(setup.samples, nodes, 1, setup.theta_start, setup.dth)
     points = []
-    for f in factors:
+    t = time.perf_counter()
+    for i, f in enumerate(factors):
         scene = setup.scene.with_overrides(**{"spring.ks": ks0 * f})
         s = PreloadSetup(scene, setup.functions, setup.min_force, setup.exclude, setup.samples, setup.rtol,
                          setup.revolutions, setup.flags, setup.max_groove_force)
         d = force / (ks0 * f)
+        announce(f"  stiffness valley: ks = {ks0 * f:.4g} N/m ({f:g} x the scene's), delta_s = {d / MM:.4f} mm, "
+                 f"simulated until periodic ({i} of {len(factors)} done, {time.perf_counter() - t:.0f} s)")
         sim = periodic(s, sf, grid, np.array([d]), s.min_force, s.exclude)
         points.append(ValleyPoint(ks0 * f, d, force, sim.friction_power, sim.deficit, sim.groove_excess))
     return points

@@ -65,6 +65,7 @@ import numpy as np
 
 from ....cores import parallel_threads
 from ....progress import announce, stage
+from ...solving.signals import StopSignals
 from .nlp import ShootingNlp
 from .periodic import periodic
 from .problem import MM, PreloadSetup, PreloadStudyError, check_grid, windows
@@ -145,6 +146,9 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
                    f"{setup.samples} samples)"):
             ok = nlp.solve(x_knots, res, upper=upper, max_rate=max_rate, max_iter=max_iter,
                            verbose=verbose, ipopt_options=ipopt_options)
+            # IPOPT turns an interruption in its callbacks into a return status: under the CLI's StopSignals the
+            # signal it caught abandons the stage here (logged "abandoned", not "done"), and the study with it
+            StopSignals.raise_pending()
         if not ok:
             return res
         x_knots = nlp.knots_m
