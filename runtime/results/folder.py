@@ -27,6 +27,9 @@ deletes a user's files).
 Reading (:func:`read`): result.json must be of this format; every part must carry the same run id, the recorded
 sample count and sha256, and shapes that agree; summary.json and trajectory.csv, if present, must name the
 same run. A mixed folder is refused with the file and the mismatch named.
+
+A study's report (``apexseal optimise-preload``'s preload.json, preload.md, preload.png, scene.toml) is written by
+the same rules: :class:`ReportFolder`, each report written whole beside the folder and renamed into place.
 """
 
 from __future__ import annotations
@@ -77,18 +80,21 @@ class ResultStorageError(OSError):
     """Writing a result failed (disk full, permissions): the message names the folder and what was kept."""
 
 
-def check_replaceable(target: Path) -> None:
-    """Refuse to write a result where it would replace something that is not a result folder."""
+def check_replaceable(target: Path, known: set[str] | frozenset[str] = frozenset(KNOWN),
+                      what: str = "an apexseal result") -> None:
+    """Refuse to write a result (or ``what``: a study's report, whose files are ``known``) where it would replace
+    something that is not one."""
     target = Path(target)
     if not target.exists():
         return
     if not target.is_dir():
         raise ResultFolderError(f"{target} exists and is not a folder: choose another output folder")
     foreign = sorted(p.name for p in target.iterdir()
-                     if p.name not in KNOWN and p.suffix not in KNOWN_SUFFIXES and not _stray_temporary(p))
+                     if p.name not in known and p.suffix not in KNOWN_SUFFIXES and not _stray_temporary(p))
     if foreign:
         shown = ", ".join(foreign[:5]) + (", ..." if len(foreign) > 5 else "")
-        raise ResultFolderError(f"{target} holds files that are not part of an apexseal result ({shown}); a result "
+        noun = what.split(" ")[-1]
+        raise ResultFolderError(f"{target} holds files that are not part of {what} ({shown}); a {noun} "
                                 "replaces its folder as a whole, so choose an empty or new output folder")
 
 
@@ -98,13 +104,49 @@ def _stray_temporary(path: Path) -> bool:
     return path.name.startswith(".") and path.name.endswith(".tmp") and path.is_file()
 
 
-def result_at(folder: Path) -> tuple[str | None, str | None]:
-    """The run id and status of the result in ``folder``, or (None, None) where there is none."""
+def result_at(folder: Path, record: str = "result.json") -> tuple[str | None, str | None]:
+    """The run id and status of the result in ``folder`` (or of the report whose JSON record is ``record``), or
+    (None, None) where there is none."""
     try:
-        record = json.loads((Path(folder) / "result.json").read_text(encoding="utf-8"))
+        data = json.loads((Path(folder) / record).read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None, None
-    return (record.get("run_id"), record.get("status")) if isinstance(record, dict) else (None, None)
+    return (data.get("run_id"), data.get("status")) if isinstance(data, dict) else (None, None)
+
+
+def kept_aside(target: Path, record: str, found: str | None, run_id: str, status: str, what: str) -> str:
+    """Why run ``run_id``, which ended with ``status``, must not replace the folder at ``target`` ("" when it may):
+    another run wrote ``target`` while this one ran (``found``: the run id there when this one began), or this
+    run did not complete and ``target`` holds a completed ``what`` of another run (``record``: the JSON file with
+    its run id and status). A continuation (the same run id) replaces its own."""
+    there, their_status = result_at(target, record)
+    if there in (None, run_id):
+        return ""
+    if there != found:
+        return f"another run ({there[:12]}) wrote {target} while this one ran"
+    if their_status == "completed" and status != "completed":
+        return f"this run ended {status}, so the completed {what} at {target} was kept"
+    return ""
+
+
+def move_into_place(source: Path, target: Path, known: set[str] | frozenset[str] = frozenset(KNOWN),
+                    what: str = "an apexseal result") -> None:
+    """Rename the folder ``source`` to ``target``. A folder at ``target`` (checked to be ``what``: only ``known``
+    files) is first renamed aside, beside it, and removed once ``source`` is in place (put back if that rename
+    fails): a reader of ``target`` sees the old folder or the new one, never a mixture; a process killed between
+    the two renames leaves the old one as ``.<target>.old-<random>``."""
+    if not target.exists():
+        os.rename(source, target)
+        return
+    check_replaceable(target, known, what)
+    old = target.parent / f".{target.name}.old-{uuid.uuid4().hex[:12]}"
+    os.rename(target, old)
+    try:
+        os.rename(source, target)
+    except OSError:
+        os.rename(old, target)
+        raise
+    shutil.rmtree(old, ignore_errors=True)
 
 
 class KeptAsideWarning(UserWarning):
@@ -335,28 +377,12 @@ class ResultFolder:
         target = self.target
         for stray in filter(_stray_temporary, self.staging.iterdir()):  # a figure worker stopped mid-file
             stray.unlink(missing_ok=True)
-        there, status = result_at(target)
-        if there not in (None, self.run_id):
-            if there != self.found:
-                self.kept_aside = f"another run ({there[:12]}) wrote {target} while this one ran"
-            elif status == "completed" and self.status != "completed":
-                self.kept_aside = f"this run ended {self.status}, so the completed result at {target} was kept"
+        self.kept_aside = kept_aside(target, "result.json", self.found, self.run_id, self.status, "result")
         if self.kept_aside:
             self.release()
             return self.staging
         try:
-            if target.exists():
-                check_replaceable(target)
-                old = target.parent / f".{target.name}.old-{self.run_id[:12]}"
-                os.rename(target, old)
-                try:
-                    os.rename(self.staging, target)
-                except OSError:
-                    os.rename(old, target)
-                    raise
-                shutil.rmtree(old, ignore_errors=True)
-            else:
-                os.rename(self.staging, target)
+            move_into_place(self.staging, target)
         except OSError as err:
             raise ResultStorageError(err.errno, f"could not move the finished result {self.staging} to {target}: "
                                      f"{err.strerror}; the result is complete in {self.staging}") from err
@@ -429,6 +455,87 @@ def save(result: SimulationResult, folder: str | Path, *, csv: bool = False) -> 
     except BaseException:
         writer.abandon()
         raise
+
+
+class ReportFolder:
+    """A study's report folder (a few files, e.g. preload.json, preload.md, preload.png and scene.toml), written as
+    one unit by the rules of a result folder, so that a report never mixes files of two stages or two studies.
+
+    Each :meth:`write` (the report of the stages done so far: a checkpoint, or the last one) fills a new hidden
+    folder beside the target, ``.<out>.writing-<run id>``, and moves it as a whole to ``<out>.partial-<run id>``
+    (:func:`move_into_place`: the checkpoint it replaces goes aside, then away). A study killed outright (SIGKILL)
+    therefore leaves its last complete checkpoint in ``<out>.partial-<run id>``, and at most a hidden writing folder,
+    removed by the next study into ``<out>``. :meth:`commit` moves the last report to ``<out>`` by
+    :meth:`ResultFolder.commit`'s rules: a report that did not complete (``status`` other than "completed": a
+    signal, a stage refused) never replaces a completed one of another study, and no study replaces a report
+    written at ``<out>`` while it ran; such a report stays in ``<out>.partial-<run id>`` (the reason in
+    ``kept_aside``). ``<out>`` itself is only ever replaced whole, and only if it holds nothing but ``known`` files.
+    The report's JSON ``record`` must carry ``run_id`` and ``status``, as result.json does.
+    """
+
+    def __init__(self, target: str | Path, record: str, known, what: str, run_id: str | None = None) -> None:
+        self.target = Path(target)
+        self.record, self.known, self.what = record, frozenset(known), what
+        check_replaceable(self.target, self.known, self.what)
+        self.found = result_at(self.target, record)[0]  # the study whose report is at the target now
+        self.run_id = run_id or uuid.uuid4().hex
+        self.staging = self.target.parent / f"{self.target.name}.partial-{self.run_id[:12]}"
+        self.writing = self.target.parent / f".{self.target.name}.writing-{self.run_id[:12]}"
+        self.kept_aside = ""
+        self._sweep()
+
+    def _sweep(self) -> None:
+        """Remove the writing folders that killed studies left beside the target (one being written is locked by
+        its writer and left alone)."""
+        prefix = f".{self.target.name}.writing-"
+        parent = self.target.parent
+        for path in (parent.iterdir() if parent.is_dir() else ()):
+            if not (path.name.startswith(prefix) and path.is_dir()):
+                continue
+            lock = try_lock_folder(path)
+            if lock is not None:
+                try:
+                    shutil.rmtree(path, ignore_errors=True)
+                finally:
+                    os.close(lock)
+
+    def write(self, fill):
+        """Call ``fill(folder)`` to write the report's files into a new folder, then make that folder the report in
+        ``<out>.partial-<run id>`` as a whole; return what ``fill`` returned. If ``fill`` fails (or the process is
+        stopped in it), the previous report there stays as it was."""
+        shutil.rmtree(self.writing, ignore_errors=True)
+        self.writing.mkdir(parents=True)
+        lock = try_lock_folder(self.writing)
+        try:
+            out = fill(self.writing)
+            for stray in filter(_stray_temporary, self.writing.iterdir()):
+                stray.unlink(missing_ok=True)
+            move_into_place(self.writing, self.staging, self.known, self.what)
+        except BaseException:
+            shutil.rmtree(self.writing, ignore_errors=True)
+            raise
+        finally:
+            if lock is not None:
+                os.close(lock)
+        return out
+
+    def commit(self, status: str) -> Path:
+        """Move the last report written to ``<out>`` and return where it is: ``<out>``, or ``<out>.partial-<run
+        id>`` when it is kept aside (see the class docstring; the reason in ``kept_aside``)."""
+        self.kept_aside = kept_aside(self.target, self.record, self.found, self.run_id, status, "report")
+        if self.kept_aside:
+            return self.staging
+        try:
+            move_into_place(self.staging, self.target, self.known, self.what)
+        except OSError as err:
+            raise ResultStorageError(err.errno, f"could not move the report {self.staging} to {self.target}: "
+                                     f"{err.strerror}; the report is complete in {self.staging}") from err
+        return self.target
+
+    def abandon(self) -> None:
+        """Remove what this study wrote beside the target (nothing to report): the folder at the target stays."""
+        shutil.rmtree(self.writing, ignore_errors=True)
+        shutil.rmtree(self.staging, ignore_errors=True)
 
 
 # ---------------------------------------------------------------------- reading

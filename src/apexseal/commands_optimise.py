@@ -80,7 +80,8 @@ def _rate(ctx, param, value):
 @click.option("--check/--no-check", "check", default=True, show_default=True,
               help="Also run the derivative-free bisection of the constant preload over full simulations.")
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Output folder for preload.json, preload.md, preload.png [default: apexseal-out/<scene name>-preload].")
+              help="Output folder for preload.json, preload.md, preload.png and scene.toml, written beside it and "
+                   "renamed into place as a whole [default: apexseal-out/<scene name>-preload].")
 @click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, IPOPT iterations).")
 def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_force, exclude, knots, max_rate, objective,
                      samples, nodes, vary_stiffness, check, out, quiet) -> None:
@@ -100,10 +101,16 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
               vary_stiffness, check, out) -> None:
     """The stages in turn (constant optimum, schedule, bisection, stiffness valley), then the report. SIGINT or
     SIGTERM abandons the stage in progress wherever it is (IPOPT included) and writes the report of the stages
-    completed before it, with the reason; exit code 130 or 143."""
+    completed before it, with the reason; exit code 130 or 143.
+
+    The report is written as a result folder is (runtime/results/folder.py, ReportFolder): after each stage but the
+    last, whole, into ``<out>.partial-<run id>`` beside the output folder (what a study killed outright leaves), and
+    at the end renamed to ``<out>``, replacing the report there as a whole; a report of a study that did not
+    complete (a signal, a stage refused) stays in ``<out>.partial-<run id>`` when ``<out>`` holds a completed one."""
+    from .runtime.results.folder import ResultFolderError, ResultStorageError
     from .runtime.solving.signals import StopSignals
     from .runtime.studies.preload.problem import PreloadSetup, PreloadStudyError, check_grid, check_request, excluded
-    from .runtime.studies.preload.report import write_report
+    from .runtime.studies.preload.report import report_folder, write_report
     from .stopwatch import Stopwatch
 
     sc = scene_of(scene, sets)
@@ -116,28 +123,39 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     except PreloadStudyError as err:
         raise click.BadParameter(str(err)) from None
     out = default_folder(scene, out, "preload")
-    made = [f for f in (out, *out.parents) if not f.exists()]  # what writable() creates, the folder first
-    writable(out)
+    parent = out.parent
+    try:  # a folder of other files is never replaced
+        folder = report_folder(out)
+    except ResultFolderError as err:
+        raise click.BadParameter(str(err), param_hint="--out") from None
+    made = [f for f in (parent, *parent.parents) if not f.exists()]  # what writable() creates, the nearest first
+    writable(parent)
     bound = f"; groove forces <= {max_groove_force:g} N" if max_groove_force is not None else ""
     click.echo(f"{scene_label(scene, sets)}; min force {min_force:g} N"
                f"{excluded(exclude)}{bound}; writing to {out}/")
     watch = Stopwatch()
     done = {"results": {"constant": None}, "bisection": None, "valley": None, "stage": "set-up"}
+    options = {"min_force_N": min_force, "max_groove_force_N": max_groove_force, "exclude_deg": [list(w) for w in exclude],
+               "schedule_knots": knots, "max_rate_m_per_deg": max_rate, "objective": objective, "samples": samples,
+               "nodes": nodes, "vary_stiffness": vary_stiffness, "check": check}
 
-    def report(stopped: str) -> list:
-        return write_report(out, sc, str(scene or "default"), done["results"], done["bisection"], min_force,
-                            done["valley"], stopped)
+    def report(stopped: str, status: str) -> list:
+        return folder.write(lambda into: write_report(
+            into, sc, str(scene or "default"), done["results"], done["bisection"], min_force, done["valley"], stopped,
+            overrides=sets, options=options, run_id=folder.run_id, status=status))
 
+    where = None
     try:
         with StopSignals(raising=True) as signals:
 
             def checkpoint(words: str, following: str) -> None:
-                """The report of the stages done so far, written whole after each (a killed study leaves it) as the
-                ``following`` stage begins (a signal meanwhile stops that stage)."""
+                """The report of the stages done so far, written whole after each into ``<out>.partial-<run id>`` (a
+                killed study leaves it there) as the ``following`` stage begins (a signal meanwhile stops that
+                stage)."""
                 done["stage"] = following
                 signals.raising = False
-                report(f"written after the {words}, while the study went on (a study killed then leaves this report; "
-                       "one that goes on replaces it)")
+                report(f"written after the {words}, while the study went on (a study killed then leaves this report "
+                       f"in {folder.staging.name}, beside {out.name}; one that goes on replaces it)", "interrupted")
                 signals.raising = True
                 if signals.requested:
                     raise KeyboardInterrupt
@@ -148,7 +166,10 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
             except PreloadStudyError as err:  # a stage refused: the stages before it are reported as they ended
                 if done["results"]["constant"] is not None:
                     signals.raising = False
-                    report(f"the {done['stage']} failed: {err}")
+                    report(f"the {done['stage']} failed: {err}", "failed")
+                    where = folder.commit("failed")
+                else:
+                    folder.abandon()
                 raise click.BadParameter(str(err)) from None
             except BaseException:  # a signal surfaces as whatever the call it landed in made of it
                 if not signals.requested:
@@ -163,14 +184,22 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
             results = done["results"]
             c, s = results["constant"], results.get("schedule")
             if c is not None:
-                paths = report(stopped)
-                click.echo(f"  wrote {', '.join(p.name for p in paths)} to {out}/; wall time "
+                status = "interrupted" if signals.requested else "completed"
+                paths = report(stopped, status)
+                where = folder.commit(status)
+                click.echo(f"  wrote {', '.join(p.name for p in paths)} to {where}/; wall time "
                            + ", ".join(f"{k} {v:.1f} s" for k, v in watch.stages.items()))
+            else:
+                folder.abandon()
+    except ResultStorageError as err:
+        raise click.ClickException(str(err)) from err
     finally:  # nothing reported (interrupted early, refused, failed): no empty folder left behind, parents included
-        for folder in made:
-            if not folder.is_dir() or any(folder.iterdir()):
+        for made_folder in made:
+            if not made_folder.is_dir() or any(made_folder.iterdir()):
                 break
-            folder.rmdir()
+            made_folder.rmdir()
+        if where is not None and folder.kept_aside:
+            click.echo(f"  {folder.kept_aside}; this study's report is in {where}/", err=True)
     if signals.requested:
         sys.exit(signals.exit_code())
     if not c.ok or (s is not None and not s.ok):

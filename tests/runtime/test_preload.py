@@ -416,6 +416,9 @@ def test_a_signal_during_ipopt_stops_the_study_as_interrupted_not_failed(tmp_pat
            "report" in err
     assert "NonIpopt" not in out and "failed" not in out and not (tmp_path / "o" / "preload.json").exists()
     assert not (tmp_path / "o").exists()  # the folder it made is not left behind empty
+    assert not list(tmp_path.iterdir())  # nor anything beside it
+    ipopt = [line for line in err.splitlines() if line.startswith("apexseal: IPOPT (round 1")]
+    assert "abandoned after" in ipopt[-1], err  # the stage the signal ended said "done in 1.1 s"
 
 
 @pytest.mark.parametrize(("sets", "message"), [
@@ -434,6 +437,16 @@ def test_a_study_it_cannot_answer_is_refused_before_a_folder_is_made(tmp_path, s
                                   str(tmp_path / "o")])
     assert r.exit_code == 2 and message in r.output, r.output
     assert not (tmp_path / "o").exists()
+
+
+def test_a_report_never_replaces_a_folder_of_other_files(tmp_path):
+    """The report replaces its folder as a whole (as a result does), so a folder holding other files is refused
+    before any work; the three files were written into it beside the user's."""
+    (tmp_path / "notes.txt").write_text("keep me")
+    r = CliRunner().invoke(main, ["optimise-preload", "-q", "--samples", "72", "--out", str(tmp_path)])
+    assert r.exit_code == 2 and "--out" in r.output and "notes.txt" in r.output, r.output
+    assert "not part of a preload report" in r.output
+    assert [p.name for p in tmp_path.iterdir()] == ["notes.txt"]
 
 
 def test_a_failed_study_leaves_no_empty_folders_it_made(tmp_path):
@@ -477,7 +490,9 @@ def test_a_killed_study_keeps_the_report_of_the_stages_it_finished(tmp_path):
 
     code, out, err = _interrupt(tmp_path, schedule_started, signal.SIGKILL, "--schedule", "4", "--no-check")
     assert code == -signal.SIGKILL, out + err
-    data = json.loads((tmp_path / "o" / "preload.json").read_text())
+    assert not (tmp_path / "o").exists()  # kept beside it, whole: the folder is only ever replaced by a whole report
+    (partial,) = tmp_path.glob("o.partial-*")
+    data = json.loads((partial / "preload.json").read_text())
     assert data["stopped"].startswith("written after the constant optimum, while the study went on")
     assert data["constant"]["ok"] and "schedule" not in data
 

@@ -118,26 +118,172 @@ def test_the_design_over_delta_s_and_ks_is_the_curve_of_one_spring_force(studies
         stiffness_valley(_setup(light), studies[2])
 
 
-def test_cli_writes_the_report_with_the_groove_bound_and_the_stiffness_valley(light, tmp_path):
+def _light_cli(out, *args) -> list[str]:
+    """optimise-preload on the small study's scene (the soft-contacts scene, --set chamber pressure off), with the
+    units of the studies above (the groove quadrature: a bound never reached)."""
+    from apexseal.runtime.scenes.scene import embedded_scene_path
+
+    return ["optimise-preload", str(embedded_scene_path("soft-contacts.toml")), "--set",
+            "effects.chamber_pressure=false", "--min-force", "10 N", "--samples", str(SAMPLES), "--max-groove-force",
+            f"{NO_BOUND} N", "--out", str(out), *args]
+
+
+def test_cli_writes_the_report_with_the_groove_bound_and_the_stiffness_valley(light, tmp_path, caplog):
+    """The report records what ran: the --set keys in preload.json and preload.md, and the scene itself (every value
+    explicit) in scene.toml, which loads as the scene the study ran; the stiffness valley reports each simulation
+    (it ran silently)."""
     import json
+    import logging
 
     from click.testing import CliRunner
 
     from apexseal.cli import main
-    from apexseal.runtime.scenes.resolved import resolved_toml
+    from apexseal.runtime.scenes.scene import load_scene
 
-    text, files = resolved_toml(light[0])
-    (tmp_path / "light.toml").write_text(text)
-    for name, content in files.items():  # the pressure table it names (unused: the chamber pressure is off)
-        (tmp_path / name).write_text(content)
-    r = CliRunner().invoke(main, ["optimise-preload", str(tmp_path / "light.toml"), "--min-force", "10 N",
-                                  "--samples", str(SAMPLES), "--max-groove-force", f"{GROOVE_MAX} N",
-                                  "--vary-stiffness", "--no-check", "--quiet", "--out", str(tmp_path / "out")])
+    out = tmp_path / "out"
+    args = _light_cli(out, "--vary-stiffness", "--no-check", "--quiet")
+    args[args.index(f"{NO_BOUND} N")] = f"{GROOVE_MAX} N"
+    with caplog.at_level(logging.INFO, logger="apexseal"):
+        r = CliRunner().invoke(main, args)
     assert r.exit_code == 0, r.output
-    data = json.loads((tmp_path / "out" / "preload.json").read_text())
+    data = json.loads((out / "preload.json").read_text())
     assert data["constant"]["max_groove_force"] == GROOVE_MAX and data["constant"]["groove_excess"] == 0.0
     assert len(data["stiffness_valley"]) == 5 and "spring force ks*delta_s" in r.output
-    assert "the same spring force at other stiffnesses" in (tmp_path / "out" / "preload.md").read_text()
+    md = (out / "preload.md").read_text()
+    assert "the same spring force at other stiffnesses" in md
+    assert data["status"] == "completed" and data["overrides"] == {"effects.chamber_pressure": False}
+    assert data["options"]["samples"] == SAMPLES and data["scene_file"] == "scene.toml"
+    assert "Scene keys replaced (--set): effects.chamber_pressure=false." in md
+    ran = load_scene(out / "scene.toml")
+    assert not ran.effects.chamber_pressure and ran.content_hash() == light[0].content_hash()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # nothing left beside it
+    valley = [m for m in caplog.messages if "stiffness valley: ks = " in m]
+    assert len(valley) == 5 and "(0 of 5 done" in valley[0] and "(4 x the scene's)" in valley[-1], caplog.messages
+
+
+def _interrupted(out, when, signum, *args):
+    """The small study as a subprocess, sent ``signum`` once a line of its stderr satisfies ``when``; its exit code
+    and stderr."""
+    import subprocess
+    import threading
+
+    from apexseal.cli import command
+
+    proc = subprocess.Popen(command(*_light_cli(out, *args)), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            text=True)
+    lines, sent = [], threading.Event()
+
+    def read():
+        for line in proc.stderr:
+            lines.append(line)
+            if not sent.is_set() and when(line):
+                sent.set()
+                proc.send_signal(signum)
+
+    reader = threading.Thread(target=read)
+    reader.start()
+    code = proc.wait(timeout=600)
+    reader.join()
+    assert sent.is_set(), "".join(lines)
+    return code, "".join(lines)
+
+
+def test_an_interrupted_rerun_keeps_the_earlier_report_and_its_own_beside_it(light, tmp_path):
+    """A study rerun into the folder of a complete report and stopped by Ctrl-C in the schedule's IPOPT: the earlier
+    report stays as it was (it was overwritten file by file: the checkpoint of the new study, then its interrupted
+    report), the new one, holding its constant optimum, is kept beside it in <out>.partial-<run id>; the IPOPT stage
+    the signal ended is logged as abandoned (it said "done")."""
+    import json
+    import signal
+
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+
+    out = tmp_path / "o"
+    r = CliRunner().invoke(main, _light_cli(out, "--no-check", "--quiet"))
+    assert r.exit_code == 0, r.output
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    assert sorted(before) == ["preload.json", "preload.md", "preload.png", "pressure.csv", "scene.toml"]
+    earlier = json.loads(before["preload.json"])
+    ipopt = "IPOPT (round 1: 2 knots"
+    seen = {"schedule": False}
+
+    def schedule_iterating(line):  # the schedule's IPOPT under way: its first iteration after the start
+        seen["schedule"] = seen["schedule"] or line.startswith(f"apexseal: {ipopt}")
+        return seen["schedule"] and "IPOPT iteration 1:" in line
+
+    code, err = _interrupted(out, schedule_iterating, signal.SIGINT, "--schedule", "2", "--no-check")
+    assert code == 130, err
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before  # the earlier report, untouched
+    beside = [p for p in tmp_path.iterdir() if p.name != "o"]
+    assert [p.name for p in beside] == [f"o.partial-{json.loads((beside[0] / 'preload.json').read_text())['run_id'][:12]}"]
+    data = json.loads((beside[0] / "preload.json").read_text())
+    assert data["status"] == "interrupted" and data["run_id"] != earlier["run_id"]
+    assert data["stopped"] == "interrupted by the user (Ctrl-C, SIGINT) during the schedule"
+    assert data["constant"]["ok"] and "schedule" not in data
+    assert sorted(p.name for p in beside[0].iterdir()) == sorted(before)
+    assert f"so the completed report at {out} was kept; this study's report is in {beside[0]}/" in err
+    stage = [line for line in err.splitlines() if line.startswith(f"apexseal: {ipopt}")]
+    assert len(stage) == 2 and "abandoned after" in stage[1] and "done in" not in stage[1], err
+
+
+def test_a_study_killed_while_it_writes_its_report_leaves_each_report_whole(light, tmp_path):
+    """SIGKILL while the study's second report (after the schedule) is being written, its figure half done:
+    preload.json and preload.md held the schedule while preload.png still showed the constant optimum alone, and a
+    0-byte .preload.png.<random>.tmp was left. Now the report of the constant optimum stays whole in
+    <out>.partial-<run id>, no report is at <out>, and the next study into <out> sweeps away what the killed one
+    was writing."""
+    import hashlib
+    import json
+    import os
+    import signal
+
+    from fork_helpers import require_fork
+
+    from apexseal.runtime.results import figures
+
+    require_fork()
+    out, log = tmp_path / "o", tmp_path / "figures.log"
+    pid = os.fork()
+    if pid == 0:  # the study, in a child that kills itself half-way through its second figure
+        try:
+            from click.testing import CliRunner
+
+            from apexseal.cli import main
+
+            save = figures.save_png
+
+            def killed_in_the_second(fig, path, dpi):
+                if log.exists():  # the second report's figure: half of it, then SIGKILL
+                    with open(path.parent / f".{path.name}.half.tmp", "wb") as fh:
+                        fh.write(b"\x89PNG half")
+                    os.kill(os.getpid(), signal.SIGKILL)
+                save(fig, path, dpi)
+                log.write_text(hashlib.sha256(path.read_bytes()).hexdigest())
+
+            figures.save_png = killed_in_the_second
+            CliRunner().invoke(main, _light_cli(out, "--schedule", "2", "--no-check", "--quiet"))
+        finally:
+            os._exit(3)  # not reached: killed
+    _, status = os.waitpid(pid, 0)
+    assert os.WIFSIGNALED(status) and os.WTERMSIG(status) == signal.SIGKILL, status
+    assert not out.exists()  # no report was complete at the end: none replaced anything
+    partial = [p for p in tmp_path.iterdir() if p.name.startswith("o.partial-")]
+    assert len(partial) == 1
+    data = json.loads((partial[0] / "preload.json").read_text())
+    assert data["constant"]["ok"] and "schedule" not in data and data["status"] == "interrupted"
+    assert data["stopped"].startswith("written after the constant optimum, while the study went on")
+    assert "## schedule" not in (partial[0] / "preload.md").read_text()
+    assert hashlib.sha256((partial[0] / "preload.png").read_bytes()).hexdigest() == log.read_text()
+    assert sorted(p.name for p in partial[0].iterdir()) == ["preload.json", "preload.md", "preload.png",
+                                                             "pressure.csv", "scene.toml"]  # no temporary file
+    writing = [p for p in tmp_path.iterdir() if p.name.startswith(".o.writing-")]
+    assert len(writing) == 1  # what it was writing, hidden beside the folder
+    from apexseal.runtime.studies.preload.report import report_folder
+
+    report_folder(out)  # the next study into it
+    assert not writing[0].exists() and partial[0].is_dir()
 
 
 def test_groove_excess_is_zero_exactly_when_the_bound_holds_between_samples(light):

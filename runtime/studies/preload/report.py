@@ -1,4 +1,6 @@
-"""The preload study's report: ``preload.json``, ``preload.md`` and ``preload.png`` in one folder.
+"""The preload study's report: ``preload.json``, ``preload.md``, ``preload.png`` and ``scene.toml`` (the scene that
+ran, every value explicit, with its pressure table when it has one) in one folder, written as one unit by
+:class:`~apexseal.runtime.results.folder.ReportFolder` (:func:`report_folder`).
 
 The figure has four panels: delta_s(theta) of the scene, the constant optimum and the schedule beside the
 chamber pressure difference Pa - Pb; the tip's contact force along the periodic revolution with the
@@ -16,6 +18,23 @@ import numpy as np
 from ....files import atomic_write
 from .problem import MM
 
+#: the files a preload report folder may hold (another file makes the command refuse to replace the folder)
+REPORT_FILES = frozenset({"preload.json", "preload.md", "preload.png", "scene.toml", "pressure.csv"})
+#: the report's record: its run id and status ("completed", "interrupted", "failed"), as a result's result.json
+RECORD = "preload.json"
+
+
+def report_folder(out: Path, run_id: str | None = None):
+    """The :class:`~apexseal.runtime.results.folder.ReportFolder` of a preload report at ``out`` (refused, a
+    ResultFolderError, where ``out`` holds other files)."""
+    from ...results.folder import ReportFolder
+
+    return ReportFolder(out, RECORD, REPORT_FILES, "a preload report", run_id)
+
+
+def _shown(overrides: dict) -> str:
+    return ", ".join(f"{k}={v if isinstance(v, str) else json.dumps(v)}" for k, v in overrides.items())
+
 
 def _designs(results: dict) -> list[tuple[str, object, object]]:
     """(label, result, simulation) of the scene's preload, the constant optimum and the schedule, as present."""
@@ -30,8 +49,13 @@ def _designs(results: dict) -> list[tuple[str, object, object]]:
     return out
 
 
-def markdown(scene_name: str, results: dict, bisection=None, valley=None) -> str:
+def markdown(scene_name: str, results: dict, bisection=None, valley=None, overrides: dict | None = None,
+             scene_file: bool = False) -> str:
     lines = [f"# Preload study of {scene_name}", ""]
+    if overrides:
+        lines += [f"Scene keys replaced (--set): {_shown(overrides)}.", ""]
+    if scene_file:
+        lines += ["The scene that ran, every value explicit: `scene.toml`.", ""]
     for key, r in results.items():
         if r is None:
             continue
@@ -106,14 +130,23 @@ def figure(scene, results: dict, min_force: float):
 
 
 def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=None, min_force: float = 5.0,
-                 valley=None, stopped: str = "") -> list:
-    """Write preload.json, preload.md and preload.png; return their paths. ``valley``: the constant optimum's
-    spring force at other stiffnesses (runtime/studies/preload/stiffness.py); ``stopped``: why the study ended
-    before its last stage (a signal), stated at the top of both reports."""
+                 valley=None, stopped: str = "", *, overrides: dict | None = None, options: dict | None = None,
+                 run_id: str | None = None, status: str = "completed") -> list:
+    """Write preload.json, preload.md, scene.toml (with ``scene``: the scene that ran, every value explicit, and its
+    pressure table) and preload.png into ``folder``; return their paths. ``valley``: the constant optimum's spring
+    force at other stiffnesses (runtime/studies/preload/stiffness.py); ``stopped``: why the study ended before its
+    last stage (a signal), stated at the top of both reports; ``overrides``: the scene keys replaced on the command
+    line (--set), recorded in both; ``options``: the study's own (the command's options), recorded in the JSON;
+    ``run_id`` and ``status`` ("completed", "interrupted", "failed"): the report's
+    record, as a result's (runtime/results/folder.py). Each file is written atomically, the folder is not: write a
+    report folder as one unit through :func:`report_folder`."""
     from ...results.figures import save_png
 
     folder = Path(folder)
-    payload = {"scene": scene_name} | ({"stopped": stopped} if stopped else {}) \
+    payload = ({"run_id": run_id} if run_id else {}) | {"status": status, "scene": scene_name,
+                                                         "overrides": dict(overrides or {})} \
+        | ({"options": dict(options)} if options else {}) \
+        | ({"scene_file": "scene.toml"} if scene is not None else {}) | ({"stopped": stopped} if stopped else {}) \
         | {k: (r.to_dict() if r is not None else None) for k, r in results.items()}
     if bisection is not None:
         payload["bisection"] = bisection.to_dict()
@@ -124,9 +157,28 @@ def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=
     c, s = results.get("constant"), results.get("schedule")
     if c is not None and c.ok and s is not None and s.ok:
         payload["saved_friction_power_W"] = c.friction_power - s.friction_power
-    paths = [folder / "preload.json", folder / "preload.md", folder / "preload.png"]
+    paths = [folder / "preload.json", folder / "preload.md"]
     atomic_write(paths[0], json.dumps(payload, indent=2, default=str) + "\n")
-    atomic_write(paths[1], (f"**{stopped}.**\n\n" if stopped else "") + markdown(scene_name, results, bisection, valley)
-                 + "\n")
-    save_png(figure(scene, results, min_force), paths[2], 100)
+    atomic_write(paths[1], (f"**{stopped}.**\n\n" if stopped else "")
+                 + markdown(scene_name, results, bisection, valley, overrides, scene is not None) + "\n")
+    if scene is not None:
+        paths += _write_scene(folder, scene, run_id)
+    paths.append(folder / "preload.png")
+    save_png(figure(scene, results, min_force), paths[-1], 100)
     return paths
+
+
+def _write_scene(folder: Path, scene, run_id: str | None) -> list:
+    """scene.toml (and the pressure table it names): the scene the study ran, ``--set`` keys included."""
+    from ...scenes.resolved import resolved_toml
+
+    head = (f"apexseal preload study{' ' + run_id if run_id else ''}, scene {scene.name}, content hash "
+            f"{scene.content_hash()}\nre-run: apexseal optimise-preload scene.toml, with the options recorded in "
+            "preload.json")
+    text, extra = resolved_toml(scene, header=head)
+    paths = []
+    for name, content in extra.items():
+        atomic_write(folder / name, content)
+        paths.append(folder / name)
+    atomic_write(folder / "scene.toml", text)
+    return [folder / "scene.toml", *paths]
