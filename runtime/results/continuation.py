@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ...files import try_lock_folder
-from .folder import SCENE_FILE, ResultFolderError, check_stamp, read_part, read_record, scene_of_result
+from .reading import SCENE_FILE, ResultFolderError, check_stamp, read_part, read_record, scene_of_result
 from .result import SimulationResult
 
 #: the folder a run killed outright leaves beside its target (runtime/results/folder.py)

@@ -24,9 +24,7 @@ final result.json is written and :meth:`ResultFolder.commit` renames the folder 
 ``<out>`` stays intact until then, and is replaced only if it is a result folder (so a mistyped ``--out`` never
 deletes a user's files).
 
-Reading (:func:`read`): result.json must be of this format; every part must carry the same run id, the recorded
-sample count and sha256, and shapes that agree; summary.json and trajectory.csv, if present, must name the
-same run. A mixed folder is refused with the file and the mismatch named.
+Reading: :mod:`.reading`.
 
 A study's report (``apexseal optimise-preload``'s preload.json, preload.md, preload.png, scene.toml) is written by
 the same rules: :class:`ReportFolder`, each report written whole beside the folder and renamed into place.
@@ -47,14 +45,12 @@ import numpy as np
 from ...cores import available_cores
 from ...files import atomic_open, atomic_write, sha256_bytes, try_lock_folder
 from .parts import join
+from .reading import FORMAT, SCENE_FILE, UNFINISHED, ResultFolderError, read, read_part
 from .result import SimulationResult, StopInfo
 
-FORMAT = "apexseal-result/2"
 PARTS = "parts"
 #: files and folders a result folder may hold (anything else makes :func:`check_replaceable` refuse)
 KNOWN = {"result.json", "summary.json", "trajectory.csv", "trajectory.npz", PARTS, "scene.toml", "pressure.csv"}
-#: the resolved scene of a result (runtime/scenes/resolved.py)
-SCENE_FILE = "scene.toml"
 KNOWN_SUFFIXES = (".png", ".svg", ".pdf")
 #: parts of a run kept in memory up to this many bytes (about 150 revolutions of the default scene), so that
 #: :meth:`ResultFolder.finish` joins them instead of reading the folder back; a longer run is read back
@@ -70,10 +66,6 @@ def write_behind() -> bool:
     """Whether a run's parts are written by a thread beside it: where the process may run on a second core, unless
     ``APEXSEAL_WRITE_BEHIND=0``."""
     return os.environ.get(WRITE_BEHIND, "1").strip() != "0" and available_cores() > 1
-
-
-class ResultFolderError(ValueError):
-    """A folder that is not a complete, self-consistent result (or cannot be replaced by one)."""
 
 
 class ResultStorageError(OSError):
@@ -539,148 +531,3 @@ class ReportFolder:
 
 
 # ---------------------------------------------------------------------- reading
-def _began(folder: Path) -> str:
-    """The run id in the first line of ``folder``'s scene.toml, as a run writes it before its first step ("" when
-    there is none)."""
-    try:
-        with (folder / SCENE_FILE).open(encoding="utf-8") as fh:
-            first = fh.readline()
-    except (OSError, UnicodeDecodeError):
-        return ""
-    words = first.lstrip("# ").split()
-    return words[2].rstrip(",") if len(words) > 2 and words[:2] == ["apexseal", "result"] else ""
-
-
-#: the start of the stop reason of the progress record a run writes after each part (its final record replaces it)
-UNFINISHED = "the run ended without its final record"
-
-
-def _still_written(folder: Path, stop: StopInfo | None, parts: int) -> StopInfo | None:
-    """The stop of a folder read back: a progress record (:data:`UNFINISHED`) of a folder whose writer still holds
-    its lock says that the run goes on, not that it was killed."""
-    if stop is None or not stop.reason.startswith(UNFINISHED):
-        return stop
-    lock = try_lock_folder(folder)
-    if lock is not None:
-        os.close(lock)
-        return stop
-    return StopInfo(stop.theta, stop.mode, f"the run is still going on (a running process writes {folder}): this is "
-                    f"what it had written when read, {parts} completed part(s); the revolution in progress is not in "
-                    "it yet")
-
-
-def read_record(folder: Path) -> dict:
-    path = folder / "result.json"
-    if not path.is_file():
-        began = _began(folder)
-        if began:  # scene.toml is written before the first step: a run killed before its first part
-            raise ResultFolderError(f"{folder} holds no result: run {began} began here and was killed before it wrote "
-                                    "its first revolution, so there is nothing to load or continue; simulate the "
-                                    f"scene again ({folder / SCENE_FILE}) and delete this folder")
-        raise ResultFolderError(f"{folder} is not a result folder: it has no result.json")
-    try:
-        meta = json.loads(path.read_text())
-    except (OSError, ValueError) as err:
-        raise ResultFolderError(f"{path} is unreadable: {err}") from err
-    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
-        raise ResultFolderError(f"{path} is not an {FORMAT} record (a result written by an older apexseal, whose "
-                                "files cannot be checked to belong together: simulate again)")
-    return meta
-
-
-def read_part(folder: Path, entry: dict, run_id: str, guards: int | None = None,
-              outputs: list[str] | None = None, state_rows: int | None = None) -> SimulationResult:
-    """One part, checked: run id, sample count, sha256, shapes."""
-    path = folder / entry["file"]
-    try:
-        data = path.read_bytes()
-    except OSError as err:
-        raise ResultFolderError(f"{path} is missing or unreadable ({err.strerror}): the folder is incomplete") from err
-    if sha256_bytes(data) != entry["sha256"]:
-        raise ResultFolderError(f"{path} is not the file result.json recorded (sha256 differs): the folder mixes files "
-                                "of different runs, or a file was changed")
-    with np.load(io.BytesIO(data)) as d:
-        if str(d["run_id"]) != run_id:
-            raise ResultFolderError(f"{path} belongs to run {d['run_id']}, result.json to run {run_id}: mixed folder")
-        arrays = {k: d[k] for k in d.files}
-    n = int(arrays["samples"])
-    names = outputs if outputs is not None else [k[4:] for k in arrays if k.startswith("out_")]
-    g = guards if guards is not None else arrays["closed"].shape[0]
-    s = state_rows if state_rows is not None else arrays["state"].shape[0]
-    expect = {"theta": (n,), "time": (n,), "state": (s, n), "closed": (g, n), "events": (g, n), "modes": (n,)}
-    expect |= {f"out_{k}": (n,) for k in names}
-    for key, shape in expect.items():
-        if key not in arrays:
-            raise ResultFolderError(f"{path} has no array {key!r}: the folder is inconsistent")
-        if arrays[key].shape != shape:
-            raise ResultFolderError(f"{path}: {key} has shape {arrays[key].shape}, expected {shape} ({n} samples, "
-                                    f"{g} guards)")
-    if n != entry["samples"]:
-        raise ResultFolderError(f"{path} holds {n} samples, result.json records {entry['samples']}")
-    return SimulationResult(arrays["theta"], arrays["time"], arrays["state"], arrays["closed"], arrays["events"],
-                            {k: arrays[f"out_{k}"] for k in names}, (), [str(m) for m in arrays["modes"]])
-
-
-def read(folder: str | Path) -> SimulationResult:
-    """The result in ``folder`` (a committed result, or the ``.partial-`` folder a killed run left), checked."""
-    folder = Path(folder)
-    meta = read_record(folder)
-    run_id = meta["run_id"]
-    guards = list(meta["guard_names"])
-    parts = [read_part(folder, e, run_id, len(guards), list(meta["outputs"]), meta.get("state_rows"))
-             for e in meta["parts"]]
-    total = sum(p.n for p in parts)
-    if total != meta["samples"]:
-        raise ResultFolderError(f"{folder}: the parts hold {total} samples, result.json records {meta['samples']}")
-    if not parts:
-        raise ResultFolderError(f"{folder}: result.json lists no part (the run was killed before its first sample "
-                                "was written)")
-    for name in ("summary.json", "trajectory.csv", SCENE_FILE):
-        check_stamp(folder / name, run_id)
-    for p in parts:
-        p.guard_names = tuple(guards)
-    stop = _still_written(folder, StopInfo(**meta["stop"]) if meta["stop"] else None, len(parts))
-    result = join(parts, meta["status"], stop, meta["info"])
-    result.info.setdefault("run_id", run_id)
-    if (folder / SCENE_FILE).is_file():
-        result.scene = scene_of_result(folder, result.info)
-    theta = result.theta
-    if theta.size > 1 and not (np.diff(theta) > 0).all():
-        raise ResultFolderError(f"{folder}: the parts do not follow each other (crank angle not increasing)")
-    return result
-
-
-def scene_of_result(folder: Path, info: dict):
-    """The result's scene.toml, loaded; a ResultFolderError naming the folder when it does not load here (a submodel
-    of the run's that this process lacks: its package, from the result's versions, is named)."""
-    from apexseal.derive.submodels.registry import installed
-
-    from ..scenes.errors import SceneError
-    from ..scenes.scene import load_scene
-
-    try:
-        return load_scene(folder / SCENE_FILE)
-    except SceneError as err:
-        here = installed()
-        missing = [f"{k.removeprefix('submodel ')} ({v})" for k, v in info.get("versions", {}).items()
-                   if k.startswith("submodel ") and k.removeprefix("submodel ") not in here]
-        hint = (f"; the run was made where submodels this process lacks were installed: {', '.join(missing)}: if "
-                f"the scene names their keys, install them to read it" if missing else "")
-        raise ResultFolderError(f"{folder}: its {SCENE_FILE} does not load here{hint}\n{err}") from err
-
-
-def check_stamp(path: Path, run_id: str) -> None:
-    if not path.exists():
-        return
-    try:
-        if path.suffix == ".json":
-            found = json.loads(path.read_text()).get("run_id")
-        else:
-            with open(path) as fh:
-                head = fh.readline()
-            found = head.split()[3].rstrip(",") if head.startswith("# apexseal result ") else None
-    except (OSError, ValueError, AttributeError, IndexError):
-        found = None
-    if found != run_id:
-        raise ResultFolderError(f"{path} belongs to run {found}, result.json to run {run_id}: mixed folder "
-                                f"(simulate again, or remove {path.name})")

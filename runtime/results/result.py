@@ -205,6 +205,6 @@ class SimulationResult:
     def load(cls, folder: str | Path) -> SimulationResult:
         """The result in ``folder``, refused (ResultFolderError) unless all its files belong to one run; its
         ``scene`` is loaded from the folder's scene.toml when there is one."""
-        from .folder import read
+        from .reading import read
 
         return read(folder)

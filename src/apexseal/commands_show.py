@@ -18,7 +18,7 @@ def show(folder: Path, figures: bool) -> None:
     the run and its settings, where and why it stopped, the designer's numbers, and how to continue it."""
     from .runtime.api import same_model
     from .runtime.results.continuation import continuation, partial_target
-    from .runtime.results.folder import ResultFolderError, read
+    from .runtime.results.reading import ResultFolderError, read
     from .runtime.results.summary import summarise
 
     try:

@@ -291,7 +291,7 @@ def test_a_result_whose_scene_needs_a_missing_submodel_names_its_package(tmp_pat
     """show, compare, --resume and SimulationResult.load read a result's scene.toml: one that does not load here
     (a submodel of the run's not installed) is a ResultFolderError naming the folder and the package, not a
     traceback."""
-    from apexseal.runtime.results.folder import ResultFolderError, scene_of_result
+    from apexseal.runtime.results.reading import ResultFolderError, scene_of_result
     from apexseal.runtime.scenes.resolved import resolved_toml
 
     with registry.registered(Cushion):

@@ -18,7 +18,8 @@ import numpy as np
 
 import apexseal
 from apexseal.runtime.api import run_scene, settings_of
-from apexseal.runtime.results.folder import ResultFolder, read
+from apexseal.runtime.results.folder import ResultFolder
+from apexseal.runtime.results.reading import read
 from apexseal.runtime.solving import run as run_mod
 
 
