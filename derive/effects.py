@@ -11,12 +11,19 @@ booleans, the way scenes write them in ``[effects]``.
 from __future__ import annotations
 
 from ..suggest import did_you_mean, not_known
-from .options import NONE, Option, OptionError, TableView
+from .options import NONE, Option, OptionError, TableView, without_parent
 
 
 def on_choice(opt: Option) -> str:
     """The choice that switches an effect on (its first choice other than "none")."""
     return next(c for c in opt.choices if c != NONE)
+
+
+def orphans(values: dict[str, bool]) -> list[tuple[str, str]]:
+    """(effect, its parent) for every effect of ``values`` that is on while its parent is set off there."""
+    slots = declared()
+    return [(name, slots[name].parent) for name, on in values.items()
+            if on and slots[name].parent is not None and values.get(slots[name].parent) is False]
 
 
 class EffectError(OptionError):
@@ -48,12 +55,8 @@ class Effects(TableView):
             if key not in slots:
                 raise TypeError(f"Effects() got an unexpected effect {key!r}{did_you_mean(key, slots)}")
         values = {name: bool(on.get(name, opt.default != NONE)) for name, opt in slots.items()}
-        for name, opt in slots.items():
-            if values[name] and opt.parent is not None and not values[opt.parent]:
-                raise EffectError(
-                    f"effects.{name} = true needs effects.{opt.parent} = true "
-                    f"(there is no {name.split('_')[-1]} without the {opt.parent.replace('_', ' ')})"
-                )
+        for name, parent in orphans(values):
+            raise EffectError(f"effects.{name} = true needs effects.{parent} = true " + without_parent(name, parent))
         self._set(values)
 
     @classmethod

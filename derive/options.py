@@ -108,7 +108,7 @@ class Options(Mapping[str, str]):
             if parent_off and choice != NONE:
                 p = opt.parent
                 raise OptionError(f"{opt.table}.{name} = {_shown(opt, choice)} needs {declared[p].table}.{p} on "
-                                  f"(there is no {name.split('_')[-1]} without the {p.replace('_', ' ')})")
+                                  + without_parent(name, p))
             resolved[name] = choice
         self._values = resolved
 
@@ -154,6 +154,12 @@ def _choice(opt: Option, raw: str | bool) -> str:
     if raw not in opt.choices:
         raise OptionError(not_known(f"{opt.table}.{opt.name} = {raw!r}", raw, opt.choices, "allowed", listing="allowed"))
     return raw
+
+
+def without_parent(name: str, parent: str) -> str:
+    """Why a child slot cannot be on while its parent is off, in words: "(there is no friction without the groove
+    contact)"; the one wording of the options, the effects and the scene's checks."""
+    return f"(there is no {name.split('_')[-1]} without the {parent.replace('_', ' ')})"
 
 
 def _shown(opt: Option, choice: str) -> str:

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 95e63dab2d837eb52273fa82dc77db36c836bb6ec2145498ae9d406da95b514d.
+ * Effects: all. Input hash: 0d770d07a22f33789125067886918aa2ba293adecafa273ba3c569bba3c1e9bf.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "95e63dab2d837eb52273fa82dc77db36c836bb6ec2145498ae9d406da95b514d"
+#define APEXSEAL_INPUT_HASH "0d770d07a22f33789125067886918aa2ba293adecafa273ba3c569bba3c1e9bf"
 
 /* state x */
 #define APEXSEAL_NX 6

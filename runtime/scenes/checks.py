@@ -14,8 +14,9 @@ from typing import Any
 import numpy as np
 
 from apexseal.derive.assumptions import Assumptions
-from apexseal.derive.effects import Effects, declared
+from apexseal.derive.effects import Effects, orphans
 from apexseal.derive.numbers import machine_numbers, smallest_chamber_volume, smallest_lobe_offset, tip_half_angle
+from apexseal.derive.options import without_parent
 
 from .errors import MISSING, Problem
 from .schema import (
@@ -292,19 +293,8 @@ def resolve_effects(
     explicit ``chamber_pressure = true`` is then an error).
     """
     values = {k: v for k, v in given.model_dump().items() if v is not None}
-    slots = declared()
-    out = []
-    for name, value in values.items():
-        parent = slots[name].parent
-        if value and parent is not None and values.get(parent) is False:
-            out.append(
-                Problem(
-                    f"effects.{name}",
-                    value,
-                    f"needs effects.{parent} = true (there is no {name.split('_')[-1]} without the "
-                    f"{parent.replace('_', ' ')}); allowed: false, or set effects.{parent} = true",
-                )
-            )
+    out = [Problem(f"effects.{name}", True, f"needs effects.{parent} = true {without_parent(name, parent)}; allowed: "
+                   f"false, or set effects.{parent} = true") for name, parent in orphans(values)]
     if values.get("housing_contact") is False and values.get("groove_contact") is False:
         out.append(
             Problem(
