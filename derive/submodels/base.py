@@ -33,6 +33,9 @@ class State:
     scale: float = 1.0
     #: a rate of the rotor-driven motion (the seal's velocities): integrated in units of scale * omega
     rate: bool = False
+    #: the unit results show it in (figures, summaries), and display value = display_scale * SI value
+    display: str = ""
+    display_scale: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -128,8 +131,9 @@ class Submodel:
     switch: ClassVar[str | None] = None
     #: (stiffness, damping) parameter names of the oscillators it adds (explicit-Euler stability check)
     oscillators: ClassVar[tuple[tuple[str, str], ...]] = ()
-    #: (name, SI unit, meaning) of each of its named :meth:`outputs`: the result's column, its CSV header and docs
-    output_columns: ClassVar[tuple[tuple[str, str, str], ...]] = ()
+    #: (name, SI unit, meaning) of each of its named :meth:`outputs`, optionally followed by the unit results show
+    #: it in and the factor to it from SI (e.g. "g/s", 1e3): the result's column, its CSV header and docs
+    output_columns: ClassVar[tuple[tuple, ...]] = ()
     #: (damping coefficient, damping ratio) parameter names: unless the scene gives the coefficient, it is
     #: c = 2 zeta sqrt(k ms), k the mean stiffness of the oscillators damped by c (Eqs. 55, 62, 67, 73 take c; the
     #: ratio is the scene's way of stating it). A scene gives at most one of the two (an error names both).

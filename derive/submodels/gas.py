@@ -97,10 +97,25 @@ class ChamberGas(Submodel):
                "seal (Algorithm 4, tip lift-off); set by pressure.source", table="assumptions"),
     )
     states = (
-        State("ma", "kg", "mass of the gas in chamber a", 1e-3),
+        State("ma", "kg", "mass of the gas in chamber a", 1e-3, display="mg", display_scale=1e6),
         State("Ua", "J", "internal energy of the gas in chamber a", 1e2),
-        State("mb", "kg", "mass of the gas in chamber b", 1e-3),
+        State("mb", "kg", "mass of the gas in chamber b", 1e-3, display="mg", display_scale=1e6),
         State("Ub", "J", "internal energy of the gas in chamber b", 1e2),
+    )
+    #: its outputs besides the chamber pressures Pa and Pb (the run's inputs otherwise: runtime/results/outputs.py)
+    output_columns = (
+        ("Va", "m^3", "volume of chamber a (Eqs. 1-8; gas model, formulas in derive/chambers.py)", "cm^3", 1e6),
+        ("Vb", "m^3", "volume of chamber b (Eqs. 1-8; gas model, formulas in derive/chambers.py)", "cm^3", 1e6),
+        ("Ta", "K", "temperature of the gas in chamber a"),
+        ("Tb", "K", "temperature of the gas in chamber b"),
+        ("mdot_in_a", "kg/s", "mass flow from the supply through the inlet port into chamber a", "g/s", 1e3),
+        ("mdot_in_b", "kg/s", "mass flow from the supply through the inlet port into chamber b", "g/s", 1e3),
+        ("mdot_out_a", "kg/s", "mass flow from chamber a through the outlet port to the exhaust", "g/s", 1e3),
+        ("mdot_out_b", "kg/s", "mass flow from chamber b through the outlet port to the exhaust", "g/s", 1e3),
+        ("mdot_leak_groove", "kg/s", "leakage from chamber a to b through the seal-groove gap b_gap*H (Algorithm 4)",
+         "g/s", 1e3),
+        ("mdot_leak_tip", "kg/s", "leakage from chamber a to b over the seal tip while it is lifted off the housing",
+         "g/s", 1e3),
     )
 
     @classmethod
@@ -213,7 +228,5 @@ class ChamberGas(Submodel):
 
     def outputs(self, ctx: Context) -> dict[str, Any]:
         q = self._gas(ctx)
-        names = ("Pa", "Pb", "Va", "Vb", "Ta", "Tb", "mdot_in_a", "mdot_in_b", "mdot_out_a", "mdot_out_b",
-                 "mdot_leak_groove", "mdot_leak_tip")
-        return {n: q[n] for n in names}
+        return {n: q[n] for n in ("Pa", "Pb", *(c[0] for c in self.output_columns))}
 

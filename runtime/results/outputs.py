@@ -59,26 +59,6 @@ FIXED: dict[str, Column] = {c.name: c for c in (
     Column("mode", "", "contact mode: case of Algorithm 3, then h (housing) and s (spring) when closed"),
 )}
 
-#: the chamber gas model's states and outputs (derive/submodels/gas.py; docs/gas.md), in the order of the CSV
-GAS: dict[str, Column] = {c.name: c for c in (
-    Column("ma", "kg", "mass of the gas in chamber a (gas model state)", "mg", 1e6),
-    Column("Ua", "J", "internal energy of the gas in chamber a (gas model state)"),
-    Column("mb", "kg", "mass of the gas in chamber b (gas model state)", "mg", 1e6),
-    Column("Ub", "J", "internal energy of the gas in chamber b (gas model state)"),
-    Column("Va", "m^3", "volume of chamber a (Eqs. 1-8; gas model, formulas in derive/chambers.py)", "cm^3", 1e6),
-    Column("Vb", "m^3", "volume of chamber b (Eqs. 1-8; gas model, formulas in derive/chambers.py)", "cm^3", 1e6),
-    Column("Ta", "K", "temperature of the gas in chamber a"),
-    Column("Tb", "K", "temperature of the gas in chamber b"),
-    Column("mdot_in_a", "kg/s", "mass flow from the supply through the inlet port into chamber a", "g/s", 1e3),
-    Column("mdot_in_b", "kg/s", "mass flow from the supply through the inlet port into chamber b", "g/s", 1e3),
-    Column("mdot_out_a", "kg/s", "mass flow from chamber a through the outlet port to the exhaust", "g/s", 1e3),
-    Column("mdot_out_b", "kg/s", "mass flow from chamber b through the outlet port to the exhaust", "g/s", 1e3),
-    Column("mdot_leak_groove", "kg/s", "leakage from chamber a to b through the seal-groove gap b_gap*H "
-           "(Algorithm 4)", "g/s", 1e3),
-    Column("mdot_leak_tip", "kg/s", "leakage from chamber a to b over the seal tip while it is lifted off the "
-           "housing", "g/s", 1e3),
-)}
-
 _PATTERNS: tuple[tuple[str, str, str, str, float], ...] = (
     # regex, unit, meaning template ({c}: contact meaning, {g}: guard meaning), display unit, scale
     (r"F_(\w+)_X", "N", "X force on the seal (groove frame) from the {c}", "N", 1.0),
@@ -97,8 +77,6 @@ def describe(name: str) -> Column:
     """The :class:`Column` of a result column name (states, outputs, ``closed_<guard>``)."""
     if name in FIXED:
         return FIXED[name]
-    if name in GAS:
-        return GAS[name]
     guard_cols = guard_outputs()
     if name in guard_cols:
         display, scale = ("mm", 1e3) if name == "spring_compression" else ("µm", 1e6)
@@ -112,10 +90,13 @@ def describe(name: str) -> Column:
             text = meaning.format(c=contacts().get(part, part), n=part)
             return Column(name, unit, text, display, scale)
 
-    for cls in submodels():  # a submodel's own named outputs
-        for column, unit, meaning in cls.output_columns:
+    for cls in submodels():  # a submodel's own states (the seal's are FIXED) and named outputs
+        for st in cls.states:
+            if st.name == name and name not in FIXED:
+                return Column(name, st.unit, f"{st.meaning} ({cls.name} model state)", st.display, st.display_scale)
+        for column, unit, meaning, *shown in cls.output_columns:
             if column == name:
-                return Column(name, unit, meaning)
+                return Column(name, unit, meaning, *shown)
     if extended():  # a user's submodel may output what it does not declare: the run's files still hold it
         return Column(name, "", "an output of a user's submodel that declares no unit for it (Submodel.output_columns)")
     raise KeyError(f"no description of the result column {name!r}; add it to runtime/results/outputs.py")
