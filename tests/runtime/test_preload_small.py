@@ -454,3 +454,15 @@ def test_the_feasible_start_is_the_smallest_passing_multiple_of_the_scenes_prelo
     low = PreloadResult(False, "", MIN_FORCE, [])
     assert _feasible_start(setup, sf, grid, 0.2 * MM, ds[-2], DEFICIT_TOL, low) is None
     assert [h[0] for h in low.history] == ds[:-1] and low.message.startswith("infeasible")
+
+
+def test_the_stiffness_valley_says_which_stiffnesses_keep_the_force_feasible():
+    """The --vary-stiffness table marks a stiffness at which the optimum's spring force leaves the deficit above its
+    bound (1.04 x at 4 x ks on the small study's scene): it printed the ratio without saying so."""
+    from apexseal.runtime.studies.preload.stiffness import ValleyPoint, describe
+
+    points = [ValleyPoint(5e3, 1.7565e-3, 8.782, 26.849, 0.9, 0.0), ValleyPoint(2e4, 0.4391e-3, 8.782, 26.843, 1.04, 0.0),
+              ValleyPoint(1e4, 0.8782e-3, 8.782, 26.847, 0.5, 2.0)]
+    rows = describe(points, 1.0).splitlines()[2:]
+    assert rows[0].endswith("yes") and rows[1].endswith("no: force deficit above its bound")
+    assert rows[2].endswith("no: groove-force excess above its bound")

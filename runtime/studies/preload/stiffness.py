@@ -73,7 +73,9 @@ def describe(points: list[ValleyPoint], deficit_tol: float) -> str:
     """The valley as a table: the same spring force at each stiffness."""
     lines = [f"  the same spring force ks*delta_s = {points[0].spring_force:.3f} N at other stiffnesses (periodic "
              "re-simulations):",
-             "    ks (N/m)   delta_s (mm)   friction power (W)   force deficit (x bound)"]
-    lines += [f"    {p.ks:9.4g}   {p.delta_s / MM:12.4f}   {p.friction_power:18.3f}   {p.deficit / deficit_tol:10.3f}"
+             "    ks (N/m)   delta_s (mm)   friction power (W)   force deficit (x bound)   feasible"]
+    lines += [f"    {p.ks:9.4g}   {p.delta_s / MM:12.4f}   {p.friction_power:18.3f}   {p.deficit / deficit_tol:23.3f}   "
+              + ("no: force deficit above its bound" if p.deficit > deficit_tol else
+                 "no: groove-force excess above its bound" if p.groove_excess > deficit_tol else "yes")
               for p in points]
     return "\n".join(lines)
