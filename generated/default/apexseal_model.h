@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 5e25b7d89ad4ad4c44cc4694f19a94e396f126fc4c717130e0a83d83988ca450.
+ * Effects: all. Input hash: d62844e77249fd941f1a0af3718250e0017d3c9df1fcbc276c3de4b7e1081e1c.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "5e25b7d89ad4ad4c44cc4694f19a94e396f126fc4c717130e0a83d83988ca450"
+#define APEXSEAL_INPUT_HASH "d62844e77249fd941f1a0af3718250e0017d3c9df1fcbc276c3de4b7e1081e1c"
 
 /* state x */
 #define APEXSEAL_NX 6
