@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from .fields import SI
-from .schema import GAS_SOURCES, SECTIONS, Section, _sub_model, validator_of
+from .schema import GAS_SOURCES, SECTION_ORDER, SECTIONS, Section, _sub_model, validator_of
 
 #: the file name of the pressure table written beside a resolved scene
 TABLE_FILE = "pressure.csv"
@@ -57,9 +57,9 @@ def _table(name: str, items: list[tuple[str, Any]]) -> list[str]:
 
 
 #: the built-in sections of model parameters, written first in this order
-PARAMETER_SECTIONS = ("machine", "operation", "seal", "spring", "contacts", "friction")
+PARAMETER_SECTIONS = SECTION_ORDER[:SECTION_ORDER.index("pressure")]
 #: the built-in sections written after them, each its own way
-OTHER_SECTIONS = ("pressure", "gas", "effects", "assumptions", "solver")
+OTHER_SECTIONS = SECTION_ORDER[SECTION_ORDER.index("pressure"):]
 
 
 def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:

@@ -18,6 +18,7 @@ from typing import Annotated, Any
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, create_model
 
+from ...derive.chambers import EMBODIMENTS
 from ...suggest import did_you_mean
 from ..solving.methods import METHODS
 from ..solving.settings import DEFAULT_PRESSURE, FLAGS, PRESSURE_PROFILES
@@ -150,16 +151,16 @@ class SolverSection(Section):
 #: keys of parameter sections that are not model parameters: (before the parameters, after them)
 _EXTRA_FIELDS: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
     "machine": (
-        {"embodiment": (_v(Choice("limacon-to-limacon", "circolimacon", "limacon-to-circular"), str),
+        {"embodiment": (_v(Choice(*EMBODIMENTS), str),
                         Field(description="machine embodiment (Section 2)"))},
         {"ports": (Ports | None, Field(None, description="inlet and outlet ports (Table 1)"))},
     ),
 }
 #: within a section, keys are listed stiffnesses first, then damping, coefficients, the rest (stable otherwise)
 _KIND_ORDER = {"N/m": 0, "N*s/m": 1, "1": 2}
-#: the built-in sections, in the order scenes and docs list them
-_ORDER = ("machine", "operation", "seal", "spring", "contacts", "friction", "pressure", "gas", "effects",
-          "assumptions", "solver")
+#: the built-in sections, in the order scenes and docs list them: the model's parameters, then the rest
+SECTION_ORDER = ("machine", "operation", "seal", "spring", "contacts", "friction", "pressure", "gas", "effects",
+                 "assumptions", "solver")
 _DOCS = {"machine": "[machine]: the limaçon machine (Eqs. 1-8).", "seal": "[seal]: the apex seal (Eqs. 16-31, 76, 80).",
          "spring": "[spring]: the groove-bottom spring (Eqs. 37-39).",
          "contacts": "[contacts]: contact stiffness and damping (Eqs. 34, 55, 62, 67, 73, Algorithm 1).",
@@ -218,7 +219,7 @@ def _sections(classes: tuple[type, ...]) -> dict[str, tuple[type[Section], bool]
     built["assumptions"] = (create_model("AssumptionsSection", __base__=Section, **_option_fields("assumptions")),
                             False)
     built["solver"] = (SolverSection, False)
-    order = [n for n in _ORDER if n in built] + [n for n in built if n not in _ORDER]
+    order = [n for n in SECTION_ORDER if n in built] + [n for n in built if n not in SECTION_ORDER]
     return {n: built[n] for n in order}
 
 
