@@ -528,6 +528,3 @@ class ReportFolder:
         """Remove what this study wrote beside the target (nothing to report): the folder at the target stays."""
         shutil.rmtree(self.writing, ignore_errors=True)
         shutil.rmtree(self.staging, ignore_errors=True)
-
-
-# ---------------------------------------------------------------------- reading
