@@ -138,6 +138,10 @@ class ModelFunctions:
                                               for f in (sx.rhs, sx.guards, sx.outputs)), strict=True)]
         return frozenset(n for n, r in zip(self.parameter_names, read, strict=True) if r)
 
+    def omega(self, params) -> float:
+        """The rotor speed (rad/s) in a parameter vector of this model (its "omega" entry)."""
+        return float(params[list(self.parameter_names).index("omega")])
+
     def mode_rhs(self, label: str):
         """``f(theta, x, p, u) -> xdot`` of one mode (Algorithm 3 label): ``rhs`` with that mode's activations."""
         mode = next(m for m in self.mode_list if m.label == label)

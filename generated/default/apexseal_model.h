@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: d62844e77249fd941f1a0af3718250e0017d3c9df1fcbc276c3de4b7e1081e1c.
+ * Effects: all. Input hash: cb61b0d7b7e90125c82a52d6dbe90993a1aa7370fcb5bcabc443aca1f1124735.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "d62844e77249fd941f1a0af3718250e0017d3c9df1fcbc276c3de4b7e1081e1c"
+#define APEXSEAL_INPUT_HASH "cb61b0d7b7e90125c82a52d6dbe90993a1aa7370fcb5bcabc443aca1f1124735"
 
 /* state x */
 #define APEXSEAL_NX 6

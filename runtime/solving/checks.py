@@ -34,7 +34,7 @@ class RunChecks:
         self.functions, self.settings, self.params = functions, settings, params
         self.theta_start = theta_start
         self.layout = HybridLayout.of(functions)
-        self.omega = float(params[list(functions.parameter_names).index("omega")])
+        self.omega = functions.omega(params)
 
     def finite(self, Z, thetas) -> tuple[np.ndarray, tuple | None]:
         """Z up to its first non-finite sample, and the failure it means (None if all finite)."""

@@ -129,7 +129,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
                           "'rosenbrock' (stiff contacts, a small friction.v_eps) or a larger friction.v_eps")
     z_end, head = _longest_head(functions, settings, params, z, theta, dth, P, deadline, make)
     if not _finite_ahead(functions, z_end, theta + head, params, u):
-        omega = _omega(functions, params)
+        omega = functions.omega(params)
         x, y, phi = to_physical(z_end[lay.x], omega, lay.state_names)[:3]
         g = np.array(functions.guards(theta + head, to_physical(z_end[lay.x], omega, lay.state_names), params,
                                       u)).ravel()
@@ -150,7 +150,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
 def _finite_ahead(functions, z, theta, params, u) -> bool:
     """The right-hand side is finite at z and along its direction a little ahead (1e-9 .. 1e-7 s)."""
     lay = HybridLayout.of(functions)
-    X = to_physical(z[lay.x], _omega(functions, params), lay.state_names)
+    X = to_physical(z[lay.x], functions.omega(params), lay.state_names)
     xdot = np.array(functions.rhs(theta, X, z[lay.active], params, u)).ravel()
     if not (np.isfinite(z).all() and np.isfinite(xdot).all()):
         return False
@@ -184,6 +184,3 @@ def _longest_head(functions, settings: RunSettings, params, z, theta, dth, P,
         lo, end = mid, out.z[:, -1]
     return end, lo
 
-
-def _omega(functions, params) -> float:
-    return float(params[list(functions.parameter_names).index("omega")])

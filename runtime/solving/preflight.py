@@ -28,7 +28,7 @@ def initial_activations(functions, theta: float, X: np.ndarray, params: np.ndarr
     closed = g < 0
     on_guard = np.abs(g) <= 1e-15
     if on_guard.any():
-        omega = params[list(functions.parameter_names).index("omega")]
+        omega = functions.omega(params)
         xdot = np.array(functions.rhs(theta, X, closed.astype(float), params, u)).ravel()
         h = 1e-6 / omega  # 1e-6 rad of crank angle
         n_q = X.size // 2

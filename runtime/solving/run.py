@@ -74,7 +74,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     revolutions = settings.revolutions
     sink = sink if sink is not None else InMemory()
     lay = HybridLayout.of(functions)
-    omega = float(params[list(functions.parameter_names).index("omega")])
+    omega = functions.omega(params)
     N = settings.samples_per_revolution
     sub = pressure_substeps(pressure, N) if engine is None else 1
     dth = 2 * np.pi / (N * sub)  # the integrator's intervals: sub of them per output interval
