@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: cb61b0d7b7e90125c82a52d6dbe90993a1aa7370fcb5bcabc443aca1f1124735.
+ * Effects: all. Input hash: 475cc113217ddf8bcf4ade88343a25979a98e1cac5cce12e98a54caacac5d1a5.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "cb61b0d7b7e90125c82a52d6dbe90993a1aa7370fcb5bcabc443aca1f1124735"
+#define APEXSEAL_INPUT_HASH "475cc113217ddf8bcf4ade88343a25979a98e1cac5cce12e98a54caacac5d1a5"
 
 /* state x */
 #define APEXSEAL_NX 6
@@ -114,7 +114,7 @@ extern "C" {
 #define APEXSEAL_Y_PF_TOTAL 27
 #define APEXSEAL_Y_B_GAP 28
 
-/* modes: groove case of Algorithm 3, housing contact (h closed, h0 open), spring (s, s0) */
+/* modes: the groove case of Algorithm 3, then each other contact closed or open by its declared label (e.g. h, h0) */
 #define APEXSEAL_NMODES 36
 #define APEXSEAL_MODE_Q1_H_S 0
 #define APEXSEAL_MODE_Q1_H_S0 1

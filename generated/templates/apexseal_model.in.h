@@ -48,7 +48,7 @@ extern "C" {
 #define APEXSEAL_Y_{{ name|upper }} {{ loop.index0 }}
 {% endfor %}
 
-/* modes: groove case of Algorithm 3, housing contact (h closed, h0 open), spring (s, s0) */
+/* modes: the groove case of Algorithm 3, then each other contact closed or open by its declared label (e.g. h, h0) */
 #define APEXSEAL_NMODES {{ modes|length }}
 {% for m in modes %}
 #define APEXSEAL_MODE_{{ m.label|upper }} {{ m.index }}
