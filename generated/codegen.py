@@ -1,7 +1,7 @@
 """CasADi C code of the model's Functions, and the same Functions serialized.
 
 ``casadi_model.c`` (with its header) holds what a run executes: rhs and its Jacobian,
-rhs_switched, guards, velocity_guards, outputs, and the hybrid DAE's ``hybrid_ode`` and ``hybrid_zero``
+rhs_switched, guards, outputs, and the hybrid DAE's ``hybrid_ode`` and ``hybrid_zero``
 (the compiled erk integrator calls them); ``casadi_model_events.c`` the derivatives of those that it calls at
 events only. Both are compiled into the model library.
 ``casadi_model.casadi`` holds the same SX Functions serialized by CasADi (deterministic
@@ -20,7 +20,7 @@ from .functions import ModelFunctions, library_groups
 
 SERIALIZED = "casadi_model.casadi"
 #: the SX Functions serialized (their Jacobian is rebuilt from them when needed)
-SERIALIZED_FUNCTIONS = ("rhs", "rhs_switched", "guards", "velocity_guards", "outputs")
+SERIALIZED_FUNCTIONS = ("rhs", "rhs_switched", "guards", "outputs")
 
 
 def write_serialized(fns: ModelFunctions, out_dir: Path) -> str:

@@ -78,7 +78,6 @@ class ModelFunctions:
     rhs_jac: ca.Function
     rhs_switched: ca.Function
     guards: ca.Function
-    velocity_guards: ca.Function
     outputs: ca.Function
     mode_list: tuple[Mode, ...]
     state_names: tuple[str, ...] = STATE_NAMES
@@ -86,7 +85,6 @@ class ModelFunctions:
     input_names: tuple[str, ...] = INPUT_NAMES
     guard_names: tuple[str, ...] = ()
     activation_names: tuple[str, ...] = ()
-    velocity_guard_names: tuple[str, ...] = ()
     output_names: tuple[str, ...] = ()
     #: Function name -> number of SX instructions (of the SX Function, also for compiled sets)
     n_instructions: dict[str, int] = field(default_factory=dict)
@@ -107,8 +105,7 @@ class ModelFunctions:
 
     def functions(self) -> dict[str, ca.Function]:
         """Every Function by its CasADi name, in a fixed order (the order of the generated C)."""
-        fns = (self.rhs, self.rhs_jac, self.rhs_switched, self.guards, self.velocity_guards, self.outputs,
-               self.hybrid_ode, self.hybrid_zero)
+        fns = (self.rhs, self.rhs_jac, self.rhs_switched, self.guards, self.outputs, self.hybrid_ode, self.hybrid_zero)
         return {f.name(): f for f in fns if f is not None}
 
     def event_derivatives(self) -> list[ca.Function]:
@@ -156,7 +153,7 @@ class ModelFunctions:
 
         return replace(
             self, rhs=pick(self.rhs), rhs_jac=pick(self.rhs_jac), rhs_switched=pick(self.rhs_switched),
-            guards=pick(self.guards), velocity_guards=pick(self.velocity_guards), outputs=pick(self.outputs),
+            guards=pick(self.guards), outputs=pick(self.outputs),
             hybrid_ode=pick(self.hybrid_ode), hybrid_zero=pick(self.hybrid_zero),
         )
 
@@ -200,8 +197,7 @@ def with_sympy_cse(model, args: Arguments):
 
     M = model.mass_matrix
     parts = {"mass": [M[i, j] for i in range(M.rows) for j in range(M.cols)], "forcing": list(model.forcing),
-             "guards": list(model.guards.values()), "vguards": list(model.velocity_guards.values()),
-             "outputs": list(model.outputs.values())}
+             "guards": list(model.guards.values()), "outputs": list(model.outputs.values())}
     replacements, reduced = sp.cse([e for v in parts.values() for e in v], symbols=sp.numbered_symbols("_cse"),
                                    optimizations=None)
     for s, e in replacements:
@@ -210,7 +206,6 @@ def with_sympy_cse(model, args: Arguments):
     new = {k: [next(it) for _ in v] for k, v in parts.items()}
     return replace(model, mass_matrix=sp.Matrix(M.rows, M.cols, new["mass"]), forcing=sp.Matrix(new["forcing"]),
                    guards=dict(zip(model.guards, new["guards"], strict=True)),
-                   velocity_guards=dict(zip(model.velocity_guards, new["vguards"], strict=True)),
                    outputs=dict(zip(model.outputs, new["outputs"], strict=True)))
 
 
@@ -228,7 +223,6 @@ def build_functions(model, *, sympy_cse: bool = False) -> ModelFunctions:
     xdot = ca.cse(ca.vertcat(x[n_q:n_q + n_u], _accelerations(args, model.mass_matrix, model.forcing),
                              args.vector(rates[n] for n in state_names_of(model)[n_q + n_u:])))
     g = ca.cse(args.vector(model.guards.values()))
-    vg = ca.cse(args.vector(model.velocity_guards.values()))
 
     output_names = list(model.outputs)
     y = [args.lower(e) for e in model.outputs.values()]
@@ -244,15 +238,14 @@ def build_functions(model, *, sympy_cse: bool = False) -> ModelFunctions:
     switched = ca.cse(ca.substitute(xdot, a, act))
     rhs_switched = ca.Function("rhs_switched", in4, [switched], names4, ["xdot"])
     guards = ca.Function("guards", in4, [g], names4, ["g"])
-    velocity_guards = ca.Function("velocity_guards", in4, [vg], names4, ["vg"])
     outputs = ca.Function("outputs", in5, [y], names5, ["y"])
 
     out = ModelFunctions(
-        rhs=rhs, rhs_jac=rhs.jacobian(), rhs_switched=rhs_switched, guards=guards, velocity_guards=velocity_guards,
-        outputs=outputs, mode_list=tuple(modes(model.guard_names)), guard_names=tuple(model.guards),
+        rhs=rhs, rhs_jac=rhs.jacobian(), rhs_switched=rhs_switched, guards=guards, outputs=outputs,
+        mode_list=tuple(modes(model.guard_names)), guard_names=tuple(model.guards),
         parameter_names=parameter_names_of(model), state_names=state_names_of(model),
         activation_names=tuple(str(s) for s in model.activations.values()),
-        velocity_guard_names=tuple(model.velocity_guards), output_names=tuple(output_names),
+        output_names=tuple(output_names),
     )
     with_hybrid(out)
     out.n_instructions = {f.name(): f.n_instructions() for fs in library_groups(out).values() for f in fs}

@@ -69,7 +69,7 @@ def build_record(fns: ModelFunctions, inputs: dict[str, Any], c_files: dict[str,
         "names": {
             "state": list(fns.state_names), "parameters": list(fns.parameter_names), "inputs": list(fns.input_names),
             "guards": list(fns.guard_names), "activations": list(fns.activation_names),
-            "velocity_guards": list(fns.velocity_guard_names), "outputs": list(fns.output_names),
+            "outputs": list(fns.output_names),
         },
         "modes": [
             {"index": i, "label": m.label, "closed": [int(c) for c in m.closed]}

@@ -121,11 +121,11 @@ def functions_of(directory: Path, manifest: Manifest) -> ModelFunctions:
     guards = tuple(names["guards"])
     return with_hybrid(ModelFunctions(
         rhs=fns["rhs"], rhs_jac=fns["rhs"].jacobian(), rhs_switched=fns["rhs_switched"], guards=fns["guards"],
-        velocity_guards=fns["velocity_guards"], outputs=fns["outputs"],
+        outputs=fns["outputs"],
         mode_list=tuple(Mode(tuple(bool(c) for c in m["closed"]), guards) for m in manifest.modes),
         state_names=tuple(names["state"]), parameter_names=tuple(names["parameters"]),
         input_names=tuple(names["inputs"]), guard_names=guards, activation_names=tuple(names["activations"]),
-        velocity_guard_names=tuple(names["velocity_guards"]), output_names=tuple(names["outputs"]),
+        output_names=tuple(names["outputs"]),
         n_instructions={k: v["n_instructions"] for k, v in manifest.data["functions"].items()},
         model_hash=manifest.input_hash,
     ))

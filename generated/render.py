@@ -35,7 +35,7 @@ def output_name(template_name: str) -> str:
 
 def check_c_names(context: dict[str, Any]) -> None:
     """Upper-cased names become C macros: refuse two names that would collide."""
-    for key in ("state", "parameters", "inputs", "guards", "velocity_guards", "outputs"):
+    for key in ("state", "parameters", "inputs", "guards", "outputs"):
         seen: dict[str, str] = {}
         for name in context[key]:
             macro = name.upper()

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 475cc113217ddf8bcf4ade88343a25979a98e1cac5cce12e98a54caacac5d1a5.
+ * Effects: all. Input hash: 249e20465c50527ba77bba2ca64799d4532da078db054884a2f5cf72e649b243.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "475cc113217ddf8bcf4ade88343a25979a98e1cac5cce12e98a54caacac5d1a5"
+#define APEXSEAL_INPUT_HASH "249e20465c50527ba77bba2ca64799d4532da078db054884a2f5cf72e649b243"
 
 /* state x */
 #define APEXSEAL_NX 6
@@ -66,21 +66,6 @@ extern "C" {
 #define APEXSEAL_G_B3 3
 #define APEXSEAL_G_B4 4
 #define APEXSEAL_G_SPRING 5
-
-/* velocity guards */
-#define APEXSEAL_NVG 12
-#define APEXSEAL_VG_V_S5_X 0
-#define APEXSEAL_VG_V_S5_SLIDE 1
-#define APEXSEAL_VG_V_I1_N 2
-#define APEXSEAL_VG_V_I1_SLIDE 3
-#define APEXSEAL_VG_V_C2_N 4
-#define APEXSEAL_VG_V_C2_SLIDE 5
-#define APEXSEAL_VG_V_I2_N 6
-#define APEXSEAL_VG_V_I2_SLIDE 7
-#define APEXSEAL_VG_V_C4_N 8
-#define APEXSEAL_VG_V_C4_SLIDE 9
-#define APEXSEAL_VG_V_S6_N 10
-#define APEXSEAL_VG_V_S6_SLIDE 11
 
 /* outputs y */
 #define APEXSEAL_NY 29

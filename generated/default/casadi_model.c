@@ -36,7 +36,6 @@ extern "C" {
 #define casadi_f4 CASADI_PREFIX(f4)
 #define casadi_f5 CASADI_PREFIX(f5)
 #define casadi_f6 CASADI_PREFIX(f6)
-#define casadi_f7 CASADI_PREFIX(f7)
 #define casadi_fmax CASADI_PREFIX(fmax)
 #define casadi_fmin CASADI_PREFIX(fmin)
 #define casadi_s0 CASADI_PREFIX(s0)
@@ -44,7 +43,6 @@ extern "C" {
 #define casadi_s10 CASADI_PREFIX(s10)
 #define casadi_s11 CASADI_PREFIX(s11)
 #define casadi_s12 CASADI_PREFIX(s12)
-#define casadi_s13 CASADI_PREFIX(s13)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -134,10 +132,9 @@ static const casadi_int casadi_s8[115] =
 static const casadi_int casadi_s9[11] = 
   {6, 2, 0, 3, 6, 3, 4, 5,
   3, 4, 5};
-static const casadi_int casadi_s10[3] = {12, 1, 1};
-static const casadi_int casadi_s11[3] = {18, 1, 1};
-static const casadi_int casadi_s12[3] = {30, 1, 1};
-static const casadi_int casadi_s13[3] = {4, 1, 1};
+static const casadi_int casadi_s10[3] = {18, 1, 1};
+static const casadi_int casadi_s11[3] = {30, 1, 1};
+static const casadi_int casadi_s12[3] = {4, 1, 1};
 
 /* rhs:(theta,x[6],a[6],p[29],u[2])->(xdot[6]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -4314,253 +4311,8 @@ CASADI_SYMBOL_EXPORT int guards_work_bytes(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-/* velocity_guards:(theta,x[6],p[29],u[2])->(vg[12]) */
-static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
-  casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
-  casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
-  casadi_real a24;
-  a00=arg[1]? arg[1][3] : 0;
-  a01=arg[1]? arg[1][5] : 0;
-  a02=arg[2]? arg[2][7] : 0;
-  a03=arg[2]? arg[2][9] : 0;
-  a04=(a02-a03);
-  a05=arg[1]? arg[1][2] : 0;
-  a06=arg[1]? arg[1][1] : 0;
-  a07=sin(a05);
-  a08=(a02*a07);
-  a08=(a06+a08);
-  a09=(a03*a07);
-  a08=(a08-a09);
-  a08=(a08/a03);
-  a08=asin(a08);
-  a08=(a05+a08);
-  a09=cos(a08);
-  a09=(a03*a09);
-  a04=(a04+a09);
-  a09=(a01*a04);
-  a09=(a09*a07);
-  a09=(a00-a09);
-  a10=(a01*a03);
-  a11=cos(a05);
-  a10=(a10*a11);
-  a08=sin(a08);
-  a10=(a10*a08);
-  a09=(a09+a10);
-  if (res[0]!=0) res[0][0]=a09;
-  a09=arg[1]? arg[1][4] : 0;
-  a10=arg[1]? arg[1][0] : 0;
-  a12=arg[2]? arg[2][0] : 0;
-  a13=(a10*a12);
-  a13=(a09+a13);
-  a14=1.;
-  a15=4.;
-  a16=arg[2]? arg[2][1] : 0;
-  a17=casadi_sq(a16);
-  a18=(a15*a17);
-  a19=arg[2]? arg[2][2] : 0;
-  a20=(2.*a16);
-  a21=arg[0]? arg[0][0] : 0;
-  a22=sin(a21);
-  a22=(a20*a22);
-  a19=(a19+a22);
-  a23=casadi_sq(a19);
-  a18=(a18/a23);
-  a21=cos(a21);
-  a23=casadi_sq(a21);
-  a18=(a18*a23);
-  a14=(a14+a18);
-  a14=sqrt(a14);
-  a13=(a13/a14);
-  a18=(a12/a14);
-  a24=arg[2]? arg[2][3] : 0;
-  a24=(a24+a22);
-  a18=(a18*a24);
-  a13=(a13+a18);
-  a18=(a01+a12);
-  a24=(a11/a14);
-  a22=-2.;
-  a22=(a22*a16);
-  a22=(a22/a14);
-  a22=(a22/a19);
-  a22=(a22*a21);
-  a22=(a22*a07);
-  a24=(a24+a22);
-  a24=(a18*a24);
-  a24=(a24*a04);
-  a13=(a13+a24);
-  a03=(a03*a18);
-  a18=(a07/a14);
-  a20=(a20/a14);
-  a20=(a20/a19);
-  a24=(a20*a11);
-  a24=(a24*a21);
-  a18=(a18+a24);
-  a03=(a03*a18);
-  a03=(a03*a08);
-  a13=(a13+a03);
-  a03=(a06*a12);
-  a03=(a00-a03);
-  a20=(a20*a03);
-  a20=(a20*a21);
-  a13=(a13+a20);
-  a15=(a15*a12);
-  a15=(a15*a17);
-  a15=(a15/a14);
-  a15=(a15/a19);
-  a15=(a15*a23);
-  a13=(a13+a15);
-  if (res[0]!=0) res[0][1]=a13;
-  a13=(a00*a07);
-  a15=-5.0000000000000000e-01;
-  a23=arg[2]? arg[2][6] : 0;
-  a19=(a15*a23);
-  a19=(a19-a06);
-  a19=(a19*a07);
-  a14=arg[2]? arg[2][4] : 0;
-  a02=(a02-a14);
-  a02=(a02-a10);
-  a10=arg[2]? arg[2][14] : 0;
-  a02=(a02-a10);
-  a02=(a02*a11);
-  a19=(a19+a02);
-  a19=(a01*a19);
-  a19=(a13-a19);
-  a10=(a09*a11);
-  a19=(a19-a10);
-  if (res[0]!=0) res[0][2]=a19;
-  a19=(a00*a11);
-  a14=(a09*a07);
-  a19=(a19+a14);
-  a14=5.0000000000000000e-01;
-  a17=(a14*a01);
-  a12=arg[2]? arg[2][5] : 0;
-  a17=(a17*a12);
-  a20=(a19+a17);
-  if (res[0]!=0) res[0][3]=a20;
-  a20=arg[2]? arg[2][8] : 0;
-  a21=(a01*a20);
-  a03=(a21*a11);
-  a08=(a03-a09);
-  a15=(a15*a01);
-  a15=(a15*a12);
-  a12=(a15*a07);
-  a08=(a08+a12);
-  if (res[0]!=0) res[0][4]=a08;
-  a21=(a21*a07);
-  a08=(a00+a21);
-  a17=(a17*a11);
-  a17=(a08+a17);
-  if (res[0]!=0) res[0][5]=a17;
-  a14=(a14*a23);
-  a14=(a14-a06);
-  a14=(a14*a07);
-  a14=(a14+a02);
-  a14=(a01*a14);
-  a14=(a14+a10);
-  a14=(a14-a13);
-  if (res[0]!=0) res[0][6]=a14;
-  a19=(a19+a15);
-  if (res[0]!=0) res[0][7]=a19;
-  a09=(a09-a03);
-  a12=(a09+a12);
-  if (res[0]!=0) res[0][8]=a12;
-  a15=(a15*a11);
-  a08=(a08+a15);
-  if (res[0]!=0) res[0][9]=a08;
-  a05=tan(a05);
-  a20=(a20*a05);
-  a06=(a06/a11);
-  a20=(a20-a06);
-  a01=(a01*a20);
-  a11=(a01*a11);
-  a11=(a11-a00);
-  a11=(a11-a21);
-  if (res[0]!=0) res[0][10]=a11;
-  a01=(a01*a07);
-  a09=(a09-a01);
-  if (res[0]!=0) res[0][11]=a09;
-  return 0;
-}
-
-CASADI_SYMBOL_EXPORT int velocity_guards(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f4(arg, res, iw, w, mem);
-}
-
-CASADI_SYMBOL_EXPORT int velocity_guards_checkout(void) {
-  return 0;
-}
-
-CASADI_SYMBOL_EXPORT void velocity_guards_release(int mem) {
-}
-
-CASADI_SYMBOL_EXPORT void velocity_guards_incref(void) {
-}
-
-CASADI_SYMBOL_EXPORT void velocity_guards_decref(void) {
-}
-
-CASADI_SYMBOL_EXPORT casadi_int velocity_guards_n_in(void) { return 4;}
-
-CASADI_SYMBOL_EXPORT casadi_int velocity_guards_n_out(void) { return 1;}
-
-CASADI_SYMBOL_EXPORT casadi_real velocity_guards_default_in(casadi_int i) {
-  switch (i) {
-    default: return 0;
-  }
-}
-
-CASADI_SYMBOL_EXPORT const char* velocity_guards_name_in(casadi_int i) {
-  switch (i) {
-    case 0: return "theta";
-    case 1: return "x";
-    case 2: return "p";
-    case 3: return "u";
-    default: return 0;
-  }
-}
-
-CASADI_SYMBOL_EXPORT const char* velocity_guards_name_out(casadi_int i) {
-  switch (i) {
-    case 0: return "vg";
-    default: return 0;
-  }
-}
-
-CASADI_SYMBOL_EXPORT const casadi_int* velocity_guards_sparsity_in(casadi_int i) {
-  switch (i) {
-    case 0: return casadi_s0;
-    case 1: return casadi_s1;
-    case 2: return casadi_s2;
-    case 3: return casadi_s3;
-    default: return 0;
-  }
-}
-
-CASADI_SYMBOL_EXPORT const casadi_int* velocity_guards_sparsity_out(casadi_int i) {
-  switch (i) {
-    case 0: return casadi_s10;
-    default: return 0;
-  }
-}
-
-CASADI_SYMBOL_EXPORT int velocity_guards_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
-  if (sz_arg) *sz_arg = 4;
-  if (sz_res) *sz_res = 1;
-  if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 0;
-  return 0;
-}
-
-CASADI_SYMBOL_EXPORT int velocity_guards_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {
-  if (sz_arg) *sz_arg = 4*sizeof(const casadi_real*);
-  if (sz_res) *sz_res = 1*sizeof(casadi_real*);
-  if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 0*sizeof(casadi_real);
-  return 0;
-}
-
 /* outputs:(theta,x[6],a[6],p[29],u[2])->(y[29]) */
-static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -5106,7 +4858,7 @@ static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int outputs(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f5(arg, res, iw, w, mem);
+  return casadi_f4(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int outputs_checkout(void) {
@@ -5185,7 +4937,7 @@ CASADI_SYMBOL_EXPORT int outputs_work_bytes(casadi_int *sz_arg, casadi_int* sz_r
 }
 
 /* hybrid_ode:(t,z[18],p[30],u[4])->(ode[18]) */
-static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f5(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33, a34, a35;
@@ -5765,7 +5517,7 @@ static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int hybrid_ode(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f6(arg, res, iw, w, mem);
+  return casadi_f5(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int hybrid_ode_checkout(void) {
@@ -5811,16 +5563,16 @@ CASADI_SYMBOL_EXPORT const char* hybrid_ode_name_out(casadi_int i) {
 CASADI_SYMBOL_EXPORT const casadi_int* hybrid_ode_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
-    case 1: return casadi_s11;
-    case 2: return casadi_s12;
-    case 3: return casadi_s13;
+    case 1: return casadi_s10;
+    case 2: return casadi_s11;
+    case 3: return casadi_s12;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* hybrid_ode_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s11;
+    case 0: return casadi_s10;
     default: return 0;
   }
 }
@@ -5842,7 +5594,7 @@ CASADI_SYMBOL_EXPORT int hybrid_ode_work_bytes(casadi_int *sz_arg, casadi_int* s
 }
 
 /* hybrid_zero:(t,z[18],p[30],u[4])->(zero[6]) */
-static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
+static int casadi_f6(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16;
   a00=1.;
@@ -5956,7 +5708,7 @@ static int casadi_f7(const casadi_real** arg, casadi_real** res, casadi_int* iw,
 }
 
 CASADI_SYMBOL_EXPORT int hybrid_zero(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem){
-  return casadi_f7(arg, res, iw, w, mem);
+  return casadi_f6(arg, res, iw, w, mem);
 }
 
 CASADI_SYMBOL_EXPORT int hybrid_zero_checkout(void) {
@@ -6002,9 +5754,9 @@ CASADI_SYMBOL_EXPORT const char* hybrid_zero_name_out(casadi_int i) {
 CASADI_SYMBOL_EXPORT const casadi_int* hybrid_zero_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
-    case 1: return casadi_s11;
-    case 2: return casadi_s12;
-    case 3: return casadi_s13;
+    case 1: return casadi_s10;
+    case 2: return casadi_s11;
+    case 3: return casadi_s12;
     default: return 0;
   }
 }

@@ -89,24 +89,6 @@ int guards_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw,
 #define guards_SZ_RES 1
 #define guards_SZ_IW 0
 #define guards_SZ_W 0
-int velocity_guards(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
-int velocity_guards_checkout(void);
-void velocity_guards_release(int mem);
-void velocity_guards_incref(void);
-void velocity_guards_decref(void);
-casadi_int velocity_guards_n_in(void);
-casadi_int velocity_guards_n_out(void);
-casadi_real velocity_guards_default_in(casadi_int i);
-const char* velocity_guards_name_in(casadi_int i);
-const char* velocity_guards_name_out(casadi_int i);
-const casadi_int* velocity_guards_sparsity_in(casadi_int i);
-const casadi_int* velocity_guards_sparsity_out(casadi_int i);
-int velocity_guards_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-int velocity_guards_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
-#define velocity_guards_SZ_ARG 4
-#define velocity_guards_SZ_RES 1
-#define velocity_guards_SZ_IW 0
-#define velocity_guards_SZ_W 0
 int outputs(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int outputs_checkout(void);
 void outputs_release(int mem);

@@ -36,12 +36,6 @@ extern "C" {
 #define APEXSEAL_G_{{ name|upper }} {{ loop.index0 }}
 {% endfor %}
 
-/* velocity guards */
-#define APEXSEAL_NVG {{ velocity_guards|length }}
-{% for name in velocity_guards %}
-#define APEXSEAL_VG_{{ name|upper }} {{ loop.index0 }}
-{% endfor %}
-
 /* outputs y */
 #define APEXSEAL_NY {{ outputs|length }}
 {% for name in outputs %}
