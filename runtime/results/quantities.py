@@ -3,7 +3,8 @@ side by side.
 
 Every quantity comes from the summary a single run writes (``summary.json`` of ``apexseal simulate``), so a sweep
 point, a comparison and a single run report the same numbers. A quantity a model does not have (friction at a
-contact whose effect is off) is NaN.
+contact whose effect is off, the housing force without the housing contact, the leakage gap without the groove's
+contacts) is NaN.
 """
 
 from __future__ import annotations
@@ -79,6 +80,11 @@ def summarise(result) -> dict:
     return summary_of(result)
 
 
+def _number(value) -> float:
+    """A summary's number, NaN for its null (a quantity of a contact the model does not have)."""
+    return math.nan if value is None else float(value)
+
+
 def _get(summary: dict, name: str) -> float:
     head, _, tail = name.partition(".")
     if name == "liftoff_fraction":
@@ -97,9 +103,9 @@ def _get(summary: dict, name: str) -> float:
     if head == "events":
         return float(summary["events_total"] if tail == "total" else summary["events"].get(tail, math.nan))
     if head == "housing_force":
-        return float(summary["housing_force_N"]["max_at_deg" if tail == "max_at" else tail])
+        return _number(summary["housing_force_N"]["max_at_deg" if tail == "max_at" else tail])
     if head == "gap":
-        return float(summary["leakage_gap"]["open_fraction" if tail == "open_fraction" else f"{tail}_um"])
+        return _number(summary["leakage_gap"]["open_fraction" if tail == "open_fraction" else f"{tail}_um"])
     if head == "penetration":
         return float((summary.get("plausibility") or {}).get("penetration_um", {}).get(tail, math.nan))
     if head in EXTREMES:

@@ -105,3 +105,30 @@ def test_the_parameters_as_a_function_of_the_preload_follow_the_scene_s_vector(d
     assert names.index("ks") == PARAMETER_NAMES.index("ks") - 1
     assert pmap.at("ks") == smooth.parameters["ks"] and pmap.at("kw") == smooth.parameters["kw"]
     np.testing.assert_allclose(pmap(smooth.parameters["delta_s"]), own, rtol=1e-12)
+
+
+def test_quantities_of_a_contact_the_model_does_not_have_are_missing_not_zero(default_scene):
+    """Without the housing contact the housing force, and without the groove's contacts the leakage gap, are null in
+    summary.json and NaN among a sweep's quantities (as a friction power of a contact without friction is), and no
+    spectrum of the housing force is drawn: they were 0, so a bound on the housing force passed trivially."""
+    import math
+
+    import apexseal
+    from apexseal.runtime.results.quantities import collect
+    from apexseal.runtime.results.saved_figures import figure_files
+
+    off = default_scene.with_overrides(**{"effects.housing_contact": False, "effects.housing_damping": False,
+                                          "effects.housing_friction": False})
+    r = apexseal.simulate(off, revolutions=1, samples_per_revolution=360)
+    s = r.summary()
+    assert s["housing_force_N"] == {"mean": None, "max": None, "max_at_deg": None}
+    assert "housing_force_spectrum_peaks" not in s and s["leakage_gap"]["max_um"] is not None
+    q = collect(r, ("housing_force.max", "gap.max", "friction_power.total"))
+    assert math.isnan(q["housing_force.max"]) and q["gap.max"] >= 0 and q["friction_power.total"] > 0
+    assert "fig14_housing_spectrum.png" not in figure_files(r) and "fig13_forces.png" in figure_files(r)
+    r2 = apexseal.simulate(default_scene.with_overrides(**{"effects.groove_contact": False,
+                                                           "effects.groove_damping": False,
+                                                           "effects.groove_friction": False}),
+                           revolutions=1, samples_per_revolution=360)
+    assert r2.summary()["leakage_gap"] == {"open_fraction": None, "mean_um": None, "max_um": None}
+    assert math.isnan(collect(r2, ("gap.open_fraction",))["gap.open_fraction"])
