@@ -50,9 +50,10 @@ class Parameter:
     #: the range of engineering practice (SI low, SI high, unit to show it in): outside it a scene still loads,
     #: with a warning (docs/scenes.md, "Plausible ranges"); None: no such range
     plausible: tuple[float, float, str] | None = None
-    #: the effect that must be on for any law to read it (e.g. "groove_friction" for mu2); None: the switch of
-    #: its submodel. While that effect is off a scene may omit it (registry.needing)
-    needs: str | None = None
+    #: the effect that must be on for any law to read it (e.g. "groove_friction" for mu2), or a tuple of effects
+    #: any of which reads it (friction.v_eps: every friction law); None: the switch of its submodel. While it is
+    #: off the parameter has no slot in the model, and a scene may omit it (registry.needing)
+    needs: str | tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
         """Refuse a sign the declared range contradicts: the derivation simplifies with the symbol's assumptions

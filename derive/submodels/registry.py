@@ -54,9 +54,11 @@ def _ensure() -> None:
         raise _broken
     if not _loaded:
         _loaded = True
-        for spec in BUILTIN:
-            module, name = spec.split(":")
-            register(getattr(importlib.import_module(module, __package__), name))
+        builtin = [getattr(importlib.import_module(m, __package__), n) for m, n in (s.split(":") for s in BUILTIN)]
+        for cls in builtin:
+            register(cls, check_needs=False)  # a built-in may need another's effect (v_eps: every friction law)
+        for cls in builtin:
+            _check_needs(cls)
         try:
             _load_installed()
         except RegistryError as exc:
@@ -98,13 +100,22 @@ def laws_of(cls: type[Submodel], method: str):
                             "fix its code, or switch it off in the scene") from exc
 
 
+def _check_needs(cls: type[Submodel]) -> None:
+    """Refuse a parameter of ``cls`` whose ``needs`` names what is not an effect of the registry or of ``cls``."""
+    effects = {o.name for c in (*_registry.values(), cls) for o in c.options if o.table == "effects"}
+    unknown = sorted({n for p in cls.parameters for n in needed_effects(p.needs)} - effects)
+    if unknown:
+        raise RegistryError(f"submodel {cls.name!r} declares parameters that need what is not an effect: "
+                            f"{', '.join(unknown)} (needs names an effect, a switch of [effects])")
+
+
 def installed() -> dict[str, str]:
     """The submodels added by installed packages: name -> "distribution version" (part of a run's provenance)."""
     _ensure()
     return dict(_installed)
 
 
-def register(cls: type[Submodel]) -> type[Submodel]:
+def register(cls: type[Submodel], *, check_needs: bool = True) -> type[Submodel]:
     """Add a submodel (usable as a class decorator). Its parameters, options and guards must be new names.
 
     A class defined again where it was defined before (same module and name: a notebook cell run again, a script
@@ -136,12 +147,8 @@ def register(cls: type[Submodel]) -> type[Submodel]:
                             f"{', '.join(strays)} (its contacts: {', '.join(own)}; a guard names its contact "
                             "with contact=...)")
     known = set(options()) | {o.name for o in cls.options}
-    effects = {n for n, o in options().items() if o.table == "effects"} | {o.name for o in cls.options
-                                                                            if o.table == "effects"}
-    unknown = sorted({p.needs for p in cls.parameters if p.needs is not None} - effects)
-    if unknown:
-        raise RegistryError(f"submodel {cls.name!r} declares parameters that need what is not an effect: "
-                            f"{', '.join(unknown)} (needs names an effect, a switch of [effects])")
+    if check_needs:
+        _check_needs(cls)
     for o in cls.options:
         if o.parent is not None and o.parent not in known:
             raise RegistryError(f"option {o.name!r} of {cls.name!r} names an unknown parent {o.parent!r}")
@@ -255,8 +262,7 @@ def parameters(*, all_inputs: bool = False, opts=None) -> tuple[Parameter, ...]:
         opts = Options()
 
     def read(cls, p) -> bool:
-        need = _needing(cls, p)
-        return p.in_vector and cls.active(opts) and (need is None or opts.on(need))
+        return p.in_vector and cls.active(opts) and needed_on(_needing(cls, p), opts.on)
 
     return tuple(p for cls in submodels() for p in cls.parameters if read(cls, p))
 
@@ -267,7 +273,18 @@ def parameter_names(*, all_inputs: bool = False, opts=None) -> tuple[str, ...]:
     return tuple(p.name for p in parameters(all_inputs=all_inputs, opts=opts))
 
 
-def needing(p: Parameter) -> str | None:
+def needed_effects(need) -> tuple[str, ...]:
+    """The effects a ``needs`` names (one, several any of which reads the parameter, or none)."""
+    return () if need is None else (need,) if isinstance(need, str) else tuple(need)
+
+
+def needed_on(need, on) -> bool:
+    """Whether a parameter whose :func:`needing` is ``need`` is read, ``on(effect)`` telling which effects are on:
+    always without a need, else while any effect it names is on."""
+    return need is None or any(on(n) for n in needed_effects(need))
+
+
+def needing(p: Parameter) -> str | tuple[str, ...] | None:
     """The effect that must be on for ``p`` to be read: its ``needs``, else its submodel's switch; None for a
     parameter read whatever the effects (the seal body's)."""
     for cls in submodels():
@@ -276,12 +293,12 @@ def needing(p: Parameter) -> str | None:
     raise KeyError(p.name)
 
 
-def _needing(cls: type[Submodel], p: Parameter) -> str | None:
+def _needing(cls: type[Submodel], p: Parameter) -> str | tuple[str, ...] | None:
     """:func:`needing` of a parameter of submodel ``cls``."""
     return p.needs if p.needs is not None else cls.switch
 
 
-def omissible_while_off(p: Parameter) -> str | None:
+def omissible_while_off(p: Parameter) -> str | tuple[str, ...] | None:
     """The effect while which is off a scene may leave ``p`` out: for a scene key without a default that an effect
     reads (:func:`needing`); None for any other parameter (required, defaulted, optional or derived)."""
     if p.key is None or p.default is not None or p.optional:

@@ -55,7 +55,8 @@ class SealBody(Submodel):
         Parameter("zeta0", "m", "initial protrusion of the seal out of the groove (Eq. 17); default the groove "
                   "truncation z of Eqs. 6-8", key="seal.zeta0", ge=0, optional=True, sign="real"),
         Parameter("v_eps", "m/s", "sliding-speed width of the friction regularisation tanh(v / v_eps)",
-                  key="friction.v_eps", default=1e-3, gt=0),
+                  key="friction.v_eps", default=1e-3, gt=0,
+                  needs=("housing_friction", "groove_friction", "spring_friction")),
     )
     states = (
         State("x", "m", "the seal's centre of gravity along the groove axis Xg, out of the groove (Eq. 10)", 1e-6),

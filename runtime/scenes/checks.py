@@ -365,17 +365,20 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
 def check_needed(sections: dict[str, Section], effects: Effects) -> list[Problem]:
     """The parameters that an effect switched on reads and the scene leaves out (a parameter without a default
     is required only while the effect that reads it is on: ``registry.needing``)."""
-    from apexseal.derive.submodels.registry import omissible_while_off, parameters
+    from apexseal.derive.submodels.registry import needed_effects, needed_on, omissible_while_off, parameters
 
     out = []
     for p in parameters(all_inputs=True):
         need = omissible_while_off(p)
         model = sections.get(p.section) if need is not None else None
-        if model is None or getattr(model, p.leaf) is not None or not getattr(effects, need, False):
+        if model is None or getattr(model, p.leaf) is not None or not needed_on(need, lambda n: getattr(effects, n,
+                                                                                                         False)):
             continue
         spec = validator_of(type(model), p.leaf)
-        out.append(Problem(p.key, MISSING, f"required while effects.{need} is on; give {spec.expects()}, or set "
-                                           f"effects.{need} = false"))
+        names = needed_effects(need)
+        out.append(Problem(p.key, MISSING, f"required while {' or '.join(f'effects.{n}' for n in names)} is on; "
+                                           f"give {spec.expects()}, or set "
+                                           f"{' and '.join(f'effects.{n} = false' for n in names)}"))
     return out
 
 

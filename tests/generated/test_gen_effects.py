@@ -49,3 +49,15 @@ def test_effect_off_is_cheaper_and_equal_to_zero_coefficient(loaded, effect, rng
         got = np.array(off.mode_rhs(label)(theta, x, p, u)).ravel()
         want = np.array(full.mode_rhs(label)(theta, x, p0, np.zeros(2) if zero_pressure else u)).ravel()
         np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(want).max())
+
+
+def test_a_parameter_every_friction_law_reads_leaves_the_model_with_the_last_of_them():
+    """friction.v_eps is read by the three friction laws: it keeps its slot while any of them is on, and has none
+    (not even an index in the generated C) once all three are off; it stayed in the model before."""
+    from apexseal.derive.options import Options
+    from apexseal.derive.submodels.registry import parameter_names
+
+    frictions = ("housing_friction", "groove_friction", "spring_friction")
+    for on in frictions:
+        assert "v_eps" in parameter_names(opts=Options({f: "none" for f in frictions if f != on}))
+    assert "v_eps" not in parameter_names(opts=Options(dict.fromkeys(frictions, "none")))
