@@ -249,8 +249,11 @@ def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: s
     The C goes to :func:`function_dir` with its record (``function.json``: the C's sha256, the input hash
     of the model manifest whose Functions the C embeds or calls, ``model``, and with ``link``, the compiled
     model library it calls and the symbols it declares extern), so what is compiled is always on the
-    station's record. The one place that decides a Function's C file and cache key: :func:`compile_function`
-    and the benchmark's parallel pre-compilation both build from it, so they fill and find the same entries.
+    station's record. Two models whose integrators have the same C (it calls the model library, whose
+    sizes alone it embeds) share the file: ``uses`` lists every (model, library) it was generated for, so
+    each library built from it is on the record, not only the last one's. The one place that decides a
+    Function's C file and cache key: :func:`compile_function` and the benchmark's parallel pre-compilation both
+    build from it, so they fill and find the same entries.
     A C file that calls symbols it does not define needs ``link``.
     """
     stem = "fn_" + re.sub(r"\W", "_", fn.name())
@@ -262,18 +265,24 @@ def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: s
         raise ValueError(f"the C of {fn.name()} calls {', '.join(externs[:3])}... of a library: pass link=")
     folder = function_dir(digest)
     src = folder / f"{stem}.c"
+    try:
+        earlier = json.loads((folder / FUNCTION_RECORD).read_text())
+        earlier = earlier if isinstance(earlier, dict) else {}
+    except (OSError, ValueError):
+        earlier = {}
     if model_hash is None:  # a caller that does not know the model (the bench's compile pool) keeps the record's
-        try:
-            model_hash = json.loads((folder / FUNCTION_RECORD).read_text()).get("model")
-        except (OSError, ValueError, AttributeError):
-            pass
+        model_hash = earlier.get("model")
     record = {"format": "apexseal-function/1", "name": fn.name(), "files": {src.name: digest}, "model": model_hash,
               "derivatives": derivatives}
     payload = {"kind": "function", "name": fn.name(), "c_sha256": digest}
+    use = {"model": model_hash}
     if link is not None:
         linked = {"library": link.name, "so_sha256": sha256_file(link), "extern": externs}
         record["links"] = linked
         payload["links"] = {"library": link.name, "so_sha256": linked["so_sha256"]}
+        use |= {"library": link.name, "so_sha256": linked["so_sha256"]}
+    uses = [u for u in earlier.get("uses", []) if isinstance(u, dict) and u != use]
+    record["uses"] = sorted([*uses, use], key=lambda u: json.dumps(u, sort_keys=True))
     if not (src.is_file() and sha256_file(src) == digest):
         atomic_write(src, data)
     atomic_write(folder / FUNCTION_RECORD, json.dumps(record, indent=2) + "\n")

@@ -180,3 +180,23 @@ def test_linked_integrator_matches_the_interpreter_and_survives_a_moved_cache(fr
             "print(json.dumps(F(x0=[1, 0], p=4)['xf'].full().tolist()))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert np.array_equal(np.array(json.loads(out.stdout.strip().splitlines()[-1])), want)
+
+
+def test_a_shared_integrator_c_records_every_model_and_library_it_was_generated_for(tmp_path, monkeypatch):
+    """Two models whose integrator C is the same (it calls their libraries, whose sizes alone it embeds) share its
+    folder; its record lists both (model, library) uses, so each library built from it stays on the station's
+    record (the second wrote over the first's before)."""
+    import casadi as ca
+
+    from apexseal.generated.compile import function_source
+
+    monkeypatch.setenv("APEXSEAL_CACHE", str(tmp_path / "cache"))
+    x = ca.SX.sym("x")
+    fn = ca.Function("twice", [x], [2 * x])
+    a = function_source(fn, model_hash="a" * 64)
+    b = function_source(fn, model_hash="b" * 64)
+    assert a.c_file == b.c_file
+    record = json.loads((b.c_file.parent / "function.json").read_text())
+    assert record["model"] == "b" * 64 and record["uses"] == [{"model": "a" * 64}, {"model": "b" * 64}]
+    function_source(fn, model_hash="a" * 64)  # again: recorded once
+    assert json.loads((b.c_file.parent / "function.json").read_text())["uses"] == record["uses"]
