@@ -246,3 +246,15 @@ quantities = ["friction_power.total", "liftof_fraction"]
     assert '[parameters."operation.rpm"]' in by_key["parameters.operation.rpm"]
     assert "5e+06 N/m is not below 20000 N/m" in by_key["parameters.spring.ks"]
     assert "did you mean 'liftoff_fraction'" in by_key["collect.quantities"]
+
+
+def test_a_parameter_no_law_reads_is_refused():
+    """Varying mu2 while the study's scene has groove friction off ran identical points without a word; a
+    parameter read by some law while another friction is on (v_eps) or whose effect is varied too passes."""
+    base = '[scene]\n"effects.groove_friction" = false\n'
+    with pytest.raises(StudyError) as info:
+        study_from_toml(base + '[parameters]\n"friction.mu2" = [0.1, 0.2]\n')
+    (p,) = info.value.errors
+    assert p.key == "parameters.friction.mu2" and "read by no law while effects.groove_friction is off" in p.message
+    study_from_toml(base + '[parameters]\n"friction.v_eps" = ["1 mm/s", "2 mm/s"]\n')
+    study_from_toml(base + '[parameters]\n"friction.mu2" = [0.1, 0.2]\n"effects.groove_friction" = [true, false]\n')

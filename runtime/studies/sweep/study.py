@@ -305,6 +305,29 @@ def _structure(raw: dict, source: str) -> tuple[StudyFile, list[Problem], set[st
         raise StudyError(problems, source=source) from None
 
 
+def _unread(parameters, scene, given: dict) -> list[Problem]:
+    """A varied model parameter that no law of the study's model reads (its effect off in the scene and not
+    varied): every point would be the same run."""
+    from ....derive.submodels.registry import needed_effects, needed_on, needing
+    from ....derive.submodels.registry import parameters as declared
+
+    varied = {p.key for p in parameters}
+    by_key = {q.key: q for q in declared(all_inputs=True) if q.key is not None}
+    out = []
+    for p in parameters:
+        q = by_key.get(p.key)
+        need = needing(q) if q is not None else None
+        if need is None or any(f"effects.{n}" in varied for n in needed_effects(need)):
+            continue
+        if not needed_on(need, lambda n: getattr(scene.effects, n, True)):
+            names = " and ".join(f"effects.{n}" for n in needed_effects(need))
+            out.append(Problem(f"parameters.{p.key}", show_value(given.get(p.key, "(varied)")),
+                               f"read by no law while {names} {'is' if ' and ' not in names else 'are'} off in the "
+                               "study's scene: every point would be the same run; switch it on in [scene], or vary "
+                               "another key"))
+    return out
+
+
 def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> Study:
     """Check a parsed study (see the module docstring for the keys)."""
     import apexseal
@@ -341,6 +364,8 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
             parameters.append(par)
     if not spec.parameters and "parameters" not in malformed:
         problems.append(Problem("parameters", "(none)", "vary at least one scene key, e.g. [parameters.\"spring.ks\"]"))
+    if scene is not None:
+        problems += _unread(parameters, scene, raw.get("parameters", {}))
 
     d = spec.design
     if "design" in malformed:
