@@ -30,7 +30,7 @@ LIMITS: dict[str, tuple[str, Range]] = {
     "atol": ("float?", Range(gt=0, le=1.0)),
     "samples_per_revolution": ("int", Range(ge=36, le=100_000)),
     "steps_per_revolution": ("int", Range(ge=1, le=10**9)),
-    "event_tol": ("float", Range(gt=0, le=1e-2)),  # rad of crank angle
+    "event_tol": ("float", Range(gt=0, le=1e-6)),  # rad of crank angle: far below a contact's ringing period (~0.03 rad)
     "max_events_per_revolution": ("int", Range(ge=1, le=10**8)),
     "chatter_window": ("float", Range(gt=0, le=2 * math.pi)),  # rad
     "chatter_events": ("int", Range(ge=2, le=10**8)),

@@ -202,7 +202,7 @@ CASES = [
     ),
     ("rtol", {"solver.rtol": 0.1}, "solver.rtol", "0.1", ["allowed: 1e-12 <= value <= 0.01"]),
     ("atol", {"solver.atol": -1e-9}, "solver.atol", "-1e-09", ["allowed: 0 < value <= 1"]),
-    ("event-tolerance", {"solver.event_tol": "0 rad"}, "solver.event_tol", '"0 rad"', ["allowed: 0 < value <= 0.01 rad"]),
+    ("event-tolerance", {"solver.event_tol": "0 rad"}, "solver.event_tol", '"0 rad"', ["allowed: 0 < value <= 1e-06 rad"]),
     (
         "chatter-window",
         {"solver.chatter_window": "-1 deg"},
