@@ -21,7 +21,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationEr
 from ...derive.chambers import EMBODIMENTS
 from ...suggest import did_you_mean
 from ..solving.methods import METHODS
-from ..solving.settings import DEFAULT_PRESSURE, FLAGS, PRESSURE_PROFILES
+from ..solving.settings import DEFAULT_PRESSURE, FLAGS, MAX_TILT, PRESSURE_PROFILES
 from .errors import MISSING, Problem
 from .fields import SI, TWO_PI, Choice, Flag, PressureUnit, Text
 from .fields import quantity as _q
@@ -71,12 +71,12 @@ class Ports(Section):
 
 class InitialState(Section):
     """Initial seal state in the groove frame (Eq. 10). The bounds refuse only the absurd (a unit slip, an
-    overflow): a seal displaced by a metre, turned by more than a half turn, or moving faster than 1 km/s in its
-    groove; whether the start is inside a wall is the run's start check (runtime/solving/preflight.py)."""
+    overflow): a seal displaced by a metre, tilted beyond the model's geometry (45 deg), or moving faster than
+    1 km/s in its groove; whether the start is inside a wall is the run's start check (runtime/solving/preflight.py)."""
 
     x: _q("m", ge=-1.0, le=1.0) = 0.0
     y: _q("m", ge=-1.0, le=1.0) = 0.0
-    phi: _q("rad", ge=-math.pi, le=math.pi, show="deg") = 0.0
+    phi: _q("rad", ge=-MAX_TILT, le=MAX_TILT, show="deg") = 0.0  # within the model's geometry
     xd: _q("m/s", ge=-1e3, le=1e3) = 0.0
     yd: _q("m/s", ge=-1e3, le=1e3) = 0.0
     phid: _q("rad/s", ge=-1e6, le=1e6) = 0.0

@@ -1,4 +1,5 @@
-"""What is checked after every integrator call: finite states, chattering, missed events, the event budget."""
+"""What is checked after every integrator call: finite states within the model's geometry, chattering, missed
+events, the event budget."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from .euler_integrator import contact_growth
 from .layout import HybridLayout
 from .methods import method_of
 from .scaling import LENGTH, to_physical
-from .settings import RunSettings
+from .settings import MAX_TILT, RunSettings
 
 #: a contact left open while its gap is below this (µm) is a missed event, not event-location noise
 MISSED_EVENT_UM = 1e-3
@@ -49,6 +50,24 @@ class RunChecks:
                                 self.functions.parameters_read()) if self.settings.method == "euler" else []
         if growth and growth[0].log_growth > 0:  # an amplified contact: the likely cause
             reason += "; " + growth[0].describe(self.settings.steps_per_revolution)
+        return Z[:, :k], ("failed", StopInfo(thetas[k] - self.theta_start, lay.mode(last), reason))
+
+    def tilt(self, Z, thetas) -> tuple[np.ndarray, tuple | None]:
+        """Z up to its first sample whose tilt phi exceeds :data:`MAX_TILT` (the seal turned over in its groove,
+        where no contact of the model holds it), and the failure it means (None if none does)."""
+        lay = self.layout
+        if "phi" not in lay.state_names or not Z.shape[1]:
+            return Z, None
+        phi = to_physical(Z[lay.x], self.omega, lay.state_names)[lay.state_names.index("phi")]
+        over = np.abs(phi) > MAX_TILT
+        if not over.any():
+            return Z, None
+        k = int(np.argmax(over))
+        last = Z[lay.active, k - 1] if k else Z[lay.active, 0]
+        reason = (f"the seal turned by {np.degrees(phi[k]):.4g} deg in its groove at "
+                  f"{np.degrees(thetas[k] - self.theta_start):.3f} deg, beyond the model's geometry (Eqs. 20-43 hold "
+                  f"for tilts of a few degrees; the run stops past {np.degrees(MAX_TILT):g} deg): check the initial "
+                  "state (operation.initial_state.phi, phid) and the contacts that should hold the seal")
         return Z[:, :k], ("failed", StopInfo(thetas[k] - self.theta_start, lay.mode(last), reason))
 
     def events(self, Z, z_start, thetas, P, z_rev) -> tuple | None:

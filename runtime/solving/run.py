@@ -152,6 +152,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                                 make_engine)
                     stats = {"n_recovered_calls": 1} if failure is None else {}
                 Z, bad = check.finite(Z, edges[1:])
+                if bad is None:
+                    Z, bad = check.tilt(Z, edges[1:])
                 failure = failure or bad
                 found = failure or check.events(Z, z, edges[1:], P, z_rev)
                 Z = _up_to_stop(Z, edges, theta_start, found)

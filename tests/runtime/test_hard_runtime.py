@@ -323,3 +323,18 @@ def test_a_signal_stops_the_interval_by_interval_rerun_of_a_failed_call(default_
     # it stops after the third of the 720 pressure intervals (the table's rows), before the first output sample
     assert "re-running a failed call" in r.stop.reason and r.stop.theta == pytest.approx(3 * 2 * np.pi / 720)
     assert r.n == 1
+
+
+def test_a_seal_that_turns_over_in_its_groove_stops_the_run_with_the_reason(default_scene, fns):
+    """A tilt rate at the top of its range turned the seal a whole turn within a revolution, and the run reported
+    "completed" (at the samples the guards, of sin and cos of phi, looked as before); it now fails where the tilt
+    leaves the model's geometry (45 deg), and a scene cannot start beyond it."""
+    import apexseal
+    from apexseal.runtime.scenes.errors import SceneError
+
+    spun = default_scene.with_overrides(**{"operation.initial_state.phid": "1e6 rad/s"})
+    r = apexseal.simulate(spun, revolutions=1, samples_per_revolution=360, max_wall_time=60)
+    assert r.status == "failed" and "beyond the model's geometry" in r.stop.reason, r.stop
+    assert np.all(np.abs(r.state[2]) <= np.pi / 4)
+    with pytest.raises(SceneError, match="initial_state.phi"):
+        default_scene.with_overrides(**{"operation.initial_state.phi": "50 deg"})

@@ -13,9 +13,11 @@ from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects
 
 #: how a revolution of each scene ends with the method its file names (all others: completed)
-OUTCOME = {"tip-chatter": "chattering"}
+#: the soft default groove lets the loads of 20000 rpm tilt the seal past the model's geometry (45 deg) within the
+#: first revolution (it "completed" with that tilt before the run checked it)
+OUTCOME = {"tip-chatter": "chattering", "speed-20000": "failed"}
 #: how three revolutions end, and a fragment of the reason
-LONG = {"tip-chatter": ("chattering", "guard xs5"), "speed-20000": ("failed", "leaves the model's domain")}
+LONG = {"tip-chatter": ("chattering", "guard xs5"), "speed-20000": ("failed", "beyond the model's geometry")}
 #: the tip chatters from 180 deg on: 5-deg integrator calls check the event budget soon after
 FAST = {"tip-chatter": {"calls_per_revolution": 72}}
 
