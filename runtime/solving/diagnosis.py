@@ -117,16 +117,21 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
     if not _finite_ahead(functions, z, theta, params, u):
         return "failed", f"the right-hand side is not finite at {where}: {msg}"
     if "max_events" in str(err) or stats.get("n_events", 0) >= settings.max_events_per_revolution:
-        z_end, _ = _longest_head(functions, settings, params, z, theta, dth, P, deadline, make)
+        z_end, head = _longest_head(functions, settings, params, z, theta, dth, P, deadline, make)
         switches = z_end[lay.counts] - z[lay.counts]
         guard = functions.guard_names[int(np.argmax(switches))] if switches.any() else "(unknown)"
-        c = Chattering(guard, theta - theta_start, int(switches.max()), f"in {np.degrees(dth):.3g} deg or less (more "
-                       f"than max_events_per_revolution = {settings.max_events_per_revolution} in one output interval)")
+        # the integrator stopped at its event limit inside the interval; the longest head of it that passes on its
+        # own shows which contact switched, and how often there (the rest of the interval is not counted)
+        c = Chattering(guard, theta - theta_start, int(switches.max()), f"in the first {np.degrees(head):.3g} deg "
+                       f"of a {np.degrees(dth):.3g}-deg output interval whose switches reached the integrator's event "
+                       f"limit (max_events_per_revolution = {settings.max_events_per_revolution})")
         return "chattering", str(c)
     if stats.get("n_steps", 0) >= settings.max_steps_per_interval or "step limit" in msg:  # (the composite says so)
+        advice = ("use method 'rosenbrock' (stiff contacts, a small friction.v_eps) or a larger friction.v_eps"
+                  if settings.method != "rosenbrock" else "a larger friction.v_eps, softer contacts or a larger "
+                  "solver.rtol; or raise max_steps_per_interval if the stiffness is physical")
         return "failed", (f"step limit: more than max_steps_per_interval = {settings.max_steps_per_interval} steps in "
-                          f"one output interval; the problem is too stiff for {settings.method!r} here: use method "
-                          "'rosenbrock' (stiff contacts, a small friction.v_eps) or a larger friction.v_eps")
+                          f"one output interval; the problem is too stiff for {settings.method!r} here: {advice}")
     z_end, head = _longest_head(functions, settings, params, z, theta, dth, P, deadline, make)
     if not _finite_ahead(functions, z_end, theta + head, params, u):
         omega = functions.omega(params)

@@ -71,7 +71,8 @@ def test_chatter_names_the_guard_and_the_remedies(fns):
     scene = load("tip-chatter").with_overrides(**{"solver.pressure": "steps"})
     for settings, where in (({}, "in less than one revolution"),
                             ({"chatter_events": 5}, "within one output interval"),
-                            ({"max_events_per_revolution": 30, "calls_per_revolution": 360}, "in one output interval")):
+                            ({"max_events_per_revolution": 30, "calls_per_revolution": 360},
+                             "output interval whose switches reached the integrator's event limit")):
         r = simulate(scene, fns, **(FAST["tip-chatter"] | settings))
         assert r.status == "chattering", (settings, r.stop)
         assert "chattering on guard xs5" in r.stop.reason and where in r.stop.reason, r.stop.reason
