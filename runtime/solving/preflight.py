@@ -92,9 +92,16 @@ def start_problem(functions, params, theta, X, u) -> str | None:
                       for i in culprits)
     where_ = (f"{-depth * 1e6:.4g} µm inside a wall (guard {names[where]})" if math.isfinite(depth) else
               f"where a contact's geometry is not defined (guard {names[where]} is not finite: far outside its groove)")
-    return (f"{shown} starts the seal {where_}; allowed: at most "
-            f"{MAX_START_PENETRATION:g} Ws = {limit * 1e6:.4g} µm of penetration at the start: check the initial "
-            "state's units and sign")
+    allowed = f"allowed: at most {MAX_START_PENETRATION:g} Ws = {limit * 1e6:.4g} µm of penetration at the start"
+    if not shown and abs(p.get("delta_w", 0.0)) > limit:  # the seal at rest: the preload's wall deflection (Eq. 9)
+        return (f"the spring's preload deflects the housing wall by delta_w = ks delta_s / kw = "
+                f"{p['delta_w'] * 1e6:.4g} µm (Eq. 9: spring.ks = {p['ks']:.6g} N/m, spring.delta_s = "
+                f"{p['delta_s'] * 1e3:.6g} mm, contacts.kw = {p['kw']:.6g} N/m), which starts the seal {where_}; "
+                f"{allowed}: a stiffer contacts.kw (a metal housing: about 1e9 N/m) or a smaller preload")
+    if not shown:
+        return (f"the scene's parameters start the seal at rest {where_}; {allowed}: check the geometry and the "
+                "contacts' stiffnesses")
+    return f"{shown} starts the seal {where_}; {allowed}: check the initial state's units and sign"
 
 
 def preflight(functions, settings: RunSettings, params, theta, X, closed, u) -> StopInfo | None:

@@ -338,3 +338,14 @@ def test_a_seal_that_turns_over_in_its_groove_stops_the_run_with_the_reason(defa
     assert np.all(np.abs(r.state[2]) <= np.pi / 4)
     with pytest.raises(SceneError, match="initial_state.phi"):
         default_scene.with_overrides(**{"operation.initial_state.phi": "50 deg"})
+
+
+def test_a_housing_too_soft_for_the_preload_is_refused_naming_its_keys(default_scene):
+    """kw at the bottom of its plausible range: the preload's wall deflection (Eq. 9) starts the seal a centimetre
+    inside the housing; the refusal blamed an initial state the scene never gave, and named no key."""
+    import apexseal
+
+    r = apexseal.simulate(default_scene.with_overrides(**{"contacts.kw": "1000 N/m"}), revolutions=1,
+                          samples_per_revolution=360)
+    assert r.status == "failed" and "delta_w = ks delta_s / kw" in r.stop.reason, r.stop
+    assert "contacts.kw = 1000 N/m" in r.stop.reason and "initial state" not in r.stop.reason
