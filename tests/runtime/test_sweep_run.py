@@ -318,4 +318,12 @@ def test_the_models_are_built_once_before_the_points_and_a_signal_there_stops_th
 
     monkeypatch.setattr(api, "model_functions", interrupted)
     report = run_sweep(light_study(), tmp_path / "b", workers=1, quiet=True)
-    assert report.interrupted and report.computed == 0
+    assert report.interrupted and report.computed == 0 and report.where.startswith("nothing computed: stopped while")
+
+    def broken(scene, **kw):
+        raise RuntimeError("no compiler (test)")
+
+    monkeypatch.setattr(api, "model_functions", broken)  # a model that fails to build: its points say why
+    report = run_sweep(light_study(), tmp_path / "c", workers=1, quiet=True)
+    assert not report.interrupted and report.computed == report.failed == len(report.table) > 1
+    assert (report.table["status"] == "error").all() and report.table["stop"].str.contains("no compiler").all()

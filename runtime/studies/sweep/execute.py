@@ -127,7 +127,8 @@ def _models_built(todo, quiet: bool) -> bool:
     """Derive, generate and compile here, once, the model of each distinct set of effects and assumptions the
     points need (usually one), with the stages' progress on stderr unless ``quiet``: the points find them in the
     cache (a cold model takes seconds to minutes; inside the points it was built silently, by every worker at
-    once). False when a signal stopped it (nothing is computed yet)."""
+    once). False when a signal stopped it (nothing is computed yet). A model that fails to build is left to its
+    points, which record the failure as their rows (the sweep goes on with the others)."""
     from ....progress import enabled
     from ...api import model_functions
     from ...solving.signals import StopSignals
@@ -139,7 +140,10 @@ def _models_built(todo, quiet: bool) -> bool:
     try:
         with StopSignals() as signals, enabled(not quiet):
             for scene in models.values():
-                model_functions(scene)
+                try:
+                    model_functions(scene)
+                except Exception:  # noqa: BLE001 - each of its points records why (run_point)
+                    pass
                 if signals.requested:
                     return False
     except KeyboardInterrupt:  # StopSignals.abandoning stops a build at once
