@@ -258,3 +258,13 @@ def test_a_parameter_no_law_reads_is_refused():
     assert p.key == "parameters.friction.mu2" and "read by no law while effects.groove_friction is off" in p.message
     study_from_toml(base + '[parameters]\n"friction.v_eps" = ["1 mm/s", "2 mm/s"]\n')
     study_from_toml(base + '[parameters]\n"friction.mu2" = [0.1, 0.2]\n"effects.groove_friction" = [true, false]\n')
+
+
+def test_a_parameter_whose_effect_follows_a_varied_parent_is_not_refused():
+    """Varying effects.housing_contact varies housing_friction with it where a scene leaves the child unset (it
+    follows its parent), so mu1 is read at some points: such a study was refused as varying a parameter no law
+    reads. The check leaves a parameter alone whenever its effect or a parent of it is varied."""
+    text = ('[scene]\n"effects.housing_contact" = false\n"effects.housing_damping" = false\n'
+            '"effects.housing_friction" = false\n'
+            '[parameters]\n"effects.housing_contact" = [true, false]\n"friction.mu1" = [0.1, 0.2]\n')
+    study_from_toml(text)

@@ -308,8 +308,14 @@ def _structure(raw: dict, source: str) -> tuple[StudyFile, list[Problem], set[st
 def _unread(parameters, scene, given: dict) -> list[Problem]:
     """A varied model parameter that no law of the study's model reads (its effect off in the scene and not
     varied): every point would be the same run."""
+    from ....derive.effects import declared as effects_declared
     from ....derive.submodels.registry import needed_effects, needed_on, needing
     from ....derive.submodels.registry import parameters as declared
+
+    slots = effects_declared()
+
+    def lineage(name: str) -> list[str]:  # the effect and its parents (varying a parent varies its children)
+        return [name, *lineage(slots[name].parent)] if name in slots and slots[name].parent else [name]
 
     varied = {p.key for p in parameters}
     by_key = {q.key: q for q in declared(all_inputs=True) if q.key is not None}
@@ -317,14 +323,14 @@ def _unread(parameters, scene, given: dict) -> list[Problem]:
     for p in parameters:
         q = by_key.get(p.key)
         need = needing(q) if q is not None else None
-        if need is None or any(f"effects.{n}" in varied for n in needed_effects(need)):
+        if need is None or any(f"effects.{e}" in varied for n in needed_effects(need) for e in lineage(n)):
             continue
         if not needed_on(need, lambda n: getattr(scene.effects, n, True)):
             names = " and ".join(f"effects.{n}" for n in needed_effects(need))
             out.append(Problem(f"parameters.{p.key}", show_value(given.get(p.key, "(varied)")),
                                f"read by no law while {names} {'is' if ' and ' not in names else 'are'} off in the "
-                               "study's scene: every point would be the same run; switch it on in [scene], or vary "
-                               "another key"))
+                               "study's scene: every point would be the same run; switch it on in [scene] (with the "
+                               "effects it needs), or vary it too"))
     return out
 
 
