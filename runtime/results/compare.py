@@ -63,7 +63,8 @@ class Comparison:
         if self.scenes.empty:
             scenes = "the scenes are the same"
         else:
-            scenes = "scene keys that differ:\n" + self.scenes.to_string()
+            shown = self.scenes.apply(lambda row: pd.Series(_shortest(list(row)), index=row.index), axis=1)
+            scenes = "scene keys that differ:\n" + shown.to_string()
         models = [str(r.info.get("model_hash", "?"))[:12] for r in self.results]
         options = {repr((r.scene.effects, r.scene.assumptions)) if r.scene is not None else "?" for r in self.results}
         if len(set(models)) > 1 and len(options) == 1:  # same effects and choices: the model's sources differ
@@ -98,22 +99,34 @@ def scene_differences(scenes, labels: Sequence[str]) -> pd.DataFrame:
     column per label."""
     keys = [scene_keys(s) for s in scenes]
     differing = sorted({k for ks in keys for k in ks if len({ks.get(k, "–") for ks in keys}) > 1})
-    rows = [_shortest([ks.get(k, "–") for ks in keys]) for k in differing]
-    return pd.DataFrame({label: [row[i] for row in rows] for i, label in enumerate(labels)},
+    return pd.DataFrame({label: [ks.get(k, "–") for k in differing] for label, ks in zip(labels, keys, strict=True)},
                         index=pd.Index(differing, name="scene key"))
 
 
 _NUMBER = re.compile(r"^(-?\d[\d.]*(?:[eE][+-]?\d+)?)(\s.*)?$")
 
 
+def _significant(x: float, digits: int) -> str:
+    """``x`` to ``digits`` significant digits, without an exponent from 1e-4 to 1e7 (20000, not 2e+04)."""
+    import numpy as np
+
+    if x == 0 or 1e-4 <= abs(x) < 1e7:
+        return np.format_float_positional(x, precision=digits, unique=False, fractional=False, trim="-")
+    return f"{x:.{digits}g}"
+
+
 def _shortest(values: list[str]) -> list[str]:
-    """A row of scene values as a reader compares them: each number with its unit (as scene.toml writes it, to the
-    last digit: -0.436332312998582 rad) to the fewest significant digits, from 4, that keep the row's values apart."""
-    parsed = [_NUMBER.match(v) for v in values]
+    """A row of scene values as :meth:`Comparison.text` shows them: each number with its unit (as scene.toml writes
+    it, to the last digit: -0.436332312998582 rad) to the fewest significant digits, from 4, that keep the row's
+    values apart; a value that is not a number, an integer and a number that has no more digits stay as written
+    (the table and its CSV keep every value whole)."""
+    parsed = [_NUMBER.match(str(v)) for v in values]
     if not all(parsed):
         return values
     for digits in range(4, 18):
-        short = [f"{float(f'{float(m.group(1)):.{digits}g}')!r}{m.group(2) or ''}" for m in parsed]  # as TOML writes
+        short = [v if re.fullmatch(r"-?\d+", m.group(1)) else _significant(float(m.group(1)), digits) + (m.group(2) or "")
+                 for v, m in zip(values, parsed, strict=True)]
+        short = [s if len(s) < len(v) else v for s, v in zip(short, values, strict=True)]
         if len(set(short)) == len(set(values)):
             return short
     return values

@@ -130,14 +130,18 @@ def test_a_key_only_a_later_scene_has_is_a_difference():
     assert diff.loc["pressure.Pa", "table"] == "–"
 
 
-def test_scene_values_are_compared_at_the_digits_that_tell_them_apart():
-    """compare shows a differing scene value with its unit to the fewest digits (from 4) that keep the row's values
-    apart, not scene.toml's seventeen; values that are not numbers, or a missing one, are shown as written."""
+def test_scene_values_are_compared_at_the_digits_that_tell_them_apart(folders):
+    """compare's text shows a differing scene value with its unit to the fewest digits (from 4) that keep the row's
+    values apart, not scene.toml's seventeen; integers, words, a missing value and a number with no more digits
+    stay as written, and the table and its CSV keep every value whole."""
     from apexseal.runtime.results.compare import _shortest
 
     assert _shortest(["-0.436332312998582 rad", "-0.698131700797732 rad"]) == ["-0.4363 rad", "-0.6981 rad"]
     assert _shortest(["1.0000001 m", "1.0000002 m"]) == ["1.0000001 m", "1.0000002 m"]
     assert _shortest(["0.001 m", "0.0010004 m"]) == ["0.001 m", "0.0010004 m"]
-    assert _shortest(["1000000000.0 N/m", "2000000000.0 N/m"]) == ["1000000000.0 N/m", "2000000000.0 N/m"]
+    assert _shortest(["36", "360"]) == ["36", "360"]
     assert _shortest(['"erk"', '"rosenbrock"']) == ['"erk"', '"rosenbrock"']
     assert _shortest(["5 m", "–"]) == ["5 m", "–"]
+    c = compare([folders["default"], folders["stiff"]])
+    assert list(c.scenes.loc["spring.ks"]) == ["5000.0 N/m", "20000.0 N/m"]  # whole in the table (and its CSV)
+    assert "5000 N/m" in c.text() and "20000 N/m" in c.text() and "20000.0" not in c.text()
