@@ -129,7 +129,7 @@ class ModelFunctions:
     def parameters_read(self) -> frozenset[str]:
         """The parameters some expression of the model reads (its right-hand side, guards or outputs). An effect
         that is off has no slot in the vector; a slot read by none is a parameter whose laws read it only in some
-        settings (the friction regularisation v_eps of a model without friction)."""
+        settings (a modelling choice of [assumptions] that drops the term it is in)."""
         sx = self.sx()
         read = [any(flags) for flags in zip(*(f.which_depends("p", [f.name_out(0)], 1, False)
                                               for f in (sx.rhs, sx.guards, sx.outputs)), strict=True)]

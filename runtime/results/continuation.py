@@ -61,7 +61,7 @@ def partial_target(folder: Path, run_id: str) -> Path | None:
 def continuation(folder: str | Path, read: SimulationResult | None = None) -> Continuation:
     """The revolutions of the result in ``folder`` to continue from; a :class:`ResultFolderError` says why a folder
     cannot be continued (not a result, mixed files, no scene, no whole revolution, written before parts stored
-    the integrator's state). ``read``: the folder's result as :func:`.folder.read` returned it (its parts checked
+    the integrator's state). ``read``: the folder's result as :func:`.reading.read` returned it (its parts checked
     already), so that they are not read again."""
     folder = Path(folder)
     record = read_record(folder)

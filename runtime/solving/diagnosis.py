@@ -51,29 +51,29 @@ def _interval_by_interval(functions, settings, params, z, edges, P, err, deadlin
     linear = int(P.shape[1] == edges.size)  # pressure = "linear": the values at the edges, one more than intervals
     single = make(functions, settings, n_samples=1, span=dth, compile_c=False)
     single.deadline = deadline if not signals.requested else -math.inf
-    signals.watch(single)  # a signal stops it at its next deadline check
-    cols = []
-    for k in range(edges.size - 1):
-        where = StopInfo(edges[k] - theta_start, lay.mode(z[lay.active]), "")
-        context = f", while re-running a failed call interval by interval; the call failed with: {_last_line(err)}"
-        if signals.requested or time.perf_counter() > deadline:
-            where.reason = _stopped(signals, settings, deadline, context)
-            return _cols(cols, z), ("interrupted", where)
-        try:
-            out = single.run(z, params, edges[k], P[:, k:k + 1 + linear])
-        except WallTimeExceeded:
-            where.reason = _stopped(signals, settings, deadline, context)
-            return _cols(cols, z), ("interrupted", where)
-        except RuntimeError as e:
-            status, where.reason = _diagnose(functions, settings, single, e, z, edges[k], dth, params,
-                                             P[:, k:k + 1 + linear], theta_start, deadline, make)
-            if signals.requested:  # the diagnosis was cut short: the signal is the run's reason
-                status, where.reason = "interrupted", _stopped(signals, settings, deadline, ", while diagnosing a "
-                                                               f"failed interval ({where.reason})")
-            return _cols(cols, z), (status, where)
-        z = out.z[:, -1]
-        cols.append(z.copy())
-    return _cols(cols, z), None
+    with signals.watching(single):  # a signal stops it at its next deadline check
+        cols = []
+        for k in range(edges.size - 1):
+            where = StopInfo(edges[k] - theta_start, lay.mode(z[lay.active]), "")
+            context = f", while re-running a failed call interval by interval; the call failed with: {_last_line(err)}"
+            if signals.requested or time.perf_counter() > deadline:
+                where.reason = _stopped(signals, settings, deadline, context)
+                return _cols(cols, z), ("interrupted", where)
+            try:
+                out = single.run(z, params, edges[k], P[:, k:k + 1 + linear])
+            except WallTimeExceeded:
+                where.reason = _stopped(signals, settings, deadline, context)
+                return _cols(cols, z), ("interrupted", where)
+            except RuntimeError as e:
+                status, where.reason = _diagnose(functions, settings, single, e, z, edges[k], dth, params,
+                                                 P[:, k:k + 1 + linear], theta_start, deadline, make)
+                if signals.requested:  # the diagnosis was cut short: the signal is the run's reason
+                    status, where.reason = "interrupted", _stopped(signals, settings, deadline, ", while diagnosing a "
+                                                                   f"failed interval ({where.reason})")
+                return _cols(cols, z), (status, where)
+            z = out.z[:, -1]
+            cols.append(z.copy())
+        return _cols(cols, z), None
 
 
 def _stopped(signals, settings: RunSettings, deadline: float, context: str) -> str:
@@ -178,8 +178,7 @@ def _longest_head(functions, settings: RunSettings, params, z, theta, dth, P,
             head = P if P.shape[1] == 1 else np.c_[P[:, 0], P[:, 0] + (P[:, 1] - P[:, 0]) * (mid / dth)]
             engine = make(functions, settings, n_samples=1, span=mid, compile_c=False)
             engine.deadline = deadline
-            with StopSignals() as signals:
-                signals.watch(engine)
+            with StopSignals() as signals, signals.watching(engine):
                 out = engine.run(z, params, theta, head)
         except WallTimeExceeded:
             break

@@ -124,6 +124,17 @@ class StopSignals:
         if engine is not None:
             self._engines.append(engine)
 
+    @contextlib.contextmanager
+    def watching(self, engine):
+        """:meth:`watch` ``engine`` inside the block only (an engine made for one search: the outermost instance,
+        which nested ones share, would keep it for the whole run otherwise)."""
+        self.watch(engine)
+        try:
+            yield engine
+        finally:
+            if engine in self._engines:
+                self._engines.remove(engine)
+
     @property
     def requested(self) -> bool:
         return bool(self.received)

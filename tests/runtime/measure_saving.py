@@ -33,9 +33,9 @@ class TimedFolder(ResultFolder):
         self.write_s: list[float] = []
         self.peaks: list[float] = []
 
-    def append(self, part, z_end=None):
+    def append(self, part, z_end=None, carried=None):
         t = time.perf_counter()
-        super().append(part, z_end)
+        super().append(part, z_end, carried)
         self.write_s.append(time.perf_counter() - t)
         self.peaks.append(peak_mb())
 

@@ -349,3 +349,18 @@ def test_a_housing_too_soft_for_the_preload_is_refused_naming_its_keys(default_s
                           samples_per_revolution=360)
     assert r.status == "failed" and "delta_w = ks delta_s / kw" in r.stop.reason, r.stop
     assert "contacts.kw = 1000 N/m" in r.stop.reason and "initial state" not in r.stop.reason
+
+
+def test_an_engine_watched_for_one_search_is_let_go_after_it():
+    """The engines a failed call's re-run and diagnosis make (up to 13 a failure) were added to the outermost
+    StopSignals, which nested ones share, and kept for the whole run or serial sweep."""
+    from apexseal.runtime.solving.signals import StopSignals
+
+    class Engine:
+        deadline = 0.0
+
+    with StopSignals() as outer:
+        held = list(outer._engines)
+        with StopSignals() as inner, inner.watching(Engine()) as engine:
+            assert inner is outer and engine in outer._engines
+        assert outer._engines == held

@@ -40,6 +40,7 @@ import casadi as ca
 import numpy as np
 
 from ....cores import parallel_threads
+from ...scenes.schema import GAS_SOURCES
 from ...solving.hybrid import controls as engine_controls
 from ...solving.layout import HybridLayout
 from ...solving.preflight import initial_activations
@@ -391,7 +392,7 @@ def check_request(scene, min_force, samples, revolutions, max_groove_force=None)
         problems.append("effects: the preload study needs both 'spring' and 'housing_contact' on (the spring presses "
                         "the tip on the housing)")
     source = scene.pressure.to_dict()["source"]
-    if source in ("chamber", "chamber+leakage"):
+    if source in GAS_SOURCES:
         problems.append(f"pressure.source = {source!r}: the preload study takes the chamber pressures as the run's "
                         "inputs (allowed: \"table\", \"constant\", \"none\"), not as states of the gas model")
     if problems:
