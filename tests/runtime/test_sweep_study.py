@@ -268,3 +268,21 @@ def test_a_parameter_whose_effect_follows_a_varied_parent_is_not_refused():
             '"effects.housing_friction" = false\n'
             '[parameters]\n"effects.housing_contact" = [true, false]\n"friction.mu1" = [0.1, 0.2]\n')
     study_from_toml(text)
+
+
+def test_a_malformed_study_table_keeps_its_scene_and_a_bad_parameter_its_own_problem(tmp_path):
+    """With [study] malformed (a name with a space), the study's scene was dropped for the default one, so a key
+    right for its own scene was refused against the default's; a constraint on a parameter refused for its own
+    problem was reported again as 'not collected'."""
+    import apexseal
+    from apexseal.runtime.scenes.resolved import resolved_toml
+
+    const = apexseal.load_scene().with_overrides(**{"pressure.source": "constant", "pressure.Pa": "2 bar",
+                                                    "pressure.Pb": "1 bar", "pressure.file": None,
+                                                    "pressure.unit": None})
+    (tmp_path / "const.toml").write_text(resolved_toml(const)[0])
+    text = ('[study]\nname = "has space"\nscene = "const.toml"\n[scene]\n"pressure.Pa" = "3 bar"\n'
+            '[parameters]\n"spring.ks" = [1e3, 2e3]\n"bad" = {from = 1}\n[feasible]\n"bad" = {max = 1}\n')
+    with pytest.raises(StudyError) as info:
+        study_from_toml(text, base_dir=tmp_path)
+    assert {p.key for p in info.value.errors} == {"study.name", "parameters.bad"}, info.value

@@ -287,8 +287,10 @@ def _dotted(table: dict, prefix: str = "") -> dict:
 def _structure(raw: dict, source: str) -> tuple[StudyFile, list[Problem], set[str]]:
     """The study's tables checked for their keys and types, with the problems found and the tables that had them.
 
-    A table with a problem is left at its defaults (a parameter with one is left out), so the checks of the
-    others still run and every problem is reported at once, not the structural ones first."""
+    A table with a problem is left at its defaults but for its keys that are well formed ([study]'s scene stays the
+    study's scene), and a parameter with one is left out (its name is in the set returned, as
+    ``parameters.<name>``), so the checks of the others still run and every problem is reported at once, not the
+    structural ones first."""
     try:
         return StudyFile.model_validate(raw), [], set()
     except ValidationError as exc:
@@ -297,6 +299,12 @@ def _structure(raw: dict, source: str) -> tuple[StudyFile, list[Problem], set[st
     params = raw.get("parameters")
     bad_params = {str(e["loc"][1]) for e in errors if len(e["loc"]) > 1 and e["loc"][0] == "parameters"}
     lenient = {k: v for k, v in raw.items() if k not in malformed}
+    for table in ("study", "design", "collect", "run"):  # a table's keys that are well formed stay
+        bad_keys = {str(e["loc"][1]) for e in errors if len(e["loc"]) > 1 and e["loc"][0] == table}
+        whole = any(tuple(e["loc"]) == (table,) for e in errors)  # the table itself is wrong (not a table)
+        if table in malformed and isinstance(raw.get(table), dict) and not whole:
+            lenient[table] = {k: v for k, v in raw[table].items() if k not in bad_keys}
+    malformed |= {f"parameters.{name}" for name in bad_params}
     # the parameters that are well formed (none: their problems say why)
     lenient["parameters"] = {k: v for k, v in params.items() if k not in bad_params} if isinstance(params, dict) else {}
     try:
@@ -417,6 +425,8 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
     columns.update({p.key: p.unit for p in parameters if p.numeric})
     constraints = []
     for col, b in spec.feasible.items() if "collect" not in malformed else ():  # its columns: the collected ones
+        if f"parameters.{col}" in malformed or (col in spec.parameters and col not in {p.key for p in parameters}):
+            continue  # a varied parameter left out for a problem of its own, reported as such
         if col not in columns:
             nested = isinstance(b.min, dict) or isinstance(b.max, dict)
             hint = f' (quote a dotted name: "{col}.{next(iter(b.max or b.min))}" = {{ max = ... }})' if nested else ""
