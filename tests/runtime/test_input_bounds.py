@@ -65,7 +65,7 @@ def test_messages_quote_a_short_excerpt(tmp_path):
 # ---------------------------------------------------------------- impossible runs named before the first step
 @pytest.mark.parametrize("override,fragments", [
     ({"operation.initial_state.x": "1 m"}, ["operation.initial_state.x = 1 m", "inside a wall", "guard xs5"]),
-    ({"operation.initial_state.phi": "90 deg"}, ["operation.initial_state.phi = 90 deg", "inside a wall"]),
+    ({"operation.initial_state.phi": "40 deg"}, ["operation.initial_state.phi = 40 deg", "inside a wall"]),
     ({"operation.initial_state.y": "1 mm"}, ["operation.initial_state.y = 0.001 m", "inside a wall"]),
     ({"operation.initial_state.y": "5 mm"}, ["operation.initial_state.y = 0.005 m", "geometry is not defined",
                                               "is not finite"]),
