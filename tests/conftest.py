@@ -48,3 +48,21 @@ def soft_scene():
     from apexseal.runtime.scenes.scene import embedded_scene_path
 
     return apexseal.load_scene(embedded_scene_path("soft-contacts.toml"))
+
+
+@pytest.fixture
+def signalled_in(monkeypatch):
+    """``signalled_in(module, name)``: ``module.name`` sends this process a SIGTERM, then does what it did (a signal
+    that lands exactly while that work runs)."""
+    import signal
+
+    def patch(module, name: str, signum: int = signal.SIGTERM) -> None:
+        real = getattr(module, name)
+
+        def signalled(*args, **kwargs):
+            os.kill(os.getpid(), signum)  # noted by the command's handler, not acted on at once
+            return real(*args, **kwargs)
+
+        monkeypatch.setattr(module, name, signalled)
+
+    return patch

@@ -297,21 +297,14 @@ def test_a_run_logged_to_a_file_shows_its_progress(tmp_path):
     assert "rev/s" not in runs["quiet"].stderr
 
 
-def test_a_signal_while_a_completed_run_is_saved_is_said_and_ends_the_process_as_asked(tmp_path, monkeypatch):
+def test_a_signal_while_a_completed_run_is_saved_is_said_and_ends_the_process_as_asked(tmp_path, signalled_in):
     """SIGTERM while a completed run's summary is written: the result is saved whole, the run says the signal came
     after it completed, and the exit code is 128 + SIGTERM (it was 0, and nothing was said)."""
-    import os
     import signal
 
     import apexseal.runtime.results.summary as summary
 
-    real = summary.summarise
-
-    def signalled(*args, **kwargs):
-        os.kill(os.getpid(), signal.SIGTERM)  # noted, not acted on, until the result is saved
-        return real(*args, **kwargs)
-
-    monkeypatch.setattr(summary, "summarise", signalled)
+    signalled_in(summary, "summarise")
     out = tmp_path / "o"
     r = CliRunner().invoke(main, ["simulate", "-n", "1", "--out", str(out), "-q", "--no-figures"])
     assert r.exit_code == 128 + signal.SIGTERM, r.output

@@ -254,9 +254,8 @@ def test_cli_sweep_writes_table_and_figures(serial, tmp_path):
     assert r.exit_code == 0 and "friction_power.total" in r.output and "liftoff_fraction" in r.output
 
 
-def test_a_signal_while_the_figures_are_drawn_finishes_them_and_exits_as_interrupted(serial, tmp_path, monkeypatch):
+def test_a_signal_while_the_figures_are_drawn_finishes_them_and_exits_as_interrupted(serial, tmp_path, signalled_in):
     """SIGTERM while a finished sweep drew its figures killed it (exit -15, half-written figure files left)."""
-    import os
     import signal
 
     from click.testing import CliRunner
@@ -264,13 +263,7 @@ def test_a_signal_while_the_figures_are_drawn_finishes_them_and_exits_as_interru
     import apexseal.runtime.studies.sweep.figures as figures
     from apexseal.cli import main
 
-    draw = figures.sweep_figures
-
-    def signalled(*args, **kwargs):
-        os.kill(os.getpid(), signal.SIGTERM)  # noted, not acted on, until the figures are written
-        return draw(*args, **kwargs)
-
-    monkeypatch.setattr(figures, "sweep_figures", signalled)
+    signalled_in(figures, "sweep_figures")  # noted, not acted on, until the figures are written
     study = tmp_path / "light.toml"
     study.write_text(LIGHT)
     out = Path(serial.folder)
