@@ -16,9 +16,11 @@ from .settings import MAX_TILT, RunSettings
 #: a contact left open while its gap is below this (µm) is a missed event, not event-location noise
 MISSED_EVENT_UM = 1e-3
 #: what to try when contacts chatter (in the chattering message)
-CHATTER_ADVICE = ("regularise instead of resolving every switch: more contact damping (contacts.cw/cr/cs), a larger "
-                  "friction.v_eps, or method 'euler' (the switches inside the right-hand side, no events); or raise "
-                  "solver.chatter_events / max_events_per_revolution if the switches are physical")
+CHATTER_ADVICE = ("regularise instead of resolving every switch: more contact damping (contacts.cw/cr/cs; but less "
+                  "where it is already far above critical: damping that acts on approach only then kicks the seal "
+                  "off at each touch), a larger friction.v_eps, or method 'euler' (the switches inside the "
+                  "right-hand side, no events); or raise solver.chatter_events / max_events_per_revolution if the "
+                  "switches are physical")
 
 
 class Chattering(RuntimeError):
