@@ -382,14 +382,22 @@ def check_needed(sections: dict[str, Section], effects: Effects) -> list[Problem
     return out
 
 
-def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure: Any) -> list[Problem]:
+def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure: Any,
+                    effects: Effects | None = None) -> list[Problem]:
     """Values far outside engineering practice (:func:`.units.plausible_ranges`), each against the key the user
-    wrote, and a pressure table whose absolute pressures leave :data:`.units.TABLE_PRESSURES`."""
+    wrote, and a pressure table whose absolute pressures leave :data:`.units.TABLE_PRESSURES`. With ``effects``, a
+    value no law of the model reads (its effect off: registry.needing) is not questioned."""
+    from apexseal.derive.submodels.registry import needed_on, needing, parameters
+
+    unread = set()
+    if effects is not None:
+        unread = {p.key for p in parameters(all_inputs=True)
+                  if p.key is not None and not needed_on(needing(p), lambda n: getattr(effects, n, True))}
     values = {}
     for key in plausible_ranges():
         section, name = key.split(".")
         written = raw_at(raw, [section, name])
-        if section in sections and written is not MISSING:
+        if section in sections and written is not MISSING and key not in unread:
             values[key] = getattr(sections[section], name, None), written
     out = [Problem(key, raw_at(raw, key.split(".")), message) for key, _, message in implausible(values)]
     pa, pb = getattr(pressure, "pa", None), getattr(pressure, "pb", None)

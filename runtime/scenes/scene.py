@@ -208,7 +208,7 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
         problems += more
         if effects is not None:
             problems += check_needed(sections, effects)
-    doubtful = check_plausible(sections, raw, pressure)
+    doubtful = check_plausible(sections, raw, pressure, effects)
     if problems:  # an implausible value (a unit slip) is the likely cause of the rest: report it first
         raise SceneError([p for p in doubtful if p.key not in {q.key for q in problems}] + problems, source=name)
     for p in doubtful:

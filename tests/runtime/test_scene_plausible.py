@@ -85,3 +85,14 @@ def test_a_density_beyond_any_seal_material_warns(default_scene, density):
     run left the model's domain at 20 deg."""
     with pytest.warns(PlausibilityWarning, match=r"seal.density.*500 to 20000 kg/m\^3"):
         default_scene.with_overrides(**{"seal.density": density})
+
+
+def test_a_value_no_law_reads_is_not_questioned(default_scene):
+    """A spring stiffness of 1e9 N/m warns while the spring is in the model, and not once it is switched off (no law
+    reads it then; the warning sent the user after a value that changes nothing)."""
+    off = {"effects.spring": False, "effects.spring_damping": False, "effects.spring_friction": False}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        default_scene.with_overrides(**off, **{"spring.ks": "1e9 N/m"})
+    with pytest.warns(PlausibilityWarning, match="spring.ks"):
+        default_scene.with_overrides(**{"spring.ks": "1e9 N/m"})
