@@ -77,12 +77,14 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     powers = {k: None if math.isnan(v) else v for k, v in means.items()}  # null: no interval computed
     out["mean_friction_power_W"] = powers
     # a quantity of a contact the model does not have (its effect off) is null, as a friction power is
-    gaps = gap_series(result)
-    out["leakage_gap"] = {"open_fraction": float(np.mean(gaps > 0)), "mean_um": float(gaps.mean() * 1e6),
-                          "max_um": float(gaps.max() * 1e6)} if "b_gap" in result.outputs else \
-        dict.fromkeys(("open_fraction", "mean_um", "max_um"))
-    F = housing_force(result)
+    if "b_gap" in result.outputs:
+        gaps = gap_series(result)
+        out["leakage_gap"] = {"open_fraction": float(np.mean(gaps > 0)), "mean_um": float(gaps.mean() * 1e6),
+                              "max_um": float(gaps.max() * 1e6)}
+    else:
+        out["leakage_gap"] = dict.fromkeys(("open_fraction", "mean_um", "max_um"))
     if "F_housing_X" in result.outputs:
+        F = housing_force(result)
         out["housing_force_N"] = {"mean": float(F.mean()), "max": float(F.max()),
                                   "max_at_deg": float(deg[F.argmax()] % 360)}
         if result.n > 8:

@@ -51,11 +51,11 @@ def _interval_by_interval(functions, settings, params, z, edges, P, err, deadlin
     linear = int(P.shape[1] == edges.size)  # pressure = "linear": the values at the edges, one more than intervals
     single = make(functions, settings, n_samples=1, span=dth, compile_c=False)
     single.deadline = deadline if not signals.requested else -math.inf
+    context = f", while re-running a failed call interval by interval; the call failed with: {_last_line(err)}"
     with signals.watching(single):  # a signal stops it at its next deadline check
         cols = []
         for k in range(edges.size - 1):
             where = StopInfo(edges[k] - theta_start, lay.mode(z[lay.active]), "")
-            context = f", while re-running a failed call interval by interval; the call failed with: {_last_line(err)}"
             if signals.requested or time.perf_counter() > deadline:
                 where.reason = _stopped(signals, settings, deadline, context)
                 return _cols(cols, z), ("interrupted", where)

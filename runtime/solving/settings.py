@@ -39,11 +39,11 @@ LIMITS: dict[str, tuple[str, Range]] = {
     "calls_per_revolution": ("int?", Range(ge=1, le=100_000)),
     "revolutions": ("int", Range(ge=1, le=MAX_REVOLUTIONS)),
 }
-FLAGS = tuple(FLAG_SETS)
+FLAGS = tuple(FLAG_SETS)  # the compiler's flag sets, by name
 #: the largest tilt (rad) of the seal in its groove that the model's geometry describes: Eqs. 20-43 hold for a seal
 #: tilted by a few degrees (the paper's nine contact cases end near 11 deg); 45 deg is a seal turned over. A run
 #: stops past it (checks.RunChecks.tilt), and a scene's initial tilt must lie within it
-MAX_TILT = math.pi / 4  # the compiler's flag sets, by name
+MAX_TILT = math.pi / 4
 
 
 class SettingsError(ValueError):

@@ -92,7 +92,7 @@ class StopSignals:
     def raise_pending(cls) -> None:
         """Raise ``KeyboardInterrupt`` when the active instance has caught a signal: for work that failed, maybe
         because of it (a compiler that got the terminal's Ctrl-C), and is to be abandoned, not reported."""
-        if _main() and cls._active is not None and cls._active.requested:
+        if cls.pending():
             raise KeyboardInterrupt
 
     @classmethod

@@ -296,11 +296,14 @@ def _structure(raw: dict, source: str) -> tuple[StudyFile, list[Problem], set[st
     except ValidationError as exc:
         problems, errors = _pydantic_problems(exc, raw), exc.errors()
     malformed = {str(e["loc"][0]) for e in errors if e["loc"]}
-    params = raw.get("parameters")
-    bad_params = {str(e["loc"][1]) for e in errors if len(e["loc"]) > 1 and e["loc"][0] == "parameters"}
+
+    def bad(table: str) -> set[str]:  # the keys of ``table`` with a problem of their own
+        return {str(e["loc"][1]) for e in errors if len(e["loc"]) > 1 and e["loc"][0] == table}
+
+    params, bad_params = raw.get("parameters"), bad("parameters")
     lenient = {k: v for k, v in raw.items() if k not in malformed}
     for table in ("study", "design", "collect", "run"):  # a table's keys that are well formed stay
-        bad_keys = {str(e["loc"][1]) for e in errors if len(e["loc"]) > 1 and e["loc"][0] == table}
+        bad_keys = bad(table)
         whole = any(tuple(e["loc"]) == (table,) for e in errors)  # the table itself is wrong (not a table)
         if table in malformed and isinstance(raw.get(table), dict) and not whole:
             lenient[table] = {k: v for k, v in raw[table].items() if k not in bad_keys}
