@@ -93,10 +93,12 @@ def scene_that_ran(scene, settings: RunSettings):
         return scene
     import warnings
 
+    from .scenes.errors import IgnoredValueWarning
     from .scenes.units import PlausibilityWarning
 
-    with warnings.catch_warnings():  # the scene's plausibility was reported when it was loaded
+    with warnings.catch_warnings():  # the scene's plausibility and its ignored values were reported when it was loaded
         warnings.simplefilter("ignore", PlausibilityWarning)
+        warnings.simplefilter("ignore", IgnoredValueWarning)
         return scene.with_overrides(**over)
 
 

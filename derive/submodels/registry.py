@@ -284,6 +284,27 @@ def needed_on(need, on) -> bool:
     return need is None or any(on(n) for n in needed_effects(need))
 
 
+def is_read(p: Parameter | str, effects) -> bool:
+    """Whether a law of a model with the effects ``effects`` (an :class:`~..effects.Effects`) reads parameter ``p``
+    (a :class:`Parameter`, its name or its scene key, e.g. ``"friction.mu2"``): always one that no effect switches,
+    else while an effect its :func:`needing` names is on. An effect that ``effects`` does not name (its submodel
+    registered after they were made) counts as on. The one answer of the scene's checks, a sweep's and a
+    calibration's: what is not read is neither required, range-checked as an error, questioned nor varied."""
+    q = p if isinstance(p, Parameter) else _declared(p)
+    on = effects.as_dict()
+    return needed_on(needing(q), lambda n: on.get(n, True))
+
+
+def _declared(name_or_key: str) -> Parameter:
+    """The declared parameter of a scene key (``"contacts.kw"``) or a name (``"kw"``)."""
+    if "." not in name_or_key:
+        return parameter(name_or_key)
+    for p in parameters(all_inputs=True):
+        if p.key == name_or_key:
+            return p
+    raise KeyError(name_or_key)
+
+
 def needing(p: Parameter) -> str | tuple[str, ...] | None:
     """The effect that must be on for ``p`` to be read: its ``needs``, else its submodel's switch; None for a
     parameter read whatever the effects (the seal body's)."""

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 69c4ec5051f137abcf857810393141aa1f48df9ac8117ff5f6dabe4ad219bbd0.
+ * Effects: all. Input hash: ed433ace88d8bb745e47d0f5487e140865161428cae4e05514d52e933aee9ec2.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "69c4ec5051f137abcf857810393141aa1f48df9ac8117ff5f6dabe4ad219bbd0"
+#define APEXSEAL_INPUT_HASH "ed433ace88d8bb745e47d0f5487e140865161428cae4e05514d52e933aee9ec2"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -18,7 +18,8 @@ from apexseal.derive.effects import Effects, orphans
 from apexseal.derive.numbers import machine_numbers, smallest_chamber_volume, smallest_lobe_offset, tip_half_angle
 from apexseal.derive.options import without_parent
 
-from .errors import MISSING, Problem
+from .errors import MISSING, Problem, show_value
+from .pressure import TablePressure
 from .schema import (
     GAS_SOURCES,
     PRESSURE_SOURCES,
@@ -365,14 +366,13 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
 def check_needed(sections: dict[str, Section], effects: Effects) -> list[Problem]:
     """The parameters that an effect switched on reads and the scene leaves out (a parameter without a default
     is required only while the effect that reads it is on: ``registry.needing``)."""
-    from apexseal.derive.submodels.registry import needed_effects, needed_on, omissible_while_off, parameters
+    from apexseal.derive.submodels.registry import is_read, needed_effects, omissible_while_off, parameters
 
     out = []
     for p in parameters(all_inputs=True):
         need = omissible_while_off(p)
         model = sections.get(p.section) if need is not None else None
-        if model is None or getattr(model, p.leaf) is not None or not needed_on(need, lambda n: getattr(effects, n,
-                                                                                                         False)):
+        if model is None or getattr(model, p.leaf) is not None or not is_read(p, effects):
             continue
         spec = validator_of(type(model), p.leaf)
         names = needed_effects(need)
@@ -382,17 +382,38 @@ def check_needed(sections: dict[str, Section], effects: Effects) -> list[Problem
     return out
 
 
+def unread_keys(effects: Effects) -> frozenset[str]:
+    """The scene keys of the parameters that no law of a model with ``effects`` reads (their effect off,
+    registry.is_read): neither required (:func:`check_needed`), range-checked as an error (:func:`ignored_values`)
+    nor questioned (:func:`check_plausible`)."""
+    from apexseal.derive.submodels.registry import is_read, parameters
+
+    return frozenset(p.key for p in parameters(all_inputs=True) if p.key is not None and not is_read(p, effects))
+
+
+def ignored_values(ignored: list[Problem]) -> str:
+    """The one warning of the out-of-range values a scene gives that no law of its model reads (``ignored``: their
+    range problems, of keys of :func:`unread_keys`): each key with its value, the effects that are off, and the
+    range that holds while they are on."""
+    from apexseal.derive.submodels.registry import needed_effects, needing, parameters
+
+    by_key = {p.key: p for p in parameters(all_inputs=True) if p.key is not None}
+    shown = []
+    for p in ignored:
+        names = [f"effects.{n}" for n in needed_effects(needing(by_key[p.key]))]
+        off = f"{', '.join(names[:-1])} and {names[-1]} are" if len(names) > 1 else f"{names[0]} is"
+        shown.append(f"{p.key} = {show_value(p.value)} (not read while {off} off; allowed: "
+                     f"{p.message.partition('allowed: ')[2]})")
+    return (f"ignored, out of range but read by no law of the scene's model: {', '.join(shown)}; switching the "
+            "effect on makes it an error")
+
+
 def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure: Any,
                     effects: Effects | None = None) -> list[Problem]:
     """Values far outside engineering practice (:func:`.units.plausible_ranges`), each against the key the user
     wrote, and a pressure table whose absolute pressures leave :data:`.units.TABLE_PRESSURES`. With ``effects``, a
-    value no law of the model reads (its effect off: registry.needing) is not questioned."""
-    from apexseal.derive.submodels.registry import needed_on, needing, parameters
-
-    unread = set()
-    if effects is not None:
-        unread = {p.key for p in parameters(all_inputs=True)
-                  if p.key is not None and not needed_on(needing(p), lambda n: getattr(effects, n, True))}
+    value no law of the model reads (its effect off: :func:`unread_keys`) is not questioned."""
+    unread = unread_keys(effects) if effects is not None else frozenset()
     values = {}
     for key in plausible_ranges():
         section, name = key.split(".")
@@ -401,7 +422,7 @@ def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure:
             values[key] = getattr(sections[section], name, None), written
     out = [Problem(key, raw_at(raw, key.split(".")), message) for key, _, message in implausible(values)]
     pa, pb = getattr(pressure, "pa", None), getattr(pressure, "pb", None)
-    if getattr(pressure, "kind", "") == "table" and pa is not None and pa.size:
+    if isinstance(pressure, TablePressure) and pa.size:
         low, high = float(min(np.min(pa), np.min(pb))), float(max(np.max(pa), np.max(pb)))
         lo, hi = TABLE_PRESSURES.lo, TABLE_PRESSURES.hi
         if low < lo or high > hi:

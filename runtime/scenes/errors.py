@@ -65,3 +65,8 @@ class SceneError(ValueError):
     def keys(self) -> list[str]:
         """The key paths of all problems, in order."""
         return [p.key for p in self.errors]
+
+
+class IgnoredValueWarning(UserWarning):
+    """A scene value out of its range that no law of the scene's model reads (its effect off): the scene loads,
+    the value is ignored, and the warning names it (runtime/scenes/checks.py, ``ignored_values``)."""

@@ -9,12 +9,16 @@ of them (the sections of runtime/scenes/schema.py).
 import math
 from typing import Annotated, Any
 
-from pydantic import BeforeValidator
+from pydantic import BeforeValidator, ValidationInfo
 from pydantic_core import PydanticCustomError
 
 from ...suggest import did_you_mean
 from ..solving.settings import LIMITS
 from .units import QuantityError, Range, expected, parse_pressure_unit, parse_quantity, registry
+
+#: the key of a validation context (``model_validate(..., context={UNRANGED: names})``) naming the fields whose
+#: range :class:`SI` does not check
+UNRANGED = "unranged"
 
 
 def _fail(message: str) -> PydanticCustomError:
@@ -26,6 +30,9 @@ class SI:
 
     ``bare``: unit of bare numbers (default: ``unit``; angles refuse bare numbers).
     ``show``: unit in which the range is printed (default: ``unit``).
+    A field named in the validation context's :data:`UNRANGED` (a value no law of the scene's model reads, its
+    effect off: runtime/scenes/scene.py) is converted but not range-checked; a value that is no quantity of its
+    kind (no number, an unknown unit, the wrong dimension) is refused all the same.
     """
 
     def __init__(
@@ -44,7 +51,13 @@ class SI:
         self.range = Range(gt=gt, ge=ge, lt=lt, le=le)
         self.show = show or unit
 
-    def __call__(self, value: Any) -> float | None:
+    def __call__(self, value: Any, info: ValidationInfo) -> float | None:
+        unranged = (info.context or {}).get(UNRANGED, ())
+        return self.convert(value, ranged=info.field_name not in unranged)
+
+    def convert(self, value: Any, *, ranged: bool = True) -> float | None:
+        """``value`` in SI; a :class:`PydanticCustomError` (the message) if it is no quantity of this field's kind,
+        or, ``ranged``, out of its range."""
         if value is None and self.optional:
             return None
         try:
@@ -52,7 +65,7 @@ class SI:
         except QuantityError as exc:
             bounded = "" if self.range == Range() else f"; allowed: {self.allowed()}"
             raise _fail(exc.reason + bounded) from None
-        if not self.range.holds(x):
+        if ranged and not self.range.holds(x):
             raise _fail(f"{self._shown(x)} is out of range; allowed: {self.allowed()}")
         return x
 

@@ -14,6 +14,7 @@ Sources (``[pressure] source``):
 * ``"table"``: a CSV file ``theta_deg,Pa,Pb`` (one revolution, angles strictly
   increasing within [0, 360) or [-180, 180); pressures absolute, in ``unit``),
   interpolated linearly and periodically. Lines starting with ``#`` are comments.
+  While the chamber_pressure effect is off the file is not read (:class:`UnreadTable`).
 """
 
 from __future__ import annotations
@@ -131,6 +132,19 @@ class GasModelPressure(NoPressure):
 
     def to_dict(self) -> dict[str, Any]:
         return {"source": self.source}
+
+
+@dataclass(frozen=True)
+class UnreadTable(NoPressure):
+    """A table source while the chamber_pressure effect is off: no law reads the pressures, so the file is neither
+    needed nor read (its name and unit are kept, as the scene gives them; the pressures are zero)."""
+
+    file: str = ""
+    unit: str = "Pa"
+    kind: ClassVar[str] = "table"
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"source": self.kind, "file": self.file, "unit": self.unit}
 
 
 class PeriodicLinear:
@@ -350,12 +364,16 @@ def _parsed(text: str, file: str, factor: float, unit: str) -> TablePressure:
     return table
 
 
-def make_source(section: Any, base_dir: Any) -> PressureSource:
-    """The pressure source of a validated ``[pressure]`` section (see :mod:`.schema`)."""
+def make_source(section: Any, base_dir: Any, *, read: bool = True) -> PressureSource:
+    """The pressure source of a validated ``[pressure]`` section (see :mod:`.schema`); ``read``: whether a law reads
+    the pressures (the chamber_pressure effect is on). A table that no law reads is not loaded (:class:`UnreadTable`):
+    its file need not exist."""
     from .schema import GAS_SOURCES
 
     if section.source == "constant":
         return ConstantPressure(section.Pa, section.Pb)
+    if section.source == "table" and not read:
+        return UnreadTable(file=section.file, unit=section.unit)
     if section.source == "table":
         return load_table(section.file, base_dir, section.unit)
     if section.source in GAS_SOURCES:

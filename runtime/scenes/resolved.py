@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from .fields import SI
+from .pressure import UnreadTable
 from .schema import GAS_SOURCES, SECTION_ORDER, SECTIONS, Section, _sub_model, validator_of
 
 #: the file name of the pressure table written beside a resolved scene
@@ -91,7 +92,9 @@ def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:
             walk(section, model)
     p = scene.pressure
     d = p.to_dict()
-    if d["source"] == "table":
+    if isinstance(p, UnreadTable):  # chamber_pressure off: the table as the scene names it, not read, not written
+        lines += _table("pressure", [("source", "table"), ("file", p.file), ("unit", p.unit)])
+    elif d["source"] == "table":
         lines += _table("pressure", [("source", "table"), ("file", TABLE_FILE), ("unit", "Pa")])
         rows = "\n".join(f"{t!r},{a!r},{b!r}" for t, a, b in zip(np.asarray(p.theta_deg, float).tolist(),
                                                                   np.asarray(p.pa, float).tolist(),

@@ -34,8 +34,16 @@ import numpy as np
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects
 
-from .checks import check_consistency, check_needed, check_plausible, resolve_assumptions, resolve_effects
-from .errors import Problem, SceneError
+from .checks import (
+    check_consistency,
+    check_needed,
+    check_plausible,
+    ignored_values,
+    resolve_assumptions,
+    resolve_effects,
+    unread_keys,
+)
+from .errors import IgnoredValueWarning, Problem, SceneError
 from .pressure import PressureSource, make_source
 from .schema import OperationSection, Section, SolverSection, validate_sections
 from .units import PlausibilityWarning
@@ -192,27 +200,53 @@ def _overridden(raw: dict[str, Any], dotted: dict[str, Any], name: str) -> dict[
     return raw
 
 
+def _unranged(raw: dict[str, Any], sections: dict[str, Section], problems: list[Problem],
+              effects: Effects) -> tuple[dict[str, Section], list[Problem], list[Problem]]:
+    """The sections validated again without the range checks of the values no law of the model of ``effects``
+    reads (:func:`.checks.unread_keys`), when one of them is out of range: (sections, their problems, the range
+    problems so ignored). A value that is no quantity of its kind stays an error, read or not."""
+    unread = unread_keys(effects)
+    if not unread & {p.key for p in problems}:
+        return sections, problems, []
+    sections, lenient = validate_sections(raw, unranged=unread)
+    return sections, lenient, [p for p in problems if p not in lenient]
+
+
+def _pressure_read(sections: dict[str, Section], effects: Effects | None) -> bool:
+    """Whether a law reads the chamber pressures: the chamber_pressure effect, or where the effects do not resolve,
+    unless the scene switches it off."""
+    if effects is not None:
+        return effects.chamber_pressure
+    return getattr(sections.get("effects"), "chamber_pressure", None) is not False
+
+
 def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: str) -> Scene:
     sections, problems = validate_sections(raw)
+    effects: Effects | None = None
+    effect_problems: list[Problem] = []
+    if "effects" in sections:  # [effects] and [pressure] hold no model parameter: _unranged leaves them as they are
+        src = sections["pressure"].source if "pressure" in sections else None
+        effects, effect_problems = resolve_effects(sections["effects"], src, raw)
+    ignored: list[Problem] = []
+    if effects is not None:
+        sections, problems, ignored = _unranged(raw, sections, problems, effects)
     problems += check_consistency(sections, raw)
     pressure: PressureSource | None = None
     if "pressure" in sections and not any(p.key.startswith("pressure.") for p in problems):
         try:
-            pressure = make_source(sections["pressure"], base_dir)
+            pressure = make_source(sections["pressure"], base_dir, read=_pressure_read(sections, effects))
         except SceneError as exc:
             problems += exc.errors
-    effects: Effects | None = None
-    if "effects" in sections:
-        src = sections["pressure"].source if "pressure" in sections else None
-        effects, more = resolve_effects(sections["effects"], src, raw)
-        problems += more
-        if effects is not None:
-            problems += check_needed(sections, effects)
+    problems += effect_problems
+    if effects is not None:
+        problems += check_needed(sections, effects)
     doubtful = check_plausible(sections, raw, pressure, effects)
     if problems:  # an implausible value (a unit slip) is the likely cause of the rest: report it first
         raise SceneError([p for p in doubtful if p.key not in {q.key for q in problems}] + problems, source=name)
     for p in doubtful:
         warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=4)
+    if ignored:
+        warnings.warn(f"scene {name}: {ignored_values(ignored)}", IgnoredValueWarning, stacklevel=4)
     assert pressure is not None and effects is not None
     assumptions = resolve_assumptions(sections["assumptions"], sections["pressure"].source)
     values = derive_parameters(sections, effects, assumptions)

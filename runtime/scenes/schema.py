@@ -23,7 +23,7 @@ from ...suggest import did_you_mean
 from ..solving.methods import METHODS
 from ..solving.settings import DEFAULT_PRESSURE, FLAGS, MAX_TILT, PRESSURE_PROFILES
 from .errors import MISSING, Problem
-from .fields import SI, TWO_PI, Choice, Flag, PressureUnit, Text
+from .fields import SI, TWO_PI, UNRANGED, Choice, Flag, PressureUnit, Text
 from .fields import quantity as _q
 from .fields import setting_bounds as _bounds
 from .fields import setting_int as _int
@@ -335,11 +335,13 @@ def _problems(exc: ValidationError, section: str, model: type[Section], raw: Any
     return out
 
 
-def validate_sections(raw: dict[str, Any]) -> tuple[dict[str, Section], list[Problem]]:
+def validate_sections(raw: dict[str, Any], unranged: frozenset[str] = frozenset()) -> tuple[dict[str, Section],
+                                                                                          list[Problem]]:
     """Validate every section of a parsed scene on its own.
 
     Returns the sections that are valid and the problems of the others, so that
-    cross-key checks can still run on the valid ones.
+    cross-key checks can still run on the valid ones. The dotted keys ``unranged`` (values no law of the scene's
+    model reads, :func:`.checks.unread_keys`) are converted to SI but not range-checked (:class:`~.fields.SI`).
     """
     problems: list[Problem] = []
     valid: dict[str, Section] = {}
@@ -358,8 +360,9 @@ def validate_sections(raw: dict[str, Any]) -> tuple[dict[str, Section], list[Pro
         if not isinstance(raw[name], dict):
             problems.append(Problem(name, raw[name], f"expected a table: [{name}]"))
             continue
+        leaves = frozenset(k.split(".", 1)[1] for k in unranged if k.split(".", 1)[0] == name)
         try:
-            valid[name] = model.model_validate(raw[name])
+            valid[name] = model.model_validate(raw[name], context={UNRANGED: leaves} if leaves else None)
         except ValidationError as exc:
             problems.extend(_problems(exc, name, model, raw[name]))
     return valid, problems

@@ -69,9 +69,13 @@ def test_an_installed_submodel_is_in_the_scene_of_the_command_line(tmp_path):
     assert "\nwiper = true\n" in run.stdout and '\nkwp = "3000.0 N/m"\n' in run.stdout, run.stdout
     check = _cli(site, "scene", str(scene))
     assert check.returncode == 0 and "submodel wiper from seal-extras 0.2" in check.stdout, check.stderr
-    scene.write_text(scene_with({"contacts": 'kwp = "-3 kN/m"'}))
+    scene.write_text(scene_with({"effects": "wiper = true", "contacts": 'kwp = "-3 kN/m"'}))
     bad = _cli(site, "scene", str(scene))
     assert bad.returncode != 0 and "contacts.kwp" in bad.stderr and "-3" in bad.stderr, bad.stderr
+    scene.write_text(scene_with({"contacts": 'kwp = "-3 kN/m"'}))  # the wiper off (its default): kwp read by no law
+    off = _cli(site, "scene", str(scene))
+    assert off.returncode == 0 and 'contacts.kwp = "-3 kN/m" (not read while effects.wiper is off' in off.stderr, \
+        off.stderr
 
 
 def test_an_installed_submodel_that_is_off_leaves_the_committed_default_current(tmp_path):

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import shutil
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +18,7 @@ from click.testing import CliRunner
 import apexseal
 from apexseal.cli import main
 from apexseal.generated.manifest import StaleArtefactError, verify
-from apexseal.runtime.scenes.errors import SceneError
+from apexseal.runtime.scenes.errors import IgnoredValueWarning, SceneError
 from apexseal.runtime.scenes.scene import default_scene_text, load_scene
 from apexseal.runtime.solving import run as sim
 from apexseal.runtime.solving.settings import SettingsError
@@ -125,6 +126,71 @@ def test_missing_pressure_table(tmp_path):
     path = _write_scene(tmp_path, 'file = "expander-pressure.csv"', 'file = "missing.csv"')
     with pytest.raises(SceneError, match="file not found: .*missing.csv"):
         load_scene(path)
+
+
+#: the one warning of the groove friction's coefficient out of range while that friction is off
+IGNORED_MU2 = ("ignored, out of range but read by no law of the scene's model: friction.mu2 = 1.5 (not read while "
+               "effects.groove_friction is off; allowed: 0 <= value < 1); switching the effect on makes it an error")
+
+
+def _groove_friction_off(tmp_path: Path, mu2: str) -> Path:
+    path = _write_scene(tmp_path, "mu2 = 0.12", f"mu2 = {mu2}")
+    path.write_text(path.read_text().replace("groove_friction = true", "groove_friction = false"))
+    return path
+
+
+def test_an_out_of_range_value_of_an_effect_that_is_off_loads_with_one_warning(tmp_path):
+    """A value that no law of the scene's model reads (its effect off) is not range-checked as an error: the file
+    loads, with one warning naming the key, its value, the effect that is off and the range. It stopped the scene."""
+    path = _groove_friction_off(tmp_path, "1.5")
+    with pytest.warns(IgnoredValueWarning) as caught:
+        scene = load_scene(path)
+    assert [str(w.message) for w in caught if w.category is IgnoredValueWarning] == [f"scene scene.toml: {IGNORED_MU2}"]
+    assert scene.friction.mu2 == 1.5 and "mu2" not in scene.parameters
+    with pytest.raises(SceneError) as info:  # the same value read: the error it always was
+        load_scene(path, overrides={"effects.groove_friction": True})
+    assert [str(p) for p in info.value.errors] == ["friction.mu2 = 1.5: 1.5 is out of range; allowed: 0 <= value < 1"]
+
+
+def test_the_command_line_loads_it_with_the_same_warning(tmp_path):
+    from apexseal.cli import command
+
+    path = _groove_friction_off(tmp_path, "1.5")
+    proc = subprocess.run(command("scene", str(path)), capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.startswith("scene.toml: valid; content hash ")
+    assert proc.stderr == f"warning: scene scene.toml: {IGNORED_MU2} (IgnoredValueWarning)\n"
+    proc = subprocess.run(command("scene", str(path), "--set", "effects.groove_friction=true"), capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode != 0 and "friction.mu2 = 1.5: 1.5 is out of range; allowed: 0 <= value < 1" in proc.stderr
+
+
+@pytest.mark.parametrize("mu2, fragment", [('"0.1 mm"', "wrong unit: expected a plain number, got mm"),
+                                            ('"high"', "is not a number"), ("true", "expected a plain number, got bool")],
+                         ids=["wrong-dimension", "no-number", "wrong-type"])
+def test_a_malformed_value_of_an_effect_that_is_off_is_still_an_error(tmp_path, mu2, fragment):
+    """Only the range is left unchecked: a value that is no quantity of its kind is refused, read or not."""
+    with pytest.raises(SceneError) as info:
+        load_scene(_groove_friction_off(tmp_path, mu2))
+    assert info.value.keys() == ["friction.mu2"] and fragment in str(info.value)
+
+
+def test_missing_pressure_table_while_chamber_pressure_is_off(tmp_path):
+    """With effects.chamber_pressure = false no law reads the table: the file is neither needed nor read (a missing
+    file stopped the scene)."""
+    path = _write_scene(tmp_path, 'file = "expander-pressure.csv"', 'file = "missing.csv"')
+    path.write_text(path.read_text().replace("chamber_pressure = true", "chamber_pressure = false"))
+    scene = load_scene(path)
+    assert not scene.effects.chamber_pressure
+    assert scene.pressure.to_dict() == {"source": "table", "file": "missing.csv", "unit": "Pa"}
+    r = apexseal.simulate(scene, revolutions=1, samples_per_revolution=360, out=tmp_path / "run")
+    assert r.status == "completed"  # and its scene names the table without it, and loads as the scene that ran
+    assert not (tmp_path / "run" / "pressure.csv").exists()
+    assert load_scene(tmp_path / "run" / "scene.toml").content_hash() == r.scene.content_hash()
+    (tmp_path / "missing.csv").write_text("not a table\n")  # there, but not read either
+    assert load_scene(path).content_hash() == scene.content_hash()
+    with pytest.raises(SceneError, match="missing.csv line 1: expected the header"):  # read once the effect is on
+        load_scene(path, overrides={"effects.chamber_pressure": True})
 
 
 def test_table_with_a_wide_angular_gap_is_accepted_and_interpolated_across(tmp_path):

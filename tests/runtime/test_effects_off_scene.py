@@ -59,6 +59,53 @@ def test_switching_the_effect_on_asks_for_its_keys(scenes):
     assert on.parameters["ks"] == 5e3 and "mus" not in on.parameters  # its friction is still off
 
 
+def test_one_helper_says_whether_a_parameter_is_read():
+    """registry.is_read: by the parameter, its name or its scene key; a friction coefficient while its friction is
+    on, friction.v_eps while any friction is (its needs names all three), the seal body's always."""
+    from apexseal.derive.effects import Effects
+    from apexseal.derive.submodels.registry import is_read, parameter
+
+    smooth_groove = Effects.from_mapping({"groove_friction": False})
+    assert not is_read("friction.mu2", smooth_groove) and not is_read("mu2", smooth_groove)
+    assert not is_read(parameter("mu2"), smooth_groove) and is_read("mu2", Effects())
+    assert is_read("friction.v_eps", smooth_groove) and is_read("seal.Ws", Effects.only("housing_contact"))
+    assert not is_read("v_eps", Effects.only("housing_contact", "groove_contact", "spring"))
+    with pytest.raises(KeyError):
+        is_read("friction.mu9", smooth_groove)
+
+
+def test_out_of_range_values_no_law_reads_load_and_run_with_one_warning(scenes):
+    """The spring's stiffness and friction out of range while the spring is off: the scene loads (it stopped),
+    warns once with each key, value, effect and range, and runs as the scene with valid values does."""
+    from apexseal.runtime.scenes.errors import IgnoredValueWarning
+
+    given, _ = scenes
+    with pytest.warns(IgnoredValueWarning) as caught:
+        odd = given.with_overrides(**{"spring.ks": "-5 N/m", "friction.mus": 1.5})
+    (warning,) = [w for w in caught if w.category is IgnoredValueWarning]
+    assert str(warning.message) == (
+        "scene default: ignored, out of range but read by no law of the scene's model: spring.ks = \"-5 N/m\" (not "
+        "read while effects.spring is off; allowed: > 0 N/m), friction.mus = 1.5 (not read while "
+        "effects.spring_friction is off; allowed: 0 <= value < 1); switching the effect on makes it an error")
+    assert odd.spring.ks == -5 and odd.parameters == given.parameters
+    a, b = apexseal.simulate(given), apexseal.simulate(odd)
+    assert a.status == b.status == "completed"
+    np.testing.assert_array_equal(a.state, b.state)
+
+
+def test_the_same_values_read_are_errors_naming_key_value_and_range(scenes, default_scene):
+    """With the effect on, the out-of-range value is the error it always was; friction.v_eps is read while any
+    friction is on, so the groove's friction off does not excuse it."""
+    given, _ = scenes
+    with pytest.raises(SceneError) as info:
+        given.with_overrides(**{"spring.ks": "-5 N/m", "friction.mus": 1.5, **dict.fromkeys(NO_SPRING, True)})
+    assert [str(p) for p in info.value.errors] == ['spring.ks = "-5 N/m": -5 N/m is out of range; allowed: > 0 N/m',
+                                                   "friction.mus = 1.5: 1.5 is out of range; allowed: 0 <= value < 1"]
+    with pytest.raises(SceneError) as info:
+        default_scene.with_overrides(**{"effects.groove_friction": False, "friction.v_eps": 0})
+    assert [str(p) for p in info.value.errors] == ["friction.v_eps = 0: 0 m/s is out of range; allowed: > 0 m/s"]
+
+
 def test_a_friction_coefficient_is_needed_only_with_its_friction(default_scene):
     smooth = default_scene.with_overrides(**{"effects.groove_friction": False, "friction.mu2": None})
     assert "mu2" not in smooth.parameters and smooth.parameters["mu1"] == default_scene.parameters["mu1"]

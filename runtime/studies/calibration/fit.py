@@ -167,14 +167,13 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     ``samples``: samples per revolution (default: the scene's, or where that is fewer the least multiple of 360
     with at least 2.4 samples per period of the stiffest contact any candidate can have, :func:`fastest_contact`).
     """
-    from ....derive.submodels.registry import needed_on, needing, parameter, submodels
+    from ....derive.submodels.registry import is_read, needing, parameter, submodels
     from ...api import model_functions
     from ...solving.signals import StopSignals
 
     # a damping ratio whose damping is off is read by nothing: not an unknown by default, refused if asked for
     ratios = {zeta for cls in submodels() for _, zeta in cls.damping_ratios}
-    unread = {n: needing(parameter(n)) for n in PLAUSIBLE if n in ratios}
-    unread = {n: e for n, e in unread.items() if not needed_on(e, lambda x: getattr(scene.effects, x))}
+    unread = {n: needing(parameter(n)) for n in PLAUSIBLE if n in ratios and not is_read(n, scene.effects)}
     if ranges is None:
         ranges = {n: r for n, r in PLAUSIBLE.items() if n not in unread}
     ranges = dict(ranges)

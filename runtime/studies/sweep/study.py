@@ -320,7 +320,7 @@ def _unread(parameters, scene, given: dict) -> list[Problem]:
     """A varied model parameter that no law of the study's model reads (its effect off in the scene and not
     varied): every point would be the same run."""
     from ....derive.effects import declared as effects_declared
-    from ....derive.submodels.registry import needed_effects, needed_on, needing
+    from ....derive.submodels.registry import is_read, needed_effects, needing
     from ....derive.submodels.registry import parameters as declared
 
     slots = effects_declared()
@@ -336,7 +336,7 @@ def _unread(parameters, scene, given: dict) -> list[Problem]:
         need = needing(q) if q is not None else None
         if need is None or any(f"effects.{e}" in varied for n in needed_effects(need) for e in lineage(n)):
             continue
-        if not needed_on(need, lambda n: getattr(scene.effects, n, True)):
+        if not is_read(q, scene.effects):
             names = " and ".join(f"effects.{n}" for n in needed_effects(need))
             out.append(Problem(f"parameters.{p.key}", show_value(given.get(p.key, "(varied)")),
                                f"read by no law while {names} {'is' if ' and ' not in names else 'are'} off in the "
