@@ -4,7 +4,8 @@
 * :func:`machine_numbers` - aspect ratio and groove truncation, Eqs. 4-8;
 * :func:`initial_wall_deflection` - delta_w from the rest balance ks delta_s = kw delta_w, Eq. 9 (also the symbolic
   form: ``derive.geometry.initial_wall_deflection`` calls it with the parameters' symbols);
-* :func:`damping_of_ratio` - a contact's damping coefficient from its damping ratio, c = 2 zeta sqrt(k ms).
+* :func:`damping_of_ratio` - a contact's damping coefficient from its damping ratio, c = 2 zeta sqrt(k ms), and
+  :func:`ratio_of_damping`, the ratio of a coefficient;
 * :func:`housing_radius` - the housing's distance from the pole, Eq. 2 or the circolimaçon's circle (the ports' areas);
 * :func:`smallest_chamber_volume`, :func:`smallest_lobe_offset` - the smallest chamber volume over a revolution and
   the circular lobes' bound on k, from the chamber volumes of Eqs. 1-8 (``derive.chambers``, evaluated on floats).
@@ -35,6 +36,12 @@ def damping_of_ratio(zeta, k, ms):
     changed stiffness keeps its damping ratio.) Works on numbers and on CasADi symbols alike.
     """
     return 2 * zeta * (k * ms) ** 0.5
+
+
+def ratio_of_damping(c, k, ms):
+    """zeta = c / (2 sqrt(k ms)): the damping ratio of a contact's coefficient c (the inverse of
+    :func:`damping_of_ratio`)."""
+    return c / (2 * (k * ms) ** 0.5)
 
 
 @dataclass(frozen=True)

@@ -159,9 +159,15 @@ class Submodel:
         out = {}
         for c, zeta in cls.damping_ratios:
             if values.get(c) is None:
-                ks = [values[k] for k, damping in cls.oscillators if damping == c]
-                out[c] = damping_of_ratio(values[zeta], sum(ks) / len(ks), values["ms"])
+                out[c] = damping_of_ratio(values[zeta], cls.damped_stiffness(c, values), values["ms"])
         return out
+
+    @classmethod
+    def damped_stiffness(cls, c: str, values: Mapping[str, Any]) -> Any:
+        """The stiffness a ratio of the damping coefficient ``c`` refers to: the mean stiffness of the oscillators
+        ``c`` damps (c = 2 zeta sqrt(k ms), :attr:`damping_ratios`), from the values by parameter name."""
+        ks = [values[k] for k, damping in cls.oscillators if damping == c]
+        return sum(ks) / len(ks)
 
     @classmethod
     def scene_alternatives(cls) -> tuple[tuple[str, str], ...]:

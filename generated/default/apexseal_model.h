@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: ed433ace88d8bb745e47d0f5487e140865161428cae4e05514d52e933aee9ec2.
+ * Effects: all. Input hash: 7aede56900bbf34eefbf531a69d4379577c27a36665f3e7d7d8fbd9f7d1c2777.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "ed433ace88d8bb745e47d0f5487e140865161428cae4e05514d52e933aee9ec2"
+#define APEXSEAL_INPUT_HASH "7aede56900bbf34eefbf531a69d4379577c27a36665f3e7d7d8fbd9f7d1c2777"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -18,6 +18,7 @@ from apexseal.derive.effects import Effects, orphans
 from apexseal.derive.numbers import machine_numbers, smallest_chamber_volume, smallest_lobe_offset, tip_half_angle
 from apexseal.derive.options import without_parent
 
+from .damping import MAX_DAMPING_RATIO, WHY, contact_dampings
 from .errors import MISSING, Problem, show_value
 from .pressure import TablePressure
 from .schema import (
@@ -431,4 +432,27 @@ def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure:
             out.append(Problem("pressure.unit", raw_at(raw, ["pressure", "unit"]) if "unit" in raw.get("pressure", {})
                                else "Pa", f"the table's absolute pressures span {low:.4g}..{high:.4g} Pa, {why}: is "
                                "the table in another unit (unit = \"Pa\", \"kPa\" or \"bar\")?"))
+    return out
+
+
+def check_damping(values: dict[str, float], raw: dict[str, Any]) -> list[Problem]:
+    """Each contact damped above critical (:data:`.damping.MAX_DAMPING_RATIO`), where its approach-only damping
+    makes it chatter (:mod:`.damping`), against the key the scene gives (the coefficient, else its ratio), with the
+    value and the plausible range. ``values``: the scene's parameters (SI, by name; a damping that is off has none,
+    so it is not questioned)."""
+    out = []
+    for d in contact_dampings(values).values():
+        if not d.too_high:
+            continue
+        c_key, ratio_key = d.keys
+        given = raw_at(raw, c_key.split("."))
+        if given is not MISSING:
+            out.append(Problem(c_key, given, f"{d.c:.4g} N*s/m is {d.zeta:.3g} times critical damping "
+                                             f"({d.critical:.4g} N*s/m): {WHY}; plausible: 0 <= {d.coefficient} <= "
+                                             f"{d.critical:.4g} N*s/m ({ratio_key} <= {MAX_DAMPING_RATIO:g})"))
+        else:
+            out.append(Problem(ratio_key, raw_at(raw, ratio_key.split(".")),
+                               f"a damping ratio above critical damping ({MAX_DAMPING_RATIO:g}; {d.coefficient} = "
+                               f"{d.c:.4g} N*s/m here): {WHY}; plausible: 0 <= {d.ratio_name} <= "
+                               f"{MAX_DAMPING_RATIO:g}"))
     return out

@@ -36,6 +36,7 @@ from apexseal.derive.effects import Effects
 
 from .checks import (
     check_consistency,
+    check_damping,
     check_needed,
     check_plausible,
     ignored_values,
@@ -250,6 +251,8 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
     assert pressure is not None and effects is not None
     assumptions = resolve_assumptions(sections["assumptions"], sections["pressure"].source)
     values = derive_parameters(sections, effects, assumptions)
+    for p in check_damping(values, raw):
+        warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=4)
     return Scene(
         machine=sections["machine"],
         operation=sections["operation"],

@@ -3,10 +3,14 @@ events, the event budget."""
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
+
 import numpy as np
 
 from ..results.result import StopInfo
 from ..results.sampled import guards_at
+from ..scenes.damping import MAX_DAMPING_RATIO, WHY, guard_damping
 from .euler_integrator import contact_growth
 from .layout import HybridLayout
 from .methods import method_of
@@ -15,18 +19,50 @@ from .settings import MAX_TILT, RunSettings
 
 #: a contact left open while its gap is below this (µm) is a missed event, not event-location noise
 MISSED_EVENT_UM = 1e-3
-#: what to try when contacts chatter (in the chattering message)
-CHATTER_ADVICE = ("regularise instead of resolving every switch: more contact damping (contacts.cw/cr/cs; but less "
-                  "where it is already far above critical: damping that acts on approach only then kicks the seal "
-                  "off at each touch), a larger friction.v_eps, or method 'euler' (the switches inside the "
-                  "right-hand side, no events); or raise solver.chatter_events / max_events_per_revolution if the "
-                  "switches are physical")
+#: what to try when contacts chatter, besides the contact's damping (in the chattering message)
+OTHER_REMEDIES = ("a larger friction.v_eps, or method 'euler' (the switches inside the right-hand side, no events); or "
+                  "raise solver.chatter_events / max_events_per_revolution if the switches are physical")
+#: a damping ratio this close to its default (relative) is the default: scenes state coefficients rounded (207 N*s/m
+#: for 10 % of critical on 6.2e7 N/m is a ratio of 0.09998)
+NEAR_DEFAULT = 0.1
+#: the advice when the chattering contact's damping is not known (an unknown guard, or its damping off)
+CHATTER_ADVICE = ("regularise instead of resolving every switch: contact damping near its default ratio "
+                  f"(contacts.zeta_w/zeta_g/zeta_s = 0.1; above critical, {MAX_DAMPING_RATIO:g}, damping that acts on "
+                  f"approach only kicks the seal off at each touch), {OTHER_REMEDIES}")
+
+
+def chatter_advice(guard: str, names: Sequence[str] | None = None, params=None) -> str:
+    """What to try when ``guard`` chatters, for the cause its contact's damping points to (``names``, ``params``: the
+    run's parameter names and vector; without them, or for a guard whose damping is unknown: :data:`CHATTER_ADVICE`).
+
+    Damped above critical (:data:`~..scenes.damping.MAX_DAMPING_RATIO`), the contact's approach-only damping is the
+    likely cause, and more of it makes the chatter worse: lower it, with the key and the coefficient it may reach.
+    Otherwise its damping toward the default ratio (an undamped contact bounces; a stiff contact under light loads is
+    kicked off by its approach-only damping below critical too), besides the other remedies."""
+    values = None if names is None else dict(zip(names, np.asarray(params, float), strict=True))
+    d = guard_damping(guard, values) if values is not None else None
+    if d is None:
+        return CHATTER_ADVICE
+    c_key, ratio_key = d.keys
+    now, default = f"{ratio_key} = {d.zeta:.3g}, {c_key} = {d.c:.4g} N*s/m", d.default_ratio
+    if d.too_high:
+        return (f"this contact is damped above critical ({now}): {WHY}; lower {ratio_key} to "
+                f"{MAX_DAMPING_RATIO:g} or less ({c_key} <= {d.critical:.4g} N*s/m"
+                + (f"; the default ratio is {default:g})" if default is not None else ")"))
+    if default is None or math.isclose(d.zeta, default, rel_tol=NEAR_DEFAULT):
+        return f"regularise instead of resolving every switch ({now}): {OTHER_REMEDIES}"
+    toward = ("less damping on this contact, toward the default ratio (approach-only damping kicks a stiff contact "
+              "under light loads off at each touch below critical too)" if d.zeta > default else
+              "more damping on this contact, toward the default ratio (an undamped contact bounces)")
+    return (f"regularise instead of resolving every switch: {toward}: {now}, the default ratio {default:g}; "
+            f"{OTHER_REMEDIES}")
 
 
 class Chattering(RuntimeError):
-    def __init__(self, guard: str, theta: float, count: int, within: str = "within one output interval"):
+    def __init__(self, guard: str, theta: float, count: int, within: str = "within one output interval",
+                 advice: str = CHATTER_ADVICE):
         super().__init__(f"chattering on guard {guard}: {count} switches {within} near {np.degrees(theta):.3f} deg; "
-                         + CHATTER_ADVICE)
+                         + advice)
         self.guard, self.theta, self.count = guard, theta, count
 
 
@@ -77,7 +113,8 @@ class RunChecks:
         if not Z.shape[1]:
             return None
         lay, st = self.layout, self.settings
-        chatter = chattering(Z, lay, thetas - self.theta_start, z_start[lay.counts], st)
+        names = self.functions.parameter_names
+        chatter = chattering(Z, lay, thetas - self.theta_start, z_start[lay.counts], st, names, self.params)
         if chatter is not None:
             return "chattering", StopInfo(chatter.theta, lay.mode(Z[lay.active, -1]), str(chatter))
         if method_of(st.method).locates_events:
@@ -92,7 +129,7 @@ class RunChecks:
             where = float(thetas[k] - self.theta_start)
             c = Chattering(lay.guard_names[i], where, int(in_rev[i, k]),
                            f"in less than one revolution (of {int(in_rev[:, k].sum())} > max_events_per_revolution = "
-                           f"{st.max_events_per_revolution})")
+                           f"{st.max_events_per_revolution})", chatter_advice(lay.guard_names[i], names, self.params))
             return "chattering", StopInfo(where, lay.mode(Z[lay.active, k]), str(c))
         return None
 
@@ -111,8 +148,10 @@ class RunChecks:
                                   "the scene)")
 
 
-def chattering(Z, layout: HybridLayout, thetas, counts_before, settings: RunSettings) -> Chattering | None:
-    """More switches of one guard in one output interval than ``chatter_events`` per ``chatter_window``."""
+def chattering(Z, layout: HybridLayout, thetas, counts_before, settings: RunSettings,
+               names: Sequence[str] | None = None, params=None) -> Chattering | None:
+    """More switches of one guard in one output interval than ``chatter_events`` per ``chatter_window``, with the
+    advice for that guard's contact (:func:`chatter_advice`; ``names``, ``params``: the run's parameters)."""
     counts = np.c_[counts_before, Z[layout.counts]]
     per_interval = np.diff(counts, axis=1)
     dth = thetas[1] - thetas[0] if thetas.size > 1 else 2 * np.pi / settings.samples_per_revolution
@@ -122,4 +161,5 @@ def chattering(Z, layout: HybridLayout, thetas, counts_before, settings: RunSett
     if hot.size == 0:
         return None
     i, k = hot[0]
-    return Chattering(layout.guard_names[i], float(thetas[k]), int(per_interval[i, k]))
+    guard = layout.guard_names[i]
+    return Chattering(guard, float(thetas[k]), int(per_interval[i, k]), advice=chatter_advice(guard, names, params))

@@ -17,7 +17,7 @@ import numpy as np
 from ...derive.submodels.registry import guard as declared_guard
 from ...progress import announce
 from ..results.result import StopInfo
-from .checks import Chattering
+from .checks import Chattering, chatter_advice
 from .layout import HybridLayout
 from .methods import WallTimeExceeded, make_engine
 from .scaling import to_physical
@@ -124,7 +124,8 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
         # own shows which contact switched, and how often there (the rest of the interval is not counted)
         c = Chattering(guard, theta - theta_start, int(switches.max()), f"in the first {np.degrees(head):.3g} deg "
                        f"of a {np.degrees(dth):.3g}-deg output interval whose switches reached the integrator's event "
-                       f"limit (max_events_per_revolution = {settings.max_events_per_revolution})")
+                       f"limit (max_events_per_revolution = {settings.max_events_per_revolution})",
+                       chatter_advice(guard, functions.parameter_names, params))
         return "chattering", str(c)
     if stats.get("n_steps", 0) >= settings.max_steps_per_interval or "step limit" in msg:  # (the composite says so)
         advice = ("use method 'rosenbrock' (stiff contacts, a small friction.v_eps) or a larger friction.v_eps"

@@ -1,0 +1,124 @@
+"""Contacts damped above critical: approach-only damping makes them chatter (runtime/scenes/damping.py).
+
+The scene warns about such a damping ratio before a run, and a run that chatters on such a contact advises less
+damping, with the key and the coefficient it may reach (the advice used to ask for more contact damping, which
+makes it worse). ``python tests/runtime/test_damping_chatter.py``: the table of docs/hard-cases.md.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import pytest
+from hard_helpers import load
+
+import apexseal
+from apexseal.derive.numbers import damping_of_ratio
+from apexseal.runtime.scenes.units import PlausibilityWarning
+
+#: a housing damping ratio in the chatter regime of the default scene (the table below: it chatters from ~2.4)
+HIGH = 3.0
+
+
+def _quietly(scene, **overrides):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        return scene.with_overrides(**overrides)
+
+
+def _critical(scene) -> float:
+    """The housing's critical damping coefficient, 2 sqrt(kw ms)."""
+    return damping_of_ratio(1.0, scene.parameters["kw"], scene.parameters["ms"])
+
+
+# ---------------------------------------------------------------- the advice of a run that chatters
+@pytest.mark.parametrize("detector", [{}, {"samples_per_revolution": 36, "max_events_per_revolution": 100}],
+                         ids=["switches-per-interval", "integrator-event-limit"])
+def test_a_tip_damped_above_critical_is_advised_less_damping(default_scene, default_functions, detector):
+    """zeta_w = 3 chatters on the tip within 2 deg; the advice names the ratio and says lower it (to 1, the
+    coefficient that gives), not 'more contact damping'. Both detectors: the switches per output interval, and the
+    integrator's own event limit (diagnosed by re-running the interval)."""
+    scene = _quietly(default_scene, **{"contacts.zeta_w": HIGH})
+    r = apexseal.simulate(scene, revolutions=1, functions=default_functions.c, **detector)
+    assert r.status == "chattering" and "chattering on guard xs5" in r.stop.reason, r.stop
+    reason = r.stop.reason
+    assert f"contacts.zeta_w = {HIGH:g}" in reason and "lower contacts.zeta_w to 1 or less" in reason
+    assert f"contacts.cw <= {_critical(default_scene):.4g} N*s/m" in reason
+    assert "more damping makes it worse" in reason and "more contact damping" not in reason
+
+
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")  # soft by design
+def test_an_undamped_tip_is_advised_damping_toward_the_default(default_functions):
+    """tip-chatter (cw = 0) ends at its event budget per revolution (checked after each of 72 calls: one call
+    would end at the integrator's event limit, slower to diagnose): damping toward the default ratio, named."""
+    r = apexseal.simulate(load("tip-chatter"), revolutions=1, functions=default_functions.c,
+                          samples_per_revolution=72, calls_per_revolution=72)
+    assert r.status == "chattering" and "in less than one revolution" in r.stop.reason, r.stop
+    assert "more damping on this contact, toward the default ratio" in r.stop.reason
+    assert "contacts.zeta_w = 0, contacts.cw = 0 N*s/m, the default ratio 0.1" in r.stop.reason
+    assert "lower contacts.zeta_w" not in r.stop.reason
+
+
+def test_the_advice_follows_the_chattering_contacts_damping(default_scene):
+    """Below critical but above the default: less damping (a stiff contact under light loads chatters from there
+    too); at the default: no damping advice; a groove guard: the groove's cr and zeta_g; an unknown guard or no
+    parameters: the general advice."""
+    from apexseal.runtime.solving.checks import CHATTER_ADVICE, chatter_advice
+
+    p = dict(default_scene.parameters)
+
+    def advice(guard, **changed):
+        values = p | changed
+        return chatter_advice(guard, tuple(values), list(values.values()))
+
+    half = advice("xs5", cw=0.5 * _critical(default_scene))
+    assert "less damping on this contact, toward the default ratio" in half and "contacts.zeta_w = 0.5" in half
+    at_default = advice("xs5")
+    assert "contacts.zeta_w = 0.1" in at_default and "damping on this contact" not in at_default
+    groove = advice("b3", cr=2.0 * p["cr"] / 0.1)
+    assert "contacts.zeta_g = 2" in groove and "lower contacts.zeta_g to 1 or less" in groove
+    assert advice("nonesuch") == chatter_advice("xs5") == CHATTER_ADVICE
+
+
+# ---------------------------------------------------------------- the scene's warning before a run
+def test_a_damping_ratio_above_critical_warns_with_key_value_and_range(default_scene):
+    """Above 1 it warns, naming the key, the value and the plausible range; critical damping itself and a damping
+    whose effect is off (no law reads it) do not."""
+    with pytest.warns(PlausibilityWarning, match=r"contacts\.zeta_w = 3: a damping ratio above critical .*"
+                                                 r"approach only.*plausible: 0 <= zeta_w <= 1"):
+        default_scene.with_overrides(**{"contacts.zeta_w": 3})
+    with pytest.warns(PlausibilityWarning, match=r"contacts\.zeta_g = 1\.5: .*plausible: 0 <= zeta_g <= 1"):
+        default_scene.with_overrides(**{"contacts.zeta_g": 1.5})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        assert math.isclose(default_scene.with_overrides(**{"contacts.zeta_w": 1.0}).parameters["cw"],
+                            _critical(default_scene))
+        off = default_scene.with_overrides(**{"contacts.zeta_w": HIGH, "effects.housing_damping": False})
+    assert "cw" not in off.parameters
+
+
+def test_a_coefficient_above_critical_warns_with_its_ratio(default_scene):
+    """A scene that gives the coefficient is told its ratio and the largest coefficient, against contacts.cw."""
+    critical = _critical(default_scene)
+    with pytest.warns(PlausibilityWarning) as record:
+        default_scene.with_overrides(**{"contacts.cw": 3e4})
+    message = "\n".join(str(w.message) for w in record)
+    assert f"contacts.cw = 30000.0: 3e+04 N*s/m is {3e4 / critical:.3g} times critical damping" in message
+    assert f"plausible: 0 <= cw <= {critical:.4g} N*s/m (contacts.zeta_w <= 1)" in message
+
+
+def damping_table(ratios=(0.1, 1.0, 2.0, 2.2, 2.4, 3.0, 5.0), revolutions: int = 2) -> str:
+    """The default scene with each housing damping ratio: how far it runs and how often the contacts switch."""
+    scene = apexseal.load_scene()
+    rows = ["| contacts.zeta_w | status | crank angle reached | tip (xs5) switches | all switches |",
+            "|---|---|---|---|---|"]
+    for zeta in ratios:
+        r = apexseal.simulate(_quietly(scene, **{"contacts.zeta_w": zeta}), revolutions=revolutions)
+        tip = int(r.events[r.guard_names.index("xs5"), -1])
+        rows.append(f"| {zeta:g} | {r.status} | {math.degrees(r.theta[-1]):.1f} deg | {tip} | {r.n_events} |")
+    return "\n".join(rows)
+
+
+if __name__ == "__main__":  # python tests/runtime/test_damping_chatter.py: the table of hard-cases.md
+    print(damping_table())
