@@ -12,6 +12,7 @@ Functions an integrator embeds are the ones whose C is in the library.
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable
 from pathlib import Path
 
 import casadi as ca
@@ -23,13 +24,18 @@ SERIALIZED = "casadi_model.casadi"
 SERIALIZED_FUNCTIONS = ("rhs", "rhs_switched", "guards", "outputs")
 
 
+def serialized(functions: Iterable[ca.Function]) -> str:
+    """The Functions in one CasADi serialization (deterministic text), in the order given."""
+    s = ca.StringSerializer()
+    for f in functions:
+        s.pack(f)
+    return s.encode()
+
+
 def write_serialized(fns: ModelFunctions, out_dir: Path) -> str:
     """Write the SX Functions of :data:`SERIALIZED_FUNCTIONS` into one CasADi serialization; return its name."""
-    s = ca.StringSerializer()
     every = fns.functions()
-    for name in SERIALIZED_FUNCTIONS:
-        s.pack(every[name])
-    (Path(out_dir) / SERIALIZED).write_text(s.encode() + "\n")
+    (Path(out_dir) / SERIALIZED).write_text(serialized(every[name] for name in SERIALIZED_FUNCTIONS) + "\n")
     return SERIALIZED
 
 

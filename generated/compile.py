@@ -249,13 +249,18 @@ def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: s
     The C goes to :func:`function_dir` with its record (``function.json``: the C's sha256, the input hash
     of the model manifest whose Functions the C embeds or calls, ``model``, and with ``link``, the compiled
     model library it calls and the symbols it declares extern), so what is compiled is always on the
-    station's record. Two models whose integrators have the same C (it calls the model library, whose
-    sizes alone it embeds) share the file: ``uses`` lists every (model, library) it was generated for, so
-    each library built from it is on the record, not only the last one's. The one place that decides a
+    station's record. A ``model_hash`` that names a model variant no manifest describes (:mod:`.variant`)
+    brings the variant's record, what it was built from and how (``variant``). Two models whose integrators
+    have the same C (it calls the model library, whose sizes alone it embeds) share the file: ``uses`` lists
+    every (model, library) it was generated for, so each library built from it is on the record, not only the
+    last one's. The one place that decides a
     Function's C file and cache key: :func:`compile_function` and the benchmark's parallel pre-compilation both
-    build from it, so they fill and find the same entries.
+    build from it, so they fill and find the same entries. Every caller names the model it compiles
+    (None: a Function that holds no model's).
     A C file that calls symbols it does not define needs ``link``.
     """
+    from .variant import variant_record
+
     stem = "fn_" + re.sub(r"\W", "_", fn.name())
     with tempfile.TemporaryDirectory(prefix="apexseal-fn-") as tmp:
         data = generate_c(fn, stem, tmp, derivatives=derivatives).read_bytes()
@@ -270,10 +275,11 @@ def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: s
         earlier = earlier if isinstance(earlier, dict) else {}
     except (OSError, ValueError):
         earlier = {}
-    if model_hash is None:  # a caller that does not know the model (the bench's compile pool) keeps the record's
-        model_hash = earlier.get("model")
     record = {"format": "apexseal-function/1", "name": fn.name(), "files": {src.name: digest}, "model": model_hash,
               "derivatives": derivatives}
+    variant = variant_record(model_hash)
+    if variant is not None:
+        record["variant"] = {"of": variant["of"], "how": variant["how"]}
     payload = {"kind": "function", "name": fn.name(), "c_sha256": digest}
     use = {"model": model_hash}
     if link is not None:

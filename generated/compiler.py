@@ -16,18 +16,26 @@ import re
 import shutil
 import signal
 import subprocess
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
+from types import MappingProxyType
 
 from ..derive.cache import cache_dir
 from ..files import atomic_write, content_key, read_json_object, sha256_bytes
 
-#: flag setting -> compiler flags. -ffp-contract=off keeps gcc from fusing a*b+c into FMA
-#: instructions under -march=native, so compiled results stay those of CasADi's interpreter.
-FLAG_SETS: dict[str, tuple[str, ...]] = {
+#: flag setting -> compiler flags (read-only: a measurement's own set goes through :func:`register_flags`).
+#: -ffp-contract=off keeps gcc from fusing a*b+c into FMA instructions under -march=native, so compiled results
+#: stay those of CasADi's interpreter.
+FLAG_SETS: Mapping[str, tuple[str, ...]] = MappingProxyType({
     "quick": ("-O1",),
     "optimised": ("-O3", "-march=native", "-ffp-contract=off"),
-}
+})
+
+#: the flag sets :func:`register_flags` named in this process, by name
+_REGISTERED: dict[str, tuple[str, ...]] = {}
+
+#: the start of a registered flag set's name
+REGISTERED_PREFIX = "flags-"
 
 
 class CompilerUnavailable(RuntimeError):
@@ -39,9 +47,33 @@ def compiler() -> str:
 
 
 def flag_list(flags: str) -> tuple[str, ...]:
-    if flags not in FLAG_SETS:
-        raise ValueError(f"flags must be one of {', '.join(FLAG_SETS)}, not {flags!r}")
-    return FLAG_SETS[flags]
+    """The compiler flags of a flag set: one of :data:`FLAG_SETS`, or a name :func:`register_flags` gave."""
+    found = FLAG_SETS.get(flags) or _REGISTERED.get(flags)
+    if found is None:
+        raise ValueError(f"flags must be one of {', '.join(FLAG_SETS)} or a name register_flags gave "
+                         f"({', '.join(_REGISTERED) or 'none yet'}), not {flags!r}")
+    return found
+
+
+def register_flags(flags: Sequence[str]) -> str:
+    """Name a flag set of one's own (a measurement's: runtime/bench/levers.py) for every function that takes
+    ``flags``; returns the project's name when :data:`FLAG_SETS` has the same flags, else ``flags-`` and the start
+    of the sha256 of the flags: the same name in every process and on every machine, for the same flags.
+
+    A library's cache key and ``build.json`` hold the flags themselves, so a registered set's libraries are keyed
+    like the project's sets'."""
+    flags = tuple(flags)
+    if not flags:
+        raise ValueError("flags: an empty flag set; give at least one compiler option, e.g. ('-O2',)")
+    for f in flags:
+        if not isinstance(f, str) or not f.startswith("-") or any(c.isspace() for c in f):
+            raise ValueError(f"flags: {f!r} is not one compiler option (a string starting with '-', no spaces)")
+    for name, known in FLAG_SETS.items():
+        if known == flags:
+            return name
+    name = REGISTERED_PREFIX + sha256_bytes("\0".join(flags).encode())[:12]
+    _REGISTERED[name] = flags
+    return name
 
 
 #: every compiler this process runs, while it runs (:func:`stop_all`)

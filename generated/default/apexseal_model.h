@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 7aede56900bbf34eefbf531a69d4379577c27a36665f3e7d7d8fbd9f7d1c2777.
+ * Effects: all. Input hash: fc216d6edf97272754637d2032a4ab7440b555aec71312d9401499bf465ab5c7.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "7aede56900bbf34eefbf531a69d4379577c27a36665f3e7d7d8fbd9f7d1c2777"
+#define APEXSEAL_INPUT_HASH "fc216d6edf97272754637d2032a4ab7440b555aec71312d9401499bf465ab5c7"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -6,6 +6,8 @@ a constant of the generated C), so it fills the same content-hash cache first,
 with ``workers`` compilers at once: C generation stays serial (CasADi symbolics
 are not thread-safe); only the compiler subprocesses overlap. Afterwards the
 engines are built with ``compile_c=True`` and find their libraries in the cache.
+Each target (:class:`CompileTarget`, ``methods.compile_target(engine)``) names the model its C embeds or calls
+and the library it links against, so the records the pool writes at the station are the engine's own.
 Compilation never overlaps a timed run.
 
 The cold compile of one integrator (for the "code generation pays for itself"
@@ -21,9 +23,27 @@ import resource
 import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 
 import casadi as ca
+
+
+@dataclass(frozen=True)
+class CompileTarget:
+    """A Function to compile and what its station record names: the model whose Functions it embeds or calls
+    (a manifest's input hash or a variant's, generated/variant.py; None: it holds no model's) and the compiled
+    model library it links against (None: none)."""
+
+    fn: ca.Function
+    model_hash: str | None
+    link: Path | None = None
+
+    def source(self):
+        """The target's C at the station, with its record (``generated.compile.function_source``)."""
+        from ...generated.compile import function_source
+
+        return function_source(self.fn, model_hash=self.model_hash, link=self.link)
 
 
 def _children_cpu() -> float:
@@ -31,18 +51,18 @@ def _children_cpu() -> float:
     return r.ru_utime + r.ru_stime
 
 
-def precompile(functions: list[ca.Function], *, flags: str, workers: int = 2, log=None) -> dict:
-    """Compile every Function into the cache.
+def precompile(targets: list[CompileTarget], *, flags: str, workers: int = 2, log=None) -> dict:
+    """Compile every target's Function into the cache, its C on the station's record as the engine's would be.
 
-    Returns the phase totals and ``builds``: one record per input Function, in order
+    Returns the phase totals and ``builds``: one record per target, in order
     (C size, compile wall time in this run, ~0 when it was already cached).
     """
-    from ...generated.compile import build_function, function_source
+    from ...generated.compile import build_function
     from ...generated.compiler import CompilerUnavailable
 
     jobs, index, seen = [], [], {}
-    for fn in functions:
-        source = function_source(fn)  # at the station, under its record, as the engines do
+    for target in targets:
+        source = target.source()  # at the station, under its record, as the engines do
         digest = source.key_payload["c_sha256"]
         if digest not in seen:
             seen[digest] = len(jobs)
@@ -85,12 +105,12 @@ def private_cache():
                 os.environ["APEXSEAL_CACHE"] = old
 
 
-def cold_compile(fn: ca.Function, *, flags: str) -> dict:
-    """Generate and compile ``fn`` from scratch (empty cache): wall and compiler CPU seconds, C size."""
+def cold_compile(target: CompileTarget, *, flags: str) -> dict:
+    """Generate and compile the target from scratch (empty cache): wall and compiler CPU seconds."""
     from ...generated.compile import compile_function
 
     with private_cache():
         w0, c0 = time.perf_counter(), _children_cpu()
-        compile_function(fn, flags=flags)
+        compile_function(target.fn, flags=flags, model_hash=target.model_hash, link=target.link)
         wall, cpu = time.perf_counter() - w0, _children_cpu() - c0
-    return {"function": fn.name(), "wall_s": wall, "compiler_cpu_s": cpu, "flags": flags}
+    return {"function": target.fn.name(), "wall_s": wall, "compiler_cpu_s": cpu, "flags": flags}

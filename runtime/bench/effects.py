@@ -21,6 +21,7 @@ import math
 
 from ...derive.effects import EFFECTS, Effects
 from .config import METHODS
+from .methods import compile_target
 from .metrics import time_at_error
 from .points import casadi_point
 from .problem import load_model, make_problem
@@ -49,9 +50,9 @@ def run_effects(scene, cfg, engines, *, precompile, log) -> list[dict]:
     targets, keys = [], []
     ref_tols = (cfg.reference_rtol, cfg.reference_event_tol)
     for label, _, functions, _ in models:
-        targets.append(engines.reference(label, functions, *ref_tols, compiled=False).vm)
+        targets.append(compile_target(engines.reference(label, functions, *ref_tols, compiled=False)))
         for value in spec_e.rtols:
-            targets.append(engines.get(label, functions, spec_c, value, compiled=False).vm)
+            targets.append(compile_target(engines.get(label, functions, spec_c, value, compiled=False)))
             keys.append((label, value))
     builds = precompile(targets)["builds"]
     builds = dict(zip(keys, [b for i, b in enumerate(builds) if i % (len(spec_e.rtols) + 1)], strict=True))

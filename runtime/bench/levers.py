@@ -14,7 +14,10 @@ rounds on the same process, medians kept:
 Variants: the lowering (generated/lower.py: tree walk memoised on sympy's hashing,
 then ``casadi.cse``; with or without ``sympy.cse`` first, generated/functions.py),
 and the compiler flag sets below, each on the project's lowering (without ``sympy.cse``:
-the baseline). A
+the baseline). Every variant is compiled at the station (:func:`compile_variant`): the records of its C name
+the model it embeds, the manifest's input hash or, for the ``sympy.cse`` lowering, which no manifest describes,
+the hash of its own record (generated/variant.py); a flag set other than the project's is named by
+``generated.compiler.register_flags``, from the flags themselves. A
 variant's results are compared with the baseline's (the largest difference of the scaled
 state over the revolution, in the benchmark's scaled-error metric) so that a flag that changes more than
 round-off shows; for scale, erk's own scaled error at rtol 1e-8 was ~6e-7 on the soft-contact first
@@ -30,8 +33,8 @@ import time
 import casadi as ca
 import numpy as np
 
-from ...generated import compile as gc
-from ...generated import functions as gf
+from ...generated.compile import compile_function
+from ...generated.compiler import register_flags
 
 BASE = "-O3 -march=native -ffp-contract=off"
 #: label -> compiler flags (the first is the project's "optimised" set, the baseline)
@@ -59,6 +62,20 @@ def _loop(fns, steps: int) -> ca.Function:
     return step.fold(steps)
 
 
+def compile_variant(fns, flags: str, *, steps: int, rtol: float, n_samples: int = 360, erk: bool = True):
+    """The plain loop of ``steps`` evaluations and (with ``erk``) the erk integrator with events of the model
+    Functions ``fns``, compiled at the station with the flag set ``flags``; both C files' records name
+    ``fns.model_hash``. Returns (loop, erk integrator or None)."""
+    from ..solving.event_integrator import EventIntegrator
+
+    loop = compile_function(_loop(fns, steps), flags=flags, model_hash=fns.model_hash)
+    if not erk:
+        return loop, None
+    omega = tuple(fns.parameter_names).index("omega")
+    return loop, EventIntegrator(fns.rhs, fns.guards, fns.rhs.size1_in(3), omega, method="erk", rtol=rtol, atol=None,
+                                 n_samples=n_samples, compile_c=True, flags=flags, model_hash=fns.model_hash)
+
+
 def _cpu(fn) -> float:
     c0 = time.process_time()
     fn()
@@ -66,6 +83,7 @@ def _cpu(fn) -> float:
 
 
 def measure(*, rtol: float = 1e-8, steps: int = 20000, rounds: int = 9, log=print) -> list[dict]:
+    from ...generated.variant import sympy_cse_variant
     from ..scenes.scene import load_scene
     from ..solving.event_integrator import EventIntegrator
     from .methods import EngineCache
@@ -74,11 +92,9 @@ def measure(*, rtol: float = 1e-8, steps: int = 20000, rounds: int = 9, log=prin
 
     scene = load_scene()
     sx, _ = load_model(scene.effects, scene.assumptions)
-    from ...derive.cache import cached_model
-
     log("lowering with sympy.cse first")
     c0 = time.process_time()
-    sx_cse = gf.build_functions(cached_model(scene.effects, scene.assumptions), sympy_cse=True)
+    sx_cse = sympy_cse_variant(scene.effects, scene.assumptions)
     lower_s = time.process_time() - c0
     engines = EngineCache(samples=360, span=2 * math.pi, flags="optimised")
     settle_engine, settle_settings = engines.settle(MODEL, sx, 1e-12, 1e-13)
@@ -94,12 +110,8 @@ def measure(*, rtol: float = 1e-8, steps: int = 20000, rounds: int = 9, log=prin
     w0 = np.r_[X, th, A, p, u]
     built = []
     for lowering, fns, flags in variants:
-        key = f"lever-{abs(hash(FLAGS[flags]))}"
-        gc.FLAG_SETS[key] = FLAGS[flags]
         log(f"compiling: {lowering}, {flags}")
-        loop = gc.compile_function(_loop(fns, steps), flags=key)
-        erk = EventIntegrator(fns.rhs, fns.guards, n_par, OMEGA, method="erk", rtol=rtol, atol=None, n_samples=360,
-                              compile_c=True, flags=key)
+        loop, erk = compile_variant(fns, register_flags(FLAGS[flags]), steps=steps, rtol=rtol)
         vm = EventIntegrator(fns.rhs, fns.guards, n_par, OMEGA, method="erk", rtol=rtol, atol=None, n_samples=360,
                              compile_c=False)
         stats = vm.run(problem.z0, p, problem.theta0, problem.pressures).stats

@@ -10,6 +10,10 @@ declares them extern and links against the library, which therefore also holds t
 * :func:`cold_builds`: what a cold run compiles in each form, in an empty cache: the model library and the
   integrator, wall seconds each.
 
+Everything is compiled at the station: the integrators' records name the model they embed or call, and the
+library before (:func:`before_library`), which no manifest describes, is a variant of the model with a record
+of its own (generated/variant.py).
+
 ``python -m apexseal.runtime.bench.linking [--flags quick|optimised] [--repeats N]`` prints both for the
 default scene.
 """
@@ -18,7 +22,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import tempfile
 import time
 import warnings
 from pathlib import Path
@@ -98,16 +101,18 @@ def integrator_before_after(problem, *, flags: str, repeats: int = 5) -> list[di
     return rows
 
 
-def _before_library(sx, folder: Path, flags: str) -> Path:
-    """The model library as it was before: the model's Functions without the hybrid ones."""
-    from ...files import sha256_file
-    from ...generated.codegen import write_c
-    from ...generated.compile import build_library
+#: what the model library before the integrators called it leaves out (its variant record's ``how``)
+BEFORE_LIBRARY = {"library": "the model's Functions without hybrid_ode, hybrid_zero and their derivatives: the model "
+                             "library before the erk integrator called it"}
+
+
+def before_library(sx, flags: str) -> Path:
+    """The model library as it was before: the model's Functions without the hybrid ones, a variant of the model
+    no manifest describes, compiled at the station under its own record (generated/variant.py)."""
+    from ...generated.variant import record_variant, variant_library
 
     base = dataclasses.replace(sx, hybrid_ode=None, hybrid_zero=None)
-    files = [folder / name for name in write_c(base, folder)]
-    return build_library({"kind": "bench-before", "files": [sha256_file(f) for f in files]}, files,
-                         "libapexseal_before_{key}.so", flags=flags)
+    return variant_library(record_variant(base, of=sx.model_hash, how=BEFORE_LIBRARY), flags=flags)
 
 
 def cold_builds(problem, *, flags: str, rounds: int = 1) -> list[dict]:
@@ -128,10 +133,10 @@ def cold_builds(problem, *, flags: str, rounds: int = 1) -> list[dict]:
     hybrid = [f.name() for f in library_groups(sx)["casadi_model"] if f.name().startswith("hybrid_")]
     rows = []
     for form in [BEFORE, AFTER, AFTER, BEFORE] * rounds:
-        with private_cache(), tempfile.TemporaryDirectory(prefix="apexseal-before-") as tmp:
+        with private_cache():
             w0 = time.perf_counter()
             if form == BEFORE:
-                _before_library(sx, Path(tmp), flags)
+                before_library(sx, flags)
                 engine = _integrator(sx, problem, flags=flags)
             else:
                 so = compile_library(loaded.source_dir, flags=flags, manifest=loaded.manifest)

@@ -15,6 +15,7 @@ import time
 from ..solving.fixed_step import RK4Integrator
 from ..solving.methods import make_engine
 from ..solving.settings import DEFAULT_PRESSURE, LIMITS, RunSettings
+from .compile_pool import CompileTarget
 from .config import MethodSpec
 
 
@@ -43,9 +44,11 @@ def build_engine(functions, spec: MethodSpec, value: float, *, samples: int, spa
     return make_engine(functions, st, n_samples=samples, span=span)
 
 
-def compile_target(engine):
-    """The CasADi Function that compiling this engine would generate to C (None: nothing to compile)."""
-    return getattr(engine, "vm", None) or getattr(engine, "function", None)
+def compile_target(engine) -> CompileTarget | None:
+    """What compiling this engine would generate to C, with the model and library its record names (None: nothing
+    to compile)."""
+    fn = getattr(engine, "vm", None) or getattr(engine, "function", None)
+    return None if fn is None else CompileTarget(fn, engine.model_hash, getattr(engine, "link", None))
 
 
 def normalise_stats(raw: dict, source: str) -> dict:

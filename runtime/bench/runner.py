@@ -51,12 +51,12 @@ def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
 
     engines = EngineCache(samples=cfg.samples, span=math.radians(cfg.span_deg), flags=cfg.flags, pressure=cfg.pressure)
 
-    def pool(functions):
-        return precompile(functions, flags=cfg.flags, workers=cfg.workers, log=log)
+    def pool(targets):
+        return precompile(targets, flags=cfg.flags, workers=cfg.workers, log=log)
 
     log("compiling integrators (C generated serially, gcc in parallel)")
     ref_tols = (cfg.reference_rtol, cfg.reference_event_tol)
-    targets = [engines.reference(MODEL, sx, *ref_tols, compiled=False).vm]
+    targets = [compile_target(engines.reference(MODEL, sx, *ref_tols, compiled=False))]
     for s in cfg.scenes:
         for mid, values in s.sweeps.items():
             spec = METHODS[mid]
@@ -275,9 +275,9 @@ def _cold_compile(summary, scenes, cfg, engines, sx, log) -> dict | None:
     pts = [p for p in scenes[0]["points"] if p["method"] == k and p["status"] == "ok"]
     reach = [p for p in pts if p["error"]["state"] <= cfg.target_error] or pts
     value = reach[0]["value"]
-    fn = compile_target(engines.get(MODEL, sx, spec, value, compiled=False))
+    target = compile_target(engines.get(MODEL, sx, spec, value, compiled=False))
     log(f"cold compile of {k} at {value:g} (empty cache)")
-    out = cold_compile(fn, flags=cfg.flags) | {"method": k, "value": value}
+    out = cold_compile(target, flags=cfg.flags) | {"method": k, "value": value}
     log(f"  {out['wall_s']:.1f} s wall, {out['compiler_cpu_s']:.1f} s compiler CPU")
     return out
 

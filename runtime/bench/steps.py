@@ -119,7 +119,7 @@ def inert_entries(rtols=(1e-6, 1e-8), rounds: int = 7, log=print) -> list[dict]:
                                                                           problem.z0[:n + ng])):
             with events_tested():
                 F = ca.integrator(f"inert_{len(variants)}", "erk", d, 0.0, grid, opts | {"transition": t})
-            variants[label] = (F, compile_function(F, flags="optimised"), z0)
+            variants[label] = (F, compile_function(F, flags="optimised", model_hash=functions.model_hash), z0)
         times: dict = {k: [] for k in variants}
         for _ in range(rounds):
             for label, (_, C, z0) in variants.items():

@@ -76,6 +76,8 @@ class EventIntegrator(Engine):
                   and library.hybrid_ode.is_a("External"))
         #: the compiled model library the integrator's DAE calls (None: the DAE embeds the model's SX)
         self.link = library.library if linked else None
+        #: the model whose Functions the integrator embeds or calls, as its compiled C's record names it
+        self.model_hash = model_hash
         externals = (library.hybrid_ode, library.hybrid_zero) if self.link is not None else None
         self.hybrid = build_hybrid_dae(rhs, guards, n_par, omega_index, event_tol=event_tol, state_names=state_names,
                                        pressure=pressure, library=externals)

@@ -70,6 +70,7 @@ class FixedStepIntegrator(Engine):
                  n_samples: int, steps_per_revolution: int, span: float = 2 * np.pi, compile_c: bool = True,
                  flags: str = "optimised", model_hash: str | None = None, state_names=None, pressure: str = "steps"):
         self.pressure = pressure
+        self.model_hash = model_hash  # the model the fold embeds, as its compiled C's record names it
         self.layout = layout = HybridLayout.sized(rhs_switched.size1_in(1), guards.size1_out(0))
         n_x, n_g = layout.n_x, layout.n_g
         self.n_samples = n_samples

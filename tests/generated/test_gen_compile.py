@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import json
 import multiprocessing as mp
 import os
+import subprocess
+import sys
 import warnings
 
 import casadi as ca
@@ -103,17 +106,46 @@ def test_no_compiler_falls_back_to_sx(monkeypatch, params, cc):
 
 
 def test_bench_precompile_fills_the_entry_compile_function_finds(fresh_cache):
-    """The benchmark's parallel pre-compilation and compile_function share one C file name and cache key."""
-    from apexseal.runtime.bench.compile_pool import precompile
+    """The benchmark's parallel pre-compilation and compile_function share one C file name and cache key, and
+    the pool's record names the model of what it compiled (it named none, and kept None after a run named it)."""
+    from apexseal.runtime.bench.compile_pool import CompileTarget, precompile
 
     f = _tiny("shared_key")
-    total = precompile([f, f], flags="quick", workers=1)
+    model = "d" * 64
+    total = precompile([CompileTarget(f, model), CompileTarget(f, model)], flags="quick", workers=1)
     assert total["functions"] == 1 and [b["error"] for b in total["builds"]] == [None, None]
+    (function_record,) = (fresh_cache / "gen" / "fn").glob("*/function.json")
+    assert json.loads(function_record.read_text())["uses"] == [{"model": model}]
     (record,) = (fresh_cache / "lib").glob("*/build.json")
     stamp = record.stat().st_mtime_ns
-    g = compile_function(f, flags="quick")
+    g = compile_function(f, flags="quick", model_hash=model)
+    assert json.loads(function_record.read_text())["uses"] == [{"model": model}]
     assert list((fresh_cache / "lib").glob("*/build.json")) == [record] and record.stat().st_mtime_ns == stamp
     assert float(g([0.5, 2.0])) == pytest.approx(np.sin(0.5) * 2 + 3, rel=1e-15)
+
+
+def test_a_flag_set_of_ones_own_is_registered_under_a_name_its_flags_give(fresh_cache):
+    """A measurement's flag set is named by :func:`compiler.register_flags`, from its flags: the same name in
+    another process (whose string hashes differ) and the project's name for the project's flags; the project's
+    sets cannot be changed in place (the levers' sets were written into them under ``hash()``'s keys)."""
+    flags = ("-O0", "-fno-math-errno")
+    name = comp.register_flags(flags)
+    code = f"from apexseal.generated.compiler import register_flags; print(register_flags({flags!r}))"
+    other = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                           env=os.environ | {"PYTHONHASHSEED": "12345"})
+    assert other.stdout.strip() == name != comp.register_flags(("-O0",))
+    assert comp.flag_list(name) == flags and name not in comp.FLAG_SETS
+    assert comp.register_flags(["-O1"]) == "quick"
+    with pytest.raises(TypeError):
+        comp.FLAG_SETS[name] = flags
+    compile_function(_tiny("own_flags"), flags=name)
+    (record,) = (fresh_cache / "lib").glob("*/build.json")
+    assert json.loads(record.read_text())["flags"] == list(flags)
+    for bad in ((), ("O2",), ("-O2 -g",)):
+        with pytest.raises(ValueError, match="flags"):
+            comp.register_flags(bad)
+    with pytest.raises(ValueError, match="register_flags"):
+        comp.flag_list("flags-000000000000")
 
 
 @pytest.fixture
