@@ -8,8 +8,10 @@ arguments``, ``SystemError: DM.__array__ returned a result with an exception set
 ends with status ``interrupted``. A second signal while the result is written is noted too, so the writing
 finishes (the folder is committed as one unit, runtime/results/folder.py).
 
-Outside the main thread signals cannot be caught: there the context does nothing and Ctrl-C raises
-``KeyboardInterrupt`` as usual (the run loop still catches it between calls).
+Outside the main thread signals cannot be caught: there the context catches nothing and Ctrl-C raises
+``KeyboardInterrupt`` as usual (the run loop still catches it between calls). What stops the work there is a
+:meth:`StopSignals.request` from another thread (a sweep's point on a Dask worker, stopped by its sweep): the
+instances nested in that thread share its outermost one, as those of the main thread share the active one.
 """
 
 from __future__ import annotations
@@ -26,6 +28,10 @@ CAUGHT = (signal.SIGINT, signal.SIGTERM)
 def _main() -> bool:
     """True in the main thread, the one Python runs signal handlers in."""
     return threading.current_thread() is threading.main_thread()
+
+
+#: per thread other than the main one: ``outer``, its outermost :class:`StopSignals` (which nested ones share)
+_thread = threading.local()
 
 
 class StopSignals:
@@ -54,14 +60,21 @@ class StopSignals:
         if StopSignals._active is not None:  # nested (in another thread too: it sees the main thread's signals)
             self._outer = StopSignals._active
             return self._outer
-        if not _main():  # signals reach the main thread only: an instance here is inert and never the active one,
-            return self  # so that the main thread's, entered later, still catches them
+        if not _main():  # signals reach the main thread only: an instance here catches none and is never the active
+            outer = getattr(_thread, "outer", None)  # one, so that the main thread's, entered later, still catches
+            if outer is not None:  # them; the thread's nested instances share its outermost (request() reaches them)
+                self._outer = outer
+                return outer
+            _thread.outer = self
+            return self
         for s in CAUGHT:
             self._previous[s] = signal.signal(s, self._note)
         StopSignals._active = self
         return self
 
     def __exit__(self, *exc) -> None:
+        if self._outer is None and getattr(_thread, "outer", None) is self:
+            _thread.outer = None
         if self._outer is not None or StopSignals._active is not self:
             return
         for s, handler in self._previous.items():
@@ -74,11 +87,17 @@ class StopSignals:
             signal.raise_signal(signal.SIGTERM)  # its handler now: by default the process ends, as it was asked
 
     def _note(self, signum, frame) -> None:
-        self.received.append(signum)
-        for engine in self._engines:  # engines that check their deadline inside a call stop at the next check
-            engine.deadline = -math.inf
+        self.request(signum)
         if self.raising:
             raise KeyboardInterrupt
+
+    def request(self, signum: int = signal.SIGTERM) -> None:
+        """Stop the work inside as the signal ``signum`` would: noted, and the watched engines stop at their next
+        deadline check. From another thread too: how a sweep stops its points on Dask workers, where no signal
+        reaches the thread that runs them (runtime/studies/sweep/point.py)."""
+        self.received.append(signum)
+        for engine in list(self._engines):  # engines that check their deadline inside a call stop at the next check
+            engine.deadline = -math.inf
 
     def ignore_after(self) -> None:
         """On leaving, ignore further SIGINT/SIGTERM instead of restoring the previous handlers: for a process that

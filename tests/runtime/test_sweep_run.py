@@ -155,6 +155,44 @@ def test_ctrl_c_on_the_terminal_stops_a_dask_sweep_without_the_workers_traceback
     assert "Traceback" not in stderr and "interrupted: run the same command again" in stderr, stderr
 
 
+def test_a_signal_stops_the_points_running_on_a_dask_cluster_not_only_the_sweep(tmp_path):
+    """SIGTERM while a long point runs on a cluster (a client's own, as on a shared cluster): the sweep returned,
+    but the point ran on to its end (minutes), holding its worker; now it stops at its run's next check as a
+    serial sweep's point does, the point not started is cancelled, and the finished one is kept."""
+    from dask.distributed import Client
+
+    from apexseal.runtime.studies.sweep.execute import local_cluster
+
+    study = light_study(**{'"operation.revolutions" = 1': "", '"spring.ks"]': '"operation.revolutions"]',
+                           'from = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"': "values = [1, 100000, 100000]",
+                           '"1 mm", "2 mm", "3 mm", "4 mm"': '"2 mm"', '"60 s"': '"300 s"'})
+    assert [p.key for p in study.parameters] == ["operation.revolutions", "spring.delta_s"]
+
+    def on_row(row):  # the first, short point is written: the next, long one runs on the only worker
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    with local_cluster(1) as cluster, Client(cluster) as client:
+        report = run_sweep(study, tmp_path / "out", client=client, quiet=True, on_row=on_row)
+        assert report.interrupted and list(report.table["point"]) == [0]
+        assert (report.table["status"] == "completed").all()
+        assert list(read_results(tmp_path / "out")["point"]) == [0]  # the table on disk: resumable
+        # the worker is free again: the long point was stopped, not left to run out its 300 s budget
+        assert client.submit(os.getpid, pure=False).result(timeout=30) > 0
+
+
+def test_a_signal_while_a_dask_sweep_writes_a_point_keeps_that_point(tmp_path, signalled_in):
+    """SIGTERM while the row of a finished point was written raised there (KeyboardInterrupt), and the point was
+    lost; now the signal is noted, the row written whole, and the sweep stops after it."""
+    from apexseal.runtime.studies.sweep.store import Store
+
+    signalled_in(Store, "write")
+    rows = []
+    report = run_sweep(light_study(), tmp_path / "out", workers=2, quiet=True, on_row=lambda r: rows.append(r["point"]))
+    assert report.interrupted and report.where == "LocalCluster"
+    assert 1 <= len(rows) < 16 and sorted(rows) == sorted(report.table["point"])
+    assert sorted(read_results(tmp_path / "out")["point"]) == sorted(rows)
+
+
 def test_a_second_sweep_into_a_folder_being_written_is_refused(tmp_path):
     """Two sweeps at once into one folder mixed their rows (and results.parquet named the other study)."""
     from apexseal.runtime.studies.sweep.store import Store, StoreError

@@ -4,7 +4,8 @@ The scenes of all points are built and checked here first (a bad value stops the
 the point, the key, the value and the allowed range). Points whose part-file exists are skipped (resume). The
 others run through :func:`.point.run_point`, at most a few per worker in flight, and each row is written by this
 process as soon as it arrives. Dask reschedules the points of a worker that dies, so a killed worker costs only
-the points it was running. Ctrl-C stops after writing every finished point; the same command resumes.
+the points it was running. Ctrl-C (or SIGTERM) stops the running points at their next check, serially and on
+Dask alike, keeps every finished point and drops those cut short; the same command resumes.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from __future__ import annotations
 import logging
 import signal
 import time
+import uuid
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -205,56 +207,87 @@ def _started_cluster(workers: int):
                            "another sweep in every worker: call it under `if __name__ == \"__main__\":`") from err
 
 
+#: how often (s) the wait for a cluster's points looks whether a signal came
+POLL_S = 0.05
+
+
 def _dask(todo, args, record, study, n, scheduler, client):
     """The points on a Dask cluster (the one at ``scheduler``, ``client``'s, or a LocalCluster of ``n`` workers).
-    SIGINT and SIGTERM stop it: the points in flight are dropped, every finished one is kept. SIGTERM raises
-    ``KeyboardInterrupt`` as Ctrl-C does while this process only starts a cluster and waits for its points (no
-    CasADi call runs here, so raising is safe): ``kill`` and batch schedulers stop it as cleanly as Ctrl-C."""
-    from ...solving.signals import handling
 
-    with handling(signal.SIGTERM, signal.default_int_handler):
-        try:
-            return _on_cluster(todo, args, record, study, n, scheduler, client)
-        except KeyboardInterrupt:  # while the cluster starts or stops
-            return scheduler or "LocalCluster", n, True
+    SIGINT and SIGTERM are caught as the serial path catches them (:class:`StopSignals`, for the whole sweep):
+    while the cluster starts, a signal abandons it at once (nothing is computed yet); while the points run, it is
+    acted on within :data:`POLL_S`, never in the middle of writing a row: the points not started are cancelled,
+    those running are stopped at their next check (:func:`_stop`), every finished one is kept, and the cluster this
+    sweep started is closed."""
+    from ...solving.signals import StopSignals
+
+    try:
+        with StopSignals() as signals:
+            return _on_cluster(todo, args, record, study, n, scheduler, client, signals)
+    except KeyboardInterrupt:  # while the cluster starts
+        return scheduler or "LocalCluster", n, True
 
 
-def _on_cluster(todo, args, record, study, n, scheduler, client):
+def _on_cluster(todo, args, record, study, n, scheduler, client, signals):
     from dask.distributed import Client, as_completed
+
+    from ...solving.signals import StopSignals
 
     own_cluster = own_client = None
     try:
-        if client is None:
-            if scheduler:
-                client = own_client = Client(scheduler)
-            else:
-                own_cluster = _started_cluster(n)
-                client = own_client = Client(own_cluster)
-        where = scheduler or ("LocalCluster" if own_cluster is not None else str(client.scheduler.address))
-        n = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})) or n)
-        tag = study.content_hash()[:12]
+        with StopSignals.abandoning():  # nothing computed yet: a signal stops the cluster's start at once
+            if client is None:
+                if scheduler:
+                    client = own_client = Client(scheduler)
+                else:
+                    own_cluster = _started_cluster(n)
+                    client = own_client = Client(own_cluster)
+            where = scheduler or ("LocalCluster" if own_cluster is not None else str(client.scheduler.address))
+            n = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})) or n)
+        # this run of the sweep: its points' task keys, and what stops them on the workers (point.stop_points)
+        stop_key = f"apexseal-sweep-{study.content_hash()[:12]}-{uuid.uuid4().hex[:8]}"
         queue = iter(todo)
+        running: set = set()
 
         def submit(point):
             i, scene, overrides = point
-            return client.submit(run_point, i, scene, overrides, *args, key=f"apexseal-sweep-{tag}-{i}", pure=False)
+            fut = client.submit(run_point, i, scene, overrides, *args, stop_key=stop_key, key=f"{stop_key}-{i}",
+                                pure=False)
+            running.add(fut)
+            return fut
 
         flight = as_completed([submit(p) for p in _take(queue, 2 * n)])
-        try:
-            for fut in flight:
+        while not flight.is_empty():
+            if signals.requested:
+                _stop(client, running, stop_key, signals.received[0])
+                flight.clear()
+                return where, n, True
+            done = flight.next_batch(block=False)
+            if not done:
+                time.sleep(POLL_S)
+            for fut in done:
                 record(fut.result())
+                running.discard(fut)
                 fut.release()
                 for p in _take(queue, 1):
                     flight.add(submit(p))
-        except KeyboardInterrupt:
-            flight.clear()
-            return where, n, True
-        return where, n, False
+        return where, n, signals.requested
     finally:
         if own_client is not None:
             own_client.close()
         if own_cluster is not None:
             own_cluster.close()
+
+
+def _stop(client, futures, stop_key: str, signum: int) -> None:
+    """Stop a sweep's points on the cluster: cancel those not done (no other one starts), and stop those running
+    on every worker as a signal stops a serial sweep's point (:func:`.point.stop_points`): at the run's next
+    check, not when the point would have ended. Their rows are never written (a point cut short is not a result;
+    the resumed sweep computes it)."""
+    from .point import stop_points
+
+    client.cancel(list(futures))
+    client.run(stop_points, stop_key, signum, on_error="ignore")
 
 
 def _take(it, k: int) -> list:

@@ -4,6 +4,10 @@ This is what a worker runs. It uses only the public API (``apexseal.simulate``) 
 gives exactly what ``apexseal simulate`` of the same scene gives. A point never raises: a run that fails, chatters
 or uses up its budget is a row with its status and stop reason (and the quantities of what it computed); an
 exception is a row with status ``error`` and the exception's text.
+
+On Dask no signal reaches the thread a point runs in: a sweep that a signal stops runs :func:`stop_points` on
+every worker, which stops that sweep's running points as the signal stops a serial sweep's (at the run's next
+check) and any of its points that starts afterwards at once.
 """
 
 from __future__ import annotations
@@ -12,6 +16,7 @@ import contextlib
 import io
 import math
 import os
+import signal
 import socket
 import sys
 import time
@@ -25,9 +30,52 @@ _noticed = False
 STATUSES = ("completed", "interrupted", "failed", "chattering", "error")
 
 
+#: the sweeps :func:`stop_points` stopped in this process, and the stop signal of each
+_STOPPED: dict[str, int] = {}
+#: the points running in this process, by their sweep's ``stop_key``: the StopSignals of each
+_RUNNING: dict[str, list] = {}
+
+
+def stop_points(stop_key: str, signum: int = signal.SIGTERM) -> int:
+    """Stop the points of the sweep ``stop_key`` in this process as the signal ``signum`` stops a run: those running
+    at their next check, those starting later at once. Returns how many were running. A sweep that a signal stops
+    runs this on every Dask worker (``Client.run``)."""
+    _STOPPED[stop_key] = signum
+    running = list(_RUNNING.get(stop_key, ()))
+    for signals in running:
+        signals.request(signum)
+    return len(running)
+
+
+class _Stopped(Exception):
+    """A point whose sweep was stopped before it started."""
+
+
+@contextlib.contextmanager
+def _stoppable(stop_key: str | None):
+    """The block as one unit :func:`stop_points` can stop (nothing without ``stop_key``): yields its StopSignals,
+    which the run inside shares (runtime/solving/signals.py), or None."""
+    if stop_key is None:
+        yield None
+        return
+    from ...solving.signals import StopSignals
+
+    with StopSignals() as signals:
+        _RUNNING.setdefault(stop_key, []).append(signals)
+        try:
+            if stop_key in _STOPPED:
+                signals.request(_STOPPED[stop_key])
+            yield signals
+        finally:
+            _RUNNING[stop_key].remove(signals)
+            if not _RUNNING[stop_key]:
+                del _RUNNING[stop_key]
+
+
 def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[str, ...],
-              max_wall_time: float) -> dict[str, Any]:
-    """Simulate ``scene`` (the study's base scene with ``overrides`` applied) and return its row."""
+              max_wall_time: float, stop_key: str | None = None) -> dict[str, Any]:
+    """Simulate ``scene`` (the study's base scene with ``overrides`` applied) and return its row. ``stop_key``: the
+    key :func:`stop_points` stops it with (a point on Dask)."""
     import apexseal
 
     from ...results.quantities import collect
@@ -36,11 +84,17 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
     t0 = time.perf_counter()
     row: dict[str, Any] = {"point": int(index), "scene_hash": scene.content_hash(), **overrides}
     try:
-        with _quiet_notice(), engine_pool.reusing():  # the points of a model and settings share one engine
-            result = apexseal.simulate(scene, max_wall_time=max_wall_time)
+        with _stoppable(stop_key) as signals:
+            if signals is not None and signals.requested:  # its sweep was stopped before it started
+                raise _Stopped(f"not run: its sweep was stopped by {signals.sender()} before it started")
+            with _quiet_notice(), engine_pool.reusing():  # the points of a model and settings share one engine
+                result = apexseal.simulate(scene, max_wall_time=max_wall_time)
         values = collect(result, quantities)
         row.update(status=result.status, stop="" if result.stop is None else result.stop.describe())
         run_time = float(result.info.get("wall_time_s", math.nan))
+    except _Stopped as stopped:
+        values, run_time = dict.fromkeys(quantities, math.nan), math.nan
+        row.update(status="interrupted", stop=str(stopped))
     except Exception as err:  # noqa: BLE001 - a point records its failure, the sweep goes on
         values, run_time = dict.fromkeys(quantities, math.nan), math.nan
         row.update(status="error", stop=f"{type(err).__name__}: {err}")
@@ -49,6 +103,7 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
     row["run_time_s"] = run_time  # the integration alone (SimulationResult.info["wall_time_s"])
     row["worker"] = f"{socket.gethostname()}:{os.getpid()}"
     return row
+
 
 
 @contextlib.contextmanager
