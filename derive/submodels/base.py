@@ -3,11 +3,11 @@
 A :class:`Submodel` declares, as class attributes, its parameters (:class:`~..parameters.Parameter`: unit,
 meaning, scene key, range, default), its option slots (:class:`~..options.Option`), its guards
 (:class:`Guard`: the contact is closed while the guard is negative; the name of its output and the labels of
-its modes), which option switches it on, its (stiffness, damping) pairs for the explicit-Euler stability check,
-its damping coefficients that a ratio of critical damping may state instead, and plain numeric functions for its
-other derived parameters. Its laws are written in :meth:`Submodel.contacts`,
-which returns the loads it puts on the seal, given a :class:`Context` (kinematics, contact geometry, options,
-parameter symbols, the chamber pressures, activation symbols).
+its modes), which option switches it on, its (stiffness, damping) pairs and its friction laws that can stick
+(:class:`Friction`) for the explicit-Euler stability checks, its damping coefficients that a ratio of critical
+damping may state instead, and plain numeric functions for its other derived parameters. Its laws are written in
+:meth:`Submodel.contacts`, which returns the loads it puts on the seal, given a :class:`Context` (kinematics, contact
+geometry, options, parameter symbols, the chamber pressures, activation symbols).
 
 Declarations import no sympy (a scene is read without it); :meth:`Submodel.contacts` imports what it needs.
 """
@@ -63,6 +63,27 @@ class Guard:
         import sympy as sp
 
         return sp.Symbol(self.activation, nonnegative=True)
+
+
+@dataclass(frozen=True)
+class Friction:
+    """A regularised Coulomb law mu N tanh(v / v_eps) of the submodel (:func:`.laws.coulomb`; Algorithm 1, Eq. 73)
+    whose sliding velocity passes through zero (the seal sticks and slips back). There the law is a damper of
+    coefficient mu N / v_eps on each contact's sliding velocity, the seal's slide minus the contact's offset across
+    the sliding direction times the seal's turning rate; with the seal's mass ms and inertia Icg (Eq. 80) the law
+    damps at the rates of the eigenvalues of M^-1 C, C = mu / v_eps sum N_c (1, -d_c)^T (1, -d_c) over its contacts
+    c at offsets d_c. Explicit Euler resolves them only with a step h of at most 2 / rate
+    (runtime/solving/euler_friction.py)."""
+
+    #: the friction coefficient's parameter (the law is off, and not checked, while it has no slot)
+    mu: str
+    #: the contacts whose normal forces it multiplies (their outputs F_<c>_X, F_<c>_Y, Pf_<c>), all sliding one way
+    contacts: tuple[str, ...]
+    #: each contact's offset d_c from the centre of gravity across the sliding direction, signed, as (factor,
+    #: parameter): factor * parameter; empty: every contact on the line through the centre of gravity
+    offsets: tuple[tuple[float, str], ...] = ()
+    #: what slides, for messages (e.g. "the seal along the groove walls")
+    slide: str = ""
 
 
 @dataclass
@@ -131,6 +152,8 @@ class Submodel:
     switch: ClassVar[str | None] = None
     #: (stiffness, damping) parameter names of the oscillators it adds (explicit-Euler stability check)
     oscillators: ClassVar[tuple[tuple[str, str], ...]] = ()
+    #: its friction laws whose sliding velocity passes through zero (explicit-Euler stability check)
+    frictions: ClassVar[tuple[Friction, ...]] = ()
     #: (name, SI unit, meaning) of each of its named :meth:`outputs`, optionally followed by the unit results show
     #: it in and the factor to it from SI (e.g. "g/s", 1e3): the result's column, its CSV header and docs
     output_columns: ClassVar[tuple[tuple, ...]] = ()

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from ..options import NONE, ON, Option
 from ..parameters import CONTACT_STIFFNESS, Parameter
-from .base import ContactModel, Context, Guard, Load, Submodel
+from .base import ContactModel, Context, Friction, Guard, Load, Submodel
 
 #: contact -> (seal point, stiffness, normal direction (frame, axis, sign), tangent direction (frame, axis)); its
 #: gap is the guard that names it as its contact
@@ -62,6 +62,10 @@ class GrooveContacts(Submodel):
               _gap("b3", "i2", "g3, the mouth corner on the seal's positive side", "42"),
               _gap("b4", "c4", "g4, the back corner c4 on the positive wall", "43"))
     oscillators = tuple((f"kg{i}", "cr") for i in range(1, 5))
+    #: the seal slides along the groove walls at its corners, Ws/2 on either side of its centre of gravity (Eqs. 19-20;
+    #: i1 and c2 on its -Ys side), and sticks there whenever its radial motion reverses
+    frictions = (Friction("mu2", tuple(_CONTACTS), offsets=((-0.5, "Ws"), (-0.5, "Ws"), (0.5, "Ws"), (0.5, "Ws")),
+                          slide="the seal along the groove walls"),)
     damping_ratios = (("cr", "zeta_g"),)
 
     def contacts(self, ctx: Context) -> list[ContactModel]:

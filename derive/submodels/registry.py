@@ -28,7 +28,7 @@ from contextlib import contextmanager
 
 from ..options import Option
 from ..parameters import Parameter
-from .base import Guard, State, Submodel, built_in
+from .base import Friction, Guard, State, Submodel, built_in
 from .sources import source_key
 
 #: the built-in submodels, in registration order
@@ -146,6 +146,19 @@ def register(cls: type[Submodel], *, check_needs: bool = True) -> type[Submodel]
         raise RegistryError(f"submodel {cls.name!r} declares guards of contacts it does not declare: "
                             f"{', '.join(strays)} (its contacts: {', '.join(own)}; a guard names its contact "
                             "with contact=...)")
+    loose = sorted({c for f in cls.frictions for c in f.contacts} - set(own))
+    if loose:
+        raise RegistryError(f"submodel {cls.name!r} declares friction laws on contacts it does not declare: "
+                            f"{', '.join(loose)} (its contacts: {', '.join(own)})")
+    mine = {p.name for p in cls.parameters}
+    unknown = sorted({f.mu for f in cls.frictions} - mine)
+    if unknown:
+        raise RegistryError(f"submodel {cls.name!r} declares friction laws whose coefficient is none of its "
+                            f"parameters: {', '.join(unknown)}")
+    uneven = [f.mu for f in cls.frictions if f.offsets and len(f.offsets) != len(f.contacts)]
+    if uneven:
+        raise RegistryError(f"submodel {cls.name!r} declares friction laws ({', '.join(uneven)}) whose offsets are "
+                            "not one per contact")
     known = set(options()) | {o.name for o in cls.options}
     if check_needs:
         _check_needs(cls)
@@ -394,6 +407,12 @@ def oscillators(opts=None) -> tuple[tuple[str, str], ...]:
     """The (stiffness, damping) pairs of the active submodels (all with ``opts`` None), for the explicit-Euler
     stability check."""
     return tuple(pair for cls in submodels() if opts is None or cls.active(opts) for pair in cls.oscillators)
+
+
+def frictions(opts=None) -> tuple[Friction, ...]:
+    """The friction laws that can stick of the active submodels (all with ``opts`` None), for the explicit-Euler
+    stability check of the friction regularisation."""
+    return tuple(f for cls in submodels() if opts is None or cls.active(opts) for f in cls.frictions)
 
 
 def alternatives() -> tuple[tuple[str, str], ...]:

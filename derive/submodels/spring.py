@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from ..options import NONE, ON, Option
 from ..parameters import Parameter
-from .base import ContactModel, Context, Guard, Load, Submodel
+from .base import ContactModel, Context, Friction, Guard, Load, Submodel
 
 
 class SpringContact(Submodel):
@@ -38,6 +38,9 @@ class SpringContact(Submodel):
     guards = (Guard("spring", "s_sp", "minus the spring's compression (Eq. 38)", output="spring_compression",
                     sign=-1, closed_label="s", open_label="s0", closed_at_rest=True),)
     oscillators = (("ks", "cs"),)
+    #: the back face slides across the spring at s6, ds2 behind the centre of gravity (Eq. 36), and sticks there
+    #: whenever the seal's lateral motion reverses
+    frictions = (Friction("mus", ("spring",), offsets=((-1.0, "ds2"),), slide="the seal's back face across the spring"),)
     damping_ratios = (("cs", "zeta_s"),)
 
     def contacts(self, ctx: Context) -> list[ContactModel]:

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: fc216d6edf97272754637d2032a4ab7440b555aec71312d9401499bf465ab5c7.
+ * Effects: all. Input hash: 3f46961307238bb8c4a5cb344dfe3247763abf9e27ba9c31f40fde0a7ca407d6.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "fc216d6edf97272754637d2032a4ab7440b555aec71312d9401499bf465ab5c7"
+#define APEXSEAL_INPUT_HASH "3f46961307238bb8c4a5cb344dfe3247763abf9e27ba9c31f40fde0a7ca407d6"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -1,5 +1,5 @@
-"""What is checked after every integrator call: finite states within the model's geometry, chattering, missed
-events, the event budget."""
+"""What is checked after every integrator call: finite states within the model's geometry, explicit Euler's steps on
+the friction regularisation, chattering, missed events, the event budget."""
 
 from __future__ import annotations
 
@@ -9,8 +9,9 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..results.result import StopInfo
-from ..results.sampled import guards_at
+from ..results.sampled import guards_at, outputs_at
 from ..scenes.damping import MAX_DAMPING_RATIO, WHY, guard_damping
+from .euler_friction import FrictionWatch
 from .euler_integrator import contact_growth
 from .layout import HybridLayout
 from .methods import method_of
@@ -74,6 +75,8 @@ class RunChecks:
         self.theta_start = theta_start
         self.layout = HybridLayout.of(functions)
         self.omega = functions.omega(params)
+        self.sticking = (FrictionWatch(functions, params, settings.steps_per_revolution)
+                         if settings.method == "euler" else None)
 
     def finite(self, Z, thetas) -> tuple[np.ndarray, tuple | None]:
         """Z up to its first non-finite sample, and the failure it means (None if all finite)."""
@@ -107,6 +110,24 @@ class RunChecks:
                   f"for tilts of a few degrees; the run stops past {np.degrees(MAX_TILT):g} deg): check the initial "
                   "state (operation.initial_state.phi, phid) and the contacts that should hold the seal")
         return Z[:, :k], ("failed", StopInfo(thetas[k] - self.theta_start, lay.mode(last), reason))
+
+    def friction(self, Z, thetas, P) -> tuple[np.ndarray, tuple | None]:
+        """Explicit Euler only: Z up to its first sample at which a friction law that can stick has had its
+        regularisation beyond Euler's stable step over more than a share of the revolution
+        (runtime/solving/euler_friction.py), and the failure it means (None if none has)."""
+        watch, lay = self.sticking, self.layout
+        if watch is None or not watch.active or not Z.shape[1]:
+            return Z, None
+        n = Z.shape[1]  # a call cut short (a wall-time budget) has fewer samples than its intervals
+        thetas, X = thetas[:n], to_physical(Z[lay.x], self.omega, lay.state_names)
+        Y, _ = outputs_at(self.functions, thetas, X, Z[lay.active] > 0.5, self.params, P[:, :n])
+        dth = thetas[1] - thetas[0] if thetas.size > 1 else 2 * np.pi / self.settings.samples_per_revolution
+        found = watch.check(int((thetas[0] - self.theta_start) // (2 * np.pi)), Y, dth)
+        if found is None:
+            return Z, None
+        k, step = found
+        last = Z[lay.active, k - 1] if k else Z[lay.active, 0]
+        return Z[:, :k], ("failed", StopInfo(thetas[k] - self.theta_start, lay.mode(last), step.describe()))
 
     def events(self, Z, z_start, thetas, P, z_rev) -> tuple | None:
         """Chattering, a missed contact event, or more events in this revolution than allowed."""

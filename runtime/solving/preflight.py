@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from ..results.result import StopInfo
+from .euler_friction import friction_at_start
 from .euler_integrator import MAX_GROWTH, contact_frequencies, contact_growth
 from .layout import mode_label
 from .settings import RunSettings
@@ -111,7 +112,9 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u) -> 
       seal deep inside a wall (:func:`start_problem`): both name the scene value;
     * NaN/Inf in the right-hand side;
     * explicit Euler with a step that amplifies a contact oscillation more than
-      MAX_GROWTH times per revolution (runtime/solving/euler_integrator.contact_growth);
+      MAX_GROWTH times per revolution (runtime/solving/euler_integrator.contact_growth), or too long for the
+      friction regularisation at the normal forces of the start, the spring's preload
+      (runtime/solving/euler_friction.friction_at_start);
     * NaN/Inf in the derivative of the right-hand side, for every method but the
       fixed-step ones without Jacobians (euler, rk): an infinite partial derivative
       with respect to a parameter (a function of the parameters at the edge of its domain,
@@ -133,6 +136,9 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u) -> 
         worst = growth[0] if growth else None
         if worst is not None and worst.log_growth > math.log(MAX_GROWTH):
             return StopInfo(0.0, mode, worst.describe(settings.steps_per_revolution))
+        sticking = friction_at_start(functions, params, settings.steps_per_revolution, theta, X, closed, u)
+        if sticking is not None:
+            return StopInfo(0.0, mode, sticking.describe())
     if settings.method not in NEEDS_DERIVATIVES:
         return None
     try:  # the Jacobian Function: jac_rhs of the compiled library, or of SX Functions

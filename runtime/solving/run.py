@@ -5,7 +5,8 @@
 integrator call, or ``calls_per_revolution`` calls (36, 10 degrees each, when a
 wall-time budget is set, so the budget is checked often enough). Nothing computed is lost, and every
 run ends with a named reason: on SIGINT or SIGTERM (acted on between calls, :mod:`.signals`), a solver
-failure, a non-finite state, a missed contact event, chattering or a used-up wall-time budget, the result keeps
+failure, a non-finite state, explicit Euler's step beyond a sticking friction's (:mod:`.euler_friction`), a missed
+contact event, chattering or a used-up wall-time budget, the result keeps
 every finished sample and says where (crank angle, contact case) and why it
 stopped (docs/hard-cases.md lists what each reason means and what to do).
 The checks after each call are in :mod:`.checks`, the diagnosis of a failed call in :mod:`.diagnosis`.
@@ -154,6 +155,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 Z, bad = check.finite(Z, edges[1:])
                 if bad is None:
                     Z, bad = check.tilt(Z, edges[1:])
+                if bad is None:
+                    Z, bad = check.friction(Z, edges[1:], P)
                 failure = failure or bad
                 found = failure or check.events(Z, z, edges[1:], P, z_rev)
                 Z = _up_to_stop(Z, edges, theta_start, found)

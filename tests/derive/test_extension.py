@@ -18,7 +18,7 @@ import apexseal
 from apexseal.derive.options import NONE, ON, Option, Options
 from apexseal.derive.parameters import Parameter
 from apexseal.derive.submodels import registry
-from apexseal.derive.submodels.base import ContactModel, Context, Guard, Load, Submodel
+from apexseal.derive.submodels.base import ContactModel, Context, Friction, Guard, Load, Submodel
 from apexseal.runtime.scenes.errors import SceneError
 from apexseal.runtime.scenes.units import PlausibilityWarning
 
@@ -113,6 +113,24 @@ def test_a_guard_of_a_contact_the_submodel_does_not_declare_is_refused():
                                          "guards": (Guard("gp1", "s_gp1", "pad gap", output="p1_gap"),)})
     with pytest.raises(registry.RegistryError, match=r"does not declare: pads \(its contacts: p1, p2;"):
         registry.register(unnamed)
+    assert not registry.extended()
+
+
+def test_a_friction_law_on_a_contact_or_coefficient_the_submodel_does_not_declare_is_refused():
+    mu = Parameter("mu_f", "1", "film friction", key="friction.mu_f", default=0.1, ge=0, lt=1)
+    stray = type("Film", (Submodel,), {"name": "film", "__module__": "elsewhere", "parameters": (mu,),
+                                       "frictions": (Friction("mu_f", ("wiper",)),)})
+    with pytest.raises(registry.RegistryError, match=r"friction laws on contacts it does not declare: wiper \(its "
+                                                     r"contacts: film\)"):
+        registry.register(stray)
+    borrowed = type("Film", (Submodel,), {"name": "film", "__module__": "elsewhere", "parameters": (mu,),
+                                          "frictions": (Friction("mu2", ("film",)),)})
+    with pytest.raises(registry.RegistryError, match=r"friction laws whose coefficient is none of its parameters: mu2"):
+        registry.register(borrowed)
+    uneven = type("Film", (Submodel,), {"name": "film", "__module__": "elsewhere", "parameters": (mu,),
+                                        "frictions": (Friction("mu_f", ("film",), offsets=((0.5, "Ws"), (-0.5, "Ws"))),)})
+    with pytest.raises(registry.RegistryError, match=r"friction laws \(mu_f\) whose offsets are not one per contact"):
+        registry.register(uneven)
     assert not registry.extended()
 
 
