@@ -90,7 +90,8 @@ class GrooveContacts(Submodel):
             guards = {f"v_{point}_n": closing}
             normal = laws.penalty(P[k_name], -gap, act)  # |b| kg while b < 0 (a contact cannot pull)
             if opts.on("groove_damping"):
-                normal = laws.damped(normal, P["cr"], closing, act, opts["damping"])
+                normal = laws.damped(normal, P["cr"], closing, act, opts["damping"],
+                                     laws.damper_depth(ctx, guard_of[point], -gap))
             force, power = normal * n, sp.S.Zero
             if opts.on("groove_friction"):
                 v_slide = v.dot(tangent)

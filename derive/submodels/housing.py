@@ -75,7 +75,7 @@ class HousingContact(Submodel):
         if not groove_axis:
             Fw = Fw * sp.cos(lam)  # normal force
         if opts.on("housing_damping"):
-            Fw = laws.damped(Fw, P["cw"], closing, act, opts["damping"])
+            Fw = laws.damped(Fw, P["cw"], closing, act, opts["damping"], laws.damper_depth(ctx, self.guards[0], g.xs5))
 
         if opts.on("housing_friction"):
             v_slide = v_abs.dot(t_fwd)

@@ -1,8 +1,9 @@
 """Contact laws shared by every contact, written once (sympy's actuators are the model).
 
 Each contact combines them: an elastic penalty force that never pulls, damping that acts on approach only
-(Eqs. 55, 62, 67, 73) and, by ``options["damping"]``, only while the contact is closed, and Coulomb friction
-regularised as tanh(v / v_eps) (Algorithm 1, Eq. 73) with the power it dissipates.
+(Eqs. 55, 62, 67, 73) and, by ``options["damping"]``, only while the contact is closed, and by
+``options["damping_law"]`` in proportion to the penetration (:func:`damper_depth`; not in the paper), and Coulomb
+friction regularised as tanh(v / v_eps) (Algorithm 1, Eq. 73) with the power it dissipates.
 """
 
 from __future__ import annotations
@@ -20,11 +21,31 @@ def penalty(stiffness: sp.Expr, penetration: sp.Expr, activation: sp.Expr) -> sp
     return activation * stiffness * sp.Max(penetration, 0)
 
 
-def damped(normal: sp.Expr, damping: sp.Expr, closing: sp.Expr, activation: sp.Expr, rule: str) -> sp.Expr:
-    """The normal force plus c * max(closing speed, 0), gated by the contact being closed unless rule = 'always'
-    (the contact dampers of Eqs. 55, 62, 67 and 73; the gate is the `damping` assumption, docs/paper-check.md)."""
-    damp = damping * approach(closing)
+def damped(normal: sp.Expr, damping: sp.Expr, closing: sp.Expr, activation: sp.Expr, rule: str,
+           depth: sp.Expr = sp.S.One) -> sp.Expr:
+    """The normal force plus c * max(closing speed, 0) * depth, gated by the contact being closed unless
+    rule = 'always' (the contact dampers of Eqs. 55, 62, 67 and 73, where depth = 1; the gate is the `damping`
+    assumption, docs/paper-check.md; ``depth``: :func:`damper_depth`)."""
+    damp = damping * depth * approach(closing)
     return normal + (activation * damp if rule == "in-contact" else damp)
+
+
+def damper_depth(ctx, guard, penetration: sp.Expr) -> sp.Expr:
+    """The factor by which a contact's damper multiplies c max(v, 0), by the modelling choice ``damping_law``.
+
+    "velocity" (the default): 1, the paper's dampers (Eqs. 55, 62, 67, 73), whose force jumps from 0 to c v when the
+    contact closes. "penetration": max(delta, 0) / delta_ref, delta the contact's ``penetration`` and delta_ref the
+    scene's contacts.delta_ref, so that the damping force c max(v, 0) delta / delta_ref starts from 0 at the touch
+    like the elastic force, and equals the paper's at delta = delta_ref. Not in the paper: the model family of
+    K. H. Hunt and F. R. E. Crossley, "Coefficient of restitution interpreted as damping in vibroimpact", J. Appl.
+    Mech. 42(2) (1975), F = k delta^n + lambda delta^n v, here with n = 1 (the linear penalty) and lambda =
+    c / delta_ref, on approach only like the paper's. A contact closed at rest (the preloaded spring) keeps the
+    factor 1 (:func:`.seal.penetration_damped`, the rule the runtime's damping checks share)."""
+    from .seal import penetration_damped
+
+    if not penetration_damped(guard, ctx.options["damping_law"]):
+        return sp.S.One
+    return sp.Max(penetration, 0) / ctx.P["delta_ref"]
 
 
 def slip_sign(v: sp.Expr, v_eps: sp.Expr) -> sp.Expr:

@@ -101,12 +101,22 @@ def laws_of(cls: type[Submodel], method: str):
 
 
 def _check_needs(cls: type[Submodel]) -> None:
-    """Refuse a parameter of ``cls`` whose ``needs`` names what is not an effect of the registry or of ``cls``."""
-    effects = {o.name for c in (*_registry.values(), cls) for o in c.options if o.table == "effects"}
-    unknown = sorted({n for p in cls.parameters for n in needed_effects(p.needs)} - effects)
+    """Refuse a parameter of ``cls`` whose ``needs`` names what is not an effect or a modelling choice of the
+    registry or of ``cls``, or that a modelling choice reads and that has no default (a scene that makes the
+    choice need not give it: only an effect's parameters may be required while it is on)."""
+    slots = {o.name: o for c in (*_registry.values(), cls) for o in c.options}
+    effects = {n for n, o in slots.items() if o.table == "effects"}
+    choices = {f"{n}={c}" for n, o in slots.items() if o.table != "effects" for c in o.choices}
+    unknown = sorted({n for p in cls.parameters for n in needed_effects(p.needs)} - effects - choices)
     if unknown:
         raise RegistryError(f"submodel {cls.name!r} declares parameters that need what is not an effect: "
-                            f"{', '.join(unknown)} (needs names an effect, a switch of [effects])")
+                            f"{', '.join(unknown)} (needs names an effect, a switch of [effects], "
+                            "or a choice of [assumptions] as \"slot=choice\")")
+    undefaulted = sorted(p.name for p in cls.parameters if p.default is None and not p.optional
+                         and any("=" in n for n in needed_effects(p.needs)))
+    if undefaulted:
+        raise RegistryError(f"submodel {cls.name!r} declares parameters that a modelling choice reads without a "
+                            f"default: {', '.join(undefaulted)} (give each a default)")
 
 
 def installed() -> dict[str, str]:
@@ -275,7 +285,7 @@ def parameters(*, all_inputs: bool = False, opts=None) -> tuple[Parameter, ...]:
         opts = Options()
 
     def read(cls, p) -> bool:
-        return p.in_vector and cls.active(opts) and needed_on(_needing(cls, p), opts.on)
+        return p.in_vector and cls.active(opts) and needed_on(_needing(cls, p), lambda n: need_met(n, opts, False))
 
     return tuple(p for cls in submodels() for p in cls.parameters if read(cls, p))
 
@@ -287,25 +297,57 @@ def parameter_names(*, all_inputs: bool = False, opts=None) -> tuple[str, ...]:
 
 
 def needed_effects(need) -> tuple[str, ...]:
-    """The effects a ``needs`` names (one, several any of which reads the parameter, or none)."""
+    """The entries a ``needs`` names (one, several any of which reads the parameter, or none): effects, or
+    modelling choices written ``"slot=choice"`` (:func:`need_met`)."""
     return () if need is None else (need,) if isinstance(need, str) else tuple(need)
 
 
+def need_met(entry: str, choices, unknown: bool) -> bool:
+    """Whether one entry of a ``needs`` holds under ``choices`` (slot -> choice, e.g. an
+    :class:`~..options.Options`): an effect (``"housing_damping"``) while it is not "none", a modelling choice
+    (``"damping_law=penetration"``) while its slot has that choice; ``unknown`` for a slot ``choices`` lacks."""
+    from ..options import NONE
+
+    slot, _, wanted = entry.partition("=")
+    now = choices.get(slot)
+    if now is None:
+        return unknown
+    return now == wanted if wanted else now != NONE
+
+
 def needed_on(need, on) -> bool:
-    """Whether a parameter whose :func:`needing` is ``need`` is read, ``on(effect)`` telling which effects are on:
-    always without a need, else while any effect it names is on."""
+    """Whether a parameter whose :func:`needing` is ``need`` is read, ``on(entry)`` telling which of its entries
+    hold (:func:`need_met`): always without a need, else while any entry it names holds."""
     return need is None or any(on(n) for n in needed_effects(need))
 
 
-def is_read(p: Parameter | str, effects) -> bool:
-    """Whether a law of a model with the effects ``effects`` (an :class:`~..effects.Effects`) reads parameter ``p``
-    (a :class:`Parameter`, its name or its scene key, e.g. ``"friction.mu2"``): always one that no effect switches,
-    else while an effect its :func:`needing` names is on. An effect that ``effects`` does not name (its submodel
-    registered after they were made) counts as on. The one answer of the scene's checks, a sweep's and a
-    calibration's: what is not read is neither required, range-checked as an error, questioned nor varied."""
+def unmet(need) -> str:
+    """What is off while a parameter whose :func:`needing` is ``need`` is not read, as a scene states it:
+    "effects.spring is off", "effects.a and effects.b are off", "assumptions.damping_law is not 'penetration'"."""
+    entries = needed_effects(need)
+    effects = [f"effects.{n}" for n in entries if "=" not in n]
+    choices = [f"assumptions.{slot} is not {wanted!r}" for slot, _, wanted in (n.partition("=") for n in entries)
+               if wanted]
+    said = ([f"{', '.join(effects[:-1])} and {effects[-1]} are off" if len(effects) > 1 else f"{effects[0]} is off"]
+            if effects else [])
+    return " and ".join(said + choices)
+
+
+def is_read(p: Parameter | str, effects, assumptions=None) -> bool:
+    """Whether a law of a model with the effects ``effects`` (an :class:`~..effects.Effects`) and the modelling
+    choices ``assumptions`` (an :class:`~..assumptions.Assumptions`; None: the defaults) reads parameter ``p`` (a
+    :class:`Parameter`, its name or its scene key, e.g. ``"friction.mu2"``): always one that no effect or choice
+    switches, else while an entry its :func:`needing` names holds (:func:`need_met`). An effect that ``effects``
+    does not name (its submodel registered after they were made) counts as on. The one answer of the scene's
+    checks, a sweep's and a calibration's: what is not read is neither required, range-checked as an error,
+    questioned nor varied."""
+    from ..assumptions import Assumptions
+    from ..options import NONE, ON
+
     q = p if isinstance(p, Parameter) else _declared(p)
-    on = effects.as_dict()
-    return needed_on(needing(q), lambda n: on.get(n, True))
+    choices = {**{n: ON if on else NONE for n, on in effects.as_dict().items()},
+               **(assumptions if assumptions is not None else Assumptions()).as_dict()}
+    return needed_on(needing(q), lambda n: need_met(n, choices, True))
 
 
 def _declared(name_or_key: str) -> Parameter:

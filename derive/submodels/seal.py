@@ -3,8 +3,8 @@
 Always on. It owns the parameters every contact shares (geometry, mass, speed), the parameters derived
 from them (plain numeric functions, no sympy: the rotor speed, the seal's mass and inertia, the tip arc's
 half-angle, the groove truncation, the housing wall's initial deflection and the seal's rest position), the
-``inertia`` effect (Eq. 15) and the rules of the shared contact laws (the damping rule, the width of the
-friction regularisation).
+``inertia`` effect (Eq. 15) and the rules of the shared contact laws (the damping rule, the damping law and its
+reference penetration, the width of the friction regularisation).
 """
 
 from __future__ import annotations
@@ -15,7 +15,20 @@ from typing import Any
 from ..numbers import initial_wall_deflection, machine_numbers, tip_half_angle
 from ..options import NONE, ON, Option
 from ..parameters import Parameter
-from .base import State, Submodel
+from .base import Guard, State, Submodel
+
+#: the choices of ``assumptions.damping_law``: the paper's contact dampers c max(v, 0) (Eqs. 55, 62, 67, 73), or
+#: the same times the penetration over contacts.delta_ref (Hunt-Crossley type: continuous at the touch; not in the
+#: paper), derive/submodels/laws.py
+DAMPING_LAWS = ("velocity", "penetration")
+
+
+def penetration_damped(guard: Guard, law: str) -> bool:
+    """Whether the damping law ``law`` scales the damper of the contact ``guard`` opens and closes by its penetration:
+    under "penetration", every contact but one closed at rest by design (the preloaded spring: its compression is
+    mostly its preload, not the depth of an impact, and it does not touch and leave). The one rule of the laws
+    (:func:`.laws.damper_depth`) and of the runtime's damping checks (runtime/scenes/damping.py)."""
+    return law == DAMPING_LAWS[1] and not guard.closed_at_rest
 
 
 class SealBody(Submodel):
@@ -57,6 +70,10 @@ class SealBody(Submodel):
         Parameter("v_eps", "m/s", "sliding-speed width of the friction regularisation tanh(v / v_eps)",
                   key="friction.v_eps", default=1e-3, gt=0,
                   needs=("housing_friction", "groove_friction", "spring_friction")),
+        Parameter("delta_ref", "m", "reference penetration of the damping law 'penetration': a contact's damper is "
+                  "c max(v, 0) delta / delta_ref, the paper's c max(v, 0) at delta = delta_ref (Hunt-Crossley type, "
+                  "not in the paper)", key="contacts.delta_ref", default=30e-9, gt=0, le=1e-3, show="nm",
+                  plausible=(1e-10, 1e-5, "nm"), needs=f"damping_law={DAMPING_LAWS[1]}"),
     )
     states = (
         State("x", "m", "the seal's centre of gravity along the groove axis Xg, out of the groove (Eq. 10)", 1e-6),
@@ -71,6 +88,12 @@ class SealBody(Submodel):
                "translation (Eq. 15)"),
         Option("damping", ("in-contact", "always"), "contact damping (Eqs. 55, 62, 67, 73) acts on approach only; "
                "'in-contact' also requires the contact to be closed, 'always' applies the printed velocity rule alone",
+               table="assumptions"),
+        Option("damping_law", DAMPING_LAWS, "the contact dampers of the housing and groove contacts: the paper's "
+               "c max(v, 0) (Eqs. 55, 62, 67), which jumps from 0 to c v at the touch ('velocity'), or c max(v, 0) "
+               "delta / delta_ref, delta the penetration (contacts.delta_ref; of the Hunt-Crossley family: Hunt & "
+               "Crossley, J. Appl. Mech. 42(2), 1975; not in the paper), continuous at the touch ('penetration'); "
+               "the preloaded spring keeps the paper's law (Eq. 73)",
                table="assumptions"),
     )
 

@@ -57,7 +57,8 @@ class SpringContact(Submodel):
         guards = {"v_s6_n": closing}
         normal = laws.penalty(P["ks"], g.spring_compression, act)  # Eq. 39 (a spring cannot pull)
         if opts.on("spring_damping"):
-            normal = laws.damped(normal, P["cs"], closing, act, opts["damping"])  # Eq. 73
+            depth = laws.damper_depth(ctx, self.guards[0], g.spring_compression)  # 1: closed at rest
+            normal = laws.damped(normal, P["cs"], closing, act, opts["damping"], depth)  # Eq. 73
         force, power = normal * G.x, sp.S.Zero
         if opts.on("spring_friction"):
             v_slide = v.dot(G.y)

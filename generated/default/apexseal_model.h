@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 3f46961307238bb8c4a5cb344dfe3247763abf9e27ba9c31f40fde0a7ca407d6.
+ * Effects: all. Input hash: 5af64322095d273f2e5a1150dd0987096e8b5b4e93c8e30c16ec8d727d1180d4.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "3f46961307238bb8c4a5cb344dfe3247763abf9e27ba9c31f40fde0a7ca407d6"
+#define APEXSEAL_INPUT_HASH "5af64322095d273f2e5a1150dd0987096e8b5b4e93c8e30c16ec8d727d1180d4"
 
 /* state x */
 #define APEXSEAL_NX 6

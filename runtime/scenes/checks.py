@@ -18,7 +18,7 @@ from apexseal.derive.effects import Effects, orphans
 from apexseal.derive.numbers import machine_numbers, smallest_chamber_volume, smallest_lobe_offset, tip_half_angle
 from apexseal.derive.options import without_parent
 
-from .damping import MAX_DAMPING_RATIO, WHY, contact_dampings
+from .damping import MAX_DAMPING_RATIO, contact_dampings
 from .errors import MISSING, Problem, show_value
 from .pressure import TablePressure
 from .schema import (
@@ -364,16 +364,18 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
     return out
 
 
-def check_needed(sections: dict[str, Section], effects: Effects) -> list[Problem]:
+def check_needed(sections: dict[str, Section], effects: Effects, assumptions: Assumptions | None = None
+                 ) -> list[Problem]:
     """The parameters that an effect switched on reads and the scene leaves out (a parameter without a default
-    is required only while the effect that reads it is on: ``registry.needing``)."""
+    is required only while the effect that reads it is on: ``registry.needing``; ``assumptions``: the modelling
+    choices, None: the defaults)."""
     from apexseal.derive.submodels.registry import is_read, needed_effects, omissible_while_off, parameters
 
     out = []
     for p in parameters(all_inputs=True):
         need = omissible_while_off(p)
         model = sections.get(p.section) if need is not None else None
-        if model is None or getattr(model, p.leaf) is not None or not is_read(p, effects):
+        if model is None or getattr(model, p.leaf) is not None or not is_read(p, effects, assumptions):
             continue
         spec = validator_of(type(model), p.leaf)
         names = needed_effects(need)
@@ -383,38 +385,41 @@ def check_needed(sections: dict[str, Section], effects: Effects) -> list[Problem
     return out
 
 
-def unread_keys(effects: Effects) -> frozenset[str]:
-    """The scene keys of the parameters that no law of a model with ``effects`` reads (their effect off,
-    registry.is_read): neither required (:func:`check_needed`), range-checked as an error (:func:`ignored_values`)
-    nor questioned (:func:`check_plausible`)."""
+def unread_keys(effects: Effects, assumptions: Assumptions | None = None) -> frozenset[str]:
+    """The scene keys of the parameters that no law of a model with ``effects`` and the modelling choices
+    ``assumptions`` (None: the defaults) reads (their effect off or their choice not made, registry.is_read):
+    neither required (:func:`check_needed`), range-checked as an error (:func:`ignored_values`) nor questioned
+    (:func:`check_plausible`)."""
     from apexseal.derive.submodels.registry import is_read, parameters
 
-    return frozenset(p.key for p in parameters(all_inputs=True) if p.key is not None and not is_read(p, effects))
+    return frozenset(p.key for p in parameters(all_inputs=True)
+                     if p.key is not None and not is_read(p, effects, assumptions))
 
 
 def ignored_values(ignored: list[Problem]) -> str:
     """The one warning of the out-of-range values a scene gives that no law of its model reads (``ignored``: their
     range problems, of keys of :func:`unread_keys`): each key with its value, the effects that are off, and the
     range that holds while they are on."""
-    from apexseal.derive.submodels.registry import needed_effects, needing, parameters
+    from apexseal.derive.submodels.registry import needed_effects, needing, parameters, unmet
 
     by_key = {p.key: p for p in parameters(all_inputs=True) if p.key is not None}
-    shown = []
+    shown, choices = [], False
     for p in ignored:
-        names = [f"effects.{n}" for n in needed_effects(needing(by_key[p.key]))]
-        off = f"{', '.join(names[:-1])} and {names[-1]} are" if len(names) > 1 else f"{names[0]} is"
-        shown.append(f"{p.key} = {show_value(p.value)} (not read while {off} off; allowed: "
+        need = needing(by_key[p.key])
+        choices = choices or any("=" in n for n in needed_effects(need))
+        shown.append(f"{p.key} = {show_value(p.value)} (not read while {unmet(need)}; allowed: "
                      f"{p.message.partition('allowed: ')[2]})")
     return (f"ignored, out of range but read by no law of the scene's model: {', '.join(shown)}; switching the "
-            "effect on makes it an error")
+            f"effect on {'or making the choice ' if choices else ''}makes it an error")
 
 
 def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure: Any,
-                    effects: Effects | None = None) -> list[Problem]:
+                    effects: Effects | None = None, assumptions: Assumptions | None = None) -> list[Problem]:
     """Values far outside engineering practice (:func:`.units.plausible_ranges`), each against the key the user
-    wrote, and a pressure table whose absolute pressures leave :data:`.units.TABLE_PRESSURES`. With ``effects``, a
-    value no law of the model reads (its effect off: :func:`unread_keys`) is not questioned."""
-    unread = unread_keys(effects) if effects is not None else frozenset()
+    wrote, and a pressure table whose absolute pressures leave :data:`.units.TABLE_PRESSURES`. With ``effects``
+    (and ``assumptions``), a value no law of the model reads (its effect off: :func:`unread_keys`) is not
+    questioned."""
+    unread = unread_keys(effects, assumptions) if effects is not None else frozenset()
     values = {}
     for key in plausible_ranges():
         section, name = key.split(".")
@@ -439,7 +444,7 @@ def check_damping(values: dict[str, float], raw: dict[str, Any]) -> list[Problem
     """Each contact damped above critical (:data:`.damping.MAX_DAMPING_RATIO`), where its approach-only damping
     makes it chatter (:mod:`.damping`), against the key the scene gives (the coefficient, else its ratio), with the
     value and the plausible range. ``values``: the scene's parameters (SI, by name; a damping that is off has none,
-    so it is not questioned)."""
+    so it is not questioned, nor one the damping law "penetration" makes continuous at the touch)."""
     out = []
     for d in contact_dampings(values).values():
         if not d.too_high:
@@ -448,11 +453,11 @@ def check_damping(values: dict[str, float], raw: dict[str, Any]) -> list[Problem
         given = raw_at(raw, c_key.split("."))
         if given is not MISSING:
             out.append(Problem(c_key, given, f"{d.c:.4g} N*s/m is {d.zeta:.3g} times critical damping "
-                                             f"({d.critical:.4g} N*s/m): {WHY}; plausible: 0 <= {d.coefficient} <= "
+                                             f"({d.critical:.4g} N*s/m): {d.why}; plausible: 0 <= {d.coefficient} <= "
                                              f"{d.critical:.4g} N*s/m ({ratio_key} <= {MAX_DAMPING_RATIO:g})"))
         else:
             out.append(Problem(ratio_key, raw_at(raw, ratio_key.split(".")),
                                f"a damping ratio above critical damping ({MAX_DAMPING_RATIO:g}; {d.coefficient} = "
-                               f"{d.c:.4g} N*s/m here): {WHY}; plausible: 0 <= {d.ratio_name} <= "
+                               f"{d.c:.4g} N*s/m here): {d.why}; plausible: 0 <= {d.ratio_name} <= "
                                f"{MAX_DAMPING_RATIO:g}"))
     return out

@@ -201,12 +201,13 @@ def _overridden(raw: dict[str, Any], dotted: dict[str, Any], name: str) -> dict[
     return raw
 
 
-def _unranged(raw: dict[str, Any], sections: dict[str, Section], problems: list[Problem],
-              effects: Effects) -> tuple[dict[str, Section], list[Problem], list[Problem]]:
+def _unranged(raw: dict[str, Any], sections: dict[str, Section], problems: list[Problem], effects: Effects,
+              assumptions: Assumptions | None) -> tuple[dict[str, Section], list[Problem], list[Problem]]:
     """The sections validated again without the range checks of the values no law of the model of ``effects``
-    reads (:func:`.checks.unread_keys`), when one of them is out of range: (sections, their problems, the range
-    problems so ignored). A value that is no quantity of its kind stays an error, read or not."""
-    unread = unread_keys(effects)
+    and ``assumptions`` reads (:func:`.checks.unread_keys`), when one of them is out of range: (sections, their
+    problems, the range problems so ignored). A value that is no quantity of its kind stays an error, read or
+    not."""
+    unread = unread_keys(effects, assumptions)
     if not unread & {p.key for p in problems}:
         return sections, problems, []
     sections, lenient = validate_sections(raw, unranged=unread)
@@ -221,6 +222,14 @@ def _pressure_read(sections: dict[str, Section], effects: Effects | None) -> boo
     return getattr(sections.get("effects"), "chamber_pressure", None) is not False
 
 
+def _assumptions(sections: dict[str, Section]) -> Assumptions | None:
+    """The modelling choices of valid sections ([assumptions], with pressure.source where [pressure] is valid), or
+    None when [assumptions] is not valid."""
+    if "assumptions" not in sections:
+        return None
+    return resolve_assumptions(sections["assumptions"], sections["pressure"].source if "pressure" in sections else None)
+
+
 def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: str) -> Scene:
     sections, problems = validate_sections(raw)
     effects: Effects | None = None
@@ -228,9 +237,10 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
     if "effects" in sections:  # [effects] and [pressure] hold no model parameter: _unranged leaves them as they are
         src = sections["pressure"].source if "pressure" in sections else None
         effects, effect_problems = resolve_effects(sections["effects"], src, raw)
+    assumptions = _assumptions(sections)
     ignored: list[Problem] = []
     if effects is not None:
-        sections, problems, ignored = _unranged(raw, sections, problems, effects)
+        sections, problems, ignored = _unranged(raw, sections, problems, effects, assumptions)
     problems += check_consistency(sections, raw)
     pressure: PressureSource | None = None
     if "pressure" in sections and not any(p.key.startswith("pressure.") for p in problems):
@@ -240,16 +250,15 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
             problems += exc.errors
     problems += effect_problems
     if effects is not None:
-        problems += check_needed(sections, effects)
-    doubtful = check_plausible(sections, raw, pressure, effects)
+        problems += check_needed(sections, effects, assumptions)
+    doubtful = check_plausible(sections, raw, pressure, effects, assumptions)
     if problems:  # an implausible value (a unit slip) is the likely cause of the rest: report it first
         raise SceneError([p for p in doubtful if p.key not in {q.key for q in problems}] + problems, source=name)
     for p in doubtful:
         warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=4)
     if ignored:
         warnings.warn(f"scene {name}: {ignored_values(ignored)}", IgnoredValueWarning, stacklevel=4)
-    assert pressure is not None and effects is not None
-    assumptions = resolve_assumptions(sections["assumptions"], sections["pressure"].source)
+    assert pressure is not None and effects is not None and assumptions is not None
     values = derive_parameters(sections, effects, assumptions)
     for p in check_damping(values, raw):
         warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=4)

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..results.result import StopInfo
 from ..results.sampled import guards_at, outputs_at
-from ..scenes.damping import MAX_DAMPING_RATIO, WHY, guard_damping
+from ..scenes.damping import MAX_DAMPING_RATIO, guard_damping
 from .euler_friction import FrictionWatch
 from .euler_integrator import contact_growth
 from .layout import HybridLayout
@@ -37,9 +37,10 @@ def chatter_advice(guard: str, names: Sequence[str] | None = None, params=None) 
     run's parameter names and vector; without them, or for a guard whose damping is unknown: :data:`CHATTER_ADVICE`).
 
     Damped above critical (:data:`~..scenes.damping.MAX_DAMPING_RATIO`), the contact's approach-only damping is the
-    likely cause, and more of it makes the chatter worse: lower it, with the key and the coefficient it may reach.
-    Otherwise its damping toward the default ratio (an undamped contact bounces; a stiff contact under light loads is
-    kicked off by its approach-only damping below critical too), besides the other remedies."""
+    likely cause, and more of it makes the chatter worse: lower it, with the key and the coefficient it may reach, or
+    choose the damping law "penetration" (continuous at the touch). Otherwise its damping toward the default ratio
+    (an undamped contact bounces; a stiff contact under light loads is kicked off by its approach-only damping below
+    critical too, unless its damper is continuous at the touch), besides the other remedies."""
     values = None if names is None else dict(zip(names, np.asarray(params, float), strict=True))
     d = guard_damping(guard, values) if values is not None else None
     if d is None:
@@ -47,10 +48,12 @@ def chatter_advice(guard: str, names: Sequence[str] | None = None, params=None) 
     c_key, ratio_key = d.keys
     now, default = f"{ratio_key} = {d.zeta:.3g}, {c_key} = {d.c:.4g} N*s/m", d.default_ratio
     if d.too_high:
-        return (f"this contact is damped above critical ({now}): {WHY}; lower {ratio_key} to "
+        return (f"this contact is damped above critical ({now}): {d.why}; lower {ratio_key} to "
                 f"{MAX_DAMPING_RATIO:g} or less ({c_key} <= {d.critical:.4g} N*s/m"
                 + (f"; the default ratio is {default:g})" if default is not None else ")"))
-    if default is None or math.isclose(d.zeta, default, rel_tol=NEAR_DEFAULT):
+    if default is None or math.isclose(d.zeta, default, rel_tol=NEAR_DEFAULT) or (d.continuous and d.zeta > default):
+        if d.continuous:
+            now += ", damped in proportion to the penetration: continuous at the touch"
         return f"regularise instead of resolving every switch ({now}): {OTHER_REMEDIES}"
     toward = ("less damping on this contact, toward the default ratio (approach-only damping kicks a stiff contact "
               "under light loads off at each touch below critical too)" if d.zeta > default else

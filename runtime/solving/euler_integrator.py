@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...derive.submodels.registry import oscillators, parameter_names
+from ..scenes.damping import continuous_dampers
 from .fixed_step import EulerIntegrator
 
 __all__ = ["MAX_GROWTH", "ContactGrowth", "EulerIntegrator", "contact_growth"]
@@ -62,16 +63,19 @@ def contact_growth(params: np.ndarray, steps_per_revolution: int, names=None, re
     h w < 2 zeta, and an undamped contact always grows. Over the n steps of one
     revolution the logarithm of the growth is n/2 ln(1 - 2 zeta h w + (h w)^2).
     The contacts are the (stiffness, damping) pairs the submodels declare (with ``read``, those whose stiffness
-    the model reads); ``names`` are the parameter vector's (default: the registry's).
+    the model reads); ``names`` are the parameter vector's (default: the registry's). A damper that the damping law
+    "penetration" scales by the penetration vanishes at the touch: it is not counted (runtime/scenes/damping.py).
     """
     names = parameter_names() if names is None else names
     p = dict(zip(names, np.asarray(params, float), strict=True))
     n = int(steps_per_revolution)
+    vanishing = continuous_dampers(p)
     out = []
     for (k_name, c_name), w in zip(_present(oscillators(), p, read), contact_frequencies(params, names, read).values(),
                                    strict=True):
         k, ms = p[k_name], p["ms"]
-        c = p[c_name] if c_name in p and (read is None or c_name in read) else 0.0  # its damping off: undamped
+        # its damping off, or vanishing at the touch: undamped
+        c = p[c_name] if c_name in p and (read is None or c_name in read) and c_name not in vanishing else 0.0
         zeta = 0.5 * c / (2 * math.sqrt(k * ms))
         hw = 2 * math.pi * w / (n * p["omega"])
         log_growth = 0.5 * n * math.log1p(hw * hw - 2 * zeta * hw)

@@ -2,7 +2,9 @@
 
 The scene warns about such a damping ratio before a run, and a run that chatters on such a contact advises less
 damping, with the key and the coefficient it may reach (the advice used to ask for more contact damping, which
-makes it worse). ``python tests/runtime/test_damping_chatter.py``: the table of docs/hard-cases.md.
+makes it worse), or the damping law "penetration" (assumptions.damping_law), whose dampers start from 0 at the
+touch: under it the same contacts complete. ``python tests/runtime/test_damping_chatter.py``: the table of
+docs/hard-cases.md.
 """
 
 from __future__ import annotations
@@ -19,6 +21,8 @@ from apexseal.runtime.scenes.units import PlausibilityWarning
 
 #: a housing damping ratio in the chatter regime of the default scene (the table below: it chatters from ~2.4)
 HIGH = 3.0
+#: the damping law continuous at the touch (assumptions.damping_law)
+PENETRATION = {"assumptions.damping_law": "penetration"}
 
 
 def _quietly(scene, **overrides):
@@ -46,6 +50,19 @@ def test_a_tip_damped_above_critical_is_advised_less_damping(default_scene, defa
     assert f"contacts.zeta_w = {HIGH:g}" in reason and "lower contacts.zeta_w to 1 or less" in reason
     assert f"contacts.cw <= {_critical(default_scene):.4g} N*s/m" in reason
     assert "more damping makes it worse" in reason and "more contact damping" not in reason
+    assert "assumptions.damping_law = 'penetration' damps in proportion to the penetration" in reason
+
+
+def test_a_tip_damped_above_critical_completes_under_the_penetration_law(default_scene, default_functions):
+    """The same zeta_w = 3 that chatters on the tip within 2 deg under the paper's dampers completes two revolutions
+    under the damping law "penetration" (the dampers start from 0 at the touch), with a few tip switches."""
+    paper = apexseal.simulate(_quietly(default_scene, **{"contacts.zeta_w": HIGH}), revolutions=2,
+                              samples_per_revolution=360, functions=default_functions.c)
+    assert paper.status == "chattering" and "chattering on guard xs5" in paper.stop.reason, paper.stop
+    law = apexseal.simulate(_quietly(default_scene, **{"contacts.zeta_w": HIGH, **PENETRATION}), revolutions=2,
+                            samples_per_revolution=360)
+    assert law.status == "completed" and math.degrees(law.theta[-1]) == pytest.approx(720.0), law.stop
+    assert 0 < law.events[law.guard_names.index("xs5"), -1] < 100
 
 
 @pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")  # soft by design
@@ -78,7 +95,27 @@ def test_the_advice_follows_the_chattering_contacts_damping(default_scene):
     assert "contacts.zeta_w = 0.1" in at_default and "damping on this contact" not in at_default
     groove = advice("b3", cr=2.0 * p["cr"] / 0.1)
     assert "contacts.zeta_g = 2" in groove and "lower contacts.zeta_g to 1 or less" in groove
+    assert "damping_law = 'penetration'" in groove
     assert advice("nonesuch") == chatter_advice("xs5") == CHATTER_ADVICE
+    spring = advice("spring", cs=3.0 * _critical(default_scene) * p["cs"] / p["cw"])  # the spring keeps its law
+    assert "lower contacts.zeta_s to 1 or less" in spring and "damping_law" not in spring
+
+
+def test_under_the_penetration_law_a_high_ratio_is_no_cause_of_chatter(default_scene):
+    """Its dampers start from 0 at the touch: a ratio above critical is not advised lower (the jump it would cause
+    is gone), nor is the law suggested again; too little damping is still advised more."""
+    from apexseal.runtime.solving.checks import chatter_advice
+
+    p = dict(_quietly(default_scene, **PENETRATION).parameters)
+
+    def advice(guard, **changed):
+        values = p | changed
+        return chatter_advice(guard, tuple(values), list(values.values()))
+
+    high = advice("xs5", cw=HIGH * _critical(default_scene))
+    assert "contacts.zeta_w = 3" in high and "continuous at the touch" in high
+    assert "lower contacts.zeta_w" not in high and "less damping" not in high and "damping_law" not in high
+    assert "more damping on this contact" in advice("b1", cr=0.0)
 
 
 # ---------------------------------------------------------------- the scene's warning before a run
@@ -98,6 +135,21 @@ def test_a_damping_ratio_above_critical_warns_with_key_value_and_range(default_s
     assert "cw" not in off.parameters
 
 
+def test_under_the_penetration_law_a_ratio_above_critical_warns_only_for_the_spring(default_scene):
+    """The housing and groove dampers start from 0 at the touch under the damping law "penetration": their ratios
+    above critical no longer warn; the preloaded spring keeps the paper's damper and its warning, which names no
+    damping law (none applies to it). Under the paper's law the warning names the law that removes the jump."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        default_scene.with_overrides(**{"contacts.zeta_w": HIGH, "contacts.zeta_g": HIGH, **PENETRATION})
+    with pytest.warns(PlausibilityWarning) as record:
+        default_scene.with_overrides(**{"contacts.zeta_s": HIGH, **PENETRATION})
+    (spring,) = [str(w.message) for w in record]
+    assert "contacts.zeta_s = 3.0: a damping ratio above critical" in spring and "damping_law" not in spring
+    with pytest.warns(PlausibilityWarning, match=r"contacts\.zeta_w = 3\.0: .*assumptions\.damping_law = 'penetration'"):
+        default_scene.with_overrides(**{"contacts.zeta_w": HIGH})
+
+
 def test_a_coefficient_above_critical_warns_with_its_ratio(default_scene):
     """A scene that gives the coefficient is told its ratio and the largest coefficient, against contacts.cw."""
     critical = _critical(default_scene)
@@ -108,15 +160,53 @@ def test_a_coefficient_above_critical_warns_with_its_ratio(default_scene):
     assert f"plausible: 0 <= cw <= {critical:.4g} N*s/m (contacts.zeta_w <= 1)" in message
 
 
-def damping_table(ratios=(0.1, 1.0, 2.0, 2.2, 2.4, 3.0, 5.0), revolutions: int = 2) -> str:
-    """The default scene with each housing damping ratio: how far it runs and how often the contacts switch."""
+# ---------------------------------------------------------------- explicit Euler under the penetration law
+def test_explicit_euler_counts_no_damper_that_vanishes_at_the_touch(default_scene, monkeypatch):
+    """Under the damping law "penetration" the housing and groove dampers vanish at the touch and exceed critical
+    damping many times over at depth (c delta / delta_ref), so the stability check counts on none of them (the
+    spring's stays). It was counting them as the paper's: at 120000 steps per revolution it passed the model with
+    delta_ref = 10 nm, whose run then went non-finite within the revolution; the paper's law runs there."""
+    from apexseal.runtime.solving import preflight
+    from apexseal.runtime.solving.euler_integrator import contact_growth
+
+    steps = 120000
+    euler = {"solver.method": "euler", "solver.euler_steps_per_revolution": steps}
+    law = default_scene.with_overrides(**euler, **PENETRATION, **{"contacts.delta_ref": "10 nm"})
+    growth = {g.name: g for g in contact_growth(law.parameter_vector(), steps, tuple(law.parameters))}
+    assert growth["kw"].zeta == growth["kg1"].zeta == 0 and growth["ks"].zeta > 0
+    assert growth["kw"].steps_needed > 10 * steps
+    refused = apexseal.simulate(law, revolutions=1, samples_per_revolution=360)
+    assert refused.status == "failed" and refused.n == 1, refused.stop
+    assert "amplifies the oscillation of the kw contact" in refused.stop.reason
+    monkeypatch.setattr(preflight, "MAX_GROWTH", math.inf)  # what the check's old verdict let run
+    blown = apexseal.simulate(law, revolutions=1, samples_per_revolution=360)
+    assert blown.status == "failed" and "non-finite state" in blown.stop.reason, blown.stop
+    paper = apexseal.simulate(default_scene.with_overrides(**euler), revolutions=1, samples_per_revolution=360)
+    assert paper.status == "completed", paper.stop
+
+
+def damping_table(ratios=(0.1, 1.0, 2.0, 2.2, 2.4, 3.0, 5.0), laws=("velocity", "penetration"),
+                  revolutions: int = 2) -> str:
+    """The default scene with each housing damping ratio under each damping law: how far it runs, how often the
+    contacts switch, and (for a run that completes) its mean friction power, largest housing force and deepest
+    penetration of any contact."""
     scene = apexseal.load_scene()
-    rows = ["| contacts.zeta_w | status | crank angle reached | tip (xs5) switches | all switches |",
-            "|---|---|---|---|---|"]
-    for zeta in ratios:
-        r = apexseal.simulate(_quietly(scene, **{"contacts.zeta_w": zeta}), revolutions=revolutions)
-        tip = int(r.events[r.guard_names.index("xs5"), -1])
-        rows.append(f"| {zeta:g} | {r.status} | {math.degrees(r.theta[-1]):.1f} deg | {tip} | {r.n_events} |")
+    rows = ["| assumptions.damping_law | contacts.zeta_w | status | crank angle reached | tip (xs5) switches "
+            "| all switches | mean friction power | largest housing force | deepest penetration |",
+            "|---|---|---|---|---|---|---|---|---|"]
+    for law in laws:
+        for zeta in ratios:
+            s = _quietly(scene, **{"contacts.zeta_w": zeta, "assumptions.damping_law": law})
+            r = apexseal.simulate(s, revolutions=revolutions)
+            tip = int(r.events[r.guard_names.index("xs5"), -1])
+            row = f"| {law} | {zeta:g} | {r.status} | {math.degrees(r.theta[-1]):.1f} deg | {tip} | {r.n_events} |"
+            if r.status != "completed":
+                rows.append(row + " – | – | – |")
+                continue
+            summary = r.summary()
+            deepest = max(summary["plausibility"]["penetration_um"].values())
+            rows.append(row + f" {summary['mean_friction_power_W']['total']:.2f} W | "
+                              f"{summary['housing_force_N']['max']:.0f} N | {deepest:.2f} µm |")
     return "\n".join(rows)
 
 

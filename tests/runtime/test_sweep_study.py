@@ -260,6 +260,20 @@ def test_a_parameter_no_law_reads_is_refused():
     study_from_toml(base + '[parameters]\n"friction.mu2" = [0.1, 0.2]\n"effects.groove_friction" = [true, false]\n')
 
 
+def test_a_parameter_a_modelling_choice_reads_is_refused_without_it():
+    """contacts.delta_ref is read under assumptions.damping_law = "penetration" only: varied without that choice it
+    is refused, naming the choice; with it in [scene], or varied with it, it passes."""
+    varied = '[parameters]\n"contacts.delta_ref" = ["10 nm", "30 nm"]\n'
+    with pytest.raises(StudyError) as info:
+        study_from_toml(varied)
+    (p,) = info.value.errors
+    assert p.key == "parameters.contacts.delta_ref"
+    assert "read by no law while assumptions.damping_law is not 'penetration'" in p.message
+    assert "make that choice in [scene]" in p.message
+    study_from_toml('[scene]\n"assumptions.damping_law" = "penetration"\n' + varied)
+    study_from_toml(varied + '"assumptions.damping_law" = ["penetration", "velocity"]\n')
+
+
 def test_a_parameter_whose_effect_follows_a_varied_parent_is_not_refused():
     """Varying effects.housing_contact varies housing_friction with it where a scene leaves the child unset (it
     follows its parent), so mu1 is read at some points: such a study was refused as varying a parameter no law

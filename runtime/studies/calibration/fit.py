@@ -173,7 +173,8 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
 
     # a damping ratio whose damping is off is read by nothing: not an unknown by default, refused if asked for
     ratios = {zeta for cls in submodels() for _, zeta in cls.damping_ratios}
-    unread = {n: needing(parameter(n)) for n in PLAUSIBLE if n in ratios and not is_read(n, scene.effects)}
+    unread = {n: needing(parameter(n)) for n in PLAUSIBLE
+              if n in ratios and not is_read(n, scene.effects, scene.assumptions)}
     if ranges is None:
         ranges = {n: r for n, r in PLAUSIBLE.items() if n not in unread}
     ranges = dict(ranges)

@@ -317,10 +317,10 @@ def _structure(raw: dict, source: str) -> tuple[StudyFile, list[Problem], set[st
 
 
 def _unread(parameters, scene, given: dict) -> list[Problem]:
-    """A varied model parameter that no law of the study's model reads (its effect off in the scene and not
-    varied): every point would be the same run."""
+    """A varied model parameter that no law of the study's model reads (its effect off, or the modelling choice
+    that reads it not made, in the scene and not varied): every point would be the same run."""
     from ....derive.effects import declared as effects_declared
-    from ....derive.submodels.registry import is_read, needed_effects, needing
+    from ....derive.submodels.registry import is_read, needed_effects, needing, unmet
     from ....derive.submodels.registry import parameters as declared
 
     slots = effects_declared()
@@ -328,20 +328,24 @@ def _unread(parameters, scene, given: dict) -> list[Problem]:
     def lineage(name: str) -> list[str]:  # the effect and its parents (varying a parent varies its children)
         return [name, *lineage(slots[name].parent)] if name in slots and slots[name].parent else [name]
 
+    def keys(entry: str) -> list[str]:  # the scene keys that decide whether an entry of a needs holds
+        slot, _, choice = entry.partition("=")
+        return [f"assumptions.{slot}"] if choice else [f"effects.{e}" for e in lineage(entry)]
+
     varied = {p.key for p in parameters}
     by_key = {q.key: q for q in declared(all_inputs=True) if q.key is not None}
     out = []
     for p in parameters:
         q = by_key.get(p.key)
         need = needing(q) if q is not None else None
-        if need is None or any(f"effects.{e}" in varied for n in needed_effects(need) for e in lineage(n)):
+        if need is None or any(k in varied for n in needed_effects(need) for k in keys(n)):
             continue
-        if not is_read(q, scene.effects):
-            names = " and ".join(f"effects.{n}" for n in needed_effects(need))
+        if not is_read(q, scene.effects, scene.assumptions):
+            remedy = ("make that choice in [scene]" if any("=" in n for n in needed_effects(need)) else
+                      "switch it on in [scene] (with the effects it needs)")
             out.append(Problem(f"parameters.{p.key}", show_value(given.get(p.key, "(varied)")),
-                               f"read by no law while {names} {'is' if ' and ' not in names else 'are'} off in the "
-                               "study's scene: every point would be the same run; switch it on in [scene] (with the "
-                               "effects it needs), or vary it too"))
+                               f"read by no law while {unmet(need)} in the study's scene: every point would be the "
+                               f"same run; {remedy}, or vary it too"))
     return out
 
 
