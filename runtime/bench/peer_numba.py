@@ -47,7 +47,7 @@ import time
 import numpy as np
 
 from ...derive.symbols import PARAMETER_NAMES
-from ..solving.euler_integrator import contact_frequencies
+from ..solving.contact_stability import contact_frequencies
 from ..solving.methods import RevolutionResult
 from ..solving.scaling import LENGTH, state_scale, to_scaled
 

@@ -1,5 +1,5 @@
-"""What is checked after every integrator call: finite states within the model's geometry, explicit Euler's steps on
-the friction regularisation, chattering, missed events, the event budget."""
+"""What is checked after every integrator call: finite states within the model's geometry, an explicit fixed-step
+method's steps on the friction regularisation, chattering, missed events, the event budget."""
 
 from __future__ import annotations
 
@@ -11,10 +11,10 @@ import numpy as np
 from ..results.result import StopInfo
 from ..results.sampled import guards_at, outputs_at
 from ..scenes.damping import MAX_DAMPING_RATIO, guard_damping
+from .contact_stability import contact_growth
 from .euler_friction import FrictionWatch
-from .euler_integrator import contact_growth
 from .layout import HybridLayout
-from .methods import method_of
+from .methods import explicit_steps, method_of
 from .scaling import LENGTH, to_physical
 from .settings import MAX_TILT, RunSettings
 
@@ -73,13 +73,17 @@ class Chattering(RuntimeError):
 class RunChecks:
     """The checks of one run (see the module docstring); each returns ``(status, StopInfo)`` or None."""
 
-    def __init__(self, functions, settings: RunSettings, params, theta_start: float):
+    def __init__(self, functions, settings: RunSettings, params, theta_start: float, dtheta: float | None = None):
+        """``dtheta``: the run's intervals (rad; default: its output intervals), at which a fixed-step method's steps
+        per revolution are judged (:func:`~.methods.explicit_steps`)."""
         self.functions, self.settings, self.params = functions, settings, params
         self.theta_start = theta_start
         self.layout = HybridLayout.of(functions)
         self.omega = functions.omega(params)
-        self.sticking = (FrictionWatch(functions, params, settings.steps_per_revolution)
-                         if settings.method == "euler" else None)
+        #: an explicit fixed-step method's steps (None for the others)
+        self.steps = explicit_steps(settings.method, settings.steps_per_revolution,
+                                    dtheta or 2 * math.pi / settings.samples_per_revolution)
+        self.sticking = FrictionWatch(functions, params, self.steps) if self.steps is not None else None
 
     def finite(self, Z, thetas) -> tuple[np.ndarray, tuple | None]:
         """Z up to its first non-finite sample, and the failure it means (None if all finite)."""
@@ -90,11 +94,35 @@ class RunChecks:
         k = int(np.argmin(ok))
         last = Z[lay.active, k - 1] if k else np.zeros(lay.n_g)
         reason = f"non-finite state (NaN or Inf) at {np.degrees(thetas[k] - self.theta_start):.3f} deg"
-        growth = contact_growth(self.params, self.settings.steps_per_revolution, self.functions.parameter_names,
-                                self.functions.parameters_read()) if self.settings.method == "euler" else []
-        if growth and growth[0].log_growth > 0:  # an amplified contact: the likely cause
-            reason += "; " + growth[0].describe(self.settings.steps_per_revolution)
+        cause = self.unstable(contact_first=True)
+        if cause:
+            reason += "; " + cause
         return Z[:, :k], ("failed", StopInfo(thetas[k] - self.theta_start, lay.mode(last), reason))
+
+    def unstable(self, contact_first: bool = False) -> str | None:
+        """An explicit fixed-step method's step beyond its stability, the likely cause of a failure: a friction law
+        it has taken beyond its bound while sticking at some samples of this revolution (fewer than stop the run,
+        :meth:`friction`), or else a contact it amplifies (less than the preflight refuses:
+        runtime/solving/contact_stability.py); with ``contact_first``, the contact first (as a non-finite state of
+        explicit Euler has always been explained). None for other methods, or where neither is seen."""
+        if self.steps is None:
+            return None
+        growth = contact_growth(self.params, self.steps, self.functions.parameter_names,
+                                self.functions.parameters_read())
+        contact = growth[0].describe() if growth and growth[0].log_growth > 0 else None  # an amplified contact
+        step = self.sticking.beyond() if self.sticking is not None and self.sticking.active else None
+        friction = step.describe() if step is not None else None
+        return (contact or friction) if contact_first else (friction or contact)
+
+    def explained(self, failure: tuple | None) -> tuple | None:
+        """A failed integrator call (``(status, StopInfo)``, runtime/solving/diagnosis.py) with the likely cause
+        that :meth:`unstable` sees, if any."""
+        if failure is None or failure[0] != "failed":
+            return failure
+        cause = self.unstable()
+        if cause:
+            failure[1].reason += "; " + cause
+        return failure
 
     def tilt(self, Z, thetas) -> tuple[np.ndarray, tuple | None]:
         """Z up to its first sample whose tilt phi exceeds :data:`MAX_TILT` (the seal turned over in its groove,
@@ -115,8 +143,8 @@ class RunChecks:
         return Z[:, :k], ("failed", StopInfo(thetas[k] - self.theta_start, lay.mode(last), reason))
 
     def friction(self, Z, thetas, P) -> tuple[np.ndarray, tuple | None]:
-        """Explicit Euler only: Z up to its first sample at which a friction law that can stick has had its
-        regularisation beyond Euler's stable step over more than a share of the revolution
+        """Explicit fixed-step methods only: Z up to its first sample at which a friction law that can stick has had
+        its regularisation beyond the method's stable step over more than a share of the revolution
         (runtime/solving/euler_friction.py), and the failure it means (None if none has)."""
         watch, lay = self.sticking, self.layout
         if watch is None or not watch.active or not Z.shape[1]:
@@ -166,10 +194,11 @@ class RunChecks:
         if not bad.any():
             return None
         i, k = (int(v[0]) for v in np.nonzero(bad))
+        cause = self.unstable()  # a fixed-step method's step beyond its stability loses events, as expected
+        why = f"the step is beyond what the method can follow: {cause}" if cause else "a bug: please report the scene"
         return "failed", StopInfo(thetas[k] - self.theta_start, lay.mode(Z[lay.active, k]),
                                   f"missed contact event: guard {lay.guard_names[i]} is open in the "
-                                  f"integrator's mode but its gap is {g[i, k] / LENGTH:.4g} µm (a bug: please report "
-                                  "the scene)")
+                                  f"integrator's mode but its gap is {g[i, k] / LENGTH:.4g} µm ({why})")
 
 
 def chattering(Z, layout: HybridLayout, thetas, counts_before, settings: RunSettings,

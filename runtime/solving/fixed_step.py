@@ -131,7 +131,8 @@ class FixedStepIntegrator(Engine):
 
 
 class EulerIntegrator(FixedStepIntegrator):
-    """The paper's explicit Euler on the switched right-hand side (its stability: :mod:`.euler_integrator`)."""
+    """The paper's explicit Euler on the switched right-hand side (its stability, as every explicit fixed-step
+    method's: :mod:`.contact_stability`, :mod:`.euler_friction`)."""
 
     rule = EULER
 

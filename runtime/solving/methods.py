@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...suggest import not_known
+from .stability import CLASSICAL_RK4, EXPLICIT_EULER, StabilityFunction
 
 
 @dataclass
@@ -66,6 +67,13 @@ class Engine:
         run's."""
         return None
 
+    @classmethod
+    def steps_taken(cls, steps_per_revolution: int, dtheta: float) -> int:
+        """A fixed-step engine's steps per revolution, 2 pi over its longest step, at the setting
+        ``steps_per_revolution`` with output intervals of ``dtheta`` rad: the setting, unless the engine cuts its
+        intervals finer (what the stability checks of its ``Method.stability`` judge)."""
+        return int(steps_per_revolution)
+
     def carry_on(self, z: np.ndarray, carried: np.ndarray | None) -> None:
         """Continue from the hybrid state ``z`` as if the last call had ended there, carrying ``carried`` (what
         :meth:`carried` gave for ``z``; None: nothing carried, the next call starts afresh)."""
@@ -88,6 +96,10 @@ class Method:
     description: str
     #: False for methods that switch contacts inside the right-hand side (no events to miss)
     locates_events: bool = True
+    #: an explicit fixed-step method's stability function (runtime/solving/stability.py): its step is checked on
+    #: each contact and each friction law that can stick, before and during a run; None for adaptive and implicit
+    #: methods, whose step follows the stiffness or does not depend on it
+    stability: StabilityFunction | None = None
 
     def engine_class(self) -> type:
         if isinstance(self.engine, type):
@@ -103,7 +115,8 @@ _STEPPER = ".stepper_integrator:StepperIntegrator"
 METHODS: dict[str, Method] = {
     "erk": Method(_EVENTS, "erk", "adaptive RK45 (Dormand-Prince) with events located on its dense output; "
                   "compiles to C"),
-    "erk-rk4": Method(_EVENTS, "erk", "fixed-step RK4 with events on its dense output; compiles to C"),
+    "erk-rk4": Method(_EVENTS, "erk", "fixed-step RK4 with events on its dense output; compiles to C",
+                      stability=CLASSICAL_RK4),
     "composite": Method(".composite:CompositeIntegrator", "", "RK45 with events where contacts switch, exponential "
                         "Rosenbrock (exprb32) steps between; generated C in the model library"),
     "rosenbrock": Method(_EVENTS, "rosenbrock", "L-stable Rosenbrock order 5(4) for stiff contacts, events on dense "
@@ -113,19 +126,21 @@ METHODS: dict[str, Method] = {
                            "loop"),
     "idas": Method(_STEPPER, "idas", "SUNDIALS IDAS, mode switches located by the apexseal event loop"),
     "rk": Method(_STEPPER, "rk", "fixed-step RK4 per output interval, mode switches located by the apexseal event "
-                 "loop"),
+                 "loop", stability=CLASSICAL_RK4),
     "collocation": Method(_STEPPER, "collocation", "fixed-step Radau collocation, mode switches located by the event "
                           "loop"),
     "euler": Method(".fixed_step:EulerIntegrator", "euler", "the paper's method: explicit Euler on the "
-                    "switched right-hand side, fixed step", locates_events=False),
+                    "switched right-hand side, fixed step", locates_events=False, stability=EXPLICIT_EULER),
 }
 
 
-def register_method(name: str, engine: type, description: str, *, plugin: str = "", locates_events: bool = True) -> None:
-    """Make ``engine`` (a subclass of :class:`Engine`) available as ``solver.method = name``."""
+def register_method(name: str, engine: type, description: str, *, plugin: str = "", locates_events: bool = True,
+                    stability: StabilityFunction | None = None) -> None:
+    """Make ``engine`` (a subclass of :class:`Engine`) available as ``solver.method = name``; ``stability``: the
+    stability function of an explicit fixed-step engine's step (its steps per revolution: ``Engine.steps_taken``)."""
     if not (isinstance(engine, type) and issubclass(engine, Engine)):
         raise TypeError(f"method {name!r}: the engine must be a subclass of apexseal's Engine, not {engine!r}")
-    METHODS[name] = Method(engine, plugin, description, locates_events)
+    METHODS[name] = Method(engine, plugin, description, locates_events, stability)
 
 
 def method_of(method: str | type) -> Method:
@@ -160,3 +175,34 @@ def fixed_steps(steps_per_revolution: int, dtheta: float) -> int:
     integrator calls (a wall-time budget cuts it into 36), and each output interval gets its share.
     """
     return max(1, int(round(steps_per_revolution * dtheta / (2 * math.pi))))
+
+
+@dataclass(frozen=True)
+class ExplicitSteps:
+    """An explicit fixed-step method's step as its stability checks see it."""
+
+    method: str  # its solver.method
+    stability: StabilityFunction
+    steps_per_revolution: int  # 2 pi over its longest step (Engine.steps_taken)
+
+    @classmethod
+    def of(cls, steps: int | ExplicitSteps) -> ExplicitSteps:
+        """``steps`` as they are, or a number of steps per revolution as explicit Euler's (what the checks judged
+        before they covered other methods)."""
+        return steps if isinstance(steps, ExplicitSteps) else cls("euler", EXPLICIT_EULER, int(steps))
+
+    @property
+    def subject(self) -> str:
+        """How a message names the method: explicit Euler as its messages always have, another by its name and its
+        rule (``method 'rk' (classical RK4, fixed step)``)."""
+        return "explicit Euler" if self.method == "euler" else f"method {self.method!r} ({self.stability.name}, fixed step)"
+
+
+def explicit_steps(method: str | type, steps_per_revolution: int, dtheta: float) -> ExplicitSteps | None:
+    """The step of ``method`` at the setting ``steps_per_revolution`` with output intervals of ``dtheta`` rad, if it
+    is an explicit fixed-step method (its ``Method`` has a stability function; an engine class passed directly has
+    none); None for the others."""
+    m = method_of(method)
+    if m.stability is None:
+        return None
+    return ExplicitSteps(method, m.stability, m.engine_class().steps_taken(steps_per_revolution, dtheta))

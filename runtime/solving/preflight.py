@@ -7,9 +7,10 @@ import math
 import numpy as np
 
 from ..results.result import StopInfo
+from .contact_stability import MAX_GROWTH, contact_frequencies, contact_growth
 from .euler_friction import friction_at_start
-from .euler_integrator import MAX_GROWTH, contact_frequencies, contact_growth
 from .layout import mode_label
+from .methods import explicit_steps
 from .settings import RunSettings
 
 #: methods whose integrators differentiate the right-hand side (Jacobians, or event location on derivatives)
@@ -105,16 +106,18 @@ def start_problem(functions, params, theta, X, u) -> str | None:
     return f"{shown} starts the seal {where_}; {allowed}: check the initial state's units and sign"
 
 
-def preflight(functions, settings: RunSettings, params, theta, X, closed, u) -> StopInfo | None:
+def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
+              dtheta: float | None = None) -> StopInfo | None:
     """Refuse to start what cannot give a meaningful result, with the reason.
 
     * a rotor speed too slow for the stiffest contact (:func:`speed_problem`), an initial state that starts the
       seal deep inside a wall (:func:`start_problem`): both name the scene value;
     * NaN/Inf in the right-hand side;
-    * explicit Euler with a step that amplifies a contact oscillation more than
-      MAX_GROWTH times per revolution (runtime/solving/euler_integrator.contact_growth), or too long for the
-      friction regularisation at the normal forces of the start, the spring's preload
-      (runtime/solving/euler_friction.friction_at_start);
+    * an explicit fixed-step method (euler, rk, erk-rk4: ``Method.stability``) with a step that amplifies a contact
+      oscillation more than MAX_GROWTH times per revolution (runtime/solving/contact_stability.contact_growth), or
+      too long for the friction regularisation at the normal forces of the start, the spring's preload
+      (runtime/solving/euler_friction.friction_at_start); its steps per revolution at the run's intervals of
+      ``dtheta`` rad (default: its output intervals);
     * NaN/Inf in the derivative of the right-hand side, for every method but the
       fixed-step ones without Jacobians (euler, rk): an infinite partial derivative
       with respect to a parameter (a function of the parameters at the edge of its domain,
@@ -130,13 +133,14 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u) -> 
     if not np.isfinite(xdot).all():
         return StopInfo(0.0, mode, "the right-hand side is not finite at the start (NaN or Inf in "
                         f"{names_where(functions.state_names, ~np.isfinite(xdot))}): check the scene's values")
-    if settings.method == "euler":
-        growth = contact_growth(params, settings.steps_per_revolution, functions.parameter_names,
-                                functions.parameters_read())
+    steps = explicit_steps(settings.method, settings.steps_per_revolution,
+                           dtheta or 2 * math.pi / settings.samples_per_revolution)
+    if steps is not None:
+        growth = contact_growth(params, steps, functions.parameter_names, functions.parameters_read())
         worst = growth[0] if growth else None
         if worst is not None and worst.log_growth > math.log(MAX_GROWTH):
-            return StopInfo(0.0, mode, worst.describe(settings.steps_per_revolution))
-        sticking = friction_at_start(functions, params, settings.steps_per_revolution, theta, X, closed, u)
+            return StopInfo(0.0, mode, worst.describe())
+        sticking = friction_at_start(functions, params, steps, theta, X, closed, u)
         if sticking is not None:
             return StopInfo(0.0, mode, sticking.describe())
     if settings.method not in NEEDS_DERIVATIVES:

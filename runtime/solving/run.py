@@ -5,7 +5,7 @@
 integrator call, or ``calls_per_revolution`` calls (36, 10 degrees each, when a
 wall-time budget is set, so the budget is checked often enough). Nothing computed is lost, and every
 run ends with a named reason: on SIGINT or SIGTERM (acted on between calls, :mod:`.signals`), a solver
-failure, a non-finite state, explicit Euler's step beyond a sticking friction's (:mod:`.euler_friction`), a missed
+failure, a non-finite state, a fixed-step method's step beyond a sticking friction's (:mod:`.euler_friction`), a missed
 contact event, chattering or a used-up wall-time budget, the result keeps
 every finished sample and says where (crank angle, contact case) and why it
 stopped (docs/hard-cases.md lists what each reason means and what to do).
@@ -91,7 +91,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     if continue_from is None:
         done = 0  # revolutions in the sink before the first call
         part = _Part(functions, params, theta_start, omega, sink, first=z.copy(), first_pressures=u0)
-        stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0)
+        stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0, dth)
     else:  # the run was checked when it started from its scene's state
         done, z = continue_from[0], np.array(continue_from[1], float)
         carried = continue_from[2] if len(continue_from) > 2 else None
@@ -118,7 +118,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                "revolutions_asked": revolutions}
     sink.begin(info)  # what is known before the first step: a killed run's progress record says how it was run
     stats_total: dict = {}
-    check = RunChecks(functions, settings, params, theta_start)
+    check = RunChecks(functions, settings, params, theta_start, dth)
     # on a terminal a bar redrawn in place; in a log (stderr not a terminal) a line every LOG_INTERVAL s, kept
     tty = sys.stderr.isatty()
     bar = tqdm(total=revolutions, initial=done, unit="rev", disable=not progress, leave=not tty,
@@ -157,7 +157,9 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                     Z, bad = check.tilt(Z, edges[1:])
                 if bad is None:
                     Z, bad = check.friction(Z, edges[1:], P)
-                failure = failure or bad
+                    if bad is not None:  # found in the samples before the call failed: the earlier stop, and its cause
+                        failure = None
+                failure = check.explained(failure) or bad
                 found = failure or check.events(Z, z, edges[1:], P, z_rev)
                 Z = _up_to_stop(Z, edges, theta_start, found)
                 z_end = Z[:, -1].copy() if Z.shape[1] else z  # where the next call starts

@@ -34,6 +34,8 @@ from .scaling import LENGTH, scaled_rhs, state_scale
 
 #: zero-function values this far below 0 (in µm) are integration noise, not a crossing
 _NOISE = 1e-9
+#: the sub-grid on which the zero functions are checked (crank angle, rad; see the module docstring)
+CHECK_STEP = np.radians(0.05)
 
 
 class StepperIntegrator(Engine):
@@ -53,7 +55,7 @@ class StepperIntegrator(Engine):
     def __init__(self, rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *, method: str,
                  rtol: float, atol: float | None, n_samples: int, span: float = 2 * np.pi, steps_per_revolution: int = 20000,
                  event_tol: float = 1e-9, max_events: int = 10000, max_steps: int = 200000,
-                 check_step: float = np.radians(0.05), state_names=None, pressure: str = "steps"):
+                 check_step: float = CHECK_STEP, state_names=None, pressure: str = "steps"):
         plugin = METHODS[method].plugin
         self.pressure = pressure
         self.layout = layout = HybridLayout.of_functions(rhs, guards)
@@ -89,7 +91,7 @@ class StepperIntegrator(Engine):
             if plugin == "collocation":  # Newton on the scaled state: its default 1e-12 is below the round-off floor
                 opts["rootfinder_options"] = {"abstol": 1e-10, "abstolStep": 1e-10}
         opts["show_eval_warnings"] = False  # a NaN tried inside a failing step is reported once, by the run
-        m = max(1, int(np.ceil(self.dtheta / check_step)))
+        m = self.check_points(self.dtheta, check_step)
         self.sub = np.linspace(0.0, 1.0, m + 1)[1:]
         if "max_num_steps" in opts:  # CVODES counts per call: share the interval's steps among its sub-grid points
             opts["max_num_steps"] = max(1000, int(max_steps) // m)
@@ -114,6 +116,20 @@ class StepperIntegrator(Engine):
         self.stats = {"n_calls": 0, "n_events": 0}
         self.deadline = math.inf  # time.perf_counter() value past which a call stops (set by the caller)
         self._done = layout.empty()
+
+    @staticmethod
+    def check_points(dtheta: float, check_step: float = CHECK_STEP) -> int:
+        """The points of the sub-grid of an output interval of ``dtheta`` rad (its end included)."""
+        return max(1, int(np.ceil(dtheta / check_step)))
+
+    @classmethod
+    def steps_taken(cls, steps_per_revolution: int, dtheta: float) -> int:
+        """rk: the integrator's output grid is the check sub-grid, m points per output interval, and CasADi's
+        fixed-step integrators put ceil(elements / m) equal steps between consecutive output points (elements:
+        the interval's share of ``steps_per_revolution``, :func:`~.methods.fixed_steps`): at least m steps per
+        output interval, more than asked where the sub-grid is finer than the steps. 2 pi over the longest step."""
+        m = cls.check_points(dtheta)
+        return int(round(2 * np.pi / dtheta)) * m * math.ceil(fixed_steps(steps_per_revolution, dtheta) / m)
 
     @staticmethod
     def _controls(line, theta0):

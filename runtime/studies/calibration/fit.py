@@ -69,7 +69,7 @@ def fastest_contact(scene, ranges: dict[str, tuple[float, float]]) -> float:
     """sqrt(k/ms) of the stiffest contact a candidate can have (rad/s): every unknown at the top of its range, the
     other parameters the scene's, the contacts those of ``contact_frequencies`` (every oscillator the submodels
     declare whose stiffness is in the scene's vector, the spring's included)."""
-    from ...solving.euler_integrator import contact_frequencies
+    from ...solving.contact_stability import contact_frequencies
 
     p = dict(scene.parameters)
     p.update({n: v for n, v in contact_settings({n: hi for n, (_, hi) in ranges.items()}).items() if n in p})
