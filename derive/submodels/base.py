@@ -4,10 +4,10 @@ A :class:`Submodel` declares, as class attributes, its parameters (:class:`~..pa
 meaning, scene key, range, default), its option slots (:class:`~..options.Option`), its guards
 (:class:`Guard`: the contact is closed while the guard is negative; the name of its output and the labels of
 its modes), which option switches it on, its (stiffness, damping) pairs and its friction laws that can stick
-(:class:`Friction`) for the explicit-Euler stability checks, its damping coefficients that a ratio of critical
-damping may state instead, and plain numeric functions for its other derived parameters. Its laws are written in
-:meth:`Submodel.contacts`, which returns the loads it puts on the seal, given a :class:`Context` (kinematics, contact
-geometry, options, parameter symbols, the chamber pressures, activation symbols).
+(:class:`Friction`) for the stability checks of the explicit fixed-step methods, its damping coefficients that a
+ratio of critical damping may state instead, and plain numeric functions for its other derived parameters. Its laws
+are written in :meth:`Submodel.contacts`, which returns the loads it puts on the seal, given a :class:`Context`
+(kinematics, contact geometry, options, parameter symbols, the chamber pressures, activation symbols).
 
 Declarations import no sympy (a scene is read without it); :meth:`Submodel.contacts` imports what it needs.
 """
@@ -150,9 +150,9 @@ class Submodel:
     contact_names: ClassVar[tuple[str, ...]] = ()
     #: the option slot that switches the submodel on (None: always on)
     switch: ClassVar[str | None] = None
-    #: (stiffness, damping) parameter names of the oscillators it adds (explicit-Euler stability check)
+    #: (stiffness, damping) parameter names of the oscillators it adds (the explicit fixed-step methods' stability checks)
     oscillators: ClassVar[tuple[tuple[str, str], ...]] = ()
-    #: its friction laws whose sliding velocity passes through zero (explicit-Euler stability check)
+    #: its friction laws whose sliding velocity passes through zero (the explicit fixed-step methods' stability checks)
     frictions: ClassVar[tuple[Friction, ...]] = ()
     #: (name, SI unit, meaning) of each of its named :meth:`outputs`, optionally followed by the unit results show
     #: it in and the factor to it from SI (e.g. "g/s", 1e3): the result's column, its CSV header and docs

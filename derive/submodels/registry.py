@@ -446,14 +446,14 @@ def activation_symbols() -> dict:
 
 
 def oscillators(opts=None) -> tuple[tuple[str, str], ...]:
-    """The (stiffness, damping) pairs of the active submodels (all with ``opts`` None), for the explicit-Euler
-    stability check."""
+    """The (stiffness, damping) pairs of the active submodels (all with ``opts`` None), for the stability
+    check of the explicit fixed-step methods (runtime/solving/contact_stability.py)."""
     return tuple(pair for cls in submodels() if opts is None or cls.active(opts) for pair in cls.oscillators)
 
 
 def frictions(opts=None) -> tuple[Friction, ...]:
-    """The friction laws that can stick of the active submodels (all with ``opts`` None), for the explicit-Euler
-    stability check of the friction regularisation."""
+    """The friction laws that can stick of the active submodels (all with ``opts`` None), for the
+    explicit fixed-step methods' stability check on the friction regularisation (runtime/solving/euler_friction.py)."""
     return tuple(f for cls in submodels() if opts is None or cls.active(opts) for f in cls.frictions)
 
 

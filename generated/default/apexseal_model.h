@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 5af64322095d273f2e5a1150dd0987096e8b5b4e93c8e30c16ec8d727d1180d4.
+ * Effects: all. Input hash: 33f99f77b32eb8c6af06b35cade1e4179c182b7ec7b913a1391673082c50387e.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "5af64322095d273f2e5a1150dd0987096e8b5b4e93c8e30c16ec8d727d1180d4"
+#define APEXSEAL_INPUT_HASH "33f99f77b32eb8c6af06b35cade1e4179c182b7ec7b913a1391673082c50387e"
 
 /* state x */
 #define APEXSEAL_NX 6
