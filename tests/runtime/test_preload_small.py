@@ -455,6 +455,11 @@ def test_the_feasible_start_is_the_smallest_passing_multiple_of_the_scenes_prelo
     low = PreloadResult(False, "", MIN_FORCE, [])
     assert _feasible_start(setup, sf, grid, 0.2 * MM, ds[-2], DEFICIT_TOL, low) is None
     assert [h[0] for h in low.history] == ds[:-1] and low.message.startswith("infeasible")
+    # the tip presses on the housing at every preload of this scene (its inertial load alone gives 1.5 N): the
+    # message names the smallest force and says it is below the force asked, not that the tip lifts off (it did)
+    force = low.history[-1][1]
+    assert 0 < force < MIN_FORCE and f"the smallest force at the samples is {force:.3g} N" in low.message
+    assert "lifts off" not in low.message and f"with less than the {MIN_FORCE:g} N asked" in low.message
 
 
 def test_the_stiffness_valley_says_which_stiffnesses_keep_the_force_feasible():

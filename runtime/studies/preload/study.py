@@ -254,11 +254,15 @@ def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, defici
                     return d
             if ds[-1] >= max_preload:
                 break
+    force = float(sim.measure[j])
+    # the measure is kw xs5 < 0 while the tip is off the housing (problem.py): a lift-off only where it is negative
+    where = (f"the tip lifts off there, by {-force / setup.pmap.at('kw') * 1e6:.3g} um" if force < 0 else
+             f"the tip presses on the housing there, with less than the {setup.min_force:g} N asked"
+             if force < setup.min_force else "at least the force asked at every sample: the deficit lies between them")
     res.message = (f"infeasible: no constant preload up to max_preload = {max_preload / MM:g} mm keeps the contact "
                    f"force >= {setup.min_force:g} N between samples: at {d / MM:.4g} mm the force deficit is "
                    f"{sim.deficit:.3g} N^2 rad (bound {deficit_tol:.3g}); the smallest force at the samples is "
-                   f"{sim.measure[j]:.3g} N at crank angle {np.degrees(sim.thetas[j]) % 360:.1f} deg (negative: the "
-                   f"tip lifts off there, by {-sim.measure[j] / setup.pmap.at('kw') * 1e6:.3g} um). Exclude a window "
-                   "around that angle (exclude=[(start, end)] / --exclude START:END), lower min_force, or raise "
-                   "max_preload.")
+                   f"{force:.3g} N at crank angle {np.degrees(sim.thetas[j]) % 360:.1f} deg ({where}). Exclude a "
+                   "window around that angle (exclude=[(start, end)] / --exclude START:END), lower min_force, or "
+                   "raise max_preload.")
     return None
