@@ -93,7 +93,37 @@ def test_a_point_outside_the_scene_range_is_refused_before_any_work():
         scenes_of(st)
     text = str(info.value)
     assert "parameters.spring.delta_s" in info.value.keys()
-    assert "-0.002" in text and "out of range" in text and ">= 0" in text and "(point 1)" in text
+    assert "-0.002" in text and "out of range" in text and ">= 0" in text and "(points 1, 3, 5, 7)" in text
+
+
+def test_a_value_refused_at_many_points_is_one_problem_naming_them():
+    """A bad listed value recurs at every point of the grid that holds it: one line naming the points (it was one
+    line per point, cut at ten lines under a header that counted those ten as the study's problems)."""
+    st = light_study(**{'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'values = ["1 mm", "-2 mm", "3 mm", "4 mm"]'})
+    with pytest.raises(StudyError) as info:
+        scenes_of(st)
+    assert [str(p) for p in info.value.errors] == [
+        "parameters.spring.delta_s = -0.002: -0.002 m is out of range; allowed: >= 0 m (points 1, 5, 9, 13)"]
+    assert str(info.value).startswith("study light.toml: 1 problem\n")
+    many = light_study(**{"[collect]": '[parameters."operation.revolutions"]\nvalues = [1, 0, 1, 1, 1, 1, 1, 1]\n\n'
+                                       "[collect]"})  # 0 at 16 of the 128 points
+    with pytest.raises(StudyError) as info:
+        scenes_of(many)
+    (problem,) = info.value.errors
+    assert problem.key == "parameters.operation.revolutions" and problem.value == 0
+    assert problem.message.endswith("(16 points: 1, 9, 17, 25, 33, ..., 121)")
+
+
+def test_past_ten_distinct_problems_the_check_stops_and_says_where():
+    """Every point refused with a value of its own: the first ten are listed, and the error says that the points
+    after them were not checked (it listed ten as if they were all)."""
+    st = light_study(**{'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'from = "-20 mm"\nto = "-1 mm"\npoints = 12'})
+    with pytest.raises(StudyError) as info:
+        scenes_of(st)
+    assert len(info.value.errors) == 10 and all(p.message.endswith(f"(point {i})")
+                                                for i, p in enumerate(info.value.errors))
+    assert str(info.value).startswith("study light.toml: 10 problems (checked points 0 to 9 of 48; the others were "
+                                      "not checked)\n")
 
 
 def test_the_command_refusing_a_point_leaves_no_empty_folder(tmp_path):
@@ -105,7 +135,7 @@ def test_the_command_refusing_a_point_leaves_no_empty_folder(tmp_path):
     study = tmp_path / "bad.toml"
     study.write_text(LIGHT.replace('values = ["1 mm", "2 mm", "3 mm", "4 mm"]', 'values = ["1 mm", "-2 mm"]'))
     r = CliRunner().invoke(main, ["sweep", str(study), "-w", "1", "-q", "-o", str(tmp_path / "out")])
-    assert r.exit_code == 1 and "(point 1)" in r.output, r.output
+    assert r.exit_code == 1 and "(points 1, 3, 5, 7)" in r.output, r.output
     assert not (tmp_path / "out").exists()
 
 

@@ -59,13 +59,15 @@ MAX_POINTS = 1_000_000
 
 
 class StudyError(ValueError):
-    """A study file that cannot be used; ``errors`` lists every ``(key, value, message)``."""
+    """A study file that cannot be used; ``errors`` lists every ``(key, value, message)``; ``note`` says what the
+    list leaves out."""
 
-    def __init__(self, errors: list[tuple[str, Any, str]], source: str | None = None) -> None:
+    def __init__(self, errors: list[tuple[str, Any, str]], source: str | None = None, note: str | None = None) -> None:
         self.errors = [Problem(*e) for e in errors]
         self.source = source
         head = f"study {source}: " if source else "study: "
         head += f"{len(self.errors)} problem{'s' if len(self.errors) != 1 else ''}"
+        head += f" ({note})" if note else ""
         super().__init__("\n".join([head, *(f"  {p}" for p in self.errors)]))
 
     def keys(self) -> list[str]:
