@@ -36,6 +36,10 @@ from .units import TABLE_PRESSURES, implausible, plausible_ranges
 #: largest aspect ratio b = r/L of a dimple-free limaçon (Eq. 4; derive.geometry.looping_free_limit)
 MAX_ASPECT_RATIO = 0.25
 
+#: scene keys that hold no model parameter but an input that only the laws of one effect read, with that effect:
+#: the constant chamber pressures, the model's input u, read while the chamber pressure acts on the seal (Eq. 75)
+INPUT_KEYS: dict[str, str] = {"pressure.Pa": "chamber_pressure", "pressure.Pb": "chamber_pressure"}
+
 
 def _mm(x: float) -> str:
     return f"{x * 1e3:.6g} mm"
@@ -387,13 +391,15 @@ def check_needed(sections: dict[str, Section], effects: Effects, assumptions: As
 
 def unread_keys(effects: Effects, assumptions: Assumptions | None = None) -> frozenset[str]:
     """The scene keys of the parameters that no law of a model with ``effects`` and the modelling choices
-    ``assumptions`` (None: the defaults) reads (their effect off or their choice not made, registry.is_read):
-    neither required (:func:`check_needed`), range-checked as an error (:func:`ignored_values`) nor questioned
-    (:func:`check_plausible`)."""
+    ``assumptions`` (None: the defaults) reads (their effect off or their choice not made, registry.is_read), and
+    of the inputs of :data:`INPUT_KEYS` whose effect is off: neither required (:func:`check_needed`), range-checked
+    as an error (:func:`ignored_values`) nor questioned (:func:`check_plausible`)."""
     from apexseal.derive.submodels.registry import is_read, parameters
 
+    on = effects.as_dict()
+    inputs = {key for key, effect in INPUT_KEYS.items() if not on.get(effect, True)}
     return frozenset(p.key for p in parameters(all_inputs=True)
-                     if p.key is not None and not is_read(p, effects, assumptions))
+                     if p.key is not None and not is_read(p, effects, assumptions)) | inputs
 
 
 def ignored_values(ignored: list[Problem]) -> str:
@@ -405,7 +411,7 @@ def ignored_values(ignored: list[Problem]) -> str:
     by_key = {p.key: p for p in parameters(all_inputs=True) if p.key is not None}
     shown, choices = [], False
     for p in ignored:
-        need = needing(by_key[p.key])
+        need = needing(by_key[p.key]) if p.key in by_key else INPUT_KEYS[p.key]
         choices = choices or any("=" in n for n in needed_effects(need))
         shown.append(f"{p.key} = {show_value(p.value)} (not read while {unmet(need)}; allowed: "
                      f"{p.message.partition('allowed: ')[2]})")

@@ -234,7 +234,10 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
     sections, problems = validate_sections(raw)
     effects: Effects | None = None
     effect_problems: list[Problem] = []
-    if "effects" in sections:  # [effects] and [pressure] hold no model parameter: _unranged leaves them as they are
+    # the effects hold no range, and a [pressure] refused only for a constant pressure out of range (read while the
+    # chamber pressure is on) has no source to switch it off: the effects resolved here are those of the sections
+    # _unranged returns
+    if "effects" in sections:
         src = sections["pressure"].source if "pressure" in sections else None
         effects, effect_problems = resolve_effects(sections["effects"], src, raw)
     assumptions = _assumptions(sections)

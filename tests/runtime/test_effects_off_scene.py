@@ -93,6 +93,27 @@ def test_out_of_range_values_no_law_reads_load_and_run_with_one_warning(scenes):
     np.testing.assert_array_equal(a.state, b.state)
 
 
+def test_constant_chamber_pressures_out_of_range_while_the_chamber_pressure_is_off(default_scene):
+    """The constant pressures are the model's input, read only while the chamber pressure acts on the seal: off, a
+    negative Pa loads with the one warning and an implausible Pb is not questioned (the first stopped the scene and
+    the second warned, while the table of a table source was already neither read nor checked)."""
+    import warnings
+
+    from apexseal.runtime.scenes.errors import IgnoredValueWarning
+
+    constant = {"pressure": {"source": "constant", "Pa": "-1 bar", "Pb": "1e9 bar"}}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        off = default_scene.with_overrides(**constant, **{"effects.chamber_pressure": False})
+    assert [(w.category, str(w.message)) for w in caught] == [(IgnoredValueWarning, (
+        "scene default: ignored, out of range but read by no law of the scene's model: pressure.Pa = \"-1 bar\" (not "
+        "read while effects.chamber_pressure is off; allowed: >= 0 Pa); switching the effect on makes it an error"))]
+    assert off.pressure.to_dict() == {"source": "constant", "Pa": -1e5, "Pb": 1e14}
+    with pytest.raises(SceneError) as info:  # read: the error it always was
+        default_scene.with_overrides(**constant)
+    assert [str(p) for p in info.value.errors] == ['pressure.Pa = "-1 bar": -100000 Pa is out of range; allowed: >= 0 Pa']
+
+
 def test_the_same_values_read_are_errors_naming_key_value_and_range(scenes, default_scene):
     """With the effect on, the out-of-range value is the error it always was; friction.v_eps is read while any
     friction is on, so the groove's friction off does not excuse it."""
