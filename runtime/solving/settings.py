@@ -39,6 +39,8 @@ LIMITS: dict[str, tuple[str, Range]] = {
     "calls_per_revolution": ("int?", Range(ge=1, le=100_000)),
     "revolutions": ("int", Range(ge=1, le=MAX_REVOLUTIONS)),
 }
+#: the SI unit of a setting that has one, shown with its value and range ("0 < value <= 1e+07 s")
+UNITS: dict[str, str] = {"event_tol": "rad", "chatter_window": "rad", "max_wall_time": "s"}
 FLAGS = tuple(FLAG_SETS)  # the compiler's flag sets, by name
 #: the largest tilt (rad) of the seal in its groove that the model's geometry describes: Eqs. 20-43 hold for a seal
 #: tilted by a few degrees (the paper's nine contact cases end near 11 deg); 45 deg is a seal turned over. A run
@@ -65,9 +67,9 @@ def _fail(message: str) -> PydanticCustomError:
 
 def allowed(name: str) -> str:
     """The allowed range of a numeric setting as the scene's validators print it, e.g. ``1e-12 <= value <= 0.01``
-    (``36 <= n <= 100000`` for integers)."""
+    (``36 <= n <= 100000`` for integers, ``0 < value <= 1e+07 s`` with a unit)."""
     kind, rng = LIMITS[name]
-    return rng.describe(name="n") if kind.startswith("int") else rng.describe(name="value")
+    return rng.describe(name="n") if kind.startswith("int") else rng.describe(UNITS.get(name, ""), name="value")
 
 
 def check_value(name: str, value: Any) -> Any:
@@ -84,7 +86,7 @@ def check_value(name: str, value: Any) -> Any:
             raise _fail(f"expected a number, {allowed(name)}")
         value = float(value)
     if not rng.holds(value):  # NaN fails every bound
-        shown = value if kind.startswith("int") else format(value, ".6g")
+        shown = value if kind.startswith("int") else format(value, ".6g") + (f" {UNITS[name]}" if name in UNITS else "")
         raise _fail(f"{shown} is out of range; allowed: {allowed(name)}")
     return value
 
