@@ -82,6 +82,11 @@ KINDS: dict[str, str] = {
     "N/m": "stiffness",
     "N*s/m": "damping coefficient",
     "Pa": "pressure",
+    "N": "force",
+    "W": "power",
+    "K": "temperature",
+    "J/(kg*K)": "specific gas constant",
+    "s": "time",
     "1": "plain number",
 }
 
@@ -98,6 +103,11 @@ EXAMPLES: dict[str, str] = {
     "N/m": '"5e3 N/m"',
     "N*s/m": '"27 N*s/m"',
     "Pa": '"6 bar"',
+    "N": '"5 N"',
+    "W": '"60 W"',
+    "K": '"300 K"',
+    "J/(kg*K)": '"287 J/(kg*K)"',
+    "s": '"600 s"',
     "1": "0.1",
 }
 
@@ -113,12 +123,18 @@ ANGULAR = ("rad", "rad/s", "rpm")
 
 
 def expected(unit: str) -> str:
-    """Words for the expected kind, e.g. ``a length in m (e.g. "3 mm")``."""
+    """Words for the expected kind, e.g. ``a length in m (e.g. "3 mm")``; a unit of neither table (a user's
+    submodel's) is ``a quantity in N*m (e.g. "1 N*m")``."""
     kind = KINDS.get(unit, "quantity")
     article = "an" if kind[0] in "aeiou" else "a"
     if unit == "1":
         return "a plain number"
-    return f"{article} {kind} in {unit} (e.g. {EXAMPLES.get(unit, unit)})"
+    return f"{article} {kind} in {unit} (e.g. {example(unit)})"
+
+
+def example(unit: str) -> str:
+    """How a value in ``unit`` is written, for messages: ``"3 mm"`` for m, ``"1 N*m"`` for a unit without one."""
+    return EXAMPLES.get(unit, f'"1 {unit}"')
 
 
 def _has_angle(q: pint.Quantity) -> bool:
@@ -165,7 +181,7 @@ def _parse_quantity(value: Any, unit: str, key: str, bare: str | None) -> float:
             return _convert(q, unit, key, value, angular)
         if unit != "1" and (not angular or bare is not None):  # "2.0" for a length: the quotes promise a unit
             raise QuantityError(
-                key, value, f"a quoted value needs a unit (write it with one, e.g. {EXAMPLES.get(unit, unit)}, "
+                key, value, f"a quoted value needs a unit (write it with one, e.g. {example(unit)}, "
                 f"or as a bare TOML number in {unit}); expected {expected(unit)}"
             )
         number = float(q.magnitude)  # "0.1" for a plain number: the same as the TOML number

@@ -36,6 +36,13 @@ CASES = [
         '"3 mm"',
         ["wrong unit", "expected a stiffness in N/m", "got mm"],
     ),
+    (  # a unit that had no word: "expected a quantity in K (e.g. K)"
+        "wrong-dimension-of-a-temperature",
+        {**GAS, "gas.T_supply": "300 m"},
+        "gas.T_supply",
+        '"300 m"',
+        ['expected a temperature in K (e.g. "300 K"), got m'],
+    ),
     (
         "angle-without-unit",
         {"operation.start_angle": 30},
@@ -482,6 +489,15 @@ def test_each_error_names_key_value_and_what_is_allowed(default, overrides, key,
     assert str(problem).startswith(line)
     for fragment in fragments:
         assert fragment in problem.message, (fragment, problem.message)
+
+
+def test_a_unit_without_a_word_of_its_own_is_shown_with_a_number():
+    """A unit no table names (a user's submodel may declare any) is spelled as a value, "1 N*m": the example was the
+    bare unit, "(e.g. N*m)", which is not a value a scene takes."""
+    from apexseal.runtime.scenes.units import expected
+
+    assert expected("N*m") == 'a quantity in N*m (e.g. "1 N*m")'
+    assert expected("N") == 'a force in N (e.g. "5 N")' and expected("W") == 'a power in W (e.g. "60 W")'
 
 
 def test_errors_are_key_value_message_tuples(default):
