@@ -33,6 +33,7 @@ import numpy as np
 
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects
+from apexseal.stacklevel import user_stacklevel
 
 from .checks import (
     check_consistency,
@@ -258,13 +259,14 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
     if problems:  # an implausible value (a unit slip) is the likely cause of the rest: report it first
         raise SceneError([p for p in doubtful if p.key not in {q.key for q in problems}] + problems, source=name)
     for p in doubtful:
-        warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=4)
+        warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=user_stacklevel())
     if ignored:
-        warnings.warn(f"scene {name}: {ignored_values(ignored)}", IgnoredValueWarning, stacklevel=4)
+        warnings.warn(f"scene {name}: {ignored_values(ignored)}", IgnoredValueWarning,
+                      stacklevel=user_stacklevel())
     assert pressure is not None and effects is not None and assumptions is not None
     values = derive_parameters(sections, effects, assumptions)
     for p in check_damping(values, raw):
-        warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=4)
+        warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=user_stacklevel())
     return Scene(
         machine=sections["machine"],
         operation=sections["operation"],

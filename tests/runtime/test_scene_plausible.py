@@ -96,3 +96,31 @@ def test_a_value_no_law_reads_is_not_questioned(default_scene):
         default_scene.with_overrides(**off, **{"spring.ks": "1e9 N/m"})
     with pytest.warns(PlausibilityWarning, match="spring.ks"):
         default_scene.with_overrides(**{"spring.ks": "1e9 N/m"})
+
+
+def test_a_scene_s_warnings_point_at_the_line_that_made_the_scene(default_scene):
+    """From every entry point (a file, a string, an override) a scene's warnings name the caller's own line, as a
+    script or notebook shows it: a fixed stack level named the line of the caller's caller from with_overrides and
+    from_toml_string (or Python's "sys:1" at a script's top level)."""
+    from apexseal import Scene, load_scene
+    from apexseal.runtime.scenes.errors import IgnoredValueWarning
+    from apexseal.runtime.scenes.scene import default_scene_text
+
+    text = default_scene_text().replace("zeta_w = 0.1 ", "zeta_w = 3   ")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        line = _line_after()
+        default_scene.with_overrides(**{"contacts.zeta_w": 3})
+        Scene.from_toml_string(text, default_scene.source_path.parent)
+        load_scene(overrides={"contacts.zeta_w": 3})
+        default_scene.with_overrides(**{"effects.groove_friction": False, "friction.mu2": 1.5})
+    assert [(w.category, w.filename, w.lineno) for w in caught] == [
+        (PlausibilityWarning, __file__, line), (PlausibilityWarning, __file__, line + 1),
+        (PlausibilityWarning, __file__, line + 2), (IgnoredValueWarning, __file__, line + 3)]
+
+
+def _line_after() -> int:
+    """The number of the line after the caller's."""
+    import sys
+
+    return sys._getframe(1).f_lineno + 1
