@@ -118,13 +118,12 @@ def _significant(x: float, digits: int) -> str:
 def _shortest(values: list[str]) -> list[str]:
     """A row of scene values as :meth:`Comparison.text` shows them: each number with its unit (as scene.toml writes
     it, to the last digit: -0.436332312998582 rad) to the fewest significant digits, from 4, that keep the row's
-    values apart; a value that is not a number, an integer and a number that has no more digits stay as written
-    (the table and its CSV keep every value whole)."""
+    values apart; a value that is not a number (a word, "–" where a result lacks the key), an integer and a number
+    that has no more digits stay as written (the table and its CSV keep every value whole)."""
     parsed = [_NUMBER.match(str(v)) for v in values]
-    if not all(parsed):
-        return values
     for digits in range(4, 18):
-        short = [v if re.fullmatch(r"-?\d+", m.group(1)) else _significant(float(m.group(1)), digits) + (m.group(2) or "")
+        short = [v if m is None or re.fullmatch(r"-?\d+", m.group(1))
+                 else _significant(float(m.group(1)), digits) + (m.group(2) or "")
                  for v, m in zip(values, parsed, strict=True)]
         short = [s if len(s) < len(v) else v for s, v in zip(short, values, strict=True)]
         if len(set(short)) == len(set(values)):
