@@ -10,6 +10,7 @@ from pathlib import Path
 import click
 
 from .cli_common import Choice, writable
+from .cores import MAX_WORKERS
 
 EXAMPLES = ("preload-map",)
 
@@ -50,7 +51,7 @@ def _address(ctx, param, value: str | None) -> str | None:
 @click.argument("study", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", type=Choice(EXAMPLES), help="Run a study shipped with apexseal instead of STUDY "
               "(preload-map: the design map of the default machine over spring preload and stiffness).")
-@click.option("--workers", "-w", type=click.IntRange(1, 4096),
+@click.option("--workers", "-w", type=click.IntRange(1, MAX_WORKERS),
               help="Worker processes of the local Dask cluster [default: every core]; 1 runs serially here.")
 @click.option("--scheduler", metavar="ADDRESS", callback=_address,
               help="Address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786) to send the points to.")

@@ -5,6 +5,9 @@ from __future__ import annotations
 
 import os
 
+#: the most worker processes a sweep's LocalCluster may be asked for (``--workers``, ``run_sweep(workers=...)``)
+MAX_WORKERS = 4096
+
 
 def available_cores() -> int:
     """The cores this process may be scheduled on (its CPU affinity, where the system reports it; else the

@@ -139,6 +139,25 @@ def test_the_command_refusing_a_point_leaves_no_empty_folder(tmp_path):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("workers", [0, 1.5], ids=["zero", "not-an-integer"])
+def test_run_sweep_refuses_a_number_of_workers_out_of_range(tmp_path, workers):
+    """run_sweep checks ``workers`` as the command line's --workers is checked (1 to 4096), before any folder or
+    cluster: 0 started a cluster of every core, a negative number one with no workers that waited for ever."""
+    from apexseal.runtime.studies.sweep import run_sweep
+
+    allowed = "allowed: an integer 1 <= n <= 4096 (1: serially in this process), or None (a worker per core)"
+    with pytest.raises(ValueError) as info:
+        run_sweep(light_study(), tmp_path / "out", workers=workers, quiet=True)
+    assert str(info.value) == f"workers = {workers!r}: {allowed}"
+    assert not (tmp_path / "out").exists()
+    from apexseal.runtime.studies.sweep.execute import check_workers
+
+    for bad in (-2, 4097, True):
+        with pytest.raises(ValueError, match=f"workers = {bad!r}: allowed"):
+            check_workers(bad)
+    check_workers(None), check_workers(1), check_workers(4096)
+
+
 def test_a_list_is_short_for_values_and_a_bare_value_is_refused_with_both_forms():
     short = study_from_toml('[parameters]\n"spring.ks" = ["1e3 N/m", 3e3]\n')
     assert short.parameters[0].values == (1000.0, 3000.0)

@@ -21,7 +21,7 @@ from typing import Any
 
 import pandas as pd
 
-from ....cores import available_cores
+from ....cores import MAX_WORKERS, available_cores
 from .design import design_points
 from .point import run_point
 from .store import Store
@@ -104,6 +104,7 @@ def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, sche
     ``scheduler``: address of a running Dask scheduler (``tcp://host:8786``) to use instead. ``client``: a
     ``dask.distributed.Client`` to use as it is. ``resume=False`` discards earlier results in ``out``.
     """
+    check_workers(workers)
     t0 = time.perf_counter()
     points = scenes_of(study)
     store = Store(out)
@@ -111,6 +112,19 @@ def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, sche
         return _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, on_row)
     finally:
         store.close()
+
+
+def check_workers(workers: Any) -> None:
+    """A ValueError naming the value and the allowed range unless ``workers`` is None or an integer from 1 to
+    :data:`MAX_WORKERS` (a LocalCluster of no workers, or of a negative number, waited for ever for its first point;
+    0 was taken as every core)."""
+    import numbers
+
+    if workers is None or (isinstance(workers, numbers.Integral) and not isinstance(workers, bool)
+                           and 1 <= workers <= MAX_WORKERS):
+        return
+    raise ValueError(f"workers = {workers!r}: allowed: an integer 1 <= n <= {MAX_WORKERS} (1: serially in this "
+                     "process), or None (a worker per core)")
 
 
 def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, on_row) -> SweepReport:
