@@ -83,6 +83,20 @@ def test_bad_ranges_are_refused(scene, ranges, fragment):
     assert set(PLAUSIBLE) == {"kw", "kg", "zeta_w", "zeta_g"}
 
 
+@pytest.mark.parametrize("counts, message", [
+    ({"grid": 0, "polish": -1}, "grid = 0: allowed: an integer 1 <= n <= 9; polish = -1: allowed: an integer "
+                                "0 <= n <= 500 (0: no polish)"),
+    ({"grid": 2.5}, "grid = 2.5: allowed: an integer 1 <= n <= 9"),
+    ({"revolutions": 1}, "revolutions = 1: allowed: an integer 2 <= n <= 50 (the first revolution is the start "
+                         "transient)")], ids=["grid-and-polish", "grid-not-an-integer", "one-revolution"])
+def test_bad_counts_are_refused_naming_each_value_and_its_range(scene, counts, message):
+    """The API takes the command line's ranges: a negative polish ran, a fractional grid raised a TypeError, and a
+    bad grid or revolutions gave one message that named neither the value nor the upper bound."""
+    with pytest.raises(CalibrationError) as info:
+        calibrate(scene, **counts)
+    assert str(info.value) == message
+
+
 def test_a_scene_without_the_contacts_it_fits_is_refused(scene):
     """With the groove contacts off, their stiffnesses may be left out of the scene (NaN, read by no law): the
     study refuses before it starts instead of fitting what nothing reads."""

@@ -28,6 +28,10 @@ from .features import PAPER_MAIN_PEAK, PAPER_X_ANGLE_DEG, Features, angle_error_
 
 #: unknown -> (low, high): plausible range (docs/scene-estimates.md)
 PLAUSIBLE = {"kw": (3e8, 1e10), "kg": (3e8, 1e10), "zeta_w": (0.02, 0.5), "zeta_g": (0.02, 0.5)}
+#: the study's counts and their ranges (low, high, why), the same for the API and the command line's options:
+#: grid points per unknown (9^4 = 6561 simulations at most), Nelder-Mead simulations, revolutions per simulation
+COUNTS = {"grid": (1, 9, ""), "polish": (0, 500, " (0: no polish)"),
+          "revolutions": (2, 50, " (the first revolution is the start transient)")}
 #: a feature within this of the paper counts as matched: 15 % in frequency, 20 deg in crank angle
 FREQUENCY_MATCH = 0.15
 ANGLE_MATCH_DEG = 20.0
@@ -157,6 +161,20 @@ def cost_of(f: Features) -> float:
                                                                  / 180) ** 2
 
 
+def check_counts(**given) -> None:
+    """A :class:`CalibrationError` naming every count of :data:`COUNTS` in ``given`` that is no integer in its range,
+    with its value and the range."""
+    import numbers
+
+    problems = []
+    for name, value in given.items():
+        lo, hi, why = COUNTS[name]
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not lo <= value <= hi:
+            problems.append(f"{name} = {value!r}: allowed: an integer {lo} <= n <= {hi}{why}")
+    if problems:
+        raise CalibrationError("; ".join(problems))
+
+
 def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, grid: int = 3, revolutions: int = 2,
               polish: int = 20, samples: int | None = None,
               progress: Callable[[str], None] | None = None) -> Calibration:
@@ -188,8 +206,7 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
         plo, phi = PLAUSIBLE[name]
         if not (plo <= lo < hi <= phi):
             raise CalibrationError(f"{name} = {lo:g}..{hi:g}: allowed: a range inside the plausible {plo:g}..{phi:g}")
-    if grid < 1 or revolutions < 2:
-        raise CalibrationError("grid must be >= 1 and revolutions >= 2 (the first revolution is the start transient)")
+    check_counts(grid=grid, polish=polish, revolutions=revolutions)
     off = [e for e in ("housing_contact", "groove_contact") if not getattr(scene.effects, e)]
     if off:  # their stiffnesses and damping are the unknowns
         raise CalibrationError(f"effects.{off[0]} = false: the calibration fits the contacts' stiffness and damping; "
