@@ -402,16 +402,27 @@ def unread_keys(effects: Effects, assumptions: Assumptions | None = None) -> fro
                      if p.key is not None and not is_read(p, effects, assumptions)) | inputs
 
 
+def key_needing(key: str) -> str | tuple[str, ...] | None:
+    """What must hold for a law to read the value of scene key ``key``: the effects or choices of its parameter
+    (registry.needing), or the effect of an input of :data:`INPUT_KEYS`; None for a key read whatever the effects,
+    or one that holds no parameter or input (a switch, a solver setting). The keys :func:`unread_keys` gives are
+    those whose need does not hold."""
+    from apexseal.derive.submodels.registry import needing, parameters
+
+    if key in INPUT_KEYS:
+        return INPUT_KEYS[key]
+    return next((needing(p) for p in parameters(all_inputs=True) if p.key == key), None)
+
+
 def ignored_values(ignored: list[Problem]) -> str:
     """The one warning of the out-of-range values a scene gives that no law of its model reads (``ignored``: their
     range problems, of keys of :func:`unread_keys`): each key with its value, the effects that are off, and the
     range that holds while they are on."""
-    from apexseal.derive.submodels.registry import needed_effects, needing, parameters, unmet
+    from apexseal.derive.submodels.registry import needed_effects, unmet
 
-    by_key = {p.key: p for p in parameters(all_inputs=True) if p.key is not None}
     shown, choices = [], False
     for p in ignored:
-        need = needing(by_key[p.key]) if p.key in by_key else INPUT_KEYS[p.key]
+        need = key_needing(p.key)
         choices = choices or any("=" in n for n in needed_effects(need))
         shown.append(f"{p.key} = {show_value(p.value)} (not read while {unmet(need)}; allowed: "
                      f"{p.message.partition('allowed: ')[2]})")

@@ -309,6 +309,27 @@ def test_a_parameter_no_law_reads_is_refused():
     study_from_toml(base + '[parameters]\n"friction.mu2" = [0.1, 0.2]\n"effects.groove_friction" = [true, false]\n')
 
 
+def test_a_chamber_pressure_varied_while_the_chamber_pressure_is_off_is_refused(tmp_path):
+    """pressure.Pa and pressure.Pb are no model parameters but inputs read only while effects.chamber_pressure is
+    on (checks.INPUT_KEYS): varied with it off, every point was the same run, without a word. Varied with the
+    effect, they pass."""
+    import apexseal
+    from apexseal.runtime.scenes.resolved import resolved_toml
+
+    const = apexseal.load_scene().with_overrides(**{"pressure.source": "constant", "pressure.Pa": "2 bar",
+                                                    "pressure.Pb": "1 bar", "pressure.file": None,
+                                                    "pressure.unit": None})
+    (tmp_path / "const.toml").write_text(resolved_toml(const)[0])
+    text = ('[study]\nscene = "const.toml"\n[scene]\n"effects.chamber_pressure" = false\n'
+            '[parameters]\n"pressure.Pa" = ["2 bar", "3 bar"]\n"pressure.Pb" = ["1 bar", "1.5 bar"]\n')
+    with pytest.raises(StudyError) as info:
+        study_from_toml(text, base_dir=tmp_path)
+    assert {p.key for p in info.value.errors} == {"parameters.pressure.Pa", "parameters.pressure.Pb"}, info.value
+    for p in info.value.errors:
+        assert "read by no law while effects.chamber_pressure is off" in p.message, p
+    study_from_toml(text + '"effects.chamber_pressure" = [true, false]\n', base_dir=tmp_path)
+
+
 def test_a_parameter_a_modelling_choice_reads_is_refused_without_it():
     """contacts.delta_ref is read under assumptions.damping_law = "penetration" only: varied without that choice it
     is refused, naming the choice; with it in [scene], or varied with it, it passes."""

@@ -319,11 +319,12 @@ def _structure(raw: dict, source: str) -> tuple[StudyFile, list[Problem], set[st
 
 
 def _unread(parameters, scene, given: dict) -> list[Problem]:
-    """A varied model parameter that no law of the study's model reads (its effect off, or the modelling choice
-    that reads it not made, in the scene and not varied): every point would be the same run."""
+    """A varied scene key that no law of the study's model reads (its effect off, or the modelling choice that reads
+    it not made, in the scene and not varied: :func:`apexseal.runtime.scenes.checks.unread_keys`, which also holds
+    the inputs that only one effect reads, the constant chamber pressures): every point would be the same run."""
     from ....derive.effects import declared as effects_declared
-    from ....derive.submodels.registry import is_read, needed_effects, needing, unmet
-    from ....derive.submodels.registry import parameters as declared
+    from ....derive.submodels.registry import needed_effects, unmet
+    from ...scenes.checks import key_needing, unread_keys
 
     slots = effects_declared()
 
@@ -335,14 +336,13 @@ def _unread(parameters, scene, given: dict) -> list[Problem]:
         return [f"assumptions.{slot}"] if choice else [f"effects.{e}" for e in lineage(entry)]
 
     varied = {p.key for p in parameters}
-    by_key = {q.key: q for q in declared(all_inputs=True) if q.key is not None}
+    unread = unread_keys(scene.effects, scene.assumptions)
     out = []
     for p in parameters:
-        q = by_key.get(p.key)
-        need = needing(q) if q is not None else None
+        need = key_needing(p.key)
         if need is None or any(k in varied for n in needed_effects(need) for k in keys(n)):
             continue
-        if not is_read(q, scene.effects, scene.assumptions):
+        if p.key in unread:
             remedy = ("make that choice in [scene]" if any("=" in n for n in needed_effects(need)) else
                       "switch it on in [scene] (with the effects it needs)")
             out.append(Problem(f"parameters.{p.key}", show_value(given.get(p.key, "(varied)")),
