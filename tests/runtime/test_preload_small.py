@@ -413,6 +413,36 @@ def test_a_constant_above_its_boundary_is_lowered_to_it(light, studies):
     at = np.array([c.delta_s])
     k2, _ = _polish_constant(setup, sf, grid, at, None, MIN_FORCE, (), DEFICIT_TOL, same)
     assert k2[0] == c.delta_s and same.ipopt_delta_s is None
+    assert res.active == same.active == c.active == "deficit"
+    assert "lowered by bisection" in "\n".join(res._holding()) and "lowered" not in "\n".join(same._holding())
+
+
+def test_a_constant_optimum_that_needs_no_preload_says_the_bound_holds_it(light):
+    """At 0.1 N the seal's inertial load alone (1.5 N at its lowest) keeps the tip pressed: the optimum is no
+    preload, where only the bound delta_s >= 0 is active. The report said 'IPOPT stopped at ... mm, above the
+    feasible boundary: lowered by bisection' though no bisection ran (the polish halved down to 0.1 um and kept
+    that) and no constraint was active; now it says the bound holds the optimum, at 0 mm, both from IPOPT's point
+    and from 4 um above it (not from further: the tip lifts off between the samples at preloads of about 0.02 to
+    0.09 mm here, measured, so a polish from 1.5 mm stops at 0.095 mm, the deficit active there)."""
+    from apexseal.runtime.studies.preload.periodic import periodic
+    from apexseal.runtime.studies.preload.result import PreloadResult
+    from apexseal.runtime.studies.preload.study import _polish_constant
+
+    scene, functions = light
+    setup = PreloadSetup(scene, functions, 0.1, (), SAMPLES, max_groove_force=NO_BOUND)
+    r = optimise_preload(scene, min_force=0.1, nodes=NODES, setup=setup)
+    assert r.ok and r.delta_s == 0.0 and r.active == "zero" and r.deficit == 0.0, r.describe()
+    text = r.describe()
+    assert "only the bound delta_s >= 0" in text and "bisection" not in text and "boundary:" not in text, text
+    sf = study_functions(setup, SAMPLES // NODES)
+    grid = SegmentGrid(SAMPLES, NODES, 1, setup.theta_start, setup.dth)
+    high = np.array([0.004 * MM])
+    res = PreloadResult(False, "", 0.1, [])
+    knots, sim = _polish_constant(setup, sf, grid, high, periodic(setup, sf, grid, high, 0.1, ()), 0.1, (),
+                                  DEFICIT_TOL, res)
+    assert knots[0] == 0.0 and sim.deficit == 0.0 and res.active == "zero" and res.ipopt_delta_s == high[0]
+    said = "\n".join(res._holding())
+    assert "IPOPT stopped at 0.0040 mm" in said and "lowered to the bound (no boundary to bisect)" in said, said
 
 
 def test_schedules_simulated_together_are_those_simulated_one_at_a_time(light):

@@ -56,6 +56,10 @@ class PreloadResult:
     history: list = field(default_factory=list)  # [(delta_s m, min force at samples N, deficit), ...] start search
     #: m, where IPOPT stopped when a constant preload below it was found feasible (:func:`.study._polish_constant`)
     ipopt_delta_s: float | None = None
+    #: what holds a constant optimum where it is (:func:`.study._polish_constant`): "deficit" or "groove" (less
+    #: preload violates the force-deficit or the groove-force bound), "zero" (the bound delta_s >= 0: no preload
+    #: is needed); "" for a schedule or a failed study
+    active: str = ""
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -88,14 +92,32 @@ class PreloadResult:
             f"(re-simulation, {self.samples} samples)",
             f"  friction power {self.friction_power:.3f} W vs {self.scene_friction_power:.3f} W at the scene's preload "
             f"({self.friction_power - self.scene_friction_power:+.3f} W)",
-            *([f"  IPOPT stopped at {self.ipopt_delta_s / MM:.4f} mm, above the feasible boundary: lowered by "
-               "bisection on the re-simulated force deficit (its gradient through the events was inexact)"]
-              if self.ipopt_delta_s is not None else []),
+            *self._holding(),
             f"  IPOPT: {self.ipopt_status}, {self.ipopt_iterations} iterations, {self.ipopt_time_s:.1f} s "
             f"({self.rounds} round{'s' if self.rounds != 1 else ''}); build {self.build_time_s:.1f} s; "
             f"{self.nodes} shooting nodes, erk rtol {self.rtol:g}",
         ]
         return "\n".join(lines)
+
+    def _holding(self) -> list[str]:
+        """What holds a constant optimum (:attr:`active`), and how it was lowered from where IPOPT stopped."""
+        if not self.active:
+            return []
+        if self.active == "zero":
+            lines = ["  active at the optimum: only the bound delta_s >= 0 (no preload is needed: without one the "
+                     "re-simulated force deficit is within its bound" + (", and so is the groove-force excess"
+                                                                          if self.max_groove_force is not None else "")
+                     + ")"]
+            if self.ipopt_delta_s is not None:
+                lines.append(f"  IPOPT stopped at {self.ipopt_delta_s / MM:.4f} mm; less preload re-simulated "
+                             "feasibly down to none at all: lowered to the bound (no boundary to bisect)")
+            return lines
+        bound = "force-deficit bound" if self.active == "deficit" else "groove-force bound"
+        lines = [f"  active at the optimum: the {bound} (less preload re-simulates beyond it)"]
+        if self.ipopt_delta_s is not None:
+            lines.append(f"  IPOPT stopped at {self.ipopt_delta_s / MM:.4f} mm, above that boundary: lowered by "
+                         "bisection on the re-simulations (its gradient through the events was inexact)")
+        return lines
 
 
 def fill_result(res, setup, grid, knots_m, sim) -> None:

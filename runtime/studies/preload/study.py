@@ -176,34 +176,56 @@ POLISH_STEP = 5e-3
 
 
 def _polish_constant(setup, sf, grid, knots_m, sim, min_force, exclude, deficit_tol, res):
-    """Check a constant optimum against its monotone structure, and lower it to the constraint if it can be.
+    """Check a constant optimum against its monotone structure, lower it to the constraint or bound that holds it
+    if it can be, and record which one does in ``res.active``.
 
     Both objectives grow with a constant preload (the friction power through the spring force, Eqs. 38-39), so the
-    constant optimum is the smallest preload whose re-simulated force deficit is within its bound. When
-    ``POLISH_STEP`` less preload is still feasible, IPOPT stopped early: its gradient, forward sensitivities
-    through the contact events, can be inexact where events come close together (measured on the default scene
-    with linear pressures: 14.1 against 3.7 W/mm by central differences at 0.487 mm). Then the boundary is found
-    by bisection on re-simulations (feasible above, infeasible below) to 1e-4 relative, and IPOPT's point is kept
-    in ``res.ipopt_delta_s``. Returns the knots and the re-simulation to report."""
+    constant optimum is the smallest preload whose re-simulation meets every constraint: the boundary of the force
+    deficit ("deficit") or of the groove-force excess ("groove") that ``POLISH_STEP`` less preload violates, or
+    the bound delta_s >= 0 ("zero") where no preload is needed. When ``POLISH_STEP`` less preload is still
+    feasible, IPOPT stopped early: its gradient, forward sensitivities through the contact events, can be inexact
+    where events come close together (measured on the default scene with linear pressures: 14.1 against 3.7 W/mm
+    by central differences at 0.487 mm). Then the preload is halved until a re-simulation violates a constraint
+    and the boundary found by bisection (feasible above, infeasible below) to 1e-4 relative; where every halving
+    down to 1e-7 m is feasible and so is no preload at all, the optimum is the bound (no bisection runs). IPOPT's
+    point is kept in ``res.ipopt_delta_s``. Returns the knots and the re-simulation to report."""
+
+    def run(d):
+        return periodic(setup, sf, grid, np.array([d]), min_force, exclude)
+
+    def broken(s) -> str:  # the constraint a re-simulation violates ("" for none)
+        return "deficit" if s.deficit > deficit_tol else "groove" if s.groove_excess > deficit_tol else ""
+
     d_hi = float(knots_m[0])
-    probe = periodic(setup, sf, grid, np.array([d_hi * (1 - POLISH_STEP)]), min_force, exclude)
-    if probe.deficit > deficit_tol or probe.groove_excess > deficit_tol:
+    if d_hi <= 0.0:  # IPOPT on the bound itself
+        res.active = "zero"
         return knots_m, sim
-    with stage(f"IPOPT stopped at {d_hi / MM:.4f} mm with less preload still feasible: bisection to the boundary"):
+    probe = run(d_hi * (1 - POLISH_STEP))
+    if broken(probe):
+        res.active = broken(probe)
+        return knots_m, sim
+    with stage(f"IPOPT stopped at {d_hi / MM:.4f} mm with less preload still feasible: lowering it to the boundary "
+               "of a constraint, or to delta_s = 0"):
         best, d_ok, d_lo = probe, d_hi * (1 - POLISH_STEP), None
         d = d_ok
         while d_lo is None and d > 1e-7:  # an infeasible preload below: halve
             d *= 0.5
-            trial = periodic(setup, sf, grid, np.array([d]), min_force, exclude)
-            if trial.deficit > deficit_tol or trial.groove_excess > deficit_tol:
-                d_lo = d
+            trial = run(d)
+            if broken(trial):
+                d_lo, res.active = d, broken(trial)
             else:
                 best, d_ok = trial, d
-        while d_lo is not None and d_ok - d_lo > 1e-4 * d_ok:
+        if d_lo is None:  # feasible down to 0.1 um: does the seal need a preload at all?
+            zero = run(0.0)
+            if broken(zero):
+                d_lo, res.active = 0.0, broken(zero)
+            else:
+                best, d_ok, res.active = zero, 0.0, "zero"
+        while d_lo is not None and d_ok - d_lo > max(1e-4 * d_ok, 1e-12):  # bisection to the boundary
             mid = 0.5 * (d_ok + d_lo)
-            trial = periodic(setup, sf, grid, np.array([mid]), min_force, exclude)
-            if trial.deficit > deficit_tol or trial.groove_excess > deficit_tol:
-                d_lo = mid
+            trial = run(mid)
+            if broken(trial):
+                d_lo, res.active = mid, broken(trial)
             else:
                 best, d_ok = trial, mid
     res.ipopt_delta_s = d_hi
