@@ -329,6 +329,29 @@ def test_a_script_without_the_main_guard_is_told_to_add_it(tmp_path):
     assert 'if __name__ == "__main__":' in run.stderr.splitlines()[-1]
 
 
+def test_a_script_read_from_standard_input_is_told_to_use_a_file_or_one_worker(tmp_path):
+    """``python - < sweep.py``: the main module's __file__ is "<stdin>", which Dask's worker processes try to import
+    and cannot, so they fail to start whatever the script holds; the error told to add the `__main__` guard, which
+    cannot help. It says the script has no file, and to save it to one or run with workers=1."""
+    import subprocess
+    import sys
+
+    from sweep_helpers import LIGHT
+
+    (tmp_path / "light.toml").write_text(LIGHT)
+    script = ("from apexseal.runtime.studies.sweep import load_study, run_sweep\n"
+              "if __name__ == '__main__':\n"
+              "    run_sweep(load_study('light.toml'), 'out', workers=2, quiet=True)\n")
+    run = subprocess.run([sys.executable, "-"], input=script, cwd=tmp_path, capture_output=True, text=True,
+                         timeout=300)
+    assert run.returncode != 0
+    last = run.stderr.splitlines()[-1]
+    assert "this one has no file (<stdin>: it was read from standard input)" in last, run.stderr
+    assert "guard cannot help: save the script to a file and run that, or run the points in this process with " \
+           "workers=1" in last
+    assert not (tmp_path / "out" / "results.parquet").exists()
+
+
 def test_the_models_are_built_once_before_the_points_and_a_signal_there_stops_the_sweep(serial, tmp_path, monkeypatch):
     """The sweep builds each distinct model once in its own process, its stages reported (inside the points a cold
     model was derived and compiled silently, by every worker at once); a Ctrl-C there computes nothing."""

@@ -230,7 +230,11 @@ def local_cluster(workers: int):
 
 
 def _started_cluster(workers: int):
-    """:func:`local_cluster`, its failure to start explained where the usual cause is a script's missing guard."""
+    """:func:`local_cluster`, its failure to start explained where the usual cause is the main script: each worker
+    process imports it, so a script that calls run_sweep at its top level starts another sweep in every worker (it
+    needs the ``__main__`` guard), and a script with no file to import (read from standard input, ``python - <
+    sweep.py``: its ``__file__`` is ``"<stdin>"``) cannot be imported at all, guard or not. A main module without a
+    ``__file__`` (``python -c``, an interactive session) is not imported by the workers."""
     import __main__
 
     try:
@@ -239,6 +243,12 @@ def _started_cluster(workers: int):
         script = getattr(__main__, "__file__", None)
         if script is None or "failed to start" not in str(err):
             raise
+        if not Path(script).is_file():
+            raise RuntimeError(f"Dask could not start the sweep's worker processes ({err}). Each worker imports the "
+                               f"main script, and this one has no file ({script}"
+                               f"{': it was read from standard input' if script == '<stdin>' else ''}), so "
+                               "an `if __name__ == \"__main__\":` guard cannot help: save the script to a file and "
+                               "run that, or run the points in this process with workers=1") from err
         raise RuntimeError(f"Dask could not start the sweep's worker processes ({err}). Each worker imports the "
                            f"script {Path(script).name}; a script that calls run_sweep at its top level starts "
                            "another sweep in every worker: call it under `if __name__ == \"__main__\":`") from err
