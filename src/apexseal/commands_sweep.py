@@ -87,10 +87,14 @@ def sweep(study, example, workers, scheduler, out, resume, figures, bench, repea
     if bench:
         _bench(st, out, repeats)
         return
-    click.echo(f"study {st.name} ({path if study else f'example {example}'}): {len(st.parameters)} parameters, "
-               f"{st.design} design; writing to {out}/")
+
+    def accepted() -> None:  # said once the points are checked and the folder is the study's: not for a refusal
+        click.echo(f"study {st.name} ({path if study else f'example {example}'}): {len(st.parameters)} parameters, "
+                   f"{st.design} design; writing to {out}/")
+
     try:
-        report = run_sweep(st, out, workers=workers, scheduler=scheduler, resume=resume, quiet=quiet)
+        report = run_sweep(st, out, workers=workers, scheduler=scheduler, resume=resume, quiet=quiet,
+                           on_start=accepted)
     except StudyError as err:
         if created and not any(out.iterdir()):
             out.rmdir()

@@ -279,7 +279,7 @@ def test_cli_sweep_writes_table_and_figures(serial, tmp_path):
     out = Path(serial.folder)  # resumed: nothing to compute, the figures and tables are rewritten
     r = CliRunner().invoke(main, ["sweep", str(study), "--workers", "1", "--out", str(out), "-q"])
     assert r.exit_code == 0, r.output
-    assert "0 computed now, 16 resumed" in r.output
+    assert "0 computed now, 16 resumed" in r.output and f"2 parameters, grid design; writing to {out}/" in r.output
     for name in ("results.parquet", "results.csv", "study.json", "feasible.png", "friction_power.total.png",
                  "liftoff_fraction.png"):
         assert (out / name).stat().st_size > 0, name
@@ -290,6 +290,12 @@ def test_cli_sweep_writes_table_and_figures(serial, tmp_path):
     assert r.exit_code == 1 and "collect.quantities" in r.output and "did you mean 'revolutions'" in r.output
     r = CliRunner().invoke(main, ["sweep", "--list-quantities"])
     assert r.exit_code == 0 and "friction_power.total" in r.output and "liftoff_fraction" in r.output
+    # a folder that holds another study is refused before anything is written: nothing says it is written to
+    edited = tmp_path / "edited.toml"
+    edited.write_text(LIGHT.replace('"solver.rtol" = 1e-4', '"solver.rtol" = 1e-5'))
+    r = CliRunner().invoke(main, ["sweep", str(edited), "--workers", "1", "--out", str(out), "-q"])
+    assert r.exit_code == 1 and "holds the results of another study" in r.output, r.output
+    assert "writing to" not in r.output, r.output
 
 
 def test_a_signal_while_the_figures_are_drawn_finishes_them_and_exits_as_interrupted(serial, tmp_path, signalled_in):

@@ -137,6 +137,7 @@ def test_the_command_refusing_a_point_leaves_no_empty_folder(tmp_path):
     r = CliRunner().invoke(main, ["sweep", str(study), "-w", "1", "-q", "-o", str(tmp_path / "out")])
     assert r.exit_code == 1 and "(points 1, 3, 5, 7)" in r.output, r.output
     assert not (tmp_path / "out").exists()
+    assert "writing to" not in r.output, r.output  # it said so before refusing the study, writing nothing
 
 
 @pytest.mark.parametrize("workers", [0, 1.5], ids=["zero", "not-an-integer"])

@@ -97,19 +97,23 @@ def _points(at: list[int]) -> str:
 
 def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, scheduler: str | None = None,
               client=None, resume: bool = True, quiet: bool = False,
-              on_row: Callable[[dict], None] | None = None) -> SweepReport:
+              on_row: Callable[[dict], None] | None = None,
+              on_start: Callable[[], None] | None = None) -> SweepReport:
     """Run every point of ``study`` not yet in ``out`` and return the table of all finished points.
 
     ``workers``: processes of the default LocalCluster (default: every core; 1 runs serially in this process).
     ``scheduler``: address of a running Dask scheduler (``tcp://host:8786``) to use instead. ``client``: a
     ``dask.distributed.Client`` to use as it is. ``resume=False`` discards earlier results in ``out``.
+    ``on_row``: called with each finished point's row. ``on_start``: called once every point is checked and
+    ``out`` is taken for the study, before anything runs (never for a study refused: :class:`StudyError`, or a
+    folder of another study: :class:`~.store.StoreError`).
     """
     check_workers(workers)
     t0 = time.perf_counter()
     points = scenes_of(study)
     store = Store(out)
     try:
-        return _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, on_row)
+        return _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, on_row, on_start)
     finally:
         store.close()
 
@@ -127,10 +131,12 @@ def check_workers(workers: Any) -> None:
                      "process), or None (a worker per core)")
 
 
-def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, on_row) -> SweepReport:
+def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, on_row, on_start) -> SweepReport:
     from tqdm.auto import tqdm
 
     done = store.open(study, resume=resume)
+    if on_start is not None:
+        on_start()
     todo = [p for p in points if p[0] not in done]
     skipped = len(points) - len(todo)
     n = workers or available_cores()
