@@ -114,6 +114,13 @@ class FixedStepIntegrator(Engine):
             self.function = compiled
         self.stats = {"n_steps": sub * n_samples, "n_rhs": self.rule.stages * sub * n_samples}
 
+    @classmethod
+    def steps_taken(cls, steps_per_revolution: int, dtheta: float) -> int:
+        """The fold's steps per revolution: each output interval of ``dtheta`` rad takes its share of
+        ``steps_per_revolution``, rounded and at least one (:func:`~.methods.fixed_steps`, the ``sub`` of
+        ``__init__``), so a revolution takes more or fewer than asked (asked for 1000 at 720 intervals, 720)."""
+        return int(round(2 * np.pi / dtheta)) * fixed_steps(steps_per_revolution, dtheta)
+
     def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:
         lay = self.layout
         n, dth = self.n_samples, self.h * self.sub

@@ -71,7 +71,7 @@ class Engine:
     def steps_taken(cls, steps_per_revolution: int, dtheta: float) -> int:
         """A fixed-step engine's steps per revolution, 2 pi over its longest step, at the setting
         ``steps_per_revolution`` with output intervals of ``dtheta`` rad: the setting, unless the engine cuts its
-        intervals finer (what the stability checks of its ``Method.stability`` judge)."""
+        intervals otherwise (the Euler fold, rk: what the stability checks of its ``Method.stability`` judge)."""
         return int(steps_per_revolution)
 
     def carry_on(self, z: np.ndarray, carried: np.ndarray | None) -> None:

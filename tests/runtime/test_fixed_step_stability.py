@@ -110,6 +110,34 @@ def test_rk_takes_the_steps_its_checks_judge(steps, samples):
     assert explicit_steps("erk-rk4", steps, dth).steps_per_revolution == steps  # its step_size: 2 pi / steps
 
 
+@pytest.mark.parametrize(("steps", "samples", "taken"), [(1400, 1000, 1000), (1000, 720, 720), (2000, 3600, 3600),
+                                                         (200000, 3600, 201600), (5000, 360, 5040)])
+def test_euler_is_judged_at_the_steps_its_fold_takes(steps, samples, taken):
+    """The Euler fold gives each output interval its share of the steps asked, rounded and at least one: asked for
+    1000 at 720 samples it takes 720, a longer step than the 1000 its checks judged. ``steps_taken`` says what the
+    fold takes (its step h), as rk's does."""
+    from apexseal.runtime.solving.fixed_step import EulerIntegrator
+
+    dth, n = 2 * np.pi / samples, 4
+    theta, X, p, u = ca.SX.sym("theta"), ca.SX.sym("X", 6), ca.SX.sym("p", 2), ca.SX.sym("u", 2)
+    rhs = ca.Function("rhs", [theta, X, p, u], [ca.vertcat(ca.SX.zeros(3), -p[1] * X[3:])])
+    guards = ca.Function("guards", [theta, X, p, u], [X[0] + 1.0])
+    engine = EulerIntegrator(rhs, guards, 2, 0, n_samples=n, span=n * dth, steps_per_revolution=steps,
+                             compile_c=False)
+    assert round(2 * np.pi / engine.h) == taken == explicit_steps("euler", steps, dth).steps_per_revolution
+
+
+def test_euler_is_refused_where_the_step_it_takes_amplifies_a_contact():
+    """speed-20000 needs 1017 Euler steps per revolution for its tip (kw = 6.2e7 N/m); asked for 1400 at 1000
+    samples, Euler takes 1000. Judged at the 1400 asked, the run passed the check and went non-finite at 176 deg,
+    with a reason asking for at least 1017 steps, fewer than the 1400 given; now it is refused before the first
+    step, at the 1000 steps it takes."""
+    r = simulate(load("speed-20000"), None, method="euler", steps_per_revolution=1400, samples_per_revolution=1000)
+    assert r.status == "failed" and r.n == 1 and r.stop.theta == 0.0, r.stop
+    assert r.stop.reason.startswith("explicit Euler amplifies the oscillation of the kw contact")
+    assert "at 1000 steps per revolution: use at least 1017 solver.euler_steps_per_revolution" in r.stop.reason
+
+
 # ---------------------------------------------------------------- contacts
 def test_rk4_is_refused_where_its_step_amplifies_a_contact(fns):
     """kw = 1e10 N/m: sqrt(kw/ms) = 7.6e5 rad/s, h w = 3.8 at 8000 steps per revolution, beyond RK4's 2.83 on the
