@@ -15,8 +15,8 @@ Under the modelling choice ``assumptions.damping_law = "penetration"`` the dampe
 leave (the housing and the groove contacts, not the preloaded spring: ``derive/submodels/seal.py``,
 ``penetration_damped``) are c max(v, 0) delta / delta_ref (Hunt-Crossley type, not in the paper): their force starts
 from 0 at the touch, so a ratio above critical is no cause of chatter there and is not warned about
-(:attr:`ContactDamping.continuous`). The same damper vanishes at the touch, so the explicit-Euler stability check
-counts on none of it (:func:`continuous_dampers`, ``runtime/solving/euler_integrator.py``).
+(:attr:`ContactDamping.continuous`). The same damper vanishes at the touch, so the stability check of the explicit
+fixed-step methods counts on none of it (:func:`continuous_dampers`, ``runtime/solving/contact_stability.py``).
 """
 
 from __future__ import annotations
