@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...derive.submodels.registry import oscillators, parameter_names
+from ...derive.submodels.seal import DAMPING_LAWS
 from ..scenes.damping import continuous_dampers
 from .methods import ExplicitSteps
 
@@ -36,12 +37,16 @@ class ContactGrowth:
     log_growth: float  # ln of the amplification over one revolution of closed contact
     steps_needed: int  # steps per revolution that keep the growth below MAX_GROWTH
     steps: ExplicitSteps  # the method and the steps per revolution judged
+    #: its damper is counted as none: the damping law "penetration" makes it vanish at the touch
+    vanishing: bool = False
 
     def describe(self, steps: int | None = None) -> str:
         """The message, at ``steps`` per revolution (default: those judged)."""
         steps = self.steps.steps_per_revolution if steps is None else steps
+        damping = (f"undamped: under assumptions.damping_law = {DAMPING_LAWS[1]!r} its damper vanishes at the touch"
+                   if self.vanishing else f"damping ratio {self.zeta:.3g} on average")
         return (f"{self.steps.subject} amplifies the oscillation of the {self.name} contact ({self.name} = {self.k:.3g} "
-                f"N/m, sqrt(k/ms) = {self.omega:.3g} rad/s, damping ratio {self.zeta:.3g} on average) by "
+                f"N/m, sqrt(k/ms) = {self.omega:.3g} rad/s, {damping}) by "
                 f"exp({self.log_growth:.3g}) over one revolution in contact at {steps} steps per revolution: use at "
                 f"least {self.steps_needed} solver.euler_steps_per_revolution, or method 'rosenbrock'")
 
@@ -113,11 +118,12 @@ def contact_growth(params: np.ndarray, steps_per_revolution: int | ExplicitSteps
     for (k_name, c_name), w in zip(_present(oscillators(), p, read), contact_frequencies(params, names, read).values(),
                                    strict=True):
         k, ms = p[k_name], p["ms"]
-        # its damping off, or vanishing at the touch: undamped
-        c = p[c_name] if c_name in p and (read is None or c_name in read) and c_name not in vanishing else 0.0
+        damped = c_name in p and (read is None or c_name in read)  # its damping off: undamped
+        vanishes = damped and c_name in vanishing  # vanishing at the touch: counted as undamped
+        c = p[c_name] if damped and not vanishes else 0.0
         zeta = 0.5 * c / (2 * math.sqrt(k * ms))
         c_hw = 2 * math.pi * w / p["omega"]  # h w = c_hw / n
         log_growth = n * max(R.log_modulus(c_hw / n * lam) for lam in eigenvalues(zeta))
         needed = fewest_steps(R, c_hw, zeta, math.log(MAX_GROWTH))
-        out.append(ContactGrowth(k_name, k, w, zeta, log_growth, needed, judged))
+        out.append(ContactGrowth(k_name, k, w, zeta, log_growth, needed, judged, vanishes))
     return sorted(out, key=lambda g: -g.log_growth)

@@ -185,6 +185,23 @@ def test_explicit_euler_counts_no_damper_that_vanishes_at_the_touch(default_scen
     assert paper.status == "completed", paper.stop
 
 
+def test_the_stability_message_says_why_a_penetration_damper_counts_as_none(default_scene):
+    """The contact check names the contact's damping ratio: under the damping law "penetration" it said "damping
+    ratio 0 on average" of the tip of a scene whose contacts.zeta_w is 0.1, without a word of why; it says that the
+    damper vanishes at the touch under that law. The spring's damper, which keeps the paper's law, and the paper's
+    law itself are named by their ratio as before."""
+    from apexseal.runtime.solving.contact_stability import contact_growth
+
+    def messages(scene) -> dict[str, str]:
+        return {g.name: g.describe() for g in contact_growth(scene.parameter_vector(), 200000, tuple(scene.parameters))}
+
+    law, paper = messages(default_scene.with_overrides(**PENETRATION)), messages(default_scene)
+    assert "damping ratio 0 on average" not in law["kw"] and "damping ratio 0 on average" not in law["kg1"]
+    assert "undamped: under assumptions.damping_law = 'penetration' its damper vanishes at the touch" in law["kw"]
+    for text in (law["ks"], paper["kw"], paper["ks"]):
+        assert "damping ratio 0.05 on average" in text and "damping_law" not in text
+
+
 def damping_table(ratios=(0.1, 1.0, 2.0, 2.2, 2.4, 3.0, 5.0), laws=("velocity", "penetration"),
                   revolutions: int = 2) -> str:
     """The default scene with each housing damping ratio under each damping law: how far it runs, how often the
