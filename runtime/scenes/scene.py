@@ -245,6 +245,10 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
     ignored: list[Problem] = []
     if effects is not None:
         sections, problems, ignored = _unranged(raw, sections, problems, effects, assumptions)
+        # pressure_model follows pressure.source, which a [pressure] refused only for a value no law reads hid from
+        # the choices above (no choice that decides what is read depends on it): resolved again from the sections
+        # _unranged returns
+        assumptions = _assumptions(sections)
     problems += check_consistency(sections, raw)
     pressure: PressureSource | None = None
     if "pressure" in sections and not any(p.key.startswith("pressure.") for p in problems):

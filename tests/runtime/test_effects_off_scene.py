@@ -114,6 +114,26 @@ def test_constant_chamber_pressures_out_of_range_while_the_chamber_pressure_is_o
     assert [str(p) for p in info.value.errors] == ['pressure.Pa = "-1 bar": -100000 Pa is out of range; allowed: >= 0 Pa']
 
 
+def test_an_ignored_chamber_pressure_leaves_the_model_as_the_pressure_source_makes_it(default_scene):
+    """assumptions.pressure_model follows pressure.source (the constant source: "input"), whatever [assumptions]
+    says (a resolved scene.toml writes it). With an out-of-range Pa that no law reads, the modelling choices were
+    resolved from the first reading of the scene, where [pressure] was refused and had no source: the scene kept
+    the "chamber" written in [assumptions] and put the chamber gas model into a constant-pressure scene, which the
+    same scene with a valid Pa does not."""
+    import warnings
+
+    from apexseal.runtime.scenes.errors import IgnoredValueWarning
+
+    constant = {"pressure": {"source": "constant", "Pa": "2 bar", "Pb": "1 bar"}, "effects.chamber_pressure": False,
+                "assumptions.pressure_model": "chamber"}
+    valid = default_scene.with_overrides(**constant)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", IgnoredValueWarning)
+        ignored = default_scene.with_overrides(**constant, **{"pressure.Pa": "-1 bar"})
+    assert valid.assumptions.pressure_model == "input"
+    assert ignored.assumptions == valid.assumptions and ignored.parameters == valid.parameters
+
+
 def test_the_same_values_read_are_errors_naming_key_value_and_range(scenes, default_scene):
     """With the effect on, the out-of-range value is the error it always was; friction.v_eps is read while any
     friction is on, so the groove's friction off does not excuse it."""
