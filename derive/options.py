@@ -35,6 +35,9 @@ class Option:
     parent: str | None = None
     #: "effects" (written true/false: ``choices`` are ("on", "none")) or "assumptions" (written as the choice)
     table: str = "effects"
+    #: the scene key that decides the choice, where the scene does not state it itself (``pressure_model``:
+    #: ``pressure.source``), for messages that say how to make it
+    set_by: str | None = None
 
     @property
     def default(self) -> str:

@@ -150,6 +150,9 @@ class Submodel:
     contact_names: ClassVar[tuple[str, ...]] = ()
     #: the option slot that switches the submodel on (None: always on)
     switch: ClassVar[str | None] = None
+    #: for a submodel no effect switches: the modelling choices ("slot=choice") any of which brings it into a model
+    #: (the chamber gas: ``pressure_model=chamber`` or ``=chamber+leakage``); none: always on (with its switch)
+    enters_with: ClassVar[tuple[str, ...]] = ()
     #: (stiffness, damping) parameter names of the oscillators it adds (the explicit fixed-step methods' stability checks)
     oscillators: ClassVar[tuple[tuple[str, str], ...]] = ()
     #: its friction laws whose sliding velocity passes through zero (the explicit fixed-step methods' stability checks)
@@ -171,7 +174,11 @@ class Submodel:
 
     @classmethod
     def active(cls, options) -> bool:
-        return cls.switch is None or options.on(cls.switch)
+        """Whether it enters a model of the options ``options``: its switch on, and one of :attr:`enters_with`."""
+        from .registry import need_met
+
+        return ((cls.switch is None or options.on(cls.switch))
+                and (not cls.enters_with or any(need_met(e, options, False) for e in cls.enters_with)))
 
     @classmethod
     def derived(cls, values: dict[str, float], inputs: Mapping[str, Any], options) -> dict[str, float]:

@@ -65,6 +65,7 @@ def enthalpy_flow(mdot, T1, T2, cp):
 
 class ChamberGas(Submodel):
     name = "gas"
+    enters_with = ("pressure_model=chamber", "pressure_model=chamber+leakage")
     summary = "ideal gas in the two chambers: ports, leakage past the seal, Pa and Pb for Eq. 75"
     parameters = (
         Parameter("H_gas", "m", "machine depth H (machine.H) in the gas model's parameters: chamber volumes, "
@@ -94,7 +95,8 @@ class ChamberGas(Submodel):
     options = (
         Option("pressure_model", ("input", "chamber", "chamber+leakage"), "where Pa, Pb come from: the input u "
                "(pressure.source none, constant, table), the chamber gas model, or the gas model with flow past the "
-               "seal (Algorithm 4, tip lift-off); set by pressure.source", table="assumptions"),
+               "seal (Algorithm 4, tip lift-off); set by pressure.source", table="assumptions",
+               set_by="pressure.source"),
     )
     states = (
         State("ma", "kg", "mass of the gas in chamber a", 1e-3, display="mg", display_scale=1e6),
@@ -117,10 +119,6 @@ class ChamberGas(Submodel):
         ("mdot_leak_tip", "kg/s", "leakage from chamber a to b over the seal tip while it is lifted off the housing",
          "g/s", 1e3),
     )
-
-    @classmethod
-    def active(cls, options) -> bool:
-        return options["pressure_model"] != "input"
 
     @classmethod
     def derived(cls, values: dict[str, float], inputs: Mapping[str, Any], options) -> dict[str, float]:

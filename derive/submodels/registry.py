@@ -323,14 +323,25 @@ def needed_on(need, on) -> bool:
 
 def unmet(need) -> str:
     """What is off while a parameter whose :func:`needing` is ``need`` is not read, as a scene states it:
-    "effects.spring is off", "effects.a and effects.b are off", "assumptions.damping_law is not 'penetration'"."""
+    "effects.spring is off", "effects.a and effects.b are off", "assumptions.damping_law is not 'penetration'",
+    "pressure.source is neither 'chamber' nor 'chamber+leakage'" (a choice another key decides: its ``set_by``)."""
     entries = needed_effects(need)
     effects = [f"effects.{n}" for n in entries if "=" not in n]
-    choices = [f"assumptions.{slot} is not {wanted!r}" for slot, _, wanted in (n.partition("=") for n in entries)
-               if wanted]
+    wanted: dict[str, list[str]] = {}
+    for slot, _, choice in (n.partition("=") for n in entries if "=" in n):
+        wanted.setdefault(slot, []).append(repr(choice))
+    choices = [f"{choice_key(slot)} is not {ws[0]}" if len(ws) == 1 else
+               f"{choice_key(slot)} is neither {', '.join(ws[:-1])} nor {ws[-1]}" for slot, ws in wanted.items()]
     said = ([f"{', '.join(effects[:-1])} and {effects[-1]} are off" if len(effects) > 1 else f"{effects[0]} is off"]
             if effects else [])
     return " and ".join(said + choices)
+
+
+def choice_key(slot: str) -> str:
+    """The scene key that makes a modelling choice: ``assumptions.<slot>``, or the key that decides it
+    (``Option.set_by``: ``pressure.source`` for ``pressure_model``)."""
+    o = options().get(slot)
+    return o.set_by if o is not None and o.set_by else f"assumptions.{slot}"
 
 
 def is_read(p: Parameter | str, effects, assumptions=None) -> bool:
@@ -361,8 +372,9 @@ def _declared(name_or_key: str) -> Parameter:
 
 
 def needing(p: Parameter) -> str | tuple[str, ...] | None:
-    """The effect that must be on for ``p`` to be read: its ``needs``, else its submodel's switch; None for a
-    parameter read whatever the effects (the seal body's)."""
+    """The effect that must be on for ``p`` to be read: its ``needs``, else its submodel's switch, else the
+    modelling choices that bring its submodel in (``Submodel.enters_with``); None for a parameter read whatever the
+    effects and choices (the seal body's)."""
     for cls in submodels():
         if p in cls.parameters:
             return _needing(cls, p)
@@ -371,7 +383,9 @@ def needing(p: Parameter) -> str | tuple[str, ...] | None:
 
 def _needing(cls: type[Submodel], p: Parameter) -> str | tuple[str, ...] | None:
     """:func:`needing` of a parameter of submodel ``cls``."""
-    return p.needs if p.needs is not None else cls.switch
+    if p.needs is not None:
+        return p.needs
+    return cls.switch if cls.switch is not None else (cls.enters_with or None)
 
 
 def omissible_while_off(p: Parameter) -> str | tuple[str, ...] | None:

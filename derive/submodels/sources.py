@@ -73,7 +73,7 @@ def source_text(cls, found: tuple | None = None) -> str:
         try:
             return inspect.getsource(cls)
         except (OSError, TypeError):  # defined where no source is available: its declarations stand in
-            return repr((cls.parameters, cls.options, cls.guards, cls.switch))
+            return repr((cls.parameters, cls.options, cls.guards, cls.switch, cls.enters_with))
     root, own, helpers = found
     return own.read_text(encoding="utf-8") + "".join(
         f"\n{f.relative_to(root).as_posix()}\n{f.read_text(encoding='utf-8')}" for f in helpers)

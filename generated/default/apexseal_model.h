@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 33f99f77b32eb8c6af06b35cade1e4179c182b7ec7b913a1391673082c50387e.
+ * Effects: all. Input hash: 78e98f7dca02d843eb9633208dfc256eb664345dca093cb010c7c4225d05eb7f.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "33f99f77b32eb8c6af06b35cade1e4179c182b7ec7b913a1391673082c50387e"
+#define APEXSEAL_INPUT_HASH "78e98f7dca02d843eb9633208dfc256eb664345dca093cb010c7c4225d05eb7f"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -74,6 +74,31 @@ def test_one_helper_says_whether_a_parameter_is_read():
         is_read("friction.mu9", smooth_groove)
 
 
+def test_the_gas_model_s_values_are_read_only_with_a_gas_pressure_source(default_scene):
+    """The chamber gas submodel enters a model only with pressure.source = "chamber" or "chamber+leakage"
+    (Submodel.enters_with): is_read said its values were read whatever the source, so gas.T_supply = "-5 K" stopped
+    a scene with a pressure table, which reads no gas value. Now it is an ignored value naming the key that would
+    read it; with the gas source it is the error naming key, value and range."""
+    from apexseal.derive.assumptions import Assumptions
+    from apexseal.derive.submodels.registry import is_read
+    from apexseal.runtime.scenes.errors import IgnoredValueWarning
+    from apexseal.runtime.scenes.scene import embedded_scene_path
+
+    assert not is_read("gas.T_supply", default_scene.effects, default_scene.assumptions)
+    assert is_read("gas.T_supply", default_scene.effects, Assumptions(pressure_model="chamber+leakage"))
+    with pytest.warns(IgnoredValueWarning) as caught:
+        odd = default_scene.with_overrides(**{"gas.T_supply": "-5 K"})
+    (warning,) = [w for w in caught if w.category is IgnoredValueWarning]
+    assert ("gas.T_supply = \"-5 K\" (not read while pressure.source is neither 'chamber' nor 'chamber+leakage'; "
+            "allowed: > 0 K)") in str(warning.message)
+    assert odd.parameters == default_scene.parameters
+    gas = apexseal.load_scene(embedded_scene_path("expander-gas.toml"))
+    with pytest.raises(SceneError) as info:
+        gas.with_overrides(**{"gas.T_supply": "-5 K"})
+    (problem,) = info.value.errors
+    assert problem.key == "gas.T_supply" and "allowed: > 0 K" in problem.message
+
+
 def test_out_of_range_values_no_law_reads_load_and_run_with_one_warning(scenes):
     """The spring's stiffness and friction out of range while the spring is off: the scene loads (it stopped),
     warns once with each key, value, effect and range, and runs as the scene with valid values does."""

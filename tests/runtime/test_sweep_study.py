@@ -331,6 +331,19 @@ def test_a_chamber_pressure_varied_while_the_chamber_pressure_is_off_is_refused(
     study_from_toml(text + '"effects.chamber_pressure" = [true, false]\n', base_dir=tmp_path)
 
 
+def test_a_gas_value_varied_without_a_gas_pressure_source_is_refused():
+    """The gas model's values are read only with pressure.source = "chamber" or "chamber+leakage": varied under the
+    default scene's table every point was the same run. The message names the key that decides it (the choice
+    pressure_model follows pressure.source); varied with the source, the study passes."""
+    varied = '[parameters]\n"gas.p_supply" = ["5 bar", "6 bar"]\n'
+    with pytest.raises(StudyError) as info:
+        study_from_toml(varied)
+    (p,) = info.value.errors
+    assert p.key == "parameters.gas.p_supply"
+    assert "read by no law while pressure.source is neither 'chamber' nor 'chamber+leakage'" in p.message
+    study_from_toml(varied + '"pressure.source" = ["chamber", "table"]\n')
+
+
 def test_a_parameter_a_modelling_choice_reads_is_refused_without_it():
     """contacts.delta_ref is read under assumptions.damping_law = "penetration" only: varied without that choice it
     is refused, naming the choice; with it in [scene], or varied with it, it passes."""

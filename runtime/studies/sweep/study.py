@@ -323,7 +323,7 @@ def _unread(parameters, scene, given: dict) -> list[Problem]:
     it not made, in the scene and not varied: :func:`apexseal.runtime.scenes.checks.unread_keys`, which also holds
     the inputs that only one effect reads, the constant chamber pressures): every point would be the same run."""
     from ....derive.effects import declared as effects_declared
-    from ....derive.submodels.registry import needed_effects, unmet
+    from ....derive.submodels.registry import choice_key, needed_effects, unmet
     from ...scenes.checks import key_needing, unread_keys
 
     slots = effects_declared()
@@ -333,7 +333,7 @@ def _unread(parameters, scene, given: dict) -> list[Problem]:
 
     def keys(entry: str) -> list[str]:  # the scene keys that decide whether an entry of a needs holds
         slot, _, choice = entry.partition("=")
-        return [f"assumptions.{slot}"] if choice else [f"effects.{e}" for e in lineage(entry)]
+        return [f"assumptions.{slot}", choice_key(slot)] if choice else [f"effects.{e}" for e in lineage(entry)]
 
     varied = {p.key for p in parameters}
     unread = unread_keys(scene.effects, scene.assumptions)
