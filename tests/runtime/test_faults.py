@@ -308,6 +308,7 @@ def test_a_killed_run_leaves_a_loadable_folder(default_scene, default_functions,
     live = SimulationResult.load(sink.staging)  # read while the run goes on: it says so, not that it was killed
     assert live.status == "interrupted" and "still going on" in live.stop.reason, live.stop.reason
     os.close(sink._lock)  # then the process dies, and its lock with it
+    sink._lock = None  # closed: the folder's release must not close the number again (another file may hold it)
     back = SimulationResult.load(sink.staging)
     assert back.status == "interrupted" and "without its final record" in back.stop.reason
     assert back.n == live.n == 1 + SAMPLES and np.array_equal(back.state, full.state[:, :1 + SAMPLES])
