@@ -310,17 +310,22 @@ def test_a_parameter_no_law_reads_is_refused():
     study_from_toml(base + '[parameters]\n"friction.mu2" = [0.1, 0.2]\n"effects.groove_friction" = [true, false]\n')
 
 
-def test_a_chamber_pressure_varied_while_the_chamber_pressure_is_off_is_refused(tmp_path):
-    """pressure.Pa and pressure.Pb are no model parameters but inputs read only while effects.chamber_pressure is
-    on (checks.INPUT_KEYS): varied with it off, every point was the same run, without a word. Varied with the
-    effect, they pass."""
+def _constant_pressure_scene(path) -> None:
+    """The default scene with constant chamber pressures (2 and 1 bar), written to ``path``."""
     import apexseal
     from apexseal.runtime.scenes.resolved import resolved_toml
 
     const = apexseal.load_scene().with_overrides(**{"pressure.source": "constant", "pressure.Pa": "2 bar",
                                                     "pressure.Pb": "1 bar", "pressure.file": None,
                                                     "pressure.unit": None})
-    (tmp_path / "const.toml").write_text(resolved_toml(const)[0])
+    path.write_text(resolved_toml(const)[0])
+
+
+def test_a_chamber_pressure_varied_while_the_chamber_pressure_is_off_is_refused(tmp_path):
+    """pressure.Pa and pressure.Pb are no model parameters but inputs read only while effects.chamber_pressure is
+    on (checks.INPUT_KEYS): varied with it off, every point was the same run, without a word. Varied with the
+    effect, they pass."""
+    _constant_pressure_scene(tmp_path / "const.toml")
     text = ('[study]\nscene = "const.toml"\n[scene]\n"effects.chamber_pressure" = false\n'
             '[parameters]\n"pressure.Pa" = ["2 bar", "3 bar"]\n"pressure.Pb" = ["1 bar", "1.5 bar"]\n')
     with pytest.raises(StudyError) as info:
@@ -372,13 +377,7 @@ def test_a_malformed_study_table_keeps_its_scene_and_a_bad_parameter_its_own_pro
     """With [study] malformed (a name with a space), the study's scene was dropped for the default one, so a key
     right for its own scene was refused against the default's; a constraint on a parameter refused for its own
     problem was reported again as 'not collected'."""
-    import apexseal
-    from apexseal.runtime.scenes.resolved import resolved_toml
-
-    const = apexseal.load_scene().with_overrides(**{"pressure.source": "constant", "pressure.Pa": "2 bar",
-                                                    "pressure.Pb": "1 bar", "pressure.file": None,
-                                                    "pressure.unit": None})
-    (tmp_path / "const.toml").write_text(resolved_toml(const)[0])
+    _constant_pressure_scene(tmp_path / "const.toml")
     text = ('[study]\nname = "has space"\nscene = "const.toml"\n[scene]\n"pressure.Pa" = "3 bar"\n'
             '[parameters]\n"spring.ks" = [1e3, 2e3]\n"bad" = {from = 1}\n[feasible]\n"bad" = {max = 1}\n')
     with pytest.raises(StudyError) as info:
