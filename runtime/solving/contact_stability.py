@@ -48,7 +48,8 @@ class ContactGrowth:
         return (f"{self.steps.subject} amplifies the oscillation of the {self.name} contact ({self.name} = {self.k:.3g} "
                 f"N/m, sqrt(k/ms) = {self.omega:.3g} rad/s, {damping}) by "
                 f"exp({self.log_growth:.3g}) over one revolution in contact at {steps} steps per revolution: use at "
-                f"least {self.steps_needed} solver.euler_steps_per_revolution, or method 'rosenbrock'")
+                f"least {self.steps.setting(self.steps_needed)} solver.euler_steps_per_revolution, or method "
+                "'rosenbrock'")
 
 
 def contact_frequencies(params: np.ndarray, names=None, read=None) -> dict[str, float]:

@@ -98,8 +98,8 @@ class FrictionStep:
                 f"as it slides m = {self.mass * 1e3:.3g} g, h mu N / (v_eps m) = {self.step:.3g} at "
                 f"{self.steps_per_revolution} steps per revolution, above {self.bound:.3g}, where the sliding "
                 f"velocity {self.steps.stability.beyond_real_bound()} and the friction with it: use at least "
-                f"{self.steps_needed} solver.euler_steps_per_revolution, a wider friction.v_eps (at least "
-                f"{self.v_eps_needed:.3g} m/s), or method 'rosenbrock' or 'erk'")
+                f"{self.steps.setting(self.steps_needed)} solver.euler_steps_per_revolution, a wider friction.v_eps "
+                f"(at least {self.v_eps_needed:.3g} m/s), or method 'rosenbrock' or 'erk'")
 
 
 def normal_and_speed(F, Pf, mu: float, v_eps: float) -> tuple[np.ndarray, np.ndarray]:

@@ -184,6 +184,20 @@ class ExplicitSteps:
     method: str  # its solver.method
     stability: StabilityFunction
     steps_per_revolution: int  # 2 pi over its longest step (Engine.steps_taken)
+    #: the output interval, rad, at which the engine takes them (None: the steps are the setting)
+    dtheta: float | None = None
+
+    def setting(self, steps_taken: int) -> int:
+        """The least solver.euler_steps_per_revolution at which the method takes at least ``steps_taken`` steps per
+        revolution at this output interval (``Engine.steps_taken``: Euler's fold rounds each interval's share, so
+        the setting N may take fewer than N), for advice that holds when followed."""
+        if self.dtheta is None:
+            return int(steps_taken)
+        taken = method_of(self.method).engine_class().steps_taken
+        n = int(steps_taken)
+        while taken(n, self.dtheta) < steps_taken:
+            n += 1
+        return n
 
     @classmethod
     def of(cls, steps: int | ExplicitSteps) -> ExplicitSteps:
@@ -205,4 +219,4 @@ def explicit_steps(method: str | type, steps_per_revolution: int, dtheta: float)
     m = method_of(method)
     if m.stability is None:
         return None
-    return ExplicitSteps(method, m.stability, m.engine_class().steps_taken(steps_per_revolution, dtheta))
+    return ExplicitSteps(method, m.stability, m.engine_class().steps_taken(steps_per_revolution, dtheta), dtheta)
