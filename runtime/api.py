@@ -204,8 +204,8 @@ def continuing(folder, *, revolutions: int | None = None, max_wall_time: float |
     asked = int(cont.record["info"].get("revolutions_asked") or 0) if revolutions is None else revolutions
     if asked <= cont.revolutions:
         than = f"as many as asked ({asked})" if asked == cont.revolutions else f"more than the {asked} asked"
-        raise ResultFolderError(f"{cont.source} holds {cont.revolutions} whole revolution(s), {than}: give more "
-                                f"than {cont.revolutions} revolutions to continue it")
+        raise ResultFolderError(f"{cont.source} holds {cont.revolutions} whole revolution(s), {than}: give at "
+                                f"least {cont.revolutions + 1} revolutions to continue it")
     return cont, settings_of(cont.scene, revolutions=asked, max_wall_time=max_wall_time)
 
 

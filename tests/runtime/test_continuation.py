@@ -97,13 +97,13 @@ def test_what_cannot_be_continued_is_refused_with_the_reason(light, tmp_path):
     done = tmp_path / "done"
     apexseal.simulate(scene, revolutions=1, out=done)
     with pytest.raises(ResultFolderError, match="holds 1 whole revolution\\(s\\), as many as asked \\(1\\): give "
-                                                "more than 1 revolutions to continue it"):
+                                                "at least 2 revolutions to continue it"):
         apexseal.resume(done)
     two = tmp_path / "two"
     apexseal.simulate(scene, revolutions=2, out=two)
     with pytest.raises(ResultFolderError) as info:  # fewer than it holds: it said "as many as asked (1)"
         apexseal.resume(two, revolutions=1)
-    assert str(info.value).endswith("holds 2 whole revolution(s), more than the 1 asked: give more than 2 "
+    assert str(info.value).endswith("holds 2 whole revolution(s), more than the 1 asked: give at least 3 "
                                     "revolutions to continue it")
     saved = tmp_path / "saved"
     apexseal.simulate(scene, revolutions=2).save(saved)  # one part of two revolutions
@@ -143,7 +143,7 @@ def test_the_command_line_refuses_to_change_what_ran(tmp_path, light):
     r = CliRunner().invoke(main, ["simulate", "--resume", str(out), "-n", "2", "--method", "rk"])
     assert r.exit_code == 2 and "--method cannot change them" in r.output
     r = CliRunner().invoke(main, ["simulate", "--resume", str(out)])
-    assert r.exit_code == 2 and "Invalid value for --resume" in r.output and "give more than 1 revolutions" in r.output
+    assert r.exit_code == 2 and "Invalid value for --resume" in r.output and "give at least 2 revolutions" in r.output
     assert SimulationResult.load(out).n == 361  # untouched
 
 
