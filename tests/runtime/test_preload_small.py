@@ -445,6 +445,19 @@ def test_a_constant_optimum_that_needs_no_preload_says_the_bound_holds_it(light)
     assert "IPOPT stopped at 0.0040 mm" in said and "lowered to the bound (no boundary to bisect)" in said, said
 
 
+def test_a_bisection_whose_scan_passes_down_to_zero_probes_zero(light):
+    """Where every preload scanned passes down to the last above 0, the bisection took 0 as its largest failing
+    preload without simulating it, and bisected down to a small positive 'smallest passing preload' with the
+    bracket [0, ...] claiming 0 fails. It now probes 0: here (0.1 N, below 0.01 mm, where nothing lifts the tip
+    off) 0 passes, and the answer is 0 with no failing preload below it."""
+    scene, functions = light
+    setup = PreloadSetup(scene, functions, 0.1, (), SAMPLES, max_groove_force=NO_BOUND)
+    b = bisect_preload(scene, min_force=0.1, nodes=NODES, setup=setup, upper=0.01 * MM, scan_step=0.004 * MM,
+                       tol=0.001 * MM)
+    assert 0.0 in [d for d, _ in b.probes] and b.delta_s == 0.0 and b.lower == 0.0, b
+    assert b.deficit <= DEFICIT_TOL and b.monotone
+
+
 def test_schedules_simulated_together_are_those_simulated_one_at_a_time(light):
     """``periodic_many`` (the derivative-free check's rounds of probes) integrates several schedules in one threaded
     map of the compiled interval integrator: the same re-simulations, bit for bit, as one schedule at a time, for

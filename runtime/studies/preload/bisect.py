@@ -31,7 +31,7 @@ from .problem import MM, PreloadSetup, PreloadStudyError, windows
 @dataclass
 class BisectionResult:
     delta_s: float  # m, the smallest passing preload found (upper end of the final bracket)
-    lower: float  # m, the largest failing preload (lower end of the final bracket)
+    lower: float  # m, the largest failing preload (lower end of the final bracket; 0 with delta_s = 0 when 0 passes)
     min_measure: float  # N, smallest contact force at the samples at delta_s
     min_measure_angle: float  # deg
     friction_power: float  # W at delta_s
@@ -117,8 +117,10 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
     while lo is None:
         ds = hi - scan_step * np.arange(1, probes + 1)
         ds = ds[ds > 0]
-        if not ds.size:
+        if not ds.size:  # every preload scanned passes, down to the last above 0: 0 itself is probed
             lo = 0.0
+            if probe([0.0])[0]:  # no preload needed: the answer is 0, and no failing preload bounds it
+                hi = 0.0
             break
         ok = probe(list(ds))
         failed = np.nonzero(~ok)[0]
