@@ -363,12 +363,15 @@ def is_read(p: Parameter | str, effects, assumptions=None) -> bool:
 
 def _declared(name_or_key: str) -> Parameter:
     """The declared parameter of a scene key (``"contacts.kw"``) or a name (``"kw"``)."""
-    if "." not in name_or_key:
-        return parameter(name_or_key)
+    return parameter(name_or_key) if "." not in name_or_key else parameter_of_key(name_or_key)
+
+
+def parameter_of_key(key: str) -> Parameter:
+    """The declared parameter whose scene key is ``key`` (``"contacts.kw"``); KeyError for a key that holds none."""
     for p in parameters(all_inputs=True):
-        if p.key == name_or_key:
+        if p.key == key:
             return p
-    raise KeyError(name_or_key)
+    raise KeyError(key)
 
 
 def needing(p: Parameter) -> str | tuple[str, ...] | None:

@@ -407,11 +407,14 @@ def key_needing(key: str) -> str | tuple[str, ...] | None:
     (registry.needing), or the effect of an input of :data:`INPUT_KEYS`; None for a key read whatever the effects,
     or one that holds no parameter or input (a switch, a solver setting). The keys :func:`unread_keys` gives are
     those whose need does not hold."""
-    from apexseal.derive.submodels.registry import needing, parameters
+    from apexseal.derive.submodels.registry import needing, parameter_of_key
 
     if key in INPUT_KEYS:
         return INPUT_KEYS[key]
-    return next((needing(p) for p in parameters(all_inputs=True) if p.key == key), None)
+    try:
+        return needing(parameter_of_key(key))
+    except KeyError:  # no parameter's key
+        return None
 
 
 def ignored_values(ignored: list[Problem]) -> str:

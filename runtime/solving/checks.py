@@ -14,7 +14,7 @@ from ..scenes.damping import MAX_DAMPING_RATIO, guard_damping
 from .contact_stability import contact_growth
 from .euler_friction import FrictionWatch
 from .layout import HybridLayout
-from .methods import explicit_steps, method_of
+from .methods import method_of, run_steps
 from .scaling import LENGTH, to_physical
 from .settings import MAX_TILT, RunSettings
 
@@ -81,8 +81,7 @@ class RunChecks:
         self.layout = HybridLayout.of(functions)
         self.omega = functions.omega(params)
         #: an explicit fixed-step method's steps (None for the others)
-        self.steps = explicit_steps(settings.method, settings.steps_per_revolution,
-                                    dtheta or 2 * math.pi / settings.samples_per_revolution)
+        self.steps = run_steps(settings, dtheta)
         self.sticking = FrictionWatch(functions, params, self.steps) if self.steps is not None else None
 
     def finite(self, Z, thetas) -> tuple[np.ndarray, tuple | None]:

@@ -212,6 +212,13 @@ class ExplicitSteps:
         return "explicit Euler" if self.method == "euler" else f"method {self.method!r} ({self.stability.name}, fixed step)"
 
 
+def run_steps(settings, dtheta: float | None = None) -> ExplicitSteps | None:
+    """:func:`explicit_steps` of a run's settings (a ``RunSettings``: its method and steps per revolution) at its
+    intervals of ``dtheta`` rad (default: its output intervals); None for a method that is not explicit fixed-step."""
+    return explicit_steps(settings.method, settings.steps_per_revolution,
+                          dtheta or 2 * math.pi / settings.samples_per_revolution)
+
+
 def explicit_steps(method: str | type, steps_per_revolution: int, dtheta: float) -> ExplicitSteps | None:
     """The step of ``method`` at the setting ``steps_per_revolution`` with output intervals of ``dtheta`` rad, if it
     is an explicit fixed-step method (its ``Method`` has a stability function; an engine class passed directly has

@@ -10,7 +10,7 @@ from ..results.result import StopInfo
 from .contact_stability import MAX_GROWTH, contact_frequencies, contact_growth
 from .euler_friction import friction_at_start
 from .layout import mode_label
-from .methods import explicit_steps
+from .methods import run_steps
 from .settings import RunSettings
 
 #: methods whose integrators differentiate the right-hand side (Jacobians, or event location on derivatives)
@@ -133,8 +133,7 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
     if not np.isfinite(xdot).all():
         return StopInfo(0.0, mode, "the right-hand side is not finite at the start (NaN or Inf in "
                         f"{names_where(functions.state_names, ~np.isfinite(xdot))}): check the scene's values")
-    steps = explicit_steps(settings.method, settings.steps_per_revolution,
-                           dtheta or 2 * math.pi / settings.samples_per_revolution)
+    steps = run_steps(settings, dtheta)
     if steps is not None:
         growth = contact_growth(params, steps, functions.parameter_names, functions.parameters_read())
         worst = growth[0] if growth else None
