@@ -137,11 +137,22 @@ class GasModelPressure(NoPressure):
 @dataclass(frozen=True)
 class UnreadTable(NoPressure):
     """A table source while the chamber_pressure effect is off: no law reads the pressures, so the file is neither
-    needed nor read (its name and unit are kept, as the scene gives them; the pressures are zero)."""
+    needed nor read (its name and unit are kept, as the scene gives them, with the folder it is relative to; the
+    pressures are zero)."""
 
     file: str = ""
     unit: str = "Pa"
+    base_dir: Any = field(default=None, compare=False, repr=False)
     kind: ClassVar[str] = "table"
+
+    def load(self) -> TablePressure | None:
+        """The table, read now, if its file is there and valid; None otherwise (it was not needed: nothing read it)."""
+        if self.base_dir is None:
+            return None
+        try:
+            return load_table(self.file, self.base_dir, self.unit)
+        except (SceneError, OSError, ValueError):
+            return None
 
     def to_dict(self) -> dict[str, Any]:
         return {"source": self.kind, "file": self.file, "unit": self.unit}
@@ -373,7 +384,7 @@ def make_source(section: Any, base_dir: Any, *, read: bool = True) -> PressureSo
     if section.source == "constant":
         return ConstantPressure(section.Pa, section.Pb)
     if section.source == "table" and not read:
-        return UnreadTable(file=section.file, unit=section.unit)
+        return UnreadTable(file=section.file, unit=section.unit, base_dir=base_dir)
     if section.source == "table":
         return load_table(section.file, base_dir, section.unit)
     if section.source in GAS_SOURCES:

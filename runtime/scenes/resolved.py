@@ -92,14 +92,20 @@ def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:
             walk(section, model)
     p = scene.pressure
     d = p.to_dict()
-    if isinstance(p, UnreadTable):  # chamber_pressure off: the table as the scene names it, not read, not written
-        lines += _table("pressure", [("source", "table"), ("file", p.file), ("unit", p.unit)])
-    elif d["source"] == "table":
+    # chamber_pressure off: the table no law read is written beside all the same when its file is there and valid
+    # (switching the effect on in the written scene then reads it); a file that is not stays named as the scene
+    # names it, relative to the scene that ran
+    table = p.load() if isinstance(p, UnreadTable) else p if d["source"] == "table" else None
+    if table is not None:
         lines += _table("pressure", [("source", "table"), ("file", TABLE_FILE), ("unit", "Pa")])
-        rows = "\n".join(f"{t!r},{a!r},{b!r}" for t, a, b in zip(np.asarray(p.theta_deg, float).tolist(),
-                                                                  np.asarray(p.pa, float).tolist(),
-                                                                  np.asarray(p.pb, float).tolist(), strict=True))
+        rows = "\n".join(f"{t!r},{a!r},{b!r}" for t, a, b in zip(np.asarray(table.theta_deg, float).tolist(),
+                                                                  np.asarray(table.pa, float).tolist(),
+                                                                  np.asarray(table.pb, float).tolist(), strict=True))
         files[TABLE_FILE] = "theta_deg,Pa,Pb\n" + rows + "\n"
+    elif isinstance(p, UnreadTable):
+        lines += [f"# {p.file} was not found or not valid beside the scene that ran; no law read it "
+                  "(effects.chamber_pressure is off)"]
+        lines += _table("pressure", [("source", "table"), ("file", p.file), ("unit", p.unit)])
     elif d["source"] == "constant":
         lines += _table("pressure", [("source", "constant"), ("Pa", _quantity(d["Pa"], "Pa")),
                                      ("Pb", _quantity(d["Pb"], "Pa"))])

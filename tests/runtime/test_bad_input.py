@@ -186,11 +186,28 @@ def test_missing_pressure_table_while_chamber_pressure_is_off(tmp_path):
     r = apexseal.simulate(scene, revolutions=1, samples_per_revolution=360, out=tmp_path / "run")
     assert r.status == "completed"  # and its scene names the table without it, and loads as the scene that ran
     assert not (tmp_path / "run" / "pressure.csv").exists()
+    saved = (tmp_path / "run" / "scene.toml").read_text()
+    assert "# missing.csv was not found or not valid beside the scene that ran" in saved
     assert load_scene(tmp_path / "run" / "scene.toml").content_hash() == r.scene.content_hash()
     (tmp_path / "missing.csv").write_text("not a table\n")  # there, but not read either
     assert load_scene(path).content_hash() == scene.content_hash()
     with pytest.raises(SceneError, match="missing.csv line 1: expected the header"):  # read once the effect is on
         load_scene(path, overrides={"effects.chamber_pressure": True})
+
+
+def test_a_table_no_law_read_is_kept_beside_the_result_when_it_is_there(tmp_path):
+    """With the chamber pressure off the table is not read for the run, but a result's scene.toml re-runs the scene
+    with the effect switched back on: the table, when its file is there, is written beside it as a read table's is
+    (it was named relative to the scene that ran, where the result's folder does not find it)."""
+    path = _write_scene(tmp_path, "", "")  # the table beside it
+    path.write_text(path.read_text().replace("chamber_pressure = true", "chamber_pressure = false"))
+    scene = load_scene(path)
+    r = apexseal.simulate(scene, revolutions=1, samples_per_revolution=90, out=tmp_path / "run")
+    assert r.status == "completed" and (tmp_path / "run" / "pressure.csv").exists()
+    saved = load_scene(tmp_path / "run" / "scene.toml")
+    assert saved.content_hash() == r.scene.content_hash()
+    on = {"effects.chamber_pressure": True}
+    assert load_scene(tmp_path / "run" / "scene.toml", overrides=on) == r.scene.with_overrides(**on)
 
 
 def test_table_with_a_wide_angular_gap_is_accepted_and_interpolated_across(tmp_path):
