@@ -50,8 +50,8 @@ class Column:
 FIXED: dict[str, Column] = {c.name: c for c in (
     Column("theta_deg", "deg", "crank angle since the scene's start angle (Eq. 1)"),
     Column("time_s", "s", "time since the start of the run"),
-    Column("x", "m", "seal displacement along the groove axis Xs (Eq. 10)", "µm", 1e6),
-    Column("y", "m", "seal displacement across the groove, along Ys (Eq. 10)", "µm", 1e6),
+    Column("x", "m", "seal displacement along the groove axis X (groove frame, Eq. 10)", "µm", 1e6),
+    Column("y", "m", "seal displacement across the groove, along Y (groove frame, Eq. 10)", "µm", 1e6),
     Column("phi", "rad", "seal tilt angle in the groove (Eq. 10)", "mrad", 1e3),
     Column("xd", "m/s", "time derivative of x", "mm/s", 1e3),
     Column("yd", "m/s", "time derivative of y", "mm/s", 1e3),

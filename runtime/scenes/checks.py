@@ -209,7 +209,7 @@ def mouth_on_flank(s: SealSection, zeta0: float, key_value) -> list[Problem]:
     """The groove's mouth corners must face the seal's flat sides, not its tip arc: the contacts i1 and i2 and the
     side faces of Eqs. 20-21 and 44-47 lie between the arc's ends c1, c3 (at ds0 from C, Eq. 24) and the back face,
     and at rest i1 is l1 = ds0 + zeta0 + delta_w - ds1 below c1 (delta_w >= 0, a few nanometres). With l1 < 0 the
-    model measured the side gap against the flank produced past the arc, and the side face's area l1 Bs (Eq. 44)
+    model measured the side gap against the flank produced past the arc, and the side face's area l1 Bs (Eq. 76)
     and the pressure force on it turned negative, silently. ``key_value``: the raw value, or MISSING when zeta0
     is the groove truncation of Eqs. 6-8."""
     bound = _mouth_bound(s)

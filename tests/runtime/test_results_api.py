@@ -290,6 +290,19 @@ def test_output_columns_are_documented_and_the_csv_header_carries_units(result, 
     assert first == header(documented_names())
 
 
+def test_the_seal_s_displacement_columns_name_the_groove_frame_of_eq10():
+    """x and y are the coordinates of the centre of gravity in the groove frame (Eq. 10: rc = x X̂ + y Ŷ), the frame
+    the seal body declares its states in; the seal frame's axes Xs, Ys (Eq. 11) turn with phi and are not what x
+    and y measure."""
+    from apexseal.derive.submodels.seal import SealBody
+
+    declared = {s.name: s.meaning for s in SealBody.states}
+    for name, axis in (("x", "X"), ("y", "Y")):
+        assert f"{axis}g" in declared[name]  # the seal body: along Xg, Yg
+        meaning = describe(name).meaning
+        assert "groove frame" in meaning and f"{axis}s" not in meaning, (name, meaning)
+
+
 def test_the_recorded_pressures_are_the_scene_s_at_each_sample(result, default_scene):
     """With linear pressures (the default) each sample records the scene's chamber pressures at its own crank angle
     (values lagging one interval behind went unnoticed: runs at two output densities lag alike)."""

@@ -10,8 +10,9 @@ resolve them (nothing depends on the output grid but the pressure means, which t
   d p / d delta_s of the scene (delta_s, delta_w of Eq. 9 and Li of Eq. 12 move together,
   runtime/studies/preload/problem.py). A piecewise-linear delta_s(theta) is one interval per
   knot stretch; the constant design is slope 0.
-* **Friction power** quadrature: the simulator's output ``Pf_total`` (W, every contact, Eqs. 70-73)
-  integrated over crank angle; divided by 2 pi it is the cycle-mean friction power.
+* **Friction power** quadrature: the simulator's output ``Pf_total`` (W, the Coulomb friction of
+  every contact: Algorithms 1-2, Eq. 73) integrated over crank angle; divided by 2 pi it is the cycle-mean friction
+  power.
 * **Force-deficit** quadrature: ``(max(0, f_min - F) / F_REF)^2`` integrated over crank angle, where F
   is the tip's contact measure (the contact force of Eq. 34 with Eq. 67's damping in contact,
   ``kw xs5 < 0`` in lift-off), outside the excluded crank-angle windows. It is zero exactly when the
