@@ -4,7 +4,8 @@ Normal and friction follow from the housing curve: the inward normal of the
 limaçon at the apex leans from -X by lambda (Eq. 9), its tangent points along the
 rotation. The elastic law is the paper's: kw xs5 is the groove-axis component of
 the contact force (``housing_stiffness = "groove-axis"``), or the normal force from
-the normal penetration xs5 cos(lambda) (``"normal"``).
+the normal penetration xs5 cos(lambda) (``"normal"``); the damper cw acts on the rate
+of the same penetration.
 """
 
 from __future__ import annotations
@@ -36,7 +37,8 @@ class HousingContact(Submodel):
         Option("housing_friction", (ON, NONE), "Coulomb friction at the tip, Algorithm 2", parent="housing_contact"),
         Option("housing_stiffness", ("groove-axis", "normal"), "kw xs5 is the groove-axis (X) component of the "
                "housing force, as Algorithm 2 prints ('groove-axis'), or the normal force, kw times the normal "
-               "penetration xs5 cos(lambda) ('normal')", table="assumptions"),
+               "penetration xs5 cos(lambda) ('normal'); cw damps the rate of the same penetration",
+               table="assumptions"),
     )
     guards = (Guard("xs5", "s_h", "minus the tip's penetration into the housing wall (Eq. 33)", output="xs5",
                     sign=-1, closed_label="h", open_label="h0"),)
@@ -71,11 +73,14 @@ class HousingContact(Submodel):
         velocity_guards = {"v_s5_X": closing}
 
         groove_axis = opts["housing_stiffness"] == "groove-axis"
-        Fw = laws.penalty(P["kw"], g.xs5, act)  # Eq. 34: X component (a contact cannot pull)
-        if not groove_axis:
-            Fw = Fw * sp.cos(lam)  # normal force
+        # the penetration and its rate along the direction kw and cw act: the groove axis, xs5 and v_rel . X (Eq. 34,
+        # Algorithm 2), or the housing normal, whose depth in the wall tilted by lambda is xs5 cos(lambda)
+        along = sp.S.One if groove_axis else sp.cos(lam)
+        depth = g.xs5 * along
+        Fw = laws.penalty(P["kw"], depth, act)  # Eq. 34: X component or normal force (a contact cannot pull)
         if opts.on("housing_damping"):
-            Fw = laws.damped(Fw, P["cw"], closing, act, opts["damping"], laws.damper_depth(ctx, self.guards[0], g.xs5))
+            Fw = laws.damped(Fw, P["cw"], closing * along, act, opts["damping"],
+                             laws.damper_depth(ctx, self.guards[0], depth))
 
         if opts.on("housing_friction"):
             v_slide = v_abs.dot(t_fwd)

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 396e1bb6abf24d16830eb42f200fbec800a551f1d2581116467550e83f5ca6f3.
+ * Effects: all. Input hash: 3870e1fc2ce36d2a9efe6620485b4ce8d4e9b7ef33a4684aa8ae022462c5d780.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "396e1bb6abf24d16830eb42f200fbec800a551f1d2581116467550e83f5ca6f3"
+#define APEXSEAL_INPUT_HASH "3870e1fc2ce36d2a9efe6620485b4ce8d4e9b7ef33a4684aa8ae022462c5d780"
 
 /* state x */
 #define APEXSEAL_NX 6

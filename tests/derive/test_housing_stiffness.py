@@ -1,0 +1,68 @@
+"""The modelling choice assumptions.housing_stiffness (derive/submodels/housing.py): kw and cw act along the groove
+axis on the penetration xs5 (Eq. 33) and its rate v_rel.X ('groove-axis': the X component of the housing force, as
+Algorithm 2 prints), or along the housing normal on the normal penetration xs5 cos(lambda) of the wall tilted by
+lambda (Eq. 9) and its rate ('normal')."""
+
+from __future__ import annotations
+
+import pytest
+import sympy as sp
+
+from apexseal.derive import contact_geometry, kinematics
+from apexseal.derive.assumptions import Assumptions
+from apexseal.derive.effects import Effects
+from apexseal.derive.geometry import housing_normal_angle
+from apexseal.derive.kinematics import plain
+from apexseal.derive.model import submodel_contacts
+from apexseal.derive.options import options_of
+from apexseal.derive.paper_check.values import DEFAULTS
+from apexseal.derive.submodels.registry import activation_symbols
+from apexseal.derive.symbols import P, qs, theta, us
+
+x, y, phi = qs
+xd, yd, phid = us
+#: the tip pressed 0.5 µm into the housing and moving out of its groove (the damper acts), tilted and off-centre
+STATE = {theta: 0.9, x: 5e-7, y: -1e-5, phi: 2e-3, xd: 0.02, yd: -0.01, phid: 5.0}
+
+
+@pytest.fixture(scope="module")
+def kg():
+    k = kinematics.build()
+    return k, contact_geometry.build(k)
+
+
+def _values() -> dict:
+    values = {P[n]: v for n, v in DEFAULTS.items() if n in P}
+    values.update({s: 1 for s in activation_symbols().values()})  # the contact closed
+    values.update(STATE)
+    return values
+
+
+def _number(expr) -> float:
+    return float(sp.N(sp.sympify(expr).subs(_values())))
+
+
+def _housing_force(kg, stiffness: str) -> tuple[float, float]:
+    """The housing force without friction, in groove components (X, Y)."""
+    k, g = kg
+    opts = options_of(Effects.from_mapping({"housing_friction": False}), Assumptions(housing_stiffness=stiffness))
+    load = submodel_contacts("housing", k, g, opts)[0].loads[0]
+    fx, fy = k.components(load.force)
+    return _number(fx), _number(fy)
+
+
+def test_kw_and_cw_act_along_the_direction_the_choice_names(kg):
+    k, g = kg
+    xs5 = _number(plain(g.xs5))
+    v_x = _number(plain(k.relative_velocity(g.r_s5).dot(k.G.x)))
+    lam = _number(housing_normal_angle())
+    kw, cw = DEFAULTS["kw"], DEFAULTS["cw"]
+    assert xs5 > 0 and v_x > 0 and lam > 0.1  # in contact, approaching, the wall tilted
+    n_in = (-sp.cos(lam), sp.sin(lam))
+
+    fx, fy = _housing_force(kg, "groove-axis")  # Algorithm 2: Fs5x = -Fw, Fw = kw xs5 + cw v.X
+    assert -fx == pytest.approx(kw * xs5 + cw * v_x, rel=1e-12)
+    fx, fy = _housing_force(kg, "normal")  # the normal force: kw and cw on xs5 cos(lambda) and its rate
+    normal = float(fx * n_in[0] + fy * n_in[1])
+    assert fx * n_in[1] - fy * n_in[0] == pytest.approx(0.0, abs=1e-9 * abs(normal))  # along the normal
+    assert normal == pytest.approx((kw * xs5 + cw * v_x) * float(sp.cos(lam)), rel=1e-12)
