@@ -22,15 +22,37 @@ REL_TOL = 1e-9
 SYMBOLIC_MAX_OPS = 160
 SIMPLIFY_MAX_OPS = 28  # simplify is slow with asin and sqrt terms; larger ones are checked numerically
 
-#: the default scene's values (runtime/scenes/default.toml; v_eps, Cr, k, b, theta0 are needed only by the check)
-DEFAULTS: dict[str, float] = {
-    "omega": 1500 * 2 * math.pi / 60, "r": 0.010, "L": 0.050, "Li": 0.046, "zeta0": 7.1e-4, "Ws": 3.0e-3, "Wg": 3.06e-3,
-    "ds1": 4.0e-3, "ds2": 4.0e-3, "ro": 3.0e-3, "Bs": 0.0999, "ms": 0.01726, "Icg": 1.05e-7, "ks": 5.0e3,
-    "delta_s": 2.0e-3, "kw": 1e9, "kg1": 1e9, "kg2": 1e9, "kg3": 1e9, "kg4": 1e9, "cw": 831.0,
-    "cr": 831.0, "cs": 1.858, "mu1": 0.10, "mu2": 0.12, "mus": 0.10, "v_eps": 1.0e-3,
-}  # ms, Icg and the damping coefficients (damping ratio 0.1) to the 3-4 digits shown (tests/derive/test_paper_check.py)
-DEFAULTS["delta_w"] = initial_wall_deflection(ks=DEFAULTS["ks"], delta_s=DEFAULTS["delta_s"], kw=DEFAULTS["kw"])  # Eq. 9
-DEFAULTS["beta_o"] = shape.tip_half_angle(DEFAULTS["Ws"], DEFAULTS["ro"])  # a derived parameter
+#: the values the default scene states (runtime/scenes/default.toml; v_eps is needed only by the check)
+STATED: dict[str, float] = {
+    "r": 0.010, "L": 0.050, "zeta0": 7.1e-4, "Ws": 3.0e-3, "Wg": 3.06e-3, "ds1": 4.0e-3, "ds2": 4.0e-3, "ro": 3.0e-3,
+    "Bs": 0.0999, "density": 7200.0, "ks": 5.0e3, "delta_s": 2.0e-3, "kw": 1e9, "kg1": 1e9, "kg2": 1e9, "kg3": 1e9,
+    "kg4": 1e9, "zeta_w": 0.1, "zeta_g": 0.1, "zeta_s": 0.1, "mu1": 0.10, "mu2": 0.12, "mus": 0.10, "v_eps": 1.0e-3,
+}
+RPM = 1500.0
+
+
+def _default_values() -> dict[str, float]:
+    """The default scene's parameters: the stated values and what the submodels derive from them (omega, ms, Icg,
+    beta_o, delta_w of Eq. 9, Li of Eq. 12, the damping coefficients of the ratios), as the scene computes them."""
+    from types import SimpleNamespace
+
+    from ..effects import Effects
+    from ..options import options_of
+    from ..submodels.registry import submodels
+
+    options = options_of(Effects(), Assumptions())
+    values: dict[str, float | None] = {**STATED, "ms": None, "Icg": None, "cw": None, "cr": None, "cs": None}
+    inputs = {"operation": SimpleNamespace(omega=RPM * 2 * math.pi / 60)}
+    for cls in submodels():
+        if cls.active(options):
+            values.update(cls.derived(values, inputs, options))
+    return {n: float(v) for n, v in values.items() if v is not None}
+
+
+#: the default scene's parameter values, to full precision (tests/derive/test_paper_check.py compares them)
+DEFAULTS: dict[str, float] = _default_values()
+assert DEFAULTS["delta_w"] == initial_wall_deflection(ks=DEFAULTS["ks"], delta_s=DEFAULTS["delta_s"], kw=DEFAULTS["kw"])
+assert DEFAULTS["beta_o"] == shape.tip_half_angle(DEFAULTS["Ws"], DEFAULTS["ro"])
 EXTRA_DEFAULTS = {"Cr": 1.0e-4, "k": 0.02, "b": 0.2, "theta0": 0.03}
 
 #: the stated state of the numeric examples (SI units)
