@@ -75,6 +75,12 @@ def _out_argument(folder: Path) -> str:
     return shlex.quote(str(folder if shown.parts[:1] == ("..",) else shown))
 
 
+def refresh_command() -> str:
+    """The command that regenerates the committed default artefacts (:data:`DEFAULT_DIR`), as one types it where
+    one stands (the stale warning's and ``apexseal generate --check``'s advice)."""
+    return f"apexseal generate --out {_out_argument(DEFAULT_DIR)}"
+
+
 def _current(directory: Path, expected: str) -> bool:
     try:
         verify(directory, expected_hash=expected, trusted=True)
@@ -96,7 +102,7 @@ def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None
             return DEFAULT_DIR
         except StaleArtefactError as exc:
             warnings.warn(f"{exc}. Using regenerated artefacts from the cache instead; refresh the committed ones "
-                          f"with `apexseal generate --out {_out_argument(DEFAULT_DIR)}`", StaleArtefactWarning,
+                          f"with `{refresh_command()}`", StaleArtefactWarning,
                           stacklevel=3)
     target = cache_dir() / "gen" / expected
     if target.is_dir() and _current(target, expected):

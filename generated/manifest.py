@@ -196,8 +196,8 @@ def verify(directory: Path, *, expected_hash: str | None = None, trusted: bool =
     if hash_of(current) != data["input_hash"]:
         changed = sorted(k for k in current if current[k] != recorded.get(k))
         problems.append(f"inputs changed since generation: {', '.join(changed) or 'hash'}")
-    if expected_hash is not None and data["input_hash"] != expected_hash:
-        problems.append("generated for other effects/assumptions or sources than requested")
+    if expected_hash is not None and hash_of(current) != expected_hash:  # sources alike: the options differ
+        problems.append("generated for other effects/assumptions than requested")
     for name, digest in data["files"].items():
         path = directory / name
         if not path.is_file():

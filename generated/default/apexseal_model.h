@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 3870e1fc2ce36d2a9efe6620485b4ce8d4e9b7ef33a4684aa8ae022462c5d780.
+ * Effects: all. Input hash: 6060fa3dfd27a93348acd05c28964b776e5f8857c1f57414af35ebfacdcfab05.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "3870e1fc2ce36d2a9efe6620485b4ce8d4e9b7ef33a4684aa8ae022462c5d780"
+#define APEXSEAL_INPUT_HASH "6060fa3dfd27a93348acd05c28964b776e5f8857c1f57414af35ebfacdcfab05"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -52,22 +52,35 @@ def _scene_inputs(scene: Path | None) -> tuple[Effects, Assumptions]:
 def _check_default(echo) -> bool:
     """Is generated/default current? Compare the manifest with the inputs, then regenerate and compare bytes."""
     from .generated.generate import generate as run_generate
-    from .generated.load import DEFAULT_DIR
+    from .generated.load import DEFAULT_DIR, refresh_command
     from .generated.manifest import StaleArtefactError, input_hash, verify
 
+    refresh = f"; refresh them with `{refresh_command()} --no-compile`"
     try:
         verify(DEFAULT_DIR, expected_hash=input_hash(Effects(), Assumptions()))
     except StaleArtefactError as exc:
-        echo(f"STALE: {exc}")
+        echo(f"STALE: {exc}{refresh}")
         return False
     with tempfile.TemporaryDirectory(prefix="apexseal-check-") as tmp:
         fresh = run_generate(out_dir=Path(tmp) / "default", compile=False, echo=None)
         differ = [n for n in fresh.files if (Path(tmp) / "default" / n).read_bytes() != (DEFAULT_DIR / n).read_bytes()]
     if differ:
-        echo(f"STALE: regenerating gives different bytes for {', '.join(differ)}")
+        echo(f"STALE: regenerating gives different bytes for {', '.join(differ)}{refresh}")
         return False
     echo(f"generated/default is current (input hash {fresh.input_hash[:16]}, {len(fresh.files)} files)")
     return True
+
+
+def _refuse_a_stray_default(out: Path | None) -> None:
+    """Refuse ``--out .../generated/default`` that is not the committed default artefacts' folder (the command run
+    outside the repository's root): it would write a copy nothing reads and leave the committed ones stale."""
+    from .generated.load import DEFAULT_DIR, refresh_command
+
+    if out is None or out.resolve().parts[-2:] != DEFAULT_DIR.parts[-2:] or out.resolve() == DEFAULT_DIR.resolve():
+        return
+    raise click.BadParameter(f"{out} is {out.resolve()}, not the committed default artefacts of the apexseal that "
+                             f"runs ({DEFAULT_DIR}); refresh those with `{refresh_command()} --no-compile` (run "
+                             "from the repository's root, `--out generated/default` is that folder)", param_hint="--out")
 
 
 @click.command("generate")
@@ -107,6 +120,7 @@ def generate(scene: Path | None, out: Path | None, flags: str, effect_opts: tupl
                                                     **_pairs(assumption_opts, "--assumptions")})
         except OptionError as exc:
             raise click.BadParameter(str(exc), param_hint="--assumptions") from None
+    _refuse_a_stray_default(out)
     if out is None:
         from .derive.cache import cache_dir
 

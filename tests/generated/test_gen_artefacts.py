@@ -132,6 +132,46 @@ def test_cli_check(monkeypatch, artefacts):
     assert "STALE" in result.output
 
 
+def test_cli_check_names_what_changed_and_the_command_that_refreshes(monkeypatch, artefacts):
+    """A law's source edited (here: the record of it) makes --check name the sources that changed and the command
+    that refreshes the folder; it said "generated for other effects/assumptions or sources than requested" besides,
+    though the effects and assumptions were the requested ones, and gave no command."""
+    from click.testing import CliRunner
+
+    from apexseal.commands_generate import generate as command
+    from apexseal.generated.manifest import hash_of
+
+    path = artefacts / "manifest.json"
+    data = json.loads(path.read_text())
+    data["inputs"]["derive_source"] = "1" * 64
+    data["input_hash"] = hash_of(data["inputs"])
+    path.write_text(json.dumps(data))
+    monkeypatch.setattr(load, "DEFAULT_DIR", artefacts)
+    result = CliRunner().invoke(command, ["--check"])
+    assert result.exit_code == 1
+    assert "inputs changed since generation: derive_source" in result.output
+    assert "other effects/assumptions" not in result.output
+    assert f"refresh them with `apexseal generate --out {artefacts} --no-compile`" in result.output
+    data["inputs"]["effects"]["groove_friction"] = False  # options that are not the default's: said so
+    data["input_hash"] = hash_of(data["inputs"])
+    path.write_text(json.dumps(data))
+    assert "generated for other effects/assumptions than requested" in CliRunner().invoke(command, ["--check"]).output
+
+
+def test_generate_refuses_a_generated_default_that_is_not_the_committed_one(tmp_path, monkeypatch):
+    """`--out generated/default` away from the repository's root wrote a stray copy, silently, and left the committed
+    artefacts stale."""
+    from click.testing import CliRunner
+
+    from apexseal.commands_generate import generate as command
+
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(command, ["--out", "generated/default", "--no-compile"])
+    assert result.exit_code == 2
+    assert f"not the committed default artefacts of the apexseal that runs ({DEFAULT_DIR})" in result.output
+    assert not (tmp_path / "generated").exists()
+
+
 def test_trusted_loader_refuses_c_edited_with_its_manifest_hash(artefacts, monkeypatch):
     """An edit of a C file together with its sha256 in the manifest beside it passes the manifest alone, not the
     loader: the station's index holds the manifest's own sha256 (issue: a loader trusting the manifest beside the
