@@ -7,13 +7,14 @@ from pathlib import Path
 
 import click
 
-from .cli_common import scene_of, scene_settings, writable
+from .cli_common import scene_label, scene_of, scene_settings, writable
 
 
 @click.command()
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @scene_settings
-@click.option("--check", is_flag=True, help="Compare every derived equation with the paper's print and write the report.")
+@click.option("--check", is_flag=True, help="Compare every derived equation of the paper's full model, at the default "
+              "scene's values whatever SCENE and --set say, with the paper's print and write the report.")
 @click.option("--report", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Where --check writes its Markdown report [default: apexseal-out/paper-check.md].")
 @click.option("--refresh", is_flag=True, help="Ignore the derivation cache.")
@@ -46,3 +47,6 @@ def derive(scene: Path | None, sets, check: bool, report: Path | None, refresh: 
         for r in rows or []:
             counts[r.status] = counts.get(r.status, 0) + 1
         click.echo(f"paper check: {counts} -> {report}")
+        if scene is not None or sets:
+            click.echo(f"  (of the paper's full model at the default scene's values: the effects, modelling choices and "
+                       f"values of {scene_label(scene, sets)} do not enter the check)")

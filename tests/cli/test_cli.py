@@ -185,6 +185,25 @@ def test_report_commands_write_under_apexseal_out_not_docs(tmp_path, monkeypatch
     assert str(out.default) == "apexseal-out/bench"
 
 
+def test_derive_check_of_a_scene_says_the_check_is_of_the_paper_model(tmp_path, monkeypatch):
+    """`derive SCENE --check` derived SCENE's model and printed its effects, then checked the paper's full model at the
+    default scene's values without saying so: a scene's effect off (or a submodel of one's own on) looked checked."""
+    from types import SimpleNamespace
+
+    import apexseal.derive.cache
+    import apexseal.derive.paper_check
+
+    monkeypatch.setattr(apexseal.derive.cache, "cached_model", lambda *a, **k: SimpleNamespace(guards=(), outputs=()))
+    monkeypatch.setattr(apexseal.derive.paper_check, "write_report", lambda path: ())
+    args = ["derive", "--check", "--report", str(tmp_path / "r.md")]
+    r = CliRunner().invoke(main, [*args, "--set", "effects.groove_friction=false"])
+    assert r.exit_code == 0, r.output
+    assert ("(of the paper's full model at the default scene's values: the effects, modelling choices and values of "
+            "scene (embedded default: the paper case study) with effects.groove_friction=false do not enter the "
+            "check)") in r.output
+    assert "full model" not in CliRunner().invoke(main, args).output  # the default scene: the model checked
+
+
 def test_progress_reports_stages_with_elapsed_time(capsys):
     from apexseal import progress
 
