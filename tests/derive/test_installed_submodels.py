@@ -97,10 +97,16 @@ def test_an_installed_submodel_that_cannot_load_is_named_with_its_package(tmp_pa
 
 
 @pytest.fixture
-def fresh_registry(monkeypatch):
+def fresh_registry(monkeypatch, tmp_path):
     """The registry as a new process finds it (restored afterwards for the other tests of this process)."""
+    import importlib.metadata
+
     from apexseal.derive.submodels import registry
 
+    real = importlib.metadata.entry_points
+    # the packages these tests install (under a test's tmp_path) alone, not those installed beside apexseal
+    monkeypatch.setattr(importlib.metadata, "entry_points", lambda **kw: [
+        ep for ep in real(**kw) if ep.dist is not None and str(tmp_path) in str(ep.dist.locate_file(""))])
     saved = dict(registry._registry)
     monkeypatch.setattr(registry, "_loaded", False)
     monkeypatch.setattr(registry, "_broken", None)
