@@ -87,7 +87,8 @@ def _refuse_a_stray_default(out: Path | None) -> None:
 @click.argument("scene", required=False, type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder [default: the cache folder load_functions uses]. "
-                   "`--out generated/default` refreshes the committed default artefacts.")
+                   "`--out generated/default`, run from the repository's root, refreshes the committed default "
+                   "artefacts (elsewhere it is refused).")
 @click.option("--flags", type=Choice(tuple(FLAG_SETS)), default="optimised", show_default=True,
               help="quick: -O1, for edit-and-try; optimised: -O3 -march=native, for long studies.")
 @click.option("--effects", "effect_opts", multiple=True, metavar="NAME=on|off[,...]",

@@ -10,6 +10,7 @@ the options, the modes and the outputs from these declarations.
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -474,3 +475,44 @@ def test_the_guide_s_load_that_always_acts_is_derived_as_written():
         P = registry.parameter("Fe").symbol, registry.parameter("theta_e").symbol
         along = contact.loads[0].force.dot(k.S.y).subs(theta, P[1])
         assert sp.simplify(along - P[0]) == 0 and registry.parameter("theta_e").symbol.is_positive is None
+
+
+def _documented_damper(tmp_path):
+    """The damper module of docs/extending.md ("a viscous damper from a package of your own"), as a module file of a
+    package, imported the way its entry point is."""
+    import importlib
+    import re
+    import sys
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "extending.md").read_text(encoding="utf-8")
+    section = text[text.index("## Example: a viscous damper"):]
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    package = tmp_path / "my_seal_models_doc"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    (package / "damper.py").write_text(code)
+    sys.path.insert(0, str(tmp_path))
+    try:
+        return importlib.import_module("my_seal_models_doc.damper").GrooveDamper
+    finally:
+        sys.path.remove(str(tmp_path))
+
+
+def test_the_documented_damper_runs_as_the_docs_say(tmp_path):
+    """docs/extending.md's damper example: its bad value's message, the default model left as it was while it is
+    off, and a run with it on that has its outputs (the docs' example cannot rot)."""
+    damper = _documented_damper(tmp_path)
+    with registry.registered(damper):
+        scene = apexseal.load_scene()
+        assert tuple(scene.parameters) == registry.parameter_names() and "cv" not in scene.parameters
+        with pytest.raises(SceneError) as info:
+            scene.with_overrides(**{"effects.damper": True, "damper.cv": "-3 N*s/m"})
+        said = 'damper.cv = "-3 N*s/m": -3 N*s/m is out of range; allowed: 0 <= value <= 1000 N*s/m'
+        assert said in str(info.value)
+        assert f"`{said}`" in (Path(__file__).resolve().parents[2] / "docs" / "extending.md").read_text()
+        on = scene.with_overrides(**{"effects.damper": True, "damper.cv": "20 N*s/m",
+                                     "solver.samples_per_revolution": 360, "solver.interpreted": True})
+        r = apexseal.simulate(on, revolutions=1)
+        assert r.status == "completed", r.stop
+        F = r.outputs["F_damper_X"]
+        assert {"F_damper_Y", "M_damper"} <= set(r.outputs) and np.all(np.isfinite(F)) and np.any(F != 0)
