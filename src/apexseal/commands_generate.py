@@ -105,6 +105,12 @@ def generate(scene: Path | None, out: Path | None, flags: str, effect_opts: tupl
     artefacts and the compiled library are.
     """
     if check:
+        given = [what for what, value in (("SCENE", scene), ("--out", out), ("--effects", effect_opts),
+                                          ("--assumptions", assumption_opts), ("--no-compile", no_compile)) if value]
+        if given:  # each would be silently ignored: --check verifies the committed default artefacts only
+            raise click.UsageError(f"--check verifies the committed generated/default (the default model) only, and "
+                                   f"takes no {', '.join(given)}; to see a scene's model, run `apexseal generate "
+                                   "SCENE` without --check")
         sys.exit(0 if _check_default(click.echo) else 1)
     from .generated.generate import generate as run_generate
     from .generated.manifest import input_hash

@@ -257,3 +257,18 @@ def test_every_module_that_shapes_the_generated_files_is_an_input_of_their_hash(
         f"apexseal.runtime.solving.{m.removesuffix('.py')}" for m in SOLVING_MODULES}
     assert imported - hashed - set(NOT_SHAPING) == set()
     assert {"apexseal.runtime.solving.hybrid", "apexseal.generated.lower"} <= imported
+
+
+@pytest.mark.parametrize("args, named", [(["--effects", "groove_friction=off"], "--effects"),
+                                          (["--out", "elsewhere", "--assumptions", "damping=always"],
+                                           "--out, --assumptions")])
+def test_cli_check_refuses_what_it_would_ignore(args, named):
+    """--check verifies the committed default artefacts only: a scene's options given with it were ignored
+    silently (it said "current" for the default model, whatever the effects asked)."""
+    from click.testing import CliRunner
+
+    from apexseal.commands_generate import generate as command
+
+    result = CliRunner().invoke(command, ["--check", *args])
+    assert result.exit_code == 2
+    assert f"takes no {named}" in result.output
