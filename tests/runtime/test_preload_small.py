@@ -204,8 +204,8 @@ def test_an_interrupted_rerun_keeps_the_earlier_report_and_its_own_beside_it(lig
     r = CliRunner().invoke(main, _light_cli(out, "--no-check", "--quiet"))
     assert r.exit_code == 0, r.output
     before = {p.name: p.read_bytes() for p in out.iterdir()}
-    # no pressure.csv: with the chamber pressure off the scene's table is not read, and its scene.toml only names it
-    assert sorted(before) == ["preload.json", "preload.md", "preload.png", "scene.toml"]
+    # with the chamber pressure off the scene's table is not read, but its scene.toml keeps it beside (pressure.csv)
+    assert sorted(before) == ["preload.json", "preload.md", "preload.png", "pressure.csv", "scene.toml"]
     earlier = json.loads(before["preload.json"])
     ipopt = "IPOPT (round 1: 2 knots"
     seen = {"schedule": False}
@@ -278,7 +278,7 @@ def test_a_study_killed_while_it_writes_its_report_leaves_each_report_whole(ligh
     assert "## schedule" not in (partial[0] / "preload.md").read_text()
     assert hashlib.sha256((partial[0] / "preload.png").read_bytes()).hexdigest() == log.read_text()
     assert sorted(p.name for p in partial[0].iterdir()) == ["preload.json", "preload.md", "preload.png",
-                                                             "scene.toml"]  # no temporary file (and no table)
+                                                             "pressure.csv", "scene.toml"]  # no temporary file
     writing = [p for p in tmp_path.iterdir() if p.name.startswith(".o.writing-")]
     assert len(writing) == 1  # what it was writing, hidden beside the folder
     from apexseal.runtime.studies.preload.report import report_folder
