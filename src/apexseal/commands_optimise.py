@@ -10,27 +10,38 @@ import click
 
 from .cli_common import Choice, default_folder, scene_label, scene_of, scene_settings, writable
 
-#: the largest min-force accepted (N): far above any contact force of a seal
-MAX_FORCE = 1e5
 
-
-def _force(ctx, param, value) -> float | None:
+def _quantity(value, param, unit: str, largest: float, example: str) -> float | None:
+    """A quantity option (a bare number in the SI ``unit``, as a bare TOML number is), in (0, ``largest``]."""
     from .runtime.scenes.units import QuantityError, parse_quantity
 
-    if value is None:  # an optional force (--max-groove-force): no bound
+    if value is None:  # an optional bound (--max-groove-force): none
         return None
     key = "--" + param.name.replace("_", "-")
+    allowed = f"allowed: > 0 and <= {largest:g} {unit}, e.g. {example}"
     try:
-        number = float(value)  # a bare number is in N, as a bare TOML number is in its SI unit
+        number = float(value)
     except ValueError:
         number = value
     try:
-        f = parse_quantity(number, "N", key=key)
+        x = parse_quantity(number, unit, key=key)
     except QuantityError as err:
-        raise click.BadParameter(f"{value!r}: {err}; allowed: a force > 0 and <= {MAX_FORCE:g} N, e.g. 5N") from None
-    if not (0 < f <= MAX_FORCE):
-        raise click.BadParameter(f"{value!r} is {f:g} N; allowed: a force > 0 and <= {MAX_FORCE:g} N, e.g. 5N")
-    return f
+        raise click.BadParameter(f"{value!r}: {err}; {allowed}") from None
+    if not (0 < x <= largest):
+        raise click.BadParameter(f"{value!r} is {x:g} {unit}; {allowed}")
+    return x
+
+
+def _force(ctx, param, value) -> float | None:
+    from .runtime.studies.preload.problem import MAX_FORCE
+
+    return _quantity(value, param, "N", MAX_FORCE, "5N")
+
+
+def _length(ctx, param, value) -> float:
+    from .runtime.studies.preload.problem import MAX_PRELOAD
+
+    return _quantity(value, param, "m", MAX_PRELOAD, "50mm")
 
 
 def _windows(ctx, param, values) -> tuple:
@@ -67,6 +78,10 @@ def _rate(ctx, param, value):
                    "constant optimum.")
 @click.option("--max-rate", type=float, default=None, callback=_rate, metavar="MM_PER_DEG",
               help="Bound on |d delta_s / d theta| of the schedule in mm per degree [default: none].")
+@click.option("--max-preload", default="100 mm", show_default=True, callback=_length, metavar="LENGTH",
+              help="Upper bound of the preload delta_s searched (a length, e.g. 150mm; a bare number is in m).")
+@click.option("--max-iter", type=click.IntRange(1, 10000), default=100, show_default=True,
+              help="IPOPT's iterations per solve.")
 @click.option("--objective", type=Choice(["friction", "preload"]), default="friction", show_default=True,
               help="Minimise the cycle-mean friction power, or the (mean) preload.")
 @click.option("--samples", type=click.IntRange(36, 100000),
@@ -83,8 +98,8 @@ def _rate(ctx, param, value):
               help="Output folder for preload.json, preload.md, preload.png and scene.toml, written beside it and "
                    "renamed into place as a whole [default: apexseal-out/<scene name>-preload].")
 @click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, IPOPT iterations).")
-def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_force, exclude, knots, max_rate, objective,
-                     samples, nodes, vary_stiffness, check, out, quiet) -> None:
+def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_force, exclude, knots, max_rate, max_preload,
+                     max_iter, objective, samples, nodes, vary_stiffness, check, out, quiet) -> None:
     """Optimise the spring preload delta_s of SCENE (default: the embedded case study): the least friction power
     (or preload) for which the seal tip stays pressed on the housing with at least --min-force everywhere on the
     periodic revolution (between samples too), as a constant and, with --schedule, as a schedule delta_s(theta)."""
@@ -94,11 +109,11 @@ def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_forc
         raise click.UsageError("--max-rate bounds the slope of a schedule: give it with --schedule KNOTS")
     with progress.enabled(not quiet):  # generation, compilation (elapsed time) and IPOPT iterations on stderr
         _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes,
-                  vary_stiffness, check, out)
+                  vary_stiffness, check, out, {"max_preload": max_preload, "max_iter": max_iter})
 
 
 def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes,
-              vary_stiffness, check, out) -> None:
+              vary_stiffness, check, out, limits) -> None:
     """The stages in turn (constant optimum, schedule, bisection, stiffness valley), then the report. SIGINT or
     SIGTERM abandons the stage in progress wherever it is (IPOPT included) and writes the report of the stages
     completed before it, with the reason; exit code 130 or 143.
@@ -137,7 +152,8 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     done = {"results": {"constant": None}, "bisection": None, "valley": None, "stage": "set-up"}
     options = {"min_force_N": min_force, "max_groove_force_N": max_groove_force, "exclude_deg": [list(w) for w in exclude],
                "schedule_knots": knots, "max_rate_m_per_deg": max_rate, "objective": objective, "samples": samples,
-               "nodes": nodes, "vary_stiffness": vary_stiffness, "check": check}
+               "nodes": nodes, "vary_stiffness": vary_stiffness, "check": check, "max_preload_m": limits["max_preload"],
+               "max_iter": limits["max_iter"]}
 
     def report(stopped: str, status: str) -> list:
         return folder.write(lambda into: write_report(
@@ -162,7 +178,7 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
 
             try:
                 _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, exclude, knots, max_rate,
-                        objective, samples, nodes, vary_stiffness, check)
+                        objective, samples, nodes, vary_stiffness, check, limits)
             except PreloadStudyError as err:  # a stage refused: the stages before it are reported as they ended
                 if done["results"]["constant"] is not None:
                     signals.raising = False
@@ -184,7 +200,10 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
             results = done["results"]
             c, s = results["constant"], results.get("schedule")
             if c is not None:
-                status = "interrupted" if signals.requested else "completed"
+                failed = not c.ok or (s is not None and not s.ok)  # the exit code 2 below
+                status = "interrupted" if signals.requested else "failed" if failed else "completed"
+                if not c.ok and not stopped:  # the stages that start from the constant optimum did not run
+                    stopped = f"the constant optimum failed: {c.message.rstrip('.')}"
                 paths = report(stopped, status)
                 where = folder.commit(status)
                 click.echo(f"  wrote {', '.join(p.name for p in paths)} to {where}/; wall time "
@@ -207,10 +226,12 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
 
 
 def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, exclude, knots, max_rate, objective,
-            samples, nodes, vary_stiffness, check) -> None:
+            samples, nodes, vary_stiffness, check, limits) -> None:
     """Run the study's stages, each one's result kept in ``done`` once it completed (a signal that IPOPT turned into
     a failure is raised again after it, so that the stage is not kept) and written (``checkpoint``) but for the
-    last, whose report the caller writes."""
+    last, whose report the caller writes. The schedule and the stiffness valley start from the constant optimum;
+    the bisection needs only the feasible start, so it runs where IPOPT found no constant optimum too (its answer
+    is then the study's only one for a constant preload). ``limits``: max_preload and max_iter of the NLPs."""
     from .runtime.api import model_functions
     from .runtime.studies.preload.bisect import bisect_preload
     from .runtime.studies.preload.problem import MM, PreloadSetup
@@ -229,26 +250,31 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
     setup = PreloadSetup(sc, model_functions(sc), min_force, tuple(exclude), samples, max_groove_force=max_groove_force)
     with stage("constant", "constant optimum"):
         c = results["constant"] = finished(run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes,
-                                                     objective=objective, setup=setup))
+                                                     objective=objective, setup=setup, **limits))
     click.echo(c.describe())
-    plan = [w for w, on in (("schedule", knots), ("bisection", check), ("stiffness valley", vary_stiffness)) if on and c.ok]
+    feasible = c.start_delta_s is not None  # a preload that meets the requirement: what the bisection starts from
+    plan = [w for w, on in (("schedule", knots and c.ok), ("bisection", check and feasible),
+                            ("stiffness valley", vary_stiffness and c.ok)) if on]
     if plan:
         checkpoint("constant optimum", plan[0])
     if knots and c.ok:
         with stage("schedule", "schedule"):
             results["schedule"] = finished(run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes,
                                                      knots=knots, objective=objective, max_rate=max_rate, start=c,
-                                                     setup=setup))
+                                                     setup=setup, **limits))
         click.echo(results["schedule"].describe())
         if plan[-1] != "schedule":
             checkpoint("schedule", plan[1])
-    if c.ok and check:
+    if "bisection" in plan:
         with stage("bisection", "bisection"):
             b = done["bisection"] = finished(bisect_preload(sc, min_force=min_force, exclude=exclude, setup=setup,
-                                                            nodes=nodes, upper=c.start_delta_s))
+                                                            nodes=nodes, upper=c.start_delta_s,
+                                                            max_preload=limits["max_preload"]))
+        against = (f"the constant optimum above ({c.delta_s / MM:.4f} mm) differs by "
+                   f"{abs(b.delta_s - c.delta_s) / MM:.4f} mm" if c.ok else
+                   "IPOPT found no constant optimum (above): this is the study's answer for a constant preload")
         click.echo(f"  bisection over full simulations: delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm "
-                   f"({b.simulations} simulations, {b.wall_time_s:.1f} s); the constant optimum above "
-                   f"({c.delta_s / MM:.4f} mm) differs by {abs(b.delta_s - c.delta_s) / MM:.4f} mm")
+                   f"({b.simulations} simulations, {b.wall_time_s:.1f} s); {against}")
         if plan[-1] != "bisection":
             checkpoint("bisection", plan[-1])
     if c.ok and vary_stiffness:

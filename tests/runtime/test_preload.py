@@ -167,8 +167,13 @@ def test_nlp_jacobian_agrees_with_finite_differences(soft_scene, functions):
     ({"max_rate": -1.0}, ["max_rate", "> 0"]),
     ({"exclude": [(0.0, 360.0 - 1e-9)]}, ["exclude", "every sample"]),
     ({"max_groove_force": -3.0}, ["max_groove_force", "-3.0", "> 0"]),
-    ({"max_groove_force": float("inf")}, ["max_groove_force", "inf", "finite"]),
-    ({"min_force": "abc"}, ["min_force = 'abc'", "> 0 N"]),
+    ({"max_groove_force": float("inf")}, ["max_groove_force", "inf", "<= 100000 N"]),
+    # the command line's range (--min-force, --max-groove-force), which the API did not have
+    ({"min_force": 1e6}, ["min_force = 1000000.0", "> 0 and <= 100000 N"]),
+    ({"max_groove_force": 1e12}, ["max_groove_force = 1000000000000.0", "> 0 and <= 100000 N"]),
+    ({"max_preload": 5.0}, ["max_preload = 5.0", "> 0 and <= 1 m"]),  # the study searched up to 5 m
+    ({"start": "constant"}, ["start = 'constant'", "PreloadResult"]),  # was an AttributeError
+    ({"min_force": "abc"}, ["min_force = 'abc'", "> 0 and <= 100000 N"]),
     ({"max_iter": -5}, ["max_iter = -5", ">= 1"]),
     ({"knots": True}, ["knots = True", "1..72"]),
     ({"exclude": [(0.0, 360.0)]}, ["exclude = (0, 360)", "0 < |END - START| < 360"]),  # was an empty window
@@ -180,6 +185,36 @@ def test_bad_input_names_the_option_value_and_range(soft_scene, functions, kwarg
     args = {"min_force": MIN_FORCE, "samples": SAMPLES, "functions": functions} | kwargs
     with pytest.raises(PreloadStudyError) as err:
         optimise_preload(soft_scene, **args)
+    for w in words:
+        assert w in str(err.value), str(err.value)
+
+
+def test_the_study_takes_numpy_integers_and_checks_rtol_as_a_run_does(soft_scene, functions):
+    """A grid from numpy (np.int64 samples, nodes) was refused as "not an integer"; rtol = 0 was silently replaced by
+    the scene's rtol and rtol = "a" raised "could not convert string to float"."""
+    from apexseal.runtime.solving.settings import SettingsError
+
+    setup = PreloadSetup(soft_scene, functions, MIN_FORCE, (), np.int64(SAMPLES))
+    assert setup.samples == SAMPLES and isinstance(setup.samples, int)
+    with pytest.raises(PreloadStudyError, match=r"knots = 7"):  # past the checks of the integers, to the grid's
+        optimise_preload(soft_scene, min_force=MIN_FORCE, samples=np.int64(SAMPLES), nodes=np.int64(4), knots=7,
+                         functions=functions)
+    for rtol, words in ((0.0, "rtol = 0.0: 0 is out of range; allowed: 1e-12 <= value <= 0.01"),
+                        ("a", 'rtol = "a": expected a number')):
+        with pytest.raises(SettingsError) as err:
+            PreloadSetup(soft_scene, functions, MIN_FORCE, (), SAMPLES, rtol)
+        assert words in str(err.value), str(err.value)
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"nodes": 0}, ["nodes = 0", "2..64"]),  # was a ZeroDivisionError
+    ({"upper": -1e-3}, ["upper = -0.001", "> 0 and <= max_preload = 0.1 m"]),  # probed a negative preload
+    ({"upper": float("nan")}, ["upper = nan", "> 0 and <= max_preload"]),
+    ({"max_preload": -1.0}, ["max_preload = -1.0", "> 0 and <= 1 m"]),
+])
+def test_the_bisection_names_a_bad_option_its_value_and_range(soft_scene, functions, kwargs, words):
+    with pytest.raises(PreloadStudyError) as err:
+        bisect_preload(soft_scene, min_force=MIN_FORCE, samples=SAMPLES, functions=functions, **kwargs)
     for w in words:
         assert w in str(err.value), str(err.value)
 
@@ -234,6 +269,10 @@ def test_study_needs_the_spring_and_the_housing_contact(default_scene):
     (["--max-groove-force", "-3N"], ["--max-groove-force", "-3N", "> 0"]),
     (["--max-groove-force", "3 m"], ["--max-groove-force", "3 m"]),
     (["--max-groove-force", "-3"], ["--max-groove-force", "-3", "> 0"]),
+    (["--max-preload", "50"], ["--max-preload", "'50' is 50 m", "<= 1 m"]),  # a bare number is in m
+    (["--max-preload", "0 mm"], ["--max-preload", "> 0"]),
+    (["--max-preload", "5 N"], ["--max-preload", "5 N"]),
+    (["--max-iter", "0"], ["--max-iter", "0"]),
 ])
 def test_cli_bad_input(tmp_path, args, words):
     r = CliRunner().invoke(main, ["optimise-preload", *args, "--out", str(tmp_path / "o")])

@@ -28,8 +28,10 @@ def _advice(status: str, groove: bool = False) -> str:
     return {
         "Infeasible_Problem_Detected": "No preload in the allowed range keeps the force deficit within its bound with a "
                                        "periodic motion: lower min_force, exclude the crank-angle windows where the tip "
-                                       "lifts off, raise deficit_tol or max_preload.",
-        "Maximum_Iterations_Exceeded": "Raise max_iter, or start closer (the start is the feasible simulation).",
+                                       "lifts off, raise max_preload (--max-preload) or, from Python, "
+                                       "deficit_tol.",
+        "Maximum_Iterations_Exceeded": "Raise max_iter (--max-iter); the bisection over full simulations "
+                                       "(--check, bisect_preload) needs no derivative.",
         "Restoration_Failed": "The constraints are noisy at the integrator's tolerance: use a smaller rtol.",
         "Error_In_Step_Computation": "The constraints are noisy at the integrator's tolerance: use a smaller rtol.",
     }.get(status, "See IPOPT's documentation of this status.")
@@ -224,7 +226,9 @@ class ShootingNlp:
         v = np.array(sol["x"]).ravel()
         gv = np.array(sol["g"]).ravel()
         res.max_defect = float(np.max(np.abs(gv[:self.n_def])))
-        self.knots_m = v[:K] * MM
+        # IPOPT relaxes its bounds (bound_relax_factor, 1e-8): a knot on its bound 0 came back as -1e-11 m and was
+        # printed as "-0.000 mm"; the design is the point within the bounds
+        self.knots_m = np.clip(v[:K], 0.0, upper / MM) * MM
         qs = np.array(self.nominal(v)[1])
         res.nlp_friction_power = float(qs[0].sum() / TWO_PI)
         if res.ipopt_status not in SOLVED:

@@ -33,6 +33,7 @@ same model: the simulator's hybrid DAE (runtime/solving/hybrid.py) integrated by
 from __future__ import annotations
 
 import math
+import numbers
 import warnings
 from dataclasses import dataclass, field
 
@@ -48,6 +49,11 @@ from ...solving.scaling import LENGTH, to_physical, to_scaled
 
 #: the study's preload unit: decision variables and tolerances are in mm
 MM = 1e-3
+#: the largest force a study takes as min_force or max_groove_force (N), from the command line and the API alike:
+#: far above any contact force of a seal
+MAX_FORCE = 1e5
+#: the largest max_preload (m) a study takes: far above any spring deflection of a seal
+MAX_PRELOAD = 1.0
 
 
 class PreloadStudyError(ValueError):
@@ -221,7 +227,10 @@ class PreloadSetup:
         self.layout = HybridLayout.of(self.functions)
         self.measure_fn = contact_measure(self.functions)
         self.samples = int(self.samples or self.scene.solver.samples_per_revolution)
-        self.rtol = float(self.rtol or self.scene.solver.rtol)
+        if self.rtol is None:
+            self.rtol = self.scene.solver.rtol
+        self.settings()  # rtol and flags checked as a run checks them (a SettingsError names the field and range)
+        self.rtol = float(self.rtol)
         self._engine = None
         self._mapped: dict[int, ca.Function] = {}
 
@@ -371,21 +380,31 @@ class PreloadSetup:
         return m[np.arange(m.shape[0]), k], np.degrees(periodic.thetas[k]) % 360.0
 
 
+def is_integer(x) -> bool:
+    """An integer (Python's or numpy's), not a bool."""
+    return isinstance(x, numbers.Integral) and not isinstance(x, bool | np.bool_)
+
+
+def is_force(x) -> bool:
+    """A force the study takes (N): a real number in (0, MAX_FORCE]."""
+    return isinstance(x, numbers.Real) and not isinstance(x, bool | np.bool_) and 0 < x <= MAX_FORCE
+
+
 def check_request(scene, min_force, samples, revolutions, max_groove_force=None) -> None:
     """Reject what the study cannot answer, naming the option, its value and the allowed range."""
     problems = []
     if max_groove_force is not None:
-        if not (isinstance(max_groove_force, int | float) and math.isfinite(max_groove_force) and max_groove_force > 0):
-            problems.append(f"max_groove_force = {max_groove_force!r}: must be a force > 0 N (finite), or None "
-                            "(no bound)")
+        if not is_force(max_groove_force):
+            problems.append(f"max_groove_force = {max_groove_force!r}: must be a force > 0 and <= {MAX_FORCE:g} N, "
+                            "or None (no bound)")
         elif not scene.effects.groove_contact:
             problems.append(f"max_groove_force = {max_groove_force!r}: the scene's groove contacts are off "
                             "(effects.groove_contact); there is no groove force to bound")
-    if not (isinstance(min_force, int | float) and math.isfinite(min_force) and min_force > 0):
-        problems.append(f"min_force = {min_force!r}: must be a force > 0 N (finite)")
-    if samples is not None and not (isinstance(samples, int) and 36 <= samples <= 100000):
+    if not is_force(min_force):
+        problems.append(f"min_force = {min_force!r}: must be a force > 0 and <= {MAX_FORCE:g} N (a number, in N)")
+    if samples is not None and not (is_integer(samples) and 36 <= samples <= 100000):
         problems.append(f"samples = {samples!r}: must be an integer in 36..100000 (samples per revolution)")
-    if not (isinstance(revolutions, int) and 2 <= revolutions <= 50):
+    if not (is_integer(revolutions) and 2 <= revolutions <= 50):
         problems.append(f"revolutions = {revolutions!r}: must be an integer in 2..50")
     eff = scene.effects
     if not (eff.spring and eff.housing_contact):

@@ -65,6 +65,10 @@ def markdown(scene_name: str, results: dict, bisection=None, valley=None, overri
         lines += ["## derivative-free check (bisection over full simulations)", "",
                   f"delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm ({b.simulations} simulations, "
                   f"{b.wall_time_s:.1f} s, monotone: {b.monotone})", ""]
+        c = results.get("constant")
+        if c is not None and not c.ok:
+            lines += ["IPOPT found no constant optimum (above): this bracket is the study's answer for a constant "
+                      "preload.", ""]
     if valley:
         from .stiffness import describe
 

@@ -58,7 +58,7 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
 
 from __future__ import annotations
 
-import math
+import numbers
 import time
 
 import numpy as np
@@ -68,8 +68,8 @@ from ....progress import announce, stage
 from ...solving.signals import StopSignals
 from .nlp import ShootingNlp
 from .periodic import periodic
-from .problem import MM, PreloadSetup, PreloadStudyError, check_grid, windows
-from .result import DEFICIT_TOL, PreloadResult, contact_powers, fill_result
+from .problem import MAX_FORCE, MAX_PRELOAD, MM, PreloadSetup, PreloadStudyError, check_grid, is_force, is_integer, windows
+from .result import ALLOWANCE, DEFICIT_TOL, PreloadResult, contact_powers, fill_result
 from .schedule import SegmentGrid, simulate_schedule, simulate_schedules
 from .shooting import study_functions
 
@@ -95,13 +95,12 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     from ...api import model_functions, scene_of
 
     scene = scene_of(scene)
-    _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter)
+    _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter, max_preload, start)
+    knots, nodes = int(knots), int(nodes)
     exclude = windows(exclude)
     setup = setup or PreloadSetup(scene, functions or model_functions(scene), float(min_force), exclude, samples,
                                   rtol, revolutions, flags, max_groove_force)
     S = check_grid(setup.samples, nodes, knots)
-    if not (isinstance(max_preload, int | float) and max_preload > 0):
-        raise PreloadStudyError(f"max_preload = {max_preload!r}: must be a length > 0 m")
     keep = setup.mask(setup.theta_start + setup.dth * np.arange(1, setup.samples + 1))
     if not keep.any():
         raise PreloadStudyError(f"exclude = {list(exclude)}: the windows cover every sample; nothing left to check")
@@ -153,7 +152,7 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
             return res
         x_knots = nlp.knots_m
         sim = periodic(setup, sf, nlp.grid, x_knots, min_force, exclude)
-        if sim.deficit <= deficit_tol * 1.05 and sim.groove_excess <= deficit_tol * 1.05:
+        if sim.deficit <= deficit_tol * ALLOWANCE and sim.groove_excess <= deficit_tol * ALLOWANCE:
             break
         announce(f"re-simulation: deficit {sim.deficit:.3g}, groove excess {sim.groove_excess:.3g} (bound "
                  f"{deficit_tol:.3g}): solving again from the re-simulated revolution")
@@ -232,19 +231,15 @@ def _polish_constant(setup, sf, grid, knots_m, sim, min_force, exclude, deficit_
     return np.array([d_ok]), best
 
 
-def _integer(x) -> bool:
-    return isinstance(x, int) and not isinstance(x, bool)
-
-
-def _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter) -> None:
+def _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter, max_preload, start) -> None:
     problems = []
-    if not (_integer(nodes) and 2 <= nodes <= 64):
+    if not (is_integer(nodes) and 2 <= nodes <= 64):
         problems.append(f"nodes = {nodes!r}: must be an integer in 2..64")
-    if not (_integer(knots) and 1 <= knots <= 72):
+    if not (is_integer(knots) and 1 <= knots <= 72):
         problems.append(f"knots = {knots!r}: must be an integer in 1..72 (1: a constant preload)")
-    if not (isinstance(min_force, int | float) and not isinstance(min_force, bool) and 0 < min_force < math.inf):
-        problems.append(f"min_force = {min_force!r}: must be a force > 0 N (a number, in N)")
-    if not (_integer(max_iter) and max_iter >= 1):
+    if not is_force(min_force):
+        problems.append(f"min_force = {min_force!r}: must be a force > 0 and <= {MAX_FORCE:g} N (a number, in N)")
+    if not (is_integer(max_iter) and max_iter >= 1):
         problems.append(f"max_iter = {max_iter!r}: must be an integer >= 1 (IPOPT's iterations)")
     if objective not in OBJECTIVES:
         problems.append(f"objective = {objective!r}: must be one of {', '.join(OBJECTIVES)}")
@@ -252,8 +247,14 @@ def _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, ma
         problems.append(f"deficit_tol = {deficit_tol!r}: must be in (0, 1000) N^2 rad")
     if max_rate is not None and not (isinstance(max_rate, int | float) and max_rate > 0):
         problems.append(f"max_rate = {max_rate!r}: must be > 0 m per degree (or None: no bound)")
-    if not (_integer(rounds) and 1 <= rounds <= 10):
+    if not (is_integer(rounds) and 1 <= rounds <= 10):
         problems.append(f"rounds = {rounds!r}: must be an integer in 1..10")
+    if not (isinstance(max_preload, numbers.Real) and not isinstance(max_preload, bool)
+            and 0 < max_preload <= MAX_PRELOAD):
+        problems.append(f"max_preload = {max_preload!r}: must be a length > 0 and <= {MAX_PRELOAD:g} m")
+    if start is not None and not isinstance(start, PreloadResult):
+        problems.append(f"start = {start!r}: must be a PreloadResult (the constant optimum to start a schedule "
+                        "from), or None")
     if problems:
         raise PreloadStudyError("; ".join(problems))
 
@@ -286,5 +287,5 @@ def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, defici
                    f"{sim.deficit:.3g} N^2 rad (bound {deficit_tol:.3g}); the smallest force at the samples is "
                    f"{force:.3g} N at crank angle {np.degrees(sim.thetas[j]) % 360:.1f} deg ({where}). Exclude a "
                    "window around that angle (exclude=[(start, end)] / --exclude START:END), lower min_force, or "
-                   "raise max_preload.")
+                   "raise max_preload (--max-preload).")
     return None
