@@ -26,7 +26,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from ....progress import announce
-from .problem import MAX_PRELOAD, MM, PreloadSetup, PreloadStudyError, is_integer, windows
+from .problem import MM, PreloadSetup, PreloadStudyError, is_integer, max_preload_problem, windows
 
 
 @dataclass
@@ -75,8 +75,8 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
         raise PreloadStudyError(f"tol = {tol!r}, scan_step = {scan_step!r}: need 0 < tol <= scan_step (m)")
     if not (is_integer(nodes) and 2 <= nodes <= 64):
         raise PreloadStudyError(f"nodes = {nodes!r}: must be an integer in 2..64")
-    if not (isinstance(max_preload, numbers.Real) and 0 < max_preload <= MAX_PRELOAD):
-        raise PreloadStudyError(f"max_preload = {max_preload!r}: must be a length > 0 and <= {MAX_PRELOAD:g} m")
+    if max_preload_problem(max_preload):
+        raise PreloadStudyError(max_preload_problem(max_preload))
     if upper is not None and not (isinstance(upper, numbers.Real) and 0 < upper <= max_preload):
         raise PreloadStudyError(f"upper = {upper!r}: must be a length > 0 and <= max_preload = {max_preload:g} m, "
                                 "or None (the study's feasible start)")

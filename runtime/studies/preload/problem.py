@@ -390,6 +390,14 @@ def is_force(x) -> bool:
     return isinstance(x, numbers.Real) and not isinstance(x, bool | np.bool_) and 0 < x <= MAX_FORCE
 
 
+def max_preload_problem(max_preload) -> str | None:
+    """What is wrong with a study's ``max_preload`` (a length in (0, MAX_PRELOAD] m), or None."""
+    if isinstance(max_preload, numbers.Real) and not isinstance(max_preload, bool | np.bool_) \
+            and 0 < max_preload <= MAX_PRELOAD:
+        return None
+    return f"max_preload = {max_preload!r}: must be a length > 0 and <= {MAX_PRELOAD:g} m"
+
+
 def check_request(scene, min_force, samples, revolutions, max_groove_force=None) -> None:
     """Reject what the study cannot answer, naming the option, its value and the allowed range."""
     problems = []

@@ -58,7 +58,6 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
 
 from __future__ import annotations
 
-import numbers
 import time
 
 import numpy as np
@@ -68,7 +67,17 @@ from ....progress import announce, stage
 from ...solving.signals import StopSignals
 from .nlp import ShootingNlp
 from .periodic import periodic
-from .problem import MAX_FORCE, MAX_PRELOAD, MM, PreloadSetup, PreloadStudyError, check_grid, is_force, is_integer, windows
+from .problem import (
+    MAX_FORCE,
+    MM,
+    PreloadSetup,
+    PreloadStudyError,
+    check_grid,
+    is_force,
+    is_integer,
+    max_preload_problem,
+    windows,
+)
 from .result import ALLOWANCE, DEFICIT_TOL, PreloadResult, contact_powers, fill_result
 from .schedule import SegmentGrid, simulate_schedule, simulate_schedules
 from .shooting import study_functions
@@ -249,9 +258,8 @@ def _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, ma
         problems.append(f"max_rate = {max_rate!r}: must be > 0 m per degree (or None: no bound)")
     if not (is_integer(rounds) and 1 <= rounds <= 10):
         problems.append(f"rounds = {rounds!r}: must be an integer in 1..10")
-    if not (isinstance(max_preload, numbers.Real) and not isinstance(max_preload, bool)
-            and 0 < max_preload <= MAX_PRELOAD):
-        problems.append(f"max_preload = {max_preload!r}: must be a length > 0 and <= {MAX_PRELOAD:g} m")
+    if max_preload_problem(max_preload):
+        problems.append(max_preload_problem(max_preload))
     if start is not None and not isinstance(start, PreloadResult):
         problems.append(f"start = {start!r}: must be a PreloadResult (the constant optimum to start a schedule "
                         "from), or None")
