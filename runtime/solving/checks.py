@@ -62,6 +62,15 @@ def chatter_advice(guard: str, names: Sequence[str] | None = None, params=None) 
             f"{OTHER_REMEDIES}")
 
 
+def tilt_reason(phi: float, theta: float) -> str:
+    """Why a run stops where the seal's tilt ``phi`` (rad) exceeds :data:`MAX_TILT` at crank angle ``theta`` (rad,
+    from the start)."""
+    return (f"the seal turned by {np.degrees(phi):.4g} deg in its groove at {np.degrees(theta):.3f} deg, beyond the "
+            f"model's geometry (Eqs. 20-43 hold for tilts of a few degrees; the run stops past "
+            f"{np.degrees(MAX_TILT):g} deg): check the initial state (operation.initial_state.phi, phid) and the "
+            "contacts that should hold the seal")
+
+
 class Chattering(RuntimeError):
     def __init__(self, guard: str, theta: float, count: int, within: str = "within one output interval",
                  advice: str = CHATTER_ADVICE):
@@ -135,10 +144,7 @@ class RunChecks:
             return Z, None
         k = int(np.argmax(over))
         last = Z[lay.active, k - 1] if k else Z[lay.active, 0]
-        reason = (f"the seal turned by {np.degrees(phi[k]):.4g} deg in its groove at "
-                  f"{np.degrees(thetas[k] - self.theta_start):.3f} deg, beyond the model's geometry (Eqs. 20-43 hold "
-                  f"for tilts of a few degrees; the run stops past {np.degrees(MAX_TILT):g} deg): check the initial "
-                  "state (operation.initial_state.phi, phid) and the contacts that should hold the seal")
+        reason = tilt_reason(phi[k], thetas[k] - self.theta_start)
         return Z[:, :k], ("failed", StopInfo(thetas[k] - self.theta_start, lay.mode(last), reason))
 
     def friction(self, Z, thetas, P) -> tuple[np.ndarray, tuple | None]:
@@ -169,7 +175,7 @@ class RunChecks:
         if chatter is not None:
             return "chattering", StopInfo(chatter.theta, lay.mode(Z[lay.active, -1]), str(chatter))
         if method_of(st.method).locates_events:
-            missed = self.missed_event(Z, thetas, P)
+            missed = self.missed_event(Z, thetas, P, z_start[lay.counts])
             if missed is not None:
                 return missed
         in_rev = Z[lay.counts] - z_rev[lay.counts, None]  # switches of each guard since the revolution began
@@ -184,8 +190,13 @@ class RunChecks:
             return "chattering", StopInfo(where, lay.mode(Z[lay.active, k]), str(c))
         return None
 
-    def missed_event(self, Z, thetas, P) -> tuple | None:
-        """A contact the integrator holds open while its gap is negative: a lost event (the seal would pass the wall)."""
+    def missed_event(self, Z, thetas, P, counts_before=None) -> tuple | None:
+        """A contact the integrator holds open while its gap is negative: a lost event (the seal would pass the wall).
+
+        Where that contact itself switched in the output interval before (``counts_before``: the event counts at the
+        start of the call), its closing fell inside the blind window that CasADi keeps after each event (10
+        event_tol), as where a contact chatters at its touch (it opens where the loads press it shut at once): the
+        reason says so, with the advice for its contact (:func:`chatter_advice`), instead of calling it a bug."""
         lay = self.layout
         X = to_physical(Z[lay.x], self.omega, lay.state_names)
         g = guards_at(self.functions, thetas, X, self.params, P)
@@ -193,11 +204,21 @@ class RunChecks:
         if not bad.any():
             return None
         i, k = (int(v[0]) for v in np.nonzero(bad))
+        guard, gap, where = lay.guard_names[i], g[i, k] / LENGTH, thetas[k] - self.theta_start
         cause = self.unstable()  # a fixed-step method's step beyond its stability loses events, as expected
+        counts = None if counts_before is None else np.c_[counts_before, Z[lay.counts]]
+        switched = 0 if counts is None else int(counts[i, k + 1] - counts[i, k])
+        if switched and not cause:  # its closing fell in the blind window after an event: a touch it chatters at
+            why = (f"it switched {switched} times in the output interval before, the last opening it, and its closing "
+                   "fell inside the integrator's blind window after an event (10 solver.event_tol), as where a contact "
+                   "chatters at its touch, the loads pressing it shut as soon as it opens: "
+                   + chatter_advice(guard, self.functions.parameter_names, self.params))
+            return "failed", StopInfo(where, lay.mode(Z[lay.active, k]), f"missed contact event: guard {guard} is "
+                                      f"open in the integrator's mode but its gap is {gap:.4g} µm ({why})")
         why = f"the step is beyond what the method can follow: {cause}" if cause else "a bug: please report the scene"
-        return "failed", StopInfo(thetas[k] - self.theta_start, lay.mode(Z[lay.active, k]),
-                                  f"missed contact event: guard {lay.guard_names[i]} is open in the "
-                                  f"integrator's mode but its gap is {g[i, k] / LENGTH:.4g} µm ({why})")
+        return "failed", StopInfo(where, lay.mode(Z[lay.active, k]),
+                                  f"missed contact event: guard {guard} is open in the "
+                                  f"integrator's mode but its gap is {gap:.4g} µm ({why})")
 
 
 def chattering(Z, layout: HybridLayout, thetas, counts_before, settings: RunSettings,

@@ -17,11 +17,12 @@ import numpy as np
 from ...derive.submodels.registry import guard as declared_guard
 from ...progress import announce
 from ..results.result import StopInfo
-from .checks import Chattering, chatter_advice
+from .checks import Chattering, chatter_advice, tilt_reason
 from .layout import HybridLayout
 from .methods import WallTimeExceeded, make_engine
+from .preflight import MAX_START_PENETRATION
 from .scaling import to_physical
-from .settings import RunSettings, out_of_time
+from .settings import MAX_TILT, RunSettings, out_of_time
 from .signals import StopSignals
 
 
@@ -115,6 +116,8 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
     lay = HybridLayout.of(functions)
     where = f"{np.degrees(theta - theta_start):.3f} deg"
     if not _finite_ahead(functions, z, theta, params, u):
+        if np.isfinite(z).all() and np.isfinite(u).all():  # a state the call reached, outside the model's domain
+            return "failed", _leaves_domain(functions, z, theta, theta_start, params, u, msg)
         return "failed", f"the right-hand side is not finite at {where}: {msg}"
     if "max_events" in str(err) or stats.get("n_events", 0) >= settings.max_events_per_revolution:
         z_end, head = _longest_head(functions, settings, params, z, theta, dth, P, deadline, make)
@@ -135,22 +138,56 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
                           f"one output interval; the problem is too stiff for {settings.method!r} here: {advice}")
     z_end, head = _longest_head(functions, settings, params, z, theta, dth, P, deadline, make)
     if not _finite_ahead(functions, z_end, theta + head, params, u):
-        omega = functions.omega(params)
-        x, y, phi = to_physical(z_end[lay.x], omega, lay.state_names)[:3]
-        g = np.array(functions.guards(theta + head, to_physical(z_end[lay.x], omega, lay.state_names), params,
-                                      u)).ravel()
-        g[[i for i, name in enumerate(functions.guard_names) if declared_guard(name).closed_at_rest]] = np.inf
-        deepest = int(np.argmin(g))
-        return "failed", (f"the state leaves the model's domain at {np.degrees(theta + head - theta_start):.3f} deg: "
-                          f"the right-hand side turns non-finite just ahead of x = {x * 1e6:.4g} um, y = {y * 1e6:.4g} "
-                          f"um, phi = {phi * 1e3:.4g} mrad (deepest contact {functions.guard_names[deepest]}: "
-                          f"{-g[deepest] * 1e6:.4g} um); contacts this soft for these loads let the seal go where the "
-                          "geometry of Eqs. 20-43 no longer holds: stiffer contacts (contacts.kw, kg1..kg4) or a lower "
-                          f"speed (CasADi: {msg})")
+        return "failed", _leaves_domain(functions, z_end, theta + head, theta_start, params, u, msg)
+    where_seal, depth = _seal_at(functions, z_end, theta + head, params, u)
+    phi = to_physical(z_end[lay.x], functions.omega(params), lay.state_names)[2]
+    if abs(phi) > MAX_TILT:  # turned over inside the interval, before the run's check at its samples could see it
+        return "failed", f"{tilt_reason(phi, theta + head - theta_start)} (CasADi: {msg})"
+    deep = ("" if depth <= MAX_START_PENETRATION * params[list(functions.parameter_names).index("Ws")] else
+            f"; the seal is that deep inside a wall: {_soft_advice(functions)}")
     if stats.get("n_reject", 0):
         return "failed", (f"the step size fell below its minimum after {stats.get('n_steps', 0)} steps and "
-                          f"{stats['n_reject']} rejected ones (CasADi: {msg})")
-    return "failed", f"solver failed: {msg}"
+                          f"{stats['n_reject']} rejected ones, {head_at(head)}{where_seal}{deep} (CasADi: {msg})")
+    return "failed", f"solver failed {head_at(head)}{where_seal}{deep} (CasADi: {msg})"
+
+
+def head_at(head: float) -> str:
+    return f"{np.degrees(head):.4g} deg into the interval, "
+
+
+#: the advice where the seal sinks into a wall or leaves the model's domain
+SOFT_CONTACTS = ("contacts this soft for these loads let the seal go where the geometry of Eqs. 20-43 no longer "
+                 "holds: stiffer contacts (contacts.kw, kg1..kg4) or a lower speed")
+
+
+def _soft_advice(functions) -> str:
+    """:data:`SOFT_CONTACTS`, or, for a model without the groove contacts (``effects.groove_contact`` off, their
+    stiffnesses not among its parameters), that nothing holds the seal across its groove."""
+    if "kg1" in functions.parameter_names:
+        return SOFT_CONTACTS
+    return ("with effects.groove_contact off nothing holds the seal across its groove, and it drifts out of the "
+            "geometry of Eqs. 20-43: switch the groove contact on (contacts.kg1..kg4)")
+
+
+def _seal_at(functions, z, theta, params, u) -> tuple[str, float]:
+    """Where the seal is in state ``z`` at crank angle ``theta`` ("at x = ... um, ..., deepest contact ...") and the
+    depth (m) of its deepest contact inside its wall (the spring's compression, closed at rest, is not one)."""
+    lay = HybridLayout.of(functions)
+    X = to_physical(z[lay.x], functions.omega(params), lay.state_names)
+    x, y, phi = X[:3]
+    g = np.array(functions.guards(theta, X, params, u)).ravel()
+    g[[i for i, name in enumerate(functions.guard_names) if declared_guard(name).closed_at_rest]] = np.inf
+    deepest = int(np.argmin(g))
+    return (f"at x = {x * 1e6:.4g} um, y = {y * 1e6:.4g} um, phi = {phi * 1e3:.4g} mrad (deepest contact "
+            f"{functions.guard_names[deepest]}: {-g[deepest] * 1e6:.4g} um)"), float(-g[deepest])
+
+
+def _leaves_domain(functions, z, theta, theta_start, params, u, msg) -> str:
+    """The reason of a failure where the right-hand side turns non-finite just ahead of the finite state ``z`` at
+    crank angle ``theta``: where the seal is, its deepest contact, and what to change."""
+    where_seal, _ = _seal_at(functions, z, theta, params, u)
+    return (f"the state leaves the model's domain at {np.degrees(theta - theta_start):.3f} deg: the right-hand side "
+            f"turns non-finite just ahead, {where_seal}; {_soft_advice(functions)} (CasADi: {msg})")
 
 
 def _finite_ahead(functions, z, theta, params, u) -> bool:

@@ -150,6 +150,31 @@ def test_a_lost_contact_event_stops_the_run(default_scene, fns):
     assert np.degrees(r.stop.theta) == pytest.approx(180.0)
 
 
+def test_a_contact_that_chatters_at_its_touch_and_loses_its_closing_is_explained_not_a_bug(default_scene, fns):
+    """A scene of random values (the housing contact alone, damped above critical): the tip switched 5 times in one
+    output interval at its touch, the last switch opening it while the loads pressed it shut at once, inside CasADi's
+    blind window after an event, so that its closing was not seen and the seal sank 3.3 µm into the housing with the
+    contact open. The safety net stopped the run with "missed contact event ... (a bug: please report the scene)";
+    it is the chatter of a contact damped above critical (docs/hard-cases.md), and the reason now says so, with the
+    advice for that contact."""
+    import apexseal
+    from apexseal.runtime.scenes.units import PlausibilityWarning
+
+    off = dict.fromkeys(("spring", "spring_damping", "spring_friction", "groove_contact", "groove_damping",
+                         "groove_friction", "chamber_pressure"), False)
+    with pytest.warns(PlausibilityWarning):  # the damping above critical
+        scene = default_scene.with_overrides(**{
+            "machine.L": 0.08014702590102508, "seal.Ws": 0.0028646013298921362, "seal.Icg": 3.649231632375329e-08,
+            "operation.rpm": 639.9945203800157, "operation.start_angle": "256.09127 deg",
+            "contacts.zeta_w": 2.060680438591178, "friction.v_eps": 4.994578398248655, "effects": off})
+    r = apexseal.simulate(scene, method="rosenbrock", atol=0.03662510142141337, samples_per_revolution=72,
+                          compile_c=False, max_wall_time=30)
+    assert r.status == "failed" and "missed contact event: guard xs5" in r.stop.reason, r.stop
+    assert "bug" not in r.stop.reason and "blind window" in r.stop.reason
+    assert "contacts.zeta_w = 2.06" in r.stop.reason  # the advice for a contact damped above critical
+    assert np.isfinite(r.state).all()
+
+
 # ---------------------------------------------------------------- non-finite values
 def _nan_after(degrees: float, pressure):
     def p(edges):
@@ -338,6 +363,51 @@ def test_a_seal_that_turns_over_in_its_groove_stops_the_run_with_the_reason(defa
     assert np.all(np.abs(r.state[2]) <= np.pi / 4)
     with pytest.raises(SceneError, match="initial_state.phi"):
         default_scene.with_overrides(**{"operation.initial_state.phi": "50 deg"})
+
+
+def test_a_state_whose_right_hand_side_fails_just_ahead_is_named_as_leaving_the_domain(default_scene, fns):
+    """At 1e6 rpm (the speed's range is > 0) the inertial loads push the seal millimetres into its groove walls; an
+    integrator call ends at a sample where the state is finite but the right-hand side turns NaN just ahead. The
+    failed call's diagnosis said only "the right-hand side is not finite at 22.000 deg: ... Evaluation failed", with
+    no state and no remedy; it now gives the reason and the advice of a state that leaves the model's domain."""
+    fast = default_scene.with_overrides(**{"operation.rpm": 1e6})
+    r = simulate(fast, fns, samples_per_revolution=360)
+    assert r.status == "failed" and "leaves the model's domain" in r.stop.reason, r.stop
+    assert "stiffer contacts" in r.stop.reason and "deepest contact" in r.stop.reason
+    assert np.isfinite(r.state).all()
+
+
+def test_a_failed_call_names_where_the_seal_is_when_nothing_else_explains_it(default_scene, fns):
+    """Soft contacts at 33810 rpm (every value within its range): erk-rk4's call failed with the seal 16 cm inside
+    the housing, and the diagnosis, finding no event or step limit and a finite right-hand side ahead, said only
+    "solver failed: ... Evaluation failed". It now says where the seal is, how deep its deepest contact is, and,
+    that deep inside a wall, what to change."""
+    soft = default_scene.with_overrides(**{"operation.rpm": 33810.25268684206, "contacts.kw": 78327.32330102938,
+                                           "contacts.kg2": 73670.78246322925, "contacts.kg3": 73670.78246322925,
+                                           "contacts.kg4": 585738415737.7668})
+    r = simulate(soft, fns, method="erk-rk4", samples_per_revolution=72)
+    assert r.status == "failed" and "deepest contact xs5" in r.stop.reason, r.stop
+    assert "stiffer contacts" in r.stop.reason and np.isfinite(r.state).all()
+
+
+def test_a_seal_that_turns_over_inside_a_failed_call_is_named_so(default_scene, fns):
+    """The tilt rate at the bottom of its range: the seal turns over within the first output interval and the call
+    fails before any sample, so the run's tilt check at the samples never saw it; the diagnosis said only "the step
+    size fell below its minimum after 115 steps and 51 rejected ones". It now names the tilt (-276 deg)."""
+    spun = default_scene.with_overrides(**{"operation.initial_state.phid": "-1e6 rad/s"})
+    r = simulate(spun, fns)
+    assert r.status == "failed" and "beyond the model's geometry" in r.stop.reason, r.stop
+    assert "operation.initial_state.phi, phid" in r.stop.reason
+
+
+def test_a_seal_without_groove_contacts_that_leaves_the_domain_is_not_advised_stiffer_groove_contacts(default_scene):
+    """With effects.groove_contact off (allowed while the housing contact holds the seal) nothing holds the seal
+    across its groove: it drifts 3 mm sideways and the right-hand side turns non-finite at 7.6 deg. The advice named
+    "stiffer contacts (contacts.kw, kg1..kg4)", keys such a model does not read; it now names the effect."""
+    free = default_scene.with_overrides(**{"effects": {"groove_contact": False, "spring": False}})
+    r = simulate(free, None, samples_per_revolution=720)
+    assert r.status == "failed" and "leaves the model's domain" in r.stop.reason, r.stop
+    assert "effects.groove_contact off" in r.stop.reason and "stiffer contacts" not in r.stop.reason
 
 
 def test_a_housing_too_soft_for_the_preload_is_refused_naming_its_keys(default_scene):
