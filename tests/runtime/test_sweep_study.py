@@ -75,6 +75,15 @@ BAD = [
     ({'[parameters."spring.delta_s"]\nvalues = ["1 mm", "2 mm", "3 mm", "4 mm"]':
       '[parameters."operation.revolutions"]\nfrom = 1\nto = 1.4\npoints = 3'},
      "parameters.operation.revolutions.points", "at least 3 integers"),  # collapsed to one point before
+    # a value listed twice (in any unit) ran the same point twice; in a sampled design it weighed double
+    ({'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'values = ["1 mm", "2 mm", "0.001 m"]'},
+     "parameters.spring.delta_s.values", "0.001 m repeated (values[0], values[2]); allowed: distinct values"),
+    ({'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'values = ["1 mm", "2 mm"]\n[parameters."solver.method"]\n'
+      'values = ["erk", "rosenbrock", "erk"]'},
+     "parameters.solver.method.values", '"erk" repeated (values[0], values[2])'),
+    # a range narrower than its points at the 12 digits scenes keep: the same point several times
+    ({'to = "2e4 N/m"': 'to = "3.0000000000001e3 N/m"'}, "parameters.spring.ks.points",
+     "give 1 distinct value(s) at 12 significant digits"),
 ]
 
 
@@ -105,7 +114,7 @@ def test_a_value_refused_at_many_points_is_one_problem_naming_them():
     assert [str(p) for p in info.value.errors] == [
         "parameters.spring.delta_s = -0.002: -0.002 m is out of range; allowed: >= 0 m (points 1, 5, 9, 13)"]
     assert str(info.value).startswith("study light.toml: 1 problem\n")
-    many = light_study(**{"[collect]": '[parameters."operation.revolutions"]\nvalues = [1, 0, 1, 1, 1, 1, 1, 1]\n\n'
+    many = light_study(**{"[collect]": '[parameters."operation.revolutions"]\nvalues = [1, 0, 2, 3, 4, 5, 6, 7]\n\n'
                                        "[collect]"})  # 0 at 16 of the 128 points
     with pytest.raises(StudyError) as info:
         scenes_of(many)

@@ -106,6 +106,8 @@ def parameter_of(key: str, ps) -> tuple[Parameter | None, list[Problem]]:
         else:
             values = tuple(number(x, f"values[{i}]") for i, x in enumerate(ps.values))
             display = _unit_written(ps.values[0])
+        if not problems:
+            problems += _repeated(f"{where}.values", ps.values, values, unit)
         nums = [x for x in values if isinstance(x, int | float) and not isinstance(x, bool)]
         low, high = (min(nums), max(nums)) if nums and len(nums) == len(values) else (None, None)
         return (None if problems else Parameter(key, unit, values, low, high, ps.scale, display, listed=True)), problems
@@ -140,7 +142,32 @@ def parameter_of(key: str, ps) -> tuple[Parameter | None, list[Problem]]:
                                   "integers, or fewer points")]
     else:
         values = tuple(float(f"{x:.12g}") for x in grid)  # 12 digits, as scenes hash them
+        if len(set(values)) < ps.points:  # a range too narrow for its points: the same point several times
+            return None, [Problem(f"{where}.points", ps.points, f"{ps.points} points from {ps.from_} to {ps.to} give "
+                                  f"{len(set(values))} distinct value(s) at 12 significant digits (as scenes keep "
+                                  "them); allowed: a wider range, or fewer points")]
     return Parameter(key, unit, values, low, high, ps.scale, _unit_written(ps.from_)), problems
+
+
+def _repeated(where: str, given: list, values: tuple, unit: str) -> list[Problem]:
+    """A problem for each value listed more than once (compared in SI at the 12 significant digits scenes keep, so
+    "1 mm" and "0.001 m" are one value): each repeat ran the same point again, and weighed double in a sampled
+    design."""
+    from ...scenes.errors import show_value
+
+    at: dict[Any, list[int]] = {}
+    for i, x in enumerate(values):
+        same = float(f"{x:.12g}") if isinstance(x, int | float) and not isinstance(x, bool) else (type(x), x)
+        at.setdefault(same, []).append(i)
+    out = []
+    for idx in at.values():
+        if len(idx) > 1:
+            x = values[idx[0]]
+            shown = f"{x:g} {unit}" if unit not in ("", "1") else show_value(x)
+            where_ = ", ".join(f"values[{i}]" for i in idx)
+            out.append(Problem(where, given, f"{shown} repeated ({where_}); allowed: distinct values (each is one "
+                               "point of the design)"))
+    return out
 
 
 def _scaled(u: np.ndarray, p) -> list[Any]:
