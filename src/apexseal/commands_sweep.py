@@ -70,6 +70,7 @@ def sweep(study, example, workers, scheduler, out, resume, figures, bench, repea
     """Run the design study STUDY (a TOML file, docs/sweeps.md): every point simulated, one row each in
     <out>/results.parquet, figures of each quantity and of the feasible region. Rerun to resume."""
     from .runtime.studies.sweep import StudyError, load_study, run_sweep
+    from .runtime.studies.sweep.execute import SchedulerError
     from .runtime.studies.sweep.store import StoreError
 
     if (study is None) == (example is None):
@@ -95,10 +96,10 @@ def sweep(study, example, workers, scheduler, out, resume, figures, bench, repea
     try:
         report = run_sweep(st, out, workers=workers, scheduler=scheduler, resume=resume, quiet=quiet,
                            on_start=accepted)
-    except StudyError as err:
+    except (StudyError, SchedulerError) as err:  # refused before the folder was taken
         if created and not any(out.iterdir()):
             out.rmdir()
-        raise click.ClickException(str(err)) from None
+        raise click.ClickException(err.describe() if isinstance(err, SchedulerError) else str(err)) from None
     except StoreError as err:
         raise click.ClickException(str(err)) from None
     except OSError as err:  # e.g. no scheduler at the address

@@ -164,7 +164,7 @@ def test_a_signal_stops_the_points_running_on_a_dask_cluster_not_only_the_sweep(
     from apexseal.runtime.studies.sweep.execute import local_cluster
 
     study = light_study(**{'"operation.revolutions" = 1': "", '"spring.ks"]': '"operation.revolutions"]',
-                           'from = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"': "values = [1, 100000, 100000]",
+                           'from = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"': "values = [1, 100000, 99999]",
                            '"1 mm", "2 mm", "3 mm", "4 mm"': '"2 mm"', '"60 s"': '"300 s"'})
     assert [p.key for p in study.parameters] == ["operation.revolutions", "spring.delta_s"]
 
@@ -387,3 +387,59 @@ def test_the_models_are_built_once_before_the_points_and_a_signal_there_stops_th
     report = run_sweep(light_study(), tmp_path / "c", workers=1, quiet=True)
     assert not report.interrupted and report.computed == report.failed == len(report.table) > 1
     assert (report.table["status"] == "error").all() and report.table["stop"].str.contains("no compiler").all()
+
+
+@pytest.fixture
+def not_a_scheduler():
+    """Two addresses with no Dask scheduler: a port nothing listens on, and one where a server answers that is not
+    Dask (as a web server at a mistyped port would); Dask's connection timeout cut to 2 s."""
+    import socket
+    import threading
+
+    import dask
+
+    closed = socket.socket()
+    closed.bind(("127.0.0.1", 0))  # bound, never listening: connections are refused
+    web = socket.socket()
+    web.bind(("127.0.0.1", 0))
+    web.listen()
+
+    def answer():
+        while True:
+            try:
+                conn, _ = web.accept()
+            except OSError:
+                return
+            conn.sendall(b"HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n" * 4)
+            time.sleep(0.5)
+            conn.close()
+
+    threading.Thread(target=answer, daemon=True).start()
+    with dask.config.set({"distributed.comm.timeouts.connect": "2s"}):
+        yield [f"tcp://127.0.0.1:{s.getsockname()[1]}" for s in (closed, web)]
+    closed.close()
+    web.close()
+
+
+def test_a_scheduler_that_does_not_answer_is_refused_naming_it_before_anything_is_written(not_a_scheduler, tmp_path):
+    """An unreachable scheduler was found only after the folder was taken and the command said it wrote to it; a
+    server there that is not Dask ended in a MemoryError traceback (its bytes read as a frame's length)."""
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+    from apexseal.runtime.studies.sweep.execute import SchedulerError
+
+    study = tmp_path / "light.toml"
+    study.write_text(LIGHT)
+    for k, address in enumerate(not_a_scheduler):
+        started = [None]
+        with pytest.raises(SchedulerError) as info:
+            run_sweep(light_study(), tmp_path / f"api{k}", scheduler=address, quiet=True,
+                      on_start=started.clear)  # a call on a started sweep; none expected
+        text = str(info.value)
+        assert text.startswith(f"scheduler = {address!r}: no Dask scheduler answered there"), text
+        assert "allowed: the address of a running Dask scheduler" in text, text
+        assert started == [None] and not (tmp_path / f"api{k}").exists()
+        r = CliRunner().invoke(main, ["sweep", str(study), "--scheduler", address, "--out", str(tmp_path / f"c{k}")])
+        assert r.exit_code == 1 and f"--scheduler {address}: no Dask scheduler answered there" in r.output, r.output
+        assert "writing to" not in r.output and not (tmp_path / f"c{k}").exists(), r.output

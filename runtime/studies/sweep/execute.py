@@ -111,11 +111,40 @@ def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, sche
     check_workers(workers)
     t0 = time.perf_counter()
     points = scenes_of(study)
+    # the scheduler is reached before the folder is taken: one that does not answer leaves nothing written
+    own_client = connect(scheduler) if client is None and scheduler is not None else None
     store = Store(out)
     try:
-        return _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, on_row, on_start)
+        return _sweep(store, study, points, t0, workers, scheduler, own_client or client, resume, quiet, on_row,
+                      on_start)
     finally:
         store.close()
+        if own_client is not None:
+            own_client.close()
+
+
+class SchedulerError(OSError):
+    """No Dask scheduler answered at the address given (``scheduler`` of :func:`run_sweep`, ``--scheduler``)."""
+
+    def __init__(self, address: str, reason: str) -> None:
+        self.address, self.reason = address, reason
+        super().__init__(self.describe("scheduler = ", repr(address)))
+
+    def describe(self, field: str = "--scheduler ", value: str | None = None) -> str:
+        return (f"{field}{value or self.address}: no Dask scheduler answered there ({self.reason}); allowed: the "
+                "address of a running Dask scheduler, as `dask scheduler` prints it (e.g. tcp://10.0.0.5:8786)")
+
+
+def connect(address: str):
+    """A ``dask.distributed.Client`` of the scheduler at ``address``, or :class:`SchedulerError`: nothing there
+    (Dask tries for ``distributed.comm.timeouts.connect``, 30 s by default) or a server that is not Dask's (its
+    first bytes were read as a message's length, a MemoryError)."""
+    from dask.distributed import Client
+
+    try:
+        return Client(address)
+    except Exception as err:  # noqa: BLE001 - whatever answered, it was no scheduler
+        raise SchedulerError(address, f"{type(err).__name__}: {err}") from err
 
 
 def check_workers(workers: Any) -> None:
@@ -289,12 +318,9 @@ def _on_cluster(todo, args, record, study, n, scheduler, client, signals):
     own_cluster = own_client = None
     try:
         with StopSignals.abandoning():  # nothing computed yet: a signal stops the cluster's start at once
-            if client is None:
-                if scheduler:
-                    client = own_client = Client(scheduler)
-                else:
-                    own_cluster = _started_cluster(n)
-                    client = own_client = Client(own_cluster)
+            if client is None:  # (a scheduler's client is made by run_sweep, before the folder is taken)
+                own_cluster = _started_cluster(n)
+                client = own_client = Client(own_cluster)
             where = scheduler or ("LocalCluster" if own_cluster is not None else str(client.scheduler.address))
             n = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})) or n)
         # this run of the sweep: its points' task keys, and what stops them on the workers (point.stop_points)
