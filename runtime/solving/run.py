@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from ...progress import stage
+from ...progress import advanced, stage
 from ..results.assemble import assemble_blocks
 from ..results.folder import ResultStorageError
 from ..results.parts import InMemory
@@ -178,6 +178,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                     status, stop = found
                     break
                 bar.update(1 / calls)
+                advanced((call + 1) / calls, revolutions)  # a sweep shows its long points this way
                 if c == calls - 1:
                     part.flush()  # a completed revolution goes to the sink (to disk when streaming)
                     z_prev, z_rev = z_rev, z.copy()

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import logging
 import sys
+import threading
 import time
 from contextlib import contextmanager
 
@@ -65,3 +66,26 @@ def enabled(on: bool):
         yield
     finally:
         enable(False)
+
+
+#: this thread's listeners of a run's progress (:func:`following_runs`): a Dask worker runs points in its own threads
+_following = threading.local()
+
+
+@contextmanager
+def following_runs(listener):
+    """Inside the block, ``listener(done, total)`` is called in this thread after each integrator call of a run,
+    with the revolutions done (a fraction within a revolution) and asked (a sweep shows its long points' progress
+    this way, runtime/studies/sweep/point.py)."""
+    stack = _following.__dict__.setdefault("listeners", [])
+    stack.append(listener)
+    try:
+        yield
+    finally:
+        stack.remove(listener)
+
+
+def advanced(done: float, total: int) -> None:
+    """A run of this thread has done ``done`` of its ``total`` revolutions: tell the listeners of :func:`following_runs`."""
+    for listener in getattr(_following, "listeners", ()):
+        listener(done, total)

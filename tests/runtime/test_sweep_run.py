@@ -4,6 +4,7 @@ is interrupted or a worker is killed, failed points are recorded, one compiled l
 from __future__ import annotations
 
 import os
+import re
 import signal
 import subprocess
 import time
@@ -443,3 +444,35 @@ def test_a_scheduler_that_does_not_answer_is_refused_naming_it_before_anything_i
         r = CliRunner().invoke(main, ["sweep", str(study), "--scheduler", address, "--out", str(tmp_path / f"c{k}")])
         assert r.exit_code == 1 and f"--scheduler {address}: no Dask scheduler answered there" in r.output, r.output
         assert "writing to" not in r.output and not (tmp_path / f"c{k}").exists(), r.output
+
+
+@pytest.mark.parametrize("where", ["serial", "LocalCluster"])
+def test_the_bar_shows_how_far_the_long_points_running_have_got(where, tmp_path, monkeypatch, capsys):
+    """The bar counted finished points only: a point of minutes left it still for minutes. Now a point running
+    longer than watch.LONG_POINT_S is shown with its revolutions and time, serially and from the workers (here
+    every point counts as long)."""
+    from dask.distributed import Client
+
+    from apexseal.runtime.studies.sweep import watch
+    from apexseal.runtime.studies.sweep.execute import local_cluster
+
+    monkeypatch.setattr(watch, "LONG_POINT_S", 0.0)
+    monkeypatch.setattr(watch, "EVERY_S", 0.01)
+    study = light_study(**{'"operation.revolutions" = 1': '"operation.revolutions" = 30',
+                           '"1 mm", "2 mm", "3 mm", "4 mm"': '"2 mm"', "points = 4": "points = 2"})
+    if where == "serial":
+        report = run_sweep(study, tmp_path / "o", workers=1)
+    else:
+        with local_cluster(1) as cluster, Client(cluster) as client:
+            report = run_sweep(study, tmp_path / "o", client=client)
+    assert report.complete
+    bar = capsys.readouterr().err
+    assert re.search(r"failed=0, point [01]: \d+(\.\d+)?/30 rev, \ds", bar), bar
+
+
+def test_a_long_point_is_described_with_its_revolutions_and_time():
+    from apexseal.runtime.studies.sweep.watch import describe
+
+    running = {3: (0.25, 20, 1.0), 12: (3.5, 20, 65.2), 4: (10.0, 20, 30.0), 7: (1.0, 20, 2.5)}
+    assert describe(running) == "point 12: 3.5/20 rev, 1m05s; point 4: 10/20 rev, 30s; 1 more"
+    assert describe({3: (0.25, 20, 1.0)}) == ""

@@ -26,6 +26,7 @@ from .design import design_points
 from .point import run_point
 from .store import Store
 from .study import Study, StudyError
+from .watch import EVERY_S, Bar, running_on, watching_here
 
 
 @dataclass
@@ -171,13 +172,11 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, 
     n = workers or available_cores()
     serial = (client is None and scheduler is None and n == 1) or not todo  # nothing to do: no cluster
     bar = tqdm(total=len(points), initial=skipped, unit="pt", disable=quiet, desc=study.name, dynamic_ncols=True)
-    failed = [0]
+    shown = Bar(bar)  # finished and failed points, and how far the long ones running have got (watch.py)
 
     def record(row: dict) -> None:
         store.write(row)
-        failed[0] += row["status"] != "completed"
-        bar.update(1)
-        bar.set_postfix(failed=failed[0], refresh=False)
+        shown.point_done(row["status"] != "completed")
         if on_row is not None:
             on_row(row)
 
@@ -186,9 +185,10 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, 
         if todo and client is None and scheduler is None and not _models_built(todo, quiet):
             where, interrupted = "nothing computed: stopped while the models were built", True
         elif serial:
-            where, interrupted = "serial" if todo else "nothing left to compute", _serial(todo, args, record)
+            with watching_here(shown):
+                where, interrupted = "serial" if todo else "nothing left to compute", _serial(todo, args, record)
         else:
-            where, n, interrupted = _dask(todo, args, record, study, n, scheduler, client)
+            where, n, interrupted = _dask(todo, args, record, study, n, scheduler, client, shown)
     finally:
         bar.close()
     table = store.consolidate(study)
@@ -293,7 +293,7 @@ def _started_cluster(workers: int):
 POLL_S = 0.05
 
 
-def _dask(todo, args, record, study, n, scheduler, client):
+def _dask(todo, args, record, study, n, scheduler, client, shown):
     """The points on a Dask cluster (the one at ``scheduler``, ``client``'s, or a LocalCluster of ``n`` workers).
 
     SIGINT and SIGTERM are caught as the serial path catches them (:class:`StopSignals`, for the whole sweep):
@@ -305,12 +305,12 @@ def _dask(todo, args, record, study, n, scheduler, client):
 
     try:
         with StopSignals() as signals:
-            return _on_cluster(todo, args, record, study, n, scheduler, client, signals)
+            return _on_cluster(todo, args, record, study, n, scheduler, client, signals, shown)
     except KeyboardInterrupt:  # while the cluster starts
         return scheduler or "LocalCluster", n, True
 
 
-def _on_cluster(todo, args, record, study, n, scheduler, client, signals):
+def _on_cluster(todo, args, record, study, n, scheduler, client, signals, shown):
     from dask.distributed import Client, as_completed
 
     from ...solving.signals import StopSignals
@@ -336,13 +336,17 @@ def _on_cluster(todo, args, record, study, n, scheduler, client, signals):
             return fut
 
         flight = as_completed([submit(p) for p in _take(queue, 2 * n)])
+        looked = time.monotonic()  # when the bar last showed the long points
         while not flight.is_empty():
             if signals.requested:
                 _stop(client, running, stop_key, signals.received[0])
                 flight.clear()
                 return where, n, True
             done = flight.next_batch(block=False)
-            if not done:
+            if not done and not shown.bar.disable and time.monotonic() - looked > EVERY_S:
+                shown.show_running(running_on(client, stop_key))
+                looked = time.monotonic()
+            elif not done:
                 time.sleep(POLL_S)
             for fut in done:
                 record(fut.result())

@@ -47,6 +47,36 @@ def stop_points(stop_key: str, signum: int = signal.SIGTERM) -> int:
     return len(running)
 
 
+#: the points running in this process, by (their sweep's ``stop_key``, point): [revolutions done, revolutions asked,
+#: time.monotonic() at its start]
+_PROGRESS: dict[tuple[str | None, int], list] = {}
+
+
+def running_points(stop_key: str | None = None) -> dict[int, tuple[float, int, float]]:
+    """The points of the sweep ``stop_key`` (None: a serial sweep's) running in this process now: point ->
+    (revolutions done, revolutions asked, seconds running). The sweep shows its long points with them (serially
+    read here, on Dask from every worker through ``Client.run``: runtime/studies/sweep/watch.py)."""
+    now = time.monotonic()
+    return {i: (p[0], p[1], now - p[2]) for (key, i), p in list(_PROGRESS.items()) if key == stop_key}
+
+
+@contextlib.contextmanager
+def _followed(index: int, stop_key: str | None):
+    """The block's runs report their revolutions to :func:`running_points` as the point ``index``."""
+    from ....progress import following_runs
+
+    entry = _PROGRESS[stop_key, index] = [0.0, 0, time.monotonic()]
+
+    def advanced(done: float, total: int) -> None:
+        entry[0], entry[1] = done, total
+
+    try:
+        with following_runs(advanced):
+            yield
+    finally:
+        _PROGRESS.pop((stop_key, index), None)
+
+
 class _Stopped(Exception):
     """A point whose sweep was stopped before it started."""
 
@@ -87,7 +117,7 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
         with _stoppable(stop_key) as signals:
             if signals is not None and signals.requested:  # its sweep was stopped before it started
                 raise _Stopped(f"not run: its sweep was stopped by {signals.sender()} before it started")
-            with _quiet_notice(), engine_pool.reusing():  # the points of a model and settings share one engine
+            with _quiet_notice(), engine_pool.reusing(), _followed(index, stop_key):  # a model's points share one engine
                 result = apexseal.simulate(scene, max_wall_time=max_wall_time)
         values = collect(result, quantities)
         row.update(status=result.status, stop="" if result.stop is None else result.stop.describe())
