@@ -35,7 +35,8 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
               help="Continue the run of the result FOLDER (interrupted, failed, or a killed run's "
                    "OUT.partial-<run id>) after its last whole revolution, with its scene and settings, up to the "
                    "revolutions it was asked for or --revolutions; the same samples as a run never stopped.")
-@click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv (text; slower than the binary parts).")
+@click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv (text; slower than the binary parts; --resume "
+              "writes it again, whole, when the folder it continues held one).")
 @click.option("--no-figures", is_flag=True, help="Skip the figures.")
 @click.option("--quiet", "-q", is_flag=True,
               help="No progress (stages, compilation times, the revolutions' bar; in a log, a line every 10 s).")
@@ -82,6 +83,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
         with watch.stage("scene"):
             sc, settings, out, cont = _what_runs(scene, sets, revolutions, method, rtol, max_wall_time, out, resume)
         source = str(scene or "default") if cont is None else str(cont.record["info"].get("scene", resume))
+        csv = csv or (cont is not None and (cont.source / "trajectory.csv").is_file())  # asked for by the run resumed
         if cont is not None:
             click.echo(f"continuing {resume} after {cont.revolutions} revolution(s), up to {settings.revolutions}; "
                        f"method {settings.method}; writing to {out}/")

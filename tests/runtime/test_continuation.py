@@ -54,6 +54,28 @@ def test_a_finished_run_given_more_revolutions_on_the_command_line(light, tmp_pa
     assert sorted(p.name for p in tmp_path.iterdir()) == ["b"]
 
 
+def test_a_resumed_run_writes_the_trajectory_csv_its_run_asked_for(light, tmp_path):
+    """A run written with --csv, stopped and continued with the command it printed (`apexseal simulate --resume
+    <folder>`, no --csv): the continued folder lost trajectory.csv (the stopped run's was removed as stale and not
+    written again). It is written again, whole, for the continued run; a run without --csv still gets none."""
+    scene, whole = light
+    args = ["--set", "solver.samples_per_revolution=360", "-q", "--no-figures"]
+    for name, csv in (("with", ["--csv"]), ("without", [])):
+        out = tmp_path / name
+        r = CliRunner().invoke(main, ["simulate", "-n", "1", "-o", str(out), *csv, *args])
+        assert r.exit_code == 0, r.output
+        assert (out / "trajectory.csv").is_file() == bool(csv)
+        r = CliRunner().invoke(main, ["simulate", "--resume", str(out), "-n", "3", "-q", "--no-figures"])
+        assert r.exit_code == 0, r.output
+        assert (out / "trajectory.csv").is_file() == bool(csv), r.output
+    continued = SimulationResult.load(tmp_path / "with")  # checks that the csv names its run
+    _same_samples(continued, whole)
+    lines = (tmp_path / "with" / "trajectory.csv").read_text().splitlines()
+    assert lines[0] == f"# apexseal result {continued.info['run_id']}, {whole.n} samples"
+    assert len(lines) == 2 + whole.n
+    assert np.allclose([float(row.split(",")[2]) for row in lines[2:]], whole.state[0], rtol=1e-9, atol=0)
+
+
 def test_a_folder_read_once_gives_the_same_continuation(light, tmp_path):
     """`apexseal show` hands continuation() the result it read: the same revolutions, last sample and state as
     continuation() reading the parts itself."""
