@@ -4,7 +4,7 @@ Layout (format ``apexseal-result/2``)::
 
     <out>/result.json          run id, status, where and why it stopped, the list of parts (samples, sha256)
     <out>/scene.toml           the scene that ran, every value explicit, run id in its first line (re-runnable)
-    <out>/pressure.csv         its pressure table (Pa), when the scene has one
+    <out>/pressure.csv         its pressure table (Pa), when the scene has one (its sha256 in result.json's ``tables``)
     <out>/parts/part-00000.npz one per revolution (the first also holds the initial sample); run id inside, the
                                integrator's state after its last sample (``z_end``: a run continues from it) and,
                                for a method that carries more from call to call, what it carried from there
@@ -198,6 +198,7 @@ class ResultFolder:
             raise ResultFolderError(f"{self.staging} is being written by a running process: wait for it to end, "
                                     "or stop it")
         self.parts: list[dict] = []
+        self.tables: dict[str, str] = {}  # files the scene reads beside scene.toml (pressure.csv) -> their sha256
         self.samples = 0
         self.guard_names: tuple[str, ...] = ()
         self.outputs: list[str] = []
@@ -236,6 +237,7 @@ class ResultFolder:
             raise folder._storage_error(folder.staging, err, "the parts of the run to continue") from err
         record = cont.record
         folder.parts = list(cont.parts)
+        folder.tables = dict(record.get("tables", {}))
         folder.samples = sum(e["samples"] for e in cont.parts)
         folder.guard_names, folder.outputs = tuple(record["guard_names"]), list(record["outputs"])
         folder.state_rows = int(record["state_rows"])
@@ -340,8 +342,10 @@ class ResultFolder:
         head = (f"apexseal result {self.run_id}, scene {scene.name}, content hash {scene.content_hash()}\n"
                 f"re-run: apexseal simulate {SCENE_FILE}")
         text, extra = resolved_toml(scene, header=head)
-        for name, content in extra.items():
-            self._store(name, content.encode(), name)
+        for name, content in extra.items():  # unstamped (a table's own format): result.json records its sha256
+            data = content.encode()
+            self._store(name, data, name)
+            self.tables[name] = sha256_bytes(data)
         self._store(SCENE_FILE, text.encode(), SCENE_FILE)
 
     def write_csv(self) -> None:
@@ -406,7 +410,7 @@ class ResultFolder:
         return {"format": FORMAT, "run_id": self.run_id, "status": status,
                 "stop": None if stop is None else vars(stop), "samples": self.samples, "parts": self.parts,
                 "state_rows": self.state_rows, "guard_names": list(self.guard_names), "outputs": self.outputs,
-                "info": self.info}
+                "tables": self.tables, "info": self.info}
 
     def _store(self, name: str, data: bytes, what: str) -> None:
         path = self.staging / name

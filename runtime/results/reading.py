@@ -1,7 +1,8 @@
 """Reading a result folder back (:mod:`.folder` writes it), only if its files belong together.
 
 result.json must be of this format; every part must carry the same run id, the recorded sample count and
-sha256, and shapes that agree; summary.json and trajectory.csv, if present, must name the same run. A mixed
+sha256, and shapes that agree; summary.json and trajectory.csv, if present, must name the same run, and a table
+the scene reads (pressure.csv) must have the sha256 result.json records. A mixed
 folder is refused with the file and the mismatch named. A folder its run still writes (it holds the folder's
 lock) reads as what it had written, and says so.
 """
@@ -126,6 +127,8 @@ def read(folder: str | Path) -> SimulationResult:
                                 "was written)")
     for name in ("summary.json", "trajectory.csv", SCENE_FILE):
         check_stamp(folder / name, run_id)
+    for name, digest in meta.get("tables", {}).items():  # recorded since tables were checked; older folders: not
+        _check_table(folder / name, digest)
     for p in parts:
         p.guard_names = tuple(guards)
     stop = _still_written(folder, StopInfo(**meta["stop"]) if meta["stop"] else None, len(parts))
@@ -137,6 +140,20 @@ def read(folder: str | Path) -> SimulationResult:
     if theta.size > 1 and not (np.diff(theta) > 0).all():
         raise ResultFolderError(f"{folder}: the parts do not follow each other (crank angle not increasing)")
     return result
+
+
+def _check_table(path: Path, digest: str) -> None:
+    """A file the scene reads beside scene.toml (its pressure table), as result.json recorded it: a table carries
+    no run id, so another run's table, or an edited one, is told by its sha256."""
+    try:
+        data = path.read_bytes()
+    except OSError as err:
+        raise ResultFolderError(f"{path} is missing or unreadable ({err.strerror}): the folder is incomplete, and "
+                                f"its {SCENE_FILE} names it") from err
+    if sha256_bytes(data) != digest:
+        raise ResultFolderError(f"{path} is not the file result.json recorded (sha256 differs): the folder mixes "
+                                f"files of different runs, or the table was changed since the run; its "
+                                f"{SCENE_FILE} would not re-run this result")
 
 
 def scene_of_result(folder: Path, info: dict):

@@ -159,6 +159,26 @@ def test_mixed_folder_is_refused(tmp_path, two_results, edit, message):
         SimulationResult.load(a)
 
 
+@pytest.mark.parametrize("edit", ["changed", "missing"])
+def test_a_pressure_table_changed_or_missing_is_refused(tmp_path, two_results, default_scene, edit):
+    """pressure.csv, the table the result's scene.toml names, carries no run id: a changed one (another run's, or an
+    edited row) loaded silently, and `result.scene` (and `apexseal simulate <folder>/scene.toml`) was then not the
+    scene that ran. result.json records its sha256."""
+    result = two_results[1]
+    result.scene = default_scene
+    folder = result.save(tmp_path / "a")
+    assert SimulationResult.load(folder).scene == default_scene
+    table = folder / "pressure.csv"
+    if edit == "changed":
+        lines = table.read_text().splitlines(keepends=True)
+        theta, pa, pb = lines[1].split(",")
+        table.write_text(lines[0] + f"{theta},{float(pa) + 1e5},{pb}" + "".join(lines[2:]))
+    else:
+        table.unlink()
+    with pytest.raises(ResultFolderError, match="pressure.csv is (not the file result.json recorded|missing)"):
+        SimulationResult.load(folder)
+
+
 def test_summary_of_another_run_is_refused(tmp_path, two_results):
     a, b = tmp_path / "a", tmp_path / "b"
     for r, f in zip(two_results, (a, b), strict=True):
