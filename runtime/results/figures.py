@@ -9,6 +9,7 @@ figures a run writes and saves them as PNG files.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -59,11 +60,15 @@ def crank_angle_ticks(ax, value_ticks: int | None = 4) -> None:
 
 
 def ports_of(scene) -> dict | None:
-    """``{name: {"angle_deg", "width_deg"}}`` of a scene's ports (Table 1), or None."""
+    """``{name: {"angle_deg", "width_deg"}}`` of a scene's ports (Table 1), or None: each centred where the seal
+    passes it on the figures' crank-angle axis, which counts from the scene's start angle as ``result.theta`` does.
+    The port is centred at housing angle ``datum + angle`` and the seal at housing angle theta (derive/ports.py),
+    so on that axis its centre is ``datum + angle - operation.start_angle``."""
     ports = getattr(getattr(scene, "machine", None), "ports", None)
     if not ports:
         return None
-    return {k: {"angle_deg": v.angle_deg, "width_deg": v.width_deg} for k, v in ports.items()}
+    shift = math.degrees(ports.datum - scene.operation.start_angle)
+    return {k: {"angle_deg": v.angle_deg + shift, "width_deg": v.width_deg} for k, v in ports.items()}
 
 
 def _ports(ax, ports: dict | None, polar: bool) -> list:

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import apexseal
+from apexseal.runtime.results.figures import ports_of
 from apexseal.runtime.results.outputs import describe, documented_names, header, markdown_table
 from apexseal.runtime.results.result import SimulationResult
 
@@ -216,6 +217,29 @@ def test_fig12_labels_do_not_overlap_and_the_legend_names_both_ports(result):
     assert {t.get_text() for t in legend.get_texts()} >= {"inlet port", "outlet port", "zero"}
     box, page = legend.get_window_extent(fig.canvas.get_renderer()), fig.bbox
     assert page.x0 <= box.x0 and box.x1 <= page.x1 and page.y0 <= box.y0 and box.y1 <= page.y1
+
+
+def _port_centres_deg(fig) -> dict[str, float]:
+    """The centre of each shaded port of Fig. 12's first panel, in degrees on its crank-angle axis."""
+    ax = fig.axes[0]
+    return {p.get_label().removesuffix(" port"): np.degrees(p.get_x() + p.get_width() / 2) for p in ax.patches}
+
+
+def test_fig12_shades_the_ports_where_the_seal_passes_them(default_scene, default_functions):
+    """Fig. 12's angle counts from the scene's start angle (as ``theta`` does), but the ports were shaded at their
+    Table 1 angle: with ``operation.start_angle = 90 deg`` the seal's crossing of the groove (at the chamber
+    pressures' switch, a fixed crank angle) moved 90 deg against the ports, and ``machine.ports.datum`` was not
+    added at all. The crossing now keeps its place against the ports, and the datum turns them."""
+    runs = {}
+    for start in ("0 deg", "90 deg"):
+        scene = default_scene.with_overrides(**{"operation.start_angle": start})
+        run = apexseal.simulate(scene, samples_per_revolution=SAMPLES, flags="quick", functions=default_functions.sx)
+        crossing = np.degrees(run.theta[np.argmin(run.state[1])])  # onto the negative wall, once a revolution
+        runs[start] = crossing - _port_centres_deg(run.plot("fig12"))["inlet"]
+    assert (runs["90 deg"] - runs["0 deg"] + 180) % 360 - 180 == pytest.approx(0, abs=1)  # one sample: 1 deg
+    turned = default_scene.with_overrides(**{"machine.ports.datum": "10 deg"})
+    for name, port in ports_of(turned).items():
+        assert port["angle_deg"] == pytest.approx(ports_of(default_scene)[name]["angle_deg"] + 10)
 
 
 def test_fig12_shows_negative_values_off_the_centre(result):
