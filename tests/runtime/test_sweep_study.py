@@ -48,7 +48,9 @@ def test_listed_values_are_categorical_in_a_sampled_design():
 
 
 BAD = [
-    ({'[parameters."spring.ks"]': '[parameters."spring.kss"]'}, "parameters.spring.kss", "did you mean 'spring.ks'"),
+    # the unknown key's values are shown as written (they were shown as "")
+    ({'[parameters."spring.ks"]': '[parameters."spring.kss"]'}, "parameters.spring.kss",
+     'parameters.spring.kss = {from = "3e3 N/m", to = "2e4 N/m", points = 4}: not a scene key'),
     ({'from = "3e3 N/m"': 'from = "3e3 kg"'}, "parameters.spring.ks.from", "wrong unit"),
     ({"points = 4": "points = 1"}, "parameters.spring.ks.points", "1 is out of range; allowed: n >= 2"),
     ({'from = "3e3 N/m"': 'from = "-3e3 N/m"'}, "parameters.spring.ks.from", "log scale needs from > 0"),

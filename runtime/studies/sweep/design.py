@@ -73,7 +73,9 @@ def parameter_of(key: str, ps) -> tuple[Parameter | None, list[Problem]]:
     if v is None:
         from apexseal.suggest import did_you_mean
 
-        return None, [Problem(where, "", "not a scene key" + did_you_mean(key, key_paths())
+        given = ps.values if ps.values is not None else {k: v for k, v in (("from", ps.from_), ("to", ps.to),
+                                                                          ("points", ps.points)) if v is not None}
+        return None, [Problem(where, given, "not a scene key" + did_you_mean(key, key_paths())
                               + "; any key of docs/scenes.md, e.g. spring.ks, spring.delta_s, operation.rpm")]
     unit = getattr(v, "unit", None) or ("1" if type(v).__name__ == "Int" else "")
     problems: list[Problem] = []
