@@ -34,6 +34,10 @@ def show(folder: Path, figures: bool) -> None:
     describe_result(result, summarise(result, {"source": str(info.get("scene", folder))}))
     if result.stop is not None:
         click.echo(f"  {result.stop.describe()}")
+    if _being_written(folder):
+        click.echo("  still being written by a run that is going on (its process holds the folder): shown as far as "
+                   "it has written it; show it again when the run ends")
+        return
     target = partial_target(folder, str(info.get("run_id", "")))
     if target is not None:
         click.echo(f"  not moved into place at {target} (the run was killed, or kept this result aside so as not to "
@@ -57,3 +61,17 @@ def show(folder: Path, figures: bool) -> None:
         ports = ports_of(result.scene) if result.scene is not None else None
         drawn = FigureJob(result, folder, ports).start().finish()
         click.echo(f"  drew {', '.join(p.name for p in drawn)} in {folder}/")
+
+
+def _being_written(folder: Path) -> bool:
+    """Whether a run's process holds ``folder`` (the lock a result folder's writer takes, runtime/results/folder.py):
+    a run going on, not one killed, whose lock went with its process."""
+    import os
+
+    from .files import try_lock_folder
+
+    lock = try_lock_folder(folder)
+    if lock is None:
+        return True
+    os.close(lock)
+    return False

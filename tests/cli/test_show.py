@@ -64,3 +64,20 @@ def test_show_does_not_offer_to_continue_a_result_of_another_model(tmp_path):
     assert "--resume" not in r.output
     r = CliRunner().invoke(main, ["simulate", "--resume", str(done), "-n", "2", "-q", "--no-figures"])
     assert r.exit_code != 0 and "was computed with another model" in r.output
+
+
+def test_show_says_a_folder_still_being_written_is_not_a_killed_run(tmp_path):
+    """A run's .partial- folder shown while the run writes it (its process holds the folder's lock) was said to be
+    "not moved into place (the run was killed ...)" and offered to be continued."""
+    from apexseal.runtime import api
+    from apexseal.runtime.results.folder import ResultFolder
+
+    scene = apexseal.load_scene().with_overrides(**{"solver.samples_per_revolution": 360})
+    out = tmp_path / "o"
+    sink = ResultFolder(out)
+    api.run_scene(scene, api.settings_of(scene, revolutions=1), sink=sink)  # written, not yet moved into place
+    r = CliRunner().invoke(main, ["show", str(sink.staging)])
+    assert r.exit_code == 0, r.output
+    assert "still being written by a run that is going on" in r.output
+    assert "the run was killed" not in r.output and "--resume" not in r.output
+    assert sink.commit() == out  # the run ends: its folder moves into place as ever
