@@ -205,6 +205,9 @@ class ResultFolder:
         self.last: tuple[float, str] = (0.0, "")
         self.state_rows = 0
         self.info: dict = {}
+        #: files the run was asked for beyond its own (trajectory.csv), recorded from the first progress record on,
+        #: so that a folder killed before they were written says so (apexseal show) and --resume writes them
+        self.asked: tuple[str, ...] = ()
         self.final, self.status = False, ""
         self.error: ResultStorageError | None = None  # the first storage error, if any
         self.kept: list[SimulationResult] | None = []  # the parts written, while they fit in KEEP_BYTES
@@ -243,6 +246,7 @@ class ResultFolder:
         folder.state_rows = int(record["state_rows"])
         folder.last = cont.last
         folder.info = dict(record["info"])
+        folder.asked = tuple(folder.info.get("files_asked", ()))
         folder.kept = None  # the earlier parts are on disk only: finish() reads the folder back
         stop = StopInfo(cont.last[0], cont.last[1], f"continuing after {cont.revolutions} revolution(s)")
         folder._store("result.json", _json_bytes(folder._record("interrupted", stop)), "the progress record")
@@ -252,7 +256,7 @@ class ResultFolder:
     def begin(self, info: dict) -> None:
         """The run's record as known before its first step (method, tolerances, grid, provenance): every progress
         record carries it, so a run killed outright still says how it was run; :meth:`finish` completes it."""
-        self.info = dict(info) | {"run_id": self.run_id}
+        self.info = dict(info) | {"run_id": self.run_id} | ({"files_asked": list(self.asked)} if self.asked else {})
 
     def append(self, part: SimulationResult, z_end: np.ndarray | None = None,
                carried: np.ndarray | None = None) -> None:
@@ -314,7 +318,7 @@ class ResultFolder:
         and record as reading the folder back, which is done when they did not fit in :data:`KEEP_BYTES`). The part
         still being written is waited for; its error, not reported yet, is raised (:meth:`sync`)."""
         self.sync()
-        self.info = dict(info) | {"run_id": self.run_id}
+        self.info = dict(info) | {"run_id": self.run_id} | ({"files_asked": list(self.asked)} if self.asked else {})
         if not self.parts:
             raise ResultStorageError(self.error.errno if self.error else None,
                                      str(self.error) if self.error else f"no part of the result was written to "

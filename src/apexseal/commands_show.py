@@ -13,7 +13,9 @@ from .cli_common import describe_result
 @click.argument("folder", type=click.Path(file_okay=False, exists=True, path_type=Path))
 @click.option("--figures", is_flag=True, help="Also draw the figures into FOLDER (a run stopped by a signal or "
               "killed outright has none).")
-def show(folder: Path, figures: bool) -> None:
+@click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv into FOLDER (a run stopped or killed "
+              "before writing the one it was asked for has none).")
+def show(folder: Path, figures: bool, csv: bool) -> None:
     """Check and describe the result in FOLDER (a result folder, or the OUT.partial-<run id> folder of a killed run):
     the run and its settings, where and why it stopped, the designer's numbers, and how to continue it."""
     from .runtime.api import same_model
@@ -38,6 +40,10 @@ def show(folder: Path, figures: bool) -> None:
         click.echo("  still being written by a run that is going on (its process holds the folder): shown as far as "
                    "it has written it; show it again when the run ends")
         return
+    missing = [name for name in info.get("files_asked", ()) if not (folder / name).is_file()]
+    if missing and not csv:
+        click.echo(f"  {', '.join(missing)} asked for and not written (the run stopped before): `apexseal show "
+                   f"{folder} --csv` writes it")
     target = partial_target(folder, str(info.get("run_id", "")))
     if target is not None:
         click.echo(f"  not moved into place at {target} (the run was killed, or kept this result aside so as not to "
@@ -54,6 +60,13 @@ def show(folder: Path, figures: bool) -> None:
                        f"{folder}")
         else:
             click.echo(f"  more revolutions: apexseal simulate --resume {folder} -n <total>")
+    if csv:
+        from .files import atomic_open
+        from .runtime.results.csv_table import write_csv
+
+        with atomic_open(folder / "trajectory.csv") as fh:
+            write_csv(fh, str(info["run_id"]), result.n, [result], result.guard_names)
+        click.echo(f"  wrote trajectory.csv ({result.n} samples) in {folder}/")
     if figures:
         from .runtime.results.figure_job import FigureJob
         from .runtime.results.figures import ports_of

@@ -83,7 +83,8 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
         with watch.stage("scene"):
             sc, settings, out, cont = _what_runs(scene, sets, revolutions, method, rtol, max_wall_time, out, resume)
         source = str(scene or "default") if cont is None else str(cont.record["info"].get("scene", resume))
-        csv = csv or (cont is not None and (cont.source / "trajectory.csv").is_file())  # asked for by the run resumed
+        csv = csv or (cont is not None and ((cont.source / "trajectory.csv").is_file()  # asked for by the run resumed
+                                            or "trajectory.csv" in cont.record["info"].get("files_asked", ())))
         if cont is not None:
             click.echo(f"continuing {resume} after {cont.revolutions} revolution(s), up to {settings.revolutions}; "
                        f"method {settings.method}; writing to {out}/")
@@ -102,6 +103,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                         if cont is not None:
                             same_model(cont, functions)
                         writer = ResultFolder(out) if cont is None else ResultFolder.continuing(cont)
+                        writer.asked = ("trajectory.csv",) if csv else ()
                     except ResultFolderError as err:
                         raise click.BadParameter(str(err), param_hint="--resume") from err
                     with warnings.catch_warnings():  # the penetration check is printed below, with the summary

@@ -81,3 +81,29 @@ def test_show_says_a_folder_still_being_written_is_not_a_killed_run(tmp_path):
     assert "still being written by a run that is going on" in r.output
     assert "the run was killed" not in r.output and "--resume" not in r.output
     assert sink.commit() == out  # the run ends: its folder moves into place as ever
+
+
+def test_a_csv_asked_for_and_not_written_is_named_and_show_writes_it(tmp_path):
+    """A run asked for trajectory.csv and stopped (killed while writing it) before writing it: nothing recorded the
+    request, so its folder did not say the file was missing and --resume did not write it. The request is in
+    result.json from the first progress record on; show names the missing file, and show --csv writes the same
+    file the run writes."""
+    import json
+
+    out = tmp_path / "o"
+    r = CliRunner().invoke(main, ["simulate", "-n", "1", "--set", "solver.samples_per_revolution=360", "--csv",
+                                  "--no-figures", "--quiet", "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    assert json.loads((out / "result.json").read_text())["info"]["files_asked"] == ["trajectory.csv"]
+    written = (out / "trajectory.csv").read_bytes()
+    (out / "trajectory.csv").unlink()  # as a run killed before writing it leaves its folder
+    r = CliRunner().invoke(main, ["show", str(out)])
+    assert r.exit_code == 0 and f"trajectory.csv asked for and not written (the run stopped before): `apexseal " \
+                                f"show {out} --csv` writes it" in r.output, r.output
+    r = CliRunner().invoke(main, ["show", str(out), "--csv"])
+    assert r.exit_code == 0 and "wrote trajectory.csv (361 samples)" in r.output, r.output
+    assert (out / "trajectory.csv").read_bytes() == written
+    assert "asked for and not written" not in CliRunner().invoke(main, ["show", str(out)]).output
+    (out / "trajectory.csv").unlink()  # and --resume writes it, as the run it continues was asked
+    r = CliRunner().invoke(main, ["simulate", "--resume", str(out), "-n", "2", "--no-figures", "--quiet"])
+    assert r.exit_code == 0 and (out / "trajectory.csv").is_file(), r.output
