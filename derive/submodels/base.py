@@ -155,6 +155,9 @@ class Submodel:
     enters_with: ClassVar[tuple[str, ...]] = ()
     #: (stiffness, damping) parameter names of the oscillators it adds (the explicit fixed-step methods' stability checks)
     oscillators: ClassVar[tuple[tuple[str, str], ...]] = ()
+    #: damping parameter names of its dampers with no stiffness of their own, each a force -c v on the seal (the
+    #: explicit fixed-step methods' stability checks: its motion decays at the rate c/ms, which a step must follow)
+    dampers: ClassVar[tuple[str, ...]] = ()
     #: its friction laws whose sliding velocity passes through zero (the explicit fixed-step methods' stability checks)
     frictions: ClassVar[tuple[Friction, ...]] = ()
     #: (name, SI unit, meaning) of each of its named :meth:`outputs`, optionally followed by the unit results show

@@ -468,6 +468,12 @@ def oscillators(opts=None) -> tuple[tuple[str, str], ...]:
     return tuple(pair for cls in submodels() if opts is None or cls.active(opts) for pair in cls.oscillators)
 
 
+def dampers(opts=None) -> tuple[str, ...]:
+    """The damping parameters of the dampers without a stiffness of the active submodels (all with ``opts`` None),
+    for the stability check of the explicit fixed-step methods (runtime/solving/contact_stability.py)."""
+    return tuple(c for cls in submodels() if opts is None or cls.active(opts) for c in cls.dampers)
+
+
 def frictions(opts=None) -> tuple[Friction, ...]:
     """The friction laws that can stick of the active submodels (all with ``opts`` None), for the
     explicit fixed-step methods' stability check on the friction regularisation (runtime/solving/euler_friction.py)."""

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...derive.submodels.registry import oscillators, parameter_names
+from ...derive.submodels.registry import dampers, oscillators, parameter_names
 from ...derive.submodels.seal import DAMPING_LAWS
 from ..scenes.damping import continuous_dampers
 from .methods import ExplicitSteps
@@ -39,10 +39,19 @@ class ContactGrowth:
     steps: ExplicitSteps  # the method and the steps per revolution judged
     #: its damper is counted as none: the damping law "penetration" makes it vanish at the touch
     vanishing: bool = False
+    #: a damper without a stiffness (k = 0; ``name`` its coefficient, ``omega`` its rate c/ms, 1/s, zeta 1)
+    damper: float | None = None
 
     def describe(self, steps: int | None = None) -> str:
         """The message, at ``steps`` per revolution (default: those judged)."""
         steps = self.steps.steps_per_revolution if steps is None else steps
+        if self.damper is not None:
+            return (f"{self.steps.subject} amplifies the motion the {self.name} damper damps ({self.name} = "
+                    f"{self.damper:.3g} N*s/m, no stiffness of its own: the motion decays at the rate c/ms = "
+                    f"{self.omega:.3g} 1/s, which a step beyond 2 ms/c overshoots) by exp({self.log_growth:.3g}) over "
+                    f"one revolution at {steps} steps per revolution: use at least "
+                    f"{self.steps.setting(self.steps_needed)} solver.euler_steps_per_revolution, or method "
+                    "'rosenbrock'")
         damping = (f"undamped: under assumptions.damping_law = {DAMPING_LAWS[1]!r} its damper vanishes at the touch"
                    if self.vanishing else f"damping ratio {self.zeta:.3g} on average")
         return (f"{self.steps.subject} amplifies the oscillation of the {self.name} contact ({self.name} = {self.k:.3g} "
@@ -127,4 +136,11 @@ def contact_growth(params: np.ndarray, steps_per_revolution: int | ExplicitSteps
         log_growth = n * max(R.log_modulus(c_hw / n * lam) for lam in eigenvalues(zeta))
         needed = fewest_steps(R, c_hw, zeta, math.log(MAX_GROWTH))
         out.append(ContactGrowth(k_name, k, w, zeta, log_growth, needed, judged, vanishes))
+    for c_name in (c for c in dampers() if c in p and (read is None or c in read)):
+        # -c v alone: the eigenvalue -c/ms, that of a critically damped oscillator of frequency w = c/ms
+        rate = p[c_name] / p["ms"]
+        c_hw = 2 * math.pi * rate / p["omega"]
+        log_growth = n * max(R.log_modulus(c_hw / n * lam) for lam in eigenvalues(1.0))
+        needed = fewest_steps(R, c_hw, 1.0, math.log(MAX_GROWTH))
+        out.append(ContactGrowth(c_name, 0.0, rate, 1.0, log_growth, needed, judged, damper=p[c_name]))
     return sorted(out, key=lambda g: -g.log_growth)

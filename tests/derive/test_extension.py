@@ -516,3 +516,34 @@ def test_the_documented_damper_runs_as_the_docs_say(tmp_path):
         assert r.status == "completed", r.stop
         F = r.outputs["F_damper_X"]
         assert {"F_damper_Y", "M_damper"} <= set(r.outputs) and np.all(np.isfinite(F)) and np.any(F != 0)
+
+
+def test_a_damper_without_a_stiffness_is_weighed_by_the_explicit_methods_checks(tmp_path):
+    """A damper with no stiffness of its own (docs/extending.md's, declared in ``dampers``) decays the seal's motion
+    at the rate c/ms, which explicit Euler follows only while h c/ms < 2: beyond it the run is refused before its
+    first step, naming the damper (it was not weighed, and such a run went on until its state was non-finite)."""
+    import math
+
+    from apexseal.runtime.solving.contact_stability import MAX_GROWTH, contact_growth
+
+    documented = _documented_damper(tmp_path)
+    wide = type("GrooveDamper", (documented,), {"__module__": documented.__module__, "parameters": (
+        Parameter("cv", "N*s/m", "viscous damping of the seal in the groove", key="damper.cv", default=5.0,
+                  ge=0, le=1e7),)})
+    with registry.registered(wide):
+        scene = apexseal.load_scene().with_overrides(**{"effects.damper": True, "damper.cv": "1e6 N*s/m",
+                                                        "solver.method": "euler"})
+        names, params = tuple(scene.parameters), scene.parameter_vector()
+        growth = {g.name: g for g in contact_growth(params, 200_000, names)}
+        g = growth["cv"]
+        ms, omega = scene.parameters["ms"], scene.parameters["omega"]
+        assert g.damper == 1e6 and math.isclose(g.omega, 1e6 / ms)
+        h_rate = 2 * math.pi / omega / g.steps_needed * g.omega  # h c/ms at the steps it asks: Euler's bound 2
+        assert 1.9 < h_rate <= 2.0 + math.log(MAX_GROWTH) / g.steps_needed * 2
+        r = apexseal.simulate(scene, revolutions=1, samples_per_revolution=360)
+        assert r.status == "failed" and r.n == 1 and r.stop.theta == 0  # refused at the start: its state only
+        assert "amplifies the motion the cv damper damps (cv = 1e+06 N*s/m" in r.stop.reason
+        import re
+
+        advised = int(re.search(r"use at least (\d+) solver.euler_steps_per_revolution", r.stop.reason).group(1))
+        assert g.steps_needed <= advised < 1.01 * g.steps_needed  # the least setting taking the steps it needs
