@@ -19,6 +19,13 @@ from dataclasses import dataclass
 #: the plausible range of a contact's stiffness (Parameter.plausible): 1e3 N/m (a soft pad) to 1e13 N/m (beyond a
 #: hardened steel line contact of this size)
 CONTACT_STIFFNESS = (1e3, 1e13, "N/m")
+#: the plausible range of an absolute gas pressure (a chamber's, the supply's, the exhaust's): 1 kPa (below a steam
+#: condenser's 5 kPa) to 100 MPa (above the 90 MPa discharge of the hydrogen compressors that fill 70 MPa vehicle
+#: tanks, the highest-pressure positive displacement gas machines; supercritical CO2 expanders work at 20-30 MPa)
+ABSOLUTE_PRESSURE = (1e3, 1e8, "kPa")
+#: the plausible range of a gas temperature: 4 K (the helium expanders of liquefiers, the coldest gas expanders) to
+#: 3000 K (above the 2200-2400 K adiabatic flame temperature of hydrocarbon fuels in air, a rotary engine's gas)
+GAS_TEMPERATURE = (4.0, 3000.0, "K")
 
 
 @dataclass(frozen=True)

@@ -26,7 +26,7 @@ from typing import Any
 from ..chambers import chamber_volume, lobe_area, symbolic
 from ..numbers import housing_radius
 from ..options import Option
-from ..parameters import Parameter
+from ..parameters import ABSOLUTE_PRESSURE, GAS_TEMPERATURE, Parameter
 from .base import Context, State, Submodel
 
 #: regularisation of the orifice law's square root near equal pressures: sqrt(x) ~ x / sqrt(x + X_EPS)
@@ -70,13 +70,23 @@ class ChamberGas(Submodel):
     parameters = (
         Parameter("H_gas", "m", "machine depth H (machine.H) in the gas model's parameters: chamber volumes, "
                   "leakage areas"),
-        Parameter("gamma", "1", "ratio of specific heats (air 1.4)", key="gas.gamma", default=1.4, gt=1, lt=2),
-        Parameter("R_gas", "J/(kg*K)", "specific gas constant (air 287)", key="gas.R", default=287.0, gt=0),
-        Parameter("p_supply", "Pa", "supply (inlet) pressure", key="gas.p_supply", default=6.0e5, gt=0),
-        Parameter("T_supply", "K", "supply (inlet) temperature", key="gas.T_supply", default=300.0, gt=0),
-        Parameter("p_exhaust", "Pa", "exhaust (outlet) pressure", key="gas.p_exhaust", default=1.013e5, gt=0),
+        Parameter("gamma", "1", "ratio of specific heats (air 1.4)", key="gas.gamma", default=1.4, gt=1, lt=2,
+                  # 5/3 (a monatomic gas: helium, argon) is an ideal gas's largest (1.67: 5/3 rounded passes);
+                  # heavy organic vapours of ORC expanders come close to 1 (siloxane MDM about 1.02)
+                  plausible=(1.02, 1.67, "1")),
+        Parameter("R_gas", "J/(kg*K)", "specific gas constant (air 287)", key="gas.R", default=287.0, gt=0,
+                  # 8.314 J/(mol K) over the molar mass: hydrogen's 4124 down to about 24 for perfluorocarbons of
+                  # 350 g/mol; the molar constant 8.314 itself, or 0.287 (air in kJ/(kg K)), is a unit slip
+                  plausible=(20.0, 4200.0, "J/(kg*K)")),
+        Parameter("p_supply", "Pa", "supply (inlet) pressure", key="gas.p_supply", default=6.0e5, gt=0,
+                  plausible=ABSOLUTE_PRESSURE),
+        Parameter("T_supply", "K", "supply (inlet) temperature", key="gas.T_supply", default=300.0, gt=0,
+                  plausible=GAS_TEMPERATURE),
+        Parameter("p_exhaust", "Pa", "exhaust (outlet) pressure", key="gas.p_exhaust", default=1.013e5, gt=0,
+                  plausible=ABSOLUTE_PRESSURE),
         Parameter("T_exhaust", "K", "exhaust temperature (of gas flowing back in, and the chambers at the start)",
-                  key="gas.T_exhaust", default=300.0, gt=0),
+                  key="gas.T_exhaust", default=300.0, gt=0,
+                  plausible=GAS_TEMPERATURE),
         Parameter("Cd_port", "1", "discharge coefficient of the ports (0 closes them)", key="gas.Cd_port",
                   default=0.8, ge=0, le=1),
         Parameter("Cd_leak", "1", "discharge coefficient of the leakage gaps past the seal", key="gas.Cd_leak",

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: b17bcb6cbf7efaf15f5b264ed3e8cc7585f6761034480ba05ba556b38e278262.
+ * Effects: all. Input hash: 15c2a2cb0ffd9b9e5efd41a2b3e69716ceebbbf6a3181c238ccaf69c99e57a37.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "b17bcb6cbf7efaf15f5b264ed3e8cc7585f6761034480ba05ba556b38e278262"
+#define APEXSEAL_INPUT_HASH "15c2a2cb0ffd9b9e5efd41a2b3e69716ceebbbf6a3181c238ccaf69c99e57a37"
 
 /* state x */
 #define APEXSEAL_NX 6

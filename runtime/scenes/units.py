@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from typing import TYPE_CHECKING, Any
 
+from ...derive.parameters import ABSOLUTE_PRESSURE
 from . import unit_memo
 
 if TYPE_CHECKING:
@@ -359,16 +360,20 @@ class Plausible:
         """Multiplies a value in :attr:`si` into :attr:`show` (pint)."""
         return float(registry().Quantity(1.0, self.si).to(self.show).magnitude)
 
+    def shown(self, x: float) -> str:
+        """``x`` (in :attr:`si`) in :attr:`show`, with the unit unless it is the dimensionless "1"."""
+        return _g(x * self.factor) + ("" if self.show == "1" else f" {self.show}")
+
     def describe(self) -> str:
-        return f"{_g(self.lo * self.factor)} to {_g(self.hi * self.factor)} {self.show}"
+        return f"{_g(self.lo * self.factor)} to {self.shown(self.hi)}"
 
 
 #: the scene's own settings (not parameters of a submodel) -> their range of engineering practice; the
 #: parameters declare theirs (``Parameter.plausible``)
 SETTINGS_PLAUSIBLE: dict[str, Plausible] = {
     "operation.rpm": Plausible(1.0, 50000.0, "rpm", "rpm"),
-    "pressure.Pa": Plausible(1e3, 1e8, "kPa", "Pa"),
-    "pressure.Pb": Plausible(1e3, 1e8, "kPa", "Pa"),
+    "pressure.Pa": Plausible(*ABSOLUTE_PRESSURE, si="Pa"),
+    "pressure.Pb": Plausible(*ABSOLUTE_PRESSURE, si="Pa"),
 }
 
 #: absolute chamber pressures of a table outside this span are implausible (a table in bar declared in Pa, or in
@@ -397,11 +402,10 @@ def implausible(values: dict[str, tuple[float, Any]]) -> list[tuple[str, float, 
         rule = ranges.get(key)
         if rule is None or x is None or rule.lo <= x <= rule.hi:
             continue
-        f = rule.factor
         hint = ""
         bare = isinstance(written, int | float) and not isinstance(written, bool)
         if bare and rule.si == "m" and rule.lo <= x * 1e-3 <= rule.hi:
             hint = f"; a bare number is in m: did you mean \"{_g(x)} mm\"?"
-        out.append((key, x, f"{_g(x * f)} {rule.show} is far outside engineering practice for this key "
+        out.append((key, x, f"{rule.shown(x)} is far outside engineering practice for this key "
                             f"({rule.describe()}){hint}"))
     return out

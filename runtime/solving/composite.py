@@ -28,7 +28,8 @@ through ctypes, one call per engine call. So it needs the compiled model library
 included) per output interval, ``max_events_per_revolution`` events per call; past either the call fails, and the
 run's diagnosis (runtime/solving/diagnosis.py) re-runs it interval by interval and names the reason. The C cannot
 stop inside a call at the wall-time deadline: a run with a budget makes 36 calls per revolution
-(runtime/solving/settings.py), and the run checks the budget between them.
+(runtime/solving/settings.py), checks the budget between them, and makes them interval by interval once the next
+would end past the deadline (runtime/solving/pace.py).
 
 A call that goes on from where this engine's previous call ended carries the crank angle since the last event, so
 a revolution cut into calls keeps its quiet phase; any other start begins in the tight phase. That angle is all a

@@ -19,7 +19,7 @@ from ...progress import announce
 from ..results.result import StopInfo
 from .checks import Chattering, chatter_advice, tilt_reason
 from .layout import HybridLayout
-from .methods import WallTimeExceeded, make_engine
+from .methods import WallTimeExceeded, make_engine, single_interval_engine
 from .preflight import MAX_START_PENETRATION
 from .scaling import to_physical
 from .settings import MAX_TILT, RunSettings, out_of_time
@@ -50,7 +50,7 @@ def _interval_by_interval(functions, settings, params, z, edges, P, err, deadlin
     lay = HybridLayout.of(functions)
     dth = edges[1] - edges[0]
     linear = int(P.shape[1] == edges.size)  # pressure = "linear": the values at the edges, one more than intervals
-    single = make(functions, settings, n_samples=1, span=dth, compile_c=False)
+    single = single_interval_engine(functions, settings, dth, make)
     single.deadline = deadline if not signals.requested else -math.inf
     context = f", while re-running a failed call interval by interval; the call failed with: {_last_line(err)}"
     with signals.watching(single):  # a signal stops it at its next deadline check
@@ -214,7 +214,7 @@ def _longest_head(functions, settings: RunSettings, params, z, theta, dth, P,
         mid = 0.5 * (lo + hi)
         try:
             head = P if P.shape[1] == 1 else np.c_[P[:, 0], P[:, 0] + (P[:, 1] - P[:, 0]) * (mid / dth)]
-            engine = make(functions, settings, n_samples=1, span=mid, compile_c=False)
+            engine = single_interval_engine(functions, settings, mid, make)
             engine.deadline = deadline
             with StopSignals() as signals, signals.watching(engine):
                 out = engine.run(z, params, theta, head)

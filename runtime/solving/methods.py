@@ -41,6 +41,9 @@ class Engine:
 
     n_samples: int
     compiled: bool = False
+    #: True where ``run`` checks ``deadline`` inside a call (the apexseal event loop's engines): the run then never
+    #: cuts its calls into intervals near the end of a wall-time budget (runtime/solving/pace.py)
+    stops_at_deadline: bool = False
     #: True where a compiled engine still reports its steps and evaluations (the composite's C counts them)
     counts_steps: bool = False
     deadline: float = math.inf
@@ -166,6 +169,13 @@ def make_engine(functions, settings, *, n_samples: int | None = None, span: floa
         functions, settings, method=settings.method if isinstance(settings.method, str) else "",
         n_samples=n_samples or settings.samples_per_revolution, span=span,
         compile_c=settings.compile_c if compile_c is None else compile_c)
+
+
+def single_interval_engine(functions, settings, dtheta: float, make=make_engine) -> Engine:
+    """An interpreted engine of ``settings.method`` over one output interval of ``dtheta`` rad, built by ``make``
+    (the run's engine factory): what a failed call is re-run with (runtime/solving/diagnosis.py), and what makes the
+    calls near the end of a wall-time budget (runtime/solving/pace.py). Interpreted: nothing is compiled then."""
+    return make(functions, settings, n_samples=1, span=dtheta, compile_c=False)
 
 
 def fixed_steps(steps_per_revolution: int, dtheta: float) -> int:

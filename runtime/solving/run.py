@@ -3,7 +3,8 @@
 ``simulate(scene)`` integrates the hybrid model with the scene's method (see
 :mod:`.methods`) and returns a :class:`SimulationResult`. A revolution is one
 integrator call, or ``calls_per_revolution`` calls (36, 10 degrees each, when a
-wall-time budget is set, so the budget is checked often enough). Nothing computed is lost, and every
+wall-time budget is set, so the budget is checked often enough; once the next call would end past the deadline,
+calls interval by interval, :mod:`.pace`). Nothing computed is lost, and every
 run ends with a named reason: on SIGINT or SIGTERM (acted on between calls, :mod:`.signals`), a solver
 failure, a non-finite state, a fixed-step method's step beyond a sticking friction's (:mod:`.euler_friction`), a missed
 contact event, chattering or a used-up wall-time budget, the result keeps
@@ -33,6 +34,7 @@ from .checks import RunChecks
 from .diagnosis import locate_failure
 from .layout import HybridLayout
 from .methods import WallTimeExceeded, make_engine
+from .pace import FailedInterval, IntervalByInterval, Pace
 from .preflight import initial_activations, preflight
 from .scaling import to_scaled
 from .settings import RunSettings, out_of_time, samples_per_call
@@ -124,6 +126,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     bar = tqdm(total=revolutions, initial=done, unit="rev", disable=not progress, leave=not tty,
                mininterval=0.1 if tty else LOG_INTERVAL, file=sys.stderr)
     z_rev = z.copy()
+    pace, split = Pace(deadline), None  # near the deadline, calls interval by interval (runtime/solving/pace.py)
     with StopSignals() as signals:
         signals.watch(engine)
         try:
@@ -139,18 +142,29 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 edges = theta_start + rev * 2 * np.pi + dth * (c * m + np.arange(m + 1))
                 P_in = _pressures(pressure, edges, values, linear)
                 P = P_in if settings.pressure == "steps" else P_in[:, 1:]  # the pressures at the samples
-                engine.deadline = deadline if not signals.requested else -math.inf
+                if split is None and m > 1 and pace.would_overrun(m) and not engine.stops_at_deadline:
+                    split = IntervalByInterval(functions, settings, engine, dth, make_engine)
+                    split.carry_on(z, _carried(engine, z))
+                    signals.watch(split)
+                use = split or engine
+                use.deadline = deadline if not signals.requested else -math.inf
+                t_call = time.perf_counter()
                 try:
-                    out = engine.run(z, params, edges[0], P_in)
+                    out = use.run(z, params, edges[0], P_in)
                     Z, stats, failure = out.z, out.stats, None
+                    pace.record(time.perf_counter() - t_call, m)
                 except WallTimeExceeded as late:
-                    Z, stats = late.partial, {}
+                    Z, stats = late.partial, {"n_calls_split": 1} if use is split else {}
                     last = Z[lay.active, -1] if Z.shape[1] else z[lay.active]
                     why = signals.reason() if signals.requested else out_of_time(settings, t_wall)
                     failure = "interrupted", StopInfo(edges[Z.shape[1]] - theta_start, lay.mode(last), why)
                 except RuntimeError as err:
-                    Z, failure = locate_failure(functions, settings, params, z, edges, P_in, err, deadline, theta_start,
-                                                make_engine)
+                    # a call made interval by interval keeps the intervals before the one that failed
+                    head = err.partial if isinstance(err, FailedInterval) else np.zeros((z.size, 0))
+                    k = head.shape[1]
+                    Z, failure = locate_failure(functions, settings, params, head[:, -1] if k else z, edges[k:],
+                                                P_in[:, k:], err, deadline, theta_start, make_engine)
+                    Z = np.hstack([head, Z])
                     stats = {"n_recovered_calls": 1} if failure is None else {}
                 Z, bad = check.finite(Z, edges[1:])
                 if bad is None:
@@ -169,7 +183,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 if "n_events" not in stats:  # a compiled integrator reports no statistics: count
                     stats["n_events"] = int(z_end[lay.counts].sum() - z[lay.counts].sum())  # from the hybrid state
                 if Z.shape[1]:
-                    part.add(Z, ends[:Z.shape[1]], P[:, :Z.shape[1]], z_end, _carried(engine, z_end))
+                    part.add(Z, ends[:Z.shape[1]], P[:, :Z.shape[1]], z_end, _carried(use, z_end))
                 z = z_end
                 for k, v in stats.items():
                     if k.startswith("n_") and isinstance(v, int | float):

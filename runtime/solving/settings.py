@@ -184,7 +184,9 @@ class RunSettings(BaseModel):
     flags: Annotated[str, BeforeValidator(_flags)] = "optimised"
     #: adaptive methods: integrator steps allowed in one output interval
     max_steps_per_interval: _ranged("max_steps_per_interval", int) = 200000
-    max_wall_time: _ranged("max_wall_time", float | None) = None  # s, checked between integrator calls; None: no budget
+    #: s, checked between integrator calls (and between intervals near the deadline, runtime/solving/pace.py); None:
+    #: no budget
+    max_wall_time: _ranged("max_wall_time", float | None) = None
     calls_per_revolution: _ranged("calls_per_revolution", int | None) = None  # None: 1, or 36 with a wall-time budget
     revolutions: _ranged("revolutions", int) = 1
     pressure: Annotated[str, BeforeValidator(_pressure)] = DEFAULT_PRESSURE

@@ -42,6 +42,7 @@ class StepperIntegrator(Engine):
     """One integrator call per output interval with the mode fixed; switches located by apexseal (see above)."""
 
     pressure_profiles = ("steps", "linear")
+    stops_at_deadline = True
 
     @classmethod
     def build(cls, functions, settings, *, method, n_samples, span, compile_c):

@@ -5,17 +5,21 @@ from __future__ import annotations
 
 import os
 import signal
+import time
+import warnings
 
 import casadi as ca
 import numpy as np
 import pytest
 from hard_helpers import SAMPLES, load, mode_mismatches, short_run, simulate
 
+import apexseal
 from apexseal.derive.symbols import PARAMETER_NAMES
 from apexseal.runtime.solving import run as sim
 from apexseal.runtime.solving.euler_integrator import MAX_GROWTH, contact_growth
 from apexseal.runtime.solving.hybrid import BLIND_WINDOW, build_hybrid_dae
 from apexseal.runtime.solving.layout import HybridLayout
+from apexseal.runtime.solving.methods import Engine
 
 
 @pytest.fixture(scope="module")
@@ -226,6 +230,65 @@ def test_wall_time_budget_with_apexseals_event_loop(fns):
     r = simulate(load("stiff-groove-1e9"), fns, method="cvodes", max_wall_time=2.0, calls_per_revolution=72)
     assert r.status == "interrupted" and "max_wall_time = 2 s" in r.stop.reason
     assert r.info["wall_time_s"] < 2.0 + 6.0 and r.n > 1
+
+
+#: seconds each integrator interval of :class:`_SlowIntervals` takes beyond its integration
+SLOW = 0.1
+
+
+class _SlowIntervals(Engine):
+    """Wraps an engine that cannot stop inside a call (erk); each of its integrator intervals takes SLOW s more: a
+    stiff stretch as slow on any machine."""
+
+    def __init__(self, engine):
+        self.engine, self.n_samples = engine, engine.n_samples
+
+    def run(self, z0, params, theta0, pressures):
+        time.sleep(SLOW * self.n_samples)
+        return self.engine.run(z0, params, theta0, pressures)
+
+
+def test_a_call_that_would_end_past_the_budget_is_made_interval_by_interval(default_scene, fns, monkeypatch):
+    """erk runs a call to its end, and the budget was checked between calls only: with calls of 20 integrator
+    intervals (10 output intervals over the pressure table's 0.5-deg rows) of SLOW s each, 2 s a call, and a budget
+    of 3 s, the second call began with 1 s left and the run ended a whole call late, after 4 s (a chamber gas at 1e9
+    Pa: 61 s against a budget of 30, docs/hard-cases.md). The first call's pace predicts the second's end past the
+    deadline, so that call is made interval by interval: the run stops one interval late at most, with every
+    interval it made, and those samples are the integrator's, as a run of whole calls gives them."""
+    real = sim.make_engine
+    monkeypatch.setattr(sim, "make_engine", lambda *a, **k: _SlowIntervals(real(*a, **k)))
+    st = sim.RunSettings(samples_per_revolution=360, compile_c=False, max_wall_time=3.0)
+    r = sim.run(fns, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
+                pressure=default_scene.pressure)
+    assert r.status == "interrupted" and "max_wall_time = 3 s" in r.stop.reason, r.stop
+    assert r.info["wall_time_s"] < 3.0 + 4 * SLOW, r.info["wall_time_s"]
+    assert r.info["solver_stats"]["n_calls_split"] == 1
+    assert 11 < r.n < 21 and np.radians(r.n - 1) <= r.stop.theta < np.radians(r.n)  # inside the second call
+    monkeypatch.setattr(sim, "make_engine", real)
+    whole = sim.run(fns, default_scene.parameter_vector(), st.replace(max_wall_time=1e6), theta_start=0.0,
+                    state0=np.zeros(6), revolutions=1, pressure=default_scene.pressure)
+    assert whole.info["solver_stats"].get("n_calls_split", 0) == 0
+    off = np.abs(r.state - whole.state[:, :r.n]) / np.abs(whole.state[:, :r.n]).max(axis=1)[:, None]
+    assert off[:, :11].max() == 0 and np.median(off[:, 11:], axis=1).max() < 1e-6
+
+
+@pytest.mark.slow
+def test_a_gas_at_1e9_pa_stops_one_interval_past_its_budget_at_most():
+    """The case the random scenes found: the chamber gas at a supply pressure of 1e9 Pa is stiff, and erk's calls
+    slow (interpreted, 10-deg calls: 29 s each; the run ended after 61 s against a budget of 30). Here 2-deg calls of
+    20 output intervals: the first run's budget ends it after its first call, whose time T1 sets the second run's
+    budget, 1.6 T1. Its second call is made interval by interval (before, it ran whole, to about 2 T1)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # 1e9 Pa is implausible (PlausibilityWarning), on purpose
+        scene = apexseal.load_scene().with_overrides(**{"pressure": {"source": "chamber"}, "gas.p_supply": 1e9})
+    kw = {"revolutions": 1, "samples_per_revolution": 3600, "calls_per_revolution": 180, "interpreted": True}
+    first = apexseal.simulate(scene, max_wall_time=0.5, **kw)
+    assert first.status == "interrupted" and first.n == 21, (first.n, first.stop)
+    t1 = first.info["wall_time_s"]
+    r = apexseal.simulate(scene, max_wall_time=1.6 * t1, **kw)
+    assert r.status == "interrupted" and 21 < r.n < 41 and r.info["wall_time_s"] < 1.9 * t1, \
+        (r.n, r.info["wall_time_s"], t1)
+    assert r.info["solver_stats"]["n_calls_split"] == 1
 
 
 class _FailsOnLongCalls:

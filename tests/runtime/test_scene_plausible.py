@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import warnings
 from pathlib import Path
 
@@ -124,3 +125,23 @@ def _line_after() -> int:
     import sys
 
     return sys._getframe(1).f_lineno + 1
+
+
+@pytest.mark.parametrize("key, value, shown", [
+    ("gas.p_supply", 1e9, "1e+06 kPa"), ("gas.p_exhaust", "1e9 Pa", "1e+06 kPa"), ("gas.T_supply", 1e5, "100000 K"),
+    ("gas.T_exhaust", "1e-3 K", "0.001 K"), ("gas.R", 8.314, "8.314 J/(kg*K)"), ("gas.gamma", 1.95, "1.95 is")])
+def test_a_gas_value_far_outside_practice_warns(default_scene, key, value, shown):
+    """The [gas] keys had no plausible range: a supply pressure of 1e9 Pa (a unit slip) loaded without a word, and its
+    run spent a minute in two integrator calls (docs/hard-cases.md)."""
+    with pytest.warns(PlausibilityWarning, match=rf"{key}.*{re.escape(shown)}.*far outside engineering practice"):
+        default_scene.with_overrides(**{"pressure": {"source": "chamber"}, key: value})
+
+
+def test_the_gas_scene_is_plausible_and_its_keys_unread_elsewhere_are_not_questioned(default_scene):
+    """The shipped gas scene warns of nothing, and a [gas] value no law reads (the pressure from a table) neither."""
+    import apexseal
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        apexseal.load_scene(REPO / "runtime" / "scenes" / "expander-gas.toml")
+        default_scene.with_overrides(**{"gas.p_supply": 1e9})
