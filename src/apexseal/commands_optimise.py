@@ -155,23 +155,27 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
                "nodes": nodes, "vary_stiffness": vary_stiffness, "check": check, "max_preload_m": limits["max_preload"],
                "max_iter": limits["max_iter"]}
 
-    def report(stopped: str, status: str) -> list:
+    def report(stopped: str, status: str, unchanged: bool = False) -> list:
+        """``unchanged``: the stages' results are those of the report in ``<out>.partial-<run id>`` (a checkpoint of
+        the bisection's probes): its figure and scene files are copied, not drawn again."""
         return folder.write(lambda into: write_report(
             into, sc, str(scene or "default"), done["results"], done["bisection"], min_force, done["valley"], stopped,
-            overrides=sets, options=options, run_id=folder.run_id, status=status))
+            overrides=sets, options=options, run_id=folder.run_id, status=status,
+            unchanged_from=folder.staging if unchanged else None))
 
     where = None
     try:
         with StopSignals(raising=True) as signals:
 
-            def checkpoint(words: str, following: str) -> None:
+            def checkpoint(words: str, following: str, unchanged: bool = False) -> None:
                 """The report of the stages done so far, written whole after each into ``<out>.partial-<run id>`` (a
                 killed study leaves it there) as the ``following`` stage begins (a signal meanwhile stops that
-                stage)."""
+                stage); ``unchanged``: as :func:`report`'s (the bisection's rounds of probes)."""
                 done["stage"] = following
                 signals.raising = False
                 report(f"written after the {words}, while the study went on (a study killed then leaves this report "
-                       f"in {folder.staging.name}, beside {out.name}; one that goes on replaces it)", "interrupted")
+                       f"in {folder.staging.name}, beside {out.name}; one that goes on replaces it)", "interrupted",
+                       unchanged)
                 signals.raising = True
                 if signals.requested:
                     raise KeyboardInterrupt
@@ -195,6 +199,8 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
             if signals.requested:
                 stopped = f"interrupted by {signals.sender()} during the {done['stage']}"
                 kept = "the report holds the stages before it" if done["results"]["constant"] else "nothing to report"
+                if done["bisection"] is not None and not done["bisection"].complete:
+                    kept += f" and the bisection's {done['bisection'].simulations} simulations so far"
                 click.echo(f"  {stopped}: {kept}", err=True)
                 signals.ignore_after()
             results = done["results"]
@@ -266,10 +272,15 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
         if plan[-1] != "schedule":
             checkpoint("schedule", plan[1])
     if "bisection" in plan:
+
+        def probed(so_far) -> None:  # each round's probes kept in the report, and written as the constant optimum is
+            done["bisection"] = so_far
+            checkpoint(f"bisection's {so_far.simulations} simulations so far", "bisection", unchanged=True)
+
         with stage("bisection", "bisection"):
             b = done["bisection"] = finished(bisect_preload(sc, min_force=min_force, exclude=exclude, setup=setup,
                                                             nodes=nodes, upper=c.start_delta_s,
-                                                            max_preload=limits["max_preload"]))
+                                                            max_preload=limits["max_preload"], progress=probed))
         against = (f"the constant optimum above ({c.delta_s / MM:.4f} mm) differs by "
                    f"{abs(b.delta_s - c.delta_s) / MM:.4f} mm" if c.ok else
                    "IPOPT found no constant optimum (above): this is the study's answer for a constant preload")

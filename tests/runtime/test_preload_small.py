@@ -260,6 +260,76 @@ def test_an_interrupted_rerun_keeps_the_earlier_report_and_its_own_beside_it(lig
     assert len(stage) == 2 and "abandoned after" in stage[1] and "done in" not in stage[1], err
 
 
+def _after_a_round_of_probes(line: str) -> bool:
+    """A round of the bisection under way after the check of the feasible start (1 probe) and the first round of the
+    scan down from it (8), both simulated and checkpointed."""
+    import re
+
+    found = re.search(r"bisection: .*\((\d+) so far, ", line)
+    return found is not None and int(found.group(1)) >= 9
+
+
+def _check_probes_so_far(b: dict) -> None:
+    """A bisection report that did not end holds each probe's verdict and the bracket they establish."""
+    assert b["complete"] is False and len(b["probes"]) >= 9 and b["simulations"] == len(b["probes"]), b
+    for p in b["probes"]:
+        assert p["passed"] == (p["deficit"] <= DEFICIT_TOL and p["groove_excess"] <= DEFICIT_TOL), p
+        assert p["friction_power"] > 0 and np.isfinite(p["min_measure"]), p
+    passed = [p["delta_s"] for p in b["probes"] if p["passed"]]
+    failed = [p["delta_s"] for p in b["probes"] if not p["passed"]]
+    # the scan down from the feasible start: the smallest preload of the passing run, the failing one below it
+    assert passed and failed and b["delta_s"] in passed and b["lower"] in failed, b
+    assert b["lower"] < b["delta_s"] and all(d < b["lower"] or d > b["delta_s"] for d in passed + failed
+                                             if d not in (b["lower"], b["delta_s"])), b
+    at = next(p for p in b["probes"] if p["delta_s"] == b["delta_s"])
+    assert (b["deficit"], b["friction_power"], b["min_measure"]) == (at["deficit"], at["friction_power"],
+                                                                     at["min_measure"])
+
+
+def test_an_interrupted_bisection_keeps_its_probes_and_their_bracket(light, tmp_path):
+    """SIGTERM during the bisection, after its first rounds of probes: the report said the bisection was interrupted
+    but kept none of the preloads it had simulated. Now preload.json holds each probe (preload, passes, force
+    deficit, groove-force excess, friction power, smallest force) and the bracket they establish, which contains
+    the constant optimum, and preload.md lists them."""
+    import json
+    import signal
+
+    out = tmp_path / "o"
+    code, err = _interrupted(out, _after_a_round_of_probes, signal.SIGTERM)
+    assert code == 143, err
+    data = json.loads((out / "preload.json").read_text())
+    assert data["status"] == "interrupted" and data["stopped"].endswith("during the bisection"), data["stopped"]
+    b = data["bisection"]
+    _check_probes_so_far(b)
+    assert b["lower"] < data["constant"]["delta_s"] <= b["delta_s"] * (1 + 0.01), (b, data["constant"]["delta_s"])
+    md = (out / "preload.md").read_text()
+    assert f"**The bisection did not end.** Its {b['simulations']} simulations" in md
+    rows = [line for line in md.splitlines() if line.startswith("| ") and line[2].isdigit()]
+    assert [float(r.split("|")[1]) for r in rows] == pytest.approx([p["delta_s"] / MM for p in b["probes"]], abs=1e-4)
+    assert f"and the bisection's {b['simulations']} simulations so far" in err
+
+
+def test_a_bisection_killed_outright_leaves_its_probes_in_the_checkpoint(light, tmp_path):
+    """SIGKILL during the bisection, after its first rounds of probes: the checkpoint beside <out> held the constant
+    optimum alone. Now each round of probes is checkpointed as the constant optimum is."""
+    import json
+    import signal
+
+    out = tmp_path / "o"
+    code, err = _interrupted(out, _after_a_round_of_probes, signal.SIGKILL)
+    assert code == -signal.SIGKILL, err
+    assert not out.exists()
+    (partial,) = [p for p in tmp_path.iterdir() if p.name.startswith("o.partial-")]
+    data = json.loads((partial / "preload.json").read_text())
+    assert data["status"] == "interrupted" and data["constant"]["ok"]
+    assert data["stopped"].startswith(f"written after the bisection's {data['bisection']['simulations']} simulations "
+                                      "so far, while the study went on"), data["stopped"]
+    _check_probes_so_far(data["bisection"])
+    assert "**The bisection did not end.**" in (partial / "preload.md").read_text()
+    assert sorted(p.name for p in partial.iterdir()) == ["preload.json", "preload.md", "preload.png", "pressure.csv",
+                                                          "scene.toml"]  # the figure and scene files kept with it
+
+
 def test_a_study_killed_while_it_writes_its_report_leaves_each_report_whole(light, tmp_path):
     """SIGKILL while the study's second report (after the schedule) is being written, its figure half done:
     preload.json and preload.md held the schedule while preload.png still showed the constant optimum alone, and a
@@ -485,7 +555,7 @@ def test_a_bisection_whose_scan_passes_down_to_zero_probes_zero(light):
     setup = PreloadSetup(scene, functions, 0.1, (), SAMPLES, max_groove_force=NO_BOUND)
     b = bisect_preload(scene, min_force=0.1, nodes=NODES, setup=setup, upper=0.01 * MM, scan_step=0.004 * MM,
                        tol=0.001 * MM)
-    assert 0.0 in [d for d, _ in b.probes] and b.delta_s == 0.0 and b.lower == 0.0, b
+    assert 0.0 in [p.delta_s for p in b.probes] and b.delta_s == 0.0 and b.lower == 0.0, b
     assert b.deficit <= DEFICIT_TOL and b.monotone
 
 

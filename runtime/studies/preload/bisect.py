@@ -30,28 +30,55 @@ from .problem import MM, PreloadSetup, PreloadStudyError, is_integer, max_preloa
 
 
 @dataclass
-class BisectionResult:
-    delta_s: float  # m, the smallest passing preload found (upper end of the final bracket)
-    lower: float  # m, the largest failing preload (lower end of the final bracket; 0 with delta_s = 0 when 0 passes)
-    min_measure: float  # N, smallest contact force at the samples at delta_s
+class Probe:
+    """One preload the bisection simulated (until periodic) and its verdict."""
+
+    delta_s: float  # m
+    passed: bool  # the force deficit (and, with a groove-force bound, its excess) within the study's bound
+    deficit: float  # N^2 rad, the force-deficit quadrature of the last revolution
+    groove_excess: float  # N^2 rad, the groove-force excess quadrature (0 without a groove-force bound)
+    friction_power: float  # W, cycle mean
+    min_measure: float  # N, smallest contact force at the checked samples
     min_measure_angle: float  # deg
-    friction_power: float  # W at delta_s
+
+
+@dataclass
+class BisectionResult:
+    """The bisection's answer; with ``complete = False``, how far it got (its rounds of probes so far: the study was
+    stopped, or a round's ``progress`` report): the bracket those probes establish, ``lower`` None while no failing
+    preload bounds it and ``delta_s`` None while none passed (the start search), the other numbers those of the
+    probe at ``delta_s``."""
+
+    delta_s: float | None  # m, the smallest passing preload found (upper end of the final bracket)
+    lower: float | None  # m, the largest failing preload (lower end of the final bracket; 0 with delta_s = 0 when 0 passes)
+    min_measure: float | None  # N, smallest contact force at the samples at delta_s
+    min_measure_angle: float | None  # deg
+    friction_power: float | None  # W at delta_s
     periodic_change: float  # change of the scaled state over the last revolution at delta_s
-    deficit: float  # N^2 rad, the force-deficit quadrature at delta_s
+    deficit: float | None  # N^2 rad, the force-deficit quadrature at delta_s
     simulations: int  # the probes, then the answer's re-simulation
     wall_time_s: float
     monotone: bool  # False: a probe below the answer passed (a lower island, not taken)
-    probes: list = field(default_factory=list)  # [(delta_s m, force deficit N^2 rad), ...]
+    probes: list = field(default_factory=list)  # [Probe, ...] in increasing delta_s
+    complete: bool = True  # False: the probes so far of a bisection that did not end (see the class docstring)
 
     def to_dict(self) -> dict:
         return asdict(self)
+
+    def bracket(self) -> str:
+        """The bracket in words, e.g. "[0.3840, 0.3846] mm", or what bounds the answer so far."""
+        if self.delta_s is None:
+            return "no preload passed yet" + (f" (up to {self.lower / MM:.4f} mm)" if self.lower is not None else "")
+        if self.lower is None:
+            return f"at most {self.delta_s / MM:.4f} mm (no failing preload below it yet)"
+        return f"[{self.lower / MM:.4f}, {self.delta_s / MM:.4f}] mm"
 
 
 def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | None = None,
                    scan_step: float = 0.05 * MM, tol: float = 1e-3 * MM, probes: int = 8, samples: int | None = None,
                    rtol: float | None = None, revolutions: int = 3, max_preload: float = 0.1, functions=None,
                    setup: PreloadSetup | None = None, deficit_tol: float | None = None,
-                   nodes: int = 4) -> BisectionResult:
+                   nodes: int = 4, progress=None) -> BisectionResult:
     """The smallest delta_s (to ``tol``, m) such that every preload from it up to ``upper`` passes the checks.
 
     ``upper`` (default: the study's feasible start, the scene's preload times 1.5^k for the smallest
@@ -59,6 +86,10 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
     (``probes`` at a time) until one fails; the crossing between that one and the next passing one
     above is then bisected. A failing stretch narrower than ``scan_step`` can be missed; passing
     preloads below the answer (islands) are kept in ``probes`` and flagged by ``monotone = False``.
+
+    ``progress``: called after each round of probes with the :class:`BisectionResult` so far (``complete =
+    False``), so that a caller keeps the probes of a bisection that is stopped (the command writes them into its
+    report checkpoint).
     """
     from ...api import model_functions, scene_of
     from .periodic import periodic, periodic_many
@@ -92,9 +123,21 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
         return periodic(setup, sf, grid, np.array([d]), min_force, setup.exclude)
 
     t = time.perf_counter()
-    seen: list[tuple[float, float]] = []
+    seen: list[Probe] = []
     n_sim = 0
     change = 0.0
+    hi: float | None = None  # the smallest preload of the passing run down from upper, so far
+    lo: float | None = None  # the failing preload below it that the scan found, then the bisection's lower end
+    floor: float | None = None  # the largest failing preload below hi that the start search probed
+
+    def so_far() -> BisectionResult:  # the bracket the probes establish so far, the numbers of the probe at hi
+        at = next((p for p in seen if p.delta_s == hi), None)
+        # the start search's failing preload bounds the scan's bracket while the scan has passed no preload below it
+        lower = lo if lo is not None else floor if hi is None or floor is None or floor < hi else None
+        numbers = (at.min_measure, at.min_measure_angle, at.friction_power) if at else (None, None, None)
+        return BisectionResult(hi, lower, *numbers, change, at.deficit if at else None, n_sim, time.perf_counter() - t,
+                               _monotone(seen, lower, deficit_tol), sorted(seen, key=lambda p: p.delta_s),
+                               complete=False)
 
     def probe(ds):  # the probes of a round are integrated together, on every core
         nonlocal n_sim, change
@@ -103,25 +146,45 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
         sims = periodic_many(setup, sf, grid, [np.array([d]) for d in ds], min_force, setup.exclude)
         n_sim += len(ds)
         change = max([change] + [s.change for s in sims])
-        seen.extend((float(d), s.deficit) for d, s in zip(ds, sims, strict=True))
         # with a groove-force bound (setup.max_groove_force) its excess must be within the same bound too
-        return np.array([s.deficit <= deficit_tol and s.groove_excess <= deficit_tol for s in sims])
+        ok = np.array([s.deficit <= deficit_tol and s.groove_excess <= deficit_tol for s in sims])
+        seen.extend(Probe(float(d), bool(passed), s.deficit, s.groove_excess, s.friction_power, *setup.smallest(s))
+                    for d, s, passed in zip(ds, sims, ok, strict=True))
+        return ok
+
+    def round_of(ds):  # a round of probes, the bracket updated, then reported
+        nonlocal hi, lo, floor
+        ok = probe(ds)
+        failed = np.nonzero(~ok)[0]
+        if hi is None:  # the start search (or the upper given): the first passing candidate is the upper end
+            if ok.any():
+                hi = float(ds[int(np.nonzero(ok)[0][0])])
+            below = [float(d) for d, good in zip(ds, ok, strict=True) if not good and (hi is None or d < hi)]
+            floor = max(below + ([floor] if floor is not None else [])) if below else floor
+        elif lo is None:  # the scan down: the run of passing preloads goes on down to the first failing one
+            i = int(failed[0]) if failed.size else len(ds)
+            hi = float(ds[i - 1]) if i > 0 else hi
+            lo = float(ds[i]) if failed.size else None
+        else:  # the bisection of the crossing: between the highest failing probe and the passing one above it
+            k = int(failed[-1]) if failed.size else -1
+            lo = float(ds[k]) if k >= 0 else lo
+            hi = float(ds[k + 1]) if k + 1 < len(ds) else hi
+        if progress is not None:
+            progress(so_far())
+        return ok
 
     scene_ds = float(scene.parameters["delta_s"])
     if upper is None:
         base = scene_ds if scene_ds > 0 else MM
         for k in range(0, 60, probes):
             cands = [c for c in (base * 1.5 ** (k + i) for i in range(probes)) if c <= max_preload] or [max_preload]
-            ok = np.nonzero(probe(cands))[0]
-            if ok.size:
-                upper = cands[int(ok[0])]
+            if round_of(cands).any():
                 break
             if cands[-1] >= max_preload:
                 raise PreloadStudyError(f"no preload up to max_preload = {max_preload / MM:g} mm passes the checks")
-    elif not probe([upper])[0]:
+    elif not round_of([upper])[0]:
         raise PreloadStudyError(f"upper = {upper / MM:g} mm does not pass the checks: raise it")
-    # scan down from upper until a preload fails
-    hi, lo = upper, None
+    # scan down from the upper end until a preload fails
     while lo is None:
         ds = hi - scan_step * np.arange(1, probes + 1)
         ds = ds[ds > 0]
@@ -129,28 +192,20 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
             lo = 0.0
             if probe([0.0])[0]:  # no preload needed: the answer is 0, and no failing preload bounds it
                 hi = 0.0
+            if progress is not None:
+                progress(so_far())
             break
-        ok = probe(list(ds))
-        failed = np.nonzero(~ok)[0]
-        if failed.size:
-            i = int(failed[0])
-            lo, hi = float(ds[i]), float(ds[i - 1]) if i > 0 else hi
-        else:
-            hi = float(ds[-1])
+        round_of(list(ds))
     # bisect the crossing
     while hi - lo > tol:
-        ds = lo + (hi - lo) * np.arange(1, probes + 1) / (probes + 1)
-        ok = probe(list(ds))
-        failed = np.nonzero(~ok)[0]
-        k = int(failed[-1]) if failed.size else -1  # the highest failing probe
-        lo = float(ds[k]) if k >= 0 else lo
-        hi = float(ds[k + 1]) if k + 1 < probes else hi
+        round_of(list(lo + (hi - lo) * np.arange(1, probes + 1) / (probes + 1)))
     sim = simulate(hi)
     n_sim += 1
-    keep = setup.mask(sim.thetas)
-    j = int(np.argmin(np.where(keep, sim.measure, np.inf)))
-    monotone = not any(v <= deficit_tol for d, v in seen if d < lo)
-    return BisectionResult(hi, lo, float(sim.measure[j]), float(np.degrees(sim.thetas[j]) % 360.0),
-                           sim.friction_power, sim.change, sim.deficit, n_sim, time.perf_counter() - t, monotone,
-                           sorted(seen))
+    force, angle = setup.smallest(sim)
+    return BisectionResult(hi, lo, force, angle, sim.friction_power, sim.change, sim.deficit, n_sim,
+                           time.perf_counter() - t, _monotone(seen, lo, deficit_tol), sorted(seen, key=lambda p: p.delta_s))
 
+
+def _monotone(seen: list, lo: float | None, deficit_tol: float) -> bool:
+    """False when a probe below the bracket's lower end passed the force-deficit bound (a lower island)."""
+    return lo is None or not any(p.deficit <= deficit_tol for p in seen if p.delta_s < lo)

@@ -372,6 +372,13 @@ class PreloadSetup:
     def mask(self, thetas: np.ndarray) -> np.ndarray:
         return check_mask(thetas, self.exclude)
 
+    def smallest(self, sim) -> tuple[float, float]:
+        """A re-simulated revolution's (schedule.py) smallest tip contact measure at the checked samples (N) and its
+        crank angle (deg, mod 360)."""
+        m = np.where(self.mask(sim.thetas), sim.measure, np.inf)
+        j = int(np.argmin(m))
+        return float(m[j]), float(np.degrees(sim.thetas[j]) % 360.0)
+
     def min_checked(self, periodic: Periodic) -> tuple[np.ndarray, np.ndarray]:
         """Per preload: the smallest measure at the checked samples and its crank angle (deg, mod 360)."""
         keep = self.mask(periodic.thetas)

@@ -11,6 +11,7 @@ designs.
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -61,14 +62,7 @@ def markdown(scene_name: str, results: dict, bisection=None, valley=None, overri
             continue
         lines += [f"## {key}", "", "```", r.describe(), "```", ""]
     if bisection is not None:
-        b = bisection
-        lines += ["## derivative-free check (bisection over full simulations)", "",
-                  f"delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm ({b.simulations} simulations, "
-                  f"{b.wall_time_s:.1f} s, monotone: {b.monotone})", ""]
-        c = results.get("constant")
-        if c is not None and not c.ok:
-            lines += ["IPOPT found no constant optimum (above): this bracket is the study's answer for a constant "
-                      "preload.", ""]
+        lines += _bisection(bisection, results.get("constant"))
     if valley:
         from .stiffness import describe
 
@@ -81,6 +75,28 @@ def markdown(scene_name: str, results: dict, bisection=None, valley=None, overri
                   f"{c.friction_power - s.friction_power:.3f} W "
                   f"({100 * (c.friction_power - s.friction_power) / c.friction_power:.2f} %)", ""]
     return "\n".join(lines)
+
+
+def _bisection(b, c) -> list[str]:
+    """The bisection's section of preload.md: its bracket; where it did not end, the probes it had simulated."""
+    lines = ["## derivative-free check (bisection over full simulations)", ""]
+    if b.complete:
+        lines += [f"delta_s* in {b.bracket()} ({b.simulations} simulations, {b.wall_time_s:.1f} s, monotone: "
+                  f"{b.monotone})", ""]
+    else:
+        lines += [f"**The bisection did not end.** Its {b.simulations} simulations ({b.wall_time_s:.1f} s) so far put "
+                  f"delta_s* {'in ' if b.lower is not None and b.delta_s is not None else ''}{b.bracket()}"
+                  f"{'' if b.monotone else ' (not monotone: a probe below the bracket passed)'}; the preloads "
+                  "probed:", "",
+                  "| delta_s (mm) | passes | force deficit (N^2 rad) | groove-force excess (N^2 rad) | friction power (W) "
+                  "| smallest force at the samples (N) |", "|---|---|---|---|---|---|"]
+        lines += [f"| {p.delta_s / MM:.4f} | {'yes' if p.passed else 'no'} | {p.deficit:.3g} | {p.groove_excess:.3g} | "
+                  f"{p.friction_power:.3f} | {p.min_measure:.4g} at {p.min_measure_angle:.1f} deg |" for p in b.probes]
+        lines += [""]
+    if c is not None and not c.ok and b.delta_s is not None:
+        lines += [f"IPOPT found no constant optimum (above): this bracket is the study's answer for a constant preload"
+                  f"{'' if b.complete else ', as far as the bisection got'}.", ""]
+    return lines
 
 
 def figure(scene, results: dict, min_force: float):
@@ -135,14 +151,16 @@ def figure(scene, results: dict, min_force: float):
 
 def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=None, min_force: float = 5.0,
                  valley=None, stopped: str = "", *, overrides: dict | None = None, options: dict | None = None,
-                 run_id: str | None = None, status: str = "completed") -> list:
+                 run_id: str | None = None, status: str = "completed", unchanged_from: Path | None = None) -> list:
     """Write preload.json, preload.md, scene.toml (with ``scene``: the scene that ran, every value explicit, and its
     pressure table) and preload.png into ``folder``; return their paths. ``valley``: the constant optimum's spring
     force at other stiffnesses (runtime/studies/preload/stiffness.py); ``stopped``: why the study ended before its
     last stage (a signal), stated at the top of both reports; ``overrides``: the scene keys replaced on the command
     line (--set), recorded in both; ``options``: the study's own (the command's options), recorded in the JSON;
     ``run_id`` and ``status`` ("completed", "interrupted", "failed"): the report's
-    record, as a result's (runtime/results/folder.py). Each file is written atomically, the folder is not: write a
+    record, as a result's (runtime/results/folder.py); ``unchanged_from``: an earlier report of the same ``results``
+    (the bisection's checkpoints: the bisection is not drawn), whose figure and scene files are copied rather than
+    drawn and written again (where it has them). Each file is written atomically, the folder is not: write a
     report folder as one unit through :func:`report_folder`."""
     from ...results.figures import save_png
 
@@ -165,11 +183,25 @@ def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=
     atomic_write(paths[0], json.dumps(payload, indent=2, default=str) + "\n")
     atomic_write(paths[1], (f"**{stopped}.**\n\n" if stopped else "")
                  + markdown(scene_name, results, bisection, valley, overrides, scene is not None) + "\n")
+    copied = _copy_unchanged(Path(unchanged_from), folder) if unchanged_from is not None else []
+    if copied:
+        return paths + copied
     if scene is not None:
         paths += _write_scene(folder, scene, run_id)
     paths.append(folder / "preload.png")
     save_png(figure(scene, results, min_force), paths[-1], 100)
     return paths
+
+
+def _copy_unchanged(source: Path, folder: Path) -> list:
+    """Copy the figure and the scene files of the report in ``source`` into ``folder`` (a folder being filled, moved
+    into place as a whole); [] where ``source`` has no figure."""
+    if not (source / "preload.png").is_file():
+        return []
+    names = [n for n in ("scene.toml", "pressure.csv", "preload.png") if (source / n).is_file()]
+    for name in names:
+        shutil.copyfile(source / name, folder / name)
+    return [folder / n for n in names]
 
 
 def _write_scene(folder: Path, scene, run_id: str | None) -> list:
