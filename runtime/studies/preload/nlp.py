@@ -18,6 +18,13 @@ from .shooting import CHUNK, TWO_PI
 
 #: IPOPT statuses taken as a solution
 SOLVED = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+#: IPOPT's filter accepts no iterate whose constraint violation exceeds this times max(1, the start's) (its option
+#: theta_max_fact; the deficit rows count in units of their bound) in the second solve of a study whose first one
+#: ended at its iteration limit from a start where every bounded quadrature is 0 (study.py). IPOPT's default, 1e4,
+#: let the lift-off scene's first step go from such a start, where the deficit's gradient is 0 too, to 6980 x the
+#: bound, deep in lift-off, where it stayed for 100 iterations; with 10 the line search shortens that step and
+#: IPOPT converges in 8 iterations (docs/preload.md, "The lift-off scene")
+THETA_MAX_FACT = 10.0
 
 
 def _advice(status: str, groove: bool = False) -> str:

@@ -64,6 +64,9 @@ class PreloadResult:
     #: preload violates the force-deficit or the groove-force bound), "zero" (the bound delta_s >= 0: no preload
     #: is needed); "" for a schedule or a failed study
     active: str = ""
+    #: IPOPT was solved again from its start with its filter bounded (:func:`.study._solve_with_the_filter_bounded`):
+    #: the first solve ended at its iteration limit from a start where the force deficit and its gradient were 0
+    filter_bounded: bool = False
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -98,7 +101,9 @@ class PreloadResult:
             f"({self.friction_power - self.scene_friction_power:+.3f} W)",
             *self._holding(),
             f"  IPOPT: {self.ipopt_status}, {self.ipopt_iterations} iterations, {self.ipopt_time_s:.1f} s "
-            f"({self.rounds} round{'s' if self.rounds != 1 else ''}); build {self.build_time_s:.1f} s; "
+            f"({self.rounds} round{'s' if self.rounds != 1 else ''}"
+            f"{'; solved again with its filter bounded after its iteration limit' if self.filter_bounded else ''}); "
+            f"build {self.build_time_s:.1f} s; "
             f"{self.nodes} shooting nodes, erk rtol {self.rtol:g}",
         ]
         return "\n".join(lines)

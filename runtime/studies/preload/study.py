@@ -50,6 +50,11 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
   smallest k whose re-simulated revolution meets the deficit bound; the preload is bounded above by it.
   A schedule starts from the constant optimum (the constant is a feasible schedule, so the schedule's
   friction power can only be lower).
+* **A start without gradient**: where the start's force deficit (and groove-force excess) is 0, so is its
+  gradient, and IPOPT's first step follows the objective alone. Where IPOPT then ends at its iteration limit (the
+  lift-off scene: its first step landed deep in lift-off, which IPOPT's filter accepted, and it stayed there), it
+  is solved again from the same start with its filter bounded (no iterate whose constraint violation exceeds 10,
+  nlp.THETA_MAX_FACT), which shortens that step (``_solve_with_the_filter_bounded``).
 * **Tolerances**: IPOPT's tol and constr_viol_tol 1e-3; the constraint function is noisy at the erk
   rtol (the rattle's impacts), so IPOPT also stops ("acceptable") once the objective changes by less
   than 1e-4 relative over 3 iterations with the constraints within 2e-2 of their bounds (the deficit
@@ -65,7 +70,7 @@ import numpy as np
 from ....cores import parallel_threads
 from ....progress import announce, stage
 from ...solving.signals import StopSignals
-from .nlp import ShootingNlp
+from .nlp import THETA_MAX_FACT, ShootingNlp
 from .periodic import periodic
 from .problem import (
     MAX_FORCE,
@@ -157,6 +162,9 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
             # IPOPT turns an interruption in its callbacks into a return status: under the CLI's StopSignals the
             # signal it caught abandons the stage here (logged "abandoned", not "done"), and the study with it
             StopSignals.raise_pending()
+            if not ok and res.ipopt_status == "Maximum_Iterations_Exceeded" and sim.deficit == sim.groove_excess == 0:
+                ok = _solve_with_the_filter_bounded(nlp, x_knots, res, upper=upper, max_rate=max_rate,
+                                                    max_iter=max_iter, verbose=verbose, ipopt_options=ipopt_options)
         if not ok:
             return res
         x_knots = nlp.knots_m
@@ -177,6 +185,28 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     fill_result(res, setup, nlp.grid, x_knots, sim)
     res.ok, res.message = True, "solved"
     return res
+
+
+def _solve_with_the_filter_bounded(nlp, x_knots, res, **solve) -> bool:
+    """Solve ``nlp`` again from its start with IPOPT's filter bounded (nlp.THETA_MAX_FACT): IPOPT ended at its
+    iteration limit from a start where the force deficit (and the groove-force excess) is 0, and so is its gradient.
+    Its first step then follows the objective alone, and IPOPT's filter, which by default accepts constraint
+    violations up to 1e4, let it land deep in lift-off (the lift-off scene: 6980 x the deficit bound), where it
+    stayed. Bounded, the line search shortens that step. Not the first solve: a long first step can also cross an
+    infeasible band to a better optimum (the small study's scene at a 0.1 N minimum: no preload at all, across a
+    lift-off band at 0.02-0.09 mm; bounded, IPOPT stops above the band at 0.095 mm, measured). Where this solve
+    fails too, the first one's message is kept, and this one's status added to it."""
+    first, before = res.message, res.ipopt_iterations
+    announce(f"IPOPT ended at its iteration limit from a start where the force deficit and its gradient are 0: "
+             f"solving again from that start with its filter bounded (theta_max_fact {THETA_MAX_FACT:g})")
+    options = {"theta_max_fact": THETA_MAX_FACT} | (solve.pop("ipopt_options") or {})
+    ok = nlp.solve(x_knots, res, ipopt_options=options, **solve)
+    StopSignals.raise_pending()
+    res.filter_bounded = True
+    if not ok:
+        res.message = (f"{first} Solved again from the start with IPOPT's filter bounded (theta_max_fact "
+                       f"{THETA_MAX_FACT:g}): {res.ipopt_status} after {res.ipopt_iterations - before} iterations.")
+    return ok
 
 
 #: a constant optimum is accepted when this much less preload violates the deficit bound (relative)
