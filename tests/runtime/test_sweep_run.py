@@ -416,6 +416,7 @@ def not_a_scheduler():
             conn.close()
 
     threading.Thread(target=answer, daemon=True).start()
+    import distributed  # noqa: F401 - its defaults loaded first: set() on a key of none would drop them on exit
     with dask.config.set({"distributed.comm.timeouts.connect": "2s"}):
         yield [f"tcp://127.0.0.1:{s.getsockname()[1]}" for s in (closed, web)]
     closed.close()
@@ -444,6 +445,10 @@ def test_a_scheduler_that_does_not_answer_is_refused_naming_it_before_anything_i
         r = CliRunner().invoke(main, ["sweep", str(study), "--scheduler", address, "--out", str(tmp_path / f"c{k}")])
         assert r.exit_code == 1 and f"--scheduler {address}: no Dask scheduler answered there" in r.output, r.output
         assert "writing to" not in r.output and not (tmp_path / f"c{k}").exists(), r.output
+    # and no thread of Dask's is left running (the later tests' figure workers fork, which threads make unsafe)
+    import threading
+
+    assert not [t.name for t in threading.enumerate() if t.name == "IO loop"]
 
 
 @pytest.mark.parametrize("where", ["serial", "LocalCluster"])
@@ -476,3 +481,16 @@ def test_a_long_point_is_described_with_its_revolutions_and_time():
     running = {3: (0.25, 20, 1.0), 12: (3.5, 20, 65.2), 4: (10.0, 20, 30.0), 7: (1.0, 20, 2.5)}
     assert describe(running) == "point 12: 3.5/20 rev, 1m05s; point 4: 10/20 rev, 30s; 1 more"
     assert describe({3: (0.25, 20, 1.0)}) == ""
+
+
+def test_a_sweep_on_a_scheduler_that_answers_runs_there(tmp_path):
+    """The scheduler is reached by Dask's handshake before the Client (execute._probe): a scheduler that answers
+    (here a LocalCluster's, over TCP, as `dask scheduler` serves) runs the sweep as its serial run does."""
+    from dask.distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, protocol="tcp",
+                      dashboard_address=None) as cluster:
+        there = run_sweep(light_study(), tmp_path / "there", scheduler=cluster.scheduler_address, quiet=True)
+    here = run_sweep(light_study(), tmp_path / "here", workers=1, quiet=True)
+    assert len(there.table) == len(here.table) == 16
+    pd.testing.assert_frame_equal(stable(there.table), stable(here.table))

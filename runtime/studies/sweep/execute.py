@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import logging
 import signal
+import threading
 import time
 import uuid
 from collections.abc import Callable
@@ -143,9 +144,37 @@ def connect(address: str):
     from dask.distributed import Client
 
     try:
+        _probe(address)
         return Client(address)
     except Exception as err:  # noqa: BLE001 - whatever answered, it was no scheduler
         raise SchedulerError(address, f"{type(err).__name__}: {err}") from err
+
+
+def _probe(address: str) -> None:
+    """Dask's handshake with ``address`` in a thread of its own that ends with it: a Client that finds no scheduler
+    leaves its event loop's thread ("IO loop") running for the life of the process, and a process with threads
+    cannot fork its figure worker safely (runtime/results/figure_worker.py). Raises what the handshake raised."""
+    import asyncio
+
+    from distributed.comm import connect as handshake
+
+    async def reach() -> None:
+        comm = await handshake(address)
+        await comm.close()
+
+    failed: list[BaseException] = []
+
+    def run() -> None:
+        try:
+            asyncio.run(reach())
+        except BaseException as err:  # noqa: BLE001 - handed to the caller's thread
+            failed.append(err)
+
+    probe = threading.Thread(target=run, name="apexseal-scheduler-probe", daemon=True)
+    probe.start()
+    probe.join()
+    if failed:
+        raise failed[0]
 
 
 def check_workers(workers: Any) -> None:
