@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ...files import try_lock_folder
-from .reading import SCENE_FILE, ResultFolderError, check_stamp, read_part, read_record, scene_of_result
+from .reading import SCENE_FILE, ResultFolderError, check_stamp, read_part, read_record, scene_changed, scene_of_result
 from .result import SimulationResult
 
 #: the folder a run killed outright leaves beside its target (runtime/results/folder.py)
@@ -103,15 +103,11 @@ def continuation(folder: str | Path, read: SimulationResult | None = None) -> Co
         raise ResultFolderError(f"a continuation of this run was stopped outright and left {newer}: resume that "
                                 "folder, which holds more of the run, or remove it")
     scene = scene_of_result(folder, record["info"])  # a SceneError becomes a ResultFolderError naming packages
-    if scene.content_hash() != record["info"].get("scene_hash"):
-        from ...derive.submodels.registry import installed
-
-        packages = ", ".join(f"{name} from {dist}" for name, dist in installed().items())
-        why = "edited since, or written by an earlier apexseal whose hash counted the pressure table's unit?" + \
-              (f" or read with other submodels installed now: {packages}" if packages else "")
-        raise ResultFolderError(f"{folder / SCENE_FILE} is not the scene the run computed (its content hash differs "
-                                f"from the one result.json records: {why}); to run the scene as it reads now, "
-                                f"simulate it: apexseal simulate {folder / SCENE_FILE} --out <new folder>")
+    changed = scene_changed(folder, scene, record["info"])
+    if changed or scene.content_hash() != record["info"].get("scene_hash"):
+        changed = changed or f"{folder / SCENE_FILE}: result.json records no scene hash"
+        raise ResultFolderError(f"{changed}; to run the scene as it reads now, simulate it: apexseal simulate "
+                                f"{folder / SCENE_FILE} --out <new folder>")
     return Continuation(source=folder, target=target or folder, record=record,
                         scene=scene, revolutions=kept, parts=list(record["parts"][:kept]), z=z,
                         carried=carried, last=last)

@@ -136,6 +136,14 @@ def read(folder: str | Path) -> SimulationResult:
     result.info.setdefault("run_id", run_id)
     if (folder / SCENE_FILE).is_file():
         result.scene = scene_of_result(folder, result.info)
+        changed = scene_changed(folder, result.scene, result.info)
+        if changed:
+            import warnings
+
+            from apexseal.stacklevel import user_stacklevel
+
+            warnings.warn(f"{changed}: result.scene is the scene as the file reads now", SceneChangedWarning,
+                          stacklevel=user_stacklevel())
     theta = result.theta
     if theta.size > 1 and not (np.diff(theta) > 0).all():
         raise ResultFolderError(f"{folder}: the parts do not follow each other (crank angle not increasing)")
@@ -154,6 +162,25 @@ def _check_table(path: Path, digest: str) -> None:
         raise ResultFolderError(f"{path} is not the file result.json recorded (sha256 differs): the folder mixes "
                                 f"files of different runs, or the table was changed since the run; its "
                                 f"{SCENE_FILE} would not re-run this result")
+
+
+class SceneChangedWarning(UserWarning):
+    """A result's scene.toml is not the scene its run computed (:func:`scene_changed`)."""
+
+
+def scene_changed(folder: Path, scene, info: dict) -> str | None:
+    """Why ``scene``, loaded from ``folder``'s scene.toml, is not the scene the run computed (its content hash is not
+    the one result.json records), or None when it is (or the record names none)."""
+    recorded = info.get("scene_hash")
+    if recorded is None or scene.content_hash() == recorded:
+        return None
+    from apexseal.derive.submodels.registry import installed
+
+    packages = ", ".join(f"{name} from {dist}" for name, dist in installed().items())
+    why = "edited since, or written by an earlier apexseal whose hash counted the pressure table's unit?" + \
+          (f" or read with other submodels installed now: {packages}" if packages else "")
+    return (f"{folder / SCENE_FILE} is not the scene the run computed (its content hash differs from the one "
+            f"result.json records: {why})")
 
 
 def scene_of_result(folder: Path, info: dict):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import types
+import warnings
 
 import numpy as np
 import pytest
@@ -141,6 +142,10 @@ def test_what_cannot_be_continued_is_refused_with_the_reason(light, tmp_path):
         apexseal.resume(failed)
     text = (done / "scene.toml").read_text()
     (done / "scene.toml").write_text(text.replace('ks = "5000.0 N/m"', 'ks = "7000.0 N/m"'))
+    from apexseal.runtime.results.reading import SceneChangedWarning
+
+    with pytest.warns(SceneChangedWarning, match="is not the scene the run computed"):  # it loaded without a word
+        assert apexseal.SimulationResult.load(done).scene.spring.ks == 7000.0
     with pytest.raises(ResultFolderError, match="is not the scene the run computed") as err:
         apexseal.resume(done, revolutions=2)
     assert "edited since, or written by an earlier apexseal whose hash counted the pressure table's unit?)" in \
@@ -153,6 +158,9 @@ def test_what_cannot_be_continued_is_refused_with_the_reason(light, tmp_path):
                                                     "my-seal-models 0.2"):
             apexseal.resume(done, revolutions=2)
     (done / "scene.toml").write_text(text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", SceneChangedWarning)
+        apexseal.SimulationResult.load(done)  # the scene that ran: no warning
     other = types.SimpleNamespace(model_hash="0" * 64)
     with pytest.raises(ResultFolderError, match="another model"):
         same_model(continuation(done), other)
