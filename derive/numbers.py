@@ -29,6 +29,15 @@ def initial_wall_deflection(*, ks, delta_s, kw):
     return ks * delta_s / kw
 
 
+def initial_wall_deflection_normal(*, ks, delta_s, kw, r, L, mu1=0.0):
+    """delta_w where kw acts on the normal penetration xs5 cos(lambda) (``assumptions.housing_stiffness =
+    "normal"``): the X balance of Eq. 9 at rest at theta = 0, ks delta_s = kw delta_w cos(lambda0) (cos(lambda0) +
+    mu1 sin(lambda0)), lambda0 = atan(2 r / L) (Eq. 9), the normal force kw delta_w cos(lambda0) with its friction
+    (``mu1``; 0 without housing friction) that the tip's forward slide turns towards +X (Algorithm 2). Numbers."""
+    lam0 = math.atan(2 * r / L)
+    return ks * delta_s / (kw * math.cos(lam0) * (math.cos(lam0) + mu1 * math.sin(lam0)))
+
+
 def damping_of_ratio(zeta, k, ms):
     """c = 2 zeta sqrt(k ms): zeta times the critical damping of the seal's mass on a contact of stiffness k.
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from ..numbers import initial_wall_deflection, machine_numbers, tip_half_angle
+from ..numbers import initial_wall_deflection, initial_wall_deflection_normal, machine_numbers, tip_half_angle
 from ..options import NONE, ON, Option
 from ..parameters import Parameter
 from .base import Guard, State, Submodel
@@ -103,7 +103,9 @@ class SealBody(Submodel):
 
         ``Li = L - ds1 + delta_w``: the seal tip, ds1 above C, then presses delta_w into the housing at
         Rh - 2 r sin(theta) = L from the chord centre, as Eq. 33 assumes. ``delta_w`` balances the spring's
-        preload on the housing at rest when both are on, else 0 (nothing presses the seal on the housing).
+        preload on the housing at rest when both are on, else 0 (nothing presses the seal on the housing): with the
+        groove-axis component of the housing force (Eq. 9), or, under housing_stiffness = "normal", with the X
+        component of the normal force and its friction at theta = 0 (numbers.initial_wall_deflection_normal).
         """
         v = values
         out: dict[str, float] = {"omega": inputs["operation"].omega}
@@ -116,6 +118,13 @@ class SealBody(Submodel):
             m = inputs["machine"]
             out["zeta0"] = machine_numbers(m.embodiment, r=v["r"], L=v["L"], Wg=v["Wg"], Cr=v["Cr"], k=v["k"]).truncation
         pressed = options.on("spring") and options.on("housing_contact")
-        out["delta_w"] = initial_wall_deflection(ks=v["ks"], delta_s=v["delta_s"], kw=v["kw"]) if pressed else 0.0
+        if not pressed:
+            out["delta_w"] = 0.0
+        elif options["housing_stiffness"] == "normal":  # kw on the normal penetration: its X component balances
+            mu1 = v["mu1"] if options.on("housing_friction") else 0.0
+            out["delta_w"] = initial_wall_deflection_normal(ks=v["ks"], delta_s=v["delta_s"], kw=v["kw"], r=v["r"],
+                                                            L=v["L"], mu1=mu1)
+        else:
+            out["delta_w"] = initial_wall_deflection(ks=v["ks"], delta_s=v["delta_s"], kw=v["kw"])
         out["Li"] = v["L"] - v["ds1"] + out["delta_w"]
         return out

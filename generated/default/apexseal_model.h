@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 15c2a2cb0ffd9b9e5efd41a2b3e69716ceebbbf6a3181c238ccaf69c99e57a37.
+ * Effects: all. Input hash: 1625be00adfdf828bdb687fcef97f988b4fb2409c0c87d8d1b3a5b82650ab31b.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "15c2a2cb0ffd9b9e5efd41a2b3e69716ceebbbf6a3181c238ccaf69c99e57a37"
+#define APEXSEAL_INPUT_HASH "1625be00adfdf828bdb687fcef97f988b4fb2409c0c87d8d1b3a5b82650ab31b"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -66,3 +66,24 @@ def test_kw_and_cw_act_along_the_direction_the_choice_names(kg):
     normal = float(fx * n_in[0] + fy * n_in[1])
     assert fx * n_in[1] - fy * n_in[0] == pytest.approx(0.0, abs=1e-9 * abs(normal))  # along the normal
     assert normal == pytest.approx((kw * xs5 + cw * v_x) * float(sp.cos(lam)), rel=1e-12)
+
+
+@pytest.mark.parametrize("friction", [True, False], ids=["with-friction", "without"])
+def test_under_normal_the_initial_deflection_balances_the_preload_at_rest(kg, friction):
+    """Eq. 9's balance at rest at theta = 0 (x = y = phi = 0, the seal still in its groove, the tip sliding forward
+    with the rotor): the X component of the housing force is the spring's preload ks delta_s. Under "normal" the
+    deflection delta_w was the groove-axis one, ks delta_s / kw, which left 10-14 % of the preload unbalanced
+    (cos(lambda0) (cos(lambda0) + mu1 sin(lambda0)) of it, lambda0 = atan(2 r / L) = 21.8 deg, balanced)."""
+    import apexseal
+
+    k, g = kg
+    scene = apexseal.load_scene().with_overrides(**{"assumptions.housing_stiffness": "normal",
+                                                    "effects.housing_friction": friction})
+    values = {P[n]: v for n, v in scene.parameters.items() if n in P}
+    values.update({s: 1 for s in activation_symbols().values()})
+    values.update({theta: 0.0, x: 0.0, y: 0.0, phi: 0.0, xd: 0.0, yd: 0.0, phid: 0.0})
+    opts = options_of(scene.effects, scene.assumptions)
+    load = submodel_contacts("housing", k, g, opts)[0].loads[0]
+    fx = float(sp.N(sp.sympify(k.components(load.force)[0]).subs(values)))
+    assert _number(plain(g.xs5).subs(values)) == pytest.approx(scene.parameters["delta_w"], rel=1e-9)
+    assert -fx == pytest.approx(scene.parameters["ks"] * scene.parameters["delta_s"], rel=1e-9)
