@@ -102,10 +102,11 @@ def continuation(folder: str | Path, read: SimulationResult | None = None) -> Co
         _not_being_written(newer)
         raise ResultFolderError(f"a continuation of this run was stopped outright and left {newer}: resume that "
                                 "folder, which holds more of the run, or remove it")
-    scene = scene_of_result(folder, record["info"])  # a SceneError becomes a ResultFolderError naming packages
-    changed = scene_changed(folder, scene, record["info"])
-    if changed or scene.content_hash() != record["info"].get("scene_hash"):
-        changed = changed or f"{folder / SCENE_FILE}: result.json records no scene hash"
+    # the scene read already, or loaded here (a SceneError becomes a ResultFolderError naming packages)
+    scene = read.scene if read is not None and read.scene is not None else scene_of_result(folder, record["info"])
+    changed = (scene_changed(folder, scene, record["info"]) if record["info"].get("scene_hash") is not None else
+               f"{folder / SCENE_FILE}: result.json records no scene hash")
+    if changed:
         raise ResultFolderError(f"{changed}; to run the scene as it reads now, simulate it: apexseal simulate "
                                 f"{folder / SCENE_FILE} --out <new folder>")
     return Continuation(source=folder, target=target or folder, record=record,
