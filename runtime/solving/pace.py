@@ -83,16 +83,19 @@ class IntervalByInterval(Engine):
         P = np.asarray(pressures, float)
         linear = int(P.shape[1] > self.n_samples)  # the values at the intervals' ends: one column more
         cols, stats, z = [], {"n_calls_split": 1}, z0
+
+        def done() -> np.ndarray:  # the samples of the intervals made so far
+            return np.array(cols).T if cols else np.zeros((z0.size, 0))
+
         for k in range(self.n_samples):
-            done = np.array(cols).T if cols else np.zeros((z0.size, 0))
             if time.perf_counter() > self.deadline:
-                raise WallTimeExceeded(done)
+                raise WallTimeExceeded(done())
             try:
                 out = self.single.run(z, params, theta0 + k * self.dtheta, P[:, k:k + 1 + linear])
             except WallTimeExceeded:
-                raise WallTimeExceeded(done) from None
+                raise WallTimeExceeded(done()) from None
             except RuntimeError as err:
-                raise FailedInterval(err, done) from err
+                raise FailedInterval(err, done()) from err
             z = out.z[:, -1]
             cols.append(z.copy())
             for key, v in out.stats.items():
