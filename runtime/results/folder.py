@@ -256,7 +256,11 @@ class ResultFolder:
     def begin(self, info: dict) -> None:
         """The run's record as known before its first step (method, tolerances, grid, provenance): every progress
         record carries it, so a run killed outright still says how it was run; :meth:`finish` completes it."""
-        self.info = dict(info) | {"run_id": self.run_id} | ({"files_asked": list(self.asked)} if self.asked else {})
+        self.info = self._stamped(info)
+
+    def _stamped(self, info: dict) -> dict:
+        """``info`` with the run id and the files the run was asked for (:attr:`asked`)."""
+        return dict(info) | {"run_id": self.run_id} | ({"files_asked": list(self.asked)} if self.asked else {})
 
     def append(self, part: SimulationResult, z_end: np.ndarray | None = None,
                carried: np.ndarray | None = None) -> None:
@@ -318,7 +322,7 @@ class ResultFolder:
         and record as reading the folder back, which is done when they did not fit in :data:`KEEP_BYTES`). The part
         still being written is waited for; its error, not reported yet, is raised (:meth:`sync`)."""
         self.sync()
-        self.info = dict(info) | {"run_id": self.run_id} | ({"files_asked": list(self.asked)} if self.asked else {})
+        self.info = self._stamped(info)
         if not self.parts:
             raise ResultStorageError(self.error.errno if self.error else None,
                                      str(self.error) if self.error else f"no part of the result was written to "
