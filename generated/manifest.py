@@ -112,10 +112,6 @@ class Manifest:
         return [name for name in self.files if name.endswith(".c")]
 
     @property
-    def function_names(self) -> list[str]:
-        return list(self.data["functions"])
-
-    @property
     def modes(self) -> list[dict[str, Any]]:
         return self.data["modes"]
 

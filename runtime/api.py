@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..derive.names import STATE_NAMES
 from .results.plausibility import PenetrationWarning, describe, penetration_check, side_clearance
 from .results.result import SimulationResult
 from .solving.run import run
@@ -253,9 +254,6 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     return result
 
 
-STATE_KEYS = ("x", "y", "phi", "xd", "yd", "phid")
-
-
 def initial_state(scene, functions=None) -> np.ndarray:
     """The physical initial state in ``functions.state_names`` order (default: the seal's six, SI): the seal's
     from [operation.initial_state], a submodel's own states from its ``initial_state`` (the chamber gas: both
@@ -265,11 +263,11 @@ def initial_state(scene, functions=None) -> np.ndarray:
 
     opts = options_of(scene.effects, scene.assumptions)
     op = scene.operation
-    values = {k: float(getattr(op.initial_state, k)) for k in STATE_KEYS}
+    values = {k: float(getattr(op.initial_state, k)) for k in STATE_NAMES}
     for cls in submodels():
         if cls.states and cls.active(opts):
             values.update(cls.initial_state(scene.parameters, op.start_angle))
-    names = functions.state_names if functions is not None else STATE_KEYS
+    names = functions.state_names if functions is not None else STATE_NAMES
     return np.array([values[n] for n in names], float)
 
 
@@ -316,11 +314,11 @@ class Model:
         try:
             x = np.asarray(state, dtype=float)
         except (TypeError, ValueError):
-            raise ValueError(f"state = {state!r}: expected 6 numbers ({', '.join(STATE_KEYS)})") from None
+            raise ValueError(f"state = {state!r}: expected 6 numbers ({', '.join(STATE_NAMES)})") from None
         if x.shape != (6,):
-            raise ValueError(f"state: expected shape (6,) ({', '.join(STATE_KEYS)}, SI), got shape {x.shape}")
+            raise ValueError(f"state: expected shape (6,) ({', '.join(STATE_NAMES)}, SI), got shape {x.shape}")
         if not np.isfinite(x).all():
-            bad = ", ".join(k for k, v in zip(STATE_KEYS, x, strict=True) if not np.isfinite(v))
+            bad = ", ".join(k for k, v in zip(STATE_NAMES, x, strict=True) if not np.isfinite(v))
             raise ValueError(f"state: not finite in {bad}: {x.tolist()}")
         return theta, x
 

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 1625be00adfdf828bdb687fcef97f988b4fb2409c0c87d8d1b3a5b82650ab31b.
+ * Effects: all. Input hash: a9778adc414b1fbff4916867cb574f19da4c4936e5c64683d920ad9eccbfa5b0.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "1625be00adfdf828bdb687fcef97f988b4fb2409c0c87d8d1b3a5b82650ab31b"
+#define APEXSEAL_INPUT_HASH "a9778adc414b1fbff4916867cb574f19da4c4936e5c64683d920ad9eccbfa5b0"
 
 /* state x */
 #define APEXSEAL_NX 6

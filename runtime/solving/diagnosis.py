@@ -14,13 +14,12 @@ import time
 
 import numpy as np
 
-from ...derive.submodels.registry import guard as declared_guard
 from ...progress import announce
 from ..results.result import StopInfo
 from .checks import Chattering, chatter_advice, tilt_reason
 from .layout import HybridLayout
 from .methods import WallTimeExceeded, make_engine, single_interval_engine
-from .preflight import MAX_START_PENETRATION
+from .preflight import MAX_START_PENETRATION, penetration_guards
 from .scaling import to_physical
 from .settings import MAX_TILT, RunSettings, out_of_time
 from .signals import StopSignals
@@ -176,7 +175,7 @@ def _seal_at(functions, z, theta, params, u) -> tuple[str, float]:
     X = to_physical(z[lay.x], functions.omega(params), lay.state_names)
     x, y, phi = X[:3]
     g = np.array(functions.guards(theta, X, params, u)).ravel()
-    g[[i for i, name in enumerate(functions.guard_names) if declared_guard(name).closed_at_rest]] = np.inf
+    g = np.where(np.isin(np.arange(g.size), penetration_guards(functions.guard_names)), g, np.inf)
     deepest = int(np.argmin(g))
     return (f"at x = {x * 1e6:.4g} um, y = {y * 1e6:.4g} um, phi = {phi * 1e3:.4g} mrad (deepest contact "
             f"{functions.guard_names[deepest]}: {-g[deepest] * 1e6:.4g} um)"), float(-g[deepest])

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from ...derive.submodels.registry import guard, parameter
 from ..results.result import StopInfo
 from .contact_stability import MAX_GROWTH, contact_frequencies, contact_growth
 from .euler_friction import friction_at_start
@@ -70,10 +71,16 @@ def speed_problem(functions, params) -> str | None:
             f"allowed: rpm >= {rpm_min:.3g} (at most {MAX_OSCILLATIONS_PER_RAD:g} oscillations per rad)")
 
 
+def penetration_guards(guard_names) -> list[int]:
+    """The indices of the guards whose depth is a penetration into a wall: every guard but those its submodel
+    declares closed at rest (a preloaded spring's, whose guard is its compression)."""
+    return [i for i, name in enumerate(guard_names) if not guard(name).closed_at_rest]
+
+
 def start_problem(functions, params, theta, X, u) -> str | None:
     """The initial-state values, if they start the seal deep inside a wall (no meaningful contact force there)."""
     names = list(functions.guard_names)
-    penalty = [i for i, n in enumerate(names) if n != "spring"]  # the spring's guard is its compression
+    penalty = penetration_guards(names)
     p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
     limit = MAX_START_PENETRATION * p["Ws"]
     if not penalty:  # no contact to start inside
@@ -96,10 +103,11 @@ def start_problem(functions, params, theta, X, u) -> str | None:
               f"where a contact's geometry is not defined (guard {names[where]} is not finite: far outside its groove)")
     allowed = f"allowed: at most {MAX_START_PENETRATION:g} Ws = {limit * 1e6:.4g} µm of penetration at the start"
     if not shown and abs(p.get("delta_w", 0.0)) > limit:  # the seal at rest: the preload's wall deflection (Eq. 9)
+        ks, delta_s, kw = (parameter(n).key for n in ("ks", "delta_s", "kw"))
         return (f"the spring's preload deflects the housing wall by delta_w = ks delta_s / kw = "
-                f"{p['delta_w'] * 1e6:.4g} µm (Eq. 9: spring.ks = {p['ks']:.6g} N/m, spring.delta_s = "
-                f"{p['delta_s'] * 1e3:.6g} mm, contacts.kw = {p['kw']:.6g} N/m), which starts the seal {where_}; "
-                f"{allowed}: a stiffer contacts.kw (a metal housing: about 1e9 N/m) or a smaller preload")
+                f"{p['delta_w'] * 1e6:.4g} µm (Eq. 9: {ks} = {p['ks']:.6g} N/m, {delta_s} = "
+                f"{p['delta_s'] * 1e3:.6g} mm, {kw} = {p['kw']:.6g} N/m), which starts the seal {where_}; "
+                f"{allowed}: a stiffer {kw} (a metal housing: about 1e9 N/m) or a smaller preload")
     if not shown:
         return (f"the scene's parameters start the seal at rest {where_}; {allowed}: check the geometry and the "
                 "contacts' stiffnesses")

@@ -157,3 +157,22 @@ def test_the_start_penetration_limit_is_a_tenth_of_the_seal_width(default_scene,
     assert problem(320e-6) is None
     refused = problem(350e-6)
     assert refused is not None and "inside a wall" in refused and "0.1 Ws = 300 µm" in refused
+
+
+def test_a_guard_declared_closed_at_rest_is_no_penetration_at_the_start():
+    """A contact closed at rest by design (a preloaded pad, as the spring) starts deep in its guard: the start check
+    reads that from the guard's declaration, as the failure diagnosis does, not from the name "spring" (which
+    refused any other such contact)."""
+    from types import SimpleNamespace
+
+    from apexseal.derive.submodels import registry
+    from apexseal.derive.submodels.base import Guard, Submodel
+    from apexseal.runtime.solving.preflight import start_problem
+
+    pad = type("Pad", (Submodel,), {"name": "pad", "__module__": "elsewhere", "guards": (
+        Guard("pad", "s_pad", "minus the pad's compression", output="pad_compression", sign=-1,
+              closed_label="p", open_label="p0", closed_at_rest=True),)})
+    functions = SimpleNamespace(guard_names=("xs5", "pad"), parameter_names=("Ws",),
+                                guards=lambda theta, state, params, u: np.array([1e-6, -1e-3]))  # 1 mm > 0.1 Ws
+    with registry.registered(pad):
+        assert start_problem(functions, np.array([3e-3]), 0.0, np.zeros(6), np.zeros(2)) is None

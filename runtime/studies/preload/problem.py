@@ -379,13 +379,6 @@ class PreloadSetup:
         j = int(np.argmin(m))
         return float(m[j]), float(np.degrees(sim.thetas[j]) % 360.0)
 
-    def min_checked(self, periodic: Periodic) -> tuple[np.ndarray, np.ndarray]:
-        """Per preload: the smallest measure at the checked samples and its crank angle (deg, mod 360)."""
-        keep = self.mask(periodic.thetas)
-        m = np.where(keep[None, :], periodic.measure, np.inf)
-        k = np.argmin(m, axis=1)
-        return m[np.arange(m.shape[0]), k], np.degrees(periodic.thetas[k]) % 360.0
-
 
 def is_integer(x) -> bool:
     """An integer (Python's or numpy's), not a bool."""
