@@ -293,7 +293,8 @@ class Model:
         return g.ravel() < 0
 
     def rhs(self, theta: float, state) -> np.ndarray:
-        """d/dt of the state (x, y, phi, x', y', phi') at crank angle theta, contacts set by their gaps."""
+        """d/dt of the state (``state_names``: the seal's x, y, phi, x', y', phi', then a submodel's own states,
+        such as the chamber gas's) at crank angle theta, contacts set by their gaps."""
         theta, state = self._point(theta, state)
         u = self.pressures(theta)
         return np.array(self.functions.rhs_switched(theta, state, self.params, u)).ravel()
@@ -309,18 +310,25 @@ class Model:
         return value
 
     def _point(self, theta, state) -> tuple[float, np.ndarray]:
-        """theta as a finite float and state as 6 finite floats, or a ValueError naming what is wrong."""
+        """theta as a finite float and state as finite floats, one per name of ``state_names``, or a ValueError
+        naming what is wrong."""
         theta = self._theta(theta)
+        names = self.state_names
         try:
             x = np.asarray(state, dtype=float)
         except (TypeError, ValueError):
-            raise ValueError(f"state = {state!r}: expected 6 numbers ({', '.join(STATE_NAMES)})") from None
-        if x.shape != (6,):
-            raise ValueError(f"state: expected shape (6,) ({', '.join(STATE_NAMES)}, SI), got shape {x.shape}")
+            raise ValueError(f"state = {state!r}: expected {len(names)} numbers ({', '.join(names)})") from None
+        if x.shape != (len(names),):
+            raise ValueError(f"state: expected shape ({len(names)},) ({', '.join(names)}, SI), got shape {x.shape}")
         if not np.isfinite(x).all():
-            bad = ", ".join(k for k, v in zip(STATE_NAMES, x, strict=True) if not np.isfinite(v))
+            bad = ", ".join(k for k, v in zip(names, x, strict=True) if not np.isfinite(v))
             raise ValueError(f"state: not finite in {bad}: {x.tolist()}")
         return theta, x
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """The state's entries, in order: the seal's six, then those of the submodels the scene turns on."""
+        return tuple(self.functions.state_names)
 
     @property
     def guard_names(self) -> tuple[str, ...]:

@@ -93,3 +93,23 @@ def test_collocation_runs_the_gas_states_with_soft_contacts_and_agrees_with_erk(
         ref = apexseal.simulate(soft, revolutions=1, method="erk")
         r = apexseal.simulate(soft, revolutions=1, method="collocation", steps_per_revolution=14400, compile_c=False)
     _agree(r, ref, 2e-3, 1e-6)
+
+
+def test_the_model_evaluates_a_gas_scenes_state(gas_scene, erk_gas):
+    """apexseal.Model takes the state a gas scene runs (the seal's six, then the chambers' masses and energies):
+    its right-hand side at a sample of the run gives the rate of each chamber's mass that the sampled masses show
+    (central differences over the neighbouring samples, away from the chamber switches where the rates jump)."""
+    model = apexseal.Model(gas_scene)
+    names = model.state_names
+    assert names[:6] == ("x", "y", "phi", "xd", "yd", "phid") and {"ma", "mb"} <= set(names)
+    states = np.column_stack([erk_gas.column(n) for n in names])
+    for k in (len(states) // 4, 3 * len(states) // 4):  # 90 and 270 deg, away from the chamber switches
+        d = model.rhs(erk_gas.theta[k], states[k])
+        assert d.shape == (len(names),) and np.isfinite(d).all()
+        assert np.array_equal(d[:3], states[k, 3:6])
+        for n in ("ma", "mb"):
+            i = names.index(n)
+            rate = (states[k + 1, i] - states[k - 1, i]) / (erk_gas.time[k + 1] - erk_gas.time[k - 1])
+            assert d[i] == pytest.approx(rate, rel=1e-2), (n, k)
+    with pytest.raises(ValueError, match=r"expected shape \(10,\)"):
+        model.rhs(0.0, states[0, :6])
