@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..derive.names import STATE_NAMES
+from ..files import path_argument
 from .results.plausibility import PenetrationWarning, describe, penetration_check, side_clearance
 from .results.result import SimulationResult
 from .solving.run import run
@@ -139,10 +140,7 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
             return run_scene(scene, st, progress=progress, functions=functions)
         from .results.folder import ResultFolder
 
-        if not isinstance(out, str | Path):
-            raise TypeError(f"out = {out!r}: expected a folder (str or Path), or None to keep the result in memory")
-
-        sink = ResultFolder(out)
+        sink = ResultFolder(path_argument("out", out, "a folder (str or Path), or None to keep the result in memory"))
         try:
             result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)
         finally:
@@ -199,7 +197,7 @@ def continuing(folder, *, revolutions: int | None = None, max_wall_time: float |
     from .results.continuation import continuation
     from .results.folder import ResultFolderError
 
-    cont = continuation(folder)
+    cont = continuation(path_argument("folder", folder, "a result folder (str or Path)"))
     if revolutions is not None:  # its range named first (0 and -5 were taken as "as many as it was asked for")
         settings_of(cont.scene, revolutions=revolutions)
     asked = int(cont.record["info"].get("revolutions_asked") or 0) if revolutions is None else revolutions

@@ -8,6 +8,7 @@ allowed, so a user can fix a scene file in one pass.
 
 from __future__ import annotations
 
+import json
 from typing import Any
 
 #: placeholder shown as the value of a key that was not given
@@ -44,6 +45,8 @@ def show_value(value: Any) -> str:
         return MISSING
     if isinstance(value, bool):
         return "true" if value else "false"
+    if isinstance(value, str) and any(ord(c) < 32 or ord(c) == 127 for c in value):
+        return json.dumps(value, ensure_ascii=False)  # escaped as TOML writes them (a NUL shown, not printed)
     if isinstance(value, str):
         return f"'{value}'" if '"' in value and "'" not in value else f'"{value}"'
     if isinstance(value, dict):  # an inline table, as TOML writes it

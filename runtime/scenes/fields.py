@@ -163,10 +163,12 @@ class Text:
             return None
         if not isinstance(value, str) or not value.strip():
             raise _fail("expected a non-empty string")
+        if "\0" in value:
+            raise _fail(f"a file name cannot contain a NUL character; allowed: {self.allowed()}")
         return value
 
     def allowed(self) -> str:
-        return "a non-empty string"
+        return "a non-empty string without NUL characters"
 
     expects = allowed
 

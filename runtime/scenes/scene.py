@@ -33,6 +33,7 @@ import numpy as np
 
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects
+from apexseal.files import path_argument
 from apexseal.stacklevel import user_stacklevel
 
 from .checks import (
@@ -84,9 +85,7 @@ def load_scene(path: str | Path | None = None, overrides: dict[str, Any] | None 
         source = Path(str(folder.joinpath(DEFAULT_SCENE))) if isinstance(folder, Path) else None
         return Scene.from_toml_string(default_scene_text(), folder, name="default", source_path=source,
                                       overrides=overrides)
-    if not isinstance(path, str | Path):
-        raise TypeError(f"path = {path!r}: expected the path of a scene file (str or Path), or None for the default")
-    p = Path(path)
+    p = path_argument("path", path, "the path of a scene file (str or Path), or None for the default")
     try:
         text = p.read_text(encoding="utf-8")
     except FileNotFoundError:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
@@ -19,6 +20,53 @@ class Choice(click.Choice):
 
         self.fail(f"{value!r} is not allowed{did_you_mean(value, self.choices)}; allowed: {', '.join(self.choices)}",
                   param, ctx)
+
+
+class IntRange(click.IntRange):
+    """click's integer range, whose refusal of what is no integer (``abc``, ``1e20``) names the range too (click says
+    only that the value is not a valid integer)."""
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str):
+            try:
+                int(value)
+            except ValueError:
+                self.fail(f"{value!r} is not an integer; allowed: {self._describe_range()}", param, ctx)
+        return super().convert(value, param, ctx)
+
+
+class FloatRange(click.FloatRange):
+    """click's number range, which also refuses NaN (click lets it through: it fails no comparison) and names the
+    range for what is no number."""
+
+    def convert(self, value, param, ctx):
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            self.fail(f"{value!r} is not a number; allowed: {self._describe_range()}", param, ctx)
+        if math.isnan(number):
+            self.fail(f"{value} is not a number; allowed: {self._describe_range()}", param, ctx)
+        return super().convert(value, param, ctx)
+
+
+class Setting(click.ParamType):
+    """A run setting's option (``--revolutions``, ``--rtol``, ...): read as an integer or a number, its range checked
+    with the scene's and the API's (runtime/solving/settings.py); what is no number is refused naming that range."""
+
+    def __init__(self, setting: str, kind: type[int] | type[float]) -> None:
+        self.setting, self.integer = setting, kind is int
+        self.name = "integer" if self.integer else "float"
+
+    def convert(self, value, param, ctx):
+        if not isinstance(value, str):
+            return value
+        try:
+            return int(value) if self.integer else float(value)
+        except ValueError:
+            from .runtime.solving.settings import allowed
+
+            what = "an integer" if self.integer else "a number"
+            self.fail(f"{value!r} is not {what}; allowed: {allowed(self.setting)}", param, ctx)
 
 
 def writable(folder: Path, option: str = "--out") -> None:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import Choice
+from .cli_common import Choice, FloatRange, IntRange, writable
 from .generated.compiler import FLAG_SETS
 
 
@@ -35,10 +35,10 @@ def _command_line(ctx: click.Context) -> str:
               "(the repository's docs/bench/ only when asked: --out docs/bench).")
 @click.option("--methods", default="", help="Comma-separated method ids to keep (e.g. erk-C,scipy-RK45).")
 @click.option("--scenes", default="", help="Comma-separated scenes to keep (default, stiff).")
-@click.option("--samples", type=click.IntRange(4, 100000), help="Output samples per span (default 360).")
-@click.option("--span", "span_deg", type=click.FloatRange(1, 360), help="Crank angle integrated, deg (default 360).")
-@click.option("--settle", type=click.IntRange(0, 100), help="Settling revolutions before the span (default 3).")
-@click.option("--repeats", type=click.IntRange(1, 100), help="Timed runs after the warm-up.")
+@click.option("--samples", type=IntRange(4, 100000), help="Output samples per span (default 360).")
+@click.option("--span", "span_deg", type=FloatRange(1, 360), help="Crank angle integrated, deg (default 360).")
+@click.option("--settle", type=IntRange(0, 100), help="Settling revolutions before the span (default 3).")
+@click.option("--repeats", type=IntRange(1, 100), help="Timed runs after the warm-up.")
 @click.option("--no-effects", is_flag=True, help="Skip the effects-cost table.")
 @click.option("--no-check", is_flag=True, help="Skip checking the reference with a second method.")
 @click.option("--flags", type=Choice(tuple(FLAG_SETS)), help="C compiler flag set (default optimised).")
@@ -65,6 +65,7 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     except ValueError as err:
         hint = "--scenes" if str(err).startswith("unknown scene") else "--methods"
         raise click.BadParameter(str(err), param_hint=hint) from None
+    writable(out)  # before the hours of measuring, not at the end
     command = _command_line(click.get_current_context())
     t0 = time.perf_counter()
     results = run_benchmark(cfg, log=lambda msg: click.echo(msg, err=True))

@@ -8,18 +8,18 @@ from pathlib import Path
 
 import click
 
-from .cli_common import scene_and_folder, scene_label, scene_settings
+from .cli_common import IntRange, scene_and_folder, scene_label, scene_settings
 from .runtime.studies.calibration.fit import COUNTS
 
 
 @click.command()
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @scene_settings
-@click.option("--grid", type=click.IntRange(*COUNTS["grid"][:2]), default=3, show_default=True,
+@click.option("--grid", type=IntRange(*COUNTS["grid"][:2]), default=3, show_default=True,
               help="Grid points per unknown (log-spaced over its plausible range).")
-@click.option("--polish", type=click.IntRange(*COUNTS["polish"][:2]), default=20, show_default=True,
+@click.option("--polish", type=IntRange(*COUNTS["polish"][:2]), default=20, show_default=True,
               help="Nelder-Mead simulations after the grid (0: none).")
-@click.option("--revolutions", "-n", type=click.IntRange(*COUNTS["revolutions"][:2]), default=2, show_default=True,
+@click.option("--revolutions", "-n", type=IntRange(*COUNTS["revolutions"][:2]), default=2, show_default=True,
               help="Revolutions per simulation; the last one is analysed.")
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder for calibration.json [default: apexseal-out/<scene name>-calibration].")

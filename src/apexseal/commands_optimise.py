@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import Choice, default_folder, scene_label, scene_of, scene_settings, writable
+from .cli_common import Choice, IntRange, default_folder, scene_label, scene_of, scene_settings, writable
 
 
 def _quantity(value, param, unit: str, largest: float, example: str) -> float | None:
@@ -73,20 +73,20 @@ def _rate(ctx, param, value):
 @click.option("--exclude", "exclude", multiple=True, callback=_windows, metavar="START:END",
               help="Crank-angle window in degrees where the force is not required (repeatable, up to 4), e.g. 180:200; "
                    "angles are taken modulo 360, so 350:10 crosses 0 and 200:180 leaves only 180-200 required.")
-@click.option("--schedule", "knots", type=click.IntRange(2, 72), default=None, metavar="KNOTS",
+@click.option("--schedule", "knots", type=IntRange(2, 72), default=None, metavar="KNOTS",
               help="Also optimise a periodic piecewise-linear preload schedule with KNOTS knots, started from the "
                    "constant optimum.")
 @click.option("--max-rate", type=float, default=None, callback=_rate, metavar="MM_PER_DEG",
               help="Bound on |d delta_s / d theta| of the schedule in mm per degree [default: none].")
 @click.option("--max-preload", default="100 mm", show_default=True, callback=_length, metavar="LENGTH",
               help="Upper bound of the preload delta_s searched (a length, e.g. 150mm; a bare number is in m).")
-@click.option("--max-iter", type=click.IntRange(1, 10000), default=100, show_default=True,
+@click.option("--max-iter", type=IntRange(1, 10000), default=100, show_default=True,
               help="IPOPT's iterations per solve.")
 @click.option("--objective", type=Choice(["friction", "preload"]), default="friction", show_default=True,
               help="Minimise the cycle-mean friction power, or the (mean) preload.")
-@click.option("--samples", type=click.IntRange(36, 100000),
+@click.option("--samples", type=IntRange(36, 100000),
               help="Output samples per revolution [default: the scene's samples_per_revolution].")
-@click.option("--nodes", type=click.IntRange(2, 64), default=4, show_default=True,
+@click.option("--nodes", type=IntRange(2, 64), default=4, show_default=True,
               help="Shooting nodes over the revolution (with the knots, their least common multiple must divide "
                    "the samples).")
 @click.option("--vary-stiffness", is_flag=True,

@@ -9,7 +9,16 @@ from typing import NoReturn
 
 import click
 
-from .cli_common import Choice, default_folder, describe_result, result_folder, scene_label, scene_of, scene_settings
+from .cli_common import (
+    Choice,
+    Setting,
+    default_folder,
+    describe_result,
+    result_folder,
+    scene_label,
+    scene_of,
+    scene_settings,
+)
 from .runtime.solving.methods import METHODS
 from .stopwatch import Stopwatch
 
@@ -20,10 +29,11 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
 @click.command()
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @scene_settings
-@click.option("--revolutions", "-n", type=int, help="Revolutions to simulate (default: the scene's; 1 to 100000).")
+@click.option("--revolutions", "-n", type=Setting("revolutions", int),
+              help="Revolutions to simulate (default: the scene's; 1 to 100000).")
 @click.option("--method", type=Choice(list(METHODS)), help="Integration method (default: the scene's).")
-@click.option("--rtol", type=float, help="Relative tolerance (default: the scene's; 1e-12 to 0.01).")
-@click.option("--max-wall-time", type=float, metavar="SECONDS",
+@click.option("--rtol", type=Setting("rtol", float), help="Relative tolerance (default: the scene's; 1e-12 to 0.01).")
+@click.option("--max-wall-time", type=Setting("max_wall_time", float), metavar="SECONDS",
               help="Wall-time budget: past it the run stops and keeps the revolutions done, as Ctrl-C does; it "
                    "counts from the run's start, a first use's compilation included (above "
                    "0, at most 1e7 s; each revolution is then cut into 36 integrator calls, written into the result's "

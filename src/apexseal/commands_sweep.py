@@ -9,7 +9,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import Choice, writable
+from .cli_common import Choice, IntRange, writable
 from .cores import MAX_WORKERS
 
 EXAMPLES = ("preload-map",)
@@ -51,7 +51,7 @@ def _address(ctx, param, value: str | None) -> str | None:
 @click.argument("study", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", type=Choice(EXAMPLES), help="Run a study shipped with apexseal instead of STUDY "
               "(preload-map: the design map of the default machine over spring preload and stiffness).")
-@click.option("--workers", "-w", type=click.IntRange(1, MAX_WORKERS),
+@click.option("--workers", "-w", type=IntRange(1, MAX_WORKERS),
               help="Worker processes of the local Dask cluster [default: every core]; 1 runs serially here.")
 @click.option("--scheduler", metavar="ADDRESS", callback=_address,
               help="Address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786) to send the points to.")
@@ -62,7 +62,7 @@ def _address(ctx, param, value: str | None) -> str | None:
 @click.option("--figures/--no-figures", default=True, show_default=True, help="Write the figures at the end.")
 @click.option("--bench", is_flag=True, help="Measure throughput instead: serial vs every core vs a 2-worker "
               "LocalCluster, each over the whole study (results in temporary folders); writes throughput.md/json.")
-@click.option("--repeats", type=click.IntRange(1, 20), default=3, show_default=True, help="Repeats of --bench.")
+@click.option("--repeats", type=IntRange(1, 20), default=3, show_default=True, help="Repeats of --bench.")
 @click.option("--list-quantities", is_flag=True, expose_value=False, is_eager=True, callback=_quantities,
               help="List the quantities a study can collect, and exit.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")

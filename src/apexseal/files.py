@@ -25,6 +25,17 @@ from pathlib import Path
 from typing import IO, Any
 
 
+def path_argument(name: str, value: Any, expected: str) -> Path:
+    """``value``, an argument naming a file or folder, as a Path: a TypeError naming ``name`` for anything but a str
+    or Path, a ValueError for a path no file system can hold (a NUL character; ``os`` would raise "embedded null
+    byte" without saying which argument)."""
+    if not isinstance(value, str | Path):
+        raise TypeError(f"{name} = {value!r}: expected {expected}")
+    if "\0" in str(value):
+        raise ValueError(f"{name} = {value!r}: a path cannot contain a NUL character; allowed: {expected}")
+    return Path(value)
+
+
 def sha256_bytes(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 

@@ -229,6 +229,16 @@ def test_progress_reports_stages_with_elapsed_time(capsys):
     (["sweep", "--example", "preload-map", "--scheduler", "foo"], ["--scheduler", "'foo'", "missing port"]),
     (["bench", "--quick", "--scenes", "bogus"], ["--scenes", "unknown scene(s) bogus", "known: default"]),
     (["bench", "--quick", "--methods", "bogus"], ["--methods", "unknown method(s) bogus"]),
+    # what is no number names the range too (click said only "not a valid integer"); NaN is no number (it passed
+    # click's range and ended in a traceback)
+    (["bench", "--quick", "--span", "nan"], ["--span", "nan is not a number", "allowed: 1<=x<=360"]),
+    (["bench", "--quick", "--span", "abc"], ["--span", "'abc' is not a number", "allowed: 1<=x<=360"]),
+    (["bench", "--quick", "--samples", "abc"], ["--samples", "'abc' is not an integer", "allowed: 4<=x<=100000"]),
+    (["sweep", "--example", "preload-map", "-w", "abc"], ["--workers", "'abc' is not an integer", "allowed: 1<=x<="]),
+    (["optimise-preload", "--nodes", "x"], ["--nodes", "'x' is not an integer", "allowed: 2<=x<=64"]),
+    (["simulate", "-n", "1e20"], ["--revolutions", "'1e20' is not an integer", "allowed: 1 <= n <= 100000"]),
+    (["simulate", "--rtol", "abc"], ["--rtol", "'abc' is not a number", "allowed: 1e-12 <= value <= 0.01"]),
+    (["simulate", "--max-wall-time", "x"], ["--max-wall-time", "'x' is not a number", "allowed: 0 < value <= 1e+07 s"]),
     (["optimise-preload", "--max-rate", "0.05", "--out", "{tmp}/o"], ["--max-rate", "with --schedule"]),
     (["simulate", "--method", "cvode"], ["--method", "'cvode' is not allowed (did you mean 'cvodes'?)", "erk"]),
     (["scene", "--out", "{tmp}/o"], ["--out", "with --default"]),
@@ -243,6 +253,20 @@ def test_a_bad_option_is_refused_naming_it_before_any_work(args, names, tmp_path
     assert r.exit_code == 2 and "Traceback" not in r.output, r.output
     assert all(n in r.output for n in names), r.output
     assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]
+
+
+def test_bench_refuses_an_output_folder_it_cannot_create_before_measuring(tmp_path, monkeypatch):
+    """The benchmark measured for minutes (hours without --quick) and only then failed to write its report."""
+    from apexseal.runtime.bench import runner
+
+    def measured(*args, **kwargs):
+        raise AssertionError("the benchmark ran before --out was checked")
+
+    monkeypatch.setattr(runner, "run_benchmark", measured)
+    (tmp_path / "file").write_text("not a folder")
+    r = CliRunner().invoke(main, ["bench", "--quick", "--out", str(tmp_path / "file" / "sub")])
+    assert r.exit_code == 2 and "Traceback" not in r.output, r.output
+    assert "--out" in r.output and "file is a file; allowed: a folder" in r.output, r.output
 
 
 def test_scene_default_never_overwrites_a_different_file(tmp_path):

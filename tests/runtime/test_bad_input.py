@@ -59,6 +59,8 @@ SCENE_FILES = [
     ("seal-leaves-groove", ('zeta0 = "0.71 mm"', 'zeta0 = "9 mm"'), ["seal.zeta0", "would leave its groove"]),
     ("groove-mouth-on-tip-arc", ('zeta0 = "0.71 mm"', 'zeta0 = "0.3 mm"'),
      ["seal.zeta0", "mouth would lie on the seal's tip arc", "zeta0 > ro (1 - cos beta_o) = 0.401924 mm"]),
+    ("nul-in-table-name", ('file = "expander-pressure.csv"', 'file = "p\\u0000.csv"'),
+     ['pressure.file = "p\\u0000.csv": a file name cannot contain a NUL character', "allowed:"]),
     ("three-problems-at-once", ('ks = "5e3 N/m"', 'ks = "-5 N/m"\nkss = 1\ndelta = "3 Hz"'),
      ["3 problems", "spring.ks", "spring.kss", "spring.delta"]),
 ]

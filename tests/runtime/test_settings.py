@@ -135,6 +135,11 @@ def test_simulate_accepts_a_path_and_names_a_wrong_type(tmp_path):
     (lambda sc, r: apexseal.resume(r, revolutions=-5), SettingsError, "-5 is out of range; allowed: 1 <= n"),
     (lambda sc, r: apexseal.resume(r, revolutions=0), SettingsError, "0 is out of range; allowed: 1 <= n"),
     (lambda sc, r: apexseal.plot_comparison([r], []), ValueError, "name at least one quantity"),
+    # a path no file system holds: os said only "embedded null byte", naming no argument
+    (lambda sc, r: apexseal.load_scene("a\0b.toml"), ValueError, "path = 'a\\x00b.toml': a path cannot contain a NUL"),
+    (lambda sc, r: apexseal.simulate(sc, out="o\0"), ValueError, "out = 'o\\x00': a path cannot contain a NUL"),
+    (lambda sc, r: apexseal.resume("r\0"), ValueError, "folder = 'r\\x00': a path cannot contain a NUL"),
+    (lambda sc, r: apexseal.resume(5), TypeError, "folder = 5: expected a result folder"),
 ])
 def test_the_api_names_an_argument_of_the_wrong_kind(default_scene, default_functions, tmp_path, call, error,
                                                       fragment):
