@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import Choice
+from .cli_common import Choice, writable
 from .derive.assumptions import Assumptions
 from .derive.effects import EFFECTS, Effects
 from .derive.options import OptionError
@@ -105,8 +105,10 @@ def generate(scene: Path | None, out: Path | None, flags: str, effect_opts: tupl
     artefacts and the compiled library are.
     """
     if check:
-        given = [what for what, value in (("SCENE", scene), ("--out", out), ("--effects", effect_opts),
-                                          ("--assumptions", assumption_opts), ("--no-compile", no_compile)) if value]
+        flags_given = click.get_current_context().get_parameter_source("flags") != click.core.ParameterSource.DEFAULT
+        given = [what for what, value in (("SCENE", scene), ("--out", out), ("--flags", flags_given),
+                                          ("--effects", effect_opts), ("--assumptions", assumption_opts),
+                                          ("--no-compile", no_compile)) if value]
         if given:  # each would be silently ignored: --check verifies the committed default artefacts only
             raise click.UsageError(f"--check verifies the committed generated/default (the default model) only, and "
                                    f"takes no {', '.join(given)}; to see a scene's model, run `apexseal generate "
@@ -132,6 +134,7 @@ def generate(scene: Path | None, out: Path | None, flags: str, effect_opts: tupl
         from .derive.cache import cache_dir
 
         out = cache_dir() / "gen" / input_hash(effects, assumptions)
+    writable(out)  # a folder that cannot be made or written is refused before the derivation, naming it
     click.echo(f"effects: {effects.label}; assumptions: {assumptions.as_dict()}")
     manifest = run_generate(effects, assumptions, out, flags=flags, compile=not no_compile, echo=click.echo)
     c_bytes = sum((out / n).stat().st_size for n in manifest.files if n.endswith(".c"))

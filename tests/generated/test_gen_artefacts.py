@@ -261,7 +261,8 @@ def test_every_module_that_shapes_the_generated_files_is_an_input_of_their_hash(
 
 @pytest.mark.parametrize("args, named", [(["--effects", "groove_friction=off"], "--effects"),
                                           (["--out", "elsewhere", "--assumptions", "damping=always"],
-                                           "--out, --assumptions")])
+                                           "--out, --assumptions"),
+                                          (["--flags", "quick"], "--flags")])
 def test_cli_check_refuses_what_it_would_ignore(args, named):
     """--check verifies the committed default artefacts only: a scene's options given with it were ignored
     silently (it said "current" for the default model, whatever the effects asked)."""
@@ -272,3 +273,18 @@ def test_cli_check_refuses_what_it_would_ignore(args, named):
     result = CliRunner().invoke(command, ["--check", *args])
     assert result.exit_code == 2
     assert f"takes no {named}" in result.output
+
+
+def test_generate_refuses_an_output_folder_it_cannot_make(tmp_path):
+    """--out below a file ended in a FileExistsError traceback after the derivation; it is refused first, naming
+    the folder and why, as simulate's --out is."""
+    from click.testing import CliRunner
+
+    from apexseal.commands_generate import generate as command
+
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    result = CliRunner().invoke(command, ["--out", str(blocker / "sub"), "--no-compile"])
+    assert result.exit_code == 2 and isinstance(result.exception, SystemExit), result.output
+    assert f"cannot create the output folder {blocker / 'sub'}: {blocker} is a file" in result.output
+    assert "[apexseal generate] derive" not in result.output
