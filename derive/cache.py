@@ -17,6 +17,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from ..files import atomic_open, content_key, files_digest
+from ..loaded_code import note, refuse_edited
 from ..versions import distribution_version
 from .assumptions import Assumptions
 from .effects import Effects
@@ -34,11 +35,27 @@ def cache_dir() -> Path:
     return Path(platformdirs.user_cache_dir("apexseal"))
 
 
+def _source_names() -> list[str]:
+    return [n for n in (p.relative_to(_DERIVE_DIR).as_posix() for p in sorted(_DERIVE_DIR.rglob("*.py")))
+            if "paper" not in n]  # the printed forms and their check (paper.py, paper_check/) do not change it
+
+
 def source_digest() -> str:
     """sha256 of the derivation's own source files (a change to any of them invalidates the cache)."""
-    names = [n for n in (p.relative_to(_DERIVE_DIR).as_posix() for p in sorted(_DERIVE_DIR.rglob("*.py")))
-             if "paper" not in n]  # the printed forms and their check (paper.py, paper_check/) do not change it
+    names = _source_names()
+    note(_DERIVE_DIR / n for n in names)  # what this process imported of them (refuse_edited compares)
     return files_digest(_DERIVE_DIR, names)
+
+
+def derivation_files(effects: Effects, assumptions: Assumptions) -> list[Path]:
+    """The source files a model of these inputs is derived from: apexseal's derivation and every submodel that
+    enters it, with its helpers (what :func:`derivation_key` hashes)."""
+    from .options import options_of
+    from .submodels.registry import entering
+    from .submodels.sources import files_of
+
+    opts = options_of(effects, assumptions)
+    return [*(_DERIVE_DIR / n for n in _source_names()), *(f for cls in entering(opts) for f in files_of(cls))]
 
 
 def model_inputs(effects: Effects, assumptions: Assumptions) -> dict:
@@ -82,6 +99,7 @@ def cached_model(effects: Effects | None = None, assumptions: Assumptions | None
                 return replace(model, effects=effects, assumptions=assumptions)  # them and absent in the other
         except Exception:  # a corrupt or foreign file: derive again and overwrite it
             pass  # (an entry of the wrong type, a valid pickle of something else, is treated the same way)
+    refuse_edited(derivation_files(effects, assumptions), "derive the model")  # never an old model under a new key
     model = derive_model(effects, assumptions)
     with atomic_open(path, "wb") as fh:
         pickle.dump(model, fh, protocol=pickle.HIGHEST_PROTOCOL)

@@ -31,6 +31,7 @@ from ..derive.assumptions import Assumptions
 from ..derive.cache import cache_dir, model_inputs, source_digest
 from ..derive.effects import Effects
 from ..files import content_key, files_digest, sha256_bytes, sha256_file
+from ..loaded_code import note
 from ..versions import distribution_version
 
 FORMAT = "apexseal-generated/1"
@@ -63,9 +64,18 @@ def template_paths() -> list[Path]:
     return sorted(p for p in TEMPLATE_DIR.iterdir() if ".in." in p.name)
 
 
+def _solving_dir() -> Path:
+    return Path(importlib.util.find_spec("apexseal.runtime.solving").origin).parent
+
+
+def generator_files() -> list[Path]:
+    """The modules whose code shapes the generated files (what :func:`generator_digest` hashes)."""
+    return [*(_HERE / m for m in GENERATOR_MODULES), *(_solving_dir() / m for m in SOLVING_MODULES)]
+
+
 def generator_digest() -> str:
-    solving = Path(importlib.util.find_spec("apexseal.runtime.solving").origin).parent
-    return content_key([files_digest(_HERE, GENERATOR_MODULES), files_digest(solving, SOLVING_MODULES)])
+    note(generator_files())  # what this process imported of them (loaded_code: generate compares)
+    return content_key([files_digest(_HERE, GENERATOR_MODULES), files_digest(_solving_dir(), SOLVING_MODULES)])
 
 
 def inputs_record(effects: Effects, assumptions: Assumptions) -> dict[str, Any]:

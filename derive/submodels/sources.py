@@ -21,6 +21,7 @@ import sys
 from pathlib import Path
 
 from ...files import remembered, settled, stat_key
+from ...loaded_code import note
 from .base import built_in
 
 #: class -> (the stat of each of its files, :func:`source_files`): its import graph changes only with its files
@@ -34,8 +35,16 @@ def source_key(cls) -> str:
     if found is None:  # a class without a file: its source cannot change without a new class
         return _key_without_file(cls)
     _, own, helpers = found
+    note([own, *helpers])  # what this process imported of them (loaded_code: derive and generate compare)
     return remembered(("submodel source", cls.__module__, cls.__qualname__), [own, *helpers],
                       lambda: hashlib.sha256(source_text(cls, found).encode()).hexdigest())
+
+
+def files_of(cls) -> list[Path]:
+    """The files :func:`source_key` reads for a submodel class: the file that declares it and its helpers (none
+    for a class without a file)."""
+    found = _found(cls)
+    return [] if found is None else [found[1], *found[2]]
 
 
 @functools.cache
