@@ -288,3 +288,25 @@ def test_generate_refuses_an_output_folder_it_cannot_make(tmp_path):
     assert result.exit_code == 2 and isinstance(result.exception, SystemExit), result.output
     assert f"cannot create the output folder {blocker / 'sub'}: {blocker} is a file" in result.output
     assert "[apexseal generate] derive" not in result.output
+
+
+def test_regeneration_with_effects_off_is_byte_identical_across_processes(tmp_path):
+    """A model pruned to a scene's effects (friction and the chamber pressure off) regenerates byte for byte in
+    another process whose string hashes differ (PYTHONHASHSEED), derivation included (each process derives)."""
+    import os
+    import subprocess
+    import sys
+
+    outs = []
+    for seed in ("1", "4242"):
+        out = tmp_path / f"seed{seed}"
+        subprocess.run([sys.executable, "-m", "apexseal", "generate", "--no-compile", "--out", str(out), "--effects",
+                        "housing_friction=off,groove_friction=off,spring_friction=off,chamber_pressure=off"],
+                       check=True, capture_output=True, env=os.environ | {"PYTHONHASHSEED": seed,
+                                                                           "APEXSEAL_CACHE": str(tmp_path / seed)})
+        outs.append(out)
+    names = sorted(p.name for p in outs[0].iterdir())
+    assert names == sorted(p.name for p in outs[1].iterdir()) and "manifest.json" in names
+    for name in names:
+        assert (outs[0] / name).read_bytes() == (outs[1] / name).read_bytes(), name
+    assert b"tanh" not in (outs[0] / "casadi_model.c").read_bytes()  # the friction laws are not in the C
