@@ -36,6 +36,10 @@ class State:
     #: the unit results show it in (figures, summaries), and display value = display_scale * SI value
     display: str = ""
     display_scale: float = 1.0
+    #: the unit a scene's initial value of it and the messages about that value show it in (default: ``unit``; as
+    #: ``Parameter.show``), and the largest magnitude a scene may start it at (None: no scene key sets it)
+    show: str | None = None
+    initial_limit: float | None = None
 
 
 @dataclass(frozen=True)
@@ -73,7 +77,7 @@ class Friction:
     the sliding direction times the seal's turning rate; with the seal's mass ms and inertia Icg (Eq. 80) the law
     damps at the rates of the eigenvalues of M^-1 C, C = mu / v_eps sum N_c (1, -d_c)^T (1, -d_c) over its contacts
     c at offsets d_c. Explicit Euler resolves them only with a step h of at most 2 / rate
-    (runtime/solving/euler_friction.py)."""
+    (runtime/solving/friction_stability.py)."""
 
     #: the friction coefficient's parameter (the law is off, and not checked, while it has no slot)
     mu: str

@@ -476,7 +476,7 @@ def dampers(opts=None) -> tuple[str, ...]:
 
 def frictions(opts=None) -> tuple[Friction, ...]:
     """The friction laws that can stick of the active submodels (all with ``opts`` None), for the
-    explicit fixed-step methods' stability check on the friction regularisation (runtime/solving/euler_friction.py)."""
+    explicit fixed-step methods' stability check on the friction regularisation (runtime/solving/friction_stability.py)."""
     return tuple(f for cls in submodels() if opts is None or cls.active(opts) for f in cls.frictions)
 
 

@@ -9,6 +9,7 @@ reference penetration, the width of the friction regularisation).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -21,6 +22,10 @@ from .base import Guard, State, Submodel
 #: the same times the penetration over contacts.delta_ref (Hunt-Crossley type: continuous at the touch; not in the
 #: paper), derive/submodels/laws.py
 DAMPING_LAWS = ("velocity", "penetration")
+#: the largest tilt (rad) of the seal in its groove that the model's geometry describes: Eqs. 20-43 hold for a seal
+#: tilted by a few degrees (the paper's nine contact cases end near 11 deg); 45 deg is a seal turned over. A run
+#: stops past it (runtime/solving/checks.py, RunChecks.tilt), and a scene's initial tilt must lie within it
+MAX_TILT = math.pi / 4
 
 
 def penetration_damped(guard: Guard, law: str) -> bool:
@@ -75,13 +80,18 @@ class SealBody(Submodel):
                   "not in the paper)", key="contacts.delta_ref", default=30e-9, gt=0, le=1e-3, show="nm",
                   plausible=(1e-10, 1e-5, "nm"), needs=f"damping_law={DAMPING_LAWS[1]}"),
     )
+    #: the scene's operation.initial_state takes one key per state (runtime/scenes/schema.py); its limits refuse only
+    #: the absurd (a unit slip, an overflow): a seal displaced by a metre, tilted beyond MAX_TILT, or moving faster
+    #: than 1 km/s in its groove
     states = (
-        State("x", "m", "the seal's centre of gravity along the groove axis Xg, out of the groove (Eq. 10)", 1e-6),
-        State("y", "m", "the seal's centre of gravity across the groove, along Yg (Eq. 10)", 1e-6),
-        State("phi", "rad", "the seal's tilt from the groove axis (Eq. 10)", 1e-3),
-        State("xd", "m/s", "dx/dt", 1e-6, rate=True),
-        State("yd", "m/s", "dy/dt", 1e-6, rate=True),
-        State("phid", "rad/s", "dphi/dt", 1e-3, rate=True),
+        State("x", "m", "the seal's centre of gravity along the groove axis Xg, out of the groove (Eq. 10)", 1e-6,
+              initial_limit=1.0),
+        State("y", "m", "the seal's centre of gravity across the groove, along Yg (Eq. 10)", 1e-6, initial_limit=1.0),
+        State("phi", "rad", "the seal's tilt from the groove axis (Eq. 10)", 1e-3, show="deg",
+              initial_limit=MAX_TILT),
+        State("xd", "m/s", "dx/dt", 1e-6, rate=True, initial_limit=1e3),
+        State("yd", "m/s", "dy/dt", 1e-6, rate=True, initial_limit=1e3),
+        State("phid", "rad/s", "dphi/dt", 1e-3, rate=True, initial_limit=1e6),
     )
     options = (
         Option("inertia", (ON, NONE), "rotor-motion inertial loads on the seal: centrifugal, Coriolis, chord "

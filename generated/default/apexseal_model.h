@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 5f89d1428e1faec5e174400541e9fe3ee2722ca583ebbdf217eff6af620d5322.
+ * Effects: all. Input hash: 2621b2c396a88ef7ae9cc4473228ff171ae981ec8ef2cb0041ec55044e0db253.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "5f89d1428e1faec5e174400541e9fe3ee2722ca583ebbdf217eff6af620d5322"
+#define APEXSEAL_INPUT_HASH "2621b2c396a88ef7ae9cc4473228ff171ae981ec8ef2cb0041ec55044e0db253"
 
 /* state x */
 #define APEXSEAL_NX 6

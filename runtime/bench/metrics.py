@@ -14,10 +14,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...derive.names import STATE_NAMES
 from ..solving.layout import HybridLayout
 from ..solving.scaling import to_physical
 
-STATE_KEYS = ("x", "y", "phi")
+#: the seal's positions (x, y, phi), as the seal body declares its state
+STATE_KEYS = STATE_NAMES[:3]
 
 
 @dataclass

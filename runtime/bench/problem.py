@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ...derive.effects import Effects
+from ...derive.names import STATE_NAMES
 from ..solving.preflight import initial_activations
 from ..solving.run import RunSettings, run
 from ..solving.scaling import to_scaled
@@ -85,7 +86,7 @@ class Problem:
     def describe(self) -> dict:
         return {"name": self.name, "effects": self.effects.label, "samples": self.samples,
                 "span_deg": float(np.degrees(self.span)), "theta0_rad": self.theta0,
-                "initial_state": dict(zip(("x", "y", "phi", "xd", "yd", "phid"), map(float, self.X0), strict=True)),
+                "initial_state": dict(zip(STATE_NAMES, map(float, self.X0), strict=True)),
                 "initial_closed": dict(zip(self.functions.guard_names, map(bool, self.closed0 > 0.5), strict=True)),
                 "settle": self.settle, "guards": list(self.functions.guard_names),
                 "pressure_grid": f"{self.samples} intervals over {np.degrees(self.span):g} deg, "
@@ -99,7 +100,7 @@ def make_problem(name: str, scene, effects: Effects, functions, *, samples: int,
     """Settle the scene (``settle_revolutions`` revolutions with ``settle_engine``) and build the problem."""
     params = scene.parameter_vector(tuple(functions.parameter_names))  # the effects' own vector
     op = scene.operation
-    X = np.array([getattr(op.initial_state, k) for k in ("x", "y", "phi", "xd", "yd", "phid")], float)
+    X = np.array([getattr(op.initial_state, k) for k in STATE_NAMES], float)
     theta = float(op.start_angle)
     info: dict = {"revolutions": settle_revolutions, "from": "scene initial state", "start_angle_rad": theta}
     pressure = scene.pressure if effects.chamber_pressure else None  # the source: means and values

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import time
 
-from .metrics import Trajectory, errors, trajectory
+from .metrics import STATE_KEYS, Trajectory, errors, trajectory
 
 
 def solve_reference(problem, engine) -> tuple[Trajectory, dict]:
@@ -25,7 +25,7 @@ def solve_reference(problem, engine) -> tuple[Trajectory, dict]:
             "events": int(ref.events.sum()), "events_per_guard": dict(zip(problem.functions.guard_names,
                                                                            map(int, ref.events), strict=True)),
             "mean_friction_power_W": ref.mean_friction_power,
-            "range": {k: float(ref.X[i].max() - ref.X[i].min()) for i, k in enumerate(("x", "y", "phi"))}}
+            "range": {k: float(ref.X[i].max() - ref.X[i].min()) for i, k in enumerate(STATE_KEYS)}}
     return ref, info
 
 

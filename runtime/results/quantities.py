@@ -11,8 +11,11 @@ from __future__ import annotations
 
 import math
 
-#: the state coordinates whose extremes a summary reports -> (unit shown, factor from SI)
-EXTREMES = {"x": ("um", 1e6), "y": ("um", 1e6), "phi": ("mrad", 1e3)}
+from ...derive.names import STATE_NAMES
+
+#: the state coordinates whose extremes a summary reports, the seal's positions (x, y, phi) -> (unit shown, factor
+#: from SI)
+EXTREMES = dict(zip(STATE_NAMES[:3], (("um", 1e6), ("um", 1e6), ("mrad", 1e3)), strict=True))
 
 
 def friction_contacts() -> tuple[str, ...]:

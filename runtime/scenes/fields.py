@@ -14,7 +14,7 @@ from pydantic_core import PydanticCustomError
 
 from ...suggest import did_you_mean
 from ..solving.settings import LIMITS
-from .units import QuantityError, Range, expected, parse_pressure_unit, parse_quantity, registry
+from .units import QuantityError, Range, expected, parse_pressure_unit, parse_quantity, show_factor
 
 #: the key of a validation context (``model_validate(..., context={UNRANGED: names})``) naming the fields whose
 #: range :class:`SI` does not check
@@ -70,11 +70,7 @@ class SI:
         return x
 
     def _factor(self) -> float:
-        return (
-            1.0
-            if self.show == self.unit
-            else float(registry().Quantity(1.0, self.unit).to(self.show).magnitude)
-        )
+        return show_factor(self.unit, self.show)
 
     def _shown(self, x: float) -> str:
         return _g(x) if self.show == "1" else f"{_g(x * self._factor())} {self.show}"

@@ -19,9 +19,10 @@ from typing import Annotated, Any
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationError, create_model
 
 from ...derive.chambers import EMBODIMENTS
+from ...derive.submodels.seal import SealBody
 from ...suggest import did_you_mean
 from ..solving.methods import METHODS
-from ..solving.settings import DEFAULT_PRESSURE, FLAGS, MAX_TILT, PRESSURE_PROFILES
+from ..solving.settings import DEFAULT_PRESSURE, FLAGS, PRESSURE_PROFILES
 from .errors import MISSING, Problem
 from .fields import SI, TWO_PI, UNRANGED, Choice, Flag, PressureUnit, Text
 from .fields import quantity as _q
@@ -69,17 +70,20 @@ class Ports(Section):
         return (("inlet", self.inlet), ("outlet", self.outlet))
 
 
-class InitialState(Section):
-    """Initial seal state in the groove frame (Eq. 10). The bounds refuse only the absurd (a unit slip, an
-    overflow): a seal displaced by a metre, tilted beyond the model's geometry (45 deg), or moving faster than
-    1 km/s in its groove; whether the start is inside a wall is the run's start check (runtime/solving/preflight.py)."""
+def _initial_field(state) -> tuple[Any, float]:
+    """The scene field of a seal state's initial value (Eq. 10), as the state declares it
+    (derive/submodels/seal.py): its unit, the unit messages show it in, +-its ``initial_limit``; 0 if omitted."""
+    limit = state.initial_limit
+    return _q(state.unit, ge=-limit, le=limit, show=state.show), 0.0
 
-    x: _q("m", ge=-1.0, le=1.0) = 0.0
-    y: _q("m", ge=-1.0, le=1.0) = 0.0
-    phi: _q("rad", ge=-MAX_TILT, le=MAX_TILT, show="deg") = 0.0  # within the model's geometry
-    xd: _q("m/s", ge=-1e3, le=1e3) = 0.0
-    yd: _q("m/s", ge=-1e3, le=1e3) = 0.0
-    phid: _q("rad/s", ge=-1e6, le=1e6) = 0.0
+
+InitialState = create_model("InitialState", __base__=Section,
+                            **{s.name: _initial_field(s) for s in SealBody.states})
+InitialState.__doc__ = (
+    """Initial seal state in the groove frame (Eq. 10), one key per state of the seal body. The bounds refuse only
+    the absurd (a unit slip, an overflow): a seal displaced by a metre, tilted beyond the model's geometry (45 deg),
+    or moving faster than 1 km/s in its groove; whether the start is inside a wall is the run's start check
+    (runtime/solving/preflight.py).""")
 
 
 class OperationSection(Section):

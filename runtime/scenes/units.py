@@ -123,6 +123,11 @@ NOT_FINITE = re.compile(r"^[+-]?(?:inf|infinity|nan)\b", re.IGNORECASE)
 ANGULAR = ("rad", "rad/s", "rpm")
 
 
+def show_factor(unit: str, show: str) -> float:
+    """Multiplies a value in ``unit`` into ``show`` (pint, loaded only when the units differ)."""
+    return 1.0 if show == unit else float(registry().Quantity(1.0, unit).to(show).magnitude)
+
+
 def expected(unit: str) -> str:
     """Words for the expected kind, e.g. ``a length in m (e.g. "3 mm")``; a unit of neither table (a user's
     submodel's) is ``a quantity in N*m (e.g. "1 N*m")``."""
@@ -358,7 +363,7 @@ class Plausible:
     @property
     def factor(self) -> float:
         """Multiplies a value in :attr:`si` into :attr:`show` (pint)."""
-        return float(registry().Quantity(1.0, self.si).to(self.show).magnitude)
+        return show_factor(self.si, self.show)
 
     def shown(self, x: float) -> str:
         """``x`` (in :attr:`si`) in :attr:`show`, with the unit unless it is the dimensionless "1"."""

@@ -12,7 +12,7 @@ from ..results.result import StopInfo
 from ..results.sampled import guards_at, outputs_at
 from ..scenes.damping import MAX_DAMPING_RATIO, guard_damping
 from .contact_stability import contact_growth
-from .euler_friction import FrictionWatch
+from .friction_stability import FrictionWatch
 from .layout import HybridLayout
 from .methods import method_of, run_steps
 from .scaling import LENGTH, to_physical
@@ -150,7 +150,7 @@ class RunChecks:
     def friction(self, Z, thetas, P) -> tuple[np.ndarray, tuple | None]:
         """Explicit fixed-step methods only: Z up to its first sample at which a friction law that can stick has had
         its regularisation beyond the method's stable step over more than a share of the revolution
-        (runtime/solving/euler_friction.py), and the failure it means (None if none has)."""
+        (runtime/solving/friction_stability.py), and the failure it means (None if none has)."""
         watch, lay = self.sticking, self.layout
         if watch is None or not watch.active or not Z.shape[1]:
             return Z, None

@@ -139,7 +139,7 @@ class FixedStepIntegrator(Engine):
 
 class EulerIntegrator(FixedStepIntegrator):
     """The paper's explicit Euler on the switched right-hand side (its stability, as every explicit fixed-step
-    method's: :mod:`.contact_stability`, :mod:`.euler_friction`)."""
+    method's: :mod:`.contact_stability`, :mod:`.friction_stability`)."""
 
     rule = EULER
 

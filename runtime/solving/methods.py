@@ -103,6 +103,9 @@ class Method:
     #: each contact and each friction law that can stick, before and during a run; None for adaptive and implicit
     #: methods, whose step follows the stiffness or does not depend on it
     stability: StabilityFunction | None = None
+    #: True where its integrator differentiates the right-hand side (Jacobians, or event location on derivatives):
+    #: the start check then refuses a right-hand side whose derivative is not finite (runtime/solving/preflight.py)
+    needs_derivatives: bool = False
 
     def engine_class(self) -> type:
         if isinstance(self.engine, type):
@@ -117,33 +120,36 @@ _STEPPER = ".stepper_integrator:StepperIntegrator"
 #: method name -> :class:`Method`
 METHODS: dict[str, Method] = {
     "erk": Method(_EVENTS, "erk", "adaptive RK45 (Dormand-Prince) with events located on its dense output; "
-                  "compiles to C"),
+                  "compiles to C", needs_derivatives=True),
     "erk-rk4": Method(_EVENTS, "erk", "fixed-step RK4 with events on its dense output; compiles to C",
-                      stability=CLASSICAL_RK4),
+                      stability=CLASSICAL_RK4, needs_derivatives=True),
     "composite": Method(".composite:CompositeIntegrator", "", "RK45 with events where contacts switch, exponential "
                         "Rosenbrock (exprb32) steps between; generated C in the model library"),
     "rosenbrock": Method(_EVENTS, "rosenbrock", "L-stable Rosenbrock order 5(4) for stiff contacts, events on dense "
-                         "output; compiles to C"),
-    "cvodes": Method(_STEPPER, "cvodes", "SUNDIALS CVODES (BDF), mode switches located by the apexseal event loop"),
+                         "output; compiles to C", needs_derivatives=True),
+    "cvodes": Method(_STEPPER, "cvodes", "SUNDIALS CVODES (BDF), mode switches located by the apexseal event loop",
+                     needs_derivatives=True),
     "cvodes-adams": Method(_STEPPER, "cvodes", "SUNDIALS CVODES (Adams), mode switches located by the apexseal event "
-                           "loop"),
-    "idas": Method(_STEPPER, "idas", "SUNDIALS IDAS, mode switches located by the apexseal event loop"),
+                           "loop", needs_derivatives=True),
+    "idas": Method(_STEPPER, "idas", "SUNDIALS IDAS, mode switches located by the apexseal event loop",
+                   needs_derivatives=True),
     "rk": Method(_STEPPER, "rk", "fixed-step RK4 per output interval, mode switches located by the apexseal event "
                  "loop", stability=CLASSICAL_RK4),
     "collocation": Method(_STEPPER, "collocation", "fixed-step Radau collocation, mode switches located by the event "
-                          "loop"),
+                          "loop", needs_derivatives=True),
     "euler": Method(".fixed_step:EulerIntegrator", "euler", "the paper's method: explicit Euler on the "
                     "switched right-hand side, fixed step", locates_events=False, stability=EXPLICIT_EULER),
 }
 
 
 def register_method(name: str, engine: type, description: str, *, plugin: str = "", locates_events: bool = True,
-                    stability: StabilityFunction | None = None) -> None:
+                    stability: StabilityFunction | None = None, needs_derivatives: bool = False) -> None:
     """Make ``engine`` (a subclass of :class:`Engine`) available as ``solver.method = name``; ``stability``: the
-    stability function of an explicit fixed-step engine's step (its steps per revolution: ``Engine.steps_taken``)."""
+    stability function of an explicit fixed-step engine's step (its steps per revolution: ``Engine.steps_taken``);
+    ``needs_derivatives``: its integrator differentiates the right-hand side (``Method.needs_derivatives``)."""
     if not (isinstance(engine, type) and issubclass(engine, Engine)):
         raise TypeError(f"method {name!r}: the engine must be a subclass of apexseal's Engine, not {engine!r}")
-    METHODS[name] = Method(engine, plugin, description, locates_events, stability)
+    METHODS[name] = Method(engine, plugin, description, locates_events, stability, needs_derivatives)
 
 
 def method_of(method: str | type) -> Method:

@@ -7,15 +7,14 @@ import math
 import numpy as np
 
 from ...derive.submodels.registry import guard, parameter
+from ...derive.submodels.seal import SealBody
 from ..results.result import StopInfo
+from ..scenes.units import show_factor
 from .contact_stability import MAX_GROWTH, contact_frequencies, contact_growth
-from .euler_friction import friction_at_start
+from .friction_stability import friction_at_start
 from .layout import mode_label
-from .methods import run_steps
+from .methods import method_of, run_steps
 from .settings import RunSettings
-
-#: methods whose integrators differentiate the right-hand side (Jacobians, or event location on derivatives)
-NEEDS_DERIVATIVES = ("erk", "erk-rk4", "rosenbrock", "cvodes", "cvodes-adams", "idas", "collocation")
 
 
 def initial_activations(functions, theta: float, X: np.ndarray, params: np.ndarray, u: np.ndarray) -> np.ndarray:
@@ -49,9 +48,17 @@ def names_where(names, mask) -> str:
 MAX_OSCILLATIONS_PER_RAD = 1e8
 #: a penalty contact may start at most this fraction of the seal width Ws inside its wall
 MAX_START_PENETRATION = 0.1
-#: the state's scene keys and how to show a value of each (unit, factor)
-STATE_KEYS = (("x", "m", 1.0), ("y", "m", 1.0), ("phi", "deg", 180 / math.pi), ("xd", "m/s", 1.0),
-              ("yd", "m/s", 1.0), ("phid", "rad/s", 1.0))
+
+
+def state_shown(i: int, value: float) -> str:
+    """``operation.initial_state.<key> = <value> <unit>`` for entry ``i`` of the state, in the unit the seal's state
+    declares for scenes (derive/submodels/seal.py, ``State.show``: the tilt in deg); an entry beyond the seal's (a
+    chamber gas state, which no scene key sets) by its index, without a unit."""
+    if i >= len(SealBody.states):
+        return f"operation.initial_state.[{i}] = {value:.6g}"
+    st = SealBody.states[i]
+    show = st.show or st.unit
+    return f"operation.initial_state.{st.name} = {value * show_factor(st.unit, show):.6g} {show}"
 
 
 def speed_problem(functions, params) -> str | None:
@@ -96,9 +103,7 @@ def start_problem(functions, params, theta, X, u) -> str | None:
         return None
     culprits = [i for i in range(X.size) if X[i] != 0 and -worst(np.where(np.arange(X.size) == i, 0.0, X))[0] <= limit]
     culprits = culprits or [i for i in range(3) if X[i] != 0]
-    keys = STATE_KEYS + tuple((f"[{i}]", "", 1.0) for i in range(len(STATE_KEYS), X.size))
-    shown = ", ".join(f"operation.initial_state.{keys[i][0]} = {X[i] * keys[i][2]:.6g} {keys[i][1]}".rstrip()
-                      for i in culprits)
+    shown = ", ".join(state_shown(i, X[i]) for i in culprits)
     where_ = (f"{-depth * 1e6:.4g} µm inside a wall (guard {names[where]})" if math.isfinite(depth) else
               f"where a contact's geometry is not defined (guard {names[where]} is not finite: far outside its groove)")
     allowed = f"allowed: at most {MAX_START_PENETRATION:g} Ws = {limit * 1e6:.4g} µm of penetration at the start"
@@ -124,10 +129,10 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
     * an explicit fixed-step method (euler, rk, erk-rk4: ``Method.stability``) with a step that amplifies a contact
       oscillation more than MAX_GROWTH times per revolution (runtime/solving/contact_stability.contact_growth), or
       too long for the friction regularisation at the normal forces of the start, the spring's preload
-      (runtime/solving/euler_friction.friction_at_start); its steps per revolution at the run's intervals of
+      (runtime/solving/friction_stability.friction_at_start); its steps per revolution at the run's intervals of
       ``dtheta`` rad (default: its output intervals);
-    * NaN/Inf in the derivative of the right-hand side, for every method but the
-      fixed-step ones without Jacobians (euler, rk): an infinite partial derivative
+    * NaN/Inf in the derivative of the right-hand side, for every method whose declaration says that it
+      differentiates it (``Method.needs_derivatives``: not euler, rk, composite): an infinite partial derivative
       with respect to a parameter (a function of the parameters at the edge of its domain,
       such as asin(1); beta_o = asin(Ws/(2 ro)) at ro = Ws/2 was one until it became a
       derived parameter) turns every automatic derivative into 0 * inf = NaN, although
@@ -150,7 +155,7 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
         sticking = friction_at_start(functions, params, steps, theta, X, closed, u)
         if sticking is not None:
             return StopInfo(0.0, mode, sticking.describe())
-    if settings.method not in NEEDS_DERIVATIVES:
+    if not method_of(settings.method).needs_derivatives:
         return None
     try:  # the Jacobian Function: jac_rhs of the compiled library, or of SX Functions
         blocks = [np.array(b) for b in functions.rhs.jacobian()(theta, X, closed, params, u, xdot)]

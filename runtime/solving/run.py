@@ -6,7 +6,7 @@ integrator call, or ``calls_per_revolution`` calls (36, 10 degrees each, when a
 wall-time budget is set, so the budget is checked often enough; once the next call would end past the deadline,
 calls interval by interval, :mod:`.pace`). Nothing computed is lost, and every
 run ends with a named reason: on SIGINT or SIGTERM (acted on between calls, :mod:`.signals`), a solver
-failure, a non-finite state, a fixed-step method's step beyond a sticking friction's (:mod:`.euler_friction`), a missed
+failure, a non-finite state, a fixed-step method's step beyond a sticking friction's (:mod:`.friction_stability`), a missed
 contact event, chattering or a used-up wall-time budget, the result keeps
 every finished sample and says where (crank angle, contact case) and why it
 stopped (docs/hard-cases.md lists what each reason means and what to do).

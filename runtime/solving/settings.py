@@ -17,6 +17,7 @@ from typing import Annotated, Any
 from pydantic import BaseModel, BeforeValidator, ConfigDict, ValidationError
 from pydantic_core import PydanticCustomError
 
+from ...derive.submodels.seal import MAX_TILT  # noqa: F401 - the run's tilt limit, as the seal declares it
 from ...generated.compiler import FLAG_SETS
 from ..scenes.errors import Problem
 from ..scenes.units import Range
@@ -42,10 +43,6 @@ LIMITS: dict[str, tuple[str, Range]] = {
 #: the SI unit of a setting that has one, shown with its value and range ("0 < value <= 1e+07 s")
 UNITS: dict[str, str] = {"event_tol": "rad", "chatter_window": "rad", "max_wall_time": "s"}
 FLAGS = tuple(FLAG_SETS)  # the compiler's flag sets, by name
-#: the largest tilt (rad) of the seal in its groove that the model's geometry describes: Eqs. 20-43 hold for a seal
-#: tilted by a few degrees (the paper's nine contact cases end near 11 deg); 45 deg is a seal turned over. A run
-#: stops past it (checks.RunChecks.tilt), and a scene's initial tilt must lie within it
-MAX_TILT = math.pi / 4
 
 
 class SettingsError(ValueError):

@@ -6,7 +6,7 @@ Wanner, Solving Ordinary Differential Equations II, Sec. IV.2). A mode the
 true solution damps grows under the method where |R(h lambda)| > 1. The checks of a fixed-step method (its
 ``Method.stability``, runtime/solving/methods.py) evaluate R at the eigenvalue of each contact oscillator
 (runtime/solving/contact_stability.py) and compare h lambda of a sticking friction law, a real eigenvalue, with
-:attr:`StabilityFunction.real_bound` (runtime/solving/euler_friction.py).
+:attr:`StabilityFunction.real_bound` (runtime/solving/friction_stability.py).
 """
 
 from __future__ import annotations

@@ -398,7 +398,7 @@ def test_a_scene_key_taken_or_a_choice_with_a_parent_is_refused():
 def test_a_submodel_off_with_its_own_parameters_does_not_break_the_start_check(default_scene):
     """The parameters of a submodel that is off are not in the vector, so the start check's contact frequencies
     skip its oscillator (every run with it off raised KeyError: 'kpad')."""
-    from apexseal.runtime.solving.euler_integrator import contact_frequencies
+    from apexseal.runtime.solving.contact_stability import contact_frequencies
 
     pad = type("Pad", (Submodel,), {
         "name": "pad", "__module__": "elsewhere", "switch": "pad",

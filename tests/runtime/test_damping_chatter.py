@@ -167,7 +167,7 @@ def test_explicit_euler_counts_no_damper_that_vanishes_at_the_touch(default_scen
     spring's stays). It was counting them as the paper's: at 120000 steps per revolution it passed the model with
     delta_ref = 10 nm, whose run then went non-finite within the revolution; the paper's law runs there."""
     from apexseal.runtime.solving import preflight
-    from apexseal.runtime.solving.euler_integrator import contact_growth
+    from apexseal.runtime.solving.contact_stability import contact_growth
 
     steps = 120000
     euler = {"solver.method": "euler", "solver.euler_steps_per_revolution": steps}

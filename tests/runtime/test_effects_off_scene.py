@@ -185,7 +185,7 @@ def test_the_start_checks_weigh_only_the_contacts_in_the_model(default_scene):
     every declared contact, an effect that is off included: a housing switched off with a stiffness of 1e13 N/m
     refused a slow run, and a left-out stiffness (NaN) broke them."""
     from apexseal.runtime.api import model_functions
-    from apexseal.runtime.solving.euler_integrator import contact_growth
+    from apexseal.runtime.solving.contact_stability import contact_growth
     from apexseal.runtime.solving.preflight import speed_problem
 
     off = default_scene.with_overrides(**{"effects.housing_contact": False, "effects.housing_damping": False,

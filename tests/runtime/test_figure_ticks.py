@@ -59,9 +59,9 @@ def test_crank_angle_ticks():
 
 
 def test_the_skeleton_of_a_figure_keeps_its_axes_and_texts_without_its_data():
-    """``timing.skeleton`` (the floor the figure timing prints): same grid cells, projections, scales, tick labels
+    """``figure_timing.skeleton`` (the floor the figure timing prints): same grid cells, projections, scales, tick labels
     and titles as the figure, and a two-point line instead of the data."""
-    from apexseal.runtime.results.timing import skeleton
+    from apexseal.runtime.bench.figure_timing import skeleton
 
     fig = Figure(figsize=(6, 4), layout="constrained")
     left, right = fig.subplots(1, 2)

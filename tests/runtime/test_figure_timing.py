@@ -1,4 +1,4 @@
-"""The figure timing command's whole-run pairs (``python -m apexseal.runtime.results.timing 7 --pairs``).
+"""The figure timing command's whole-run pairs (``python -m apexseal.runtime.bench.figure_timing 7 --pairs``).
 
 No time is asserted (the machine is shared); what is checked is that each run of a pair is the run it claims to be
 (figures written, or not) and that the medians and ratios are those of the measured runs.
@@ -8,14 +8,14 @@ from __future__ import annotations
 
 import statistics
 
-from apexseal.runtime.results import timing
+from apexseal.runtime.bench import figure_timing
 
 
 def test_a_whole_run_is_timed_from_outside_with_the_processes_it_waited_for(tmp_path):
-    wall, cpu = timing._whole_run(str(tmp_path / "with"), figures=True)
+    wall, cpu = figure_timing._whole_run(str(tmp_path / "with"), figures=True)
     assert wall > 0 and cpu > 0
     assert sorted(p.name for p in (tmp_path / "with").glob("*.png"))  # the figures were drawn in that run
-    timing._whole_run(str(tmp_path / "without"), figures=False)
+    figure_timing._whole_run(str(tmp_path / "without"), figures=False)
     assert (tmp_path / "without" / "result.json").is_file() and not list((tmp_path / "without").glob("*.png"))
 
 
@@ -30,8 +30,8 @@ def test_pairs_report_the_medians_of_the_runs_and_of_their_differences(monkeypat
         calls.append(figures)
         return next(measured)
 
-    monkeypatch.setattr(timing, "_whole_run", fake)
-    m = timing.measure_pairs(3)
+    monkeypatch.setattr(figure_timing, "_whole_run", fake)
+    m = figure_timing.measure_pairs(3)
     assert calls == [False, True, True, False, False, True, True, False]
     assert m["wall_with_s"] == statistics.median([1.1, 1.3, 1.0]) and m["wall_without_s"] == 0.5
     assert m["wall_added_s"] == statistics.median([1.1 - 0.6, 1.3 - 0.4, 1.0 - 0.5])
@@ -40,7 +40,7 @@ def test_pairs_report_the_medians_of_the_runs_and_of_their_differences(monkeypat
 
 
 def test_the_least_figure_is_one_constrained_axes_with_the_runs_x(tmp_path, monkeypatch):
-    """``timing.single_axes`` is the floor the README quotes against the ``simulate()`` call: it must stay one axes
+    """``figure_timing.single_axes`` is the floor the README quotes against the ``simulate()`` call: it must stay one axes
     with constrained layout holding the run's x (in the unit of its label), saved as a 640 x 480 PNG."""
     import numpy as np
     from matplotlib.figure import Figure
@@ -63,7 +63,7 @@ def test_the_least_figure_is_one_constrained_axes_with_the_runs_x(tmp_path, monk
         return save(fig, *args, **kwargs)
 
     monkeypatch.setattr(Figure, "savefig", keep)
-    timing.single_axes(Run, tmp_path / "least.png")
+    figure_timing.single_axes(Run, tmp_path / "least.png")
     (fig,) = drawn
     assert fig.get_layout_engine() is not None and len(fig.axes) == 1
     (line,) = fig.axes[0].get_lines()

@@ -20,14 +20,14 @@ from hard_helpers import load, short_run, simulate
 
 import apexseal
 from apexseal.runtime.results.plausibility import PenetrationWarning
-from apexseal.runtime.solving import euler_friction
+from apexseal.runtime.solving import friction_stability
 from apexseal.runtime.solving.contact_stability import MAX_GROWTH, contact_growth
 from apexseal.runtime.solving.methods import METHODS, explicit_steps
 from apexseal.runtime.solving.scaling import to_physical, to_scaled
 from apexseal.runtime.solving.stability import CLASSICAL_RK4, EXPLICIT_EULER
 from apexseal.runtime.solving.stepper_integrator import StepperIntegrator
 
-#: the default scene with a sticky groove (tests/runtime/test_euler_friction.py): h mu N / (v_eps m) = 16 at 200000
+#: the default scene with a sticky groove (tests/runtime/test_friction_stability.py): h mu N / (v_eps m) = 16 at 200000
 #: steps per revolution, beyond RK4's bound as beyond Euler's
 STICKY_GROOVE = {"friction.mu2": 0.5, "friction.v_eps": "0.1 mm/s"}
 #: the very stiff tip contact (kw = 1e10 N/m) with a friction regularisation wide enough (1 cm/s) that only the
@@ -235,7 +235,7 @@ def test_rk4_stops_where_a_sticking_friction_is_beyond_its_bound(default_scene, 
     scene = default_scene.with_overrides(**STICKY_GROOVE)
     if method == "erk-rk4":
         with monkeypatch.context() as m:
-            m.setattr(euler_friction, "MAX_FRICTION_SHARE", 1.01)  # unchecked, as before
+            m.setattr(friction_stability, "MAX_FRICTION_SHARE", 1.01)  # unchecked, as before
             before = simulate(scene, fns, method=method)
         ref = simulate(scene, fns, method="rosenbrock", rtol=1e-9)
         assert before.status == "completed"

@@ -16,7 +16,7 @@ from hard_helpers import SAMPLES, load, mode_mismatches, short_run, simulate
 import apexseal
 from apexseal.derive.symbols import PARAMETER_NAMES
 from apexseal.runtime.solving import run as sim
-from apexseal.runtime.solving.euler_integrator import MAX_GROWTH, contact_growth
+from apexseal.runtime.solving.contact_stability import MAX_GROWTH, contact_growth
 from apexseal.runtime.solving.hybrid import BLIND_WINDOW, build_hybrid_dae
 from apexseal.runtime.solving.layout import HybridLayout
 from apexseal.runtime.solving.methods import Engine
@@ -333,17 +333,23 @@ def test_a_wall_time_budget_cuts_revolutions_into_calls():
     assert sim.samples_per_call(sim.RunSettings(samples_per_revolution=3600, max_wall_time=10.0)) == 100
 
 
+def _on_an_edge(scene, fns):
+    """The parameter vector of ``scene`` and Functions whose right-hand side is finite there but its derivative is
+    not (+ 1e-30 sqrt(mu2 - mu2_scene))."""
+    from dataclasses import replace
+
+    p = scene.parameter_vector()
+    i = PARAMETER_NAMES.index("mu2")
+    args = [fns.rhs.sx_in(k) for k in range(fns.rhs.n_in())]
+    edge = fns.rhs(*args) + 1e-30 * ca.sqrt(args[3][i] - p[i])
+    return p, replace(fns, rhs=ca.Function("rhs", args, [edge], fns.rhs.name_in(), fns.rhs.name_out()))
+
+
 def test_an_infinite_parameter_derivative_stops_methods_that_differentiate(default_scene, fns):
     """A right-hand side that is finite where its derivative is not (here + 1e-30 sqrt(mu2 - mu2_scene): the kind
     of edge asin(Ws/(2 ro)) had at ro = Ws/2 before beta_o became a derived parameter): automatic differentiation
     gives 0 * inf = NaN, so methods that differentiate stop before the first step naming the parameter; euler runs."""
-    from dataclasses import replace
-
-    p = default_scene.parameter_vector()
-    i = PARAMETER_NAMES.index("mu2")
-    args = [fns.rhs.sx_in(k) for k in range(fns.rhs.n_in())]
-    edge = fns.rhs(*args) + 1e-30 * ca.sqrt(args[3][i] - p[i])
-    edgy = replace(fns, rhs=ca.Function("rhs", args, [edge], fns.rhs.name_in(), fns.rhs.name_out()))
+    p, edgy = _on_an_edge(default_scene, fns)
     st = sim.RunSettings(method="erk", samples_per_revolution=SAMPLES, compile_c=False)
     r = sim.run(edgy, p, st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
                 pressure=default_scene.pressure)
@@ -352,6 +358,24 @@ def test_an_infinite_parameter_derivative_stops_methods_that_differentiate(defau
     euler = sim.RunSettings(method="euler", samples_per_revolution=SAMPLES, compile_c=False)
     assert sim.preflight(edgy, euler, p, 0.0, np.zeros(6), np.zeros(fns.guards.size1_out(0)),
                           np.array([1e5, 1e5])) is None
+
+
+def test_the_derivative_check_is_the_methods_declaration(default_scene, fns, monkeypatch):
+    """Whether the start check differentiates the right-hand side is a field of the method's declaration
+    (``Method.needs_derivatives``; ``register_method(..., needs_derivatives=...)``), not a list of names beside it:
+    the same engine registered with it stops at the edge, registered without it does not."""
+    from apexseal.runtime.solving.fixed_step import EulerIntegrator
+    from apexseal.runtime.solving.methods import METHODS, register_method
+
+    p, edgy = _on_an_edge(default_scene, fns)
+    closed, u = np.zeros(fns.guards.size1_out(0)), np.array([1e5, 1e5])
+    for needs in (True, False):
+        monkeypatch.setitem(METHODS, "probe", METHODS["euler"])  # removed again after the test
+        register_method("probe", EulerIntegrator, "explicit Euler under another name", needs_derivatives=needs)
+        assert METHODS["probe"].needs_derivatives is needs
+        st = sim.RunSettings(method="probe", samples_per_revolution=SAMPLES, compile_c=False)
+        stop = sim.preflight(edgy, st, p, 0.0, np.zeros(6), closed, u)
+        assert (stop is not None and "method 'probe' needs derivatives" in stop.reason) if needs else stop is None
 
 
 def test_the_chatter_limit_scales_with_the_output_interval():

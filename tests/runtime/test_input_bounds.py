@@ -159,6 +159,27 @@ def test_the_start_penetration_limit_is_a_tenth_of_the_seal_width(default_scene,
     assert refused is not None and "inside a wall" in refused and "0.1 Ws = 300 µm" in refused
 
 
+def test_the_start_check_shows_each_state_as_its_scene_key_does():
+    """The keys of operation.initial_state, their units and limits, and the unit in which the start check names a
+    culprit come from one declaration, the seal body's states (``State.show``, ``State.initial_limit``): the tilt
+    reads in deg in both; an entry beyond the seal's (a chamber gas state, which no scene key sets) by its index."""
+    import math
+
+    from apexseal.derive.names import STATE_NAMES
+    from apexseal.derive.submodels.seal import SealBody
+    from apexseal.runtime.scenes.schema import InitialState, validator_of
+    from apexseal.runtime.solving.preflight import state_shown
+
+    assert tuple(InitialState.model_fields) == STATE_NAMES
+    for i, st in enumerate(SealBody.states):
+        field = validator_of(InitialState, st.name)
+        assert (field.unit, field.range.ge, field.range.le) == (st.unit, -st.initial_limit, st.initial_limit)
+        assert state_shown(i, 0.5).startswith(f"operation.initial_state.{st.name} = ")
+        assert state_shown(i, 0.5).endswith(f" {field.show}")
+    assert state_shown(STATE_NAMES.index("phi"), math.radians(40)) == "operation.initial_state.phi = 40 deg"
+    assert state_shown(len(STATE_NAMES), 1.5) == f"operation.initial_state.[{len(STATE_NAMES)}] = 1.5"
+
+
 def test_a_guard_declared_closed_at_rest_is_no_penetration_at_the_start():
     """A contact closed at rest by design (a preloaded pad, as the spring) starts deep in its guard: the start check
     reads that from the guard's declaration, as the failure diagnosis does, not from the name "spring" (which

@@ -1,19 +1,19 @@
-"""How long a default run's figures take against its simulation: ``python -m apexseal.runtime.results.timing``.
+"""How long a default run's figures take against its simulation: ``python -m apexseal.runtime.bench.figure_timing``.
 
-``python -m apexseal.runtime.results.timing 7 --pairs`` measures what the figures add to a default run as a user
+``python -m apexseal.runtime.bench.figure_timing 7 --pairs`` measures what the figures add to a default run as a user
 meets it: whole ``apexseal simulate -q`` runs of the default scene with figures and with ``--no-figures``, in turn,
 timed from outside (wall clock; CPU of the process and of every process it waited for), and prints the medians and
 the median of what each pair's run with figures took more than the one without.
 
-``python -m apexseal.runtime.results.timing 7 --cli`` times whole ``apexseal simulate --timings`` runs of the
-default scene instead (each in a new process, as a user runs it: the figure worker of :mod:`.figure_worker`
+``python -m apexseal.runtime.bench.figure_timing 7 --cli`` times whole ``apexseal simulate --timings`` runs of the
+default scene instead (each in a new process, as a user runs it: the figure worker of :mod:`..results.figure_worker`
 imports matplotlib while the run integrates) and prints the medians of the figures stage against the stages
 that simulate (scene, load, compile, integrate, assemble) and against the integration alone.
 
 Runs the default scene once to warm the caches (derivation, compiled libraries), then ``repeats`` times:
 ``apexseal.simulate(scene)`` (wall time of the call: integrator set-up from the cache plus integration; and
-the integration alone, ``result.info["wall_time_s"]``) and :func:`.figure_job.write_figures` (draw and save the four
-PNG files), as ``apexseal simulate`` draws them (some in a forked second process, :mod:`.figure_job`) and all in
+the integration alone, ``result.info["wall_time_s"]``) and :func:`..results.figure_job.write_figures` (draw and save the four
+PNG files), as ``apexseal simulate`` draws them (some in a forked second process, :mod:`..results.figure_job`) and all in
 this process, in turn; the :func:`skeleton` of each figure (made and saved), matplotlib's cost for the same
 axes whatever the data; and :func:`single_axes`, the least figure a run could draw. Prints the medians and their
 ratios, all measured in one process.
@@ -73,8 +73,8 @@ def single_axes(result, path: Path) -> None:
     matplotlib figure can be cheaper than the simulation it shows."""
     import numpy as np
 
-    from .figures import new_figure
-    from .outputs import describe
+    from ..results.figures import new_figure
+    from ..results.outputs import describe
 
     fig = new_figure((6.4, 4.8))
     ax = fig.subplots()
@@ -87,10 +87,10 @@ def single_axes(result, path: Path) -> None:
 def measure(repeats: int = 5) -> dict:
     import apexseal
 
-    from .figure_job import write_figures
-    from .figures import ports_of
-    from .plots import figure
-    from .saved_figures import figure_files, write_figure
+    from ..results.figure_job import write_figures
+    from ..results.figures import ports_of
+    from ..results.plots import figure
+    from ..results.saved_figures import figure_files, write_figure
 
     scene = apexseal.load_scene()
     result = apexseal.simulate(scene)  # warm-up: derivation and compilation come from the caches afterwards
@@ -234,12 +234,12 @@ def main() -> None:
           f"{m['figures_one_process_s']:.2f} s)")
     print("each figure: " + ", ".join(f"{name} {t:.3f} s" for name, t in m["each_s"].items()))
     floor = sum(m["floor_s"].values())
-    print("matplotlib's floor, the same axes with a two-point line each (timing.skeleton): "
+    print("matplotlib's floor, the same axes with a two-point line each (figure_timing.skeleton): "
           + ", ".join(f"{name} {t:.3f} s" for name, t in m["floor_s"].items())
           + f"; together {floor:.2f} s, {floor / 2:.2f} s on two cores = {floor / 2 / m['simulate_call_s']:.2f} x the "
           "simulate() call")
-    print(f"the least figure, one axes with a line of x and two labels (timing.single_axes): {m['single_axes_s']:.3f} s "
-          f"= {m['single_axes_s'] / m['simulate_call_s']:.2f} x the simulate() call, "
+    print("the least figure, one axes with a line of x and two labels (figure_timing.single_axes): "
+          f"{m['single_axes_s']:.3f} s = {m['single_axes_s'] / m['simulate_call_s']:.2f} x the simulate() call, "
           f"{m['single_axes_s'] / m['integration_s']:.2f} x the integration")
 
 

@@ -1,6 +1,7 @@
 """Explicit fixed-step methods on the friction regularisation: the largest step each resolves, and the checks before
-and during a run. Written for explicit Euler (hence the name), they judge every explicit fixed-step method (euler,
-rk, erk-rk4) through its stability function (runtime/solving/stability.py; ``Method.stability``).
+and during a run, beside the contacts' (:mod:`.contact_stability`). Written for explicit Euler, they judge every explicit
+fixed-step method (euler, rk, erk-rk4) through its stability function (runtime/solving/stability.py;
+``Method.stability``).
 
 Each Coulomb law is regularised as mu N tanh(v / v_eps) (Algorithm 1, Eq. 73; derive/submodels/laws.py). Where the
 seal sticks (v near 0) that is a damper of coefficient mu N / v_eps on the sliding velocity: with the seal's mass

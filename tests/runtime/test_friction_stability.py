@@ -1,4 +1,4 @@
-"""Explicit Euler on the friction regularisation mu N tanh(v / v_eps) (runtime/solving/euler_friction.py).
+"""Explicit Euler on the friction regularisation mu N tanh(v / v_eps) (runtime/solving/friction_stability.py).
 
 Where the seal sticks the law is a damper mu N / v_eps; one Euler step multiplies the sliding velocity by
 1 - h mu N / (v_eps m), so beyond 2 the velocity flips sign at every step. Before, such a run completed with that
@@ -17,7 +17,7 @@ from hard_helpers import load, short_run
 
 import apexseal
 from apexseal.runtime.results.plausibility import PenetrationWarning
-from apexseal.runtime.solving.euler_friction import MAX_FRICTION_SHARE, beyond_shares
+from apexseal.runtime.solving.friction_stability import MAX_FRICTION_SHARE, beyond_shares
 
 #: the default scene with a sticky groove: a high seal-groove friction and a narrow regularisation
 STICKY_GROOVE = {"friction.mu2": 0.5, "friction.v_eps": "0.1 mm/s"}
@@ -95,20 +95,20 @@ def test_euler_refuses_a_sticky_spring_before_the_first_step(default_scene, fns)
 def test_the_share_is_counted_over_the_revolution_whatever_the_calls_it_is_cut_into(default_scene, fns, monkeypatch):
     """The run check adds up a revolution's samples over its integrator calls (36 with a wall-time budget) and starts
     again with the next revolution."""
-    from apexseal.runtime.solving import euler_friction
+    from apexseal.runtime.solving import friction_stability
 
     scene = default_scene.with_overrides(**STICKY_GROOVE)
-    monkeypatch.setattr(euler_friction, "MAX_FRICTION_SHARE", 1.01)  # the run unchecked: its outputs
+    monkeypatch.setattr(friction_stability, "MAX_FRICTION_SHARE", 1.01)  # the run unchecked: its outputs
     r = simulate(scene, fns)
     monkeypatch.undo()
     Y = np.vstack([r.outputs[n][1:] for n in fns.output_names])  # the samples after the start
     dth = 2 * np.pi / 360
     p = scene.parameter_vector()
-    k, _ = euler_friction.FrictionWatch(fns, p, 200000).check(0, Y, dth)
-    watch = euler_friction.FrictionWatch(fns, p, 200000)
+    k, _ = friction_stability.FrictionWatch(fns, p, 200000).check(0, Y, dth)
+    watch = friction_stability.FrictionWatch(fns, p, 200000)
     chunks = [watch.check(0, Y[:, i:i + 10], dth) for i in range(0, k + 1, 10)]  # the last holds sample k
     assert all(c is None for c in chunks[:-1]) and 10 * (len(chunks) - 1) + chunks[-1][0] == k
-    again = euler_friction.FrictionWatch(fns, p, 200000)
+    again = friction_stability.FrictionWatch(fns, p, 200000)
     assert again.check(0, Y[:, :k], dth) is None and again.check(1, Y[:, :k], dth) is None  # a new revolution
 
 
@@ -141,7 +141,7 @@ def test_a_friction_law_that_is_off_is_not_checked(default_scene):
 def test_the_normal_force_and_the_sliding_speed_are_read_back_from_the_force_and_the_friction_power():
     """|F| = N sqrt(1 + mu^2 tanh(v / v_eps)^2) and Pf = mu N tanh(v / v_eps) v give N back, sticking or sliding,
     and |v| where tanh(v / v_eps) still tells it (a fast slide reads as infinitely fast)."""
-    from apexseal.runtime.solving.euler_friction import normal_and_speed
+    from apexseal.runtime.solving.friction_stability import normal_and_speed
 
     rng = np.random.default_rng(1)
     mu, v_eps = 0.7, 1e-4
