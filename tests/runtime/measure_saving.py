@@ -41,6 +41,9 @@ class TimedFolder(ResultFolder):
 
 
 def main(revolutions: int = 50) -> None:
+    if revolutions < 5:
+        raise SystemExit(f"revolutions = {revolutions}: the memory after the 5th revolution is compared with the "
+                         "last; allowed: revolutions >= 5")
     scene = apexseal.load_scene()
     settings = settings_of(scene, revolutions=revolutions)
     calls, assembly = [], []
