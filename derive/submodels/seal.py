@@ -26,6 +26,9 @@ DAMPING_LAWS = ("velocity", "penetration")
 #: tilted by a few degrees (the paper's nine contact cases end near 11 deg); 45 deg is a seal turned over. A run
 #: stops past it (runtime/solving/checks.py, RunChecks.tilt), and a scene's initial tilt must lie within it
 MAX_TILT = math.pi / 4
+#: kg/m^3: the density of osmium, the densest material; the bound of seal.density, and with the seal's outline of
+#: its mass seal.ms (runtime/scenes/checks.py)
+DENSEST = 22590.0
 
 
 def penetration_damped(guard: Guard, law: str) -> bool:
@@ -65,7 +68,8 @@ class SealBody(Submodel):
         Parameter("Bs", "m", "seal length along the machine axis (Eq. 76)", key="seal.Bs",
                   plausible=(2e-3, 2.0, "mm"), gt=0),
         Parameter("density", "kg/m^3", "seal material density", key="seal.density", gt=0, optional=True,
-                  in_vector=False, plausible=(500.0, 20000.0, "kg/m^3")),  # polymers and carbon to carbides
+                  le=DENSEST, in_vector=False,  # no material is denser than osmium
+                  plausible=(500.0, 20000.0, "kg/m^3")),  # polymers and carbon to carbides
         Parameter("ms", "kg", "seal mass (Eq. 80); default density Ws (ds1 + ds2) Bs", key="seal.ms",
                   plausible=(1e-4, 2.0, "g"), gt=0, optional=True),
         Parameter("Icg", "kg*m^2", "seal moment of inertia about its centre of gravity (Eq. 80); default "

@@ -17,6 +17,7 @@ from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects, orphans
 from apexseal.derive.numbers import machine_numbers, smallest_chamber_volume, smallest_lobe_offset, tip_half_angle
 from apexseal.derive.options import without_parent
+from apexseal.derive.submodels.seal import DENSEST
 
 from .damping import MAX_DAMPING_RATIO, contact_dampings
 from .errors import MISSING, Problem, show_value
@@ -25,13 +26,14 @@ from .schema import (
     GAS_SOURCES,
     PRESSURE_SOURCES,
     MachineSection,
+    OperationSection,
     PressureSection,
     SealSection,
     Section,
     raw_at,
     validator_of,
 )
-from .units import TABLE_PRESSURES, implausible, plausible_ranges
+from .units import SETTINGS_PLAUSIBLE, TABLE_PRESSURES, implausible, plausible_ranges
 
 #: largest aspect ratio b = r/L of a dimple-free limaçon (Eq. 4; derive.geometry.looping_free_limit)
 MAX_ASPECT_RATIO = 0.25
@@ -166,6 +168,49 @@ def check_seal(s: SealSection, raw: dict[str, Any]) -> list[Problem]:
             )
         )
     return out
+
+
+def check_mass(s: SealSection, raw: dict[str, Any]) -> list[Problem]:
+    """The seal's mass and inertia (Eq. 80) a body within its outline can have: the outline (a rectangle Ws by
+    ds1 + ds2, Bs long, holds the tip arc) filled with the densest material (:data:`DENSEST`) is the heaviest seal,
+    and no part of it lies farther from its centre of gravity than the farthest corner, so Icg <= ms (max(ds1,
+    ds2)^2 + Ws^2/4). Above them a value is no seal, whatever the material (the run took them, and 1e300 kg failed
+    only as a right-hand side that is not finite, or ran silently with an Icg that stops the seal turning)."""
+    out = []
+    heaviest = DENSEST * s.Ws * (s.ds1 + s.ds2) * s.Bs
+    if s.ms is not None and s.ms > heaviest:
+        out.append(Problem("seal.ms", raw_at(raw, ["seal", "ms"]),
+                           f"{s.ms * 1e3:.6g} g is heavier than the seal's outline Ws (ds1 + ds2) Bs = "
+                           f"{s.Ws * (s.ds1 + s.ds2) * s.Bs * 1e6:.6g} cm^3 filled with the densest material "
+                           f"({DENSEST:g} kg/m^3, osmium; Eq. 80); allowed: ms <= {heaviest * 1e3:.6g} g"))
+        return out
+    ms = s.ms if s.ms is not None else (s.density * s.Ws * (s.ds1 + s.ds2) * s.Bs if s.density is not None else None)
+    if ms is not None and s.Icg is not None:
+        largest = ms * (max(s.ds1, s.ds2) ** 2 + s.Ws**2 / 4)
+        if s.Icg > largest:
+            out.append(Problem("seal.Icg", raw_at(raw, ["seal", "Icg"]),
+                               f"{s.Icg:.6g} kg*m^2 would put mass farther from the centre of gravity than the seal's "
+                               f"farthest corner (Eq. 80: ms = {ms * 1e3:.6g} g within Ws = {_mm(s.Ws)} by ds1 + ds2 = "
+                               f"{_mm(s.ds1 + s.ds2)}); allowed: Icg <= ms (max(ds1, ds2)^2 + Ws^2/4) = "
+                               f"{largest:.6g} kg*m^2"))
+    return out
+
+
+def check_friction_width(m: MachineSection, o: OperationSection, f: Section, raw: dict[str, Any]) -> list[Problem]:
+    """The width v_eps of the regularised Coulomb law mu N tanh(v / v_eps) (Algorithm 1, Eq. 73) must lie below
+    the fastest sliding speed of the tip on the housing, (L + 2 r) omega (the tip slides at (L - 2 r) omega to
+    (L + 2 r) omega; the seal in its groove slides far slower): above it tanh stays on its linear part at every
+    contact, so the law is a viscous damper, no Coulomb friction at all (a width of 1e300 m/s ran silently
+    without friction). Not checked below the rotor speeds of engineering practice, where the rotor is the value
+    questioned."""
+    v_eps = getattr(f, "v_eps", None)
+    fastest = (m.L + 2 * m.r) * o.omega
+    if v_eps is None or v_eps < fastest or o.rpm < SETTINGS_PLAUSIBLE["operation.rpm"].lo:
+        return []  # a rotor slower than engineering practice is questioned itself (and by the start's speed check)
+    return [Problem("friction.v_eps", raw_at(raw, ["friction", "v_eps"]),
+                    f"{v_eps:.6g} m/s is not below the tip's fastest sliding speed (L + 2 r) omega = {fastest:.6g} m/s "
+                    f"(machine.L = {_mm(m.L)}, machine.r = {_mm(m.r)}, operation.rpm = {o.rpm:g}): tanh(v / v_eps) "
+                    f"would make the friction law a viscous damper (Eq. 73); allowed: 0 < v_eps < {fastest:.6g} m/s")]
 
 
 def check_seal_in_rotor(m: MachineSection, s: SealSection, raw: dict[str, Any]) -> list[Problem]:
@@ -357,6 +402,10 @@ def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list
         out += check_seal(s, raw)
     if s is not None and s.zeta0 is not None:
         out += mouth_on_flank(s, s.zeta0, raw_at(raw, ["seal", "zeta0"]))
+    if s is not None:
+        out += check_mass(s, raw)
+    if m is not None and "operation" in sections and "friction" in sections:
+        out += check_friction_width(m, sections["operation"], sections["friction"], raw)
     if m is not None and s is not None:
         out += check_seal_in_rotor(m, s, raw)
         if s.zeta0 is None:

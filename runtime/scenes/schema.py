@@ -99,7 +99,8 @@ class OperationSection(Section):
     until_periodic: _v(Flag(), bool) = Field(
         False, description="stop once a revolution repeats the previous one"
     )
-    periodic_tol: _q("1", gt=0) = Field(1e-6, description="relative state change that counts as periodic")
+    # below 1: a relative change of the state over a revolution of 100 % or more says nothing about periodicity
+    periodic_tol: _q("1", gt=0, lt=1) = Field(1e-6, description="relative state change that counts as periodic")
 
     @property
     def omega(self) -> float:

@@ -78,6 +78,25 @@ def speed_problem(functions, params) -> str | None:
             f"allowed: rpm >= {rpm_min:.3g} (at most {MAX_OSCILLATIONS_PER_RAD:g} oscillations per rad)")
 
 
+def far_outside_practice(functions, params) -> str:
+    """The scene keys whose values lie far outside engineering practice (runtime/scenes/units.py: the scene loaded
+    them with a PlausibilityWarning), as a failed run's likely cause: "" when there is none. A length of 1e300 m or
+    a speed of 1e300 rpm is no impossible machine, so no range refuses it, but the model's numbers overflow with
+    it (a right-hand side that is not finite, a step size that falls below its minimum), and the failure alone
+    names no key."""
+    from ...derive.submodels.registry import parameters
+    from ..scenes.units import implausible
+
+    keys = {p.name: p.key for p in parameters(all_inputs=True) if p.key}
+    p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
+    values = {keys[n]: (x, None) for n, x in p.items() if n in keys}
+    if "omega" in p:
+        values["operation.rpm"] = (p["omega"] * 60 / (2 * math.pi), None)
+    shown = [f"{key} = {message.replace(' is far outside engineering practice for this key (', ' (engineering practice: ')}"
+             for key, _, message in implausible(values)]
+    return "" if not shown else ("; values far outside engineering practice, the likely cause: " + "; ".join(shown))
+
+
 def penetration_guards(guard_names) -> list[int]:
     """The indices of the guards whose depth is a penetration into a wall: every guard but those its submodel
     declares closed at rest (a preloaded spring's, whose guard is its compression)."""
@@ -119,12 +138,54 @@ def start_problem(functions, params, theta, X, u) -> str | None:
     return f"{shown} starts the seal {where_}; {allowed}: check the initial state's units and sign"
 
 
+def mouth_corner_lengths(p: dict[str, float], X: np.ndarray) -> tuple[float, float, float, float]:
+    """(l1, l2, l3, l4): where the groove's mouth corners g1, g3 meet the seal's sides at the state ``X`` (x, y, phi
+    first), measured from the tip arc's ends c1, c3 (l1, l3) and from the back corners c2, c4 (l2, l4) along the
+    seal (Eqs. 17-23, with ds0 = ds1 - ro (1 - cos beta_o) of Eq. 24); all four are > 0 while both corners face
+    the seal's flat sides, between its back face and its tip arc."""
+    x, y, phi = (float(v) for v in X[:3])
+    ds0 = p["ds1"] - p["ro"] * (1 - math.cos(p["beta_o"]))
+    mouth = p["ds1"] - p["zeta0"] - p["delta_w"]  # X of g1, g3 in the groove frame (Eqs. 17-18)
+    c, s = math.cos(phi), math.sin(phi)
+    l2 = (mouth - x) * c - (p["Wg"] / 2 + y) * s + p["ds2"]
+    l4 = (mouth - x) * c + (p["Wg"] / 2 - y) * s + p["ds2"]
+    return ds0 + p["ds2"] - l2, l2, ds0 + p["ds2"] - l4, l4
+
+
+def flank_problem(functions, params, X) -> str | None:
+    """The initial-state values, if they start the seal where a groove mouth corner lies on its tip arc (sunk into
+    the groove: the side contacts and faces of Eqs. 20-23 and 44-47 have no flat side to act on, the scene's
+    seal.zeta0 check at rest) or past its back face (out of its groove, Eq. 17). A start too far out is also deep
+    in the housing wall (:func:`start_problem`); one too far in met no check and ran until it chattered."""
+    p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
+    if not {"ds1", "ds2", "ro", "beta_o", "zeta0", "delta_w", "Wg"} <= p.keys():  # a model without the groove
+        return None
+    lengths = mouth_corner_lengths(p, X)
+    if min(lengths) > 0 or not np.isfinite(X[:3]).all():
+        return None
+    l1, l2, l3, l4 = lengths
+    culprits = [i for i in range(3) if X[i] != 0] or [0]
+    shown = ", ".join(f"operation.initial_state.{STATE_KEYS[i][0]} = {X[i] * STATE_KEYS[i][2]:.6g} {STATE_KEYS[i][1]}"
+                      for i in culprits)
+    ds0 = p["ds1"] - p["ro"] * (1 - math.cos(p["beta_o"]))
+    mouth = p["ds1"] - p["zeta0"] - p["delta_w"]
+    low, high = mouth - ds0, mouth + p["ds2"]  # l1 = l3 = 0 and l2 = l4 = 0 at y = phi = 0
+    where = ("a groove mouth corner on the seal's tip arc (sunk into its groove: l1 = "
+             f"{l1 * 1e3:.6g} mm, l3 = {l3 * 1e3:.6g} mm from the arc's ends; the contact model has no flat side "
+             "there, Eqs. 20-23, 44-47)" if min(l1, l3) <= 0 else
+             f"its back face past the groove's mouth (out of its groove, Eq. 17: l2 = {l2 * 1e3:.6g} mm, l4 = "
+             f"{l4 * 1e3:.6g} mm)")
+    return (f"{shown} starts the seal with {where}; allowed: both mouth corners on the seal's flat sides, for x "
+            f"alone {low * 1e3:.6g} mm < x < {high * 1e3:.6g} mm: check the initial state's units and sign")
+
+
 def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
               dtheta: float | None = None) -> StopInfo | None:
     """Refuse to start what cannot give a meaningful result, with the reason.
 
     * a rotor speed too slow for the stiffest contact (:func:`speed_problem`), an initial state that starts the
-      seal deep inside a wall (:func:`start_problem`): both name the scene value;
+      seal deep inside a wall (:func:`start_problem`) or with its groove's mouth off its flat sides
+      (:func:`flank_problem`): each names the scene value;
     * NaN/Inf in the right-hand side;
     * an explicit fixed-step method (euler, rk, erk-rk4: ``Method.stability``) with a step that amplifies a contact
       oscillation more than MAX_GROWTH times per revolution (runtime/solving/contact_stability.contact_growth), or
@@ -139,7 +200,8 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
       the right-hand side is finite.
     """
     mode = mode_label(functions.guard_names, closed)
-    for problem in (speed_problem(functions, params), start_problem(functions, params, theta, X, u)):
+    for problem in (speed_problem(functions, params), start_problem(functions, params, theta, X, u),
+                    flank_problem(functions, params, X)):
         if problem:
             return StopInfo(0.0, mode, problem)
     xdot = np.array(functions.rhs(theta, X, closed, params, u)).ravel()

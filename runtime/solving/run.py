@@ -35,7 +35,7 @@ from .diagnosis import locate_failure
 from .layout import HybridLayout
 from .methods import WallTimeExceeded, make_engine
 from .pace import FailedInterval, IntervalByInterval, Pace
-from .preflight import initial_activations, preflight
+from .preflight import far_outside_practice, initial_activations, preflight
 from .scaling import to_scaled
 from .settings import RunSettings, out_of_time, samples_per_call
 from .signals import StopSignals
@@ -227,6 +227,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         t_finish = time.perf_counter()
         long = progress and part.samples_done >= LONG_RESULT  # seconds after the bar ends: said, not silent
         with stage(f"joining the result's {part.samples_done:,} samples") if long else contextlib.nullcontext():
+            if status == "failed" and stop is not None:  # the key to change, when the scene holds an absurd value
+                stop = StopInfo(stop.theta, stop.mode, stop.reason + far_outside_practice(functions, params))
             result = sink.finish(status, stop, info)
         # wall seconds: start checks and building the engine (compiling, or loading the cached library), integrating
         # (checks between calls included), assembling the outputs (per revolution, and joining them at the end),

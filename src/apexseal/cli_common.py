@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import os
+import tempfile
 from pathlib import Path
 
 import click
@@ -69,18 +70,23 @@ class Setting(click.ParamType):
             self.fail(f"{value!r} is not {what}; allowed: {allowed(self.setting)}", param, ctx)
 
 
-def writable(folder: Path, option: str = "--out") -> None:
-    """Fail before computing anything if the output folder (given by ``option``) cannot be written."""
+def writable(folder: Path, option: str = "--out", given: Path | None = None) -> None:
+    """Fail before computing anything if the output folder (given by ``option``) cannot be written: created if
+    missing, then a folder made and removed in it (permission bits alone do not tell: root passes them, and a
+    virtual file system such as /proc refuses to create anything). ``given``: the value of the option, when
+    ``folder`` is the folder it is written beside (a result's parent)."""
+    given = folder if given is None else given
+    beside = "" if given == folder else f" (its result is written in {folder}, then renamed into place)"
     existing = next((f for f in (folder, *folder.parents) if f.exists()), None)
     if existing is not None and not existing.is_dir():
-        raise click.BadParameter(f"cannot create the output folder {folder}: {existing} is a file; allowed: a folder "
+        raise click.BadParameter(f"cannot create the output folder {given}: {existing} is a file; allowed: a folder "
                                  "(created if missing)", param_hint=option)
     try:
         folder.mkdir(parents=True, exist_ok=True)
+        os.rmdir(tempfile.mkdtemp(prefix=".apexseal-probe-", dir=folder))
     except OSError as err:
-        raise click.BadParameter(f"cannot create the output folder {folder}: {err.strerror}", param_hint=option) from None
-    if not os.access(folder, os.W_OK):
-        raise click.BadParameter(f"the output folder {folder} is not writable", param_hint=option)
+        raise click.BadParameter(f"cannot create the output folder {given}{beside}: {err.strerror}; allowed: a "
+                                 "folder this user can create files in", param_hint=option) from None
 
 
 def _toml_value(text: str):
@@ -158,7 +164,7 @@ def result_folder(folder: Path) -> None:
         check_replaceable(folder)
     except ResultFolderError as err:
         raise click.BadParameter(str(err), param_hint="--out") from err
-    writable(folder.parent if folder.parent != Path("") else Path("."))
+    writable(folder.parent if folder.parent != Path("") else Path("."), given=folder)
 
 
 def _power(total: float | None) -> str:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import shlex
+import sys
 import time
 from pathlib import Path
 
@@ -54,6 +55,7 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     from .runtime.bench.config import PRESETS
     from .runtime.bench.output import write_outputs
     from .runtime.bench.runner import run_benchmark
+    from .runtime.solving.signals import StopSignals
 
     cfg = PRESETS["quick" if quick else "full"]()
     split = lambda s: tuple(x.strip() for x in s.split(",") if x.strip())  # noqa: E731
@@ -68,8 +70,18 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     writable(out)  # before the hours of measuring, not at the end
     command = _command_line(click.get_current_context())
     t0 = time.perf_counter()
-    results = run_benchmark(cfg, log=lambda msg: click.echo(msg, err=True))
-    paths = write_outputs(results, out, command)
+    with StopSignals(raising=True) as signals:  # Ctrl-C/SIGTERM abandon the measuring wherever it is
+        try:
+            results = run_benchmark(cfg, log=lambda msg: click.echo(msg, err=True))
+        except BaseException:  # a signal surfaces as whatever the call it landed in made of it (a settling run
+            if not signals.requested:  # ends "interrupted", which the benchmark reports as a failed settling)
+                raise
+        signals.raising = False  # the report is written whole; a further signal is only noted
+        if signals.requested:
+            signals.ignore_after()
+            click.echo(f"  interrupted by {signals.sender()} while measuring: nothing written", err=True)
+            sys.exit(signals.exit_code())
+        paths = write_outputs(results, out, command)
     click.echo(f"wrote {', '.join(str(p) for p in paths.values())} in {(time.perf_counter() - t0) / 60:.1f} min")
     for t in results.get("targets", []):
         click.echo(f"  [{t['status']:>7}] {t['scene']}: {t['target']}: {t['text']}")

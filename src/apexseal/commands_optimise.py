@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import Choice, IntRange, default_folder, scene_label, scene_of, scene_settings, writable
+from .cli_common import Choice, FloatRange, IntRange, default_folder, scene_label, scene_of, scene_settings, writable
 
 
 def _quantity(value, param, unit: str, largest: float, example: str) -> float | None:
@@ -54,11 +54,8 @@ def _windows(ctx, param, values) -> tuple:
 
 
 def _rate(ctx, param, value):
-    if value is None:
-        return None
-    if not (value > 0):
-        raise click.BadParameter(f"{value!r}: allowed: a rate > 0 mm per degree of crank angle, e.g. 0.05")
-    return value * 1e-3
+    """--max-rate in mm per degree (its range checked by its type, FloatRange), as the study takes it: m per degree."""
+    return None if value is None else value * 1e-3
 
 
 @click.command("optimise-preload")
@@ -76,7 +73,7 @@ def _rate(ctx, param, value):
 @click.option("--schedule", "knots", type=IntRange(2, 72), default=None, metavar="KNOTS",
               help="Also optimise a periodic piecewise-linear preload schedule with KNOTS knots, started from the "
                    "constant optimum.")
-@click.option("--max-rate", type=float, default=None, callback=_rate, metavar="MM_PER_DEG",
+@click.option("--max-rate", type=FloatRange(0, min_open=True), default=None, callback=_rate, metavar="MM_PER_DEG",
               help="Bound on |d delta_s / d theta| of the schedule in mm per degree [default: none].")
 @click.option("--max-preload", default="100 mm", show_default=True, callback=_length, metavar="LENGTH",
               help="Upper bound of the preload delta_s searched (a length, e.g. 150mm; a bare number is in m).")

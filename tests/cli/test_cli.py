@@ -143,6 +143,21 @@ def test_simulate_refuses_an_unwritable_output_folder(tmp_path):
     assert "--out" in r.output and "cannot create the output folder" in r.output
 
 
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="no proc file system")
+@pytest.mark.parametrize("command", [["simulate", "-n", "1"], ["sweep", "--example", "preload-map"],
+                                     ["bench", "--quick"]])
+def test_an_output_folder_nothing_can_be_created_in_is_refused_before_any_work(command, monkeypatch):
+    """/proc passes the permission test (as root) but creates nothing: simulate started the run (compiled, said
+    "writing to") and only then failed with a bare "[Errno 2]" naming no option."""
+    from apexseal.runtime.bench import runner
+
+    monkeypatch.setattr(runner, "run_benchmark", lambda *a, **k: pytest.fail("the benchmark ran before --out was checked"))
+    r = CliRunner().invoke(main, [*command, "--out", "/proc/nope"])
+    assert r.exit_code == 2 and "Traceback" not in r.output, r.output
+    assert "Invalid value for --out: cannot create the output folder /proc/nope" in r.output, r.output
+    assert "No such file or directory; allowed: a folder" in r.output and "writing to" not in r.output, r.output
+
+
 def test_derive_reports_cold_and_cached_times():
     r = CliRunner().invoke(main, ["derive"])
     assert r.exit_code == 0, r.output
@@ -236,6 +251,9 @@ def test_progress_reports_stages_with_elapsed_time(capsys):
     (["bench", "--quick", "--samples", "abc"], ["--samples", "'abc' is not an integer", "allowed: 4<=x<=100000"]),
     (["sweep", "--example", "preload-map", "-w", "abc"], ["--workers", "'abc' is not an integer", "allowed: 1<=x<="]),
     (["optimise-preload", "--nodes", "x"], ["--nodes", "'x' is not an integer", "allowed: 2<=x<=64"]),
+    (["optimise-preload", "--max-rate", "abc"], ["--max-rate", "'abc' is not a number", "allowed: x>0"]),
+    (["optimise-preload", "--max-rate", "nan"], ["--max-rate", "nan is not a number", "allowed: x>0"]),
+    (["optimise-preload", "--max-rate", "-1"], ["--max-rate", "-1.0 is not in the range x>0"]),
     (["simulate", "-n", "1e20"], ["--revolutions", "'1e20' is not an integer", "allowed: 1 <= n <= 100000"]),
     (["simulate", "--rtol", "abc"], ["--rtol", "'abc' is not a number", "allowed: 1e-12 <= value <= 0.01"]),
     (["simulate", "--max-wall-time", "x"], ["--max-wall-time", "'x' is not a number", "allowed: 0 < value <= 1e+07 s"]),

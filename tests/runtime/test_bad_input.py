@@ -221,6 +221,30 @@ def test_table_with_a_wide_angular_gap_is_accepted_and_interpolated_across(tmp_p
 
 
 # ---------------------------------------------------------------- the run API
+@pytest.mark.parametrize("key, fragments, inside", [
+    ("seal.ms", ["seal.ms = 1e+300: 1e+303 g is heavier than the seal's outline", "osmium",
+                 "allowed: ms <= 54.1618 g"], {"seal.ms": "54 g"}),
+    ("seal.density", ["seal.density = 1e+300: 1e+300 kg/m^3 is out of range; allowed: 0 < value <= 22590 kg/m^3"],
+     {"seal.density": "22000 kg/m^3"}),
+    ("seal.Icg", ["seal.Icg = 1e+300: 1e+300 kg*m^2 would put mass farther from the centre of gravity than the "
+                  "seal's farthest corner", "allowed: Icg <= ms (max(ds1, ds2)^2 + Ws^2/4) = 3.15045e-07 kg*m^2"],
+     {"seal.Icg": 3.1e-7}),
+    ("friction.v_eps", ["friction.v_eps = 1e+300: 1e+300 m/s is not below the tip's fastest sliding speed",
+                        "allowed: 0 < v_eps < 10.9956 m/s"], {"friction.v_eps": "10 m/s"}),
+    ("operation.periodic_tol", ["operation.periodic_tol = 1e+300: 1e+300 is out of range; allowed: 0 < value < 1"],
+     {"operation.periodic_tol": 0.5}),
+], ids=lambda v: v if isinstance(v, str) else "")
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.scenes.units.PlausibilityWarning")
+def test_a_value_no_seal_or_run_can_have_is_refused_naming_key_value_and_range(key, fragments, inside):
+    """1e300 for these loaded, and the run failed naming no key (ms, density) or completed silently (Icg: a seal
+    that cannot turn; v_eps: friction that is a viscous damper; periodic_tol: any revolution is "periodic"). An
+    unusual value inside the bound still loads."""
+    with pytest.raises(SceneError) as caught:
+        load_scene(None, overrides={key: 1e300})
+    assert all(f in str(caught.value) for f in fragments), str(caught.value)
+    load_scene(None, overrides=inside)
+
+
 def test_unknown_method_in_the_api(default_scene, default_functions):
     with pytest.raises(SettingsError, match="method = \"cvode\": not a method \\(did you mean 'cvodes'\\?\\); allowed: erk"):
         apexseal.simulate(default_scene, method="cvode", functions=default_functions.sx)

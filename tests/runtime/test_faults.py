@@ -447,6 +447,33 @@ def test_a_second_signal_while_saving_corrupts_nothing(slow_scene, tmp_path):
     assert r.status == "interrupted" and r.n >= 1 + 2 * 360
 
 
+@pytest.mark.parametrize("signum,code,words", [(signal.SIGINT, 130, "the user (Ctrl-C, SIGINT)"),
+                                               (signal.SIGTERM, 143, "SIGTERM")])
+def test_a_signal_during_the_benchmark_s_settling_ends_it_as_simulate_ends(tmp_path, signum, code, words):
+    """Ctrl-C while `apexseal bench` settled its scene printed a RuntimeError traceback ("settling default failed:
+    ... interrupted"): the settling run noted the signal and ended interrupted, which the benchmark took for a
+    failure. Now the command ends as a run's Ctrl-C does: one line, exit code 130 (143 for SIGTERM)."""
+    out = tmp_path / "bench"
+    proc = subprocess.Popen(command("bench", "--quick", "--scenes", "default", "--no-effects", "--no-check", "--no-e2e",
+                                    "--no-gas", "--settle", "100", "--out", str(out)),
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ.copy())
+    seen = []
+    for line in proc.stderr:  # the model compiled (cached after the first time), then the settling begins
+        seen.append(line)
+        if "settling 100 revolutions" in line:
+            break
+    assert proc.poll() is None, "".join(seen)
+    time.sleep(0.5)  # into the settling run's integrator calls
+    sent = time.monotonic()
+    proc.send_signal(signum)
+    stdout, stderr = proc.communicate(timeout=60)
+    assert time.monotonic() - sent < 10.0, "the benchmark must end within a few seconds"
+    assert proc.returncode == code, (stdout, stderr)
+    assert "Traceback" not in stderr and "RuntimeError" not in stderr, stderr
+    assert f"interrupted by {words}" in stderr and "nothing written" in stderr, stderr
+    assert not out.exists() or not any(out.iterdir())
+
+
 def test_a_killed_run_leaves_the_previous_result_intact(slow_scene, tmp_path, two_results):
     out = tmp_path / "o"
     two_results[1].save(out)  # an earlier result at --out

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 import time
 from pathlib import Path
@@ -70,6 +71,11 @@ def test_messages_quote_a_short_excerpt(tmp_path):
     ({"operation.initial_state.y": "5 mm"}, ["operation.initial_state.y = 0.005 m", "geometry is not defined",
                                               "is not finite"]),
     ({"operation.rpm": 1e-300}, ["operation.rpm = 1e-300 rpm is too slow", "allowed: rpm >="]),
+    # sunk into the groove: -1 m ran until it "chattered" (only +1 m was caught); -0.35 mm is just past the bound
+    ({"operation.initial_state.x": "-1 m"}, ["operation.initial_state.x = -1 m", "groove mouth corner on the seal's "
+                                             "tip arc", "allowed: both mouth corners on the seal's flat sides, for x "
+                                             "alone -0.308086 mm < x < 7.28999 mm"]),
+    ({"operation.initial_state.x": "-0.35 mm"}, ["operation.initial_state.x = -0.00035 m", "tip arc"]),
 ])
 @pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")  # inside a wall
 @pytest.mark.filterwarnings("ignore::apexseal.runtime.scenes.units.PlausibilityWarning")  # 1e-300 rpm
@@ -82,12 +88,29 @@ def test_impossible_start_is_named_before_integrating(default_scene, default_fun
     assert all(f in r.stop.reason for f in fragments), r.stop.reason
 
 
+@pytest.mark.parametrize("key, named", [
+    ("machine.L", "machine.L = 1e+303 mm (engineering practice: 2 to 2000 mm)"),
+    ("seal.Wg", "seal.Wg = 1e+303 mm (engineering practice: 0.3 to 30 mm)"),
+    ("seal.ro", "seal.ro = 1e+303 mm (engineering practice: 0.2 to 10000 mm)"),
+    ("operation.rpm", "operation.rpm = 1e+300 rpm (engineering practice: 1 to 50000 rpm)"),
+])
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.scenes.units.PlausibilityWarning")
+def test_a_run_that_fails_on_an_absurd_value_names_its_key(default_scene, default_functions, key, named):
+    """No range refuses a machine 1e300 m long, a flat tip or a fast rotor (the scene warns), but at 1e300 the
+    model's numbers overflow and the run failed with a reason that named no key (a right-hand side that is not
+    finite, a step size below its minimum): it now names the values far outside engineering practice."""
+    scene = default_scene.with_overrides(**{key: 1e300})
+    r = apexseal.simulate(scene, functions=default_functions.sx, samples_per_revolution=72, compile_c=False)
+    assert r.status == "failed" and r.n == 1
+    assert "values far outside engineering practice, the likely cause: " + named in r.stop.reason, r.stop.reason
+
+
 def test_every_hard_scene_passes_the_preflight(default_functions):
     """The bounds refuse only impossible starts: no hard scene (start on a guard, 60 rpm, ...) is refused."""
     from hard_helpers import SCENES, load
 
     from apexseal.runtime.api import initial_state
-    from apexseal.runtime.solving.preflight import speed_problem, start_problem
+    from apexseal.runtime.solving.preflight import flank_problem, speed_problem, start_problem
 
     fns = default_functions.sx
     for name in SCENES:
@@ -97,6 +120,24 @@ def test_every_hard_scene_passes_the_preflight(default_functions):
             if sc.effects.chamber_pressure else np.zeros(2)
         assert speed_problem(fns, p) is None, name
         assert start_problem(fns, p, th, initial_state(sc), u) is None, name
+        assert flank_problem(fns, p, initial_state(sc)) is None, name
+
+
+def test_the_start_s_lowest_x_is_where_the_scene_check_puts_the_groove_mouth(default_scene, default_functions):
+    """The start check's bound on x is the scene's zeta0 bound (checks.mouth_on_flank) moved by x: a start just
+    inside it is not refused, just outside it is, and a tilt moves one corner towards the arc."""
+    from apexseal.runtime.scenes.checks import mouth_on_flank
+    from apexseal.runtime.solving.preflight import flank_problem
+
+    fns = default_functions.sx
+    p = default_scene.parameter_vector(tuple(fns.parameter_names))
+    s = default_scene.seal
+    bound = s.ro * (1 - math.cos(math.asin(s.Ws / (2 * s.ro)))) - s.zeta0  # zeta0 + x > ro (1 - cos beta_o)
+    assert mouth_on_flank(s, s.zeta0 + bound - 2e-6, "v") and not mouth_on_flank(s, s.zeta0 + bound + 2e-6, "v")
+    for x, refused in ((bound + 2e-6, False), (bound - 2e-6, True)):
+        assert (flank_problem(fns, p, np.array([x, 0, 0, 0, 0, 0.0])) is not None) is refused, x
+    tilted = np.array([bound + 2e-6, 0, math.radians(2), 0, 0, 0.0])
+    assert flank_problem(fns, p, tilted) is not None
 
 
 def _beyond_each_bound():

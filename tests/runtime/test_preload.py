@@ -265,7 +265,7 @@ def test_study_needs_the_spring_and_the_housing_contact(default_scene):
     ([arg for w in ("0:1", "2:3", "4:5", "6:7", "8:9") for arg in ("--exclude", w)], ["--exclude", "at most 4"]),
     (["--samples", "10"], ["--samples", "10"]),
     (["--schedule", "1"], ["--schedule", "1"]),
-    (["--max-rate", "-2"], ["--max-rate", "-2", "> 0"]),
+    (["--max-rate", "-2"], ["--max-rate", "-2", "x>0"]),
     (["--max-groove-force", "-3N"], ["--max-groove-force", "-3N", "> 0"]),
     (["--max-groove-force", "3 m"], ["--max-groove-force", "3 m"]),
     (["--max-groove-force", "-3"], ["--max-groove-force", "-3", "> 0"]),
