@@ -165,8 +165,7 @@ def flank_problem(functions, params, X) -> str | None:
         return None
     l1, l2, l3, l4 = lengths
     culprits = [i for i in range(3) if X[i] != 0] or [0]
-    shown = ", ".join(f"operation.initial_state.{STATE_KEYS[i][0]} = {X[i] * STATE_KEYS[i][2]:.6g} {STATE_KEYS[i][1]}"
-                      for i in culprits)
+    shown = ", ".join(state_shown(i, X[i]) for i in culprits)
     ds0 = p["ds1"] - p["ro"] * (1 - math.cos(p["beta_o"]))
     mouth = p["ds1"] - p["zeta0"] - p["delta_w"]
     low, high = mouth - ds0, mouth + p["ds2"]  # l1 = l3 = 0 and l2 = l4 = 0 at y = phi = 0

@@ -183,34 +183,6 @@ def test_no_more_workers_start_than_points_are_left_and_more_than_cores_is_said(
     assert started == [2]
 
 
-def test_ctrl_c_while_many_workers_start_stops_the_sweep_at_once(tmp_path):
-    """Ctrl-C while the LocalCluster's workers started was lost: this process ignored SIGINT for the whole start
-    (so that the workers inherited an ignored SIGINT), and with many workers the start is long. Now the workers
-    are forked by a fork server that ignores SIGINT, this process keeps its handler, and the start is abandoned at
-    once: exit 130, no point computed, no traceback."""
-    study = tmp_path / "light.toml"
-    study.write_text(LIGHT)
-    out = tmp_path / "out"
-
-    def foreground():  # as a command typed at a terminal: Ctrl-C acts (a job started in the background ignores it)
-        signal.signal(signal.SIGINT, signal.SIG_DFL)
-
-    proc = subprocess.Popen(command("sweep", str(study), "--workers", "16", "--out", str(out), "-q", "--no-figures"),
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-                            preexec_fn=foreground)
-    for line in proc.stdout:  # the points are checked and the folder taken: the cluster starts now
-        if line.startswith("study light"):
-            break
-    time.sleep(1.0)
-    sent = time.monotonic()
-    os.killpg(proc.pid, signal.SIGINT)  # what a terminal does
-    stdout, stderr = proc.communicate(timeout=120)
-    assert time.monotonic() - sent < 10.0, "the sweep must stop within a few seconds"
-    assert proc.returncode == 130, stdout + stderr
-    assert "Traceback" not in stderr and "interrupted: run the same command again" in stderr, stderr
-    assert len(list((out / "points").glob("point-*.parquet"))) < 16
-
-
 def test_a_signal_stops_the_points_running_on_a_dask_cluster_not_only_the_sweep(tmp_path):
     """SIGTERM while a long point runs on a cluster (a client's own, as on a shared cluster): the sweep returned,
     but the point ran on to its end (minutes), holding its worker; now it stops at its run's next check as a

@@ -10,9 +10,7 @@ Dask alike, keeps every finished point and drops those cut short; the same comma
 
 from __future__ import annotations
 
-import contextlib
 import logging
-import os
 import signal
 import threading
 import time
@@ -315,96 +313,16 @@ def local_cluster(workers: int):
 
     Its processes start with SIGINT ignored: a Ctrl-C on the terminal reaches the whole process group, and this
     process, which stops the sweep and then the cluster, is the one to act on it (each worker printed a
-    KeyboardInterrupt traceback). They are forked by multiprocessing's fork server (:func:`_quiet_forkserver`),
-    started once with SIGINT ignored, so that this process keeps its own handling while they start: it used to
-    ignore SIGINT itself for the whole start, and a Ctrl-C while many workers started was lost. Where there is no
-    fork server (Windows), the processes inherit an ignored SIGINT from this process, which ignores it while they
-    start. The workers get this process's environment as it is now (``env``), not the fork server's."""
+    KeyboardInterrupt traceback). This process ignores SIGINT while they start (the processes inherit it: Python
+    keeps an ignored SIGINT ignored), so a Ctrl-C in those seconds is lost; :func:`local_workers` keeps their
+    number to the points left."""
     from dask.distributed import LocalCluster
 
     from ...solving.signals import handling
 
-    logging.getLogger("asyncio").addFilter(_abandoned_start)  # once: a filter added again is not added twice
-    with contextlib.ExitStack() as stack:
-        if not _quiet_forkserver():  # Python keeps an ignored SIGINT ignored in a process it starts
-            stack.enter_context(handling(signal.SIGINT, signal.SIG_IGN))
-        cluster = LocalCluster(n_workers=0, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.CRITICAL,  # shutdown races of dask print ERRORs
-                               env=dict(os.environ))  # this process's now, not the fork server's at its start
-        try:  # the workers started here, so that a start abandoned (a signal) closes what it started
-            for _ in range(workers):  # as LocalCluster(n_workers=...) starts them: a worker's failure raises
-                cluster.worker_spec.update(cluster.new_worker_spec())
-            cluster.sync(cluster._correct_state)
-        except BaseException:
-            _stop_forkserver()
-            _kill_starting_workers()
-            with contextlib.suppress(Exception):  # workers half started may refuse a graceful close
-                cluster.close(timeout=CLOSE_S)
-            cluster.shutdown_on_close = False  # not closed again at exit (10 s more): each worker left exits with
-            raise  # this process (it watches its parent)
-        return cluster
-
-
-def _stop_forkserver() -> None:
-    """Stop multiprocessing's fork server (the next cluster starts another) when a cluster's start is abandoned:
-    left running, it went on serving the requests queued while it loaded its modules after this process had left,
-    and each worker so started failed with a traceback (its parent's semaphore gone)."""
-    from multiprocessing import forkserver
-
-    server = getattr(forkserver, "_forkserver", None)
-    pid = getattr(server, "_forkserver_pid", None)
-    if pid is None:
-        return
-    with contextlib.suppress(OSError):
-        os.kill(pid, signal.SIGKILL)  # at once: asked to stop, it would first finish loading its modules
-    with contextlib.suppress(Exception):
-        server._stop()  # reaps it and removes its socket
-
-
-def _abandoned_start(record: logging.LogRecord) -> bool:
-    """False for asyncio's report of a worker start that failed unobserved ("Task exception was never retrieved
-    ... Nanny failed to start"): a cluster closed, or its start abandoned, while its workers started (a failure
-    to start that is waited for raises, :func:`local_cluster`)."""
-    return "Nanny failed to start" not in record.getMessage() + str(getattr(record, "exc_info", "") or "")
-
-
-def _kill_starting_workers() -> None:
-    """Kill the Dask worker processes this process has started (multiprocessing's children that Dask names
-    ``Dask Worker process ...``) when their cluster's start is abandoned: forked, a worker may not yet have read
-    what to run, and one that reads it after this process has left fails with a traceback. None has computed
-    anything."""
-    import multiprocessing
-
-    for child in multiprocessing.active_children():
-        if child.name.startswith("Dask Worker process"):
-            with contextlib.suppress(Exception):
-                child.kill()
-
-
-def _quiet_forkserver() -> bool:
-    """Have Dask start its worker processes with multiprocessing's fork server, itself started (once a process) with
-    SIGINT ignored, as the processes it forks then keep it (they restore the handler the server started with);
-    False where there is none. For the rest of the process: a worker Dask restarts after a crash, or one still
-    starting when a signal abandoned its cluster's start, is forked by it too (spawned, it would be a worker that
-    a Ctrl-C interrupts, or one that fails with a traceback once this process has left)."""
-    import multiprocessing
-    from multiprocessing import forkserver
-
-    from ...solving.signals import handling
-
-    if "forkserver" not in multiprocessing.get_all_start_methods():
-        return False
-    import dask
-    from distributed.utils import get_mp_context
-
-    dask.config.set({"distributed.worker.multiprocessing-method": "forkserver"})
-    context = get_mp_context()  # the modules the server preloads, as Dask sets them (imports: not while ignoring)
-    preload = list(getattr(getattr(forkserver, "_forkserver", None), "_preload_modules", None) or ["distributed"])
-    if FORKED not in preload:  # read by the server when it starts
-        context.set_forkserver_preload([*preload, FORKED])
-    with handling(signal.SIGINT, signal.SIG_IGN):  # only while the server is started (a fork and an exec)
-        forkserver.ensure_running()  # one already running is kept (apexseal starts none elsewhere)
-    return True
+    with handling(signal.SIGINT, signal.SIG_IGN):
+        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                            silence_logs=logging.CRITICAL)  # shutdown races of dask print ERRORs
 
 
 def _started_cluster(workers: int):
@@ -432,11 +350,6 @@ def _started_cluster(workers: int):
                            "another sweep in every worker: call it under `if __name__ == \"__main__\":`") from err
 
 
-#: the module the fork server of the workers imports first: quiet when a worker's parent left as it was forked
-FORKED = "apexseal.runtime.studies.sweep.forked"
-#: how long (s) a cluster whose start a signal abandoned is given to close: its workers still starting would keep
-#: this process for as long as their start takes (seconds each on a loaded machine); those left exit with it
-CLOSE_S = 2.0
 #: how often (s) the wait for a cluster's points looks whether a signal came
 POLL_S = 0.05
 
