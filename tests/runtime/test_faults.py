@@ -384,6 +384,16 @@ def _start(scene: Path, out: Path, revolutions: int = 200) -> subprocess.Popen:
     return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ.copy())
 
 
+def _signalled(proc: subprocess.Popen, signum: int, code: int, what: str) -> tuple[str, str]:
+    """Send ``signum`` to ``proc``; it must end within a few seconds with exit code ``code``: its output."""
+    sent = time.monotonic()
+    proc.send_signal(signum)
+    stdout, stderr = proc.communicate(timeout=60)
+    assert time.monotonic() - sent < 10.0, f"{what} must end within a few seconds"
+    assert proc.returncode == code, (stdout, stderr)
+    return stdout, stderr
+
+
 def _wait_for_parts(out: Path, proc: subprocess.Popen, count: int, timeout: float = 120.0) -> Path:
     t_end = time.monotonic() + timeout
     while time.monotonic() < t_end:
@@ -402,11 +412,7 @@ def test_a_signal_keeps_every_completed_revolution(slow_scene, tmp_path, signum,
     proc = _start(slow_scene, out)
     _wait_for_parts(out, proc, 2)
     time.sleep(0.3)  # into the next revolution's integrator call
-    sent = time.monotonic()
-    proc.send_signal(signum)
-    stdout, stderr = proc.communicate(timeout=60)
-    assert time.monotonic() - sent < 10.0, "the run must end within a few seconds"
-    assert proc.returncode == code, (stdout, stderr)
+    stdout, stderr = _signalled(proc, signum, code, "the run")
     assert "Traceback" not in stderr and "NotImplementedError" not in stderr, stderr
     assert f"continue it: apexseal simulate --resume {out}" in stderr
     r = SimulationResult.load(out)
@@ -464,11 +470,7 @@ def test_a_signal_during_the_benchmark_s_settling_ends_it_as_simulate_ends(tmp_p
             break
     assert proc.poll() is None, "".join(seen)
     time.sleep(0.5)  # into the settling run's integrator calls
-    sent = time.monotonic()
-    proc.send_signal(signum)
-    stdout, stderr = proc.communicate(timeout=60)
-    assert time.monotonic() - sent < 10.0, "the benchmark must end within a few seconds"
-    assert proc.returncode == code, (stdout, stderr)
+    stdout, stderr = _signalled(proc, signum, code, "the benchmark")
     assert "Traceback" not in stderr and "RuntimeError" not in stderr, stderr
     assert f"interrupted by {words}" in stderr and "nothing written" in stderr, stderr
     assert not out.exists() or not any(out.iterdir())
