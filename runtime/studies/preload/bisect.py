@@ -26,7 +26,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from ....progress import announce
-from .problem import MM, PreloadSetup, PreloadStudyError, is_integer, max_preload_problem, windows
+from .problem import MM, PreloadSetup, PreloadStudyError, max_preload_problem, nodes_problem, windows
 
 
 @dataclass
@@ -104,10 +104,9 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
         raise PreloadStudyError(f"probes = {probes!r}: must be an integer in 1..16")
     if not (tol > 0 and scan_step >= tol):
         raise PreloadStudyError(f"tol = {tol!r}, scan_step = {scan_step!r}: need 0 < tol <= scan_step (m)")
-    if not (is_integer(nodes) and 2 <= nodes <= 64):
-        raise PreloadStudyError(f"nodes = {nodes!r}: must be an integer in 2..64")
-    if max_preload_problem(max_preload):
-        raise PreloadStudyError(max_preload_problem(max_preload))
+    for problem in (nodes_problem(nodes), max_preload_problem(max_preload)):
+        if problem:
+            raise PreloadStudyError(problem)
     if upper is not None and not (isinstance(upper, numbers.Real) and 0 < upper <= max_preload):
         raise PreloadStudyError(f"upper = {upper!r}: must be a length > 0 and <= max_preload = {max_preload:g} m, "
                                 "or None (the study's feasible start)")
@@ -134,8 +133,8 @@ def bisect_preload(scene, *, min_force: float = 5.0, exclude=(), upper: float | 
         at = next((p for p in seen if p.delta_s == hi), None)
         # the start search's failing preload bounds the scan's bracket while the scan has passed no preload below it
         lower = lo if lo is not None else floor if hi is None or floor is None or floor < hi else None
-        numbers = (at.min_measure, at.min_measure_angle, at.friction_power) if at else (None, None, None)
-        return BisectionResult(hi, lower, *numbers, change, at.deficit if at else None, n_sim, time.perf_counter() - t,
+        measured = (at.min_measure, at.min_measure_angle, at.friction_power) if at else (None, None, None)
+        return BisectionResult(hi, lower, *measured, change, at.deficit if at else None, n_sim, time.perf_counter() - t,
                                _monotone(seen, lower, deficit_tol), sorted(seen, key=lambda p: p.delta_s),
                                complete=False)
 

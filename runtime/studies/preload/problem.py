@@ -117,6 +117,11 @@ def check_mask(thetas: np.ndarray, exclude: tuple[tuple[float, float], ...]) -> 
     return keep
 
 
+def smallest_checked(thetas: np.ndarray, measure: np.ndarray, exclude: tuple[tuple[float, float], ...]) -> int:
+    """The index of the smallest contact measure at the samples outside the excluded windows (:func:`check_mask`)."""
+    return int(np.argmin(np.where(check_mask(thetas, exclude), measure, np.inf)))
+
+
 def excluded(exclude: tuple[tuple[float, float], ...]) -> str:
     """The excluded windows as a run states them, e.g. ``" outside 350-10 deg (20 of 360 deg excluded)"``; the
     degrees excluded counted at the middles of a 0.01 deg grid, windows that overlap once; ``""`` for none."""
@@ -375,9 +380,8 @@ class PreloadSetup:
     def smallest(self, sim) -> tuple[float, float]:
         """A re-simulated revolution's (schedule.py) smallest tip contact measure at the checked samples (N) and its
         crank angle (deg, mod 360)."""
-        m = np.where(self.mask(sim.thetas), sim.measure, np.inf)
-        j = int(np.argmin(m))
-        return float(m[j]), float(np.degrees(sim.thetas[j]) % 360.0)
+        j = smallest_checked(sim.thetas, sim.measure, self.exclude)
+        return float(sim.measure[j]), float(np.degrees(sim.thetas[j]) % 360.0)
 
 
 def is_integer(x) -> bool:
@@ -388,6 +392,11 @@ def is_integer(x) -> bool:
 def is_force(x) -> bool:
     """A force the study takes (N): a real number in (0, MAX_FORCE]."""
     return isinstance(x, numbers.Real) and not isinstance(x, bool | np.bool_) and 0 < x <= MAX_FORCE
+
+
+def nodes_problem(nodes) -> str | None:
+    """What is wrong with a study's number of shooting ``nodes`` (an integer in 2..64), or None."""
+    return None if is_integer(nodes) and 2 <= nodes <= 64 else f"nodes = {nodes!r}: must be an integer in 2..64"
 
 
 def max_preload_problem(max_preload) -> str | None:

@@ -101,7 +101,7 @@ def _bisection(b, c) -> list[str]:
 
 def figure(scene, results: dict, min_force: float):
     from ...results.figures import new_figure
-    from .problem import check_mask
+    from .problem import smallest_checked
 
     designs = _designs(results)
     first = next((r for r in results.values() if r is not None), None)
@@ -116,7 +116,7 @@ def figure(scene, results: dict, min_force: float):
         order = np.argsort(deg)
         a1.plot(deg[order], sim.delta_s[order] / MM, label=label)
         a3.plot(deg[order], sim.measure[order], lw=0.8, label=label)
-        j = int(np.argmin(np.where(check_mask(sim.thetas, windows), sim.measure, np.inf)))
+        j = smallest_checked(sim.thetas, sim.measure, windows)
         a3.plot(deg[j], sim.measure[j], "o", ms=5, color=a3.lines[-1].get_color())
     for start, end in windows:  # excluded: no force required there
         for lo, hi in ([(start, end)] if end > start else [(start, 360.0), (0.0, end)]):

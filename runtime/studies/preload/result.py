@@ -130,9 +130,6 @@ class PreloadResult:
 
 
 def fill_result(res, setup, grid, knots_m, sim) -> None:
-    keep = setup.mask(sim.thetas)
-    m = np.where(keep, sim.measure, np.inf)
-    j = int(np.argmin(m))
     res.knot_angles_deg = [float(a) % 360.0 for a in grid.knot_angles_deg]
     res.knots = [float(v) for v in knots_m]
     res.delta_s = float(np.mean(Schedule(tuple(res.knot_angles_deg), tuple(res.knots))(
@@ -140,7 +137,7 @@ def fill_result(res, setup, grid, knots_m, sim) -> None:
     res.spring_force = float(setup.pmap.at("ks") * res.delta_s)
     res.friction_power = sim.friction_power
     res.deficit = sim.deficit
-    res.min_measure, res.min_measure_angle = float(m[j]), float(np.degrees(sim.thetas[j]) % 360.0)
+    res.min_measure, res.min_measure_angle = setup.smallest(sim)
     res.periodic_change = sim.change
     if setup.max_groove_force is not None:
         res.groove_excess, res.groove_peak = sim.groove_excess, sim.groove_peak

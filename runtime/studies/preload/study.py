@@ -81,6 +81,7 @@ from .problem import (
     is_force,
     is_integer,
     max_preload_problem,
+    nodes_problem,
     windows,
 )
 from .result import ALLOWANCE, DEFICIT_TOL, PreloadResult, contact_powers, fill_result
@@ -272,8 +273,8 @@ def _polish_constant(setup, sf, grid, knots_m, sim, min_force, exclude, deficit_
 
 def _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter, max_preload, start) -> None:
     problems = []
-    if not (is_integer(nodes) and 2 <= nodes <= 64):
-        problems.append(f"nodes = {nodes!r}: must be an integer in 2..64")
+    if problem := nodes_problem(nodes):
+        problems.append(problem)
     if not (is_integer(knots) and 1 <= knots <= 72):
         problems.append(f"knots = {knots!r}: must be an integer in 1..72 (1: a constant preload)")
     if not is_force(min_force):
@@ -288,8 +289,8 @@ def _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, ma
         problems.append(f"max_rate = {max_rate!r}: must be > 0 m per degree (or None: no bound)")
     if not (is_integer(rounds) and 1 <= rounds <= 10):
         problems.append(f"rounds = {rounds!r}: must be an integer in 1..10")
-    if max_preload_problem(max_preload):
-        problems.append(max_preload_problem(max_preload))
+    if problem := max_preload_problem(max_preload):
+        problems.append(problem)
     if start is not None and not isinstance(start, PreloadResult):
         problems.append(f"start = {start!r}: must be a PreloadResult (the constant optimum to start a schedule "
                         "from), or None")
@@ -308,14 +309,12 @@ def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, defici
             ds = ds[:next((i + 1 for i, d in enumerate(ds) if d >= max_preload), len(ds))]
             for d, sim in zip(ds, simulate_schedules(setup, sf, grid, [np.array([d]) for d in ds], setup.min_force,
                                                      setup.exclude), strict=True):
-                keep = setup.mask(sim.thetas)
-                j = int(np.argmin(np.where(keep, sim.measure, np.inf)))
-                res.history.append((float(d), float(sim.measure[j]), float(sim.deficit)))
+                force, angle = setup.smallest(sim)
+                res.history.append((float(d), force, float(sim.deficit)))
                 if sim.deficit <= deficit_tol:
                     return d
             if ds[-1] >= max_preload:
                 break
-    force = float(sim.measure[j])
     # the measure is kw xs5 < 0 while the tip is off the housing (problem.py): a lift-off only where it is negative
     where = (f"the tip lifts off there, by {-force / setup.pmap.at('kw') * 1e6:.3g} um" if force < 0 else
              f"the tip presses on the housing there, with less than the {setup.min_force:g} N asked"
@@ -323,7 +322,7 @@ def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, defici
     res.message = (f"infeasible: no constant preload up to max_preload = {max_preload / MM:g} mm keeps the contact "
                    f"force >= {setup.min_force:g} N between samples: at {d / MM:.4g} mm the force deficit is "
                    f"{sim.deficit:.3g} N^2 rad (bound {deficit_tol:.3g}); the smallest force at the samples is "
-                   f"{force:.3g} N at crank angle {np.degrees(sim.thetas[j]) % 360:.1f} deg ({where}). Exclude a "
+                   f"{force:.3g} N at crank angle {angle:.1f} deg ({where}). Exclude a "
                    "window around that angle (exclude=[(start, end)] / --exclude START:END), lower min_force, or "
                    "raise max_preload (--max-preload).")
     return None
