@@ -202,9 +202,10 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, 
     todo = [p for p in points if p[0] not in done]
     skipped = len(points) - len(todo)
     n = workers or available_cores()
-    asked = n
+    asked = None  # the workers asked, where the sweep's own LocalCluster starts fewer (the points left)
     if client is None and scheduler is None and todo:
-        n = local_workers(n, len(todo))
+        capped = local_workers(n, len(todo))
+        asked, n = (n if capped < n else None), capped
     serial = (client is None and scheduler is None and n == 1) or not todo  # nothing to do: no cluster
     bar = tqdm(total=len(points), initial=skipped, unit="pt", disable=quiet, desc=study.name, dynamic_ncols=True)
     shown = Bar(bar)  # finished and failed points, and how far the long ones running have got (watch.py)
@@ -230,7 +231,7 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, 
     return SweepReport(table=table, folder=store.folder, total=len(points), skipped=skipped,
                        computed=len(table) - skipped, failed=int((table["status"] != "completed").sum()),
                        wall_time_s=time.perf_counter() - t0, interrupted=interrupted, workers=n, where=where,
-                       workers_asked=asked if asked != n and client is None and scheduler is None else None)
+                       workers_asked=asked)
 
 
 def _models_built(todo, quiet: bool) -> bool:
