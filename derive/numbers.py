@@ -24,6 +24,11 @@ def tip_half_angle(Ws: float, ro: float) -> float:
     return math.asin(min(1.0, Ws / (2 * ro)))
 
 
+def tip_arc_start(*, ds1: float, ro: float, beta_o: float) -> float:
+    """ds0 = ds1 - ro (1 - cos beta_o), Eq. 24: where the seal's tip arc starts along its axis (its ends c1, c3)."""
+    return ds1 - ro * (1 - math.cos(beta_o))
+
+
 def initial_wall_deflection(*, ks, delta_s, kw):
     """Eq. 9: delta_w = ks delta_s / kw (works on numbers and on CasADi and sympy symbols alike)."""
     return ks * delta_s / kw

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: ba9a2d26dd15aeac9639f2a9cb52c6fded092fbfed77998532c9ae5499cd85b3.
+ * Effects: all. Input hash: 81dad734299de68a779c7192fc53734860ad9f70a2f4f71c0e77e76cd1fdc63e.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "ba9a2d26dd15aeac9639f2a9cb52c6fded092fbfed77998532c9ae5499cd85b3"
+#define APEXSEAL_INPUT_HASH "81dad734299de68a779c7192fc53734860ad9f70a2f4f71c0e77e76cd1fdc63e"
 
 /* state x */
 #define APEXSEAL_NX 6

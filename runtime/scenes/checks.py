@@ -15,7 +15,13 @@ import numpy as np
 
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects, orphans
-from apexseal.derive.numbers import machine_numbers, smallest_chamber_volume, smallest_lobe_offset, tip_half_angle
+from apexseal.derive.numbers import (
+    machine_numbers,
+    smallest_chamber_volume,
+    smallest_lobe_offset,
+    tip_arc_start,
+    tip_half_angle,
+)
 from apexseal.derive.options import without_parent
 from apexseal.derive.submodels.seal import DENSEST
 
@@ -114,7 +120,7 @@ def tip_numbers(s: SealSection) -> tuple[float, float]:
     Eq. 24 places the arc's end c1 at ds0; :func:`~apexseal.derive.numbers.tip_half_angle`, as the model's
     parameter) and ``ds0 = ds1 - ro (1 - cos beta_o)`` (Eqs. 24, 27). Called with ro >= Ws/2 only."""
     beta_o = tip_half_angle(s.Ws, s.ro)
-    return beta_o, s.ds1 - s.ro * (1 - math.cos(beta_o))
+    return beta_o, tip_arc_start(ds1=s.ds1, ro=s.ro, beta_o=beta_o)
 
 
 def check_seal(s: SealSection, raw: dict[str, Any]) -> list[Problem]:

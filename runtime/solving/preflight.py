@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from ...derive.numbers import tip_arc_start
 from ...derive.submodels.registry import guard, parameter
 from ...derive.submodels.seal import SealBody
 from ..results.result import StopInfo
@@ -138,14 +139,19 @@ def start_problem(functions, params, theta, X, u) -> str | None:
     return f"{shown} starts the seal {where_}; {allowed}: check the initial state's units and sign"
 
 
+def _arc_start_and_mouth(p: dict[str, float]) -> tuple[float, float]:
+    """ds0, where the tip arc starts along the seal (Eq. 24), and the X of the groove's mouth corners g1, g3 in the
+    groove frame (Eqs. 17-18)."""
+    return tip_arc_start(ds1=p["ds1"], ro=p["ro"], beta_o=p["beta_o"]), p["ds1"] - p["zeta0"] - p["delta_w"]
+
+
 def mouth_corner_lengths(p: dict[str, float], X: np.ndarray) -> tuple[float, float, float, float]:
     """(l1, l2, l3, l4): where the groove's mouth corners g1, g3 meet the seal's sides at the state ``X`` (x, y, phi
     first), measured from the tip arc's ends c1, c3 (l1, l3) and from the back corners c2, c4 (l2, l4) along the
     seal (Eqs. 17-23, with ds0 = ds1 - ro (1 - cos beta_o) of Eq. 24); all four are > 0 while both corners face
     the seal's flat sides, between its back face and its tip arc."""
     x, y, phi = (float(v) for v in X[:3])
-    ds0 = p["ds1"] - p["ro"] * (1 - math.cos(p["beta_o"]))
-    mouth = p["ds1"] - p["zeta0"] - p["delta_w"]  # X of g1, g3 in the groove frame (Eqs. 17-18)
+    ds0, mouth = _arc_start_and_mouth(p)
     c, s = math.cos(phi), math.sin(phi)
     l2 = (mouth - x) * c - (p["Wg"] / 2 + y) * s + p["ds2"]
     l4 = (mouth - x) * c + (p["Wg"] / 2 - y) * s + p["ds2"]
@@ -166,8 +172,7 @@ def flank_problem(functions, params, X) -> str | None:
     l1, l2, l3, l4 = lengths
     culprits = [i for i in range(3) if X[i] != 0] or [0]
     shown = ", ".join(state_shown(i, X[i]) for i in culprits)
-    ds0 = p["ds1"] - p["ro"] * (1 - math.cos(p["beta_o"]))
-    mouth = p["ds1"] - p["zeta0"] - p["delta_w"]
+    ds0, mouth = _arc_start_and_mouth(p)
     low, high = mouth - ds0, mouth + p["ds2"]  # l1 = l3 = 0 and l2 = l4 = 0 at y = phi = 0
     where = ("a groove mouth corner on the seal's tip arc (sunk into its groove: l1 = "
              f"{l1 * 1e3:.6g} mm, l3 = {l3 * 1e3:.6g} mm from the arc's ends; the contact model has no flat side "
