@@ -86,15 +86,16 @@ def far_outside_practice(functions, params) -> str:
     it (a right-hand side that is not finite, a step size that falls below its minimum), and the failure alone
     names no key."""
     from ...derive.submodels.registry import parameters
-    from ..scenes.units import implausible
+    from ..scenes.units import implausible, plausible_ranges
 
     keys = {p.name: p.key for p in parameters(all_inputs=True) if p.key}
     p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
     values = {keys[n]: (x, None) for n, x in p.items() if n in keys}
     if "omega" in p:
         values["operation.rpm"] = (p["omega"] * 60 / (2 * math.pi), None)
-    shown = [f"{key} = {message.replace(' is far outside engineering practice for this key (', ' (engineering practice: ')}"
-             for key, _, message in implausible(values)]
+    ranges = plausible_ranges()
+    shown = [f"{key} = {ranges[key].shown(x)} (engineering practice: {ranges[key].describe()})"
+             for key, x, _ in implausible(values)]
     return "" if not shown else ("; values far outside engineering practice, the likely cause: " + "; ".join(shown))
 
 
