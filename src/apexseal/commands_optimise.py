@@ -254,20 +254,27 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
     with stage("constant", "constant optimum"):
         c = results["constant"] = finished(run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes,
                                                      objective=objective, setup=setup, **limits))
-    click.echo(c.describe())
     feasible = c.start_delta_s is not None  # a preload that meets the requirement: what the bisection starts from
     plan = [w for w, on in (("schedule", knots and c.ok), ("bisection", check and feasible),
                             ("stiffness valley", vary_stiffness and c.ok)) if on]
-    if plan:
-        checkpoint("constant optimum", plan[0])
+
+    def ended(text: str, words: str, following: str | None) -> None:
+        """A stage's result printed and, before a ``following`` stage, written (``checkpoint``). A signal is said
+        to stop the following stage from before the print on: one sent on seeing the result stopped the stage that
+        had ended, by its name, when it landed before the checkpoint named the next."""
+        if following:
+            done["stage"] = following
+        click.echo(text)
+        if following:
+            checkpoint(words, following)
+
+    ended(c.describe(), "constant optimum", plan[0] if plan else None)
     if knots and c.ok:
         with stage("schedule", "schedule"):
             results["schedule"] = finished(run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes,
                                                      knots=knots, objective=objective, max_rate=max_rate, start=c,
                                                      setup=setup, **limits))
-        click.echo(results["schedule"].describe())
-        if plan[-1] != "schedule":
-            checkpoint("schedule", plan[1])
+        ended(results["schedule"].describe(), "schedule", plan[1] if plan[-1] != "schedule" else None)
     if "bisection" in plan:
 
         def probed(so_far) -> None:  # each round's probes kept in the report, and written as the constant optimum is
@@ -281,10 +288,9 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
         against = (f"the constant optimum above ({c.delta_s / MM:.4f} mm) differs by "
                    f"{abs(b.delta_s - c.delta_s) / MM:.4f} mm" if c.ok else
                    "IPOPT found no constant optimum (above): this is the study's answer for a constant preload")
-        click.echo(f"  bisection over full simulations: delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm "
-                   f"({b.simulations} simulations, {b.wall_time_s:.1f} s); {against}")
-        if plan[-1] != "bisection":
-            checkpoint("bisection", plan[-1])
+        ended(f"  bisection over full simulations: delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm "
+              f"({b.simulations} simulations, {b.wall_time_s:.1f} s); {against}", "bisection",
+              plan[-1] if plan[-1] != "bisection" else None)
     if c.ok and vary_stiffness:
         from .runtime.studies.preload.stiffness import describe, stiffness_valley
 
