@@ -3,12 +3,22 @@
 from __future__ import annotations
 
 import os
+import signal
 import tempfile
 
 import pytest
 
 # a private cache per test session, so tests never depend on what a user's cache holds
 os.environ.setdefault("APEXSEAL_CACHE", os.path.join(tempfile.gettempdir(), "apexseal-test-cache"))
+
+# The signal tests stop runs, in this process and in those it starts, as a terminal's Ctrl-C or a batch scheduler's
+# SIGTERM would. A runner may start the suite with these signals ignored (a shell's background job ignores SIGINT),
+# and a run leaves a signal ignored at its start ignored (runtime/solving/signals.py; its own test starts a process
+# so): the suite runs with the handlers a process started from a terminal has.
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+if signal.getsignal(signal.SIGTERM) is signal.SIG_IGN:
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def pytest_configure(config):

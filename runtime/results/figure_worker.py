@@ -160,7 +160,8 @@ def _serve(read_fd: int, path: Path) -> None:
     processes), leave."""
     code = 1
     try:
-        signal.signal(signal.SIGINT, signal.SIG_DFL)  # Ctrl-C stops the run; the worker just ends
+        if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:  # ignored by the run's process: here too
+            signal.signal(signal.SIGINT, signal.SIG_DFL)  # Ctrl-C stops the run; the worker just ends
         _warm()
         frames = None
         go = _read(read_fd, 1)

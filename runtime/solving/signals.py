@@ -6,7 +6,9 @@ arguments``, ``SystemError: DM.__array__ returned a result with an exception set
 :class:`StopSignals` both signals only set a flag (and tell the running engine to stop at its next check, see
 ``Engine.deadline``); the run loop reads the flag between integrator calls, keeps every completed revolution and
 ends with status ``interrupted``. A second signal while the result is written is noted too, so the writing
-finishes (the folder is committed as one unit, runtime/results/folder.py).
+finishes (the folder is committed as one unit, runtime/results/folder.py). A signal that the process was started
+with ignored (a job a shell put in the background ignores SIGINT, so that Ctrl-C in the terminal leaves it running)
+is not caught: it stays ignored, as Python itself leaves it.
 
 Outside the main thread signals cannot be caught: there the context catches nothing and Ctrl-C raises
 ``KeyboardInterrupt`` as usual (the run loop still catches it between calls). What stops the work there is a
@@ -68,6 +70,8 @@ class StopSignals:
             _thread.outer = self
             return self
         for s in CAUGHT:
+            if signal.getsignal(s) is signal.SIG_IGN:  # ignored by whoever started the process (a shell's
+                continue  # background job, a runner): it stays ignored, as Python leaves an ignored SIGINT
             self._previous[s] = signal.signal(s, self._note)
         StopSignals._active = self
         return self
@@ -79,7 +83,7 @@ class StopSignals:
             return
         for s, handler in self._previous.items():
             signal.signal(s, handler)
-        caught = bool(self._previous)
+        caught = signal.SIGTERM in self._previous
         self._previous.clear()
         StopSignals._active = None
         if self.redeliver_term and caught and signal.SIGTERM in self.received and \

@@ -379,9 +379,13 @@ def slow_scene(tmp_path_factory) -> Path:
     return d / "s.toml"
 
 
-def _start(scene: Path, out: Path, revolutions: int = 200) -> subprocess.Popen:
+def _start(scene: Path, out: Path, revolutions: int = 200, ignoring: int | None = None) -> subprocess.Popen:
+    """``apexseal simulate`` of ``scene``; started with the signal ``ignoring`` ignored, as a shell starts a
+    background job with SIGINT ignored."""
     cmd = command("simulate", str(scene), "-n", str(revolutions), "--out", str(out), "-q", "--no-figures")
-    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ.copy())
+    ignore = None if ignoring is None else lambda: signal.signal(ignoring, signal.SIG_IGN)
+    return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=os.environ.copy(),
+                            preexec_fn=ignore)
 
 
 def _signalled(proc: subprocess.Popen, signum: int, code: int, what: str) -> tuple[str, str]:
@@ -421,6 +425,22 @@ def test_a_signal_keeps_every_completed_revolution(slow_scene, tmp_path, signum,
     assert r.theta[-1] == pytest.approx(r.stop.theta)
     assert json.loads((out / "summary.json").read_text())["status"] == "interrupted"
     assert not list(tmp_path.glob("o.partial-*"))
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_the_run_was_started_ignoring_stays_ignored(slow_scene, tmp_path, signum):
+    """A run caught SIGINT and SIGTERM even when its process was started with them ignored: a job that a script
+    starts in the background (the shell ignores SIGINT there, so that Ctrl-C in the terminal stops the script, not
+    the job) was stopped by the Ctrl-C too, and a SIGTERM ignored on purpose stopped the run but not the process.
+    Now a signal ignored at the start stays ignored, as Python leaves it: the run goes on to its end."""
+    out = tmp_path / "o"
+    proc = _start(slow_scene, out, revolutions=3, ignoring=signum)
+    _wait_for_parts(out, proc, 1)
+    proc.send_signal(signum)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 0, (stdout, stderr)
+    r = SimulationResult.load(out)
+    assert r.status == "completed" and r.revolutions == 3
 
 
 def test_a_signal_says_the_figures_were_not_drawn_and_how_to_draw_them(slow_scene, tmp_path):
