@@ -248,7 +248,12 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
         # the choices above (no choice that decides what is read depends on it): resolved again from the sections
         # _unranged returns
         assumptions = _assumptions(sections)
-    problems += check_consistency(sections, raw)
+    consistency = check_consistency(sections, raw)
+    if effects is not None:  # a cross-key bound on a value no law reads is ignored as its own range is
+        unread = unread_keys(effects, assumptions)
+        ignored += [p for p in consistency if p.key in unread]
+        consistency = [p for p in consistency if p.key not in unread]
+    problems += consistency
     pressure: PressureSource | None = None
     if "pressure" in sections and not any(p.key.startswith("pressure.") for p in problems):
         try:

@@ -245,6 +245,20 @@ def test_a_value_no_seal_or_run_can_have_is_refused_naming_key_value_and_range(k
     load_scene(None, overrides=inside)
 
 
+def test_a_cross_key_bound_on_a_value_no_law_reads_is_ignored_as_its_range_is():
+    """friction.v_eps above the tip's fastest sliding speed stopped a scene with every friction law off, which reads
+    no v_eps: its bound against machine.L, machine.r and operation.rpm was checked whatever the effects, unlike
+    the key's own range. Now it is an ignored value, named with the bound; with a friction law on, the error."""
+    off = {f"effects.{name}_friction": False for name in ("housing", "spring", "groove")}
+    with pytest.warns(IgnoredValueWarning) as caught:
+        scene = load_scene(None, overrides={**off, "friction.v_eps": "20 m/s"})
+    (warning,) = [str(w.message) for w in caught if w.category is IgnoredValueWarning]
+    assert "friction.v_eps = \"20 m/s\" (not read while" in warning and "allowed: 0 < v_eps < 10.9956 m/s" in warning
+    assert scene.friction.v_eps == 20 and "v_eps" not in scene.parameters
+    with pytest.raises(SceneError, match="friction.v_eps = \"20 m/s\": 20 m/s is not below the tip's fastest"):
+        load_scene(None, overrides={**off, "effects.groove_friction": True, "friction.v_eps": "20 m/s"})
+
+
 def test_unknown_method_in_the_api(default_scene, default_functions):
     with pytest.raises(SettingsError, match="method = \"cvode\": not a method \\(did you mean 'cvodes'\\?\\); allowed: erk"):
         apexseal.simulate(default_scene, method="cvode", functions=default_functions.sx)
