@@ -106,10 +106,13 @@ class StopSignals:
     def ignore_after(self) -> None:
         """On leaving, ignore further SIGINT/SIGTERM instead of restoring the previous handlers: for a process that
         exits once its interrupted run is written (the CLI), so that a Ctrl-C pressed again while it reports and
-        exits cannot turn its exit code 130 into a death by signal."""
+        exits cannot turn its exit code 130 into a death by signal. A handler that does nothing, not SIG_IGN: a
+        command run in a process that goes on (``apexseal.cli.main`` from Python) would leave it ignoring the
+        signals, and its later runs, and the processes it starts, leave an ignored signal ignored. The console
+        script ignores them outright as it exits (:func:`ignore_unheeded`)."""
         target = self._outer or self
         for s in target._previous:
-            target._previous[s] = signal.SIG_IGN
+            target._previous[s] = _unheeded
 
     @classmethod
     def raise_pending(cls) -> None:
@@ -176,6 +179,19 @@ class StopSignals:
     def exit_code(self) -> int:
         """The shell's convention for a process ended by a signal: 128 + its number."""
         return 128 + int(self.received[0]) if self.received else 0
+
+
+def _unheeded(signum, frame) -> None:
+    """A signal handler that does nothing (:meth:`StopSignals.ignore_after`)."""
+
+
+def ignore_unheeded() -> None:
+    """For a process about to exit: ignore outright the signals :meth:`StopSignals.ignore_after` stopped heeding.
+    Python's finalization sets a signal with a Python handler back to its default action (a Ctrl-C then would end
+    the process by the signal, not with its exit code 130) and leaves an ignored one ignored."""
+    for s in CAUGHT:
+        if signal.getsignal(s) is _unheeded:
+            signal.signal(s, signal.SIG_IGN)
 
 
 @contextlib.contextmanager

@@ -86,6 +86,9 @@ def console() -> None:
         code = 1
     finally:
         gc.freeze()
+        from .runtime.solving.signals import ignore_unheeded
+
+        ignore_unheeded()  # a command a signal stopped heeds no further one as the process exits
     sys.exit(code if isinstance(code, int) else 0)
 
 

@@ -664,3 +664,29 @@ def test_a_signal_ends_the_watched_engines_deadline_at_once():
         signals.watch(engine)
         signal.raise_signal(signal.SIGINT)
         assert signals.requested and engine.deadline == -math.inf and other.deadline == 1e9
+
+
+def test_a_command_stopped_by_a_signal_leaves_the_next_run_of_its_process_catching_signals():
+    """The CLI ignores further signals once its interrupted run is written (a Ctrl-C while it exits cannot turn 130
+    into a death by signal). It set them to SIG_IGN, which a command run in a process that goes on (the CLI from
+    Python, a notebook) left behind: that process's later runs, and the processes it started, left the signals
+    ignored (a run does not take a signal ignored at its start), so a Ctrl-C no longer stopped them."""
+    from apexseal.runtime.solving.signals import StopSignals
+
+    before = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        with StopSignals() as first:
+            signal.raise_signal(signal.SIGINT)
+            first.ignore_after()
+        assert all(signal.getsignal(s) is not signal.SIG_IGN for s in before)
+        signal.raise_signal(signal.SIGINT)  # the CLI's exit: ignored, raises nothing
+        with StopSignals() as later:
+            signal.raise_signal(signal.SIGTERM)
+            assert later.received == [signal.SIGTERM]
+        child = subprocess.run([sys.executable, "-c", "import signal; print(signal.getsignal(signal.SIGINT) is "
+                                "signal.SIG_IGN, signal.getsignal(signal.SIGTERM) is signal.SIG_IGN)"],
+                               capture_output=True, text=True, timeout=60)
+        assert child.stdout.split() == ["False", "False"], child
+    finally:
+        for s, handler in before.items():
+            signal.signal(s, handler)
