@@ -59,6 +59,8 @@ def _address(ctx, param, value: str | None) -> str | None:
               help="Output folder [default: apexseal-out/<study name>].")
 @click.option("--resume/--fresh", default=True, show_default=True,
               help="Keep the points already in --out and compute only the others, or discard them.")
+@click.option("--retry-failed", is_flag=True, help="Compute again the points in --out whose rows did not complete "
+              "(failed, chattering, error); each row is kept until its new one replaces it.")
 @click.option("--figures/--no-figures", default=True, show_default=True, help="Write the figures at the end.")
 @click.option("--bench", is_flag=True, help="Measure throughput instead: serial vs every core vs a 2-worker "
               "LocalCluster, each over the whole study (results in temporary folders); writes throughput.md/json.")
@@ -66,7 +68,7 @@ def _address(ctx, param, value: str | None) -> str | None:
 @click.option("--list-quantities", is_flag=True, expose_value=False, is_eager=True, callback=_quantities,
               help="List the quantities a study can collect, and exit.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
-def sweep(study, example, workers, scheduler, out, resume, figures, bench, repeats, quiet) -> None:
+def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures, bench, repeats, quiet) -> None:
     """Run the design study STUDY (a TOML file, docs/sweeps.md): every point simulated, one row each in
     <out>/results.parquet, figures of each quantity and of the feasible region. Rerun to resume."""
     from .runtime.studies.sweep import StudyError, load_study, run_sweep
@@ -75,6 +77,9 @@ def sweep(study, example, workers, scheduler, out, resume, figures, bench, repea
 
     if (study is None) == (example is None):
         raise click.UsageError("give a STUDY file or --example NAME (e.g. apexseal sweep --example preload-map)")
+    if retry_failed and not resume:
+        raise click.UsageError("--retry-failed with --fresh: --fresh discards every point in --out, so none is there "
+                               "to compute again; give one of them")
     if scheduler and workers:
         raise click.UsageError("--workers sizes the local cluster; with --scheduler the cluster's workers are used")
     path = example_path(example) if example else study
@@ -94,8 +99,8 @@ def sweep(study, example, workers, scheduler, out, resume, figures, bench, repea
                    f"{st.design} design; writing to {out}/")
 
     try:
-        report = run_sweep(st, out, workers=workers, scheduler=scheduler, resume=resume, quiet=quiet,
-                           on_start=accepted)
+        report = run_sweep(st, out, workers=workers, scheduler=scheduler, resume=resume, retry_failed=retry_failed,
+                           quiet=quiet, on_start=accepted)
     except (StudyError, SchedulerError) as err:  # refused before the folder was taken
         if created and not any(out.iterdir()):
             out.rmdir()
@@ -110,6 +115,8 @@ def sweep(study, example, workers, scheduler, out, resume, figures, bench, repea
         click.echo(f"  point {row['point']}: {row['status']}: {row['stop']}", err=True)
     if len(bad) > 5:
         click.echo(f"  ... {len(bad) - 5} more (see the status and stop columns)", err=True)
+    if len(bad):
+        click.echo("  --retry-failed computes them again (the same command, the other points kept)", err=True)
     drawing = None
     if figures and not report.table.empty:
         from .runtime.solving.signals import StopSignals

@@ -283,6 +283,64 @@ def test_failed_points_are_recorded_with_their_reason_and_the_sweep_goes_on(tmp_
     assert budget.table["stop"].str.contains("wall-time budget used up").all()
 
 
+def test_retry_failed_computes_again_only_the_points_that_did_not_complete(serial, tmp_path, monkeypatch):
+    """A resumed sweep skipped every point with a row, failed ones too: a point that failed on a crashed worker or
+    an error since fixed could be computed again only by discarding the whole folder (--fresh). retry_failed
+    computes those points again, and only those; the others' part-files are not touched."""
+    import apexseal.runtime.api as api
+
+    real, bad = api.simulate, set(serial.table["scene_hash"].iloc[[3, 7]])
+
+    def flaky(scene, **kw):
+        if scene.content_hash() in bad:
+            raise RuntimeError("a worker ran out of memory (test)")
+        return real(scene, **kw)
+
+    monkeypatch.setattr(api, "simulate", flaky)
+    out = tmp_path / "out"
+    first = run_sweep(light_study(), out, workers=1, quiet=True)
+    assert first.failed == 2 and sorted(first.table.loc[first.table["status"] == "error", "point"]) == [3, 7]
+    monkeypatch.undo()
+    resumed = run_sweep(light_study(), out, workers=1, quiet=True)
+    assert resumed.computed == 0 and resumed.failed == 2  # resuming alone keeps the failed rows
+    parts = out / "points"
+    before = {p.name: p.read_bytes() for p in parts.glob("point-*.parquet")}
+    again = run_sweep(light_study(), out, workers=1, retry_failed=True, quiet=True)
+    assert (again.computed, again.retried, again.skipped, again.failed) == (2, 2, 14, 0)
+    assert "2 computed now (2 of them again: their rows had not completed), 14 resumed" in again.describe()
+    after = {p.name: p.read_bytes() for p in parts.glob("point-*.parquet")}
+    changed = {name for name in before if after[name] != before[name]}
+    assert changed == {"point-000003.parquet", "point-000007.parquet"}
+    pd.testing.assert_frame_equal(stable(again.table), stable(serial.table), check_exact=True)
+    with pytest.raises(ValueError, match="retry_failed = True with resume = False"):
+        run_sweep(light_study(), out, workers=1, resume=False, retry_failed=True, quiet=True)
+
+
+def test_cli_retry_failed_is_named_after_failed_points_and_refused_with_fresh(tmp_path, monkeypatch):
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+
+    study = tmp_path / "light.toml"
+    study.write_text(LIGHT.replace("points = 4", "points = 2").replace('"2 mm", "3 mm", "4 mm"', ""))
+    refused = CliRunner().invoke(main, ["sweep", str(study), "--retry-failed", "--fresh", "-o", str(tmp_path / "o")])
+    assert refused.exit_code == 2 and "--retry-failed with --fresh" in refused.output
+    assert not (tmp_path / "o").exists()
+    import apexseal.runtime.api as api
+
+    def failing(scene, **kw):
+        raise RuntimeError("no memory (test)")
+
+    monkeypatch.setattr(api, "simulate", failing)
+    r = CliRunner().invoke(main, ["sweep", str(study), "-w", "1", "-q", "--no-figures", "-o", str(tmp_path / "o")])
+    assert r.exit_code == 0, r.output
+    assert "--retry-failed computes them again" in r.output
+    monkeypatch.undo()
+    r = CliRunner().invoke(main, ["sweep", str(study), "-w", "1", "-q", "--no-figures", "--retry-failed", "-o",
+                                  str(tmp_path / "o")])
+    assert r.exit_code == 0 and "2 computed now (2 of them again" in r.output and "0 not completed" in r.output
+
+
 def test_a_sweep_over_parameters_compiles_one_library(tmp_path, monkeypatch):
     """Empty cache, 2 workers, 8 points: one compiled integrator (and at most one model library), each built once."""
     import json

@@ -46,6 +46,7 @@ class SweepReport:
     workers: int
     where: str  # "serial", "LocalCluster", or the scheduler address
     workers_asked: int | None = None  # the workers asked, when more than the points left to run (then n is those)
+    retried: int = 0  # points whose earlier rows had not completed, computed again (retry_failed)
 
     @property
     def complete(self) -> bool:
@@ -54,8 +55,10 @@ class SweepReport:
     def describe(self) -> str:
         rate = self.computed / self.wall_time_s if self.wall_time_s > 0 else 0.0
         head = "interrupted" if self.interrupted else "done"
-        return (f"{head}: {len(self.table)} of {self.total} points in {self.folder}/ ({self.computed} computed now, "
-                f"{self.skipped} resumed, {self.failed} not completed); {self.wall_time_s:.1f} s, {rate:.2f} points/s "
+        again = f" ({self.retried} of them again: their rows had not completed)" if self.retried else ""
+        return (f"{head}: {len(self.table)} of {self.total} points in {self.folder}/ ({self.computed} computed now"
+                f"{again}, {self.skipped} resumed, {self.failed} not completed); {self.wall_time_s:.1f} s, "
+                f"{rate:.2f} points/s "
                 f"on {self.workers} worker{'s' if self.workers != 1 else ''} ({self.where}"
                 + (f"; {self.workers_asked} asked, as many as points left" if self.workers_asked else "") + ")")
 
@@ -101,27 +104,32 @@ def _points(at: list[int]) -> str:
 
 
 def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, scheduler: str | None = None,
-              client=None, resume: bool = True, quiet: bool = False,
+              client=None, resume: bool = True, retry_failed: bool = False, quiet: bool = False,
               on_row: Callable[[dict], None] | None = None,
               on_start: Callable[[], None] | None = None) -> SweepReport:
     """Run every point of ``study`` not yet in ``out`` and return the table of all finished points.
 
     ``workers``: processes of the default LocalCluster (default: every core; 1 runs serially in this process).
     ``scheduler``: address of a running Dask scheduler (``tcp://host:8786``) to use instead. ``client``: a
-    ``dask.distributed.Client`` to use as it is. ``resume=False`` discards earlier results in ``out``.
+    ``dask.distributed.Client`` to use as it is. ``resume=False`` discards earlier results in ``out``;
+    ``retry_failed=True`` computes again the points of ``out`` whose rows did not complete (a point that failed on
+    a crashed worker, a wall-time budget or an error since fixed), each row kept until its new one replaces it.
     ``on_row``: called with each finished point's row. ``on_start``: called once every point is checked and
     ``out`` is taken for the study, before anything runs (never for a study refused: :class:`StudyError`, or a
     folder of another study: :class:`~.store.StoreError`).
     """
     check_workers(workers)
+    if retry_failed and not resume:
+        raise ValueError("retry_failed = True with resume = False: resume = False discards every point in out, so "
+                         "none is there to compute again; allowed: one of them")
     t0 = time.perf_counter()
     points = scenes_of(study)
     # the scheduler is reached before the folder is taken: one that does not answer leaves nothing written
     own_client = connect(scheduler) if client is None and scheduler is not None else None
     store = Store(out)
     try:
-        return _sweep(store, study, points, t0, workers, scheduler, own_client or client, resume, quiet, on_row,
-                      on_start)
+        return _sweep(store, study, points, t0, workers, scheduler, own_client or client, resume, retry_failed,
+                      quiet, on_row, on_start)
     finally:
         store.close()
         if own_client is not None:
@@ -193,10 +201,13 @@ def check_workers(workers: Any) -> None:
                      "process), or None (a worker per core)")
 
 
-def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, on_row, on_start) -> SweepReport:
+def _sweep(store, study, points, t0, workers, scheduler, client, resume, retry_failed, quiet, on_row,
+           on_start) -> SweepReport:
     from tqdm.auto import tqdm
 
     done = store.open(study, resume=resume)
+    retried = store.not_completed() & done if retry_failed else set()
+    done -= retried
     if on_start is not None:
         on_start()
     todo = [p for p in points if p[0] not in done]
@@ -210,8 +221,11 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, 
     bar = tqdm(total=len(points), initial=skipped, unit="pt", disable=quiet, desc=study.name, dynamic_ncols=True)
     shown = Bar(bar)  # finished and failed points, and how far the long ones running have got (watch.py)
 
+    recorded: set[int] = set()
+
     def record(row: dict) -> None:
         store.write(row)
+        recorded.add(int(row["point"]))
         shown.point_done(row["status"] != "completed")
         if on_row is not None:
             on_row(row)
@@ -229,9 +243,9 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, quiet, 
         bar.close()
     table = store.consolidate(study)
     return SweepReport(table=table, folder=store.folder, total=len(points), skipped=skipped,
-                       computed=len(table) - skipped, failed=int((table["status"] != "completed").sum()),
+                       computed=len(recorded), failed=int((table["status"] != "completed").sum()),
                        wall_time_s=time.perf_counter() - t0, interrupted=interrupted, workers=n, where=where,
-                       workers_asked=asked)
+                       workers_asked=asked, retried=len(retried))
 
 
 def _models_built(todo, quiet: bool) -> bool:

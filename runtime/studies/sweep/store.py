@@ -82,6 +82,12 @@ class Store:
             return set()
         return {int(m[1]) for p in self.parts.iterdir() if (m := _PART.match(p.name))}
 
+    def not_completed(self) -> set[int]:
+        """The points whose rows hold a status other than ``completed`` (failed, chattering, an error...)."""
+        files = [p for p in self.parts.iterdir() if _PART.match(p.name)] if self.parts.is_dir() else []
+        return {int(_PART.match(f.name)[1]) for f in files
+                if (pd.read_parquet(f, columns=["status"])["status"] != "completed").any()}
+
     # ------------------------------------------------------------------ writing
     def write(self, row: dict) -> Path:
         """Write one point's row (atomically: a temporary file renamed into place)."""
