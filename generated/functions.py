@@ -95,7 +95,7 @@ class ModelFunctions:
     #: the input hash of the manifest of the generated model (None: built directly from a derivation)
     model_hash: str | None = None
     #: the hybrid DAE of the event integrators, ``(t, z, p, u) -> ode`` and ``-> zero``
-    #: (runtime/solving/hybrid.py); in the model library with the derivatives the integrators call
+    #: (generated/hybrid.py); in the model library with the derivatives the integrators call
     hybrid_ode: ca.Function | None = None
     hybrid_zero: ca.Function | None = None
 
@@ -254,8 +254,8 @@ def build_functions(model, *, sympy_cse: bool = False) -> ModelFunctions:
 
 def with_hybrid(fns: ModelFunctions) -> ModelFunctions:
     """Set ``fns.hybrid_ode`` and ``fns.hybrid_zero`` from its rhs and guards (SX; a few ms, no sympy), with the
-    controls of either pressure profile (``LIBRARY_PROFILE``, runtime/solving/hybrid.py)."""
-    from ..runtime.solving.hybrid import LIBRARY_PROFILE, hybrid_functions
+    controls of either pressure profile (``LIBRARY_PROFILE``, generated/hybrid.py)."""
+    from .hybrid import LIBRARY_PROFILE, hybrid_functions
 
     names = list(fns.parameter_names)
     fns.hybrid_ode, fns.hybrid_zero = hybrid_functions(fns.rhs, fns.guards, len(names), names.index("omega"),

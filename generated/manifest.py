@@ -19,7 +19,6 @@ flag set); they enter the key of the compiled library instead (see ``compile.py`
 
 from __future__ import annotations
 
-import importlib.util
 import json
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -39,10 +38,9 @@ MANIFEST_NAME = "manifest.json"
 TEMPLATE_DIR = Path(__file__).resolve().parent / "templates"
 _HERE = Path(__file__).resolve().parent
 #: the generator modules whose code shapes the generated files
-GENERATOR_MODULES = ("lower.py", "functions.py", "codegen.py", "render.py", "manifest.py", "generate.py")
-#: modules of ``apexseal.runtime.solving`` whose code shapes the generated files too: the hybrid DAE's
-#: Functions compiled into the model library (hybrid_ode, hybrid_zero)
-SOLVING_MODULES = ("hybrid.py", "layout.py", "scaling.py")
+#: (hybrid, layout, scaling: the hybrid DAE, whose Functions hybrid_ode and hybrid_zero the model library holds)
+GENERATOR_MODULES = ("lower.py", "functions.py", "codegen.py", "render.py", "manifest.py", "generate.py", "hybrid.py",
+                     "layout.py", "scaling.py")
 #: the station's index of the committed artefacts (folder name -> sha256 of its manifest)
 PACKAGE_INDEX = _HERE / "index.json"
 
@@ -64,18 +62,14 @@ def template_paths() -> list[Path]:
     return sorted(p for p in TEMPLATE_DIR.iterdir() if ".in." in p.name)
 
 
-def _solving_dir() -> Path:
-    return Path(importlib.util.find_spec("apexseal.runtime.solving").origin).parent
-
-
 def generator_files() -> list[Path]:
     """The modules whose code shapes the generated files (what :func:`generator_digest` hashes)."""
-    return [*(_HERE / m for m in GENERATOR_MODULES), *(_solving_dir() / m for m in SOLVING_MODULES)]
+    return [_HERE / m for m in GENERATOR_MODULES]
 
 
 def generator_digest() -> str:
     note(generator_files())  # what this process imported of them (loaded_code: generate compares)
-    return content_key([files_digest(_HERE, GENERATOR_MODULES), files_digest(_solving_dir(), SOLVING_MODULES)])
+    return content_key([files_digest(_HERE, GENERATOR_MODULES)])
 
 
 def inputs_record(effects: Effects, assumptions: Assumptions) -> dict[str, Any]:

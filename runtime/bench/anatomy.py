@@ -31,8 +31,8 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from ..solving.layout import HybridLayout
-from ..solving.scaling import to_physical, to_scaled
+from ...generated.layout import HybridLayout
+from ...generated.scaling import to_physical, to_scaled
 from .config import METHODS
 from .methods import EngineCache, build_engine
 from .metrics import STATE_KEYS, errors, trajectory
@@ -47,7 +47,7 @@ LOOSE_OUTSIDE = (100.0, 1000.0)
 
 def switch_intervals(problem, z_ref: np.ndarray) -> np.ndarray:
     """(samples,) bool: True for the output intervals in which the reference switched a contact (its event
-    counters, runtime/solving/layout.py, went up over the interval)."""
+    counters, generated/layout.py, went up over the interval)."""
     lay = HybridLayout.of(problem.functions)
     counts = np.c_[problem.z0[lay.counts], np.asarray(z_ref)[lay.counts]].sum(axis=0)
     return np.diff(counts) > 0
@@ -190,17 +190,17 @@ class Anatomy:
 @contextmanager
 def velocities_scaled(factor: float):
     """Within it, the integrated velocities are ``factor`` times smaller: each declared rate scale (l w, a w,
-    runtime/solving/scaling.py) is ``factor`` times larger, so an integrator's error norm on them is ``factor``
+    generated/scaling.py) is ``factor`` times larger, so an integrator's error norm on them is ``factor``
     times looser, and nothing else changes. A measurement's device: engines built within it keep the scaling."""
-    from ..solving import scaling
+    from ...generated import scaling
 
-    declared = scaling._scales
+    declared = scaling.declared_scales
     if factor != 1:
-        scaling._scales = lambda names: (lambda b, r: (b * np.where(r, factor, 1.0), r))(*declared(names))
+        scaling.declared_scales = lambda names: (lambda b, r: (b * np.where(r, factor, 1.0), r))(*declared(names))
     try:
         yield
     finally:
-        scaling._scales = declared
+        scaling.declared_scales = declared
 
 
 def scipy_rows(an: Anatomy, methods=SCIPY_METHODS, rtols=(1e-5, 1e-6, 1e-7, 1e-8, 1e-9), velocity_scale: float = 1.0,

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...derive import symbols as S
+from ...generated.scaling import state_scale, to_scaled
 from ..solving.methods import RevolutionResult
-from ..solving.scaling import state_scale, to_scaled
 
 
 @dataclass

@@ -14,7 +14,7 @@ order 3, and 2 h phi3(hJ) D (what the third order adds to the exponential Euler 
 A linear mode is integrated exactly whatever h, so a contact's ringing costs nothing; only what is nonlinear
 over a step (friction, geometry) limits it. The phi functions come from one matrix exponential each
 (Al-Mohy and Higham's augmented matrix; Pade 7 with scaling and squaring, by loops), the Jacobian from finite differences
-(7 evaluations). Events are the zero functions of runtime/solving/hybrid.py, looked for at step ends and located
+(7 evaluations). Events are the zero functions of generated/hybrid.py, looked for at step ends and located
 by the Illinois method on the same step from its start; steps end at the output samples (where the linear
 pressures change slope).
 
@@ -31,7 +31,7 @@ import time
 
 import numpy as np
 
-from ..solving.scaling import LENGTH, state_scale
+from ...generated.scaling import LENGTH, state_scale
 from .anatomy import Anatomy, windowed_errors
 from .metrics import errors, trajectory
 

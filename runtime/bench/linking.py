@@ -89,7 +89,7 @@ def integrator_before_after(problem, *, flags: str, repeats: int = 5) -> list[di
             e.run(*args)
             per[label].append(time.process_time() - c0)
     rows = []
-    from ..solving.hybrid import controls
+    from ...generated.hybrid import controls
 
     for label, e in engines.items():  # the statistics come from the interpreted run of the same integrator
         e.vm(x0=args[0], p=np.r_[args[1], args[2]], u=controls(args[3], e.grid, e.pressure, e.hybrid.dae["u"].size1()))

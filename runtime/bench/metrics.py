@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...derive.names import STATE_NAMES
-from ..solving.layout import HybridLayout
-from ..solving.scaling import to_physical
+from ...generated.layout import HybridLayout
+from ...generated.scaling import to_physical
 
 #: the seal's positions (x, y, phi), as the seal body declares its state
 STATE_KEYS = STATE_NAMES[:3]
@@ -35,7 +35,7 @@ class Trajectory:
 
 
 def trajectory(problem, z: np.ndarray) -> Trajectory:
-    """Physical trajectory and friction power from hybrid integrator states z (runtime/solving/layout.py), (size, N)."""
+    """Physical trajectory and friction power from hybrid integrator states z (generated/layout.py), (size, N)."""
     fns, N = problem.functions, problem.samples
     lay = HybridLayout.of(fns)
     X = to_physical(z[lay.x], problem.omega)

@@ -1,7 +1,7 @@
 """The hand-written peer: a numba right-hand side (runtime/bench/peer_source.py) under LSODA and DOP853.
 
 The same problem as every other method of the benchmark (runtime/bench/problem.py):
-scaled state z (runtime/solving/scaling.py) against the crank angle since the span's start,
+scaled state z (generated/scaling.py) against the crank angle since the span's start,
 one absolute tolerance ``atol = rtol`` on z, the chamber pressures constant over
 each output interval. Three ways an expert would integrate it:
 
@@ -12,7 +12,7 @@ each output interval. Three ways an expert would integrate it:
   under numbalsoda's LSODA (C++), one call per span with the output grid;
 * ``numbalsoda-DOP853``: Hairer's DOP853 (numbalsoda's Fortran ``solve_ivp``)
   on the mode's smooth right-hand side, driven from a numba loop over the output
-  intervals. Events are the zero functions of runtime/solving/hybrid.py, e_i = (1 - 2 s_i) g_i / l,
+  intervals. Events are the zero functions of generated/hybrid.py, e_i = (1 - 2 s_i) g_i / l,
   handed to numbalsoda as one event function, their smallest: numbalsoda locates (by
   Brent's method, to 1e-8 rad of crank angle, fixed in numbalsoda) only the lowest-indexed
   of the functions that changed sign in a step, not the earliest crossing, and with a
@@ -47,9 +47,9 @@ import time
 import numpy as np
 
 from ...derive.symbols import PARAMETER_NAMES
+from ...generated.scaling import LENGTH, state_scale, to_scaled
 from ..solving.contact_stability import contact_frequencies
 from ..solving.methods import RevolutionResult
-from ..solving.scaling import LENGTH, state_scale, to_scaled
 
 N_PAR = len(PARAMETER_NAMES)
 OMEGA = PARAMETER_NAMES.index("omega")
@@ -176,7 +176,7 @@ def make_kernels(nm, layout: Layout):
 
     @numba.njit(cache=False)
     def zero_functions(t, z, d, e):
-        """e_i = (1 - 2 s_i) g_i / l (runtime/solving/hybrid.py): positive while the mode agrees with gap i."""
+        """e_i = (1 - 2 s_i) g_i / l (generated/hybrid.py): positive while the mode agrees with gap i."""
         X = d[XO:XO + 6]
         for i in range(6):
             X[i] = z[i] * d[SC + i]

@@ -34,8 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...generated.hybrid import controls
 from ..solving.composite import RING, CompositeIntegrator
-from ..solving.hybrid import controls
 from .anatomy import Anatomy
 
 #: RK5(4)'s stability boundary on the negative real axis (Hairer and Wanner, Solving ODEs II, Sec. IV.2)

@@ -22,9 +22,9 @@ import numpy as np
 
 from ...derive.effects import Effects
 from ...derive.names import STATE_NAMES
+from ...generated.scaling import to_scaled
 from ..solving.preflight import initial_activations
 from ..solving.run import RunSettings, run
-from ..solving.scaling import to_scaled
 from ..solving.settings import DEFAULT_PRESSURE
 
 

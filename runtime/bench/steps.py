@@ -9,7 +9,7 @@ friction coefficients), effects left out (runtime/bench/effects.py), the chamber
 ("steps") or linear over it ("linear"). Fewer steps with a change = that change removes what limited them.
 
 ``--inert`` also times the compiled erk with and without the event counters in the integrated state (interleaved
-rounds, medians): the cost of the inert entries the hybrid state carries (runtime/solving/layout.py).
+rounds, medians): the cost of the inert entries the hybrid state carries (generated/layout.py).
 ``--compare`` runs the default scene with each pressure profile and states how far apart the results are.
 """
 
@@ -85,9 +85,9 @@ def inert_entries(rtols=(1e-6, 1e-8), rounds: int = 7, log=print) -> list[dict]:
     import casadi as ca
 
     from ...generated.compile import compile_function
+    from ...generated.hybrid import build_hybrid_dae, linear_controls
     from ..scenes.scene import load_scene
     from ..solving.event_integrator import events_tested
-    from ..solving.hybrid import build_hybrid_dae, linear_controls
 
     base = load_scene()
     functions, _ = load_model(base.effects, base.assumptions)

@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from ...derive.submodels.registry import guard
-from ..solving.layout import HybridLayout
-from ..solving.scaling import to_physical
+from ...generated.layout import HybridLayout
+from ...generated.scaling import to_physical
 from .result import SimulationResult
 from .sampled import outputs_at
 

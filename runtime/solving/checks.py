@@ -8,14 +8,14 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ...generated.layout import HybridLayout
+from ...generated.scaling import LENGTH, to_physical
 from ..results.result import StopInfo
 from ..results.sampled import guards_at, outputs_at
 from ..scenes.damping import MAX_DAMPING_RATIO, guard_damping
 from .contact_stability import contact_growth
 from .friction_stability import FrictionWatch
-from .layout import HybridLayout
 from .methods import method_of, run_steps
-from .scaling import LENGTH, to_physical
 from .settings import MAX_TILT, RunSettings
 
 #: a contact left open while its gap is below this (µm) is a missed event, not event-location noise

@@ -48,9 +48,9 @@ import math
 
 import numpy as np
 
-from .hybrid import controls
+from ...generated.hybrid import controls
+from ...generated.scaling import declared_scales
 from .methods import Engine, RevolutionResult
-from .scaling import _scales
 
 #: the quiet phase's tolerances are LOOSE times the tight phase's (docs/bench/composite.md, its first setting) ...
 LOOSE = 100.0
@@ -153,7 +153,7 @@ class CompositeIntegrator(Engine):
         self.stiff_steps = (STIFF_STEPS if stiff_steps is None else int(stiff_steps)) if quiet_phase else 0
         self.stiff_hlam = float(STIFF_HLAM if stiff_hlam is None else stiff_hlam)
         self.event_tol = float(event_tol) if quiet_phase else min(float(event_tol), EVENTS_PER_RTOL * self.rtol)
-        self.rate = np.ascontiguousarray(_scales(functions.state_names)[1], float)
+        self.rate = np.ascontiguousarray(declared_scales(functions.state_names)[1], float)
         self.n_u = functions.hybrid_ode.size1_in(3) if functions.hybrid_ode is not None else 4
         self.function = self  # what the run's diagnosis asks for its statistics (stats())
         self._stats: dict = {}

@@ -14,13 +14,13 @@ import time
 
 import numpy as np
 
+from ...generated.layout import HybridLayout
+from ...generated.scaling import to_physical
 from ...progress import announce
 from ..results.result import StopInfo
 from .checks import Chattering, chatter_advice, tilt_reason
-from .layout import HybridLayout
 from .methods import WallTimeExceeded, make_engine, single_interval_engine
 from .preflight import MAX_START_PENETRATION, penetration_guards
-from .scaling import to_physical
 from .settings import MAX_TILT, RunSettings, out_of_time
 from .signals import StopSignals
 

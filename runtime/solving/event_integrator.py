@@ -1,6 +1,6 @@
 """One revolution at a time with CasADi's event-locating integrators (erk, rosenbrock).
 
-The hybrid DAE (runtime/solving/hybrid.py) is integrated over one revolution in a single
+The hybrid DAE (generated/hybrid.py) is integrated over one revolution in a single
 call, with the output grid of the scene; events (contact switches) are located on
 the integrator's dense output inside CasADi, so no Python runs between steps. The
 integrator itself is generated to C at the generation station and compiled (with its
@@ -22,7 +22,7 @@ import warnings
 import casadi as ca
 import numpy as np
 
-from .hybrid import build_hybrid_dae, controls
+from ...generated.hybrid import build_hybrid_dae, controls
 from .methods import METHODS, Engine, RevolutionResult
 
 #: what CasADi 3.8 prints whenever an integrator with events is built; apexseal's tests cover crossings in

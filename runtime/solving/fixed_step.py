@@ -21,9 +21,9 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from .layout import HybridLayout
+from ...generated.layout import HybridLayout
+from ...generated.scaling import LENGTH, scaled_rhs, state_scale
 from .methods import Engine, RevolutionResult, fixed_steps
-from .scaling import LENGTH, scaled_rhs, state_scale
 
 
 @dataclass(frozen=True)

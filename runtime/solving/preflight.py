@@ -9,11 +9,11 @@ import numpy as np
 from ...derive.numbers import tip_arc_start
 from ...derive.submodels.registry import guard, parameter
 from ...derive.submodels.seal import SealBody
+from ...generated.layout import mode_label
 from ..results.result import StopInfo
 from ..scenes.units import show_factor
 from .contact_stability import MAX_GROWTH, contact_frequencies, contact_growth
 from .friction_stability import friction_at_start
-from .layout import mode_label
 from .methods import method_of, run_steps
 from .settings import RunSettings
 

@@ -24,6 +24,8 @@ import time
 
 import numpy as np
 
+from ...generated.layout import HybridLayout
+from ...generated.scaling import to_scaled
 from ...progress import advanced, stage
 from ..results.assemble import assemble_blocks
 from ..results.folder import ResultStorageError
@@ -32,11 +34,9 @@ from ..results.result import SimulationResult, StopInfo
 from . import engine_pool
 from .checks import RunChecks
 from .diagnosis import locate_failure
-from .layout import HybridLayout
 from .methods import WallTimeExceeded, make_engine
 from .pace import FailedInterval, IntervalByInterval, Pace
 from .preflight import far_outside_practice, initial_activations, preflight
-from .scaling import to_scaled
 from .settings import RunSettings, out_of_time, samples_per_call
 from .signals import StopSignals
 

@@ -19,6 +19,7 @@ from pydantic_core import PydanticCustomError
 
 from ...derive.submodels.seal import MAX_TILT  # noqa: F401 - the run's tilt limit, as the seal declares it
 from ...generated.compiler import FLAG_SETS
+from ...generated.layout import PRESSURE_PROFILES
 from ..scenes.errors import Problem
 from ..scenes.units import Range
 
@@ -112,11 +113,8 @@ def _flags(value: Any) -> str:
     raise _fail(f"not allowed; allowed: {', '.join(FLAGS)}")
 
 
-#: how the chamber pressures vary over an output interval (runtime/solving/hybrid.py): "steps" = held at the
-#: interval's mean; "linear" = linear between the values at the interval's ends (continuous: the default; every
-#: engine of apexseal's, a user's engine lists what it takes in ``pressure_profiles``)
-PRESSURE_PROFILES = ("steps", "linear")
-#: the default profile (docs/bench/levers.md: the pressure steps make the metal contacts ring)
+#: the default pressure profile of PRESSURE_PROFILES (the hybrid DAE's controls, generated/layout.py;
+#: docs/bench/levers.md: the pressure steps make the metal contacts ring)
 DEFAULT_PRESSURE = "linear"
 
 

@@ -28,9 +28,9 @@ import warnings
 import casadi as ca
 import numpy as np
 
-from .layout import HybridLayout
+from ...generated.layout import HybridLayout
+from ...generated.scaling import LENGTH, scaled_rhs, state_scale
 from .methods import METHODS, Engine, RevolutionResult, WallTimeExceeded, fixed_steps
-from .scaling import LENGTH, scaled_rhs, state_scale
 
 #: zero-function values this far below 0 (in µm) are integration noise, not a crossing
 _NOISE = 1e-9

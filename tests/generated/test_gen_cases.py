@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from apexseal.derive.modes import CASES, case_of
-from apexseal.runtime.solving.layout import mode_label
+from apexseal.generated.layout import mode_label
 
 OPEN, CLOSED = 3e-6, -1e-6  # target gaps (m)
 #: case -> two groove gaps (index in b1..b4) to place; the other two must come out open

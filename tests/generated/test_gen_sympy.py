@@ -10,7 +10,7 @@ from gen_helpers import random_point
 
 from apexseal.derive import symbols as S
 from apexseal.derive.modes import case_of
-from apexseal.runtime.solving.layout import mode_label
+from apexseal.generated.layout import mode_label
 
 ARGS = [S.theta, *S.qs, *S.us, *[S.P[n] for n in S.PARAMETER_NAMES], S.Pa, S.Pb]
 

@@ -9,10 +9,10 @@ import numpy as np
 
 import apexseal
 from apexseal.derive.symbols import PARAMETER_NAMES
+from apexseal.generated.layout import HybridLayout
+from apexseal.generated.scaling import to_physical, to_scaled
 from apexseal.runtime.results.plausibility import PenetrationWarning
-from apexseal.runtime.solving.layout import HybridLayout
 from apexseal.runtime.solving.run import RunSettings, initial_activations, make_engine
-from apexseal.runtime.solving.scaling import to_physical, to_scaled
 
 HARD_DIR = Path(__file__).resolve().parents[2] / "runtime" / "scenes" / "hard"
 SCENES = sorted(p.stem for p in HARD_DIR.glob("*.toml"))

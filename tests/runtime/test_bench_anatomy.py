@@ -158,8 +158,8 @@ def test_the_exponential_prototype_finds_the_switches_and_converges(tiny):
 
 def test_scaled_velocities_loosen_the_error_norm_and_nothing_else(tiny):
     """``--velocity-scale``: the same physics (errors stay small), another step sequence, the scaling restored."""
+    from apexseal.generated.scaling import state_scale
     from apexseal.runtime.bench.anatomy import velocities_scaled
-    from apexseal.runtime.solving.scaling import state_scale
 
     before = state_scale(100.0)
     with velocities_scaled(10.0):

@@ -13,12 +13,12 @@ import math
 import numpy as np
 import pytest
 
+from apexseal.generated.layout import HybridLayout
 from apexseal.runtime.api import model_functions
 from apexseal.runtime.bench.config import quick
 from apexseal.runtime.bench.metrics import errors, trajectory
 from apexseal.runtime.bench.problem import make_problem
 from apexseal.runtime.scenes.scene import load_scene
-from apexseal.runtime.solving.layout import HybridLayout
 from apexseal.runtime.solving.methods import make_engine
 from apexseal.runtime.solving.settings import RunSettings
 
@@ -107,8 +107,8 @@ def test_peer_trajectory_agrees_with_erk_at_tight_tolerance(numba_model, tiny_pr
 def test_peer_interpolates_linear_pressures_inside_an_interval(numba_model):
     """With ``bench --pressure linear`` the peer's right-hand sides see the line through the pressures at the
     interval's ends (as the hybrid DAE does, tests/runtime/test_pressure_profile.py), not the interval's mean."""
+    from apexseal.generated.scaling import scaled_rhs
     from apexseal.runtime.bench.peer_numba import NumbaPeer
-    from apexseal.runtime.solving.scaling import scaled_rhs
 
     scene, nm = numba_model
     f = model_functions(scene)

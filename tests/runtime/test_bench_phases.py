@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 from test_bench_anatomy import tiny  # noqa: F401 - the fixture
 
+from apexseal.generated.hybrid import controls
 from apexseal.runtime.bench.phases import Group, groups, markdown, per_interval, rows, stiffest
 from apexseal.runtime.solving.composite import CompositeIntegrator
-from apexseal.runtime.solving.hybrid import controls
 
 
 def test_switches_closer_than_the_ring_make_one_cluster_followed_by_its_ring():

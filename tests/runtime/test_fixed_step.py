@@ -6,8 +6,8 @@ import casadi as ca
 import numpy as np
 import pytest
 
+from apexseal.generated.scaling import to_physical, to_scaled
 from apexseal.runtime.solving.fixed_step import EulerIntegrator, FixedStepIntegrator, RK4Integrator
-from apexseal.runtime.solving.scaling import to_physical, to_scaled
 
 OMEGA, K = 150.0, 4.0e6  # rad/s, 1/s^2: sqrt(K) = 2000 rad/s, about 2 periods over the 0.1 rad span
 

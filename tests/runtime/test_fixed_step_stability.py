@@ -19,11 +19,11 @@ import pytest
 from hard_helpers import load, short_run, simulate
 
 import apexseal
+from apexseal.generated.scaling import to_physical, to_scaled
 from apexseal.runtime.results.plausibility import PenetrationWarning
 from apexseal.runtime.solving import friction_stability
 from apexseal.runtime.solving.contact_stability import MAX_GROWTH, contact_growth
 from apexseal.runtime.solving.methods import METHODS, explicit_steps
-from apexseal.runtime.solving.scaling import to_physical, to_scaled
 from apexseal.runtime.solving.stability import CLASSICAL_RK4, EXPLICIT_EULER
 from apexseal.runtime.solving.stepper_integrator import StepperIntegrator
 

@@ -15,10 +15,10 @@ from hard_helpers import SAMPLES, load, mode_mismatches, short_run, simulate
 
 import apexseal
 from apexseal.derive.symbols import PARAMETER_NAMES
+from apexseal.generated.hybrid import BLIND_WINDOW, build_hybrid_dae
+from apexseal.generated.layout import HybridLayout
 from apexseal.runtime.solving import run as sim
 from apexseal.runtime.solving.contact_stability import MAX_GROWTH, contact_growth
-from apexseal.runtime.solving.hybrid import BLIND_WINDOW, build_hybrid_dae
-from apexseal.runtime.solving.layout import HybridLayout
 from apexseal.runtime.solving.methods import Engine
 
 
@@ -114,7 +114,7 @@ def test_casadi_ignores_crossings_right_after_an_event(plugin):
 @pytest.mark.parametrize("plugin", ["erk", "rosenbrock"])
 @pytest.mark.parametrize("gap_tols", [0, 2, 5, 50])
 def test_hybrid_transition_switches_contacts_inside_the_blind_window(plugin, gap_tols):
-    """Two contacts closing 0..50 event_tol apart both close, each counted once (runtime/solving/hybrid.py)."""
+    """Two contacts closing 0..50 event_tol apart both close, each counted once (generated/hybrid.py)."""
     event_tol = 1e-8
     rhs, guards, params, omega, z0 = _two_walls(gap_tols * event_tol)
     h = build_hybrid_dae(rhs, guards, params.size, PARAMETER_NAMES.index("omega"), event_tol=event_tol)

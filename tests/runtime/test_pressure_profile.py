@@ -1,4 +1,4 @@
-"""Chamber pressures linear over each output interval (``RunSettings.pressure = "linear"``, runtime/solving/hybrid.py).
+"""Chamber pressures linear over each output interval (``RunSettings.pressure = "linear"``, generated/hybrid.py).
 
 The controls are an intercept and a slope per interval; the hybrid DAE must see exactly the line through the
 pressures at the interval's ends, a constant pressure must give the "steps" result, and the setting must be
@@ -13,12 +13,12 @@ import casadi as ca
 import numpy as np
 import pytest
 
+from apexseal.generated.hybrid import build_hybrid_dae, linear_controls
+from apexseal.generated.layout import HybridLayout
+from apexseal.generated.scaling import scaled_rhs, state_scale
 from apexseal.runtime.api import model_functions, simulate
 from apexseal.runtime.scenes.scene import load_scene
 from apexseal.runtime.solving.event_integrator import EventIntegrator
-from apexseal.runtime.solving.hybrid import build_hybrid_dae, linear_controls
-from apexseal.runtime.solving.layout import HybridLayout
-from apexseal.runtime.solving.scaling import scaled_rhs, state_scale
 from apexseal.runtime.solving.settings import RunSettings, SettingsError
 
 
@@ -107,9 +107,9 @@ def _ramp_run(method, profile, P, n, span, **kw):
     f = model_functions(scene, compiled=False)
     st = RunSettings(method=method, rtol=1e-9, pressure=profile, compile_c=False, **kw)
     engine = make_engine(f, st, n_samples=n, span=span, compile_c=False)
+    from apexseal.generated.scaling import to_scaled
     from apexseal.runtime.api import initial_state
     from apexseal.runtime.solving.preflight import initial_activations
-    from apexseal.runtime.solving.scaling import to_scaled
 
     lay = HybridLayout.of(f)
     params = scene.parameter_vector()

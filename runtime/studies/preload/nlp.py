@@ -10,8 +10,8 @@ import casadi as ca
 import numpy as np
 
 from ....cores import parallel_threads
+from ....generated.scaling import state_scale
 from ....progress import announce
-from ...solving.scaling import state_scale
 from .problem import MM
 from .schedule import SegmentGrid, chain_function
 from .shooting import CHUNK, TWO_PI

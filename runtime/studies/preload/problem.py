@@ -2,7 +2,7 @@
 
 Shared by the IPOPT study (runtime/studies/preload/study.py) and its derivative-free check
 (runtime/studies/preload/bisect.py), so both ask exactly the same question of exactly the
-same model: the simulator's hybrid DAE (runtime/solving/hybrid.py) integrated by CasADi's
+same model: the simulator's hybrid DAE (generated/hybrid.py) integrated by CasADi's
 ``erk`` with events, on the simulator's output grid and pressure means.
 
 * **The preload as a parameter.** ``delta_s`` is one entry of the simulator's
@@ -41,11 +41,11 @@ import casadi as ca
 import numpy as np
 
 from ....cores import parallel_threads
+from ....generated.hybrid import controls as engine_controls
+from ....generated.layout import HybridLayout
+from ....generated.scaling import LENGTH, to_physical, to_scaled
 from ...scenes.schema import GAS_SOURCES
-from ...solving.hybrid import controls as engine_controls
-from ...solving.layout import HybridLayout
 from ...solving.preflight import initial_activations
-from ...solving.scaling import LENGTH, to_physical, to_scaled
 
 #: the study's preload unit: decision variables and tolerances are in mm
 MM = 1e-3
@@ -212,7 +212,7 @@ class PreloadSetup:
     flags: str = "quick"
     max_groove_force: float | None = None  # N: bound on every seal-groove contact force (None: no bound)
     pmap: PreloadMap = field(init=False)
-    layout: HybridLayout = field(init=False)  # of the hybrid states the study integrates (runtime/solving/layout.py)
+    layout: HybridLayout = field(init=False)  # of the hybrid states the study integrates (generated/layout.py)
     measure_fn: ca.Function = field(init=False)
     compile_s: float = field(init=False, default=0.0)
 
@@ -270,7 +270,7 @@ class PreloadSetup:
     def controls(self, edges: np.ndarray, per_call: int) -> np.ndarray:
         """The study integrators' controls over the n intervals between ``edges``, for calls of ``per_call``
         intervals from ``edges[0]``: (4, n), the pressures at each call's tau = 0 along the interval's line and
-        their slopes (zero for "steps"; runtime/solving/hybrid.py). Column j's first two rows at the first
+        their slopes (zero for "steps"; generated/hybrid.py). Column j's first two rows at the first
         interval of a call are the pressures at the call's start."""
         P = self.engine_pressures(edges)
         if self.profile == "steps":

@@ -1,6 +1,6 @@
 """The preload study's compiled pieces: the hybrid DAE with a scheduled preload and two quadratures.
 
-The DAE is the simulator's (runtime/solving/hybrid.py: contact switches as events, the same model
+The DAE is the simulator's (generated/hybrid.py: contact switches as events, the same model
 Functions), with three additions, all inside the DAE so the adaptive steps and the located events
 resolve them (nothing depends on the output grid but the pressure means, which the simulator shares):
 
@@ -38,9 +38,9 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from ....generated.hybrid import build_hybrid_dae
+from ....generated.scaling import state_scale
 from ...solving.event_integrator import events_tested
-from ...solving.hybrid import build_hybrid_dae
-from ...solving.scaling import state_scale
 from .problem import MAX_WINDOWS, windows
 
 #: the deficit quadrature is in units of F_REF (N)

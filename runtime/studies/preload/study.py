@@ -26,7 +26,7 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
   optimum (a zero tolerance makes LICQ fail) and bounds what it allows: e.g. a 0.2 N shortfall
   lasting 0.1 deg, or a 2 N one lasting 0.001 deg.
 * **Decision variables**: the knot values in mm and the scaled continuous states (the hybrid state's ``x``
-  part, runtime/solving/layout.py: the seal's six) at ``nodes`` shooting nodes, each divided by the largest
+  part, generated/layout.py: the seal's six) at ``nodes`` shooting nodes, each divided by the largest
   magnitude that component reaches on the start trajectory.
 * **Shooting**: each shooting interval is a chain of segments (one per knot stretch, schedule.py),
   each one call of the compiled interval integrator; the intervals are mapped over the nodes, a

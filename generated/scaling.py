@@ -17,13 +17,15 @@ from collections.abc import Sequence
 import casadi as ca
 import numpy as np
 
-from ...derive.names import STATE_NAMES
+from ..derive.names import STATE_NAMES
 
 LENGTH = 1e-6  # m: the seal body's length scale (its declared State scale), for residuals in micrometres
 
 
-def _scales(names: Sequence[str] | None) -> tuple[np.ndarray, np.ndarray]:
-    from ...derive.submodels.registry import state
+def declared_scales(names: Sequence[str] | None) -> tuple[np.ndarray, np.ndarray]:
+    """(scale, rate) of the states ``names`` (the seal's six by default), as their submodels declare them: a
+    rate's scale is multiplied by the rotor speed omega (:func:`state_scale`)."""
+    from ..derive.submodels.registry import state
 
     decl = [state(n) for n in (names or STATE_NAMES)]
     return np.array([d.scale for d in decl], float), np.array([d.rate for d in decl], bool)
@@ -31,7 +33,7 @@ def _scales(names: Sequence[str] | None) -> tuple[np.ndarray, np.ndarray]:
 
 def state_scale(omega: float | ca.SX, names: Sequence[str] | None = None) -> np.ndarray | ca.SX:
     """Physical state = scale * scaled state (elementwise)."""
-    base, rate = _scales(names)
+    base, rate = declared_scales(names)
     if isinstance(omega, ca.SX | ca.MX):
         return ca.vertcat(*[float(b) * omega if r else float(b) for b, r in zip(base, rate, strict=True)])
     return np.where(rate, base * omega, base)

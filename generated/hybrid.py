@@ -36,9 +36,8 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from .layout import HybridLayout
+from .layout import PRESSURE_PROFILES, HybridLayout
 from .scaling import LENGTH, scaled_rhs, state_scale
-from .settings import PRESSURE_PROFILES
 
 
 @dataclass(frozen=True)

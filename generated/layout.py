@@ -7,6 +7,9 @@ so a submodel that adds continuous states (or a new guard) changes nothing here.
 
 Works on a single state (1-D numpy array, CasADi SX/MX column) and on a block of samples (2-D array, one
 column per sample): the layout slices the first axis.
+
+The controls u of the hybrid DAE are the chamber pressures over an output interval, in one of
+:data:`PRESSURE_PROFILES` (:func:`.hybrid.controls` builds them).
 """
 
 from __future__ import annotations
@@ -16,7 +19,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...derive.modes import Mode
+from ..derive.modes import Mode
+
+#: how the chamber pressures vary over an output interval (:mod:`.hybrid`): "steps" = held at the interval's
+#: mean; "linear" = linear between the values at the interval's ends (continuous: the default; every engine
+#: of apexseal's, a user's engine lists what it takes in ``pressure_profiles``)
+PRESSURE_PROFILES = ("steps", "linear")
 
 
 @dataclass(frozen=True)
