@@ -434,13 +434,14 @@ def test_a_signal_the_run_was_started_ignoring_stays_ignored(slow_scene, tmp_pat
     the job) was stopped by the Ctrl-C too, and a SIGTERM ignored on purpose stopped the run but not the process.
     Now a signal ignored at the start stays ignored, as Python leaves it: the run goes on to its end."""
     out = tmp_path / "o"
-    proc = _start(slow_scene, out, revolutions=3, ignoring=signum)
+    proc = _start(slow_scene, out, revolutions=6, ignoring=signum)
     _wait_for_parts(out, proc, 1)
+    assert proc.poll() is None, "the signal must reach the run while it goes on"
     proc.send_signal(signum)
     stdout, stderr = proc.communicate(timeout=120)
     assert proc.returncode == 0, (stdout, stderr)
     r = SimulationResult.load(out)
-    assert r.status == "completed" and r.revolutions == 3
+    assert r.status == "completed" and r.revolutions == 6
 
 
 def test_a_signal_says_the_figures_were_not_drawn_and_how_to_draw_them(slow_scene, tmp_path):
