@@ -173,7 +173,7 @@ def load_externals(library: Path, names: Sequence[str]) -> dict[str, ca.Function
 def fallback(reason: str | Exception, *, stacklevel: int = 3) -> None:
     """Warn that the interpreted Functions stand in for compiled ones; a compiler that failed because a signal
     stopped the work (Ctrl-C reaches the compiler too) is no missing compiler: the interruption goes on."""
-    from ..runtime.solving.signals import StopSignals
+    from ..signals import StopSignals
 
     StopSignals.raise_pending()
     warnings.warn(f"no compiled C: {reason}. {FALLBACK_COST}", CompilerFallbackWarning, stacklevel=stacklevel)

@@ -149,7 +149,7 @@ def generate(effects: Effects | None = None, assumptions: Assumptions | None = N
             try:
                 manifest.library = compile_library(out_dir, flags=flags)
             except CompilerUnavailable as exc:
-                from ..runtime.solving.signals import StopSignals
+                from ..signals import StopSignals
 
                 StopSignals.raise_pending()  # the compiler failed because a signal stopped the work
                 warnings.warn(str(exc), stacklevel=2)

@@ -21,11 +21,11 @@ def model_functions(scene, *, compiled: bool | None = None):
     Compiled (the default unless the scene asks for ``solver.interpreted``): ``casadi.external`` of the
     model library, each carrying the SX Functions it was generated from (``.sx()``), which the integrators
     embed. Derivation (sympy) happens only when the model's artefacts are missing or stale.
-    A signal caught by an active :class:`~.solving.signals.StopSignals` (the command line's, a serial sweep's)
+    A signal caught by an active :class:`~apexseal.signals.StopSignals` (the command line's, a serial sweep's)
     abandons a derivation or compilation at once with ``KeyboardInterrupt``: nothing is computed yet.
     """
     from ..generated.load import load_functions
-    from .solving.signals import StopSignals
+    from ..signals import StopSignals
 
     compiled = (not scene.solver.interpreted) if compiled is None else compiled
     with StopSignals.abandoning():
@@ -130,7 +130,7 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
     the side clearance (:mod:`apexseal.runtime.results.plausibility`).
     """
     from .. import progress as stages
-    from .solving.signals import StopSignals
+    from ..signals import StopSignals
 
     scene = scene_of(scene)
     st = settings_of(scene, method=method, rtol=rtol, revolutions=revolutions, **settings)
@@ -172,8 +172,8 @@ def resume(folder, *, revolutions: int | None = None, max_wall_time: float | Non
     Raises :class:`~.results.folder.ResultFolderError` for a folder that cannot be continued, with the reason.
     """
     from .. import progress as stages
+    from ..signals import StopSignals
     from .results.folder import ResultFolder
-    from .solving.signals import StopSignals
 
     cont, st = continuing(folder, revolutions=revolutions, max_wall_time=max_wall_time)
     with StopSignals(redeliver_term=True):  # as simulate: a SIGTERM ends the process once the result is written

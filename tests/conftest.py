@@ -13,7 +13,7 @@ os.environ.setdefault("APEXSEAL_CACHE", os.path.join(tempfile.gettempdir(), "ape
 
 # The signal tests stop runs, in this process and in those it starts, as a terminal's Ctrl-C or a batch scheduler's
 # SIGTERM would. A runner may start the suite with these signals ignored (a shell's background job ignores SIGINT),
-# and a run leaves a signal ignored at its start ignored (runtime/solving/signals.py; its own test starts a process
+# and a run leaves a signal ignored at its start ignored (src/apexseal/signals.py; its own test starts a process
 # so): the suite runs with the handlers a process started from a terminal has.
 if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
     signal.signal(signal.SIGINT, signal.default_int_handler)

@@ -17,12 +17,12 @@ import numpy as np
 from ...generated.layout import HybridLayout
 from ...generated.scaling import to_physical
 from ...progress import announce
+from ...signals import StopSignals
 from ..results.result import StopInfo
 from .checks import Chattering, chatter_advice, tilt_reason
 from .methods import WallTimeExceeded, make_engine, single_interval_engine
 from .preflight import MAX_START_PENETRATION, penetration_guards
 from .settings import MAX_TILT, RunSettings, out_of_time
-from .signals import StopSignals
 
 
 def locate_failure(functions, settings, params, z, edges, P, err, deadline, theta_start, make=make_engine):

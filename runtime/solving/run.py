@@ -27,6 +27,7 @@ import numpy as np
 from ...generated.layout import HybridLayout
 from ...generated.scaling import to_scaled
 from ...progress import advanced, stage
+from ...signals import StopSignals
 from ..results.assemble import assemble_blocks
 from ..results.folder import ResultStorageError
 from ..results.parts import InMemory
@@ -38,7 +39,6 @@ from .methods import WallTimeExceeded, make_engine
 from .pace import FailedInterval, IntervalByInterval, Pace
 from .preflight import far_outside_practice, initial_activations, preflight
 from .settings import RunSettings, out_of_time, samples_per_call
-from .signals import StopSignals
 
 #: samples from which a run says that it joins its result once the revolutions' bar has ended (about a second
 #: and more: 3.3 s for 300 revolutions of 3600 samples)

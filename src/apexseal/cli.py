@@ -43,11 +43,18 @@ class LazyGroup(click.Group):
 
     def invoke(self, ctx: click.Context):
         from .derive.submodels.registry import RegistryError
+        from .signals import command_scope
 
-        try:
-            return super().invoke(ctx)
+        exiting = bool((ctx.obj or {}).get(EXITING))
+        try:  # a command a signal stopped heeds no further one as the process exits; from Python, they come back
+            with command_scope(exiting=exiting):
+                return super().invoke(ctx)
         except RegistryError as err:  # an installed submodel that cannot load or clashes: its package is named
             raise click.ClickException(str(err)) from None
+
+
+#: key of the context's ``obj``: the command runs in the console script, whose process exits with its code
+EXITING = "apexseal.exiting"
 
 
 @click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
@@ -74,7 +81,7 @@ def console() -> None:
     (click's test runner, a notebook) call :func:`main`, which does not freeze anything."""
     warnings.showwarning = show_warning
     try:
-        code = main.main(prog_name="apexseal", standalone_mode=False)
+        code = main.main(prog_name="apexseal", standalone_mode=False, obj={EXITING: True})
     except click.exceptions.Abort:  # Ctrl-C before a run catches it (imports, the scene, a compilation)
         click.echo("Aborted (Ctrl-C)", err=True)
         code = INTERRUPTED
@@ -86,9 +93,6 @@ def console() -> None:
         code = 1
     finally:
         gc.freeze()
-        from .runtime.solving.signals import ignore_unheeded
-
-        ignore_unheeded()  # a command a signal stopped heeds no further one as the process exits
     sys.exit(code if isinstance(code, int) else 0)
 
 

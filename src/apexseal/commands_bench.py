@@ -55,7 +55,7 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     from .runtime.bench.config import PRESETS
     from .runtime.bench.output import write_outputs
     from .runtime.bench.runner import run_benchmark
-    from .runtime.solving.signals import StopSignals
+    from .signals import StopSignals
 
     cfg = PRESETS["quick" if quick else "full"]()
     split = lambda s: tuple(x.strip() for x in s.split(",") if x.strip())  # noqa: E731

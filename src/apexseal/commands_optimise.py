@@ -120,9 +120,9 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     at the end renamed to ``<out>``, replacing the report there as a whole; a report of a study that did not
     complete (a signal, a stage refused) stays in ``<out>.partial-<run id>`` when ``<out>`` holds a completed one."""
     from .runtime.results.folder import ResultFolderError, ResultStorageError
-    from .runtime.solving.signals import StopSignals
     from .runtime.studies.preload.problem import PreloadSetup, PreloadStudyError, check_grid, check_request, excluded
     from .runtime.studies.preload.report import report_folder, write_report
+    from .signals import StopSignals
     from .stopwatch import Stopwatch
 
     sc = scene_of(scene, sets)

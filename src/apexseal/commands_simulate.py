@@ -85,7 +85,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
             from .runtime.results.folder import ResultFolder, ResultFolderError, ResultStorageError
             from .runtime.results.plausibility import PenetrationWarning
             from .runtime.results.summary import summarise  # noqa: F401  (timed here; used by _save)
-            from .runtime.solving.signals import StopSignals
+            from .signals import StopSignals
 
             if timings:  # imported by the load stage anyway; up front, so that the split shows what importing costs
                 import casadi  # noqa: F401

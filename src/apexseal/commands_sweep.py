@@ -119,8 +119,8 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
         click.echo("  --retry-failed computes them again (the same command, the other points kept)", err=True)
     drawing = None
     if figures and not report.table.empty:
-        from .runtime.solving.signals import StopSignals
         from .runtime.studies.sweep.figures import sweep_figures
+        from .signals import StopSignals
 
         with StopSignals() as drawing:  # a signal while they are drawn is noted: each figure is written whole
             paths = sweep_figures(st, report.table, out)

@@ -520,7 +520,7 @@ def test_a_signal_abandons_a_model_load_at_once_but_only_under_stop_signals():
     import os
     import signal
 
-    from apexseal.runtime.solving.signals import StopSignals
+    from apexseal.signals import StopSignals
 
     with StopSignals() as signals:
         with StopSignals.abandoning():
@@ -550,7 +550,7 @@ def test_an_abandoned_build_stops_its_compilers_and_is_no_missing_compiler():
 
     from apexseal.generated.compile import fallback
     from apexseal.generated.compiler import run_compiler, stop
-    from apexseal.runtime.solving.signals import StopSignals
+    from apexseal.signals import StopSignals
 
     running: set = set()
     done = []
@@ -578,7 +578,7 @@ def test_a_signal_abandons_builds_running_in_worker_threads(monkeypatch):
 
     import apexseal.generated.compile as compile_module
     from apexseal.generated.compiler import run_compiler
-    from apexseal.runtime.solving.signals import StopSignals
+    from apexseal.signals import StopSignals
 
     ended = []
 
@@ -658,7 +658,7 @@ def test_a_signal_ends_the_watched_engines_deadline_at_once():
     import signal
     from types import SimpleNamespace
 
-    from apexseal.runtime.solving.signals import StopSignals
+    from apexseal.signals import StopSignals
 
     engine, other = SimpleNamespace(deadline=1e9), SimpleNamespace(deadline=1e9)
     with StopSignals() as signals:
@@ -670,17 +670,20 @@ def test_a_signal_ends_the_watched_engines_deadline_at_once():
 def test_a_command_stopped_by_a_signal_leaves_the_next_run_of_its_process_catching_signals():
     """The CLI ignores further signals once its interrupted run is written (a Ctrl-C while it exits cannot turn 130
     into a death by signal). It set them to SIG_IGN, which a command run in a process that goes on (the CLI from
-    Python, a notebook) left behind: that process's later runs, and the processes it started, left the signals
-    ignored (a run does not take a signal ignored at its start), so a Ctrl-C no longer stopped them."""
-    from apexseal.runtime.solving.signals import StopSignals
+    Python, click's test runner) left behind: that process's later runs, and the processes it started, left the
+    signals ignored (a run does not take a signal ignored at its start), so a Ctrl-C no longer stopped them. Now
+    the command gives the handlers back in such a process, and ignores the signals outright in the console
+    script's, which exits."""
+    from apexseal.signals import StopSignals, command_scope
 
     before = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
-        with StopSignals() as first:
-            signal.raise_signal(signal.SIGINT)
-            first.ignore_after()
-        assert all(signal.getsignal(s) is not signal.SIG_IGN for s in before)
-        signal.raise_signal(signal.SIGINT)  # the CLI's exit: ignored, raises nothing
+        with command_scope(exiting=False):
+            with StopSignals() as first:
+                signal.raise_signal(signal.SIGINT)
+                first.ignore_after()
+            signal.raise_signal(signal.SIGINT)  # while the command reports: not heeded, raises nothing
+        assert {s: signal.getsignal(s) for s in before} == before
         with StopSignals() as later:
             signal.raise_signal(signal.SIGTERM)
             assert later.received == [signal.SIGTERM]
@@ -688,6 +691,11 @@ def test_a_command_stopped_by_a_signal_leaves_the_next_run_of_its_process_catchi
                                 "signal.SIG_IGN, signal.getsignal(signal.SIGTERM) is signal.SIG_IGN)"],
                                capture_output=True, text=True, timeout=60)
         assert child.stdout.split() == ["False", "False"], child
+        with command_scope(exiting=True):  # the console script: the process exits with the command's code
+            with StopSignals() as first:
+                signal.raise_signal(signal.SIGTERM)
+                first.ignore_after()
+        assert all(signal.getsignal(s) is signal.SIG_IGN for s in before)
     finally:
         for s, handler in before.items():
             signal.signal(s, handler)

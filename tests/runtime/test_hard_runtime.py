@@ -511,7 +511,7 @@ def test_a_housing_too_soft_for_the_preload_is_refused_naming_its_keys(default_s
 def test_an_engine_watched_for_one_search_is_let_go_after_it():
     """The engines a failed call's re-run and diagnosis make (up to 13 a failure) were added to the outermost
     StopSignals, which nested ones share, and kept for the whole run or serial sweep."""
-    from apexseal.runtime.solving.signals import StopSignals
+    from apexseal.signals import StopSignals
 
     class Engine:
         deadline = 0.0

@@ -186,8 +186,8 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     with at least 2.4 samples per period of the stiffest contact any candidate can have, :func:`fastest_contact`).
     """
     from ....derive.submodels.registry import is_read, needing, parameter, submodels
+    from ....signals import StopSignals
     from ...api import model_functions
-    from ...solving.signals import StopSignals
 
     # a damping ratio whose damping is off is read by nothing: not an unknown by default, refused if asked for
     ratios = {zeta for cls in submodels() for _, zeta in cls.damping_ratios}

@@ -69,7 +69,7 @@ import numpy as np
 
 from ....cores import parallel_threads
 from ....progress import announce, stage
-from ...solving.signals import StopSignals
+from ....signals import StopSignals
 from .nlp import THETA_MAX_FACT, ShootingNlp
 from .periodic import periodic
 from .problem import (

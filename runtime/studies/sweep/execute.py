@@ -255,8 +255,8 @@ def _models_built(todo, quiet: bool) -> bool:
     once). False when a signal stopped it (nothing is computed yet). A model that fails to build is left to its
     points, which record the failure as their rows (the sweep goes on with the others)."""
     from ....progress import enabled
+    from ....signals import StopSignals
     from ...api import model_functions
-    from ...solving.signals import StopSignals
 
     models = {}
     for _, scene, _ in todo:
@@ -283,7 +283,7 @@ def _serial(todo, args, record) -> bool:
     ``simulate`` joins it): the running point stops at its next integrator call and is dropped (a point cut short
     by a signal is not a result; the resumed sweep computes it), every finished point is kept.
     """
-    from ...solving.signals import StopSignals
+    from ....signals import StopSignals
 
     try:
         with StopSignals() as signals:
@@ -333,7 +333,7 @@ def local_cluster(workers: int):
     number to the points left."""
     from dask.distributed import LocalCluster
 
-    from ...solving.signals import handling
+    from ....signals import handling
 
     with handling(signal.SIGINT, signal.SIG_IGN):
         return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
@@ -377,7 +377,7 @@ def _dask(todo, args, record, study, n, scheduler, client, shown):
     acted on within :data:`POLL_S`, never in the middle of writing a row: the points not started are cancelled,
     those running are stopped at their next check (:func:`_stop`), every finished one is kept, and the cluster this
     sweep started is closed."""
-    from ...solving.signals import StopSignals
+    from ....signals import StopSignals
 
     try:
         with StopSignals() as signals:
@@ -389,7 +389,7 @@ def _dask(todo, args, record, study, n, scheduler, client, shown):
 def _on_cluster(todo, args, record, study, n, scheduler, client, signals, shown):
     from dask.distributed import Client, as_completed
 
-    from ...solving.signals import StopSignals
+    from ....signals import StopSignals
 
     own_cluster = own_client = None
     try:

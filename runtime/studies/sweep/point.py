@@ -84,11 +84,11 @@ class _Stopped(Exception):
 @contextlib.contextmanager
 def _stoppable(stop_key: str | None):
     """The block as one unit :func:`stop_points` can stop (nothing without ``stop_key``): yields its StopSignals,
-    which the run inside shares (runtime/solving/signals.py), or None."""
+    which the run inside shares (src/apexseal/signals.py), or None."""
     if stop_key is None:
         yield None
         return
-    from ...solving.signals import StopSignals
+    from ....signals import StopSignals
 
     with StopSignals() as signals:
         _RUNNING.setdefault(stop_key, []).append(signals)

@@ -108,8 +108,8 @@ class StopSignals:
         exits once its interrupted run is written (the CLI), so that a Ctrl-C pressed again while it reports and
         exits cannot turn its exit code 130 into a death by signal. A handler that does nothing, not SIG_IGN: a
         command run in a process that goes on (``apexseal.cli.main`` from Python) would leave it ignoring the
-        signals, and its later runs, and the processes it starts, leave an ignored signal ignored. The console
-        script ignores them outright as it exits (:func:`ignore_unheeded`)."""
+        signals, and its later runs, and the processes it starts, leave an ignored signal ignored: the command line
+        gives them back, or ignores them outright as the process exits (:func:`command_scope`)."""
         target = self._outer or self
         for s in target._previous:
             target._previous[s] = _unheeded
@@ -185,13 +185,21 @@ def _unheeded(signum, frame) -> None:
     """A signal handler that does nothing (:meth:`StopSignals.ignore_after`)."""
 
 
-def ignore_unheeded() -> None:
-    """For a process about to exit: ignore outright the signals :meth:`StopSignals.ignore_after` stopped heeding.
-    Python's finalization sets a signal with a Python handler back to its default action (a Ctrl-C then would end
-    the process by the signal, not with its exit code 130) and leaves an ignored one ignored."""
-    for s in CAUGHT:
-        if signal.getsignal(s) is _unheeded:
-            signal.signal(s, signal.SIG_IGN)
+@contextlib.contextmanager
+def command_scope(exiting: bool):
+    """Around a command of the command line: the signals it stopped heeding (:meth:`StopSignals.ignore_after`) get
+    back the handlers they had before it in a process that goes on (the command run from Python, click's test
+    runner: a Ctrl-C there stops the next run again), and are ignored outright in one that exits with the
+    command's code (``exiting``: the console script). Python's finalization sets a signal with a Python handler
+    back to its default action (a Ctrl-C then would end the process by the signal, not with its exit code 130) and
+    leaves an ignored one ignored."""
+    before = {s: signal.getsignal(s) for s in CAUGHT} if _main() else {}
+    try:
+        yield
+    finally:
+        for s, handler in before.items():
+            if signal.getsignal(s) is _unheeded:
+                signal.signal(s, signal.SIG_IGN if exiting else handler)
 
 
 @contextlib.contextmanager
