@@ -46,7 +46,7 @@ class SweepReport:
     workers: int
     where: str  # "serial", "LocalCluster", or the scheduler address
     workers_asked: int | None = None  # the workers asked, when more than the points left to run (then n is those)
-    retried: int = 0  # points whose earlier rows had not completed, computed again (retry_failed)
+    retried: int = 0  # of those computed now, points whose earlier rows had not completed (retry_failed)
 
     @property
     def complete(self) -> bool:
@@ -245,7 +245,7 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, retry_f
     return SweepReport(table=table, folder=store.folder, total=len(points), skipped=skipped,
                        computed=len(recorded), failed=int((table["status"] != "completed").sum()),
                        wall_time_s=time.perf_counter() - t0, interrupted=interrupted, workers=n, where=where,
-                       workers_asked=asked, retried=len(retried))
+                       workers_asked=asked, retried=len(recorded & retried))
 
 
 def _models_built(todo, quiet: bool) -> bool:
