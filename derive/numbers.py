@@ -24,6 +24,12 @@ def tip_half_angle(Ws: float, ro: float) -> float:
     return math.asin(min(1.0, Ws / (2 * ro)))
 
 
+def outline_mass(density: float, *, Ws: float, ds1: float, ds2: float, Bs: float) -> float:
+    """Eq. 80: the mass of the seal's outline, a rectangle Ws by ds1 + ds2, Bs long, of ``density``: the seal's
+    mass when the scene gives its density, and the heaviest seal at the densest material's."""
+    return density * Ws * (ds1 + ds2) * Bs
+
+
 def tip_arc_start(*, ds1: float, ro: float, beta_o: float) -> float:
     """ds0 = ds1 - ro (1 - cos beta_o), Eq. 24: where the seal's tip arc starts along its axis (its ends c1, c3)."""
     return ds1 - ro * (1 - math.cos(beta_o))

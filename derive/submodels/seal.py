@@ -13,7 +13,13 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from ..numbers import initial_wall_deflection, initial_wall_deflection_normal, machine_numbers, tip_half_angle
+from ..numbers import (
+    initial_wall_deflection,
+    initial_wall_deflection_normal,
+    machine_numbers,
+    outline_mass,
+    tip_half_angle,
+)
 from ..options import NONE, ON, Option
 from ..parameters import Parameter
 from .base import Guard, State, Submodel
@@ -124,7 +130,8 @@ class SealBody(Submodel):
         v = values
         out: dict[str, float] = {"omega": inputs["operation"].omega}
         ds = v["ds1"] + v["ds2"]
-        ms = v["ms"] if v.get("ms") is not None else v["density"] * v["Ws"] * ds * v["Bs"]
+        ms = v["ms"] if v.get("ms") is not None else outline_mass(v["density"], Ws=v["Ws"], ds1=v["ds1"],
+                                                                  ds2=v["ds2"], Bs=v["Bs"])
         out["ms"] = ms
         out["Icg"] = v["Icg"] if v.get("Icg") is not None else ms * (v["Ws"] ** 2 + ds**2) / 12
         out["beta_o"] = tip_half_angle(v["Ws"], v["ro"])

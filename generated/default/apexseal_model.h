@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 9c402967191ede5b408116bc7560ff4ba693500da31dcf60e36d995237e10211.
+ * Effects: all. Input hash: 9ec59314a7a4965d0dcf0f2d4440ec3748448dd60ef556a6cd32af42d9ba8ed7.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "9c402967191ede5b408116bc7560ff4ba693500da31dcf60e36d995237e10211"
+#define APEXSEAL_INPUT_HASH "9ec59314a7a4965d0dcf0f2d4440ec3748448dd60ef556a6cd32af42d9ba8ed7"
 
 /* state x */
 #define APEXSEAL_NX 6

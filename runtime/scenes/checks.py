@@ -17,6 +17,7 @@ from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects, orphans
 from apexseal.derive.numbers import (
     machine_numbers,
+    outline_mass,
     smallest_chamber_volume,
     smallest_lobe_offset,
     tip_arc_start,
@@ -183,14 +184,18 @@ def check_mass(s: SealSection, raw: dict[str, Any]) -> list[Problem]:
     ds2)^2 + Ws^2/4). Above them a value is no seal, whatever the material (the run took them, and 1e300 kg failed
     only as a right-hand side that is not finite, or ran silently with an Icg that stops the seal turning)."""
     out = []
-    heaviest = DENSEST * s.Ws * (s.ds1 + s.ds2) * s.Bs
+
+    def of_density(density: float) -> float:
+        return outline_mass(density, Ws=s.Ws, ds1=s.ds1, ds2=s.ds2, Bs=s.Bs)
+
+    heaviest = of_density(DENSEST)
     if s.ms is not None and s.ms > heaviest:
         out.append(Problem("seal.ms", raw_at(raw, ["seal", "ms"]),
                            f"{s.ms * 1e3:.6g} g is heavier than the seal's outline Ws (ds1 + ds2) Bs = "
-                           f"{s.Ws * (s.ds1 + s.ds2) * s.Bs * 1e6:.6g} cm^3 filled with the densest material "
+                           f"{of_density(1.0) * 1e6:.6g} cm^3 filled with the densest material "
                            f"({DENSEST:g} kg/m^3, osmium; Eq. 80); allowed: ms <= {heaviest * 1e3:.6g} g"))
         return out
-    ms = s.ms if s.ms is not None else (s.density * s.Ws * (s.ds1 + s.ds2) * s.Bs if s.density is not None else None)
+    ms = s.ms if s.ms is not None else (of_density(s.density) if s.density is not None else None)
     if ms is not None and s.Icg is not None:
         largest = ms * (max(s.ds1, s.ds2) ** 2 + s.Ws**2 / 4)
         if s.Icg > largest:
