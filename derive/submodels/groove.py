@@ -9,6 +9,8 @@ guards b1..b4 name the paper's nine contact cases together (Algorithm 3).
 
 from __future__ import annotations
 
+from typing import Any
+
 from ..options import NONE, ON, Option
 from ..parameters import CONTACT_STIFFNESS, Parameter
 from .base import ContactModel, Context, Friction, Guard, Load, Submodel
@@ -67,6 +69,20 @@ class GrooveContacts(Submodel):
     frictions = (Friction("mu2", tuple(_CONTACTS), offsets=((-0.5, "Ws"), (-0.5, "Ws"), (0.5, "Ws"), (0.5, "Ws")),
                           slide="the seal along the groove walls"),)
     damping_ratios = (("cr", "zeta_g"),)
+    #: where the mouth corners g1, g3 meet the seal's sides (Eqs. 20-23): both contacts i1, i2 act on its flat
+    #: sides while all four are positive (the run's start is checked on them: runtime/solving/preflight.py)
+    output_columns = (
+        ("l1", "m", "distance along the seal from the mouth corner g1's foot i1 to the tip arc's end c1 (after Eq. 47)",
+         "mm", 1e3),
+        ("l2", "m", "distance along the seal from its back corner c2 to the mouth corner g1's foot i1 (Eq. 22)", "mm", 1e3),
+        ("l3", "m", "distance along the seal from the mouth corner g3's foot i2 to the tip arc's end c3 (after Eq. 47)",
+         "mm", 1e3),
+        ("l4", "m", "distance along the seal from its back corner c4 to the mouth corner g3's foot i2 (Eq. 23)", "mm", 1e3),
+    )
+
+    def outputs(self, ctx: Context) -> dict[str, Any]:
+        """l1..l4 of Eqs. 22-23 and after Eq. 47 (derive/contact_geometry.py)."""
+        return {name: getattr(ctx.g, name) for name, *_ in self.output_columns}
 
     def contacts(self, ctx: Context) -> list[ContactModel]:
         """Fi1, Fc2, Fi2, Fc4 of Eq. 63: elastic (Algorithm 1) + damping (Eqs. 55, 62) + friction."""

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 9ec59314a7a4965d0dcf0f2d4440ec3748448dd60ef556a6cd32af42d9ba8ed7.
+ * Effects: all. Input hash: 1230d673eaba8d2aa595edf8359b73178a22e0122db55c85c8c9441898b6ae4b.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "9ec59314a7a4965d0dcf0f2d4440ec3748448dd60ef556a6cd32af42d9ba8ed7"
+#define APEXSEAL_INPUT_HASH "1230d673eaba8d2aa595edf8359b73178a22e0122db55c85c8c9441898b6ae4b"
 
 /* state x */
 #define APEXSEAL_NX 6
@@ -68,7 +68,7 @@ extern "C" {
 #define APEXSEAL_G_SPRING 5
 
 /* outputs y */
-#define APEXSEAL_NY 29
+#define APEXSEAL_NY 33
 #define APEXSEAL_Y_F_HOUSING_X 0
 #define APEXSEAL_Y_F_HOUSING_Y 1
 #define APEXSEAL_Y_M_HOUSING 2
@@ -97,7 +97,11 @@ extern "C" {
 #define APEXSEAL_Y_F_PRESSURE_Y 25
 #define APEXSEAL_Y_M_PRESSURE 26
 #define APEXSEAL_Y_PF_TOTAL 27
-#define APEXSEAL_Y_B_GAP 28
+#define APEXSEAL_Y_L1 28
+#define APEXSEAL_Y_L2 29
+#define APEXSEAL_Y_L3 30
+#define APEXSEAL_Y_L4 31
+#define APEXSEAL_Y_B_GAP 32
 
 /* modes: the groove case of Algorithm 3, then each other contact closed or open by its declared label (e.g. h, h0) */
 #define APEXSEAL_NMODES 36

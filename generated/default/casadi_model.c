@@ -43,6 +43,7 @@ extern "C" {
 #define casadi_s10 CASADI_PREFIX(s10)
 #define casadi_s11 CASADI_PREFIX(s11)
 #define casadi_s12 CASADI_PREFIX(s12)
+#define casadi_s13 CASADI_PREFIX(s13)
 #define casadi_s2 CASADI_PREFIX(s2)
 #define casadi_s3 CASADI_PREFIX(s3)
 #define casadi_s4 CASADI_PREFIX(s4)
@@ -132,9 +133,10 @@ static const casadi_int casadi_s8[115] =
 static const casadi_int casadi_s9[11] = 
   {6, 2, 0, 3, 6, 3, 4, 5,
   3, 4, 5};
-static const casadi_int casadi_s10[3] = {18, 1, 1};
-static const casadi_int casadi_s11[3] = {30, 1, 1};
-static const casadi_int casadi_s12[3] = {4, 1, 1};
+static const casadi_int casadi_s10[3] = {33, 1, 1};
+static const casadi_int casadi_s11[3] = {18, 1, 1};
+static const casadi_int casadi_s12[3] = {30, 1, 1};
+static const casadi_int casadi_s13[3] = {4, 1, 1};
 
 /* rhs:(theta,x[6],a[6],p[29],u[2])->(xdot[6]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
@@ -4311,7 +4313,7 @@ CASADI_SYMBOL_EXPORT int guards_work_bytes(casadi_int *sz_arg, casadi_int* sz_re
   return 0;
 }
 
-/* outputs:(theta,x[6],a[6],p[29],u[2])->(y[29]) */
+/* outputs:(theta,x[6],a[6],p[29],u[2])->(y[33]) */
 static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -4719,83 +4721,83 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a51=(a24+a51);
   a16=(a51-a50);
   a16=(a16-a10);
-  a16=(a45*a16);
-  a19=(a16*a03);
+  a19=(a45*a16);
+  a39=(a19*a03);
   a34=(a15*a34);
-  a39=(a33*a05);
-  a20=arg[4]? arg[4][1] : 0;
-  a07=(a33*a20);
-  a39=(a39+a07);
-  a34=(a34*a39);
-  a07=(a34*a21);
-  a19=(a19+a07);
-  a07=(a20*a15);
+  a20=(a33*a05);
+  a07=arg[4]? arg[4][1] : 0;
+  a48=(a33*a07);
+  a20=(a20+a48);
+  a34=(a34*a20);
+  a48=(a34*a21);
+  a39=(a39+a48);
+  a48=(a07*a15);
   a51=(a51-a27);
   a51=(a51-a10);
-  a51=(a07*a51);
-  a48=(a51*a03);
-  a19=(a19-a48);
-  a48=(a04-a12);
-  a20=(a20*a48);
-  a12=(a12*a39);
-  a20=(a20+a12);
-  a20=(a15*a20);
+  a18=(a48*a51);
+  a02=(a18*a03);
+  a39=(a39-a02);
+  a02=(a04-a12);
+  a07=(a07*a02);
+  a12=(a12*a20);
+  a07=(a07+a12);
+  a07=(a15*a07);
   a27=(a13+a27);
   a27=(a27+a10);
-  a20=(a20*a27);
-  a27=(a20*a03);
-  a19=(a19-a27);
+  a07=(a07*a27);
+  a12=(a07*a03);
+  a39=(a39-a12);
   a04=(a04-a49);
   a05=(a05*a04);
-  a49=(a49*a39);
+  a49=(a49*a20);
   a05=(a05+a49);
   a15=(a15*a05);
   a50=(a13+a50);
   a50=(a50+a10);
   a15=(a15*a50);
-  a50=(a15*a03);
-  a19=(a19+a50);
+  a10=(a15*a03);
+  a39=(a39+a10);
   a45=(a45*a23);
-  a50=(a28-a47);
-  a10=(a45*a50);
-  a05=(a10*a03);
-  a19=(a19+a05);
-  a07=(a07*a23);
-  a28=(a47-a28);
-  a05=(a07*a28);
+  a10=(a28-a47);
+  a05=(a45*a10);
   a49=(a05*a03);
-  a19=(a19+a49);
+  a39=(a39+a49);
+  a48=(a48*a23);
+  a28=(a47-a28);
+  a49=(a48*a28);
+  a20=(a49*a03);
+  a39=(a39+a20);
   a11=sin(a11);
-  a49=(a11+a26);
-  a49=(a45*a49);
-  a39=(a49*a21);
-  a19=(a19-a39);
+  a20=(a11+a26);
+  a20=(a45*a20);
+  a04=(a20*a21);
+  a39=(a39-a04);
   a11=(a11-a26);
-  a11=(a07*a11);
+  a11=(a48*a11);
   a26=(a11*a21);
-  a19=(a19-a26);
-  if (res[0]!=0) res[0][24]=a19;
-  a19=(a51*a21);
+  a39=(a39-a26);
+  if (res[0]!=0) res[0][24]=a39;
+  a39=(a18*a21);
   a34=(a34*a03);
-  a19=(a19+a34);
-  a34=(a20*a21);
-  a19=(a19+a34);
+  a39=(a39+a34);
+  a34=(a07*a21);
+  a39=(a39+a34);
   a34=(a15*a21);
-  a19=(a19-a34);
-  a34=(a16*a21);
-  a19=(a19-a34);
-  a10=(a10*a21);
-  a19=(a19-a10);
-  a49=(a49*a03);
-  a19=(a19-a49);
+  a39=(a39-a34);
+  a34=(a19*a21);
+  a39=(a39-a34);
   a05=(a05*a21);
-  a19=(a19-a05);
+  a39=(a39-a05);
+  a20=(a20*a03);
+  a39=(a39-a20);
+  a49=(a49*a21);
+  a39=(a39-a49);
   a11=(a11*a03);
-  a19=(a19-a11);
-  if (res[0]!=0) res[0][25]=a19;
+  a39=(a39-a11);
+  if (res[0]!=0) res[0][25]=a39;
   a00=(a33*a00);
-  a19=(a32*a23);
-  a00=(a00+a19);
+  a39=(a32*a23);
+  a00=(a00+a39);
   a23=(a33*a23);
   a23=(a23*a47);
   a00=(a00+a23);
@@ -4805,55 +4807,59 @@ static int casadi_f4(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a22=(a33*a22);
   a22=(a22*a21);
   a23=(a23+a22);
-  a51=(a51*a23);
+  a18=(a18*a23);
   a32=(a32*a13);
   a09=(a32+a09);
   a09=(a09+a22);
-  a20=(a20*a09);
-  a51=(a51+a20);
+  a07=(a07*a09);
+  a18=(a18+a07);
   a33=(a33*a29);
   a33=(a33*a03);
   a32=(a32+a33);
   a32=(a32+a22);
   a15=(a15*a32);
-  a51=(a51-a15);
+  a18=(a18-a15);
   a00=(a00+a33);
   a00=(a00+a22);
-  a16=(a16*a00);
-  a51=(a51-a16);
+  a19=(a19*a00);
+  a18=(a18-a19);
   a45=(a45*a24);
-  a45=(a45*a50);
-  a51=(a51-a45);
-  a07=(a07*a24);
-  a07=(a07*a28);
-  a51=(a51-a07);
-  if (res[0]!=0) res[0][26]=a51;
+  a45=(a45*a10);
+  a18=(a18-a45);
+  a48=(a48*a24);
+  a48=(a48*a28);
+  a18=(a18-a48);
+  if (res[0]!=0) res[0][26]=a18;
   a38=(a38+a43);
   a38=(a38+a31);
   a38=(a38+a55);
   a38=(a38+a25);
   a38=(a38+a01);
   if (res[0]!=0) res[0][27]=a38;
+  if (res[0]!=0) res[0][28]=a51;
+  if (res[0]!=0) res[0][29]=a27;
+  if (res[0]!=0) res[0][30]=a16;
+  if (res[0]!=0) res[0][31]=a50;
   a37=(a08+a37);
   a37=(a37-a30);
-  a38=(a17<a37);
+  a50=(a17<a37);
   a36=(a36-a44);
   a36=(a36+a52);
-  a01=(a17<a36);
-  a38=(a38&&a01);
+  a16=(a17<a36);
+  a50=(a50&&a16);
   a08=(a08+a30);
   a08=(a08-a14);
   a14=(a17<a08);
-  a38=(a38&&a14);
+  a50=(a50&&a14);
   a29=(a29+a44);
   a29=(a29+a52);
   a17=(a17<a29);
-  a38=(a38&&a17);
+  a50=(a50&&a17);
   a37=casadi_fmin(a37,a36);
   a37=casadi_fmin(a37,a08);
   a37=casadi_fmin(a37,a29);
-  a38=(a38?a37:0);
-  if (res[0]!=0) res[0][28]=a38;
+  a50=(a50?a37:0);
+  if (res[0]!=0) res[0][32]=a50;
   return 0;
 }
 
@@ -4915,7 +4921,7 @@ CASADI_SYMBOL_EXPORT const casadi_int* outputs_sparsity_in(casadi_int i) {
 
 CASADI_SYMBOL_EXPORT const casadi_int* outputs_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s2;
+    case 0: return casadi_s10;
     default: return 0;
   }
 }
@@ -5563,16 +5569,16 @@ CASADI_SYMBOL_EXPORT const char* hybrid_ode_name_out(casadi_int i) {
 CASADI_SYMBOL_EXPORT const casadi_int* hybrid_ode_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
-    case 1: return casadi_s10;
-    case 2: return casadi_s11;
-    case 3: return casadi_s12;
+    case 1: return casadi_s11;
+    case 2: return casadi_s12;
+    case 3: return casadi_s13;
     default: return 0;
   }
 }
 
 CASADI_SYMBOL_EXPORT const casadi_int* hybrid_ode_sparsity_out(casadi_int i) {
   switch (i) {
-    case 0: return casadi_s10;
+    case 0: return casadi_s11;
     default: return 0;
   }
 }
@@ -5754,9 +5760,9 @@ CASADI_SYMBOL_EXPORT const char* hybrid_zero_name_out(casadi_int i) {
 CASADI_SYMBOL_EXPORT const casadi_int* hybrid_zero_sparsity_in(casadi_int i) {
   switch (i) {
     case 0: return casadi_s0;
-    case 1: return casadi_s10;
-    case 2: return casadi_s11;
-    case 3: return casadi_s12;
+    case 1: return casadi_s11;
+    case 2: return casadi_s12;
+    case 3: return casadi_s13;
     default: return 0;
   }
 }

@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 
-from ...derive.numbers import tip_arc_start
 from ...derive.submodels.registry import guard, parameter
 from ...derive.submodels.seal import SealBody
 from ...generated.layout import mode_label
@@ -140,41 +139,34 @@ def start_problem(functions, params, theta, X, u) -> str | None:
     return f"{shown} starts the seal {where_}; {allowed}: check the initial state's units and sign"
 
 
-def _arc_start_and_mouth(p: dict[str, float]) -> tuple[float, float]:
-    """ds0, where the tip arc starts along the seal (Eq. 24), and the X of the groove's mouth corners g1, g3 in the
-    groove frame (Eqs. 17-18)."""
-    return tip_arc_start(ds1=p["ds1"], ro=p["ro"], beta_o=p["beta_o"]), p["ds1"] - p["zeta0"] - p["delta_w"]
+def mouth_corner_lengths(functions, params, theta, X, closed, u) -> dict[str, float] | None:
+    """The model's outputs l1..l4 at the state ``X``: where the groove's mouth corners g1, g3 meet the seal's
+    sides, measured from the tip arc's ends c1, c3 (l1, l3) and from the back corners c2, c4 (l2, l4) along the
+    seal (Eqs. 20-23; the groove submodel's outputs); all four are > 0 while both corners face the seal's flat
+    sides, between its back face and its tip arc. None for a model without the groove contacts."""
+    names = ("l1", "l2", "l3", "l4")
+    if not set(names) <= set(functions.output_names):
+        return None
+    y = np.asarray(functions.outputs(theta, X, closed, params, u), float).ravel()
+    return {n: float(y[functions.output_names.index(n)]) for n in names}
 
 
-def mouth_corner_lengths(p: dict[str, float], X: np.ndarray) -> tuple[float, float, float, float]:
-    """(l1, l2, l3, l4): where the groove's mouth corners g1, g3 meet the seal's sides at the state ``X`` (x, y, phi
-    first), measured from the tip arc's ends c1, c3 (l1, l3) and from the back corners c2, c4 (l2, l4) along the
-    seal (Eqs. 17-23, with ds0 = ds1 - ro (1 - cos beta_o) of Eq. 24); all four are > 0 while both corners face
-    the seal's flat sides, between its back face and its tip arc."""
-    x, y, phi = (float(v) for v in X[:3])
-    ds0, mouth = _arc_start_and_mouth(p)
-    c, s = math.cos(phi), math.sin(phi)
-    l2 = (mouth - x) * c - (p["Wg"] / 2 + y) * s + p["ds2"]
-    l4 = (mouth - x) * c + (p["Wg"] / 2 - y) * s + p["ds2"]
-    return ds0 + p["ds2"] - l2, l2, ds0 + p["ds2"] - l4, l4
-
-
-def flank_problem(functions, params, X) -> str | None:
+def flank_problem(functions, params, theta, X, closed, u) -> str | None:
     """The initial-state values, if they start the seal where a groove mouth corner lies on its tip arc (sunk into
     the groove: the side contacts and faces of Eqs. 20-23 and 44-47 have no flat side to act on, the scene's
     seal.zeta0 check at rest) or past its back face (out of its groove, Eq. 17). A start too far out is also deep
     in the housing wall (:func:`start_problem`); one too far in met no check and ran until it chattered."""
-    p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
-    if not {"ds1", "ds2", "ro", "beta_o", "zeta0", "delta_w", "Wg"} <= p.keys():  # a model without the groove
+    X = np.asarray(X, float)
+    lengths = mouth_corner_lengths(functions, params, theta, X, closed, u)
+    if lengths is None or min(lengths.values()) > 0 or not np.isfinite(X[:3]).all():
         return None
-    lengths = mouth_corner_lengths(p, X)
-    if min(lengths) > 0 or not np.isfinite(X[:3]).all():
-        return None
-    l1, l2, l3, l4 = lengths
+    l1, l2, l3, l4 = lengths.values()
     culprits = [i for i in range(3) if X[i] != 0] or [0]
     shown = ", ".join(state_shown(i, X[i]) for i in culprits)
-    ds0, mouth = _arc_start_and_mouth(p)
-    low, high = mouth - ds0, mouth + p["ds2"]  # l1 = l3 = 0 and l2 = l4 = 0 at y = phi = 0
+    # with the seal upright at its groove's centre (y = phi = 0), l2 and l4 fall and l1 and l3 grow one for one
+    # with x (Eqs. 17, 22-23): the range of x alone is where both are positive
+    centred = mouth_corner_lengths(functions, params, theta, np.r_[0.0, 0.0, 0.0, X[3:]], closed, u)
+    low, high = -centred["l1"], centred["l2"]
     where = ("a groove mouth corner on the seal's tip arc (sunk into its groove: l1 = "
              f"{l1 * 1e3:.6g} mm, l3 = {l3 * 1e3:.6g} mm from the arc's ends; the contact model has no flat side "
              "there, Eqs. 20-23, 44-47)" if min(l1, l3) <= 0 else
@@ -206,7 +198,7 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
     """
     mode = mode_label(functions.guard_names, closed)
     for problem in (speed_problem(functions, params), start_problem(functions, params, theta, X, u),
-                    flank_problem(functions, params, X)):
+                    flank_problem(functions, params, theta, X, closed, u)):
         if problem:
             return StopInfo(0.0, mode, problem)
     xdot = np.array(functions.rhs(theta, X, closed, params, u)).ravel()

@@ -120,7 +120,7 @@ def test_every_hard_scene_passes_the_preflight(default_functions):
             if sc.effects.chamber_pressure else np.zeros(2)
         assert speed_problem(fns, p) is None, name
         assert start_problem(fns, p, th, initial_state(sc), u) is None, name
-        assert flank_problem(fns, p, initial_state(sc)) is None, name
+        assert flank_problem(fns, p, th, initial_state(sc), np.zeros(len(fns.guard_names)), u) is None, name
 
 
 def test_the_start_s_lowest_x_is_where_the_scene_check_puts_the_groove_mouth(default_scene, default_functions):
@@ -134,10 +134,11 @@ def test_the_start_s_lowest_x_is_where_the_scene_check_puts_the_groove_mouth(def
     s = default_scene.seal
     bound = s.ro * (1 - math.cos(math.asin(s.Ws / (2 * s.ro)))) - s.zeta0  # zeta0 + x > ro (1 - cos beta_o)
     assert mouth_on_flank(s, s.zeta0 + bound - 2e-6, "v") and not mouth_on_flank(s, s.zeta0 + bound + 2e-6, "v")
+    a, u = np.zeros(len(fns.guard_names)), np.zeros(2)
     for x, refused in ((bound + 2e-6, False), (bound - 2e-6, True)):
-        assert (flank_problem(fns, p, np.array([x, 0, 0, 0, 0, 0.0])) is not None) is refused, x
+        assert (flank_problem(fns, p, 0.0, np.array([x, 0, 0, 0, 0, 0.0]), a, u) is not None) is refused, x
     tilted = np.array([bound + 2e-6, 0, math.radians(2), 0, 0, 0.0])
-    assert flank_problem(fns, p, tilted) is not None
+    assert flank_problem(fns, p, 0.0, tilted, a, u) is not None
 
 
 def _beyond_each_bound():
