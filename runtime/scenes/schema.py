@@ -105,7 +105,17 @@ class OperationSection(Section):
     @property
     def omega(self) -> float:
         """Rotor speed in rad/s."""
-        return self.rpm * TWO_PI / 60.0
+        return omega_of_rpm(self.rpm)
+
+
+def omega_of_rpm(rpm: float) -> float:
+    """A rotor speed in rev/min (the scene's operation.rpm) in rad/s (the model's omega)."""
+    return rpm * TWO_PI / 60.0
+
+
+def rpm_of_omega(omega: float) -> float:
+    """A rotor speed in rad/s (the model's omega) in rev/min (the scene's operation.rpm)."""
+    return omega * 60.0 / TWO_PI
 
 
 #: pressure.source -> the [pressure] keys it needs

@@ -10,6 +10,7 @@ from ...derive.submodels.registry import guard, parameter
 from ...derive.submodels.seal import SealBody
 from ...generated.layout import mode_label
 from ..results.result import StopInfo
+from ..scenes.schema import rpm_of_omega
 from ..scenes.units import show_factor
 from .contact_stability import MAX_GROWTH, contact_frequencies, contact_growth
 from .friction_stability import friction_at_start
@@ -72,7 +73,7 @@ def speed_problem(functions, params) -> str | None:
     ratio = w / omega if omega > 0 else math.inf
     if ratio <= MAX_OSCILLATIONS_PER_RAD:
         return None
-    rpm, rpm_min = omega * 60 / (2 * math.pi), w / MAX_OSCILLATIONS_PER_RAD * 60 / (2 * math.pi)
+    rpm, rpm_min = rpm_of_omega(omega), rpm_of_omega(w / MAX_OSCILLATIONS_PER_RAD)
     return (f"operation.rpm = {rpm:.3g} rpm is too slow to simulate in crank angle: the stiffest contact ({name}, "
             f"sqrt(k/ms) = {w:.3g} rad/s) would oscillate {ratio * 2 * math.pi:.3g} times per revolution; "
             f"allowed: rpm >= {rpm_min:.3g} (at most {MAX_OSCILLATIONS_PER_RAD:g} oscillations per rad)")
@@ -91,7 +92,7 @@ def far_outside_practice(functions, params) -> str:
     p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
     values = {keys[n]: (x, None) for n, x in p.items() if n in keys}
     if "omega" in p:
-        values["operation.rpm"] = (p["omega"] * 60 / (2 * math.pi), None)
+        values["operation.rpm"] = (rpm_of_omega(p["omega"]), None)
     ranges = plausible_ranges()
     shown = [f"{key} = {ranges[key].shown(x)} (engineering practice: {ranges[key].describe()})"
              for key, x, _ in implausible(values)]
