@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from ..suggest import did_you_mean, not_known
 from .options import Option, OptionError, TableView
+from .submodels.registry import slots
 
 
 class AssumptionError(OptionError):
@@ -18,9 +19,7 @@ class AssumptionError(OptionError):
 
 def declared() -> dict[str, Option]:
     """The modelling-choice slots of the registered submodels."""
-    from .submodels.registry import options
-
-    return {n: o for n, o in options().items() if o.table == "assumptions"}
+    return slots("assumptions")
 
 
 def __getattr__(name: str):

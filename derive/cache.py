@@ -50,7 +50,7 @@ def source_digest() -> str:
 def derivation_files(effects: Effects, assumptions: Assumptions) -> list[Path]:
     """The source files a model of these inputs is derived from: apexseal's derivation and every submodel that
     enters it, with its helpers (what :func:`derivation_key` hashes)."""
-    from .options import options_of
+    from .choices import options_of
     from .submodels.registry import entering
     from .submodels.sources import files_of
 
@@ -63,7 +63,7 @@ def model_inputs(effects: Effects, assumptions: Assumptions) -> dict:
     and their options' values. A user's or a package's submodel that is off enters with neither
     (:func:`~.submodels.registry.entering`), so installing one changes no other model's key, its derivation or its
     generated artefacts."""
-    from .options import options_of
+    from .choices import options_of
     from .submodels.registry import digest, left_out_options
 
     opts = options_of(effects, assumptions)

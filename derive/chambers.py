@@ -94,11 +94,9 @@ def chamber_volume(side: int, theta, *, r, L, H, A_lobe, housing_circle, ops=NUM
     return H * (housing_area(side, theta, r=r, L=L, housing_circle=housing_circle, ops=ops) - A_lobe)
 
 
-def chamber_volumes(embodiment: str):
+def chamber_volumes(embodiment: str, P, theta):
     """Va(theta), Vb(theta) of an embodiment in m^3, sympy expressions of ``P["r"], P["L"], P["H"], P["Cr"],
-    P["k"]`` and theta."""
-    from .symbols import P, theta
-
+    P["k"]`` and ``theta`` (the parameter symbols by name, :data:`.symbols.P`, and the crank angle's symbol)."""
     _check(embodiment)
     ops = symbolic()
     r, L = P["r"], P["L"]
@@ -108,12 +106,11 @@ def chamber_volumes(embodiment: str):
                  for side in (1, -1))
 
 
-def lobe_curve(embodiment: str, psi):
+def lobe_curve(embodiment: str, psi, P):
     """The a-side lobe in the rotor frame (origin m, Xr along the chord to p1) as sympy (X, Y) of a parameter
-    ``psi`` in [0, pi] (for drawing and for the polygon check)."""
+    ``psi`` in [0, pi] (for drawing and for the polygon check), with the parameter symbols ``P`` by name
+    (:data:`.symbols.P`)."""
     import sympy as sp
-
-    from .symbols import P
 
     _check(embodiment)
     r, L, Cr, k = P["r"], P["L"], P["Cr"], P["k"]

@@ -11,7 +11,9 @@ booleans, the way scenes write them in ``[effects]``.
 from __future__ import annotations
 
 from ..suggest import did_you_mean, not_known
+from .choices import Options
 from .options import NONE, Option, OptionError, TableView, without_parent
+from .submodels.registry import left_out_options, slots
 
 
 def on_choice(opt: Option) -> str:
@@ -32,9 +34,7 @@ class EffectError(OptionError):
 
 def declared() -> dict[str, Option]:
     """The effect slots of the registered submodels, parents before children."""
-    from .submodels.registry import options
-
-    return {n: o for n, o in options().items() if o.table == "effects"}
+    return slots("effects")
 
 
 def __getattr__(name: str):
@@ -97,9 +97,6 @@ class Effects(TableView):
         """Short label of the model's effects, for messages and the generated header: "all" when every effect is
         on, but for those of a user's submodel that enters no model (off at its defaults,
         :func:`~.submodels.registry.left_out_options`)."""
-        from .options import Options
-        from .submodels.registry import left_out_options
-
         out = left_out_options(Options(self.choices()))
         values = {n: v for n, v in self._values.items() if n not in out}
         return "all" if all(values.values()) else "+".join(n for n, v in values.items() if v) or "none"

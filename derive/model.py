@@ -15,9 +15,9 @@ import sympy as sp
 
 from . import contact_geometry, eom, kinematics
 from .assumptions import Assumptions
+from .choices import Options, options_of
 from .effects import Effects
 from .kinematics import plain
-from .options import Options, options_of
 from .submodels.base import ContactModel, Context
 from .submodels.registry import guard, laws_of, parameter_names, state_names, submodels
 from .symbols import STATE_NAMES, P, Pa, Pb, state_symbol

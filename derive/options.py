@@ -7,15 +7,16 @@ whose choices are ``"on"`` and ``"none"``; scenes write ``true``/``false`` in
 ``[assumptions]``). "none" is an ordinary choice: an effect that is off is the
 choice "none", never derived, generated or run (MuJoCo's disable flags, PyBaMM's
 options). A slot may have a parent: no contact means no damping or friction at
-that contact. :class:`Options` validates a set of choices against the registry in
-one place, with "did you mean" for a misspelt slot or choice.
+that contact. :func:`resolve` validates a set of choices against the declared slots
+in one place, with "did you mean" for a misspelt slot or choice (:class:`~.choices.Options`
+holds the result for the registry's slots).
 
 This module imports no sympy.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 from ..suggest import not_known
@@ -88,65 +89,48 @@ class OptionError(ValueError):
     """A set of options that names an unknown slot or choice, or breaks a parent rule."""
 
 
-class Options(Mapping[str, str]):
-    """A validated choice for every slot of the registry (missing slots take their default, or "none" under a
-    parent that is "none"). Read as a mapping (``options["damping"] == "in-contact"``) or with :meth:`on`."""
-
-    __slots__ = ("_values",)
-
-    def __init__(self, values: Mapping[str, str | bool] | None = None, *, declared: Mapping[str, Option] | None = None):
-        if declared is None:
-            from .submodels.registry import options as declared_options
-
-            declared = declared_options()
-        values = dict(values or {})
-        for key in values:
-            if key not in declared:
-                raise OptionError(not_known(key, key, declared, "an option"))
-        resolved: dict[str, str] = {}
-        for name, opt in declared.items():  # parents are declared before their children
-            parent_off = opt.parent is not None and resolved.get(opt.parent, opt.default) == NONE
-            raw = values.get(name, NONE if parent_off else opt.default)
-            choice = _choice(opt, raw)
-            if parent_off and choice != NONE:
-                p = opt.parent
-                raise OptionError(f"{opt.table}.{name} = {_shown(opt, choice)} needs {declared[p].table}.{p} on "
-                                  + without_parent(name, p))
-            resolved[name] = choice
-        self._values = resolved
-
-    def __getitem__(self, name: str) -> str:
-        return self._values[name]
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._values)
-
-    def __len__(self) -> int:
-        return len(self._values)
-
-    def on(self, name: str) -> bool:
-        """True unless the slot's choice is "none" (False for a slot the registry does not know)."""
-        return self._values.get(name, NONE) != NONE
-
-    def replace(self, **changes: str | bool) -> Options:
-        return Options({**self._values, **changes})
-
-    def as_dict(self) -> dict[str, str]:
-        return dict(self._values)
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, Options) and self._values == other._values
-
-    def __hash__(self) -> int:
-        return hash(tuple(sorted(self._values.items())))
-
-    def __repr__(self) -> str:
-        return f"Options({self._values})"
+def resolve(values: Mapping[str, str | bool], declared: Mapping[str, Option]) -> dict[str, str]:
+    """The choice of every slot of ``declared`` (parents before children), validated: a slot ``values`` does not
+    name takes its default, or "none" under a parent that is "none"; a slot or choice not declared, or a child on
+    under a parent that is off, is an :class:`OptionError` (with "did you mean")."""
+    values = dict(values)
+    for key in values:
+        if key not in declared:
+            raise OptionError(not_known(key, key, declared, "an option"))
+    resolved: dict[str, str] = {}
+    for name, opt in declared.items():  # parents are declared before their children
+        parent_off = opt.parent is not None and resolved.get(opt.parent, opt.default) == NONE
+        raw = values.get(name, NONE if parent_off else opt.default)
+        choice = _choice(opt, raw)
+        if parent_off and choice != NONE:
+            p = opt.parent
+            raise OptionError(f"{opt.table}.{name} = {_shown(opt, choice)} needs {declared[p].table}.{p} on "
+                              + without_parent(name, p))
+        resolved[name] = choice
+    return resolved
 
 
-def options_of(effects, assumptions) -> Options:
-    """The one options object of an :class:`~.effects.Effects` and :class:`~.assumptions.Assumptions` pair."""
-    return Options({**effects.choices(), **assumptions.as_dict()})
+def needed_effects(need) -> tuple[str, ...]:
+    """The entries a ``needs`` names (one, several any of which reads the parameter, or none): effects, or
+    modelling choices written ``"slot=choice"`` (:func:`need_met`)."""
+    return () if need is None else (need,) if isinstance(need, str) else tuple(need)
+
+
+def need_met(entry: str, choices: Mapping[str, str], unknown: bool) -> bool:
+    """Whether one entry of a ``needs`` holds under ``choices`` (slot -> choice, e.g. an
+    :class:`~.choices.Options`): an effect (``"housing_damping"``) while it is not "none", a modelling choice
+    (``"damping_law=penetration"``) while its slot has that choice; ``unknown`` for a slot ``choices`` lacks."""
+    slot, _, wanted = entry.partition("=")
+    now = choices.get(slot)
+    if now is None:
+        return unknown
+    return now == wanted if wanted else now != NONE
+
+
+def needed_on(need, on) -> bool:
+    """Whether a parameter whose ``needing`` is ``need`` is read, ``on(entry)`` telling which of its entries
+    hold (:func:`need_met`): always without a need, else while any entry it names holds."""
+    return need is None or any(on(n) for n in needed_effects(need))
 
 
 def _choice(opt: Option, raw: str | bool) -> str:

@@ -14,25 +14,20 @@ import sympy as sp
 from sympy.physics.mechanics import dynamicsymbols
 
 from .names import INPUT_NAMES, STATE_NAMES  # noqa: F401 - re-exported (sympy-free in .names)
+from .submodels import registry
 
 
 class _ParameterSymbols(Mapping[str, sp.Symbol]):
     """The sympy symbol of every parameter the registered submodels declare, by name (``P["kw"]``)."""
 
     def __getitem__(self, name: str) -> sp.Symbol:
-        from .submodels.registry import parameter
-
-        return parameter(name).symbol
+        return registry.parameter(name).symbol
 
     def __iter__(self) -> Iterator[str]:
-        from .submodels.registry import parameter_names
-
-        return iter(parameter_names(all_inputs=True))
+        return iter(registry.parameter_names(all_inputs=True))
 
     def __len__(self) -> int:
-        from .submodels.registry import parameter_names
-
-        return len(parameter_names(all_inputs=True))
+        return len(registry.parameter_names(all_inputs=True))
 
 
 #: parameter symbols by name, declared by the submodels (derive/submodels/)
@@ -41,8 +36,6 @@ P: Mapping[str, sp.Symbol] = _ParameterSymbols()
 
 def __getattr__(name: str):
     """``PARAMETERS`` / ``PARAMETER_NAMES``: the registry's parameter vector as it stands (derive/submodels/)."""
-    from .submodels import registry
-
     if name == "PARAMETERS":
         return registry.parameters()
     if name == "PARAMETER_NAMES":

@@ -27,9 +27,9 @@ from pathlib import Path
 
 from ..derive.assumptions import Assumptions
 from ..derive.cache import cache_dir
+from ..derive.choices import options_of
 from ..derive.effects import Effects
 from ..derive.modes import Mode
-from ..derive.options import options_of
 from ..derive.submodels.registry import extended
 from ..files import content_key, file_lock, stat_key
 from ..progress import stage

@@ -256,7 +256,7 @@ def initial_state(scene, functions=None) -> np.ndarray:
     """The physical initial state in ``functions.state_names`` order (default: the seal's six, SI): the seal's
     from [operation.initial_state], a submodel's own states from its ``initial_state`` (the chamber gas: both
     chambers at the exhaust state)."""
-    from ..derive.options import options_of
+    from ..derive.choices import options_of
     from ..derive.submodels.registry import submodels
 
     opts = options_of(scene.effects, scene.assumptions)

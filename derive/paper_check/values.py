@@ -36,8 +36,8 @@ def _default_values() -> dict[str, float]:
     beta_o, delta_w of Eq. 9, Li of Eq. 12, the damping coefficients of the ratios), as the scene computes them."""
     from types import SimpleNamespace
 
+    from ..choices import options_of
     from ..effects import Effects
-    from ..options import options_of
     from ..submodels.registry import submodels
 
     options = options_of(Effects(), Assumptions())

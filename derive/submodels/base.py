@@ -18,7 +18,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
-from ..options import Option
+from ..numbers import damping_of_ratio
+from ..options import Option, need_met
 from ..parameters import Parameter
 
 
@@ -120,7 +121,7 @@ class Context:
 
     k: Any  # derive.kinematics.Kinematics
     g: Any  # derive.contact_geometry.ContactGeometry
-    options: Any  # derive.options.Options
+    options: Any  # derive.choices.Options
     #: parameter symbols by name
     P: Mapping[str, Any]
     #: chamber pressures (sympy symbols Pa, Pb: chamber a on +Ys, b on -Ys; Eq. 75)
@@ -182,17 +183,13 @@ class Submodel:
     @classmethod
     def active(cls, options) -> bool:
         """Whether it enters a model of the options ``options``: its switch on, and one of :attr:`enters_with`."""
-        from .registry import need_met
-
-        return ((cls.switch is None or options.on(cls.switch))
+        return ((cls.switch is None or need_met(cls.switch, options, False))
                 and (not cls.enters_with or any(need_met(e, options, False) for e in cls.enters_with)))
 
     @classmethod
     def derived(cls, values: dict[str, float], inputs: Mapping[str, Any], options) -> dict[str, float]:
         """Values of its derived parameters (plain numbers) from the values known so far and the scene inputs:
         each damping coefficient of :attr:`damping_ratios` the scene does not give, from its ratio."""
-        from ..numbers import damping_of_ratio
-
         out = {}
         for c, zeta in cls.damping_ratios:
             if values.get(c) is None:

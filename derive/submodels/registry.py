@@ -26,7 +26,7 @@ import importlib
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-from ..options import Option
+from ..options import NONE, ON, Option, need_met, needed_effects, needed_on, resolve
 from ..parameters import Parameter
 from .base import Friction, Guard, State, Submodel, built_in
 from .sources import source_key
@@ -224,9 +224,7 @@ def entering(opts) -> tuple[type[Submodel], ...]:
 def untouched(cls: type[Submodel], opts) -> bool:
     """Submodel ``cls`` is off under ``opts`` and every option slot it declares has the value the default options
     give it (a child under a parent that is off: "none")."""
-    from ..options import Options
-
-    defaults = Options()
+    defaults = resolve({}, options())
     return not cls.active(opts) and all(opts[o.name] == defaults[o.name] for o in cls.options)
 
 
@@ -280,9 +278,7 @@ def parameters(*, all_inputs: bool = False, opts=None) -> tuple[Parameter, ...]:
     if all_inputs:
         return tuple(p for cls in submodels() for p in cls.parameters)
     if opts is None:
-        from ..options import Options
-
-        opts = Options()
+        opts = resolve({}, options())
 
     def read(cls, p) -> bool:
         return p.in_vector and cls.active(opts) and needed_on(_needing(cls, p), lambda n: need_met(n, opts, False))
@@ -294,31 +290,6 @@ def parameter_names(*, all_inputs: bool = False, opts=None) -> tuple[str, ...]:
     """The names of the parameter vector of the generated Functions, in order (for the options ``opts``; None:
     the default options)."""
     return tuple(p.name for p in parameters(all_inputs=all_inputs, opts=opts))
-
-
-def needed_effects(need) -> tuple[str, ...]:
-    """The entries a ``needs`` names (one, several any of which reads the parameter, or none): effects, or
-    modelling choices written ``"slot=choice"`` (:func:`need_met`)."""
-    return () if need is None else (need,) if isinstance(need, str) else tuple(need)
-
-
-def need_met(entry: str, choices, unknown: bool) -> bool:
-    """Whether one entry of a ``needs`` holds under ``choices`` (slot -> choice, e.g. an
-    :class:`~..options.Options`): an effect (``"housing_damping"``) while it is not "none", a modelling choice
-    (``"damping_law=penetration"``) while its slot has that choice; ``unknown`` for a slot ``choices`` lacks."""
-    from ..options import NONE
-
-    slot, _, wanted = entry.partition("=")
-    now = choices.get(slot)
-    if now is None:
-        return unknown
-    return now == wanted if wanted else now != NONE
-
-
-def needed_on(need, on) -> bool:
-    """Whether a parameter whose :func:`needing` is ``need`` is read, ``on(entry)`` telling which of its entries
-    hold (:func:`need_met`): always without a need, else while any entry it names holds."""
-    return need is None or any(on(n) for n in needed_effects(need))
 
 
 def unmet(need) -> str:
@@ -352,12 +323,10 @@ def is_read(p: Parameter | str, effects, assumptions=None) -> bool:
     does not name (its submodel registered after they were made) counts as on. The one answer of the scene's
     checks, a sweep's and a calibration's: what is not read is neither required, range-checked as an error,
     questioned nor varied."""
-    from ..assumptions import Assumptions
-    from ..options import NONE, ON
-
     q = p if isinstance(p, Parameter) else _declared(p)
-    choices = {**{n: ON if on else NONE for n, on in effects.as_dict().items()},
-               **(assumptions if assumptions is not None else Assumptions()).as_dict()}
+    chosen = assumptions.as_dict() if assumptions is not None else {
+        n: c for n, c in resolve({}, options()).items() if n in slots("assumptions")}
+    choices = {**{n: ON if on else NONE for n, on in effects.as_dict().items()}, **chosen}
     return needed_on(needing(q), lambda n: need_met(n, choices, True))
 
 
@@ -409,6 +378,11 @@ def parameter(name: str) -> Parameter:
 def options() -> dict[str, Option]:
     """Every option slot by name, parents before children."""
     return {o.name: o for cls in submodels() for o in cls.options}
+
+
+def slots(table: str) -> dict[str, Option]:
+    """The option slots written in the scene table ``table`` ("effects" or "assumptions"), parents first."""
+    return {n: o for n, o in options().items() if o.table == table}
 
 
 def states(opts=None) -> tuple[State, ...]:

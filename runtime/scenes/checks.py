@@ -433,7 +433,8 @@ def check_needed(sections: dict[str, Section], effects: Effects, assumptions: As
     """The parameters that an effect switched on reads and the scene leaves out (a parameter without a default
     is required only while the effect that reads it is on: ``registry.needing``; ``assumptions``: the modelling
     choices, None: the defaults)."""
-    from apexseal.derive.submodels.registry import is_read, needed_effects, omissible_while_off, parameters
+    from apexseal.derive.options import needed_effects
+    from apexseal.derive.submodels.registry import is_read, omissible_while_off, parameters
 
     out = []
     for p in parameters(all_inputs=True):
@@ -481,7 +482,8 @@ def ignored_values(ignored: list[Problem]) -> str:
     """The one warning of the out-of-range values a scene gives that no law of its model reads (``ignored``: their
     range problems, of keys of :func:`unread_keys`): each key with its value, the effects that are off, and the
     range that holds while they are on."""
-    from apexseal.derive.submodels.registry import needed_effects, unmet
+    from apexseal.derive.options import needed_effects
+    from apexseal.derive.submodels.registry import unmet
 
     shown, choices = [], False
     for p in ignored:

@@ -135,7 +135,7 @@ def derive_parameters(sections: dict[str, Section], effects: Effects,
     body: omega from rpm, the mass and inertia, beta_o of Eq. 24, zeta0 of Eqs. 6-8,
     delta_w of Eq. 9 and Li of Eq. 12; see derive/submodels/seal.py).
     """
-    from apexseal.derive.options import options_of
+    from apexseal.derive.choices import options_of
     from apexseal.derive.submodels.registry import parameters
 
     options = options_of(effects, assumptions or Assumptions())
@@ -404,7 +404,7 @@ class Scene:
         """
         import casadi as ca
 
-        from apexseal.derive.options import options_of
+        from apexseal.derive.choices import options_of
         from apexseal.derive.submodels.registry import parameters
 
         unknown = [n for n in names if n not in self.parameters]
@@ -466,7 +466,7 @@ class Scene:
         parameters, switches and choices. Neither the scene's content (:meth:`to_dict`,
         :meth:`content_hash`) nor its resolved file holds them, so installing a package changes neither, and a
         result that never ran it still loads where the package is not installed."""
-        from apexseal.derive.options import options_of
+        from apexseal.derive.choices import options_of
         from apexseal.derive.submodels.registry import entering, submodels
 
         entered = set(entering(options_of(self.effects, self.assumptions)))

@@ -56,7 +56,7 @@ def _housing(embodiment: str, m: int = 20000) -> np.ndarray:
 
 
 def _lobe(embodiment: str, th: float, side: int, m: int = 4000) -> np.ndarray:
-    X, Y = chambers.lobe_curve(embodiment, PSI)
+    X, Y = chambers.lobe_curve(embodiment, PSI, P)
     f = sp.lambdify(PSI, [X.subs(_subs()), Y.subs(_subs())], "numpy")
     s = np.linspace(0, math.pi, m)
     xr, yr = (np.broadcast_to(np.asarray(v, float), s.shape) for v in f(s))
@@ -68,7 +68,7 @@ def _lobe(embodiment: str, th: float, side: int, m: int = 4000) -> np.ndarray:
 
 @pytest.mark.parametrize("embodiment", chambers.EMBODIMENTS)
 def test_volumes_match_the_polygon_area_of_the_drawn_geometry(embodiment):
-    va, vb = (sp.lambdify(theta, v.subs(_subs()), "numpy") for v in chambers.chamber_volumes(embodiment))
+    va, vb = (sp.lambdify(theta, v.subs(_subs()), "numpy") for v in chambers.chamber_volumes(embodiment, P, theta))
     housing = _housing(embodiment)
     for th in np.radians([0.0, 37.0, 90.0, 151.0, 180.0, 233.0, 300.0]):
         n = np.array([-math.sin(th), math.cos(th)])
@@ -80,20 +80,20 @@ def test_volumes_match_the_polygon_area_of_the_drawn_geometry(embodiment):
 
 def test_symmetric_machine_chambers_are_pi_out_of_phase():
     for embodiment in chambers.EMBODIMENTS:
-        va, vb = chambers.chamber_volumes(embodiment)
+        va, vb = chambers.chamber_volumes(embodiment, P, theta)
         diff = (va.subs(theta, theta + sp.pi) - vb).subs(_subs())
         assert all(abs(float(diff.subs(theta, t))) < 1e-15 for t in (0.1, 1.3, 2.9, 4.4))
 
 
 def test_limacon_chamber_displacement_is_8rLH():
-    va, _ = chambers.chamber_volumes("limacon-to-limacon")
+    va, _ = chambers.chamber_volumes("limacon-to-limacon", P, theta)
     swept = sp.simplify(va.subs(theta, 0) - va.subs(theta, sp.pi))
     assert sp.simplify(swept - 8 * P["r"] * P["L"] * P["H"]) == 0
 
 
 def test_unknown_embodiment_is_refused():
     with pytest.raises(ValueError, match="embodiment 'wankel'"):
-        chambers.chamber_volumes("wankel")
+        chambers.chamber_volumes("wankel", P, theta)
 
 
 def test_segment_area_is_the_integral_of_the_chord_length():

@@ -12,7 +12,7 @@ import pytest
 import apexseal
 from apexseal.derive import Effects, cached_model
 from apexseal.derive.assumptions import Assumptions
-from apexseal.derive.options import Options
+from apexseal.derive.choices import Options
 from apexseal.derive.parameters import Parameter
 from apexseal.derive.submodels import registry
 from apexseal.derive.submodels.base import Submodel

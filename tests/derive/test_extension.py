@@ -16,7 +16,8 @@ import numpy as np
 import pytest
 
 import apexseal
-from apexseal.derive.options import NONE, ON, Option, Options
+from apexseal.derive.choices import Options
+from apexseal.derive.options import NONE, ON, Option
 from apexseal.derive.parameters import Parameter
 from apexseal.derive.submodels import registry
 from apexseal.derive.submodels.base import ContactModel, Context, Friction, Guard, Load, Submodel

@@ -24,7 +24,7 @@ def test_numeric_volumes_equal_the_sympy_ones(embodiment):
     A = chambers.lobe_area(embodiment, **geom)
     A_sym = chambers.lobe_area(embodiment, r=P["r"], L=P["L"], Cr=P["Cr"], k=P["k"], ops=chambers.symbolic())
     assert A == pytest.approx(float(A_sym.subs(subs)), rel=1e-12)
-    for side, V in zip((1, -1), chambers.chamber_volumes(embodiment), strict=True):
+    for side, V in zip((1, -1), chambers.chamber_volumes(embodiment, P, theta), strict=True):
         for th in (0.0, 0.7, 2.0, 3.5, 5.9):
             num = chambers.chamber_volume(side, th, r=GEOM["r"], L=GEOM["L"], H=GEOM["H"], A_lobe=A,
                                           housing_circle=float(embodiment == "circolimacon"))

@@ -10,11 +10,11 @@ import sympy as sp
 
 from apexseal.derive import contact_geometry, kinematics
 from apexseal.derive.assumptions import Assumptions
+from apexseal.derive.choices import options_of
 from apexseal.derive.effects import Effects
 from apexseal.derive.geometry import housing_normal_angle
 from apexseal.derive.kinematics import plain
 from apexseal.derive.model import submodel_contacts
-from apexseal.derive.options import options_of
 from apexseal.derive.paper_check.values import DEFAULTS
 from apexseal.derive.submodels.registry import activation_symbols
 from apexseal.derive.symbols import P, qs, theta, us

@@ -14,7 +14,8 @@ import subprocess
 import pytest
 
 from apexseal.cli import command
-from apexseal.derive.options import ON, Options
+from apexseal.derive.choices import Options
+from apexseal.derive.options import ON
 
 PLUGIN = '''
 from apexseal.derive.options import NONE, ON, Option

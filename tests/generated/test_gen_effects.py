@@ -54,7 +54,7 @@ def test_effect_off_is_cheaper_and_equal_to_zero_coefficient(loaded, effect, rng
 def test_a_parameter_every_friction_law_reads_leaves_the_model_with_the_last_of_them():
     """friction.v_eps is read by the three friction laws: it keeps its slot while any of them is on, and has none
     (not even an index in the generated C) once all three are off; it stayed in the model before."""
-    from apexseal.derive.options import Options
+    from apexseal.derive.choices import Options
     from apexseal.derive.submodels.registry import parameter_names
 
     frictions = ("housing_friction", "groove_friction", "spring_friction")

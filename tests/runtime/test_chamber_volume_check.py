@@ -30,7 +30,7 @@ def test_the_bound_on_k_is_where_the_symbolic_volume_reaches_zero(embodiment):
     for k, positive in ((k_min * (1 + 1e-6), True), (k_min * (1 - 1e-3), False)):
         subs = {P[n]: v for n, v in {**GEOM, "k": k}.items()}
         smallest = min(float(np.min(sp.lambdify(theta, V.subs(subs), "numpy")(grid)))
-                       for V in chambers.chamber_volumes(embodiment))
+                       for V in chambers.chamber_volumes(embodiment, P, theta))
         assert (smallest > 0) is positive, (k, smallest)
 
 

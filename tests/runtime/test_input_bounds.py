@@ -158,7 +158,8 @@ def _scene_reading(default_scene, key: str):
     """An embedded scene whose laws read ``key`` (the default, else the chamber gas scene, for the [gas] keys),
     with the first effect or modelling choice its ``needs`` names made where the scene lacks it. A value no law
     reads is out of range with a warning only (docs/scenes.md), so each bound is checked where the value is read."""
-    from apexseal.derive.submodels.registry import is_read, needed_effects, needing, parameters
+    from apexseal.derive.options import needed_effects
+    from apexseal.derive.submodels.registry import is_read, needing, parameters
     from apexseal.runtime.scenes.scene import embedded_scene_path
 
     p = next(q for q in parameters(all_inputs=True) if q.key == key)

@@ -323,7 +323,8 @@ def _unread(parameters, scene, given: dict) -> list[Problem]:
     it not made, in the scene and not varied: :func:`apexseal.runtime.scenes.checks.unread_keys`, which also holds
     the inputs that only one effect reads, the constant chamber pressures): every point would be the same run."""
     from ....derive.effects import declared as effects_declared
-    from ....derive.submodels.registry import choice_key, needed_effects, unmet
+    from ....derive.options import needed_effects
+    from ....derive.submodels.registry import choice_key, unmet
     from ...scenes.checks import key_needing, unread_keys
 
     slots = effects_declared()
