@@ -9,7 +9,15 @@ import numpy as np
 
 from ..derive.names import STATE_NAMES
 from ..files import path_argument
-from .results.plausibility import PenetrationWarning, describe, penetration_check, side_clearance
+from .results.plausibility import (
+    FlankWarning,
+    PenetrationWarning,
+    describe,
+    describe_flank,
+    flank_check,
+    penetration_check,
+    side_clearance,
+)
 from .results.result import SimulationResult
 from .solving.run import run
 from .solving.settings import RunSettings, merged
@@ -249,6 +257,9 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     check = penetration_check(result, clearance)
     if not check["ok"]:
         warnings.warn(describe(check), PenetrationWarning, stacklevel=3)
+    flank = flank_check(result)
+    if flank is not None and not flank["ok"]:
+        warnings.warn(describe_flank(flank), FlankWarning, stacklevel=3)
     return result
 
 

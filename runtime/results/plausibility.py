@@ -11,6 +11,13 @@ user's contact's guard output) with ``PENETRATION_FRACTION`` of the side clearan
 the smallest fit of the seal. A contact closed at rest by design (the preloaded spring) is left out.
 :func:`apexseal.simulate` records the clearance in the result, warns with :class:`PenetrationWarning` when the
 check fails, and ``summary.json`` carries the check as ``plausibility``.
+
+The seal-groove contacts also hold only while the groove's mouth corners g1, g3 face the seal's flat sides
+(Eqs. 20-23): a seal that sinks into its groove until a corner lies on its tip arc, or rises until its back face
+passes the mouth, has no flat side there for the contact laws to act on. The start is refused there
+(runtime/solving/preflight.py); :func:`flank_check` looks at every sample of a run (the groove submodel's outputs
+l1..l4, each > 0 while its corner faces a flat side), and :func:`apexseal.simulate` warns with
+:class:`FlankWarning` when one left it; ``summary.json`` carries it as ``flank``.
 """
 
 from __future__ import annotations
@@ -27,6 +34,15 @@ PENETRATION_FRACTION = 0.25
 class PenetrationWarning(PlausibilityWarning):
     """A run whose contacts sink further into their walls than a metal contact can (a kind of the scene's
     :class:`~apexseal.runtime.scenes.units.PlausibilityWarning`: filtering that one filters this one too)."""
+
+
+class FlankWarning(PlausibilityWarning):
+    """A run in which a groove mouth corner left the seal's flat sides (its results there are outside the contact
+    model of Eqs. 20-23)."""
+
+
+#: the groove submodel's outputs that are > 0 while its mouth corners face the seal's flat sides (Eqs. 20-23)
+FLANK_LENGTHS = ("l1", "l2", "l3", "l4")
 
 
 def side_clearance(Ws: float, Wg: float) -> float:
@@ -61,3 +77,26 @@ def describe(check: dict) -> str:
     return (f"implausible penetration: {worst} into the wall, more than {check['fraction']:g} of the side clearance "
             f"(Wg - Ws)/2 = {check['side_clearance_um']:.3g} µm (limit {check['limit_um']:.3g} µm); the contact "
             "stiffness is far below a metal contact's (docs/scene-estimates.md gives plausible values)")
+
+
+def flank_check(result) -> dict | None:
+    """The least of each mouth-corner length l1..l4 over the run (mm; Eqs. 20-23), whether all stayed > 0, and the
+    crank angle (deg) of the first sample where one did not; None for a model without the groove contacts."""
+    names = [n for n in FLANK_LENGTHS if n in result.outputs]
+    if not names or not result.n:
+        return None
+    lengths = np.stack([np.asarray(result.outputs[n], float) for n in names])
+    off = np.flatnonzero((lengths <= 0).any(axis=0))
+    return {"least_mm": {n: float(v) * 1e3 for n, v in zip(names, lengths.min(axis=1), strict=True)},
+            "ok": not off.size, "first_off_deg": float(np.degrees(result.theta[off[0]])) if off.size else None}
+
+
+def describe_flank(check: dict) -> str:
+    """One line for a :class:`FlankWarning`: which lengths went negative, how far, and from where."""
+    least = check["least_mm"]
+    off = ", ".join(f"{n} = {v:.4g} mm" for n, v in least.items() if v <= 0)
+    where = ("sank into its groove until a mouth corner lay on its tip arc" if min(least.get("l1", 1), least.get(
+        "l3", 1)) <= 0 else "rose until its back face passed the groove's mouth")
+    return (f"the seal {where} (least {off}; first at {check['first_off_deg']:.4g} deg): the seal-groove contacts "
+            "of Eqs. 20-23 need both mouth corners on the seal's flat sides, so the results from there on are "
+            "outside the model; check the initial state and the loads that drive the seal so far")

@@ -8,7 +8,7 @@ from collections import Counter
 
 import numpy as np
 
-from .plausibility import penetration_check
+from .plausibility import flank_check, penetration_check
 from .quantities import EXTREMES
 from .result import SimulationResult, run_mean
 
@@ -98,6 +98,9 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
         out["gas"] = gas_summary(result)
     if result.info.get("side_clearance_m") is not None:
         out["plausibility"] = penetration_check(result)
+    flank = flank_check(result)
+    if flank is not None:
+        out["flank"] = flank
     out["run"] = dict(result.info)
     out["versions"] = versions()
     if scene_info:

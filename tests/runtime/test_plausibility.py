@@ -3,11 +3,19 @@
 import math
 import warnings
 
+import numpy as np
 import pytest
 from hard_helpers import HARD_DIR
 
 import apexseal
-from apexseal.runtime.results.plausibility import PENETRATION_FRACTION, PenetrationWarning, penetration_check
+from apexseal.derive.numbers import tip_arc_start
+from apexseal.runtime.results.plausibility import (
+    PENETRATION_FRACTION,
+    FlankWarning,
+    PenetrationWarning,
+    flank_check,
+    penetration_check,
+)
 from apexseal.runtime.results.summary import summarise
 from apexseal.runtime.scenes.scene import Scene, SceneError, default_scene_text, load_scene
 
@@ -63,7 +71,15 @@ def test_hard_scenes_keep_their_explicit_damping():
 def test_the_default_scene_is_plausible(scene, default_functions):
     with warnings.catch_warnings():
         warnings.simplefilter("error", PenetrationWarning)
+        warnings.simplefilter("error", FlankWarning)
         r = apexseal.simulate(scene, functions=default_functions.sx, samples_per_revolution=SAMPLES)
+    flank = summarise(r)["flank"]
+    assert flank["ok"] and flank["first_off_deg"] is None and min(flank["least_mm"].values()) > 0
+    # l1 + l2 and l3 + l4 are the length of the seal's flat sides, ds0 + ds2 (Eqs. 22-24), whatever the motion
+    p = scene.parameters
+    side = tip_arc_start(ds1=p["ds1"], ro=p["ro"], beta_o=p["beta_o"]) + p["ds2"]
+    for a, b in (("l1", "l2"), ("l3", "l4")):
+        assert r.outputs[a] + r.outputs[b] == pytest.approx(side, rel=1e-12), (a, b)
     check = summarise(r)["plausibility"]
     assert check["ok"] and check["beyond_limit"] == []
     assert check["side_clearance_um"] == pytest.approx(30.0)
@@ -84,6 +100,22 @@ def test_a_soft_groove_is_flagged(scene, default_functions):
     assert all(check["penetration_um"][c] > 7.5 for c in check["beyond_limit"])
     assert str(w[0].message).startswith("implausible penetration: ")
     assert summarise(r)["plausibility"] == check
+
+
+def test_a_seal_driven_into_its_groove_is_flagged(scene, default_functions):
+    """Thrown inwards at 2 m/s, the seal sinks about 0.7 mm into its groove, which puts the mouth corners g1 and g3
+    on its tip arc, outside the seal-groove contact model (Eqs. 20-23): the run says so, from the first sample."""
+    thrown = scene.with_overrides(**{"operation.initial_state.xd": "-2 m/s"})
+    with pytest.warns(FlankWarning, match=r"sank into its groove until a mouth corner lay on its tip arc \(least l1 = "
+                      r"-0\.\d+ mm, l3 = -0\.\d+ mm; first at [\d.]+ deg\)") as w:
+        r = apexseal.simulate(thrown, functions=default_functions.sx, samples_per_revolution=SAMPLES)
+    assert "Eqs. 20-23" in str(w[0].message)
+    check = flank_check(r)
+    assert summarise(r)["flank"] == check and not check["ok"]
+    first = int(np.searchsorted(np.degrees(r.theta), check["first_off_deg"]))
+    lengths = np.stack([r.outputs[n] for n in ("l1", "l2", "l3", "l4")])
+    assert (lengths[:, :first] > 0).all() and (lengths[:, first] <= 0).any()
+    assert check["least_mm"]["l1"] == pytest.approx(r.outputs["l1"].min() * 1e3)
 
 
 def test_the_check_needs_a_clearance(scene, default_functions):
