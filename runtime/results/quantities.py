@@ -66,6 +66,8 @@ def quantity_help() -> dict[str, tuple[str, str]]:
            for g in guard_names()},
         **{f"penetration.{c}": ("um", f"deepest penetration of the {c} contact into its wall (force / stiffness; "
                                       "the plausibility check)") for c in penetrations()},
+        "flank.least": ("mm", "least of the groove mouth corners' lengths l1..l4 over the run (negative: a corner "
+                              "left the seal's flat sides, outside the contact model of Eqs. 20-23)"),
         "revolutions": ("rev", "revolutions computed (less than asked when a point stopped early)"),
     }
 
@@ -111,6 +113,9 @@ def _get(summary: dict, name: str) -> float:
         return _number(summary["leakage_gap"]["open_fraction" if tail == "open_fraction" else f"{tail}_um"])
     if head == "penetration":
         return float((summary.get("plausibility") or {}).get("penetration_um", {}).get(tail, math.nan))
+    if head == "flank":
+        flank = summary.get("flank")
+        return math.nan if flank is None else float(min(flank["least_mm"].values()))
     if head in EXTREMES:
         return float(summary["extremes"][head][tail.replace("_at", "_at_deg")])
     raise KeyError(name)  # pragma: no cover - names are checked when the study is loaded

@@ -245,3 +245,4 @@ def test_quantities_of_a_contact_the_model_does_not_have_are_missing_not_zero(de
                            revolutions=1, samples_per_revolution=360)
     assert r2.summary()["leakage_gap"] == {"open_fraction": None, "mean_um": None, "max_um": None}
     assert math.isnan(collect(r2, ("gap.open_fraction",))["gap.open_fraction"])
+    assert "flank" not in r2.summary() and math.isnan(collect(r2, ("flank.least",))["flank.least"])  # no l1..l4

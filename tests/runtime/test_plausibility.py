@@ -16,6 +16,7 @@ from apexseal.runtime.results.plausibility import (
     flank_check,
     penetration_check,
 )
+from apexseal.runtime.results.quantities import collect
 from apexseal.runtime.results.summary import summarise
 from apexseal.runtime.scenes.scene import Scene, SceneError, default_scene_text, load_scene
 
@@ -116,6 +117,7 @@ def test_a_seal_driven_into_its_groove_is_flagged(scene, default_functions):
     lengths = np.stack([r.outputs[n] for n in ("l1", "l2", "l3", "l4")])
     assert (lengths[:, :first] > 0).all() and (lengths[:, first] <= 0).any()
     assert check["least_mm"]["l1"] == pytest.approx(r.outputs["l1"].min() * 1e3)
+    assert collect(r, ("flank.least",))["flank.least"] == min(check["least_mm"].values()) < 0  # a sweep's quantity
 
 
 def test_the_check_needs_a_clearance(scene, default_functions):
