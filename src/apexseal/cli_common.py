@@ -173,8 +173,9 @@ def _power(total: float | None) -> str:
 
 def describe_result(result, summary: dict) -> None:
     """The designer's numbers of a result on the console (``simulate`` at its end, ``show``): status, revolutions,
-    switches, displacement ranges, friction power, deepest penetrations (a warning when implausible)."""
-    from .runtime.results.plausibility import describe
+    switches, displacement ranges, friction power, deepest penetrations (a warning when implausible), the groove
+    mouth corners' margins on the seal's flat sides (a warning when one left them)."""
+    from .runtime.results.plausibility import describe, describe_flank
 
     ext = summary["extremes"]
     wall = result.info.get("wall_time_s")
@@ -189,3 +190,11 @@ def describe_result(result, summary: dict) -> None:
         click.echo(f"  deepest penetration (µm): {depth}; side clearance {check['side_clearance_um']:.3g} µm")
         if not check["ok"]:
             click.echo(f"  warning: {describe(check)}", err=True)
+    flank = summary.get("flank")
+    if flank is not None:
+        least = flank["least_mm"]
+        click.echo(f"  groove mouth corners (mm): {min(least['l1'], least['l3']):.3g} from the seal's tip arc, "
+                   f"{min(least['l2'], least['l4']):.3g} from its back face (least l1, l3 and l2, l4; > 0: on its "
+                   "flat sides)")
+        if not flank["ok"]:
+            click.echo(f"  warning: {describe_flank(flank)}", err=True)

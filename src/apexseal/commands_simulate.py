@@ -83,7 +83,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
             from .runtime.results.figure_job import FigureJob
             from .runtime.results.figures import force_panels, ports_of
             from .runtime.results.folder import ResultFolder, ResultFolderError, ResultStorageError
-            from .runtime.results.plausibility import PenetrationWarning
+            from .runtime.results.plausibility import FlankWarning, PenetrationWarning
             from .runtime.results.summary import summarise  # noqa: F401  (timed here; used by _save)
             from .signals import StopSignals
 
@@ -116,8 +116,9 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                         writer.asked = ("trajectory.csv",) if csv else ()
                     except ResultFolderError as err:
                         raise click.BadParameter(str(err), param_hint="--resume") from err
-                    with warnings.catch_warnings():  # the penetration check is printed below, with the summary
+                    with warnings.catch_warnings():  # the plausibility checks are printed below, with the summary
                         warnings.simplefilter("ignore", PenetrationWarning)
+                        warnings.simplefilter("ignore", FlankWarning)
                         try:
                             result = run_scene(sc, settings, progress=not quiet, sink=writer,
                                                functions=functions, continuation=cont)

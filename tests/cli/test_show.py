@@ -25,6 +25,21 @@ def test_show_describes_a_result_and_how_to_continue_it(tmp_path):
     assert r.exit_code == 0 and "cannot be continued: the parts of" in r.output, r.output
 
 
+def test_a_seal_outside_its_groove_contacts_is_said_once_by_simulate_and_again_by_show(tmp_path):
+    """Thrown inwards at 2 m/s, the seal's mouth corners reach its tip arc (Eqs. 20-23): simulate prints the margins
+    and one warning (the FlankWarning of the run is not printed twice), show the same from the folder."""
+    out = tmp_path / "thrown"
+    args = ["simulate", "-n", "1", "--no-figures", "-q", "--out", str(out), "--set",
+            "operation.initial_state.xd=-2 m/s", "--set", "solver.samples_per_revolution=360"]
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 0, r.output
+    said = "warning: the seal sank into its groove until a mouth corner lay on its tip arc (least l1 = -0."
+    assert r.output.count(said) == 1 and "FlankWarning" not in r.output, r.output
+    assert "groove mouth corners (mm): -0." in r.output
+    r = CliRunner().invoke(main, ["show", str(out)])
+    assert r.exit_code == 0 and r.output.count(said) == 1, r.output
+
+
 def test_show_refuses_a_folder_that_is_not_a_result(tmp_path):
     r = CliRunner().invoke(main, ["show", str(tmp_path)])
     assert r.exit_code == 1 and "is not a result folder: it has no result.json" in r.output
