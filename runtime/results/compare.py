@@ -19,8 +19,10 @@ from pathlib import Path
 
 import pandas as pd
 
-from .quantities import EXTREMES, collect, friction_contacts, penetrations, quantity_help
+from .plausibility import penetrations
+from .quantities import collect, friction_contacts, quantity_help
 from .result import SimulationResult
+from .summary import EXTREMES
 
 #: the scene keys of a result whose scene is not known (saved without its scene.toml)
 UNKNOWN = "(no scene.toml)"

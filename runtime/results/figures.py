@@ -18,7 +18,7 @@ import numpy as np
 from .decimate import columns_of, envelope, envelope_index, step_changes
 from .outputs import describe
 from .result import SimulationResult
-from .summary import housing_force, spectral_peaks, spectrum
+from .spectra import housing_force, spectral_peaks, spectrum
 
 PORT_COLOURS = {"inlet": "tab:orange", "outlet": "tab:green"}
 #: height of Fig. 12's panel titles (axes fraction): just above the 90 deg label, where matplotlib's automatic placement

@@ -1,4 +1,5 @@
-"""What the chamber gas model gives a designer: leaked mass, inducted mass, indicated work (summary and figures).
+"""What the chamber gas model gives a designer: leaked mass, inducted mass, indicated work (its figures:
+:mod:`.gas_figures`).
 
 Every number is over the last whole revolution of the run (the periodic one when the run went until periodic),
 by the trapezoidal rule over the output samples.
@@ -44,39 +45,3 @@ def gas_summary(result: SimulationResult) -> dict:
             "indicated_work_J": {"a": work["a"], "b": work["b"], "total": work["a"] + work["b"]},
             "indicated_power_W": (work["a"] + work["b"]) / float(t[-1] - t[0]) if t.size > 1 else 0.0,
             "pressure_Pa": {c: {"min": float(o["P" + c][k].min()), "max": float(o["P" + c][k].max())} for c in "ab"}}
-
-
-def fig11_pressures(result: SimulationResult, *, pyplot: bool = False):
-    """Fig. 11 style: both chamber pressures against crank angle over the last revolution."""
-    from .figures import new_figure
-
-    k = last_revolution(result)
-    deg = np.degrees(result.theta[k]) % 360
-    order = np.argsort(deg)
-    fig = new_figure((7, 3.6), pyplot)
-    ax = fig.subplots()
-    for c, colour, label in (("a", "tab:blue", "chamber a (+Ys, upper)"), ("b", "tab:red", "chamber b (-Ys, lower)")):
-        ax.plot(deg[order], result.outputs["P" + c][k][order] / 1e5, color=colour, label=label)
-    ax.set_xlabel("crank angle (deg)")
-    ax.set_ylabel("pressure (bar)")
-    ax.set_xlim(0, 360)
-    ax.legend()
-    ax.grid(alpha=0.3)
-    ax.set_title("Chamber pressures against crank angle (cf. Fig. 11)", y=1.0)  # placed: see figures.TITLE_Y_POLAR
-    return fig
-
-
-def pv_diagram(result: SimulationResult, *, pyplot: bool = False):
-    """p-V diagram of both chambers over the last revolution."""
-    from .figures import new_figure
-
-    k = last_revolution(result)
-    fig = new_figure((5, 4), pyplot)
-    ax = fig.subplots()
-    for c, colour in (("a", "tab:blue"), ("b", "tab:red")):
-        ax.plot(result.outputs["V" + c][k] * 1e6, result.outputs["P" + c][k] / 1e5, color=colour, label=f"chamber {c}")
-    ax.set_xlabel("volume (cm^3)")
-    ax.set_ylabel("pressure (bar)")
-    ax.legend()
-    ax.grid(alpha=0.3)
-    return fig

@@ -25,7 +25,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..scenes.units import PlausibilityWarning
-from .quantities import penetrations
 
 #: a contact whose penetration exceeds this fraction of the side clearance (Wg - Ws)/2 is implausible
 PENETRATION_FRACTION = 0.25
@@ -48,6 +47,19 @@ FLANK_LENGTHS = ("l1", "l2", "l3", "l4")
 def side_clearance(Ws: float, Wg: float) -> float:
     """(Wg - Ws) / 2: the seal's clearance on each side of its groove (Eq. 17), m."""
     return (Wg - Ws) / 2
+
+
+def penetrations() -> dict[str, tuple[tuple[str, float], ...]]:
+    """contact -> (the output of each of its guards, the sign that turns it into a penetration) for every contact
+    that is open at rest (a preloaded spring, closed by design, is left out): what the plausibility check
+    measures, the deepest over a contact's guards."""
+    from ...derive.submodels.registry import guard_contacts, guards
+
+    contact, out = guard_contacts(), {}
+    for g in guards():
+        if not g.closed_at_rest:
+            out.setdefault(contact[g.name], []).append((g.output, -float(g.sign)))
+    return {c: tuple(v) for c, v in out.items()}
 
 
 def penetration_check(result, clearance: float | None = None, fraction: float = PENETRATION_FRACTION) -> dict:

@@ -33,14 +33,15 @@ def figure(result, kind: str, *, ports: dict | None = None, pyplot: bool = False
     if kind == "modes":
         return figures.mode_timeline(result, pyplot=pyplot, save_dpi=save_dpi, frame=frame)
     if kind in ("fig11", "pv"):
-        from . import gas
+        from . import gas, gas_figures
 
         if not gas.has_gas(result):
             from ..scenes.schema import GAS_SOURCES
 
             raise ValueError(f"figure {kind!r} needs the chamber gas model (pressure.source = "
                              + " or ".join(f'"{s}"' for s in GAS_SOURCES) + ")")
-        return gas.fig11_pressures(result, pyplot=pyplot) if kind == "fig11" else gas.pv_diagram(result, pyplot=pyplot)
+        return (gas_figures.fig11_pressures(result, pyplot=pyplot) if kind == "fig11" else
+                gas_figures.pv_diagram(result, pyplot=pyplot))
     raise ValueError(f"unknown figure {kind!r}; figures: {', '.join(FIGURES)}")
 
 

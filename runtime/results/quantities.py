@@ -11,11 +11,8 @@ from __future__ import annotations
 
 import math
 
-from ...derive.names import STATE_NAMES
-
-#: the state coordinates whose extremes a summary reports, the seal's positions (x, y, phi) -> (unit shown, factor
-#: from SI)
-EXTREMES = dict(zip(STATE_NAMES[:3], (("um", 1e6), ("um", 1e6), ("mrad", 1e3)), strict=True))
+from .plausibility import penetrations
+from .summary import EXTREMES, summarise
 
 
 def friction_contacts() -> tuple[str, ...]:
@@ -31,19 +28,6 @@ def guard_names() -> tuple[str, ...]:
     from ...derive.submodels.registry import guards
 
     return ("total", *(g.name for g in guards()))
-
-
-def penetrations() -> dict[str, tuple[tuple[str, float], ...]]:
-    """contact -> (the output of each of its guards, the sign that turns it into a penetration) for every contact
-    that is open at rest (a preloaded spring, closed by design, is left out): what the plausibility check
-    measures, the deepest over a contact's guards."""
-    from ...derive.submodels.registry import guard_contacts, guards
-
-    contact, out = guard_contacts(), {}
-    for g in guards():
-        if not g.closed_at_rest:
-            out.setdefault(contact[g.name], []).append((g.output, -float(g.sign)))
-    return {c: tuple(v) for c, v in out.items()}
 
 
 def quantity_help() -> dict[str, tuple[str, str]]:
@@ -76,13 +60,6 @@ def quantity_unit(name: str) -> str | None:
     """The unit of a quantity, or None if there is no such quantity."""
     entry = quantity_help().get(name)
     return entry[0] if entry else None
-
-
-def summarise(result) -> dict:
-    """The summary of a run (the summary function imported lazily: a sweep's workers import this module)."""
-    from .summary import summarise as summary_of
-
-    return summary_of(result)
 
 
 def _number(value) -> float:

@@ -8,47 +8,15 @@ from collections import Counter
 
 import numpy as np
 
+from ...derive.names import STATE_NAMES
+from .gas import gas_summary, has_gas
 from .plausibility import flank_check, penetration_check
-from .quantities import EXTREMES
 from .result import SimulationResult, run_mean
+from .spectra import housing_force, spectral_peaks, spectrum
 
-
-def housing_force(result: SimulationResult) -> np.ndarray:
-    """|Fs5|, the seal-housing contact force (Eq. 68), N."""
-    if "F_housing_X" not in result.outputs:
-        return np.zeros(result.n)
-    return np.hypot(result.outputs["F_housing_X"], result.outputs["F_housing_Y"])
-
-
-def spectrum(signal: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
-    """One-sided amplitude spectrum (angular frequency in rad/s, amplitude) of a uniformly sampled signal."""
-    s = np.asarray(signal, float) - np.mean(signal)
-    n = s.size
-    window = np.hanning(n)
-    amp = np.abs(np.fft.rfft(s * window)) * 2 / window.sum()
-    w = 2 * np.pi * np.fft.rfftfreq(n, dt)
-    return w, amp
-
-
-def spectral_peaks(w: np.ndarray, amp: np.ndarray, count: int = 5, *, min_prominence: float = 0.05,
-                   hump: float = 0.5) -> list[dict]:
-    """The distinct peaks of a spectrum, largest first (``scipy.signal.find_peaks`` with prominence; computed by
-    :func:`.peaks.find_peaks`, which gives the same peaks without importing ``scipy.signal``).
-
-    A peak counts if its prominence (its height above the higher of the two valleys that separate it from
-    higher ground) is at least ``min_prominence`` times the largest amplitude and at least ``hump`` times its
-    own amplitude: a ripple on the flank of a hump rises little above its valley and is not listed apart.
-    """
-    from .peaks import find_peaks
-
-    if amp.size < 3 or not np.any(amp > 0):
-        return []
-    idx, prom = find_peaks(amp, prominence=min_prominence * float(amp.max()))
-    keep = prom >= hump * amp[idx]
-    idx, prom = idx[keep], prom[keep]
-    order = np.argsort(amp[idx])[::-1][:count]
-    return [{"omega_rad_s": float(w[idx[i]]), "amplitude_N": float(amp[idx[i]]), "prominence_N": float(prom[i])}
-            for i in order]
+#: the state coordinates whose extremes a summary reports, the seal's positions (x, y, phi) -> (unit shown, factor
+#: from SI)
+EXTREMES = dict(zip(STATE_NAMES[:3], (("um", 1e6), ("um", 1e6), ("mrad", 1e3)), strict=True))
 
 
 def gap_series(result: SimulationResult) -> np.ndarray:
@@ -92,8 +60,6 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
             out["housing_force_spectrum_peaks"] = spectral_peaks(w, amp)
     else:
         out["housing_force_N"] = dict.fromkeys(("mean", "max", "max_at_deg"))
-    from .gas import gas_summary, has_gas
-
     if has_gas(result) and result.n > 2:
         out["gas"] = gas_summary(result)
     if result.info.get("side_clearance_m") is not None:

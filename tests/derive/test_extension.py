@@ -94,7 +94,8 @@ def test_the_results_name_quantities_and_check_penetrations_of_a_users_contact(c
     """The result's columns, a sweep's and a comparison's quantities and the plausibility check come from the
     registry: a user's contact has them as the built-in ones do."""
     from apexseal.runtime.results.outputs import describe
-    from apexseal.runtime.results.quantities import penetrations, quantity_help
+    from apexseal.runtime.results.plausibility import penetrations
+    from apexseal.runtime.results.quantities import quantity_help
 
     assert registry.contacts()["cushion"] == f"cushion ({Cushion.summary})" and registry.guard_contacts()["cb"] == "cushion"
     # a noun phrase after "the" ("from the a linear spring ..." before)
@@ -137,8 +138,7 @@ def test_a_friction_law_on_a_contact_or_coefficient_the_submodel_does_not_declar
 
 
 def test_a_contact_with_two_guards_is_checked_at_its_deepest():
-    from apexseal.runtime.results.plausibility import penetration_check
-    from apexseal.runtime.results.quantities import penetrations
+    from apexseal.runtime.results.plausibility import penetration_check, penetrations
 
     two = type("Pads", (Submodel,), {"name": "pads", "__module__": "elsewhere", "guards": (
         Guard("gp1", "s_gp1", "first gap", output="p1_gap"), Guard("gp2", "s_gp2", "second gap", output="p2_gap"))})

@@ -12,7 +12,8 @@ from click.testing import CliRunner
 import apexseal
 from apexseal.cli import main
 from apexseal.runtime.results.compare import compare, compared, scene_keys
-from apexseal.runtime.results.quantities import collect, penetrations, quantity_help
+from apexseal.runtime.results.plausibility import penetrations
+from apexseal.runtime.results.quantities import collect, quantity_help
 
 
 @pytest.fixture(scope="module")

@@ -110,7 +110,7 @@ def test_means_are_of_the_computed_samples_and_the_spectrum_gives_amplitudes(res
     """The run's means leave the start sample out (each later sample ends a computed interval), and the housing
     force spectrum reads a sine's amplitude, not half of it (both survived a mutation of the code before)."""
     from apexseal.runtime.results.result import run_mean
-    from apexseal.runtime.results.summary import spectrum
+    from apexseal.runtime.results.spectra import spectrum
 
     assert run_mean(np.array([100.0, 1.0, 3.0])) == 2.0 and np.isnan(run_mean(np.array([5.0])))
     pf = result.outputs["Pf_total"]
@@ -269,7 +269,7 @@ def test_fig14_uses_log_axes_and_marks_distinct_peaks(soft_scene, default_functi
 
 def test_spectral_peaks_list_a_rippled_hump_once():
     """Side lobes (ripples) on one hump were listed as separate peaks."""
-    from apexseal.runtime.results.summary import spectral_peaks
+    from apexseal.runtime.results.spectra import spectral_peaks
 
     w = np.linspace(0, 1e5, 4001)
     hump = 7 * np.exp(-(((w - 1.5e4) / 3e3) ** 2)) * (1 + 0.08 * np.sin(w / 300))

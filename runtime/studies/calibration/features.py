@@ -19,7 +19,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ...results.summary import housing_force, spectrum
+from ...results.spectra import housing_force, spectrum
 
 #: the paper's Fig. 14 peaks, rad/s (text after Fig. 14): the main one, then the smaller ones
 PAPER_MAIN_PEAK = 6.0e4
