@@ -39,8 +39,11 @@ from ..cores import parallel_threads
 from ..derive.cache import cache_dir
 from ..files import atomic_write, content_key, file_lock, sha256_bytes, sha256_file
 from ..progress import stage
+from .codegen import write_c
 from .compiler import CompilerUnavailable, compiler, compiler_identity, flag_list, lib_root, run_compiler, stop, stop_all
+from .functions import EXTERNAL_OPTIONS, ModelFunctions
 from .manifest import StaleArtefactWarning, verify
+from .variant import VARIANT_LIBRARY, VARIANT_RECORD, variant_dir, variant_record
 
 #: the model library's file name; unique per cache key, because an integrator that links against it finds it by
 #: that name, and a process that loaded one model's library would otherwise hand it to another model's integrator
@@ -165,8 +168,6 @@ def compile_library(source_dir: Path | str, *, flags: str = "optimised", manifes
 def load_externals(library: Path, names: Sequence[str]) -> dict[str, ca.Function]:
     """One ``casadi.external`` per Function name, all from the same library (Jacobians are found by name), with
     the options :data:`.functions.EXTERNAL_OPTIONS` gives it."""
-    from .functions import EXTERNAL_OPTIONS
-
     return {name: ca.external(name, str(library), EXTERNAL_OPTIONS.get(name, {})) for name in names}
 
 
@@ -259,8 +260,6 @@ def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: s
     (None: a Function that holds no model's).
     A C file that calls symbols it does not define needs ``link``.
     """
-    from .variant import variant_record
-
     stem = "fn_" + re.sub(r"\W", "_", fn.name())
     with tempfile.TemporaryDirectory(prefix="apexseal-fn-") as tmp:
         data = generate_c(fn, stem, tmp, derivatives=derivatives).read_bytes()
@@ -351,3 +350,26 @@ def compiled_or_interpreted(library_source: Path, names: Sequence[str], sx: Mapp
         fallback(exc, stacklevel=4)
         return dict(sx), None
     return load_externals(so, names), so
+
+
+def variant_library(fns: ModelFunctions, *, flags: str) -> Path:
+    """The compiled library of a variant's Functions (the C :func:`.codegen.write_c` writes for them, into
+    :func:`variant_dir`, its file hashes added to the record), built under a cache key that names the variant."""
+    record = variant_record(fns.model_hash)
+    if record is None:
+        raise ValueError(f"model_hash: {fns.model_hash!r} names no variant on record; make one with record_variant")
+    folder = variant_dir(record["hash"])
+    with file_lock(folder / ".lock"):
+        staging = Path(tempfile.mkdtemp(dir=folder, prefix=".staging-"))
+        try:
+            written = write_c(fns, staging)
+            names = sorted({*written, *(name.removesuffix(".c") + ".h" for name in written)})
+            files = {name: sha256_file(staging / name) for name in names}
+            for name in names:
+                os.replace(staging / name, folder / name)
+        finally:
+            shutil.rmtree(staging, ignore_errors=True)
+        if record.get("library_files") != files:
+            atomic_write(folder / VARIANT_RECORD, json.dumps(record | {"library_files": files}, indent=2) + "\n")
+    payload = {"kind": "variant", "variant": record["hash"], "files": files}
+    return build_library(payload, [folder / name for name in sorted(written)], VARIANT_LIBRARY, flags=flags)

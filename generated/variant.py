@@ -10,7 +10,7 @@ record at the station, ``<cache>/gen/variant/<hash>/variant.json``:
 * ``functions``: the sha256 of the variant's SX Functions serialized (every one ``ModelFunctions.functions()``
   lists);
 * ``hash``: the sha256 over those three, the variant's own hash;
-* ``library_files`` once :func:`variant_library` wrote its C: file name -> sha256.
+* ``library_files`` once :func:`.compile.variant_library` wrote its C: file name -> sha256.
 
 The hash stands where a model's input hash would: it is the variant's ``ModelFunctions.model_hash``, so the
 ``function.json`` of everything compiled from it names it (``model``) and carries the record's ``of`` and ``how``
@@ -20,16 +20,13 @@ The hash stands where a model's input hash would: it is the variant's ``ModelFun
 from __future__ import annotations
 
 import json
-import os
-import shutil
-import tempfile
 from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
 
 from ..derive.cache import cache_dir
-from ..files import atomic_write, content_key, file_lock, read_json_object, sha256_bytes, sha256_file
-from .codegen import serialized, write_c
+from ..files import atomic_write, content_key, read_json_object, sha256_bytes
+from .codegen import serialized
 from .functions import ModelFunctions
 
 VARIANT_RECORD = "variant.json"
@@ -80,28 +77,3 @@ def sympy_cse_variant(effects, assumptions) -> ModelFunctions:
     how = {"lowering": "sympy.cse over every expression, then the memoised tree walk and casadi.cse",
            "build_functions": {"sympy_cse": True}}
     return record_variant(fns, of=input_hash(effects, assumptions), how=how)
-
-
-def variant_library(fns: ModelFunctions, *, flags: str) -> Path:
-    """The compiled library of a variant's Functions (the C :func:`.codegen.write_c` writes for them, into
-    :func:`variant_dir`, its file hashes added to the record), built under a cache key that names the variant."""
-    from .compile import build_library
-
-    record = variant_record(fns.model_hash)
-    if record is None:
-        raise ValueError(f"model_hash: {fns.model_hash!r} names no variant on record; make one with record_variant")
-    folder = variant_dir(record["hash"])
-    with file_lock(folder / ".lock"):
-        staging = Path(tempfile.mkdtemp(dir=folder, prefix=".staging-"))
-        try:
-            written = write_c(fns, staging)
-            names = sorted({*written, *(name.removesuffix(".c") + ".h" for name in written)})
-            files = {name: sha256_file(staging / name) for name in names}
-            for name in names:
-                os.replace(staging / name, folder / name)
-        finally:
-            shutil.rmtree(staging, ignore_errors=True)
-        if record.get("library_files") != files:
-            atomic_write(folder / VARIANT_RECORD, json.dumps(record | {"library_files": files}, indent=2) + "\n")
-    payload = {"kind": "variant", "variant": record["hash"], "files": files}
-    return build_library(payload, [folder / name for name in sorted(written)], VARIANT_LIBRARY, flags=flags)

@@ -109,7 +109,8 @@ BEFORE_LIBRARY = {"library": "the model's Functions without hybrid_ode, hybrid_z
 def before_library(sx, flags: str) -> Path:
     """The model library as it was before: the model's Functions without the hybrid ones, a variant of the model
     no manifest describes, compiled at the station under its own record (generated/variant.py)."""
-    from ...generated.variant import record_variant, variant_library
+    from ...generated.compile import variant_library
+    from ...generated.variant import record_variant
 
     base = dataclasses.replace(sx, hybrid_ode=None, hybrid_zero=None)
     return variant_library(record_variant(base, of=sx.model_hash, how=BEFORE_LIBRARY), flags=flags)
