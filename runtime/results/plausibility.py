@@ -93,9 +93,10 @@ def describe(check: dict) -> str:
 
 def flank_check(result) -> dict | None:
     """The least of each mouth-corner length l1..l4 over the run (mm; Eqs. 20-23), whether all stayed > 0, and the
-    crank angle (deg) of the first sample where one did not; None for a model without the groove contacts."""
+    crank angle (deg) of the first sample where one did not; None for a model without the groove contacts, and for a
+    run refused at its start (its one sample is the initial state, which the refusal explains)."""
     names = [n for n in FLANK_LENGTHS if n in result.outputs]
-    if not names or not result.n:
+    if not names or result.n < 2:
         return None
     lengths = np.stack([np.asarray(result.outputs[n], float) for n in names])
     off = np.flatnonzero((lengths <= 0).any(axis=0))
