@@ -501,7 +501,6 @@ def test_a_housing_too_soft_for_the_preload_is_refused_naming_its_keys(default_s
     """kw at the bottom of its plausible range: the preload's wall deflection (Eq. 9) starts the seal a centimetre
     inside the housing; the refusal blamed an initial state the scene never gave, and named no key."""
     import apexseal
-
     from apexseal.runtime.results.plausibility import FlankWarning
 
     with warnings.catch_warnings(record=True) as caught:
