@@ -1,4 +1,5 @@
-"""Hard scenes (runtime/scenes/hard/): each runs to a named end, finite, with bounded events and physical penetrations.
+"""Hard scenes (runtime/scenes/hard/): each runs to a named end, finite, with bounded events and physical penetrations,
+and a completed run stays within its groove contacts' geometry.
 
 docs/hard-cases.md says what is hard in each scene and what the simulator does about it.
 """
@@ -11,6 +12,7 @@ from hard_helpers import BUDGET, SCENES, bound_violations, load, mode_mismatches
 
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects
+from apexseal.runtime.results.plausibility import flank_check
 
 #: how a revolution of each scene ends with the method its file names (all others: completed)
 #: the soft default groove lets the loads of 20000 rpm tilt the seal past the model's geometry (45 deg) within the
@@ -52,6 +54,9 @@ def _check(name, scene, r, expected="completed"):
     assert r.events[:, -1].sum() <= 2 * budget * max(1, np.ceil(r.theta[-1] / (2 * np.pi)))  # one call past it at most
     assert bound_violations(scene, r) == []
     assert mode_mismatches(r) == []
+    if r.status == "completed":  # within the geometry its groove contacts are written for (Eqs. 20-23)
+        flank = flank_check(r)
+        assert flank["ok"] and min(flank["least_mm"].values()) > 0.05, flank
 
 
 @pytest.mark.parametrize("name", SCENES)
@@ -61,6 +66,15 @@ def test_scene_runs_a_revolution(name, fns):
     r = simulate(scene, fns, **FAST.get(name, {}))
     _check(name, scene, r, OUTCOME.get(name, "completed"))
     assert r.info["wall_time_s"] < BUDGET + 30
+
+
+def test_speed_20000_leaves_its_groove_contacts_long_before_it_turns_over(fns):
+    """The run stops where the seal has turned by 45 deg (137.5 deg); the flank check after it shows that its mouth
+    corners had left the seal's flat sides more than 100 deg earlier, so the failure is not a late surprise."""
+    r = simulate(load("speed-20000"), fns)
+    flank = flank_check(r)
+    assert r.status == "failed" and not flank["ok"], (r.status, flank)
+    assert flank["first_off_deg"] + 100 < np.degrees(r.stop.theta), (flank, r.stop.theta)
 
 
 def test_chatter_names_the_guard_and_the_remedies(fns):
