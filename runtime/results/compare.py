@@ -152,7 +152,7 @@ def compared() -> tuple[str, ...]:
     return ("revolutions", "events.total", *(f"friction_power.{c}" for c in friction_contacts()),
             "liftoff_fraction", "housing_force.mean", "housing_force.max",
             *(f"{s}.{e}" for s in EXTREMES for e in ("min", "max")), "gap.open_fraction", "gap.max",
-            *(f"penetration.{c}" for c in penetrations()))
+            *(f"penetration.{c}" for c in penetrations()), "flank.least")
 
 
 def designer_numbers(results: Sequence[SimulationResult], labels: Sequence[str]) -> pd.DataFrame:
