@@ -324,8 +324,11 @@ def is_read(p: Parameter | str, effects, assumptions=None) -> bool:
     checks, a sweep's and a calibration's: what is not read is neither required, range-checked as an error,
     questioned nor varied."""
     q = p if isinstance(p, Parameter) else _declared(p)
-    chosen = assumptions.as_dict() if assumptions is not None else {
-        n: c for n, c in resolve({}, options()).items() if n in slots("assumptions")}
+    if assumptions is None:  # their defaults
+        asked = slots("assumptions")
+        chosen = {n: c for n, c in resolve({}, options()).items() if n in asked}
+    else:
+        chosen = assumptions.as_dict()
     choices = {**{n: ON if on else NONE for n, on in effects.as_dict().items()}, **chosen}
     return needed_on(needing(q), lambda n: need_met(n, choices, True))
 

@@ -9,6 +9,7 @@ import numpy as np
 from ...derive.submodels.registry import guard, parameter
 from ...derive.submodels.seal import SealBody
 from ...generated.layout import mode_label
+from ..results.plausibility import FLANK_LENGTHS
 from ..results.result import StopInfo
 from ..scenes.schema import rpm_of_omega
 from ..scenes.units import show_factor
@@ -145,11 +146,10 @@ def mouth_corner_lengths(functions, params, theta, X, closed, u) -> dict[str, fl
     sides, measured from the tip arc's ends c1, c3 (l1, l3) and from the back corners c2, c4 (l2, l4) along the
     seal (Eqs. 20-23; the groove submodel's outputs); all four are > 0 while both corners face the seal's flat
     sides, between its back face and its tip arc. None for a model without the groove contacts."""
-    names = ("l1", "l2", "l3", "l4")
-    if not set(names) <= set(functions.output_names):
+    if not set(FLANK_LENGTHS) <= set(functions.output_names):
         return None
     y = np.asarray(functions.outputs(theta, X, closed, params, u), float).ravel()
-    return {n: float(y[functions.output_names.index(n)]) for n in names}
+    return {n: float(y[functions.output_names.index(n)]) for n in FLANK_LENGTHS}
 
 
 def flank_problem(functions, params, theta, X, closed, u) -> str | None:
