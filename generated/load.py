@@ -78,7 +78,7 @@ def _out_argument(folder: Path) -> str:
 def refresh_command() -> str:
     """The command that regenerates the committed default artefacts (:data:`DEFAULT_DIR`), as one types it where
     one stands (the stale warning's and ``apexseal generate --check``'s advice)."""
-    return f"apexseal generate --out {_out_argument(DEFAULT_DIR)}"
+    return f"apexseal generate --out {_out_argument(DEFAULT_DIR)} --no-compile"
 
 
 def _current(directory: Path, expected: str) -> bool:
@@ -110,12 +110,14 @@ def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None
     with file_lock(cache_dir() / "gen" / f"{expected}.lock"):
         try:
             verify(target, expected_hash=expected, trusted=True)  # another process generated it while we waited
+            return target
         except StaleArtefactError:
-            from .generate import generate  # the station (jinja2, the derivation): imported only to generate
+            pass  # generated below, outside this handler: a failing derivation is not reported as a missing manifest
+        from .generate import generate  # the station (jinja2, the derivation): imported only to generate
 
-            with stage(f"deriving the equations of motion and generating their C for effects {effects.label} "
-                       "(first use; cached afterwards)"):
-                generate(effects, assumptions, target, compile=False, echo=echo)
+        with stage(f"deriving the equations of motion and generating their C for effects {effects.label} "
+                   "(first use; cached afterwards)"):
+            generate(effects, assumptions, target, compile=False, echo=echo)
     return target
 
 

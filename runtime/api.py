@@ -143,18 +143,46 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
     scene = scene_of(scene)
     st = settings_of(scene, method=method, rtol=rtol, revolutions=revolutions, **settings)
     # a SIGTERM stops the run, keeps its result (written when ``out`` is given) and then ends the process
-    with stages.enabled(progress), StopSignals(redeliver_term=True):
+    stop = StopSignals(redeliver_term=True)
+    with stages.enabled(progress), stop as signals:
         if out is None:
-            return run_scene(scene, st, progress=progress, functions=functions)
-        from .results.folder import ResultFolder
+            result = run_scene(scene, st, progress=progress, functions=functions)
+        else:
+            from .results.folder import ResultFolder
 
-        sink = ResultFolder(path_argument("out", out, "a folder (str or Path), or None to keep the result in memory"))
-        try:
-            result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)
-        finally:
-            sink.release()  # a run that raised leaves a .partial- folder another process may continue
-        _commit(sink)
+            sink = ResultFolder(path_argument("out", out, "a folder (str or Path), or None to keep the result in "
+                                              "memory"))
+            try:
+                result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)
+            finally:
+                sink.release()  # a run that raised leaves a .partial- folder another process may continue
+            _commit(sink)
+    return _after_a_ctrl_c(result, stop, signals, out)
+
+
+def _after_a_ctrl_c(result: SimulationResult, stop, signals, out) -> SimulationResult:
+    """``result``, once its run is kept; after a Ctrl-C that stopped it (caught by this call's own
+    :class:`~apexseal.signals.StopSignals`, not by an enclosing command's or study's), in a script
+    :class:`~apexseal.signals.RunInterrupted` carrying it, so that the script stops as Ctrl-C asks (a loop over
+    designs went on to its next one, and an optimiser took the partial run's numbers); in an interactive session
+    (a notebook) the result is returned for the next cell to look at, with a :class:`RunInterruptedWarning`."""
+    import signal
+
+    from ..signals import RunInterrupted, interactive
+
+    if signals is not stop or signal.SIGINT not in stop.received:
         return result
+    kept = f"{result.revolutions:.2f} revolutions kept" + (f" in {out}" if out is not None else "")
+    if interactive():
+        warnings.warn(f"the run was interrupted by Ctrl-C: {kept}; the result's status is interrupted",
+                      RunInterruptedWarning, stacklevel=3)
+        return result
+    raise RunInterrupted(f"the run was interrupted by Ctrl-C: {kept}; the exception's .result holds it", result)
+
+
+class RunInterruptedWarning(UserWarning):
+    """Ctrl-C stopped ``apexseal.simulate`` or ``apexseal.resume`` in an interactive session: the returned result
+    is the interrupted run (in a script, :class:`~apexseal.signals.RunInterrupted` is raised instead)."""
 
 
 def _commit(sink) -> None:
@@ -184,7 +212,8 @@ def resume(folder, *, revolutions: int | None = None, max_wall_time: float | Non
     from .results.folder import ResultFolder
 
     cont, st = continuing(folder, revolutions=revolutions, max_wall_time=max_wall_time)
-    with StopSignals(redeliver_term=True):  # as simulate: a SIGTERM ends the process once the result is written
+    stop = StopSignals(redeliver_term=True)
+    with stop as signals:  # as simulate: a SIGTERM ends the process once the result is written
         functions = functions or model_functions(cont.scene)
         same_model(cont, functions)
         sink = ResultFolder.continuing(cont)
@@ -195,7 +224,7 @@ def resume(folder, *, revolutions: int | None = None, max_wall_time: float | Non
         finally:
             sink.release()
         _commit(sink)
-    return result
+    return _after_a_ctrl_c(result, stop, signals, sink.target)
 
 
 def continuing(folder, *, revolutions: int | None = None, max_wall_time: float | None = None):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from ..assumptions import CHOICES, Assumptions
@@ -117,13 +118,49 @@ def write_report(path: str | Path = "docs/paper-check.md") -> tuple[Row, ...]:
     return rows
 
 
-def main_check(out_path: str | Path = "docs/paper-check.md") -> int:
-    """Console entry point (``apexseal derive --check``): write the report, print the summary; 1 if unexplained."""
+def statuses_of(text: str) -> dict[str, str]:
+    """The status of each equation in a report's text (its "All equations" table), by the equation's label."""
+    section = text.split("## All equations", 1)[-1].split("\n## ", 1)[0] if "## All equations" in text else ""
+    out = {}
+    for line in section.splitlines():
+        cells = [c.strip() for c in re.split(r"(?<!\\)\|", line)[1:-1]]
+        if len(cells) == 5 and cells[2] in STATUSES:
+            out[cells[0]] = cells[2]
+    return out
+
+
+def status_changes(before: dict[str, str], rows: tuple[Row, ...]) -> list[str]:
+    """How the rows' statuses differ from ``before`` (:func:`statuses_of` an earlier report), one line each."""
+    now = {r.label: r.status for r in rows}
+    return ([f"Eq. {k}: {before[k]} -> {now[k]}" for k in now if k in before and before[k] != now[k]]
+            + [f"Eq. {k}: new, {now[k]}" for k in now if k not in before]
+            + [f"Eq. {k}: gone (was {before[k]})" for k in before if k not in now])
+
+
+def unexplained(rows: tuple[Row, ...]) -> list[str]:
+    """The labels of the rows whose print differs from the derivation with no erratum that explains and verifies
+    it (derive/paper_check/findings.py)."""
+    return [r.label for r in rows
+            if r.status == "differs" and (r.reason.startswith("UNEXPLAINED") or not r.difference_verified)]
+
+
+def main_check(out_path: str | Path = "docs/paper-check.md", echo=print) -> int:
+    """``apexseal derive --check`` (and ``python -m apexseal.derive.paper_check``): write the report, say how many
+    rows have each status and which changed status against the report it replaces; 1 if a difference is
+    unexplained."""
+    out_path = Path(out_path)
+    before = statuses_of(out_path.read_text(encoding="utf-8")) if out_path.is_file() else None
     rows = write_report(out_path)
     counts = {s: sum(r.status == s for r in rows) for s in STATUSES}
-    print(f"paper check: {len(rows)} rows, " + ", ".join(f"{counts[s]} {s}" for s in STATUSES) + f" -> {out_path}")
-    bad = [r.label for r in rows
-           if r.status == "differs" and (r.reason.startswith("UNEXPLAINED") or not r.difference_verified)]
+    echo(f"paper check: {len(rows)} rows, " + ", ".join(f"{counts[s]} {s}" for s in STATUSES) + f" -> {out_path}")
+    if before:
+        changes = status_changes(before, rows)
+        echo(f"  {len(changes)} row{'s' if len(changes) != 1 else ''} changed status against the report it replaced:"
+             if changes else "  every row's status as in the report it replaced")
+        for line in changes:
+            echo(f"    {line}")
+    bad = unexplained(rows)
     for label in bad:
-        print(f"  unexplained or unverified difference: Eq. {label}")
+        echo(f"  unexplained or unverified difference: Eq. {label} (give it an erratum in "
+             "derive/paper_check/findings.py, or correct the derivation)")
     return 1 if bad else 0

@@ -204,11 +204,16 @@ class Submodel:
         return sum(ks) / len(ks)
 
     @classmethod
+    def damping_alternatives(cls) -> tuple[tuple[str, str], ...]:
+        """The scene keys of its damping coefficients beside those of their ratios (:attr:`damping_ratios`)."""
+        key = {p.name: p.key for p in cls.parameters}
+        return tuple((key[c], key[zeta]) for c, zeta in cls.damping_ratios)
+
+    @classmethod
     def scene_alternatives(cls) -> tuple[tuple[str, str], ...]:
         """The pairs of scene keys of which a scene gives at most one: its damping coefficients beside their ratios,
         and its further :attr:`alternatives`."""
-        key = {p.name: p.key for p in cls.parameters}
-        return tuple((key[c], key[zeta]) for c, zeta in cls.damping_ratios) + cls.alternatives
+        return cls.damping_alternatives() + cls.alternatives
 
     def contacts(self, ctx: Context) -> list[ContactModel]:
         """The contacts and loads it puts on the seal."""

@@ -26,6 +26,7 @@ import importlib
 from collections.abc import Iterator
 from contextlib import contextmanager
 
+from ...suggest import not_known
 from ..options import NONE, ON, Option, need_met, needed_effects, needed_on, resolve
 from ..parameters import Parameter
 from .base import Friction, Guard, State, Submodel, built_in
@@ -371,11 +372,20 @@ def omissible_while_off(p: Parameter) -> str | tuple[str, ...] | None:
     return needing(p)
 
 
+class UnknownParameter(KeyError):
+    """A parameter name that no registered submodel declares (``ctx.P["Fx"]`` in a submodel's laws)."""
+
+    def __str__(self) -> str:  # KeyError's own repr()s its argument; this one is a sentence
+        return str(self.args[0])
+
+
 def parameter(name: str) -> Parameter:
+    """The parameter ``name`` of the registered submodels (``ctx.P[name]`` in a submodel's laws)."""
+    known = parameter_names(all_inputs=True)
     for p in parameters(all_inputs=True):
         if p.name == name:
             return p
-    raise KeyError(name)
+    raise UnknownParameter(not_known(f"parameter {name!r}", name, known, "declared by any registered submodel"))
 
 
 def options() -> dict[str, Option]:

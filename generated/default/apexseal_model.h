@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 3d97d0ea193c32eca486001ec0ddac52c3f50af109d44b26bd2d04b385cc1d77.
+ * Effects: all. Input hash: 08dde6b3ee170dc77e66a87fa622185fd67b4dcc9a68558518756a702dc52f69.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "3d97d0ea193c32eca486001ec0ddac52c3f50af109d44b26bd2d04b385cc1d77"
+#define APEXSEAL_INPUT_HASH "08dde6b3ee170dc77e66a87fa622185fd67b4dcc9a68558518756a702dc52f69"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -11,6 +11,7 @@ compare equal.
 from __future__ import annotations
 
 import hashlib
+import math
 import re
 import tomllib
 from collections.abc import Sequence
@@ -193,7 +194,7 @@ def _cell(value, base, relative: bool) -> str:
         return "–"
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         text = f"{value:.4g}"
-        if relative and isinstance(base, (int, float)) and base != 0 and value != base:
+        if relative and isinstance(base, (int, float)) and math.isfinite(base) and base != 0 and value != base:
             text += f" ({100 * (value - base) / abs(base):+.1f} %)"
         return text
     return str(value)

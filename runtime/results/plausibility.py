@@ -28,6 +28,9 @@ from ..scenes.units import PlausibilityWarning
 
 #: a contact whose penetration exceeds this fraction of the side clearance (Wg - Ws)/2 is implausible
 PENETRATION_FRACTION = 0.25
+#: N/m: the softest a metal contact of the seal's size is (docs/scene-estimates.md: 1e9-6e9 N/m; the calibration's
+#: lower bound, runtime/studies/calibration/fit.py): a contact at least this stiff that sinks too deep is overloaded
+METAL_STIFFNESS = 3e8
 
 
 class PenetrationWarning(PlausibilityWarning):
@@ -72,23 +75,39 @@ def penetration_check(result, clearance: float | None = None, fraction: float = 
     if clearance is None:
         raise ValueError("the result records no side clearance (run it with apexseal.simulate, or pass clearance)")
     limit = fraction * clearance
-    depths = {}
+    depths, forces = {}, {}
     for contact, guards in penetrations().items():
         deepest = [float(np.max(sign * np.asarray(result.outputs[name], float))) for name, sign in guards
                    if name in result.outputs and result.n]
         if deepest:
             depths[contact] = max(0.0, *deepest)
+        xy = [result.outputs.get(f"F_{contact}_{axis}") for axis in "XY"]
+        if all(f is not None for f in xy) and result.n:
+            forces[contact] = float(np.max(np.hypot(*(np.asarray(f, float) for f in xy))))
     beyond = sorted(c for c, d in depths.items() if d > limit)
     return {"side_clearance_um": clearance * 1e6, "fraction": fraction, "limit_um": limit * 1e6,
-            "penetration_um": {c: d * 1e6 for c, d in depths.items()}, "beyond_limit": beyond, "ok": not beyond}
+            "penetration_um": {c: d * 1e6 for c, d in depths.items()}, "peak_force_N": forces,
+            "beyond_limit": beyond, "ok": not beyond}
 
 
 def describe(check: dict) -> str:
-    """One line for a warning: which contacts, how deep, against what."""
+    """One line for a warning: which contacts, how deep, against what, and the likely cause: a contact softer than
+    metal, or, where the peak force over the depth is a metal's stiffness, loads beyond the seal's (a check of a
+    summary.json written before the forces were recorded names both)."""
     worst = ", ".join(f"{c} {check['penetration_um'][c]:.3g} µm" for c in check["beyond_limit"])
-    return (f"implausible penetration: {worst} into the wall, more than {check['fraction']:g} of the side clearance "
-            f"(Wg - Ws)/2 = {check['side_clearance_um']:.3g} µm (limit {check['limit_um']:.3g} µm); the contact "
-            "stiffness is far below a metal contact's (docs/scene-estimates.md gives plausible values)")
+    head = (f"implausible penetration: {worst} into the wall, more than {check['fraction']:g} of the side clearance "
+            f"(Wg - Ws)/2 = {check['side_clearance_um']:.3g} µm (limit {check['limit_um']:.3g} µm)")
+    soft = "the contact stiffness is far below a metal contact's (docs/scene-estimates.md gives plausible values)"
+    loads = ("the loads are beyond what the seal takes (rotor speed, chamber pressures and their unit, preload, "
+             "mass: the scene's plausibility warnings name doubtful keys)")
+    forces = check.get("peak_force_N", {})
+    if not all(c in forces for c in check["beyond_limit"]):
+        return f"{head}; either {soft}, or {loads}"
+    stiff = {c: forces[c] / (check["penetration_um"][c] * 1e-6) for c in check["beyond_limit"]}
+    peaks = ", ".join(f"{c} {forces[c] / 1e3:.3g} kN (about {stiff[c]:.2g} N/m)" for c in check["beyond_limit"])
+    if min(stiff.values()) >= METAL_STIFFNESS:
+        return f"{head}, under peak forces of {peaks}: the contacts are as stiff as metal, so {loads}"
+    return f"{head}, under peak forces of {peaks}: {soft}"
 
 
 def flank_check(result) -> dict | None:

@@ -136,7 +136,10 @@ class SimulationResult:
     # ------------------------------------------------------------------ looking at it
     def __repr__(self) -> str:
         method = self.info.get("method", "?")
-        return (f"SimulationResult({self.status}, {self.revolutions:.2f} rev, {self.n} samples, {self.n_events} events, "
+        reason = self.stop.reason if self.stop is not None and self.status != "completed" else ""
+        why = f" ({reason if len(reason) <= 60 else reason[:59] + '…'})" if reason else ""  # the whole: .stop
+        return (f"SimulationResult({self.status}{why}, {self.revolutions:.2f} rev, {self.n} samples, "
+                f"{self.n_events} events, "
                 f"friction power {self.friction_power:.3g} W, method {method})")
 
     def _repr_html_(self) -> str:

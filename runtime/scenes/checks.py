@@ -164,14 +164,12 @@ def check_seal(s: SealSection, raw: dict[str, Any]) -> list[Problem]:
                 f"the seal would leave its groove (Eq. 17); allowed: {zeta0_range(s)}",
             )
         )
-    if s.density is None and (s.ms is None or s.Icg is None):
-        which = " and ".join(n for n in ("ms", "Icg") if getattr(s, n) is None)
+    if s.density is None and s.ms is None:  # Icg follows from ms (Eq. 80): ms (Ws^2 + (ds1 + ds2)^2) / 12
         out.append(
             Problem(
                 "seal.density",
                 MISSING,
-                f"required to compute seal.{which} (Eq. 80); give a density in kg/m^3 "
-                f'(e.g. "7200 kg/m^3") or seal.{which}',
+                'required to compute seal.ms (Eq. 80); give a density in kg/m^3 (e.g. "7200 kg/m^3") or seal.ms',
             )
         )
     return out
@@ -391,15 +389,20 @@ def resolve_assumptions(given: Section, pressure_source: str | None = None) -> A
 
 
 def check_alternatives(raw: dict[str, Any]) -> list[Problem]:
-    """A scene states a damping coefficient or its damping ratio, never both (the submodels' ``alternatives``)."""
-    from apexseal.derive.submodels.registry import alternatives
+    """A scene states a damping coefficient or its damping ratio, the seal's mass or its density, never both (the
+    submodels' ``alternatives``)."""
+    from apexseal.derive.submodels.registry import alternatives, submodels
 
+    damping = {pair for cls in submodels() for pair in cls.damping_alternatives()}
+    meaning = {p.key: p.meaning.split(";")[0] for cls in submodels() for p in cls.parameters if p.key}
     out = []
     for first, second in alternatives():
         a, b = raw_at(raw, first.split(".")), raw_at(raw, second.split("."))
         if a is not MISSING and b is not MISSING:
-            out.append(Problem(first, a, f"given together with {second} = {b!r}, which states the same damping as a "
-                                         f"ratio of critical damping; allowed: one of {first} or {second}"))
+            same = "the same damping as a ratio of critical damping" if (first, second) in damping else \
+                f"the {meaning[first]} another way"
+            out.append(Problem(first, a, f"given together with {second} = {b!r}, which states {same}; allowed: one "
+                                         f"of {first} or {second}"))
     return out
 
 

@@ -13,7 +13,7 @@ from pydantic import BeforeValidator, ValidationInfo
 from pydantic_core import PydanticCustomError
 
 from ...suggest import did_you_mean
-from ..solving.settings import LIMITS
+from ..solving.settings import LIMITS, not_a_flag
 from .units import QuantityError, Range, expected, parse_pressure_unit, parse_quantity, show_factor
 
 #: the key of a validation context (``model_validate(..., context={UNRANGED: names})``) naming the fields whose
@@ -139,7 +139,7 @@ class Flag:
         if value is None and self.optional:
             return None
         if not isinstance(value, bool):
-            raise _fail("expected true or false")
+            raise _fail(not_a_flag(value))
         return value
 
     def allowed(self) -> str:

@@ -170,6 +170,7 @@ def _overridden(raw: dict[str, Any], dotted: dict[str, Any], name: str) -> dict[
     from apexseal.derive.submodels.registry import alternatives
 
     raw = copy.deepcopy(raw)
+    _children_follow(raw, dotted)
     for pair in alternatives():
         for mine, other in (pair, pair[::-1]):
             if dotted.get(mine) is not None and other not in dotted:
@@ -199,6 +200,24 @@ def _overridden(raw: dict[str, Any], dotted: dict[str, Any], name: str) -> dict[
     if problems:
         raise SceneError(problems, source=f"{name} overrides")
     return raw
+
+
+def _children_follow(raw: dict[str, Any], dotted: dict[str, Any]) -> None:
+    """An override that switches an effect off switches off with it the effects under it that the scene switched
+    on and the overrides leave as they were (``--set effects.spring=false`` on a scene that writes
+    ``spring_damping = true``): they default to off under an effect that is off. A child the overrides switch on
+    under it stays an error that names both."""
+    from apexseal.derive.effects import declared
+
+    effects = raw.get("effects")
+    if not isinstance(effects, dict):
+        return
+    slots = declared()
+    off = {k.split(".", 1)[1] for k, v in dotted.items() if k.startswith("effects.") and v is False}
+    for name, opt in slots.items():  # parents before children: a grandchild follows its parent's parent too
+        if opt.parent in off and f"effects.{name}" not in dotted:
+            effects.pop(name, None)
+            off.add(name)
 
 
 def _unranged(raw: dict[str, Any], sections: dict[str, Section], problems: list[Problem], effects: Effects,

@@ -118,6 +118,10 @@ def rpm_of_omega(omega: float) -> float:
     return omega * 60.0 / TWO_PI
 
 
+#: the scene keys that name a file: relative to the scene file's folder in a scene, to the current folder when given
+#: on the command line (--set), as a shell user types paths
+FILE_KEYS = ("pressure.file",)
+
 #: pressure.source -> the [pressure] keys it needs
 PRESSURE_SOURCES = {"none": (), "constant": ("Pa", "Pb"), "table": ("file",), "chamber": (), "chamber+leakage": ()}
 #: the sources that integrate the chamber gas model (derive/submodels/gas.py), whose pressure is (gamma - 1) U / V:

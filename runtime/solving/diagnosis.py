@@ -18,6 +18,7 @@ from ...generated.layout import HybridLayout
 from ...generated.scaling import to_physical
 from ...progress import announce
 from ...signals import StopSignals
+from ..results.plausibility import METAL_STIFFNESS
 from ..results.result import StopInfo
 from .checks import Chattering, chatter_advice, tilt_reason
 from .methods import WallTimeExceeded, make_engine, single_interval_engine
@@ -143,7 +144,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
     if abs(phi) > MAX_TILT:  # turned over inside the interval, before the run's check at its samples could see it
         return "failed", f"{tilt_reason(phi, theta + head - theta_start)} (CasADi: {msg})"
     deep = ("" if depth <= MAX_START_PENETRATION * params[list(functions.parameter_names).index("Ws")] else
-            f"; the seal is that deep inside a wall: {_soft_advice(functions)}")
+            f"; the seal is that deep inside a wall: {_soft_advice(functions, params)}")
     if stats.get("n_reject", 0):
         return "failed", (f"the step size fell below its minimum after {stats.get('n_steps', 0)} steps and "
                           f"{stats['n_reject']} rejected ones, {head_at(head)}{where_seal}{deep} (CasADi: {msg})")
@@ -154,16 +155,23 @@ def head_at(head: float) -> str:
     return f"{np.degrees(head):.4g} deg into the interval, "
 
 
-#: the advice where the seal sinks into a wall or leaves the model's domain
+#: the advice where the seal sinks into a wall or leaves the model's domain, on contacts softer than metal
 SOFT_CONTACTS = ("contacts this soft for these loads let the seal go where the geometry of Eqs. 20-43 no longer "
                  "holds: stiffer contacts (contacts.kw, kg1..kg4) or a lower speed")
+#: the same on metal contacts (:data:`~..results.plausibility.METAL_STIFFNESS`): then the loads are the cause
+OVERLOADED = ("the loads drive the seal where the geometry of Eqs. 20-43 no longer holds, although its contacts are "
+              "as stiff as metal: a lower speed, or the scene's pressures (their unit) and preload as meant; its "
+              "plausibility warnings at the start name doubtful keys")
 
 
-def _soft_advice(functions) -> str:
-    """:data:`SOFT_CONTACTS`, or, for a model without the groove contacts (``effects.groove_contact`` off, their
-    stiffnesses not among its parameters), that nothing holds the seal across its groove."""
-    if "kg1" in functions.parameter_names:
-        return SOFT_CONTACTS
+def _soft_advice(functions, params) -> str:
+    """:data:`SOFT_CONTACTS`, or :data:`OVERLOADED` when every contact stiffness of ``params`` is a metal's, or, for
+    a model without the groove contacts (``effects.groove_contact`` off, their stiffnesses not among its
+    parameters), that nothing holds the seal across its groove."""
+    names = list(functions.parameter_names)
+    if "kg1" in names:
+        stiffnesses = [float(params[names.index(k)]) for k in ("kw", "kg1", "kg2", "kg3", "kg4") if k in names]
+        return OVERLOADED if min(stiffnesses) >= METAL_STIFFNESS else SOFT_CONTACTS
     return ("with effects.groove_contact off nothing holds the seal across its groove, and it drifts out of the "
             "geometry of Eqs. 20-43: switch the groove contact on (contacts.kg1..kg4)")
 
@@ -186,7 +194,7 @@ def _leaves_domain(functions, z, theta, theta_start, params, u, msg) -> str:
     crank angle ``theta``: where the seal is, its deepest contact, and what to change."""
     where_seal, _ = _seal_at(functions, z, theta, params, u)
     return (f"the state leaves the model's domain at {np.degrees(theta - theta_start):.3f} deg: the right-hand side "
-            f"turns non-finite just ahead, {where_seal}; {_soft_advice(functions)} (CasADi: {msg})")
+            f"turns non-finite just ahead, {where_seal}; {_soft_advice(functions, params)} (CasADi: {msg})")
 
 
 def _finite_ahead(functions, z, theta, params, u) -> bool:

@@ -124,10 +124,20 @@ def _pressure(value: Any) -> str:
     raise _fail(f"not allowed; allowed: {', '.join(PRESSURE_PROFILES)}")
 
 
+def not_a_flag(value: Any) -> str:
+    """What is wrong with a value given for a switch (a TOML boolean: true or false, not 0/1 or "yes"); a string
+    "true" or "false" (from Python, where quotes come naturally beside "2e4 N/m") is told how to write it."""
+    word = value.strip().lower() if isinstance(value, str) else None
+    if word in ("true", "false"):
+        return (f"expected true or false, a boolean, not the string {value!r} (in a scene file and with --set: "
+                f"{word} without quotes; from Python: {word.capitalize()})")
+    return "expected true or false"
+
+
 def _flag(value: Any) -> bool:
     if isinstance(value, bool):
         return value
-    raise _fail("expected true or false")
+    raise _fail(not_a_flag(value))
 
 
 #: the scene's ``[solver]`` name of a setting whose field here is named otherwise -> that field: the API takes
@@ -155,7 +165,7 @@ def _field_names(values: dict[str, Any]) -> tuple[dict[str, Any], list[tuple[str
             problems.append((scene_name, value, f"the scene's name of the setting {field}, also given "
                              f"({field} = {out[field]!r}): give one of the two"))
         elif scene_name == "interpreted" and not isinstance(value, bool):
-            problems.append((scene_name, value, "expected true or false"))
+            problems.append((scene_name, value, not_a_flag(value)))
         else:
             out[field] = (not value) if scene_name == "interpreted" else value
     return out, problems

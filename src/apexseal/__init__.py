@@ -31,6 +31,7 @@ _LAZY = {
     "compare": ("runtime.results.compare", "compare"),
     "optimise_preload": ("runtime.studies.preload.study", "optimise_preload"),
     "reusing_engines": ("runtime.solving.engine_pool", "reusing"),
+    "RunInterrupted": ("signals", "RunInterrupted"),
 }
 
 

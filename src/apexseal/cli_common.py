@@ -107,6 +107,11 @@ def _sets(ctx: click.Context, param: click.Parameter, items: tuple[str, ...]) ->
         if not eq or not key.strip() or not text.strip():
             raise click.BadParameter(f"{item!r} is not KEY=VALUE, e.g. --set 'spring.ks=5e3 N/m'", param_hint="--set")
         out[key.strip()] = _toml_value(text.strip())
+    from .runtime.scenes.schema import FILE_KEYS
+
+    for key in FILE_KEYS:  # a path typed on the command line is the shell's: from the current folder
+        if isinstance(out.get(key), str) and not Path(out[key]).expanduser().is_absolute():
+            out[key] = str(Path(out[key]).expanduser().absolute())
     return out
 
 
@@ -115,7 +120,8 @@ def _sets(ctx: click.Context, param: click.Parameter, items: tuple[str, ...]) ->
 scene_settings = click.option(
     "--set", "sets", multiple=True, metavar="KEY=VALUE", callback=_sets,
     help="Replace a scene key, e.g. --set 'spring.ks=5e3 N/m' --set effects.groove_friction=false (repeatable; "
-         "values as in a scene file, with units; checked with the scene's ranges).")
+         "values as in a scene file, with units; checked with the scene's ranges; a file, pressure.file, from the "
+         "current folder).")
 
 
 def scene_of(scene: Path | None, sets: dict[str, object] | None = None):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 import time
 from pathlib import Path
 
@@ -39,14 +40,12 @@ def derive(scene: Path | None, sets, check: bool, report: Path | None, refresh: 
                f"effects: {', '.join(sc.effects.on())}")
     click.echo(f"time: first call {t1 - t0:.2f} s{' (cold, --refresh)' if refresh else ''}, cached call {t2 - t1:.3f} s")
     if check:
-        from .derive.paper_check import write_report
+        from .derive.paper_check import main_check
 
         with progress.enabled(True), progress.stage("checking every derived equation against the paper's print (sympy)"):
-            rows = write_report(report)
-        counts: dict[str, int] = {}
-        for r in rows or []:
-            counts[r.status] = counts.get(r.status, 0) + 1
-        click.echo(f"paper check: {counts} -> {report}")
+            code = main_check(report, echo=click.echo)
         if scene is not None or sets:
             click.echo(f"  (of the paper's full model at the default scene's values: the effects, modelling choices and "
                        f"values of {scene_label(scene, sets)} do not enter the check)")
+        if code:
+            sys.exit(code)

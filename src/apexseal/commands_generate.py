@@ -55,7 +55,7 @@ def _check_default(echo) -> bool:
     from .generated.load import DEFAULT_DIR, refresh_command
     from .generated.manifest import StaleArtefactError, input_hash, verify
 
-    refresh = f"; refresh them with `{refresh_command()} --no-compile`"
+    refresh = f"; refresh them with `{refresh_command()}`"
     try:
         verify(DEFAULT_DIR, expected_hash=input_hash(Effects(), Assumptions()))
     except StaleArtefactError as exc:
@@ -79,7 +79,7 @@ def _refuse_a_stray_default(out: Path | None) -> None:
     if out is None or out.resolve().parts[-2:] != DEFAULT_DIR.parts[-2:] or out.resolve() == DEFAULT_DIR.resolve():
         return
     raise click.BadParameter(f"{out} is {out.resolve()}, not the committed default artefacts of the apexseal that "
-                             f"runs ({DEFAULT_DIR}); refresh those with `{refresh_command()} --no-compile` (run "
+                             f"runs ({DEFAULT_DIR}); refresh those with `{refresh_command()}` (run "
                              "from the repository's root, `--out generated/default` is that folder)", param_hint="--out")
 
 
@@ -97,8 +97,9 @@ def _refuse_a_stray_default(out: Path | None) -> None:
               help="Modelling choices, e.g. --assumptions damping=always")
 @click.option("--no-compile", is_flag=True, help="Write the C only.")
 @click.option("--check", is_flag=True, help="Verify that generated/default is up to date (exit 1 if stale).")
+@click.option("--quiet", "-q", is_flag=True, help="No stage times: only what was written, and where.")
 def generate(scene: Path | None, out: Path | None, flags: str, effect_opts: tuple[str, ...],
-             assumption_opts: tuple[str, ...], no_compile: bool, check: bool) -> None:
+             assumption_opts: tuple[str, ...], no_compile: bool, check: bool, quiet: bool) -> None:
     """Generate (and compile) the C code of the model of SCENE (a TOML scene file; default: the default scene).
 
     Prints the time of each stage (derive, lower to CasADi, codegen, render, compile) and where the
@@ -136,10 +137,12 @@ def generate(scene: Path | None, out: Path | None, flags: str, effect_opts: tupl
         out = cache_dir() / "gen" / input_hash(effects, assumptions)
     writable(out)  # a folder that cannot be made or written is refused before the derivation, naming it
     click.echo(f"effects: {effects.label}; assumptions: {assumptions.as_dict()}")
-    manifest = run_generate(effects, assumptions, out, flags=flags, compile=not no_compile, echo=click.echo)
+    manifest = run_generate(effects, assumptions, out, flags=flags, compile=not no_compile,
+                            echo=None if quiet else click.echo)
     c_bytes = sum((out / n).stat().st_size for n in manifest.files if n.endswith(".c"))
     n_instr = sum(f["n_instructions"] for f in manifest.data["functions"].values())
-    click.echo(f"total   {sum(manifest.timings.values()):8.2f} s")
+    if not quiet:
+        click.echo(f"total   {sum(manifest.timings.values()):8.2f} s")
     click.echo(f"artefacts: {out} ({len(manifest.files)} files, C {c_bytes / 1e6:.2f} MB, "
                f"{len(manifest.modes)} modes, {n_instr} SX instructions)")
     click.echo(f"input hash: {manifest.input_hash}")

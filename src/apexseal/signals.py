@@ -181,6 +181,24 @@ class StopSignals:
         return 128 + int(self.received[0]) if self.received else 0
 
 
+def interactive() -> bool:
+    """A session a person types into: the Python prompt (``python -i`` too), IPython, a Jupyter kernel."""
+    import sys
+
+    return bool(getattr(sys, "ps1", None) or sys.flags.interactive) or "IPython" in sys.modules
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """Ctrl-C stopped ``apexseal.simulate`` or ``apexseal.resume`` in a script: raised once the interrupted run is
+    kept (and written, with ``out``), so that the script stops as Ctrl-C asks instead of going on to its next
+    design with a partial result; ``result`` is that run (status ``interrupted``). A ``KeyboardInterrupt``: a
+    script that does not catch it ends as Ctrl-C ends it."""
+
+    def __init__(self, message: str, result) -> None:
+        super().__init__(message)
+        self.result = result
+
+
 def _unheeded(signum, frame) -> None:
     """A signal handler that does nothing (:meth:`StopSignals.ignore_after`)."""
 

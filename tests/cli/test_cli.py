@@ -209,7 +209,7 @@ def test_derive_check_of_a_scene_says_the_check_is_of_the_paper_model(tmp_path, 
     import apexseal.derive.paper_check
 
     monkeypatch.setattr(apexseal.derive.cache, "cached_model", lambda *a, **k: SimpleNamespace(guards=(), outputs=()))
-    monkeypatch.setattr(apexseal.derive.paper_check, "write_report", lambda path: ())
+    monkeypatch.setattr(apexseal.derive.paper_check, "main_check", lambda path, echo: 0)
     args = ["derive", "--check", "--report", str(tmp_path / "r.md")]
     r = CliRunner().invoke(main, [*args, "--set", "effects.groove_friction=false"])
     assert r.exit_code == 0, r.output
@@ -371,3 +371,18 @@ def test_a_signal_while_a_completed_run_is_saved_is_said_and_ends_the_process_as
     assert r.exit_code == 128 + signal.SIGTERM, r.output
     assert "after the run completed: its result is whole" in r.output
     assert SimulationResult.load(out).status == "completed"
+
+
+def test_a_file_given_with_set_is_taken_from_the_current_folder(tmp_path, monkeypatch):
+    """`--set pressure.file=mine.csv` looked for mine.csv beside the scene (inside the package for the embedded
+    default) instead of where the user typed it."""
+    import shutil
+
+    from apexseal.runtime.scenes.scene import embedded_scene_path
+
+    shutil.copy(embedded_scene_path("expander-pressure.csv"), tmp_path / "mine.csv")
+    monkeypatch.chdir(tmp_path)
+    r = CliRunner().invoke(main, ["scene", "--resolved", "--set", "pressure.file=mine.csv"])
+    assert r.exit_code == 0, r.output
+    r = CliRunner().invoke(main, ["scene", "--resolved", "--set", "pressure.file=gone.csv"])
+    assert r.exit_code != 0 and f"file not found: {tmp_path / 'gone.csv'}" in r.output

@@ -119,6 +119,35 @@ def test_report_sections_and_determinism(tmp_path):
     assert (tmp_path / "a.md").read_bytes() == (tmp_path / "b.md").read_bytes() == REPORT.read_bytes()
 
 
+def test_the_check_says_which_rows_changed_status_and_fails_on_an_unexplained_difference(rows, tmp_path,
+                                                                                         monkeypatch):
+    """`apexseal derive --check` exited 0 with no word when a changed law moved a row between agrees and differs;
+    it now lists the rows whose status differs from the report it replaces, and exits 1 where a difference has no
+    verified erratum."""
+    from dataclasses import replace
+
+    from apexseal.derive.paper_check import report
+
+    ordered = tuple(rows.values())
+    assert report.statuses_of(REPORT.read_text(encoding="utf-8")) == {r.label: r.status for r in ordered}
+    earlier = REPORT.read_text(encoding="utf-8").replace(
+        "| 67 | housing damping (X component) | differs |", "| 67 | housing damping (X component) | agrees |")
+    (tmp_path / "r.md").write_text(earlier, encoding="utf-8")
+    monkeypatch.setattr(report, "check_rows", lambda: ordered)
+    said = []
+    assert report.main_check(tmp_path / "r.md", echo=said.append) == 0
+    assert said[1:] == ["  1 row changed status against the report it replaced:", "    Eq. 67: agrees -> differs"]
+    said.clear()
+    assert report.main_check(tmp_path / "r.md", echo=said.append) == 0
+    assert said[1:] == ["  every row's status as in the report it replaced"]
+    unexplained = tuple(replace(r, reason="UNEXPLAINED difference", difference_verified=False)
+                        if r.label == "36" else r for r in ordered)
+    monkeypatch.setattr(report, "check_rows", lambda: unexplained)
+    said.clear()
+    assert report.main_check(tmp_path / "r.md", echo=said.append) == 1
+    assert any(line.startswith("  unexplained or unverified difference: Eq. 36") for line in said)
+
+
 # ---------------------------------------------------------------------------
 # targeted physics
 

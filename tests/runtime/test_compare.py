@@ -149,3 +149,11 @@ def test_scene_values_are_compared_at_the_digits_that_tell_them_apart(folders):
     c = compare([folders["default"], folders["stiff"]])
     assert list(c.scenes.loc["spring.ks"]) == ["5000.0 N/m", "20000.0 N/m"]  # whole in the table (and its CSV)
     assert "5000 N/m" in c.text() and "20000 N/m" in c.text() and "20000.0" not in c.text()
+
+
+def test_a_change_against_a_run_without_the_quantity_is_not_a_percentage():
+    """A run without the quantity (NaN: an effect off) printed `0 (+nan %)` beside it."""
+    from apexseal.runtime.results.compare import _cell
+
+    assert _cell(0.0, math.nan, True) == "0" and _cell(2.0, math.inf, True) == "2"
+    assert _cell(1.5, 1.0, True) == "1.5 (+50.0 %)"

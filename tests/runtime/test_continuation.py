@@ -157,6 +157,13 @@ def test_what_cannot_be_continued_is_refused_with_the_reason(light, tmp_path):
         with pytest.raises(ResultFolderError, match="or read with other submodels installed now: film from "
                                                     "my-seal-models 0.2"):
             apexseal.resume(done, revolutions=2)
+        from apexseal.generated import manifest
+
+        # a submodel changed since the run (a key added, a default changed): that is the cause to name, not an edit
+        mp.setattr(manifest, "input_hash", lambda *a: "f" * 64)
+        with pytest.raises(ResultFolderError, match=r"the model changed since the run, model hash [0-9a-f]{12}, now "
+                                                    r"ffffffffffff: the derivation, a submodel or the generator"):
+            apexseal.resume(done, revolutions=2)
     (done / "scene.toml").write_text(text)
     with warnings.catch_warnings():
         warnings.simplefilter("error", SceneChangedWarning)

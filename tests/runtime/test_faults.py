@@ -624,6 +624,60 @@ print("the loop went on to its end", flush=True)
     assert not list(tmp_path.glob("1e4*"))
 
 
+def test_ctrl_c_in_a_script_that_loops_over_runs_stops_it_once_the_run_is_kept(slow_scene, tmp_path):
+    """apexseal.simulate caught a Ctrl-C, returned the interrupted run without a word and the script went on to its
+    next design (an optimiser would take the partial run's numbers): the run is kept, then RunInterrupted (a
+    KeyboardInterrupt) carries it out of the call, and the script stops as Ctrl-C asks."""
+    script = tmp_path / "loop.py"
+    script.write_text(f"""
+import apexseal
+
+scene = apexseal.load_scene({str(slow_scene)!r})
+try:
+    for k in ("5e3 N/m", "1e4 N/m"):
+        r = apexseal.simulate(scene.with_overrides(**{{"spring.ks": k}}), revolutions=200,
+                              out={str(tmp_path)!r} + "/" + k[:3])
+        print("returned", k, r.status, flush=True)
+except apexseal.RunInterrupted as stop:
+    print("stopped:", stop.result.status, stop.result.revolutions >= 2, flush=True)
+    raise
+""")
+    proc = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    _wait_for_parts(tmp_path / "5e3", proc, 2)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode not in (0, None) and "returned" not in out, out + err
+    assert "stopped: interrupted True" in out and "RunInterrupted: the run was interrupted by Ctrl-C" in err
+    from apexseal.runtime.results.result import SimulationResult
+
+    kept = SimulationResult.load(tmp_path / "5e3")  # written and moved into place before the exception
+    assert kept.status == "interrupted" and "Ctrl-C" in kept.stop.describe()
+    assert not list(tmp_path.glob("1e4*"))
+
+
+def test_ctrl_c_returns_the_run_in_a_session_and_leaves_an_enclosing_owner_s_signal_alone(monkeypatch):
+    """In an interactive session (a notebook) the interrupted run is returned, with a warning, for the next cell to
+    look at; a Ctrl-C that an enclosing command or study caught is theirs to act on (nothing raised here)."""
+    from types import SimpleNamespace
+
+    import apexseal.signals
+    from apexseal.runtime.api import RunInterruptedWarning, _after_a_ctrl_c
+    from apexseal.signals import RunInterrupted, StopSignals
+
+    result = SimpleNamespace(revolutions=2.0)
+    stop = StopSignals()
+    stop.received.append(signal.SIGINT)
+    monkeypatch.setattr(apexseal.signals, "interactive", lambda: True)
+    with pytest.warns(RunInterruptedWarning, match="2.00 revolutions kept in o; the result's status is interrupted"):
+        assert _after_a_ctrl_c(result, stop, stop, "o") is result
+    monkeypatch.setattr(apexseal.signals, "interactive", lambda: False)
+    with pytest.raises(RunInterrupted, match="2.00 revolutions kept; the exception's .result holds it") as info:
+        _after_a_ctrl_c(result, stop, stop, None)
+    assert info.value.result is result and isinstance(info.value, KeyboardInterrupt)
+    assert _after_a_ctrl_c(result, stop, StopSignals(), None) is result  # nested: the enclosing one's signal
+    assert _after_a_ctrl_c(result, StopSignals(), StopSignals(), None) is result  # no signal
+
+
 def test_a_run_in_another_thread_started_first_does_not_take_the_main_thread_s_signals(slow_scene, tmp_path):
     """A simulate in a worker thread, started before the main thread's, became the active StopSignals (which installs
     no handler outside the main thread): a SIGTERM then killed the process at once and neither result was written.

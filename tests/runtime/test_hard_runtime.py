@@ -460,8 +460,9 @@ def test_a_state_whose_right_hand_side_fails_just_ahead_is_named_as_leaving_the_
     fast = default_scene.with_overrides(**{"operation.rpm": 1e6})
     r = simulate(fast, fns, samples_per_revolution=360)
     assert r.status == "failed" and "leaves the model's domain" in r.stop.reason, r.stop
-    assert "stiffer contacts" in r.stop.reason and "deepest contact" in r.stop.reason
-    assert np.isfinite(r.state).all()
+    # on the default's metal contacts the advice is the loads', not stiffer contacts (which it said before)
+    assert "as stiff as metal: a lower speed" in r.stop.reason and "deepest contact" in r.stop.reason
+    assert "stiffer contacts" not in r.stop.reason and np.isfinite(r.state).all()
 
 
 def test_a_failed_call_names_where_the_seal_is_when_nothing_else_explains_it(default_scene, fns):

@@ -100,7 +100,24 @@ def test_a_soft_groove_is_flagged(scene, default_functions):
     assert not check["ok"] and set(check["beyond_limit"]) <= {"i1", "c2", "i2", "c4"} and check["beyond_limit"]
     assert all(check["penetration_um"][c] > 7.5 for c in check["beyond_limit"])
     assert str(w[0].message).startswith("implausible penetration: ")
+    assert "far below a metal contact's" in str(w[0].message)  # F / depth is about the 1.05e6 N/m given
     assert summarise(r)["plausibility"] == check
+
+
+def test_the_penetration_warning_blames_the_loads_when_the_contacts_are_metal():
+    """A seal on metal contacts (1e9 N/m) at 20000 rpm sank 23 um into the housing under 23 kN, and the warning said
+    its stiffness was far below a metal contact's: the peak force over the depth tells the two causes apart."""
+    from apexseal.runtime.results.plausibility import describe
+
+    check = {"fraction": 0.25, "side_clearance_um": 30.0, "limit_um": 7.5, "beyond_limit": ["housing"],
+             "penetration_um": {"housing": 23.4, "i1": 2.0}, "peak_force_N": {"housing": 23.4e3, "i1": 2e3}}
+    metal = describe(check)
+    assert "under peak forces of housing 23.4 kN (about 1e+09 N/m): the contacts are as stiff as metal, so the " \
+        "loads are beyond what the seal takes" in metal and "far below" not in metal
+    soft = describe({**check, "peak_force_N": {"housing": 1.5, "i1": 2e3}})
+    assert "housing 0.0015 kN (about 6.4e+04 N/m): the contact stiffness is far below a metal contact's" in soft
+    older = describe({k: v for k, v in check.items() if k != "peak_force_N"})  # a summary.json written before
+    assert "; either the contact stiffness is far below a metal contact's" in older and "or the loads" in older
 
 
 def test_a_seal_driven_into_its_groove_is_flagged(scene, default_functions):

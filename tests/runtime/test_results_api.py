@@ -40,6 +40,15 @@ def test_repr_is_short_and_says_what_matters(result):
         assert part in text, part
     html = result._repr_html_()
     assert html.startswith("<table") and "friction power" in html and "b1" in html
+    from dataclasses import replace
+
+    from apexseal.runtime.results.result import StopInfo
+
+    failed = replace(result, status="failed", stop=StopInfo(0.5, "q1", "the integrator failed: step size underflow "
+                                                                     "at theta = 0.5 rad after 20000 steps"))
+    text = repr(failed)  # why it stopped, cut short (the whole is in .stop)
+    assert text.startswith("SimulationResult(failed (the integrator failed: step size underflow at theta = 0.5 r…), "
+                           "1.00 rev") and len(text) < 200
 
 
 def test_help_documents_every_field_with_units():

@@ -405,7 +405,14 @@ CASES = [
         {"seal.density": None},
         "seal.density",
         MISSING,
-        ["required to compute seal.ms and Icg", "kg/m^3"],
+        ["required to compute seal.ms (Eq. 80)", "kg/m^3"],
+    ),
+    (
+        "mass-and-density",  # the density gives ms only: given beside it, one of the two was silently not read
+        {"seal.ms": "40 g", "seal.density": "7200 kg/m^3"},
+        "seal.ms",
+        '"40 g"',
+        ["given together with seal.density", "the seal mass (Eq. 80) another way", "one of seal.ms or seal.density"],
     ),
     # pressure source
     (
@@ -439,7 +446,7 @@ CASES = [
     # effects
     (
         "effect-without-parent",
-        {"effects.housing_contact": False, "effects.housing_damping": False},
+        {"effects.housing_contact": False, "effects.housing_friction": True},
         "effects.housing_friction",
         "true",
         ["needs effects.housing_contact = true", "allowed: false, or set effects.housing_contact = true"],
@@ -603,6 +610,33 @@ def test_effect_hierarchy_fills_children_of_an_effect_that_is_off(default):
     scene = default.with_overrides(**{"effects": {"housing_contact": False}})
     assert not scene.effects.housing_contact and not scene.effects.housing_friction
     assert scene.effects.groove_contact
+
+
+def test_an_override_that_switches_an_effect_off_switches_off_the_children_the_scene_switched_on(default):
+    """The default scene writes spring_damping = true: `--set effects.spring=false` alone switches the spring off
+    with its damping and friction; a child the overrides switch on under it stays an error naming both."""
+    assert default.effects.spring_damping and "spring_damping" in default._raw["effects"]
+    scene = default.with_overrides(**{"effects.spring": False})
+    assert not (scene.effects.spring or scene.effects.spring_damping or scene.effects.spring_friction)
+    assert scene.effects.housing_friction and scene.effects.groove_damping
+    err = _error(default, {"effects.spring": False, "effects.spring_friction": True})
+    assert [p.key for p in err.errors] == ["effects.spring_friction"]
+    assert "needs effects.spring = true" in str(err)
+
+
+def test_a_mass_alone_needs_no_density_and_replaces_the_scene_s(default):
+    """A scene giving seal.ms was refused without a density that no law reads (Icg follows from ms); an ms set on top
+    of the default scene replaces its density, which stated the mass another way."""
+    scene = default.with_overrides(**{"seal.ms": "40 g"})
+    assert scene.seal.density is None and scene.parameters["ms"] == pytest.approx(0.04)
+    s = scene.seal
+    assert scene.parameters["Icg"] == pytest.approx(0.04 * (s.Ws**2 + (s.ds1 + s.ds2) ** 2) / 12)
+
+
+def test_a_switch_given_as_the_string_false_is_told_how_to_write_it(default):
+    err = _error(default, {"effects.spring": "false"})
+    assert "not the string 'false'" in str(err) and "from Python: False" in str(err)
+    assert "not the string" not in str(_error(default, {"effects.spring": "off"}))
 
 
 def test_the_docs_error_table_shows_these_messages(default):
