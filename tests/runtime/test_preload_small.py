@@ -403,6 +403,55 @@ def test_groove_excess_is_zero_exactly_when_the_bound_holds_between_samples(ligh
     assert peak > 10.0 and excess[10.0] > 0.0 and excess[9.0] > excess[10.0] > excess[11.0] >= 0.0
 
 
+def test_the_deficit_over_each_interval_sums_to_the_revolution_s_and_says_where_it_builds_up(light):
+    """A user's study did not say where the force deficit that held its optimum built up (between the samples, far
+    from the smallest force at them), so no --exclude window could be chosen: the quadrature is now kept per output
+    interval, and the report names the span holding most of it."""
+    from apexseal.runtime.studies.preload.result import deficit_span
+
+    setup = _setup(light, NO_BOUND)
+    sf = study_functions(setup, SAMPLES // NODES, compile_c=False)
+    sim = simulate_schedule(setup, sf, SegmentGrid(SAMPLES, NODES, 1, setup.theta_start, setup.dth),
+                            np.array([0.5 * MM]), MIN_FORCE, ())
+    assert sim.deficit > 0 and sim.deficit_at.shape == (SAMPLES,) and (sim.deficit_at >= -1e-12).all()
+    assert sim.deficit_at.sum() == pytest.approx(sim.deficit, rel=1e-9)
+    start, end, share = deficit_span(sim.thetas, sim.deficit_at, setup.dth)
+    assert 0.5 < share <= 1.0
+    weakest = np.degrees(sim.thetas[np.argmin(sim.measure)]) % 360.0  # the tip's weakest sample lies in the span
+    assert (weakest - start) % 360.0 <= (end - start) % 360.0
+
+
+def test_the_deficit_span_grows_around_its_densest_interval_across_zero():
+    from apexseal.runtime.studies.preload.result import deficit_span
+
+    n = 36
+    thetas = np.radians(10.0 * (np.arange(n) + 1))  # interval k ends at 10 (k + 1) deg
+    d = np.zeros(n)
+    d[[34, 35, 0, 1]] = [0.5, 4.0, 1.0, 0.001]  # 340-360, 0-20 deg; the last below 1 % of the densest
+    start, end, share = deficit_span(thetas, d, np.radians(10.0))
+    assert (start, end) == pytest.approx((340.0, 10.0)) and share == pytest.approx(5.5 / 5.501)
+    assert deficit_span(thetas, np.zeros(n), np.radians(10.0)) is None
+
+
+def test_a_first_solve_stuck_beyond_the_bounded_filter_s_reach_is_given_up():
+    """The lift-off scene's first IPOPT solve spent its 100 iterations far beyond the force-deficit bound before the
+    study solved again with the filter bounded (a user's design: 100 iterations at 330 x the bound, 142 s): from a
+    start without gradient, 25 iterations in a row above THETA_MAX_FACT x the bound now stop it (User_Requested_Stop)
+    and the bounded solve follows at once. An iterate back within reach restarts the count; without give_up, none
+    stops it."""
+    from apexseal.runtime.studies.preload.nlp import STUCK_ITERATIONS, THETA_MAX_FACT, _Progress
+
+    def run(progress, deficits):
+        return [int(progress.eval([np.zeros(1), 1.0, np.r_[np.zeros(2), d], np.zeros(1), np.zeros(3),
+                                   np.zeros(0)])[0]) for d in deficits]
+
+    far = 33 * THETA_MAX_FACT
+    stuck = run(_Progress(1, 3, 2, give_up=True), [0.0] + [far] * (STUCK_ITERATIONS - 1) + [1.0] + [far] * STUCK_ITERATIONS)
+    assert stuck == [0] * (2 * STUCK_ITERATIONS) + [1]  # the count restarted at the iterate back within reach
+    patient = _Progress(1, 3, 2)
+    assert run(patient, [far] * (2 * STUCK_ITERATIONS)) == [0] * (2 * STUCK_ITERATIONS) and not patient.gave_up
+
+
 def _two_knot_nlp(light):
     """The NLP of a 2-knot schedule (1.7, 1.8 mm) whose groove forces exceed a 10 N bound between samples, at the
     simulated schedule's node states: (the NLP, its point, the hand-assembled Jacobian there, the simulation, a

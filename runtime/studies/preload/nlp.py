@@ -25,6 +25,11 @@ SOLVED = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
 #: bound, deep in lift-off, where it stayed for 100 iterations; with 10 the line search shortens that step and
 #: IPOPT converges in 8 iterations (docs/preload.md, "The lift-off scene")
 THETA_MAX_FACT = 10.0
+#: the first solve from such a start is given up once its force deficit (or groove-force excess) has stayed above
+#: THETA_MAX_FACT times its bound for this many iterations in a row, where the bounded filter never lets an iterate
+#: go: it is then solved again bounded at once instead of at its iteration limit (the lift-off scene's first solve
+#: spent its 100 iterations there, a user's design 100 at 330 x the bound, 142 s of a 3-minute study)
+STUCK_ITERATIONS = 25
 
 
 def _advice(status: str, groove: bool = False) -> str:
@@ -39,6 +44,9 @@ def _advice(status: str, groove: bool = False) -> str:
                                        "deficit_tol.",
         "Maximum_Iterations_Exceeded": "Raise max_iter (--max-iter); the bisection over full simulations "
                                        "(--check, bisect_preload) needs no derivative.",
+        "User_Requested_Stop": f"It stayed beyond {THETA_MAX_FACT:g} x the force-deficit bound for "
+                               f"{STUCK_ITERATIONS} iterations (deep in lift-off); the bisection over full "
+                               "simulations (--check, bisect_preload) needs no derivative.",
         "Restoration_Failed": "The constraints are noisy at the integrator's tolerance: use a smaller rtol.",
         "Error_In_Step_Computation": "The constraints are noisy at the integrator's tolerance: use a smaller rtol.",
     }.get(status, "See IPOPT's documentation of this status.")
@@ -47,9 +55,11 @@ def _advice(status: str, groove: bool = False) -> str:
 class _Progress(ca.Callback):
     """IPOPT's iterations as progress lines (objective, constraint violation)."""
 
-    def __init__(self, nx: int, ng: int, n_def: int, groove: bool = False):
+    def __init__(self, nx: int, ng: int, n_def: int, groove: bool = False, give_up: bool = False):
         ca.Callback.__init__(self)
         self.nx, self.ng, self.k, self.n_def, self.groove = nx, ng, 0, n_def, groove
+        #: stop IPOPT once it has stayed :data:`STUCK_ITERATIONS` iterations beyond the bounded filter's reach
+        self.give_up, self.beyond, self.gave_up = give_up, 0, False
         self.construct("preload_progress", {})
 
     def get_n_in(self):
@@ -83,6 +93,13 @@ class _Progress(ca.Callback):
                  f"force deficit {g[self.n_def]:.3g} x its "
                  f"bound{groove}, largest node defect {np.abs(g[:self.n_def]).max():.2g}")
         self.k += 1
+        bounded = g[self.n_def:self.n_def + (2 if self.groove else 1)]
+        self.beyond = self.beyond + 1 if np.max(bounded) > THETA_MAX_FACT else 0
+        if self.give_up and self.beyond >= STUCK_ITERATIONS:  # IPOPT ends with User_Requested_Stop
+            self.gave_up = True
+            announce(f"  IPOPT has stayed above {THETA_MAX_FACT:g} x the bound for {STUCK_ITERATIONS} iterations, "
+                     "where its bounded filter goes nowhere: given up")
+            return [1]
         return [0]
 
 
@@ -189,8 +206,11 @@ class ShootingNlp:
         W0 = Z0[lay.x, idx] / S[:, None]
         self.W0 = W0.ravel(order="F")
         self.V = V
+        self.gave_up = False  # whether the last solve was given up (solve's give_up)
 
-    def solve(self, knots0_m, res, *, upper, max_rate, max_iter, verbose, ipopt_options) -> bool:
+    def solve(self, knots0_m, res, *, upper, max_rate, max_iter, verbose, ipopt_options, give_up=False) -> bool:
+        """IPOPT from ``knots0_m`` and the node states of the simulated start; ``give_up``: stop once stuck beyond
+        the bounded filter's reach (:data:`STUCK_ITERATIONS`; ``self.gave_up`` says whether it did)."""
         K, N = self.K, self.N
         n_w = self.n_x * N  # the node states
         V = ca.MX.sym("V", K + n_w)
@@ -205,7 +225,7 @@ class ShootingNlp:
             lim = max_rate / MM * span_deg
             lbg += [-lim] * K
             ubg += [lim] * K
-        prog = _Progress(V.numel(), int(sum(gi.numel() for gi in g)), self.n_def, self.groove)
+        prog = _Progress(V.numel(), int(sum(gi.numel() for gi in g)), self.n_def, self.groove, give_up)
         opts = {"ipopt.hessian_approximation": "limited-memory", "ipopt.tol": 1e-3, "ipopt.constr_viol_tol": 1e-3,
                 "ipopt.acceptable_tol": 1e10, "ipopt.acceptable_constr_viol_tol": 2e-2, "ipopt.acceptable_iter": 3,
                 "ipopt.acceptable_obj_change_tol": 1e-4,
@@ -228,6 +248,7 @@ class ShootingNlp:
                                "integrator failed at an iterate (a step or event limit): try more nodes or a larger rtol")
                 return False
         res.ipopt_time_s += time.perf_counter() - t
+        self.gave_up = prog.gave_up
         st = solver.stats()
         res.ipopt_status, res.ipopt_iterations = str(st["return_status"]), res.ipopt_iterations + int(st["iter_count"])
         v = np.array(sol["x"]).ravel()

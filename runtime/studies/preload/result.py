@@ -40,6 +40,10 @@ class PreloadResult:
     contact_friction_power: dict = field(default_factory=dict)  # W, cycle mean of each contact (re-simulation)
     scene_contact_friction_power: dict = field(default_factory=dict)  # W, the same at the scene's preload
     deficit: float | None = None  # N^2 rad, the force-deficit quadrature of the re-simulation
+    #: where most of that deficit builds up: [start, end] deg (mod 360) of the span around its densest output
+    #: interval, and the share of the deficit within it (:func:`deficit_span`); None without a deficit
+    deficit_span_deg: list | None = None
+    deficit_span_share: float | None = None
     deficit_tol: float = DEFICIT_TOL
     max_groove_force: float | None = None  # N, the bound on every seal-groove contact force (None: none)
     groove_excess: float | None = None  # N^2 rad, the groove-force excess quadrature of the re-simulation
@@ -65,7 +69,8 @@ class PreloadResult:
     #: is needed); "" for a schedule or a failed study
     active: str = ""
     #: IPOPT was solved again from its start with its filter bounded (:func:`.study._solve_with_the_filter_bounded`):
-    #: the first solve ended at its iteration limit from a start where the force deficit and its gradient were 0
+    #: the first solve, from a start where the force deficit and its gradient were 0, ended at its iteration limit or
+    #: stayed beyond the bounded filter's reach for nlp.STUCK_ITERATIONS iterations
     filter_bounded: bool = False
 
     def to_dict(self) -> dict:
@@ -91,6 +96,9 @@ class PreloadResult:
             f"  force deficit int max(0, {self.min_force:g} N - F)^2 dtheta = {self.deficit:.3g} N^2 rad "
             f"(bound {self.deficit_tol:.3g})" + (
                 f", excluded: {', '.join(f'{a:g}..{b:g} deg' for a, b in self.exclude_deg)}" if self.exclude_deg else ""),
+            *([f"  {100 * self.deficit_span_share:.0f} % of it at {self.deficit_span_deg[0]:.1f}..."
+               f"{self.deficit_span_deg[1]:.1f} deg, where the tip force between the samples falls short (an "
+               "--exclude window there frees the preload from it)"] if self.deficit_span_deg else []),
             *([f"  groove forces: excess int sum max(0, |F| - {self.max_groove_force:g} N)^2 dtheta = "
                f"{self.groove_excess:.3g} N^2 rad (bound {self.deficit_tol:.3g}); largest at the samples "
                f"{self.groove_peak:.4g} N (impacts between the samples can reach higher; the excess above counts them)"]
@@ -102,7 +110,8 @@ class PreloadResult:
             *self._holding(),
             f"  IPOPT: {self.ipopt_status}, {self.ipopt_iterations} iterations, {self.ipopt_time_s:.1f} s "
             f"({self.rounds} round{'s' if self.rounds != 1 else ''}"
-            f"{'; solved again with its filter bounded after its iteration limit' if self.filter_bounded else ''}); "
+            f"{'; solved again with its filter bounded after its first solve stalled' if self.filter_bounded else ''}"
+            "); "
             f"build {self.build_time_s:.1f} s; "
             f"{self.nodes} shooting nodes, erk rtol {self.rtol:g}",
         ]
@@ -137,12 +146,39 @@ def fill_result(res, setup, grid, knots_m, sim) -> None:
     res.spring_force = float(setup.pmap.at("ks") * res.delta_s)
     res.friction_power = sim.friction_power
     res.deficit = sim.deficit
+    span = deficit_span(sim.thetas, sim.deficit_at, setup.dth)
+    if span is not None:
+        res.deficit_span_deg, res.deficit_span_share = [span[0], span[1]], span[2]
     res.min_measure, res.min_measure_angle = setup.smallest(sim)
     res.periodic_change = sim.change
     if setup.max_groove_force is not None:
         res.groove_excess, res.groove_peak = sim.groove_excess, sim.groove_peak
     res.contact_friction_power = contact_powers(setup, sim)
     res.__dict__["simulation"] = sim  # not a field: kept for the figures, not written to JSON
+
+
+#: the span of :func:`deficit_span` holds the output intervals around the densest one whose deficit is at least this
+#: fraction of the densest's
+SPAN_FLOOR = 0.01
+
+
+def deficit_span(thetas: np.ndarray, deficit_at: np.ndarray | None, dth: float) -> tuple[float, float, float] | None:
+    """Where a revolution's force deficit builds up: the contiguous output intervals (cyclically) around the one with
+    the most deficit, while each holds at least :data:`SPAN_FLOOR` of that one's, as (start deg, end deg, share of
+    the revolution's deficit), the angles mod 360; None when the revolution has no deficit. ``thetas``: the ends of
+    the intervals (rad), ``dth`` their width."""
+    if deficit_at is None or not np.sum(deficit_at) > 0:
+        return None
+    d = np.maximum(np.asarray(deficit_at, float), 0.0)
+    n, j = d.size, int(np.argmax(d))
+    lo = hi = j
+    while hi - lo + 1 < n and d[(lo - 1) % n] >= SPAN_FLOOR * d[j]:
+        lo -= 1
+    while hi - lo + 1 < n and d[(hi + 1) % n] >= SPAN_FLOOR * d[j]:
+        hi += 1
+    share = float(sum(d[k % n] for k in range(lo, hi + 1)) / d.sum())
+    start = float(np.degrees(thetas[lo % n] - dth) % 360.0)
+    return start, float(np.degrees(thetas[hi % n]) % 360.0), share
 
 
 def contact_powers(setup, sim) -> dict:

@@ -155,6 +155,9 @@ class Resimulation:
     delta_s: np.ndarray  # (samples,) m, the preload at each sample
     groove_excess: float = 0.0  # N^2 rad, the groove-force excess quadrature (a study with a groove-force bound)
     groove_peak: float | None = None  # N, the largest seal-groove contact force at the samples (idem)
+    #: (samples,) N^2 rad, the force-deficit quadrature over each output interval (ending at ``thetas``): where the
+    #: force between the samples falls short
+    deficit_at: np.ndarray | None = None
 
 
 def simulate_schedule(setup, sf, grid: SegmentGrid, knots_m, min_force: float, exclude,
@@ -185,24 +188,28 @@ def simulate_schedules(setup, sf, grid: SegmentGrid, knots_list, min_force: floa
     starts = [z.copy()]
     for rev in range(revolutions):
         Q = [grid.q_columns(setup, knots_m, min_force, exclude, rev) for knots_m in knots_list]
-        cols, qsum = [], np.zeros((sf.n_quad, n))
+        cols, qsum, dq = [], np.zeros((sf.n_quad, n)), []
         for s in range(grid.segments):
             r = interval(x0=z, p=np.column_stack([q[:, s] for q in Q]), u=C[:, s * m:(s + 1) * m])
             xf = np.array(r["xf"]).reshape(-1, n, m).transpose(1, 0, 2)  # (schedule, state, sample)
             cols.append(xf)
-            qsum += np.array(r["qf"])[:, m - 1::m]
+            qf = np.array(r["qf"])  # (n_quad, schedule x sample), each from its call's start
+            qsum += qf[:, m - 1::m]
+            dq.append(np.diff(qf[1].reshape(n, m), axis=1, prepend=0.0))  # the deficit over each interval
             z = xf[:, :, -1].T.copy()
         z0_rev = starts[-1]
         z[lay.counts] = 0.0  # event counts per revolution
         starts.append(z.copy())
     U = setup.pressures(grid.edges())  # at the samples, as the outputs see them
+    deficit_at = np.concatenate(dq, axis=1)  # (schedule, samples), the last revolution's
     return [_resimulation(setup, sf, grid, knots_list[i], revolutions, U,
                           np.concatenate([z0_rev[:, i:i + 1]] + [c[i] for c in cols], axis=1), qsum[:, i],
-                          starts[-2][:, i], starts[-1][:, i]) for i in range(n)]
+                          starts[-2][:, i], starts[-1][:, i], deficit_at[i]) for i in range(n)]
 
 
 def _resimulation(setup, sf, grid: SegmentGrid, knots_m, revolutions: int, U: np.ndarray, Z: np.ndarray,
-                  qsum: np.ndarray, start_before: np.ndarray, start_last: np.ndarray) -> Resimulation:
+                  qsum: np.ndarray, start_before: np.ndarray, start_last: np.ndarray,
+                  deficit_at: np.ndarray) -> Resimulation:
     """The last revolution ``Z`` (its start included) of a chained schedule, with its quadratures ``qsum``, as a
     :class:`Resimulation`: the tip's contact measure at the samples (pressures ``U`` there), and the groove forces
     where they are bounded."""
@@ -216,7 +223,8 @@ def _resimulation(setup, sf, grid: SegmentGrid, knots_m, revolutions: int, U: np
     d_at = Schedule(tuple(grid.knot_angles_deg), tuple(knots_m))(np.degrees(thetas))
     P = setup.pmap.p0[:, None] + setup.pmap.dp[:, None] * d_at[None, :]
     meas = setup.at_samples(setup.measure_fn, Z[:, 1:], thetas, P, U).ravel()
-    sim = Resimulation(thetas, Z, float(qsum[1]), float(qsum[0] / TWO_PI), change, meas, U, d_at)
+    sim = Resimulation(thetas, Z, float(qsum[1]), float(qsum[0] / TWO_PI), change, meas, U, d_at,
+                       deficit_at=deficit_at)
     if sf.groove:
         from .shooting import groove_forces
 

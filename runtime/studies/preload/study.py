@@ -51,9 +51,10 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
   A schedule starts from the constant optimum (the constant is a feasible schedule, so the schedule's
   friction power can only be lower).
 * **A start without gradient**: where the start's force deficit (and groove-force excess) is 0, so is its
-  gradient, and IPOPT's first step follows the objective alone. Where IPOPT then ends at its iteration limit (the
-  lift-off scene: its first step landed deep in lift-off, which IPOPT's filter accepted, and it stayed there), it
-  is solved again from the same start with its filter bounded (no iterate whose constraint violation exceeds 10,
+  gradient, and IPOPT's first step follows the objective alone. Where IPOPT then ends at its iteration limit, or
+  stays beyond the bounded filter's reach for nlp.STUCK_ITERATIONS iterations in a row (the lift-off scene: its
+  first step landed deep in lift-off, which IPOPT's filter accepted, and it stayed there), it is solved again
+  from the same start with its filter bounded (no iterate whose constraint violation exceeds 10,
   nlp.THETA_MAX_FACT), which shortens that step (``_solve_with_the_filter_bounded``).
 * **Tolerances**: IPOPT's tol and constr_viol_tol 1e-3; the constraint function is noisy at the erk
   rtol (the rattle's impacts), so IPOPT also stops ("acceptable") once the objective changes by less
@@ -70,7 +71,7 @@ import numpy as np
 from ....cores import parallel_threads
 from ....progress import announce, stage
 from ....signals import StopSignals
-from .nlp import THETA_MAX_FACT, ShootingNlp
+from .nlp import STUCK_ITERATIONS, THETA_MAX_FACT, ShootingNlp
 from .periodic import periodic
 from .problem import (
     MAX_FORCE,
@@ -158,12 +159,13 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
         nlp = ShootingNlp(setup, sf, sim, nodes, knots, min_force, exclude, deficit_tol, objective)
         with stage(f"IPOPT (round {r + 1}: {knots} knot{'s' if knots > 1 else ''}, {nodes} shooting nodes, "
                    f"{setup.samples} samples)"):
+            gradless = sim.deficit == sim.groove_excess == 0
             ok = nlp.solve(x_knots, res, upper=upper, max_rate=max_rate, max_iter=max_iter,
-                           verbose=verbose, ipopt_options=ipopt_options)
+                           verbose=verbose, ipopt_options=ipopt_options, give_up=gradless)
             # IPOPT turns an interruption in its callbacks into a return status: under the CLI's StopSignals the
             # signal it caught abandons the stage here (logged "abandoned", not "done"), and the study with it
             StopSignals.raise_pending()
-            if not ok and res.ipopt_status == "Maximum_Iterations_Exceeded" and sim.deficit == sim.groove_excess == 0:
+            if not ok and gradless and (nlp.gave_up or res.ipopt_status == "Maximum_Iterations_Exceeded"):
                 ok = _solve_with_the_filter_bounded(nlp, x_knots, res, upper=upper, max_rate=max_rate,
                                                     max_iter=max_iter, verbose=verbose, ipopt_options=ipopt_options)
         if not ok:
@@ -198,7 +200,9 @@ def _solve_with_the_filter_bounded(nlp, x_knots, res, **solve) -> bool:
     lift-off band at 0.02-0.09 mm; bounded, IPOPT stops above the band at 0.095 mm, measured). Where this solve
     fails too, the first one's message is kept, and this one's status added to it."""
     first, before = res.message, res.ipopt_iterations
-    announce(f"IPOPT ended at its iteration limit from a start where the force deficit and its gradient are 0: "
+    how = (f"stayed above {THETA_MAX_FACT:g} x the bound for {STUCK_ITERATIONS} iterations" if nlp.gave_up else
+           "ended at its iteration limit")
+    announce(f"IPOPT {how} from a start where the force deficit and its gradient are 0: "
              f"solving again from that start with its filter bounded (theta_max_fact {THETA_MAX_FACT:g})")
     options = {"theta_max_fact": THETA_MAX_FACT} | (solve.pop("ipopt_options") or {})
     ok = nlp.solve(x_knots, res, ipopt_options=options, **solve)
