@@ -59,6 +59,20 @@ def _still_written(folder: Path, stop: StopInfo | None, parts: int) -> StopInfo 
                     "it yet")
 
 
+#: the report files of the studies, which write folders of their own (not results): file -> what the folder is
+STUDY_REPORTS = {"preload.md": "a preload study's report (`apexseal optimise-preload`): read preload.md, or "
+                               "preload.json for its numbers",
+                 "results.parquet": "a sweep's folder (`apexseal sweep`): its table is results.csv (or "
+                                    "results.parquet, with units), one row per point",
+                 "calibration.json": "a calibration's report (`apexseal calibrate`): read calibration.json"}
+
+
+def _what_else(folder: Path) -> str:
+    """``"; it is <what>"`` for a study's folder (:data:`STUDY_REPORTS`), else ``""``."""
+    what = next((w for name, w in STUDY_REPORTS.items() if (folder / name).is_file()), None)
+    return f"; it is {what}" if what else ""
+
+
 def read_record(folder: Path) -> dict:
     path = folder / "result.json"
     if not path.is_file():
@@ -67,7 +81,7 @@ def read_record(folder: Path) -> dict:
             raise ResultFolderError(f"{folder} holds no result: run {began} began here and was killed before it wrote "
                                     "its first revolution, so there is nothing to load or continue; simulate the "
                                     f"scene again ({folder / SCENE_FILE}) and delete this folder")
-        raise ResultFolderError(f"{folder} is not a result folder: it has no result.json")
+        raise ResultFolderError(f"{folder} is not a result folder: it has no result.json{_what_else(folder)}")
     try:
         meta = json.loads(path.read_text())
     except (OSError, ValueError) as err:

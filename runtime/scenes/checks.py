@@ -40,7 +40,7 @@ from .schema import (
     raw_at,
     validator_of,
 )
-from .units import SETTINGS_PLAUSIBLE, TABLE_PRESSURES, implausible, plausible_ranges
+from .units import SETTINGS_PLAUSIBLE, TABLE_PRESSURES, bare_hint, implausible, plausible_ranges
 
 #: largest aspect ratio b = r/L of a dimple-free limaçon (Eq. 4; derive.geometry.looping_free_limit)
 MAX_ASPECT_RATIO = 0.25
@@ -188,10 +188,12 @@ def check_mass(s: SealSection, raw: dict[str, Any]) -> list[Problem]:
 
     heaviest = of_density(DENSEST)
     if s.ms is not None and s.ms > heaviest:
-        out.append(Problem("seal.ms", raw_at(raw, ["seal", "ms"]),
+        written = raw_at(raw, ["seal", "ms"])
+        out.append(Problem("seal.ms", written,
                            f"{s.ms * 1e3:.6g} g is heavier than the seal's outline Ws (ds1 + ds2) Bs = "
                            f"{of_density(1.0) * 1e6:.6g} cm^3 filled with the densest material "
-                           f"({DENSEST:g} kg/m^3, osmium; Eq. 80); allowed: ms <= {heaviest * 1e3:.6g} g"))
+                           f"({DENSEST:g} kg/m^3, osmium; Eq. 80); allowed: ms <= {heaviest * 1e3:.6g} g"
+                           + bare_hint(plausible_ranges()["seal.ms"], s.ms, written)))
         return out
     ms = s.ms if s.ms is not None else (of_density(s.density) if s.density is not None else None)
     if ms is not None and s.Icg is not None:

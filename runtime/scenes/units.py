@@ -407,10 +407,15 @@ def implausible(values: dict[str, tuple[float, Any]]) -> list[tuple[str, float, 
         rule = ranges.get(key)
         if rule is None or x is None or rule.lo <= x <= rule.hi:
             continue
-        hint = ""
-        bare = isinstance(written, int | float) and not isinstance(written, bool)
-        if bare and rule.si == "m" and rule.lo <= x * 1e-3 <= rule.hi:
-            hint = f"; a bare number is in m: did you mean \"{_g(x)} mm\"?"
         out.append((key, x, f"{rule.shown(x)} is far outside engineering practice for this key "
-                            f"({rule.describe()}){hint}"))
+                            f"({rule.describe()}){bare_hint(rule, x, written)}"))
     return out
+
+
+def bare_hint(rule: Plausible, x: float, written: Any) -> str:
+    """``; a bare number is in m: did you mean "3 mm"?`` for a bare number ``written`` (read in SI, ``x``) that would
+    be plausible in the unit ``rule`` shows the key in (mm for lengths, g for the seal's mass), else ``""``."""
+    bare = isinstance(written, int | float) and not isinstance(written, bool)
+    if not bare or rule.show in (rule.si, "1") or not rule.lo <= x / rule.factor <= rule.hi:
+        return ""
+    return f"; a bare number is in {rule.si}: did you mean \"{_g(x)} {rule.show}\"?"

@@ -43,6 +43,10 @@ def test_a_seal_outside_its_groove_contacts_is_said_once_by_simulate_and_again_b
 def test_show_refuses_a_folder_that_is_not_a_result(tmp_path):
     r = CliRunner().invoke(main, ["show", str(tmp_path)])
     assert r.exit_code == 1 and "is not a result folder: it has no result.json" in r.output
+    assert "; it is" not in r.output
+    (tmp_path / "preload.md").write_text("# preload study\n")  # a study's folder says what it is, and what to read
+    r = CliRunner().invoke(main, ["show", str(tmp_path)])
+    assert "no result.json; it is a preload study's report (`apexseal optimise-preload`): read preload.md" in r.output
 
 
 def test_show_says_a_complete_result_was_not_moved_into_place(tmp_path):

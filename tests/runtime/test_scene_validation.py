@@ -633,6 +633,12 @@ def test_a_mass_alone_needs_no_density_and_replaces_the_scene_s(default):
     assert scene.parameters["Icg"] == pytest.approx(0.04 * (s.Ws**2 + (s.ds1 + s.ds2) ** 2) / 12)
 
 
+def test_a_bare_mass_that_would_fit_in_grams_is_asked_about(default):
+    """`seal.ms = 40` (kg) was refused by the osmium bound with no hint, where a bare length gets "did you mean"."""
+    assert 'a bare number is in kg: did you mean "40 g"?' in str(_error(default, {"seal.ms": 40}))
+    assert "did you mean" not in str(_error(default, {"seal.ms": "40 kg"}))  # a unit written: no slip to suggest
+
+
 def test_a_switch_given_as_the_string_false_is_told_how_to_write_it(default):
     err = _error(default, {"effects.spring": "false"})
     assert "not the string 'false'" in str(err) and "from Python: False" in str(err)
