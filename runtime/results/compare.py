@@ -141,10 +141,16 @@ def scene_keys(scene) -> dict[str, str]:
         return {"scene": UNKNOWN}
     from ..scenes.resolved import TABLE_FILE, resolved_toml
 
+    from apexseal.derive.submodels.registry import parameters
+
     text, files = resolved_toml(scene)
     out = dict(_flatten(tomllib.loads(text)))
     if TABLE_FILE in files:
         out["pressure.file"] = "table sha256 " + hashlib.sha256(files[TABLE_FILE].encode()).hexdigest()[:12]
+    for p in parameters(all_inputs=True):  # a key the scene left to be computed (ms from the density, c from its
+        value = scene.parameters.get(p.name)  # ratio): its value beside another scene's given one
+        if p.key and p.key not in out and value is not None:
+            out[p.key] = f"{value:.6g} {p.unit} (derived)"
     return out
 
 

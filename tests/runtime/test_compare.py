@@ -31,8 +31,11 @@ def folders(tmp_path_factory):
 def test_the_changed_key_and_each_runs_numbers(folders):
     c = compare([folders["default"], folders["stiff"]])
     assert c.labels == ["default", "stiff"]
-    assert list(c.scenes.index) == ["spring.ks"]
+    # the spring's damper is given as a ratio (zeta_s): its coefficient, derived from ks, is shown changing with it
+    assert list(c.scenes.index) == ["contacts.cs", "spring.ks"]
     assert list(c.scenes.loc["spring.ks"]) == ["5000.0 N/m", "20000.0 N/m"]
+    low, high = (float(v.split()[0]) for v in c.scenes.loc["contacts.cs"])
+    assert c.scenes.loc["contacts.cs"].str.endswith("N*s/m (derived)").all() and high == pytest.approx(2 * low, 1e-3)
     assert c.numbers.loc["status"].tolist() == ["completed", "completed"]
     for label, folder in zip(c.labels, (folders["default"], folders["stiff"]), strict=True):
         expected = collect(apexseal.SimulationResult.load(folder), compared())
@@ -81,7 +84,7 @@ def test_the_command_prints_both_tables_and_writes_them(folders, tmp_path):
     expected = compare([folders["default"], folders["stiff"]]).numbers
     assert numbers.loc["friction_power.total (W)"].astype(float).tolist() == \
         expected.loc["friction_power.total (W)"].tolist()
-    assert pd.read_csv(out / "scene-differences.csv", index_col=0).index.tolist() == ["spring.ks"]
+    assert pd.read_csv(out / "scene-differences.csv", index_col=0).index.tolist() == ["contacts.cs", "spring.ks"]
     assert (out / "comparison.png").read_bytes().startswith(b"\x89PNG")
 
 
