@@ -139,9 +139,9 @@ def scene_keys(scene) -> dict[str, str]:
     pressure table by the sha256 of its rows."""
     if scene is None:
         return {"scene": UNKNOWN}
-    from ..scenes.resolved import TABLE_FILE, resolved_toml
-
     from apexseal.derive.submodels.registry import parameters
+
+    from ..scenes.resolved import TABLE_FILE, resolved_toml
 
     text, files = resolved_toml(scene)
     out = dict(_flatten(tomllib.loads(text)))

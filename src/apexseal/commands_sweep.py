@@ -117,6 +117,12 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
         click.echo(f"  ... {len(bad) - 5} more (see the status and stop columns)", err=True)
     if len(bad):
         click.echo("  --retry-failed computes them again (the same command, the other points kept)", err=True)
+    warned = report.table[report.table["warnings"].fillna("") != ""] if "warnings" in report.table else bad[:0]
+    if len(warned):
+        click.echo(f"  {len(warned)} point{'s' if len(warned) != 1 else ''} warned of an implausible run (the warnings "
+                   f"column): point{'s' if len(warned) != 1 else ''} "
+                   + ", ".join(str(p) for p in warned["point"].head(10)) + (", ..." if len(warned) > 10 else "")
+                   + f"; point {warned['point'].iloc[0]}: {warned['warnings'].iloc[0]}", err=True)
     drawing = None
     if figures and not report.table.empty:
         from .runtime.studies.sweep.figures import sweep_figures

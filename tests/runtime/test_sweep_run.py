@@ -27,6 +27,26 @@ def serial(tmp_path_factory):
     return report
 
 
+def test_a_point_s_plausibility_warning_is_in_its_row_and_the_command_names_the_point(tmp_path, monkeypatch):
+    """A sweep printed a point's implausible-penetration warning once (Python's filter), or from a worker, without
+    saying which point it came from: each point's run warnings are its row's ``warnings``, and the command says which
+    points warned."""
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+
+    text = LIGHT.replace('[parameters."spring.ks"]\nfrom = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"',
+                         '[parameters."contacts.kg1"]\nvalues = ["1e9 N/m", "1.05e6 N/m"]')
+    text = text.replace('values = ["1 mm", "2 mm", "3 mm", "4 mm"]', 'values = ["2 mm"]')
+    (tmp_path / "soft.toml").write_text(text)
+    monkeypatch.chdir(tmp_path)
+    r = CliRunner().invoke(main, ["sweep", "soft.toml", "--workers", "1", "--out", "o", "--no-figures", "-q"])
+    assert r.exit_code == 0, r.output
+    df = read_results(tmp_path / "o")
+    assert df.loc[0, "warnings"] == "" and df.loc[1, "warnings"].startswith("implausible penetration: i1")
+    assert "1 point warned of an implausible run (the warnings column): point 1; point 1: implausible" in r.output
+
+
 def test_serial_sweep_writes_one_row_per_point_with_units_and_scene_hashes(serial):
     df = read_results(serial.folder)
     assert list(df["point"]) == list(range(16))

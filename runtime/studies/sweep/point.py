@@ -20,6 +20,7 @@ import signal
 import socket
 import sys
 import time
+import warnings
 from typing import Any
 
 #: CasADi's notice printed by every construction of an event integrator: said once per sweep, not once per point
@@ -117,8 +118,11 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
         with _stoppable(stop_key) as signals:
             if signals is not None and signals.requested:  # its sweep was stopped before it started
                 raise _Stopped(f"not run: its sweep was stopped by {signals.sender()} before it started")
-            with _quiet_notice(), engine_pool.reusing(), _followed(index, stop_key):  # a model's points share one engine
+            with _quiet_notice(), engine_pool.reusing(), _followed(index, stop_key), \
+                    warnings.catch_warnings(record=True) as caught:  # a model's points share one engine
+                warnings.simplefilter("always")
                 result = apexseal.simulate(scene, max_wall_time=max_wall_time)
+            row["warnings"] = _plausibility(caught)
         values = collect(result, quantities)
         row.update(status=result.status, stop="" if result.stop is None else result.stop.describe())
         run_time = float(result.info.get("wall_time_s", math.nan))
@@ -134,6 +138,22 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
     row["worker"] = f"{socket.gethostname()}:{os.getpid()}"
     return row
 
+
+
+def _plausibility(caught: list) -> str:
+    """The point's run's plausibility warnings (penetration, groove mouth corners), one text for its row: a warning
+    printed by a worker, or once per sweep by Python's filter, could not be told to its point. The others are
+    warned again as they came."""
+    from ...scenes.units import PlausibilityWarning
+
+    said = []
+    for w in caught:
+        if issubclass(w.category, PlausibilityWarning):
+            if str(w.message) not in said:
+                said.append(str(w.message))
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return "; ".join(said)
 
 
 @contextlib.contextmanager

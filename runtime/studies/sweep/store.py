@@ -27,7 +27,7 @@ import pandas as pd
 from apexseal.files import atomic_write, try_lock_folder
 
 #: columns every row has, before the parameters and quantities, with their units
-HEAD = {"point": "", "scene_hash": "", "status": "", "stop": ""}
+HEAD = {"point": "", "scene_hash": "", "status": "", "stop": "", "warnings": ""}
 TAIL = {"wall_time_s": "s", "run_time_s": "s", "worker": ""}
 _PART = re.compile(r"^point-(\d+)\.parquet$")
 
