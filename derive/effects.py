@@ -28,6 +28,19 @@ def orphans(values: dict[str, bool]) -> list[tuple[str, str]]:
             if on and slots[name].parent is not None and values.get(slots[name].parent) is False]
 
 
+def off_with_parents(values: dict, switched_off, named) -> dict:
+    """``values`` (effect name -> on) with every effect under one of ``switched_off`` (an override's ``false``) off
+    too, transitively, but for those ``named`` by the overrides themselves (a child switched on under an effect
+    that is off stays, and is refused as an orphan): ``--set effects.spring=false`` on a scene that writes
+    ``spring_damping = true``, and ``apexseal generate --effects spring=off``."""
+    out, off, named = dict(values), set(switched_off), set(named)
+    for name, opt in declared().items():  # parents before children
+        if opt.parent in off and name not in named:
+            out[name] = False
+            off.add(name)
+    return out
+
+
 class EffectError(OptionError):
     """An effect set that names an unknown effect or breaks the hierarchy."""
 

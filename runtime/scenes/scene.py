@@ -204,20 +204,15 @@ def _overridden(raw: dict[str, Any], dotted: dict[str, Any], name: str) -> dict[
 
 def _children_follow(raw: dict[str, Any], dotted: dict[str, Any]) -> None:
     """An override that switches an effect off switches off with it the effects under it that the scene switched
-    on and the overrides leave as they were (``--set effects.spring=false`` on a scene that writes
-    ``spring_damping = true``): they default to off under an effect that is off. A child the overrides switch on
-    under it stays an error that names both."""
-    from apexseal.derive.effects import declared
+    on and the overrides leave as they were (:func:`~apexseal.derive.effects.off_with_parents`)."""
+    from apexseal.derive.effects import off_with_parents
 
     effects = raw.get("effects")
     if not isinstance(effects, dict):
         return
-    slots = declared()
-    off = {k.split(".", 1)[1] for k, v in dotted.items() if k.startswith("effects.") and v is False}
-    for name, opt in slots.items():  # parents before children: a grandchild follows its parent's parent too
-        if opt.parent in off and f"effects.{name}" not in dotted:
-            effects.pop(name, None)
-            off.add(name)
+    named = {k.split(".", 1)[1] for k in dotted if k.startswith("effects.")}
+    off = {name for name in named if dotted[f"effects.{name}"] is False}
+    effects.update({k: v for k, v in off_with_parents(effects, off, named).items() if k in effects})
 
 
 def _unranged(raw: dict[str, Any], sections: dict[str, Section], problems: list[Problem], effects: Effects,

@@ -10,7 +10,7 @@ import click
 
 from .cli_common import Choice, writable
 from .derive.assumptions import Assumptions
-from .derive.effects import EFFECTS, Effects
+from .derive.effects import Effects, off_with_parents
 from .derive.options import OptionError
 from .generated.compiler import FLAG_SETS
 
@@ -34,10 +34,8 @@ def _with_overrides(base: Effects, overrides: dict[str, str]) -> Effects:
         if raw.lower() not in _ON:
             raise click.BadParameter(f"{name}={raw}: use on/off", param_hint="--effects")
         values[name] = _ON[raw.lower()]
-    for name, (parent, _) in EFFECTS.items():  # parents come first
-        if parent is not None and not values.get(parent, True) and name not in overrides:
-            values[name] = False
-    return Effects.from_mapping(values)
+    off = {name for name in overrides if not values[name]}
+    return Effects.from_mapping(off_with_parents(values, off, overrides))
 
 
 def _scene_inputs(scene: Path | None) -> tuple[Effects, Assumptions]:
