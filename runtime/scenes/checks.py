@@ -11,8 +11,6 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import numpy as np
-
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.effects import Effects, orphans
 from apexseal.derive.numbers import (
@@ -40,7 +38,7 @@ from .schema import (
     raw_at,
     validator_of,
 )
-from .units import SETTINGS_PLAUSIBLE, TABLE_PRESSURES, bare_hint, implausible, plausible_ranges
+from .units import SETTINGS_PLAUSIBLE, bare_hint, implausible, plausible_ranges, table_pressures_implausible
 
 #: largest aspect ratio b = r/L of a dimple-free limaçon (Eq. 4; derive.geometry.looping_free_limit)
 MAX_ASPECT_RATIO = 0.25
@@ -514,16 +512,10 @@ def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure:
         if section in sections and written is not MISSING and key not in unread:
             values[key] = getattr(sections[section], name, None), written
     out = [Problem(key, raw_at(raw, key.split(".")), message) for key, _, message in implausible(values)]
-    pa, pb = getattr(pressure, "pa", None), getattr(pressure, "pb", None)
-    if isinstance(pressure, TablePressure) and pa.size:
-        low, high = float(min(np.min(pa), np.min(pb))), float(max(np.max(pa), np.max(pb)))
-        lo, hi = TABLE_PRESSURES.lo, TABLE_PRESSURES.hi
-        if low < lo or high > hi:
-            why = (f"below {lo:g} Pa (a vacuum far beyond engineering practice)" if low < lo else
-                   f"above {hi:g} Pa (far beyond engineering practice)")
-            out.append(Problem("pressure.unit", raw_at(raw, ["pressure", "unit"]) if "unit" in raw.get("pressure", {})
-                               else "Pa", f"the table's absolute pressures span {low:.4g}..{high:.4g} Pa, {why}: is "
-                               "the table in another unit (unit = \"Pa\", \"kPa\" or \"bar\")?"))
+    why = table_pressures_implausible(pressure.pa, pressure.pb) if isinstance(pressure, TablePressure) else None
+    if why:
+        out.append(Problem("pressure.unit", raw_at(raw, ["pressure", "unit"]) if "unit" in raw.get("pressure", {})
+                           else "Pa", why))
     return out
 
 

@@ -386,6 +386,23 @@ SETTINGS_PLAUSIBLE: dict[str, Plausible] = {
 TABLE_PRESSURES = SETTINGS_PLAUSIBLE["pressure.Pa"]
 
 
+def table_pressures_implausible(pa, pb) -> str | None:
+    """Why a pressure table's absolute pressures (Pa, both chambers) lie outside :data:`TABLE_PRESSURES` (a table in
+    bar or kPa read in Pa, or the other way round), or None when they do not."""
+    import numpy as np
+
+    if not np.size(pa):
+        return None
+    low, high = float(min(np.min(pa), np.min(pb))), float(max(np.max(pa), np.max(pb)))
+    lo, hi = TABLE_PRESSURES.lo, TABLE_PRESSURES.hi
+    if lo <= low and high <= hi:
+        return None
+    why = (f"below {lo:g} Pa (a vacuum far beyond engineering practice)" if low < lo else
+           f"above {hi:g} Pa (far beyond engineering practice)")
+    return (f"the table's absolute pressures span {low:.4g}..{high:.4g} Pa, {why}: is the table in another unit "
+            "(unit = \"Pa\", \"kPa\" or \"bar\")?")
+
+
 def plausible_ranges() -> dict[str, Plausible]:
     """Scene key -> range of engineering practice for limaçon machines of rotary-engine size (docs/scenes.md,
     "Plausible ranges"): the registered submodels' parameters' (``Parameter.plausible``), then the scene's own

@@ -80,14 +80,14 @@ def speed_problem(functions, params) -> str | None:
             f"allowed: rpm >= {rpm_min:.3g} (at most {MAX_OSCILLATIONS_PER_RAD:g} oscillations per rad)")
 
 
-def far_outside_practice(functions, params) -> str:
+def far_outside_practice(functions, params, pressure=None) -> str:
     """The scene keys whose values lie far outside engineering practice (runtime/scenes/units.py: the scene loaded
     them with a PlausibilityWarning), as a failed run's likely cause: "" when there is none. A length of 1e300 m or
     a speed of 1e300 rpm is no impossible machine, so no range refuses it, but the model's numbers overflow with
     it (a right-hand side that is not finite, a step size that falls below its minimum), and the failure alone
-    names no key."""
+    names no key. A pressure table (``pressure``) in the wrong unit is named too (``pressure.unit``)."""
     from ...derive.submodels.registry import parameters
-    from ..scenes.units import implausible, plausible_ranges
+    from ..scenes.units import implausible, plausible_ranges, table_pressures_implausible
 
     keys = {p.name: p.key for p in parameters(all_inputs=True) if p.key}
     p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
@@ -97,6 +97,9 @@ def far_outside_practice(functions, params) -> str:
     ranges = plausible_ranges()
     shown = [f"{key} = {ranges[key].shown(x)} (engineering practice: {ranges[key].describe()})"
              for key, x, _ in implausible(values)]
+    table = table_pressures_implausible(pressure.pa, pressure.pb) if hasattr(pressure, "pa") else None
+    if table:
+        shown.append(f"pressure.unit = \"{pressure.unit}\": {table}")
     return "" if not shown else ("; values far outside engineering practice, the likely cause: " + "; ".join(shown))
 
 

@@ -228,7 +228,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         long = progress and part.samples_done >= LONG_RESULT  # seconds after the bar ends: said, not silent
         with stage(f"joining the result's {part.samples_done:,} samples") if long else contextlib.nullcontext():
             if status == "failed" and stop is not None:  # the key to change, when the scene holds an absurd value
-                stop = StopInfo(stop.theta, stop.mode, stop.reason + far_outside_practice(functions, params))
+                stop = StopInfo(stop.theta, stop.mode, stop.reason + far_outside_practice(functions, params,
+                                                                                          values))
             result = sink.finish(status, stop, info)
         # wall seconds: start checks and building the engine (compiling, or loading the cached library), integrating
         # (checks between calls included), assembling the outputs (per revolution, and joining them at the end),

@@ -105,6 +105,18 @@ def test_a_run_that_fails_on_an_absurd_value_names_its_key(default_scene, defaul
     assert "values far outside engineering practice, the likely cause: " + named in r.stop.reason, r.stop.reason
 
 
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.scenes.units.PlausibilityWarning")
+def test_a_run_that_fails_on_a_table_in_the_wrong_unit_names_the_unit(default_scene, default_functions):
+    """The default's table is in Pa; read as bar, its pressures of 1e10 Pa throw the seal out of its geometry. The
+    scene warned at the start, but the failure's reason advised stiffer contacts and named no key."""
+    scene = default_scene.with_overrides(**{"pressure.unit": "bar"})
+    r = apexseal.simulate(scene, functions=default_functions.sx, samples_per_revolution=72, compile_c=False)
+    assert r.status == "failed", r.stop
+    assert 'the likely cause: pressure.unit = "bar": the table\'s absolute pressures span 1.013e+10..6e+10 Pa' in \
+        r.stop.reason, r.stop.reason
+    assert "as stiff as metal" in r.stop.reason and "stiffer contacts" not in r.stop.reason
+
+
 def test_every_hard_scene_passes_the_preflight(default_functions):
     """The bounds refuse only impossible starts: no hard scene (start on a guard, 60 rpm, ...) is refused."""
     from hard_helpers import SCENES, load
