@@ -115,6 +115,11 @@ def test_a_run_that_fails_on_a_table_in_the_wrong_unit_names_the_unit(default_sc
     assert 'the likely cause: pressure.unit = "bar": the table\'s absolute pressures span 1.013e+10..6e+10 Pa' in \
         r.stop.reason, r.stop.reason
     assert "as stiff as metal" in r.stop.reason and "stiffer contacts" not in r.stop.reason
+    from apexseal.runtime.solving.preflight import far_outside_practice
+
+    constant = default_scene.with_overrides(**{"pressure": {"source": "constant", "Pa": 0.0, "Pb": 1e5}})
+    p = constant.parameter_vector(default_functions.sx.parameter_names)  # a constant pressure has no table: nothing
+    assert far_outside_practice(default_functions.sx, p, constant.pressure) == ""  # (it raised, found by hypothesis)
 
 
 def test_every_hard_scene_passes_the_preflight(default_functions):
