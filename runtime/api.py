@@ -135,7 +135,10 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
     one unit (runtime/results/folder.py); the returned result is read back from it. ``progress=True`` reports
     the long stages (derivation, code generation, compilation with elapsed times) and the integration on stderr.
     Warns with :class:`PenetrationWarning` when a contact sinks into its wall by more than a stated fraction of
-    the side clearance (:mod:`apexseal.runtime.results.plausibility`).
+    the side clearance (:mod:`apexseal.runtime.results.plausibility`). After a Ctrl-C the run stops at its next
+    check and is kept (written, with ``out``); then, in a script, :class:`~apexseal.signals.RunInterrupted` (a
+    ``KeyboardInterrupt`` whose ``result`` is the run) is raised, and in an interactive session the run is returned
+    with a :class:`RunInterruptedWarning`.
     """
     from .. import progress as stages
     from ..signals import StopSignals
@@ -170,8 +173,8 @@ def _after_a_ctrl_c(result: SimulationResult, stop, signals, out) -> SimulationR
 
     from ..signals import RunInterrupted, interactive
 
-    if signals is not stop or signal.SIGINT not in stop.received:
-        return result
+    if signals is not stop or signal.SIGINT not in stop.received or result.status != "interrupted":
+        return result  # (a Ctrl-C while a completed run was written leaves it completed: nothing to say)
     kept = f"{result.revolutions:.2f} revolutions kept" + (f" in {out}" if out is not None else "")
     if interactive():
         warnings.warn(f"the run was interrupted by Ctrl-C: {kept}; the result's status is interrupted",
@@ -205,7 +208,8 @@ def resume(folder, *, revolutions: int | None = None, max_wall_time: float | Non
     uninterrupted run makes (the same samples to the bit), and the result is written back as one unit, under the
     same run id: a killed run's folder becomes its target's. ``info["continued"]`` lists the runs before, with
     their wall times and solver statistics; ``info["wall_time_s"]`` and ``solver_stats`` are this one's.
-    Raises :class:`~.results.folder.ResultFolderError` for a folder that cannot be continued, with the reason.
+    Raises :class:`~.results.folder.ResultFolderError` for a folder that cannot be continued, with the reason. A
+    Ctrl-C is handled as by :func:`simulate`.
     """
     from .. import progress as stages
     from ..signals import StopSignals

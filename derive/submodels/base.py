@@ -175,6 +175,10 @@ class Submodel:
     #: further pairs of scene keys that state one thing two ways: a scene gives at most one of each pair (an error
     #: names both), and an override of one replaces the other
     alternatives: ClassVar[tuple[tuple[str, str], ...]] = ()
+    #: pairs (key, key it makes unread) that state one thing two ways where the first wins: a scene that gives both
+    #: loads with a warning that the second is not read (a result's scene.toml wrote both before they were paired),
+    #: and an override of one replaces the other
+    supersedes: ClassVar[tuple[tuple[str, str], ...]] = ()
     #: one line for the docs
     summary: ClassVar[str] = ""
     #: what each of its contacts is, for the result's columns and docs/outputs.md (default: :attr:`summary`)
@@ -211,9 +215,10 @@ class Submodel:
 
     @classmethod
     def scene_alternatives(cls) -> tuple[tuple[str, str], ...]:
-        """The pairs of scene keys of which a scene gives at most one: its damping coefficients beside their ratios,
-        and its further :attr:`alternatives`."""
-        return cls.damping_alternatives() + cls.alternatives
+        """The pairs of scene keys that state one thing two ways (an override of one replaces the other, a resolved
+        scene writes one): its damping coefficients beside their ratios, its further :attr:`alternatives`, and the
+        pairs it :attr:`supersedes` (of which only these may both be given)."""
+        return cls.damping_alternatives() + cls.alternatives + cls.supersedes
 
     def contacts(self, ctx: Context) -> list[ContactModel]:
         """The contacts and loads it puts on the seal."""

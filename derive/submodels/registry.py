@@ -468,8 +468,15 @@ def frictions(opts=None) -> tuple[Friction, ...]:
 
 
 def alternatives() -> tuple[tuple[str, str], ...]:
-    """The pairs of scene keys of which a scene gives at most one (e.g. ``contacts.cw`` and ``contacts.zeta_w``)."""
+    """The pairs of scene keys that state one thing two ways (e.g. ``contacts.cw`` and ``contacts.zeta_w``): a scene
+    gives at most one of each, but those of :func:`superseding`."""
     return tuple(pair for cls in submodels() for pair in cls.scene_alternatives())
+
+
+def superseding() -> tuple[tuple[str, str], ...]:
+    """The pairs (key, key it makes unread) of :func:`alternatives` that a scene may give both of (``seal.ms`` and
+    ``seal.density``): the second is then not read, and the scene warns."""
+    return tuple(pair for cls in submodels() for pair in cls.supersedes)
 
 
 def digest(opts) -> str:

@@ -90,9 +90,10 @@ class SealBody(Submodel):
                   "not in the paper)", key="contacts.delta_ref", default=30e-9, gt=0, le=1e-3, show="nm",
                   plausible=(1e-10, 1e-5, "nm"), needs=f"damping_law={DAMPING_LAWS[1]}"),
     )
-    #: the mass stated two ways: seal.density only gives ms (Icg follows from ms), so a scene gives one of them, and
-    #: an override of one replaces the other (a scene's density and an ms set on top of it disagreed silently)
-    alternatives = (("seal.ms", "seal.density"),)
+    #: the mass stated two ways: seal.density only gives ms (Icg follows from ms), so a given ms makes it unread (a
+    #: scene that gives both warns), and an override of one replaces the other (a scene's density and an ms set on
+    #: top of it disagreed silently)
+    supersedes = (("seal.ms", "seal.density"),)
     #: the scene's operation.initial_state takes one key per state (runtime/scenes/schema.py); its limits refuse only
     #: the absurd (a unit slip, an overflow): a seal displaced by a metre, tilted beyond MAX_TILT, or moving faster
     #: than 1 km/s in its groove

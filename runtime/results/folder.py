@@ -155,6 +155,17 @@ def _json_bytes(data) -> bytes:
     return (json.dumps(data, indent=2, default=_jsonable) + "\n").encode()
 
 
+def _finite(v):
+    """``v`` with every float that is not finite (NaN, inf) replaced by None, in dicts and lists."""
+    if isinstance(v, dict):
+        return {k: _finite(x) for k, x in v.items()}
+    if isinstance(v, list | tuple):
+        return [_finite(x) for x in v]
+    if isinstance(v, float | np.floating) and not np.isfinite(v):
+        return None
+    return v
+
+
 def _jsonable(v):
     if isinstance(v, np.generic):
         return v.item()
@@ -339,8 +350,9 @@ class ResultFolder:
         return result
 
     def write_json(self, name: str, data: dict) -> None:
-        """Another JSON file of the result (summary.json), stamped with the run id."""
-        self._store(name, _json_bytes({"run_id": self.run_id} | data), name)
+        """Another JSON file of the result (summary.json), stamped with the run id; a number that is not finite (a
+        leaked fraction of nothing inducted) is written null, as JSON has no NaN (strict parsers refused the file)."""
+        self._store(name, _json_bytes(_finite({"run_id": self.run_id} | data)), name)
 
     def write_scene(self, scene) -> None:
         """scene.toml: the scene that ran with every value explicit (and its pressure table beside it), stamped

@@ -194,9 +194,9 @@ def scene_changed(folder: Path, scene, info: dict) -> str | None:
     model, now = info.get("model_hash"), input_hash(scene.effects, scene.assumptions)
     packages = ", ".join(f"{name} from {dist}" for name, dist in installed().items())
     if model and model != now:  # a key a submodel added, or a default it changed, is read at today's value
-        why = (f"the model changed since the run, model hash {model[:12]}, now {now[:12]}: the derivation, a "
-               "submodel or the generator; a scene key a submodel added since, or a default it changed, counts in "
-               "the scene's hash")
+        why = (f"edited since, or the model changed since the run, model hash {model[:12]}, now {now[:12]}: the "
+               "derivation, a submodel or the generator; a scene key a submodel added since, or a default it "
+               "changed, counts in the scene's hash")
     else:
         why = "edited since, or written by an earlier apexseal whose hash counted the pressure table's unit?" + \
               (f" or read with other submodels installed now: {packages}" if packages else "")

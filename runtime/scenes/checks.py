@@ -391,18 +391,32 @@ def resolve_assumptions(given: Section, pressure_source: str | None = None) -> A
 def check_alternatives(raw: dict[str, Any]) -> list[Problem]:
     """A scene states a damping coefficient or its damping ratio, the seal's mass or its density, never both (the
     submodels' ``alternatives``)."""
-    from apexseal.derive.submodels.registry import alternatives, submodels
+    from apexseal.derive.submodels.registry import alternatives, submodels, superseding
 
     damping = {pair for cls in submodels() for pair in cls.damping_alternatives()}
     meaning = {p.key: p.meaning.split(";")[0] for cls in submodels() for p in cls.parameters if p.key}
     out = []
-    for first, second in alternatives():
+    for first, second in (pair for pair in alternatives() if pair not in superseding()):
         a, b = raw_at(raw, first.split(".")), raw_at(raw, second.split("."))
         if a is not MISSING and b is not MISSING:
             same = "the same damping as a ratio of critical damping" if (first, second) in damping else \
                 f"the {meaning[first]} another way"
             out.append(Problem(first, a, f"given together with {second} = {b!r}, which states {same}; allowed: one "
                                          f"of {first} or {second}"))
+    return out
+
+
+def check_superseded(raw: dict[str, Any]) -> list[Problem]:
+    """The keys a scene gives beside the key that supersedes them (``seal.density`` beside ``seal.ms``): not read,
+    for the scene's warning."""
+    from apexseal.derive.submodels.registry import superseding
+
+    out = []
+    for first, second in superseding():
+        a, b = raw_at(raw, first.split(".")), raw_at(raw, second.split("."))
+        if a is not MISSING and b is not MISSING:
+            out.append(Problem(second, b, f"not read: {first} = {show_value(a)} is given, and {second} only "
+                                          f"computes it; give one of {first} or {second}"))
     return out
 
 
@@ -512,6 +526,11 @@ def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure:
         if section in sections and written is not MISSING and key not in unread:
             values[key] = getattr(sections[section], name, None), written
     out = [Problem(key, raw_at(raw, key.split(".")), message) for key, _, message in implausible(values)]
+    machine, source = sections.get("machine"), getattr(sections.get("pressure"), "source", None)
+    if source in GAS_SOURCES and machine is not None and machine.ports is None:
+        out.append(Problem("machine.ports", MISSING, f"pressure.source = \"{source}\" with no ports: both chambers "
+                           "are sealed (no inlet, no outlet), their gas only compressed and expanded; give "
+                           "[machine.ports.inlet] and [machine.ports.outlet] for a machine's cycle (docs/scenes.md)"))
     why = table_pressures_implausible(pressure.pa, pressure.pb) if isinstance(pressure, TablePressure) else None
     if why:
         out.append(Problem("pressure.unit", raw_at(raw, ["pressure", "unit"]) if "unit" in raw.get("pressure", {})

@@ -41,6 +41,7 @@ from .checks import (
     check_damping,
     check_needed,
     check_plausible,
+    check_superseded,
     ignored_values,
     resolve_assumptions,
     resolve_effects,
@@ -171,6 +172,7 @@ def _overridden(raw: dict[str, Any], dotted: dict[str, Any], name: str) -> dict[
 
     raw = copy.deepcopy(raw)
     _children_follow(raw, dotted)
+    _source_follows(raw, dotted)
     for pair in alternatives():
         for mine, other in (pair, pair[::-1]):
             if dotted.get(mine) is not None and other not in dotted:
@@ -213,6 +215,20 @@ def _children_follow(raw: dict[str, Any], dotted: dict[str, Any]) -> None:
     named = {k.split(".", 1)[1] for k in dotted if k.startswith("effects.")}
     off = {name for name in named if dotted[f"effects.{name}"] is False}
     effects.update({k: v for k, v in off_with_parents(effects, off, named).items() if k in effects})
+
+
+def _source_follows(raw: dict[str, Any], dotted: dict[str, Any]) -> None:
+    """An override of ``pressure.source`` drops the [pressure] keys the scene gave that the new source does not use
+    and the overrides do not give (``--set pressure.source=chamber`` on a table scene was refused for its
+    ``pressure.file``, which --set cannot remove)."""
+    from .schema import PRESSURE_SOURCES
+
+    source, pressure = dotted.get("pressure.source"), raw.get("pressure")
+    if not isinstance(source, str) or source not in PRESSURE_SOURCES or not isinstance(pressure, dict):
+        return
+    used = {"source", *PRESSURE_SOURCES[source], *(("unit",) if source == "table" else ())}
+    for key in [k for k in pressure if k not in used and f"pressure.{k}" not in dotted]:
+        del pressure[key]
 
 
 def _unranged(raw: dict[str, Any], sections: dict[str, Section], problems: list[Problem], effects: Effects,
@@ -285,6 +301,8 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
     if ignored:
         warnings.warn(f"scene {name}: {ignored_values(ignored)}", IgnoredValueWarning,
                       stacklevel=user_stacklevel())
+    for p in check_superseded(raw):
+        warnings.warn(f"scene {name}: {p}", IgnoredValueWarning, stacklevel=user_stacklevel())
     assert pressure is not None and effects is not None and assumptions is not None
     values = derive_parameters(sections, effects, assumptions)
     for p in check_damping(values, raw):

@@ -430,9 +430,10 @@ def implausible(values: dict[str, tuple[float, Any]]) -> list[tuple[str, float, 
 
 
 def bare_hint(rule: Plausible, x: float, written: Any) -> str:
-    """``; a bare number is in m: did you mean "3 mm"?`` for a bare number ``written`` (read in SI, ``x``) that would
-    be plausible in the unit ``rule`` shows the key in (mm for lengths, g for the seal's mass), else ``""``."""
+    """``; a bare number is in m: did you mean "3 mm"?`` for a bare number ``written`` (read in SI, ``x``) of a length
+    or a mass that would be plausible in the unit ``rule`` shows the key in (mm, g), else ``""``: a pressure, shown
+    in kPa, is more likely meant in bar, and no hint is better than a wrong one."""
     bare = isinstance(written, int | float) and not isinstance(written, bool)
-    if not bare or rule.show in (rule.si, "1") or not rule.lo <= x / rule.factor <= rule.hi:
+    if not bare or rule.si not in ("m", "kg") or rule.show == rule.si or not rule.lo <= x / rule.factor <= rule.hi:
         return ""
     return f"; a bare number is in {rule.si}: did you mean \"{_g(x)} {rule.show}\"?"

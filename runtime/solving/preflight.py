@@ -87,6 +87,7 @@ def far_outside_practice(functions, params, pressure=None) -> str:
     it (a right-hand side that is not finite, a step size that falls below its minimum), and the failure alone
     names no key. A pressure table (``pressure``) in the wrong unit is named too (``pressure.unit``)."""
     from ...derive.submodels.registry import parameters
+    from ..scenes.pressure import TablePressure
     from ..scenes.units import implausible, plausible_ranges, table_pressures_implausible
 
     keys = {p.name: p.key for p in parameters(all_inputs=True) if p.key}
@@ -97,7 +98,7 @@ def far_outside_practice(functions, params, pressure=None) -> str:
     ranges = plausible_ranges()
     shown = [f"{key} = {ranges[key].shown(x)} (engineering practice: {ranges[key].describe()})"
              for key, x, _ in implausible(values)]
-    table = table_pressures_implausible(pressure.pa, pressure.pb) if getattr(pressure, "kind", "") == "table" else None
+    table = table_pressures_implausible(pressure.pa, pressure.pb) if isinstance(pressure, TablePressure) else None
     if table:
         shown.append(f"pressure.unit = \"{pressure.unit}\": {table}")
     return "" if not shown else ("; values far outside engineering practice, the likely cause: " + "; ".join(shown))

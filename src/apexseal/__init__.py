@@ -32,6 +32,7 @@ _LAZY = {
     "optimise_preload": ("runtime.studies.preload.study", "optimise_preload"),
     "reusing_engines": ("runtime.solving.engine_pool", "reusing"),
     "RunInterrupted": ("signals", "RunInterrupted"),
+    "RunInterruptedWarning": ("runtime.api", "RunInterruptedWarning"),
 }
 
 

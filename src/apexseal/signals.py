@@ -185,7 +185,10 @@ def interactive() -> bool:
     """A session a person types into: the Python prompt (``python -i`` too), IPython, a Jupyter kernel."""
     import sys
 
-    return bool(getattr(sys, "ps1", None) or sys.flags.interactive) or "IPython" in sys.modules
+    if getattr(sys, "ps1", None) or sys.flags.interactive:
+        return True
+    ipython = sys.modules.get("IPython")  # imported by a library is not a session: a running shell is
+    return ipython is not None and getattr(ipython, "get_ipython", lambda: None)() is not None
 
 
 class RunInterrupted(KeyboardInterrupt):

@@ -161,8 +161,8 @@ def test_what_cannot_be_continued_is_refused_with_the_reason(light, tmp_path):
 
         # a submodel changed since the run (a key added, a default changed): that is the cause to name, not an edit
         mp.setattr(manifest, "input_hash", lambda *a: "f" * 64)
-        with pytest.raises(ResultFolderError, match=r"the model changed since the run, model hash [0-9a-f]{12}, now "
-                                                    r"ffffffffffff: the derivation, a submodel or the generator"):
+        with pytest.raises(ResultFolderError, match=r"edited since, or the model changed since the run, model hash "
+                                                    r"[0-9a-f]{12}, now ffffffffffff: the derivation, a submodel"):
             apexseal.resume(done, revolutions=2)
     (done / "scene.toml").write_text(text)
     with warnings.catch_warnings():

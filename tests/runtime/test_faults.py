@@ -664,7 +664,7 @@ def test_ctrl_c_returns_the_run_in_a_session_and_leaves_an_enclosing_owner_s_sig
     from apexseal.runtime.api import RunInterruptedWarning, _after_a_ctrl_c
     from apexseal.signals import RunInterrupted, StopSignals
 
-    result = SimpleNamespace(revolutions=2.0)
+    result = SimpleNamespace(revolutions=2.0, status="interrupted")
     stop = StopSignals()
     stop.received.append(signal.SIGINT)
     monkeypatch.setattr(apexseal.signals, "interactive", lambda: True)
@@ -676,6 +676,8 @@ def test_ctrl_c_returns_the_run_in_a_session_and_leaves_an_enclosing_owner_s_sig
     assert info.value.result is result and isinstance(info.value, KeyboardInterrupt)
     assert _after_a_ctrl_c(result, stop, StopSignals(), None) is result  # nested: the enclosing one's signal
     assert _after_a_ctrl_c(result, StopSignals(), StopSignals(), None) is result  # no signal
+    done = SimpleNamespace(revolutions=2.0, status="completed")  # a Ctrl-C while a completed run was written
+    assert _after_a_ctrl_c(done, stop, stop, None) is done
 
 
 def test_a_run_in_another_thread_started_first_does_not_take_the_main_thread_s_signals(slow_scene, tmp_path):

@@ -431,6 +431,11 @@ def test_the_deficit_span_grows_around_its_densest_interval_across_zero():
     start, end, share = deficit_span(thetas, d, np.radians(10.0))
     assert (start, end) == pytest.approx((340.0, 10.0)) and share == pytest.approx(5.5 / 5.501)
     assert deficit_span(thetas, np.zeros(n), np.radians(10.0)) is None
+    from apexseal.runtime.studies.preload.result import PreloadResult
+
+    everywhere = deficit_span(thetas, np.ones(n), np.radians(10.0))  # no interval stands out: the whole circle
+    res = PreloadResult(True, "", 5.0, [], deficit_span_deg=list(everywhere[:2]), deficit_span_share=everywhere[2])
+    assert res._deficit_where() == ["  the deficit is spread over the whole revolution (no window of it stands out)"]
 
 
 def test_a_first_solve_stuck_beyond_the_bounded_filter_s_reach_is_given_up():

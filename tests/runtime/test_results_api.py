@@ -343,3 +343,18 @@ def test_the_recorded_pressures_are_the_scene_s_at_each_sample(result, default_s
     np.testing.assert_allclose(result.outputs["Pa"], default_scene.pressure.Pa(at), rtol=1e-12)
     np.testing.assert_allclose(result.outputs["Pb"], default_scene.pressure.Pb(at), rtol=1e-12)
     assert np.ptp(result.outputs["Pa"]) > 1e5  # a table that varies
+
+
+def test_a_summary_holds_no_nan_but_null_as_json_has_no_nan():
+    """A gas run with closed ports wrote "leaked_fraction_of_inducted": NaN, which strict JSON parsers refuse."""
+    import json
+
+    from apexseal.runtime.results.folder import _finite
+
+    assert _finite({"a": float("nan"), "b": [1.0, float("inf")], "c": {"d": np.float64("nan"), "e": 2}}) == \
+        {"a": None, "b": [1.0, None], "c": {"d": None, "e": 2}}
+
+    def refuse(name):
+        raise ValueError(f"{name} is no JSON")
+
+    json.loads((REPO / "docs" / "results" / "summary.json").read_text(), parse_constant=refuse)

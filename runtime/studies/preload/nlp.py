@@ -32,7 +32,7 @@ THETA_MAX_FACT = 10.0
 STUCK_ITERATIONS = 25
 
 
-def _advice(status: str, groove: bool = False) -> str:
+def _advice(status: str, groove: bool = False, gave_up: bool = False) -> str:
     if status == "Infeasible_Problem_Detected" and groove:
         return ("No preload in the allowed range keeps the force deficit and the groove-force excess within their "
                 "bound with a periodic motion: raise max_groove_force (the groove forces between samples can exceed "
@@ -44,9 +44,10 @@ def _advice(status: str, groove: bool = False) -> str:
                                        "deficit_tol.",
         "Maximum_Iterations_Exceeded": "Raise max_iter (--max-iter); the bisection over full simulations "
                                        "(--check, bisect_preload) needs no derivative.",
-        "User_Requested_Stop": f"It stayed beyond {THETA_MAX_FACT:g} x the force-deficit bound for "
-                               f"{STUCK_ITERATIONS} iterations (deep in lift-off); the bisection over full "
-                               "simulations (--check, bisect_preload) needs no derivative.",
+        "User_Requested_Stop": (f"It stayed beyond {THETA_MAX_FACT:g} x the force-deficit bound for "
+                                f"{STUCK_ITERATIONS} iterations (deep in lift-off); the bisection over full "
+                                "simulations (--check, bisect_preload) needs no derivative." if gave_up else
+                                "It was stopped (a signal, or its callback)."),
         "Restoration_Failed": "The constraints are noisy at the integrator's tolerance: use a smaller rtol.",
         "Error_In_Step_Computation": "The constraints are noisy at the integrator's tolerance: use a smaller rtol.",
     }.get(status, "See IPOPT's documentation of this status.")
@@ -264,7 +265,7 @@ class ShootingNlp:
             res.message = (f"IPOPT returned {res.ipopt_status} after {res.ipopt_iterations} iterations at knots "
                            f"{', '.join(f'{x:.4g}' for x in v[:K])} mm; force deficit {gv[self.n_def]:.3g} x its bound"
                            f"{groove}, largest node defect {res.max_defect:.3g}. "
-                           + _advice(res.ipopt_status, self.groove))
+                           + _advice(res.ipopt_status, self.groove, self.gave_up))
             return False
         return True
 

@@ -96,9 +96,7 @@ class PreloadResult:
             f"  force deficit int max(0, {self.min_force:g} N - F)^2 dtheta = {self.deficit:.3g} N^2 rad "
             f"(bound {self.deficit_tol:.3g})" + (
                 f", excluded: {', '.join(f'{a:g}..{b:g} deg' for a, b in self.exclude_deg)}" if self.exclude_deg else ""),
-            *([f"  {100 * self.deficit_span_share:.0f} % of it at {self.deficit_span_deg[0]:.1f}..."
-               f"{self.deficit_span_deg[1]:.1f} deg, where the tip force between the samples falls short (an "
-               "--exclude window there frees the preload from it)"] if self.deficit_span_deg else []),
+            *self._deficit_where(),
             *([f"  groove forces: excess int sum max(0, |F| - {self.max_groove_force:g} N)^2 dtheta = "
                f"{self.groove_excess:.3g} N^2 rad (bound {self.deficit_tol:.3g}); largest at the samples "
                f"{self.groove_peak:.4g} N (impacts between the samples can reach higher; the excess above counts them)"]
@@ -116,6 +114,16 @@ class PreloadResult:
             f"{self.nodes} shooting nodes, erk rtol {self.rtol:g}",
         ]
         return "\n".join(lines)
+
+    def _deficit_where(self) -> list[str]:
+        """Where the deficit builds up (:func:`deficit_span`), as a line of :meth:`describe`."""
+        if not self.deficit_span_deg:
+            return []
+        (start, end), share = self.deficit_span_deg, self.deficit_span_share
+        if (end - start) % 360.0 == 0.0:
+            return ["  the deficit is spread over the whole revolution (no window of it stands out)"]
+        return [f"  {100 * share:.0f} % of it at {start:.1f}...{end:.1f} deg, where the tip force between the samples "
+                "falls short (an --exclude window there frees the preload from it)"]
 
     def _holding(self) -> list[str]:
         """What holds a constant optimum (:attr:`active`), and how it was lowered from where IPOPT stopped."""

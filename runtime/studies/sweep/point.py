@@ -118,11 +118,14 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
         with _stoppable(stop_key) as signals:
             if signals is not None and signals.requested:  # its sweep was stopped before it started
                 raise _Stopped(f"not run: its sweep was stopped by {signals.sender()} before it started")
-            with _quiet_notice(), engine_pool.reusing(), _followed(index, stop_key), \
-                    warnings.catch_warnings(record=True) as caught:  # a model's points share one engine
-                warnings.simplefilter("always")
-                result = apexseal.simulate(scene, max_wall_time=max_wall_time)
-            row["warnings"] = _plausibility(caught)
+            caught: list = []
+            try:
+                with _quiet_notice(), engine_pool.reusing(), _followed(index, stop_key), \
+                        warnings.catch_warnings(record=True) as caught:  # a model's points share one engine
+                    warnings.simplefilter("always")
+                    result = apexseal.simulate(scene, max_wall_time=max_wall_time)
+            finally:
+                row["warnings"] = _plausibility(caught)
         values = collect(result, quantities)
         row.update(status=result.status, stop="" if result.stop is None else result.stop.describe())
         run_time = float(result.info.get("wall_time_s", math.nan))
@@ -143,7 +146,9 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
 def _plausibility(caught: list) -> str:
     """The point's run's plausibility warnings (penetration, groove mouth corners), one text for its row: a warning
     printed by a worker, or once per sweep by Python's filter, could not be told to its point. The others are
-    warned again as they came."""
+    warned again, from here, so that Python's filter says each once per process, not once per point (a compiler
+    fallback, a stale artefact). The warnings are caught process-wide: a worker runs one point at a time (one thread
+    per worker, as the sweep starts them and docs/sweeps.md asks of a cluster's)."""
     from ...scenes.units import PlausibilityWarning
 
     said = []
@@ -152,7 +157,7 @@ def _plausibility(caught: list) -> str:
             if str(w.message) not in said:
                 said.append(str(w.message))
         else:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+            warnings.warn(w.message, w.category, stacklevel=2)
     return "; ".join(said)
 
 
