@@ -21,7 +21,7 @@ from pathlib import Path
 import pandas as pd
 
 from .plausibility import penetrations
-from .quantities import collect, friction_contacts, quantity_help
+from .quantities import GAS_QUANTITIES, collect, friction_contacts, quantity_help
 from .result import SimulationResult
 from .summary import EXTREMES
 
@@ -159,7 +159,8 @@ def compared() -> tuple[str, ...]:
     return ("revolutions", "events.total", *(f"friction_power.{c}" for c in friction_contacts()),
             "liftoff_fraction", "housing_force.mean", "housing_force.max",
             *(f"{s}.{e}" for s in EXTREMES for e in ("min", "max")), "gap.open_fraction", "gap.max",
-            *(f"penetration.{c}" for c in penetrations()), "flank.least")
+            *(f"penetration.{c}" for c in penetrations()), "flank.least",
+            *(f"gas.{name}" for name in GAS_QUANTITIES))  # left out where no run has the gas model
 
 
 def designer_numbers(results: Sequence[SimulationResult], labels: Sequence[str]) -> pd.DataFrame:

@@ -53,7 +53,20 @@ def quantity_help() -> dict[str, tuple[str, str]]:
         "flank.least": ("mm", "least of the groove mouth corners' lengths l1..l4 over the run (negative: a corner "
                               "left the seal's flat sides, outside the contact model of Eqs. 20-23)"),
         "revolutions": ("rev", "revolutions computed (less than asked when a point stopped early)"),
+        **{f"gas.{name}": (unit, f"{meaning}, last revolution (the chamber gas model; NaN without it)")
+           for name, (unit, meaning, _) in GAS_QUANTITIES.items()},
     }
+
+
+#: the chamber gas model's quantities: name -> (unit, meaning, its summary value in that unit)
+GAS_QUANTITIES = {
+    "inducted": ("g", "mass inducted through the inlet", lambda g: g["inducted_mass_kg"] * 1e3),
+    "leaked": ("mg", "mass leaked past the seal (groove and tip)", lambda g: g["leaked_mass_kg"]["total"] * 1e6),
+    "leaked_fraction": ("1", "leaked over inducted mass", lambda g: g["leaked_fraction_of_inducted"]),
+    "work": ("J", "indicated work of both chambers (their p-V loops)", lambda g: g["indicated_work_J"]["total"]),
+    "power": ("W", "indicated power", lambda g: g["indicated_power_W"]),
+    "pressure.max": ("Pa", "highest chamber pressure", lambda g: max(g["pressure_Pa"][c]["max"] for c in "ab")),
+}
 
 
 def quantity_unit(name: str) -> str | None:
@@ -95,6 +108,9 @@ def _get(summary: dict, name: str) -> float:
         return math.nan if flank is None else float(min(flank["least_mm"].values()))
     if head in EXTREMES:
         return float(summary["extremes"][head][tail.replace("_at", "_at_deg")])
+    if head == "gas":
+        gas = summary.get("gas")
+        return math.nan if gas is None else _number(GAS_QUANTITIES[tail][2](gas))
     raise KeyError(name)  # pragma: no cover - names are checked when the study is loaded
 
 

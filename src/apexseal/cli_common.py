@@ -179,8 +179,9 @@ def _power(total: float | None) -> str:
 
 def describe_result(result, summary: dict) -> None:
     """The designer's numbers of a result on the console (``simulate`` at its end, ``show``): status, revolutions,
-    switches, displacement ranges, friction power, deepest penetrations (a warning when implausible), the groove
-    mouth corners' margins on the seal's flat sides (a warning when one left them)."""
+    switches, displacement ranges, friction power, deepest penetrations (a warning when implausible), the chamber
+    gas's cycle (with the gas model), the groove mouth corners' margins on the seal's flat sides (a warning when one
+    left them)."""
     from .runtime.results.plausibility import describe, describe_flank
 
     ext = summary["extremes"]
@@ -196,6 +197,14 @@ def describe_result(result, summary: dict) -> None:
         click.echo(f"  deepest penetration (µm): {depth}; side clearance {check['side_clearance_um']:.3g} µm")
         if not check["ok"]:
             click.echo(f"  warning: {describe(check)}", err=True)
+    gas = summary.get("gas")
+    if gas is not None:  # the chamber gas model: its cycle (last revolution)
+        p = gas["pressure_Pa"]
+        click.echo(f"  chamber gas (last revolution): inducted {gas['inducted_mass_kg'] * 1e3:.4g} g, exhausted "
+                   f"{gas['exhausted_mass_kg'] * 1e3:.4g} g, leaked {gas['leaked_mass_kg']['total'] * 1e6:.4g} mg; "
+                   f"indicated work {gas['indicated_work_J']['total']:.4g} J ({gas['indicated_power_W'] / 1e3:.4g} kW); "
+                   f"pressures {min(p['a']['min'], p['b']['min']) / 1e5:.3g}..{max(p['a']['max'], p['b']['max']) / 1e5:.3g}"
+                   " bar")
     flank = summary.get("flank")
     if flank is not None:
         least = flank["least_mm"]

@@ -41,6 +41,9 @@ def test_the_changed_key_and_each_runs_numbers(folders):
         expected = collect(apexseal.SimulationResult.load(folder), compared())
         for q, value in expected.items():
             row = f"{q} ({quantity_help()[q][0]})"
+            if math.isnan(value):  # no run has it (the gas model's): left out of the table
+                assert row not in c.numbers.index and q.startswith("gas."), row
+                continue
             assert c.numbers.loc[row, label] == value, row
     text = c.text()
     assert "spring.ks" in text and "change against default" in text

@@ -151,3 +151,34 @@ def test_the_gas_sources_are_the_gas_models_pressure_models():
 
     (option,) = [o for o in ChamberGas.options if o.name == "pressure_model"]
     assert set(option.choices) == {"input", *GAS_SOURCES} and set(GAS_SOURCES) < set(PRESSURE_SOURCES)
+
+
+def test_the_console_prints_the_gas_cycle(closed, capsys):
+    """`apexseal simulate` and `show` printed no number of the gas model: its masses, work and pressures were only in
+    summary.json."""
+    from apexseal.cli_common import describe_result
+    from apexseal.runtime.results.summary import summarise
+
+    summary = summarise(closed)
+    describe_result(closed, summary)
+    line = next(ln for ln in capsys.readouterr().out.splitlines() if "chamber gas" in ln)
+    gas = summary["gas"]
+    assert f"inducted {gas['inducted_mass_kg'] * 1e3:.4g} g" in line and "indicated work" in line
+    assert f"..{max(gas['pressure_Pa'][c]['max'] for c in 'ab') / 1e5:.3g} bar" in line
+
+
+def test_sweeps_and_compare_collect_the_gas_quantities(closed, default_functions):
+    """The gas model's masses, work and pressures are quantities of a sweep and rows of `compare` (they were only in
+    summary.json); NaN for a run without the gas model."""
+    import math
+
+    from apexseal.runtime.results.quantities import collect
+    from apexseal.runtime.results.summary import summarise
+
+    gas = summarise(closed)["gas"]
+    q = collect(closed, ("gas.inducted", "gas.work", "gas.pressure.max"))
+    assert q["gas.inducted"] == gas["inducted_mass_kg"] * 1e3 and q["gas.work"] == gas["indicated_work_J"]["total"]
+    assert q["gas.pressure.max"] == max(gas["pressure_Pa"][c]["max"] for c in "ab") > 1e7  # compressed 340-fold
+    plain = apexseal.simulate(apexseal.load_scene(), revolutions=1, samples_per_revolution=72,
+                              functions=default_functions.sx)
+    assert math.isnan(collect(plain, ("gas.work",))["gas.work"])
