@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: dfd78e53ee22ec6cb6384373a15117b1c69aaa07bfcf5bc4c406755f528a8d68.
+ * Effects: all. Input hash: af20e0edb3b66a8a82b1e9139aa106c1cd60a8de2b9bdcfef492cd595c6a61e2.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "dfd78e53ee22ec6cb6384373a15117b1c69aaa07bfcf5bc4c406755f528a8d68"
+#define APEXSEAL_INPUT_HASH "af20e0edb3b66a8a82b1e9139aa106c1cd60a8de2b9bdcfef492cd595c6a61e2"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -122,9 +122,12 @@ class Calibration:
                 "paper_rad_s": PAPER_MAIN_PEAK, "fit_rad_s": f.main_peak_rad_s, "matched": bool(main_ok),
                 "range_over_evaluations_rad_s": [float(peaks.min()), float(peaks.max())],
                 "reason": "matched" if main_ok else
-                (f"over the plausible ranges the main peak stays within {peaks.min():.3g}..{peaks.max():.3g} rad/s; "
-                 f"the housing mode sqrt(kw/ms) is at 6e4 rad/s only for kw = {kw_needed:.3g} N/m, below the "
-                 f"plausible {self.ranges['kw'][0]:.3g} N/m of a metal line contact"),
+                (f"the best of the {len(ok)} plausible set{'s' if len(ok) != 1 else ''} simulated puts it at "
+                 f"{f.main_peak_rad_s:.3g} rad/s, {100 * (f.main_peak_rad_s / PAPER_MAIN_PEAK - 1):+.0f} % from the "
+                 f"paper's (a match is within {100 * FREQUENCY_MATCH:.0f} %), the sets simulated "
+                 f"{peaks.min():.3g}..{peaks.max():.3g} rad/s; the housing mode sqrt(kw/ms) is at 6e4 rad/s only for "
+                 f"kw = {kw_needed:.3g} N/m, below the plausible {self.ranges['kw'][0]:.3g} N/m of a metal line "
+                 "contact"),
             },
             "x_max_angle": {
                 "paper_deg": PAPER_X_ANGLE_DEG, "fit_deg": f.x_max_deg, "matched": bool(angle_ok),
