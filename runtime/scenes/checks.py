@@ -389,8 +389,8 @@ def resolve_assumptions(given: Section, pressure_source: str | None = None) -> A
 
 
 def check_alternatives(raw: dict[str, Any]) -> list[Problem]:
-    """A scene states a damping coefficient or its damping ratio, the seal's mass or its density, never both (the
-    submodels' ``alternatives``)."""
+    """A scene states a damping coefficient or its damping ratio, never both (the submodels' ``alternatives``; the
+    pairs one of which supersedes the other, the seal's mass and its density, are :func:`check_superseded`'s)."""
     from apexseal.derive.submodels.registry import alternatives, submodels, superseding
 
     damping = {pair for cls in submodels() for pair in cls.damping_alternatives()}
