@@ -18,7 +18,7 @@ import numpy as np
 from .decimate import columns_of, envelope, envelope_index, step_changes
 from .outputs import describe
 from .result import SimulationResult
-from .spectra import housing_force, spectral_peaks, spectrum
+from .spectra import contact_force, housing_force, spectral_peaks, spectrum
 
 PORT_COLOURS = {"inlet": "tab:orange", "outlet": "tab:green"}
 #: height of Fig. 12's panel titles (axes fraction): just above the 90 deg label, where matplotlib's automatic placement
@@ -199,7 +199,7 @@ def fig13_forces(result: SimulationResult, *, pyplot: bool = False, save_dpi: fl
     frame = _framed(frame, "fig13", names) or fig13_frame(names, pyplot)
     columns = None if save_dpi is None else columns_of(frame.fig, save_dpi)
     for line, key in zip(frame.lines, names, strict=True):
-        F = np.hypot(result.outputs[f"F_{key}_X"], result.outputs[f"F_{key}_Y"])
+        F = contact_force(result.outputs, key)
         line.set_data(*((deg, F) if columns is None else envelope(deg, F, columns)))
     for ax in frame.axes:  # every panel's data first: their x axis is shared
         ax.relim()

@@ -25,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..scenes.units import PlausibilityWarning
+from .spectra import contact_force
 
 #: a contact whose penetration exceeds this fraction of the side clearance (Wg - Ws)/2 is implausible
 PENETRATION_FRACTION = 0.25
@@ -81,9 +82,9 @@ def penetration_check(result, clearance: float | None = None, fraction: float = 
                    if name in result.outputs and result.n]
         if deepest:
             depths[contact] = max(0.0, *deepest)
-        xy = [result.outputs.get(f"F_{contact}_{axis}") for axis in "XY"]
-        if all(f is not None for f in xy) and result.n:
-            forces[contact] = float(np.max(np.hypot(*(np.asarray(f, float) for f in xy))))
+        force = contact_force(result.outputs, contact)
+        if force is not None and result.n:
+            forces[contact] = float(np.max(force))
     beyond = sorted(c for c, d in depths.items() if d > limit)
     return {"side_clearance_um": clearance * 1e6, "fraction": fraction, "limit_um": limit * 1e6,
             "penetration_um": {c: d * 1e6 for c, d in depths.items()}, "peak_force_N": forces,

@@ -1,5 +1,6 @@
-"""The seal-housing contact force and its spectrum (Fig. 14): the signal, its one-sided amplitude spectrum and its
-distinct peaks, for the summary, the figure and the calibration against the paper's features."""
+"""A contact's force on the seal, and the seal-housing contact force's spectrum (Fig. 14): the signal, its one-sided
+amplitude spectrum and its distinct peaks, for the summary, the figures, the plausibility check and the calibration
+against the paper's features."""
 
 from __future__ import annotations
 
@@ -9,11 +10,18 @@ from .peaks import find_peaks
 from .result import SimulationResult
 
 
+def contact_force(outputs, contact: str) -> np.ndarray | None:
+    """The magnitude of a contact's force on the seal, |F_<contact>| from its X and Y outputs (N); None for a contact
+    the model does not have."""
+    if f"F_{contact}_X" not in outputs:
+        return None
+    return np.hypot(np.asarray(outputs[f"F_{contact}_X"], float), np.asarray(outputs[f"F_{contact}_Y"], float))
+
+
 def housing_force(result: SimulationResult) -> np.ndarray:
     """|Fs5|, the seal-housing contact force (Eq. 68), N."""
-    if "F_housing_X" not in result.outputs:
-        return np.zeros(result.n)
-    return np.hypot(result.outputs["F_housing_X"], result.outputs["F_housing_Y"])
+    force = contact_force(result.outputs, "housing")
+    return np.zeros(result.n) if force is None else force
 
 
 def spectrum(signal: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
