@@ -381,11 +381,11 @@ class UnknownParameter(KeyError):
 
 def parameter(name: str) -> Parameter:
     """The parameter ``name`` of the registered submodels (``ctx.P[name]`` in a submodel's laws)."""
-    known = parameter_names(all_inputs=True)
     for p in parameters(all_inputs=True):
         if p.name == name:
             return p
-    raise UnknownParameter(not_known(f"parameter {name!r}", name, known, "declared by any registered submodel"))
+    raise UnknownParameter(not_known(f"parameter {name!r}", name, parameter_names(all_inputs=True),
+                                     "declared by any registered submodel"))
 
 
 def options() -> dict[str, Option]:

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: af20e0edb3b66a8a82b1e9139aa106c1cd60a8de2b9bdcfef492cd595c6a61e2.
+ * Effects: all. Input hash: fbd1c0df9116c061374f58bc0016ebd8757ca3ce6120c850d33892b656694e6b.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "af20e0edb3b66a8a82b1e9139aa106c1cd60a8de2b9bdcfef492cd595c6a61e2"
+#define APEXSEAL_INPUT_HASH "fbd1c0df9116c061374f58bc0016ebd8757ca3ce6120c850d33892b656694e6b"
 
 /* state x */
 #define APEXSEAL_NX 6
