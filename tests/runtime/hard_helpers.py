@@ -75,8 +75,8 @@ def allowed_penetrations(scene, result) -> dict[str, float]:
     Ws for the housing, the seal's flank ds1 + ds2 for the groove); the groove also carries the tip force with the
     lever of its friction (at most 3x), and the housing the groove contacts' forces along the groove axis as the run
     computed them: a seal tilted in its groove is wedged between a mouth corner and the housing, and with friction
-    coefficients of 0.6-0.8 the wedge pressed the tip with 2.2 kN on a 19 N preload (a random scene of the slow
-    property test: 22 um into a 1e8 N/m housing, where the other loads allow 15 um). 2 F/k is the deflection under a
+    coefficients of 0.6-0.8 the wedge pressed the tip with a hundredfold its preload (a random scene of the slow
+    property test, half as deep again as the other loads allow). 2 F/k is the deflection under a
     suddenly applied F (twice the static one), v sqrt(ms/k) the deepest an impact at the seal's largest approach
     speed v goes (its kinetic energy stored in the contact spring). A contact missed by the event logic lets the
     seal pass through the wall and breaks this.

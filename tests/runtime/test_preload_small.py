@@ -440,7 +440,7 @@ def test_the_deficit_span_grows_around_its_densest_interval_across_zero():
 
 def test_a_first_solve_stuck_beyond_the_bounded_filter_s_reach_is_given_up():
     """The lift-off scene's first IPOPT solve spent its 100 iterations far beyond the force-deficit bound before the
-    study solved again with the filter bounded (a user's design: 100 iterations at 330 x the bound, 142 s): from a
+    study solved again with the filter bounded (a user's design spent most of its study there too): from a
     start without gradient, 25 iterations in a row above THETA_MAX_FACT x the bound now stop it (User_Requested_Stop)
     and the bounded solve follows at once. An iterate back within reach restarts the count; without give_up, none
     stops it."""

@@ -653,7 +653,8 @@ def test_an_override_of_the_pressure_source_drops_the_keys_the_new_source_does_n
 
 
 def test_a_gas_scene_without_ports_warns_that_its_chambers_are_sealed(default):
-    """A chamber-gas scene without [machine.ports] ran with both chambers sealed (3590 bar in one) without a word."""
+    """A chamber-gas scene without [machine.ports] ran with both chambers sealed, its gas compressed to
+    hundreds of bar, without a word."""
     from apexseal.runtime.scenes.units import PlausibilityWarning
 
     with pytest.warns(PlausibilityWarning, match=r'machine.ports = \(missing\): pressure.source = "chamber" with no '

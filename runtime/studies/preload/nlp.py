@@ -28,7 +28,7 @@ THETA_MAX_FACT = 10.0
 #: the first solve from such a start is given up once its force deficit (or groove-force excess) has stayed above
 #: THETA_MAX_FACT times its bound for this many iterations in a row, where the bounded filter never lets an iterate
 #: go: it is then solved again bounded at once instead of at its iteration limit (the lift-off scene's first solve
-#: spent its 100 iterations there, a user's design 100 at 330 x the bound, 142 s of a 3-minute study)
+#: spent its 100 iterations there, and a user's own design most of its study's time the same way)
 STUCK_ITERATIONS = 25
 
 
