@@ -179,6 +179,10 @@ class Submodel:
     #: loads with a warning that the second is not read (a result's scene.toml wrote both before they were paired),
     #: and an override of one replaces the other
     supersedes: ClassVar[tuple[tuple[str, str], ...]] = ()
+    #: scene keys, or tables of them, that its :meth:`derived` reads besides its parameters' keys (the gas model:
+    #: ``machine.ports``): not read, so neither range-checked as errors nor questioned, while it is out of the model
+    #: (the keys of a nested table keep the ranges of their own: a port 200 deg wide is refused whatever reads it)
+    scene_inputs: ClassVar[tuple[str, ...]] = ()
     #: one line for the docs
     summary: ClassVar[str] = ""
     #: what each of its contacts is, for the result's columns and docs/outputs.md (default: :attr:`summary`)

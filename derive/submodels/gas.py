@@ -67,6 +67,7 @@ class ChamberGas(Submodel):
     name = "gas"
     enters_with = ("pressure_model=chamber", "pressure_model=chamber+leakage")
     summary = "ideal gas in the two chambers: ports, leakage past the seal, Pa and Pb for Eq. 75"
+    scene_inputs = ("machine.ports",)
     parameters = (
         Parameter("H_gas", "m", "machine depth H (machine.H) in the gas model's parameters: chamber volumes, "
                   "leakage areas"),

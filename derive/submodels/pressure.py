@@ -36,6 +36,8 @@ class ChamberPressure(Submodel):
     name = "pressure"
     summary = "the gas pressures of the two chambers on the seal's faces and tip (Eqs. 75-79)"
     switch = "chamber_pressure"
+    #: the constant chamber pressures (the model's input u of pressure.source = "constant"), read while it acts
+    scene_inputs = ("pressure.Pa", "pressure.Pb")
     contact_meanings = {"pressure": "chamber pressure on the seal (Eq. 75)"}
     options = (
         Option("chamber_pressure", (ON, NONE), "gas pressure of the two chambers on the seal, Eqs. 75-79"),

@@ -325,13 +325,28 @@ def is_read(p: Parameter | str, effects, assumptions=None) -> bool:
     checks, a sweep's and a calibration's: what is not read is neither required, range-checked as an error,
     questioned nor varied."""
     q = p if isinstance(p, Parameter) else _declared(p)
+    return need_holds(needing(q), effects, assumptions)
+
+
+def need_holds(need: str | tuple[str, ...] | None, effects, assumptions=None) -> bool:
+    """Whether ``need`` (a :func:`needing`: effects or "slot=choice" entries, None for always) holds for the
+    effects ``effects`` and the modelling choices ``assumptions`` (None: the defaults); an effect that ``effects``
+    does not name counts as on."""
     if assumptions is None:  # their defaults
         asked = slots("assumptions")
         chosen = {n: c for n, c in resolve({}, options()).items() if n in asked}
     else:
         chosen = assumptions.as_dict()
     choices = {**{n: ON if on else NONE for n, on in effects.as_dict().items()}, **chosen}
-    return needed_on(needing(q), lambda n: need_met(n, choices, True))
+    return needed_on(need, lambda n: need_met(n, choices, True))
+
+
+def scene_inputs() -> dict[str, str | tuple[str, ...] | None]:
+    """The scene keys (or sections of keys) that submodels read besides their parameters' keys
+    (``Submodel.scene_inputs``: the gas model's ports), each with what must hold for them to be read (the
+    submodel's switch or the choices that bring it in, as :func:`needing` gives for its parameters)."""
+    return {key: cls.switch if cls.switch is not None else (cls.enters_with or None)
+            for cls in submodels() for key in cls.scene_inputs}
 
 
 def _declared(name_or_key: str) -> Parameter:

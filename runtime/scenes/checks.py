@@ -35,6 +35,7 @@ from .schema import (
     PressureSection,
     SealSection,
     Section,
+    key_paths,
     raw_at,
     validator_of,
 )
@@ -42,11 +43,6 @@ from .units import SETTINGS_PLAUSIBLE, bare_hint, implausible, plausible_ranges,
 
 #: largest aspect ratio b = r/L of a dimple-free limaçon (Eq. 4; derive.geometry.looping_free_limit)
 MAX_ASPECT_RATIO = 0.25
-
-#: scene keys that hold no model parameter but an input that only the laws of one effect read, with that effect:
-#: the constant chamber pressures, the model's input u, read while the chamber pressure acts on the seal (Eq. 75)
-INPUT_KEYS: dict[str, str] = {"pressure.Pa": "chamber_pressure", "pressure.Pb": "chamber_pressure"}
-
 
 def _mm(x: float) -> str:
     return f"{x * 1e3:.6g} mm"
@@ -420,6 +416,23 @@ def check_superseded(raw: dict[str, Any]) -> list[Problem]:
     return out
 
 
+def check_set_by(raw: dict[str, Any], assumptions: Assumptions) -> list[Problem]:
+    """The modelling choices a scene writes in [assumptions] that another key decides (``Option.set_by``:
+    ``pressure_model`` follows ``pressure.source``), where the scene's value is not the one that key makes: not
+    read, for the scene's warning."""
+    from apexseal.derive.submodels.registry import slots
+
+    out = []
+    for slot, option in slots("assumptions").items():
+        given = raw_at(raw, ["assumptions", slot])
+        made = assumptions.as_dict().get(slot)
+        if option.set_by and given is not MISSING and given != made:
+            by = raw_at(raw, option.set_by.split("."))
+            out.append(Problem(f"assumptions.{slot}", given, f"not read: {option.set_by} = {show_value(by)} makes "
+                                                             f"it {made!r}; change {option.set_by} instead"))
+    return out
+
+
 def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list[Problem]:
     """Every cross-key check whose sections are valid."""
     out: list[Problem] = check_alternatives(raw)
@@ -470,25 +483,27 @@ def check_needed(sections: dict[str, Section], effects: Effects, assumptions: As
 def unread_keys(effects: Effects, assumptions: Assumptions | None = None) -> frozenset[str]:
     """The scene keys of the parameters that no law of a model with ``effects`` and the modelling choices
     ``assumptions`` (None: the defaults) reads (their effect off or their choice not made, registry.is_read), and
-    of the inputs of :data:`INPUT_KEYS` whose effect is off: neither required (:func:`check_needed`), range-checked
+    the scene inputs of the submodels out of that model (``Submodel.scene_inputs``: the constant chamber pressures,
+    the gas model's ports): neither required (:func:`check_needed`), range-checked
     as an error (:func:`ignored_values`) nor questioned (:func:`check_plausible`)."""
-    from apexseal.derive.submodels.registry import is_read, parameters
+    from apexseal.derive.submodels.registry import is_read, need_holds, parameters, scene_inputs
 
-    on = effects.as_dict()
-    inputs = {key for key, effect in INPUT_KEYS.items() if not on.get(effect, True)}
+    inputs = {key for table, need in scene_inputs().items() if not need_holds(need, effects, assumptions)
+              for key in key_paths(table)}
     return frozenset(p.key for p in parameters(all_inputs=True)
                      if p.key is not None and not is_read(p, effects, assumptions)) | inputs
 
 
 def key_needing(key: str) -> str | tuple[str, ...] | None:
     """What must hold for a law to read the value of scene key ``key``: the effects or choices of its parameter
-    (registry.needing), or the effect of an input of :data:`INPUT_KEYS`; None for a key read whatever the effects,
-    or one that holds no parameter or input (a switch, a solver setting). The keys :func:`unread_keys` gives are
-    those whose need does not hold."""
-    from apexseal.derive.submodels.registry import needing, parameter_of_key
+    (registry.needing), or that of the submodel whose scene input it is (registry.scene_inputs); None for a key
+    read whatever the effects, or one that holds no parameter or input (a switch, a solver setting). The keys
+    :func:`unread_keys` gives are those whose need does not hold."""
+    from apexseal.derive.submodels.registry import needing, parameter_of_key, scene_inputs
 
-    if key in INPUT_KEYS:
-        return INPUT_KEYS[key]
+    for table, need in scene_inputs().items():
+        if key == table or key.startswith(f"{table}."):
+            return need
     try:
         return needing(parameter_of_key(key))
     except KeyError:  # no parameter's key
@@ -531,11 +546,30 @@ def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure:
         out.append(Problem("machine.ports", MISSING, f"pressure.source = \"{source}\" with no ports: both chambers "
                            "are sealed (no inlet, no outlet), their gas only compressed and expanded; give "
                            "[machine.ports.inlet] and [machine.ports.outlet] for a machine's cycle (docs/scenes.md)"))
+    if source in GAS_SOURCES and machine is not None and machine.ports is not None:
+        out += _ports_overlap(machine, raw)
     why = table_pressures_implausible(pressure.pa, pressure.pb) if isinstance(pressure, TablePressure) else None
     if why:
         out.append(Problem("pressure.unit", raw_at(raw, ["pressure", "unit"]) if "unit" in raw.get("pressure", {})
                            else "Pa", why))
     return out
+
+
+def _ports_overlap(m: MachineSection, raw: dict[str, Any]) -> list[Problem]:
+    """The inlet and the outlet overlapping on the housing (Table 1's ports, derive/ports.py): a chamber over both
+    joins the supply to the exhaust, which no machine does."""
+    inlet, outlet = m.ports.inlet, m.ports.outlet
+    apart = abs((inlet.angle - outlet.angle + math.pi) % (2 * math.pi) - math.pi)
+    overlap = (inlet.width + outlet.width) / 2 - apart
+    if overlap <= 0:
+        return []
+
+    def arc(p) -> str:
+        return f"{p.angle_deg:.4g} +- {p.width_deg / 2:.4g} deg"
+
+    return [Problem("machine.ports.outlet.angle", raw_at(raw, ["machine", "ports", "outlet", "angle"]),
+                    f"the outlet ({arc(outlet)}) overlaps the inlet ({arc(inlet)}) by {math.degrees(overlap):.4g} deg: "
+                    "a chamber over both joins the supply to the exhaust (Table 1's ports are apart)")]
 
 
 def check_damping(values: dict[str, float], raw: dict[str, Any]) -> list[Problem]:

@@ -41,6 +41,7 @@ from .checks import (
     check_damping,
     check_needed,
     check_plausible,
+    check_set_by,
     check_superseded,
     ignored_values,
     resolve_assumptions,
@@ -301,7 +302,7 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
     if ignored:
         warnings.warn(f"scene {name}: {ignored_values(ignored)}", IgnoredValueWarning,
                       stacklevel=user_stacklevel())
-    for p in check_superseded(raw):
+    for p in check_superseded(raw) + check_set_by(raw, assumptions):
         warnings.warn(f"scene {name}: {p}", IgnoredValueWarning, stacklevel=user_stacklevel())
     assert pressure is not None and effects is not None and assumptions is not None
     values = derive_parameters(sections, effects, assumptions)

@@ -45,7 +45,10 @@ class Port(Section):
     """A port of Table 1: its angular position, angular width and axial length."""
 
     angle: _q("rad", show="deg") = Field(description="angular position of the port centre")
-    width: _q("rad", gt=0, lt=TWO_PI, show="deg") = Field(description="angular width of the port")
+    # narrower than a chamber's arc (pi, from one apex to the next): a wider port would join both chambers to the
+    # supply or the exhaust at once, and the open-area law (derive/ports.py) takes a port narrower than pi
+    width: _q("rad", gt=0, lt=math.pi, show="deg") = Field(description="angular width of the port (< 180 deg, a "
+                                                                       "chamber's arc)")
     length: _q("m", gt=0) = Field(description="length of the port along the machine axis")
 
     @property

@@ -99,6 +99,46 @@ def test_the_gas_model_s_values_are_read_only_with_a_gas_pressure_source(default
     assert problem.key == "gas.T_supply" and "allowed: > 0 K" in problem.message
 
 
+def test_ports_longer_than_the_machine_is_deep_are_ignored_without_the_gas_model(default_scene):
+    """The ports (machine.ports) are read by the chamber gas model alone (ChamberGas.scene_inputs): a shallower
+    machine than the default's 70 and 80 mm ports stopped the default scene, a pressure table that reads no port,
+    and so a sweep over the machine depth. Now the one warning names them and what would read them; with the gas
+    source the bound is the error it was."""
+    from apexseal.runtime.scenes.errors import IgnoredValueWarning
+    from apexseal.runtime.scenes.scene import embedded_scene_path
+
+    with pytest.warns(IgnoredValueWarning) as caught:
+        shallow = default_scene.with_overrides(**{"machine.H": "60 mm", "seal.Bs": "50 mm"})
+    (warning,) = [w for w in caught if w.category is IgnoredValueWarning]
+    for port, length in (("inlet", 70), ("outlet", 80)):
+        assert (f'machine.ports.{port}.length = "{length} mm" (not read while pressure.source is neither \'chamber\' '
+                "nor 'chamber+leakage'; allowed: <= machine.H = 60 mm)") in str(warning.message)
+    assert shallow.machine.H == pytest.approx(0.06)
+    gas = apexseal.load_scene(embedded_scene_path("expander-gas.toml"))
+    with pytest.raises(SceneError) as info:
+        gas.with_overrides(**{"machine.H": "60 mm", "seal.Bs": "50 mm"})
+    assert {p.key for p in info.value.errors} == {"machine.ports.inlet.length", "machine.ports.outlet.length"}
+
+
+def test_a_modelling_choice_another_key_makes_is_warned_when_it_differs(default_scene):
+    """assumptions.pressure_model follows pressure.source (Option.set_by): "chamber" written beside a pressure table
+    was overruled without a word, and the user believed the gas model ran. Now the warning names both keys; the
+    value the source makes (a resolved scene writes it) passes in silence."""
+    import warnings
+
+    from apexseal.runtime.scenes.errors import IgnoredValueWarning
+
+    with pytest.warns(IgnoredValueWarning) as caught:
+        table = default_scene.with_overrides(**{"assumptions.pressure_model": "chamber"})
+    (warning,) = [w for w in caught if w.category is IgnoredValueWarning]
+    assert str(warning.message) == ('scene default: assumptions.pressure_model = "chamber": not read: pressure.source '
+                                    "= \"table\" makes it 'input'; change pressure.source instead")
+    assert table.assumptions == default_scene.assumptions
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        default_scene.with_overrides(**{"assumptions.pressure_model": "input"})
+
+
 def test_out_of_range_values_no_law_reads_load_and_run_with_one_warning(scenes):
     """The spring's stiffness and friction out of range while the spring is off: the scene loads (it stopped),
     warns once with each key, value, effect and range, and runs as the scene with valid values does."""

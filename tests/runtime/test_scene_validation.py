@@ -202,10 +202,10 @@ CASES = [
     ("periodic-tolerance", {"operation.periodic_tol": 0}, "operation.periodic_tol", "0", ["allowed: 0 < value < 1"]),
     (
         "port-width",
-        {"machine.ports.outlet.width": "400 deg"},
+        {"machine.ports.outlet.width": "200 deg"},
         "machine.ports.outlet.width",
-        '"400 deg"',
-        ["400 deg is out of range", "allowed: 0 < value < 360 deg"],
+        '"200 deg"',
+        ["200 deg is out of range", "allowed: 0 < value < 180 deg"],
     ),
     ("rtol", {"solver.rtol": 0.1}, "solver.rtol", "0.1", ["allowed: 1e-12 <= value <= 0.01"]),
     ("atol", {"solver.atol": -1e-9}, "solver.atol", "-1e-09", ["allowed: 0 < value <= 1"]),
@@ -312,7 +312,7 @@ CASES = [
     ),
     (
         "port-longer-than-machine",
-        {"machine.ports.inlet.length": "0.2 m"},
+        {"machine.ports.inlet.length": "0.2 m", **GAS},
         "machine.ports.inlet.length",
         '"0.2 m"',
         ["allowed: <= machine.H = 100 mm"],
@@ -660,6 +660,26 @@ def test_a_gas_scene_without_ports_warns_that_its_chambers_are_sealed(default):
     with pytest.warns(PlausibilityWarning, match=r'machine.ports = \(missing\): pressure.source = "chamber" with no '
                                                  r"ports: both chambers are sealed"):
         default.with_overrides(**{"pressure.source": "chamber", "machine.ports": None})
+
+
+def test_overlapping_ports_of_a_gas_scene_are_questioned(default):
+    """An outlet over the inlet joins the supply to the exhaust through any chamber over both: it ran without a
+    word. Ports apart (the default's, or one degree short of touching) pass in silence, and so do overlapping ones
+    that no law reads (a pressure table)."""
+    import warnings
+
+    from apexseal.runtime.scenes.units import PlausibilityWarning
+
+    with pytest.warns(PlausibilityWarning, match=r'machine.ports.outlet.angle = "-10 deg": the outlet \(-10 \+- 18 '
+                                                 r"deg\) overlaps the inlet \(-25 \+- 11 deg\) by 14 deg"):
+        default.with_overrides(**{**GAS, "machine.ports.outlet.angle": "-10 deg"})
+    with pytest.warns(PlausibilityWarning, match="by 24 deg"):  # across the 0/360 deg seam
+        default.with_overrides(**{**GAS, "machine.ports.outlet.angle": "340 deg"})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        default.with_overrides(**GAS)
+        default.with_overrides(**{**GAS, "machine.ports.outlet.angle": "5 deg"})  # 30 deg apart, half widths 29
+        default.with_overrides(**{"machine.ports.outlet.angle": "-10 deg"})
 
 
 def test_a_bare_mass_that_would_fit_in_grams_is_asked_about(default):

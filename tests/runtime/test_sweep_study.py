@@ -334,8 +334,8 @@ def _constant_pressure_scene(path) -> None:
 
 def test_a_chamber_pressure_varied_while_the_chamber_pressure_is_off_is_refused(tmp_path):
     """pressure.Pa and pressure.Pb are no model parameters but inputs read only while effects.chamber_pressure is
-    on (checks.INPUT_KEYS): varied with it off, every point was the same run, without a word. Varied with the
-    effect, they pass."""
+    on (the pressure submodel's scene inputs, registry.scene_inputs): varied with it off, every point was the same
+    run, without a word. Varied with the effect, they pass."""
     _constant_pressure_scene(tmp_path / "const.toml")
     text = ('[study]\nscene = "const.toml"\n[scene]\n"effects.chamber_pressure" = false\n'
             '[parameters]\n"pressure.Pa" = ["2 bar", "3 bar"]\n"pressure.Pb" = ["1 bar", "1.5 bar"]\n')
