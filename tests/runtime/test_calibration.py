@@ -43,6 +43,8 @@ def test_a_tiny_calibration(scene):
     lines = []
     cal = calibrate(scene, ranges=ranges, grid=2, polish=2, revolutions=2, samples=720, progress=lines.append)
     assert len(cal.evaluations) == 6 and len(lines) == 6  # 2 x 2 grid, then 2 Nelder-Mead evaluations
+    # each a set of its own: the polish started by simulating the grid's best again
+    assert len({tuple(e.values.values()) for e in cal.evaluations}) == 6
     assert all(math.isfinite(e.cost) for e in cal.evaluations)
     assert cal.best.cost == min(e.cost for e in cal.evaluations)
     for name, (lo, hi) in ranges.items():

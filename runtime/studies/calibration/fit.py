@@ -241,6 +241,18 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
                        stopped=stopped, exit_code=signals.exit_code())
 
 
+def inward_simplex(u0: np.ndarray, lo, hi, share: float = 0.1) -> np.ndarray:
+    """Nelder-Mead's first simplex: ``u0`` and, along each unknown, a step of ``share`` of its range towards the
+    inside. Scipy's own steps 5 % beyond ``u0``, which from a grid's best on a bound it clips back onto ``u0``: a
+    flat simplex whose first polish simulations repeated the start."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    step = share * (hi - lo)
+    out = np.tile(u0, (len(u0) + 1, 1))
+    for i in range(len(u0)):
+        out[i + 1, i] += step[i] if u0[i] + step[i] <= hi[i] else -step[i]
+    return out
+
+
 def _search(scene, functions, names, lo, hi, grid, polish, revolutions, samples, evaluations, say, signals) -> None:
     """The grid, then Nelder-Mead from its best point; every completed simulation appended to ``evaluations``.
     Raises :class:`_Stopped` when a signal arrives (the simulation it stopped is not a candidate)."""
@@ -250,11 +262,16 @@ def _search(scene, functions, names, lo, hi, grid, polish, revolutions, samples,
     from ...solving import engine_pool
 
     extra = {"samples_per_revolution": samples}
+    known: dict[tuple[float, ...], float] = {}  # cost by candidate: Nelder-Mead starts at the grid's best, and
+    # points it tries beyond the bounds are clipped onto ones it has tried
 
     def evaluate(u: np.ndarray) -> float:
         if signals.requested:
             raise _Stopped
-        values = {n: float(np.exp(v)) for n, v in zip(names, np.clip(u, lo, hi), strict=True)}
+        at = tuple(float(v) for v in np.clip(u, lo, hi))
+        if at in known:
+            return known[at]
+        values = {n: float(np.exp(v)) for n, v in zip(names, at, strict=True)}
         sc = scene.with_overrides(**overrides(values))
         with warnings.catch_warnings(), engine_pool.reusing():  # every candidate runs the same engine
             warnings.simplefilter("ignore")
@@ -271,6 +288,7 @@ def _search(scene, functions, names, lo, hi, grid, polish, revolutions, samples,
         tail = f"main peak {ev.features.main_peak_rad_s:.3g} rad/s, x largest at {ev.features.x_max_deg:.0f} deg" \
             if ev.features else ev.status
         say(f"[{len(evaluations)}] {shown}: {tail}; cost {ev.cost:.3g}")
+        known[at] = ev.cost
         return ev.cost
 
     axes = [np.linspace(a, b, grid) if grid > 1 else np.array([(a + b) / 2]) for a, b in zip(lo, hi, strict=True)]
@@ -278,6 +296,8 @@ def _search(scene, functions, names, lo, hi, grid, polish, revolutions, samples,
         evaluate(np.array(point))
     finite = [e for e in evaluations if math.isfinite(e.cost)]
     if polish > 0 and finite:
-        u0 = np.log([min(finite, key=lambda e: e.cost).values[n] for n in names])
+        best = min(finite, key=lambda e: e.cost)
+        u0 = np.array(next(at for at, cost in known.items() if cost == best.cost))
         minimize(evaluate, u0, method="Nelder-Mead", bounds=list(zip(lo, hi, strict=True)),
-                 options={"maxfev": polish, "xatol": 0.05, "fatol": 1e-3})
+                 options={"maxfev": polish + 1, "xatol": 0.05, "fatol": 1e-3,  # + its start, simulated already
+                          "initial_simplex": inward_simplex(u0, lo, hi)})
