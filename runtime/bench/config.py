@@ -153,10 +153,18 @@ class BenchConfig:
         names = [s.name for s in self.scenes]
         unknown = [s for s in scenes if s not in names]
         if unknown:
-            raise ValueError(f"unknown scene(s) {', '.join(unknown)}; known: {', '.join(names)}")
+            elsewhere = {n: m for n, preset in PRESETS.items() if n != self.mode
+                         for m in [[s for s in unknown if s in {x.name for x in preset().scenes}]] if m}
+            told = "".join(f"; {', '.join(m)} only in the {n} run" for n, m in elsewhere.items())
+            raise ValueError(f"unknown scene(s) {', '.join(unknown)} in the {self.mode} run (its scenes: "
+                             f"{', '.join(names)}){told}")
         sc = tuple(s for s in self.scenes if not scenes or s.name in scenes)
         if methods:
             sc = tuple(replace(s, sweeps={k: v for k, v in s.sweeps.items() if k in methods}) for s in sc)
+            measured = sorted({m for s in self.scenes if not scenes or s.name in scenes for m in s.sweeps})
+            if not any(s.sweeps for s in sc):
+                raise ValueError(f"none of the method(s) {', '.join(methods)} is measured in the {self.mode} run "
+                                 f"on its scene(s) {', '.join(s.name for s in sc)}; its methods: {', '.join(measured)}")
         new = replace(self, scenes=sc, mode=self.mode if not (methods or scenes) else self.mode + "-restricted")
         changes = {"samples": samples, "span_deg": span_deg, "settle_revolutions": settle, "repeats": repeats,
                    "flags": flags, "cold_compile": cold_compile, "check_reference": check_reference,

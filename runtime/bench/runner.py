@@ -29,6 +29,10 @@ MODEL_C = "all/c"  # ... with the compiled model library (stepper methods)
 VM_TWIN = {"erk-C": "erk-VM", "rosenbrock-C": "rosenbrock-VM"}
 
 
+class NothingToMeasure(Exception):
+    """Every method asked for is unavailable here (numba or numbalsoda not installed): said before settling."""
+
+
 def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
     """Run the benchmark ``cfg`` describes; the returned dict is what ``output.write_outputs`` writes."""
     from ...generated.load import load_functions
@@ -36,6 +40,9 @@ def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
 
     t0 = time.perf_counter()
     cfg, skipped = _available(cfg, log)
+    if not any(s.sweeps for s in cfg.scenes):
+        raise NothingToMeasure("no method left to measure: " + "; ".join(f"{s['method']}: {s['reason']}"
+                                                                         for s in skipped))
     results: dict = {"config": _config_dict(cfg), "machine": machine_info(), "skipped": skipped}
     base = load_scene()
     log("model: deriving / loading")

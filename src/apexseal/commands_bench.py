@@ -54,7 +54,7 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     """Work-precision benchmark: error against CPU time for every method, targets, effects cost."""
     from .runtime.bench.config import PRESETS
     from .runtime.bench.output import write_outputs
-    from .runtime.bench.runner import run_benchmark
+    from .runtime.bench.runner import NothingToMeasure, run_benchmark
     from .signals import StopSignals
 
     cfg = PRESETS["quick" if quick else "full"]()
@@ -73,6 +73,8 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     with StopSignals(raising=True) as signals:  # Ctrl-C/SIGTERM abandon the measuring wherever it is
         try:
             results = run_benchmark(cfg, log=lambda msg: click.echo(msg, err=True))
+        except NothingToMeasure as err:
+            raise click.UsageError(str(err)) from None
         except BaseException:  # a signal surfaces as whatever the call it landed in made of it (a settling run
             if not signals.requested:  # ends "interrupted", which the benchmark reports as a failed settling)
                 raise

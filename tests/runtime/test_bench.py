@@ -224,3 +224,31 @@ def test_what_c_code_prints_on_stdout_and_stderr_is_captured():
     with captured_output() as box:
         os.write(1, b"casadi")
     assert box["text"] == "casadi"
+
+
+@pytest.mark.parametrize("args, fragments", [
+    (["--quick", "--scenes", "stiff"], ["--scenes", "unknown scene(s) stiff in the quick run (its scenes: default); "
+                                        "stiff only in the full run"]),
+    (["--quick", "--methods", "rk4-C"], ["--methods", "none of the method(s) rk4-C is measured in the quick run",
+                                         "its methods: composite-C, erk-C"]),
+], ids=["scene-of-the-full-run", "method-of-the-full-run"])
+def test_a_selection_the_run_does_not_hold_is_told_where_it_is(args, fragments, tmp_path):
+    """`--quick --scenes stiff` said "unknown scene" of a scene the full run measures, and `--quick --methods rk4-C`
+    went on to settle the reference with nothing to measure."""
+    res = CliRunner().invoke(main, ["bench", *args, "--out", str(tmp_path / "b")])
+    assert res.exit_code == 2 and not (tmp_path / "b").exists(), res.output
+    for fragment in fragments:
+        assert fragment in res.output
+
+
+def test_a_run_whose_methods_are_all_unavailable_stops_before_settling(monkeypatch, tmp_path):
+    """Only numbalsoda's methods asked for where it is not installed: the run settled the reference for minutes
+    and then measured nothing."""
+    from apexseal.runtime.bench import peer_numba
+
+    monkeypatch.setattr(peer_numba, "numbalsoda_available", lambda: "numbalsoda is not installed (here: on purpose)")
+    res = CliRunner().invoke(main, ["bench", "--quick", "--methods", "numbalsoda-LSODA", "--out", str(tmp_path / "b")])
+    assert res.exit_code == 2, res.output
+    assert ("no method left to measure: numbalsoda-LSODA: numbalsoda is not installed (here: on purpose)"
+            in res.output)
+    assert "settling" not in res.output
