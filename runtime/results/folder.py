@@ -258,6 +258,10 @@ class ResultFolder:
         folder.last = cont.last
         folder.info = dict(record["info"])
         folder.asked = tuple(folder.info.get("files_asked", ()))
+        # the run at the target when the run continued began, not when its continuation did: a result another run
+        # wrote there since (a killed run resumed days later) is not this run's to replace; unknown in a record
+        # written before it was kept, so then any other run's result at the target is kept
+        folder.found = record.get("replaces")
         folder.kept = None  # the earlier parts are on disk only: finish() reads the folder back
         stop = StopInfo(cont.last[0], cont.last[1], f"continuing after {cont.revolutions} revolution(s)")
         folder._store("result.json", _json_bytes(folder._record("interrupted", stop)), "the progress record")
@@ -430,7 +434,7 @@ class ResultFolder:
         return {"format": FORMAT, "run_id": self.run_id, "status": status,
                 "stop": None if stop is None else vars(stop), "samples": self.samples, "parts": self.parts,
                 "state_rows": self.state_rows, "guard_names": list(self.guard_names), "outputs": self.outputs,
-                "tables": self.tables, "info": self.info}
+                "tables": self.tables, "info": self.info, "replaces": self.found}
 
     def _store(self, name: str, data: bytes, what: str) -> None:
         path = self.staging / name

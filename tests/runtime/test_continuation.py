@@ -115,6 +115,25 @@ def test_a_killed_run_continues_in_its_partial_folder(slow_scene, tmp_path):  # 
     assert continued.info["continued"][0]["status"] == "interrupted"
 
 
+def test_a_killed_run_resumed_after_another_run_wrote_its_target_keeps_that_result(slow_scene, light, tmp_path):  # noqa: F811
+    """A run killed, another run completed at the same --out, then the killed one resumed: the continuation
+    replaced the other run's completed result without a word (it took the run at the target when the continuation
+    began, not when the run began). Now the other result stays, and the continued run is kept aside in its folder."""
+    from apexseal.runtime.results.folder import KeptAsideWarning
+
+    out = tmp_path / "o"
+    proc = _start(slow_scene, out)
+    staging = _wait_for_parts(out, proc, 2)
+    proc.kill()
+    proc.communicate(timeout=30)
+    other = apexseal.simulate(light[0], revolutions=1, out=out)
+    killed = continuation(staging)
+    with pytest.warns(KeptAsideWarning, match=rf"another run \({other.info['run_id'][:12]}\) wrote {out}"):
+        continued = apexseal.resume(staging, revolutions=killed.revolutions + 1)
+    assert SimulationResult.load(out).info["run_id"] == other.info["run_id"]
+    assert SimulationResult.load(staging).n == continued.n and continued.status == "completed"
+
+
 def test_what_cannot_be_continued_is_refused_with_the_reason(light, tmp_path):
     scene, _ = light
     done = tmp_path / "done"
