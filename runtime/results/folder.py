@@ -88,6 +88,10 @@ def check_replaceable(target: Path, known: set[str] | frozenset[str] = frozenset
         noun = what.split(" ")[-1]
         raise ResultFolderError(f"{target} holds files that are not part of {what} ({shown}); a {noun} "
                                 "replaces its folder as a whole, so choose an empty or new output folder")
+    if not os.access(target, os.W_OK):  # renamed aside, it would be replaced all the same: protected by the user
+        raise ResultFolderError(f"{target} is write-protected (this user may not write in it), so its "
+                                f"{what.split(' ')[-1]} is not replaced: make it writable, or choose another output "
+                                "folder")
 
 
 def _stray_temporary(path: Path) -> bool:

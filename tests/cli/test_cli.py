@@ -386,3 +386,26 @@ def test_a_file_given_with_set_is_taken_from_the_current_folder(tmp_path, monkey
     assert r.exit_code == 0, r.output
     r = CliRunner().invoke(main, ["scene", "--resolved", "--set", "pressure.file=gone.csv"])
     assert r.exit_code != 0 and f"file not found: {tmp_path / 'gone.csv'}" in r.output
+
+
+def test_a_write_protected_result_is_not_replaced(tmp_path, monkeypatch):
+    """`chmod -R a-w <out>`, then `apexseal simulate --out <out>`: the run renamed the protected folder aside and
+    replaced it (a rename needs only the parent's permission), leaving the old result hidden beside it. Now the
+    command refuses before any work, and so does the API."""
+    import os
+
+    import apexseal
+    from apexseal.runtime.results import folder
+    from apexseal.runtime.results.folder import ResultFolderError
+
+    out = tmp_path / "prot"
+    first = apexseal.simulate(apexseal.load_scene(), revolutions=1, samples_per_revolution=360, out=out)
+    real = os.access
+    monkeypatch.setattr(folder.os, "access", lambda p, mode: False if Path(p) == out and mode == os.W_OK
+                        else real(p, mode))  # what chmod a-w gives a user who is not root
+    r = CliRunner().invoke(main, ["simulate", "-n", "1", "--out", str(out), "-q", "--no-figures"])
+    assert r.exit_code == 2 and f"{out} is write-protected" in r.output and "make it writable" in r.output, r.output
+    with pytest.raises(ResultFolderError, match="write-protected"):
+        apexseal.simulate(apexseal.load_scene(), revolutions=1, out=out)
+    assert apexseal.SimulationResult.load(out).info["run_id"] == first.info["run_id"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["prot"]
