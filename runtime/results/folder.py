@@ -71,6 +71,9 @@ def write_behind() -> bool:
 class ResultStorageError(OSError):
     """Writing a result failed (disk full, permissions): the message names the folder and what was kept."""
 
+    def __str__(self) -> str:  # the message says the cause in words: no "[Errno 28]" before it (nor twice)
+        return self.strerror if self.strerror else super().__str__()
+
 
 def check_replaceable(target: Path, known: set[str] | frozenset[str] = frozenset(KNOWN),
                       what: str = "an apexseal result") -> None:
@@ -225,6 +228,8 @@ class ResultFolder:
         self.asked: tuple[str, ...] = ()
         self.final, self.status = False, ""
         self.error: ResultStorageError | None = None  # the first storage error, if any
+        self.stop_written: StopInfo | None = None  # the stop it makes: at the last sample written
+        self.abandoned_on_error = False  # a failed write abandons the folder (a save), rather than ending a run
         self.kept: list[SimulationResult] | None = []  # the parts written, while they fit in KEEP_BYTES
         self.kept_bytes = 0
         self._writer: threading.Thread | None = None  # the thread writing the last part handed over
@@ -342,6 +347,8 @@ class ResultFolder:
         still being written is waited for; its error, not reported yet, is raised (:meth:`sync`)."""
         self.sync()
         self.info = self._stamped(info)
+        if self.error is not None and status == "failed":  # the samples end at the last part written, not where the
+            stop = self.stop_written  # run noticed the failure (parts are written behind the integration)
         if not self.parts:
             raise ResultStorageError(self.error.errno if self.error else None,
                                      str(self.error) if self.error else f"no part of the result was written to "
@@ -450,10 +457,19 @@ class ResultFolder:
     def _storage_error(self, path: Path, err: OSError, what: str) -> ResultStorageError:
         kept = (f"{len(self.parts)} completed part(s), {self.samples} samples, are kept in {self.staging}"
                 if self.parts else f"nothing of this run was kept ({self.staging} holds no complete part)")
-        previous = f"; the previous result in {self.target} is unchanged" if self.target.exists() else ""
+        # nothing of this run replaces the result at the target when no part is kept, or when a failed write
+        # abandons the folder (a save); otherwise the commit decides, and says so
+        previous = f"; the previous result in {self.target} is unchanged" if self.target.exists() and (
+            not self.parts or self.abandoned_on_error) else ""
         error = ResultStorageError(err.errno, f"could not write {what} ({path.name}) to {self.staging}: "
                                    f"{err.strerror or err}; {kept}{previous}")
-        self.error = self.error or error
+        if self.error is None:
+            self.error = error
+            # the run's stop, as result.json records it: where the samples kept end, and no path (the folder is
+            # renamed into place after it is written)
+            self.stop_written = StopInfo(self.last[0], self.last[1], f"could not write {what} ({path.name}): "
+                                         f"{err.strerror or err}; the run ends with the {len(self.parts)} part(s) "
+                                         "written before it")
         return error
 
 
@@ -468,6 +484,7 @@ def _link(src: Path, dst: Path) -> None:
 def save(result: SimulationResult, folder: str | Path, *, csv: bool = False) -> Path:
     """Write an in-memory result as a result folder (one part), as one unit."""
     writer = ResultFolder(folder)
+    writer.abandoned_on_error = True
     try:
         if result.scene is not None:
             writer.write_scene(result.scene)
