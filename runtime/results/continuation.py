@@ -24,7 +24,16 @@ from pathlib import Path
 import numpy as np
 
 from ...files import try_lock_folder
-from .reading import SCENE_FILE, ResultFolderError, check_stamp, read_part, read_record, scene_changed, scene_of_result
+from .reading import (
+    SCENE_FILE,
+    ResultFolderError,
+    check_stamp,
+    check_tables,
+    read_part,
+    read_record,
+    scene_changed,
+    scene_of_result,
+)
 from .result import SimulationResult
 
 #: the folder a run killed outright leaves beside its target (runtime/results/folder.py)
@@ -102,6 +111,8 @@ def continuation(folder: str | Path, read: SimulationResult | None = None) -> Co
         _not_being_written(newer)
         raise ResultFolderError(f"a continuation of this run was stopped outright and left {newer}: resume that "
                                 "folder, which holds more of the run, or remove it")
+    if read is None:  # an edited table is named as such (its scene would be blamed on scene.toml)
+        check_tables(folder, record)
     # the scene read already, or loaded here (a SceneError becomes a ResultFolderError naming packages)
     scene = read.scene if read is not None and read.scene is not None else scene_of_result(folder, record["info"])
     changed = (scene_changed(folder, scene, record["info"]) if record["info"].get("scene_hash") is not None else

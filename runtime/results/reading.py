@@ -141,8 +141,7 @@ def read(folder: str | Path) -> SimulationResult:
                                 "was written)")
     for name in ("summary.json", "trajectory.csv", SCENE_FILE):
         check_stamp(folder / name, run_id)
-    for name, digest in meta.get("tables", {}).items():  # recorded since tables were checked; older folders: not
-        _check_table(folder / name, digest)
+    check_tables(folder, meta)
     for p in parts:
         p.guard_names = tuple(guards)
     stop = _still_written(folder, StopInfo(**meta["stop"]) if meta["stop"] else None, len(parts))
@@ -162,6 +161,13 @@ def read(folder: str | Path) -> SimulationResult:
     if theta.size > 1 and not (np.diff(theta) > 0).all():
         raise ResultFolderError(f"{folder}: the parts do not follow each other (crank angle not increasing)")
     return result
+
+
+def check_tables(folder: Path, record: dict) -> None:
+    """The files the scene reads beside scene.toml (its pressure table), each as result.json ``record`` recorded it
+    (recorded since tables were checked; older folders: not)."""
+    for name, digest in record.get("tables", {}).items():
+        _check_table(folder / name, digest)
 
 
 def _check_table(path: Path, digest: str) -> None:
