@@ -1,4 +1,4 @@
-"""SIGINT and SIGTERM during a run: noted, never raised inside a CasADi call, acted on between calls.
+"""SIGINT, SIGTERM and SIGHUP during a run: noted, never raised inside a CasADi call, acted on between calls.
 
 Python runs a signal handler between bytecodes, and CasADi polls for pending signals inside its own calls: a
 ``KeyboardInterrupt`` raised there surfaces as a CasADi error (``NotImplementedError: Wrong number or type of
@@ -23,8 +23,11 @@ import math
 import signal
 import threading
 
-#: the signals a run catches: Ctrl-C, and what ``kill``, ``timeout`` and batch schedulers send
-CAUGHT = (signal.SIGINT, signal.SIGTERM)
+#: the signals that end a process as ``kill`` does (a library call redelivers them once its result is kept): what
+#: ``kill``, ``timeout`` and batch schedulers send, and the hang-up of a terminal or ssh session that closed
+ENDING = (signal.SIGTERM,) + ((signal.SIGHUP,) if hasattr(signal, "SIGHUP") else ())
+#: the signals a run catches: Ctrl-C, and the ending ones
+CAUGHT = (signal.SIGINT,) + ENDING
 
 
 def _main() -> bool:
@@ -37,7 +40,7 @@ _thread = threading.local()
 
 
 class StopSignals:
-    """Context manager: while inside, SIGINT/SIGTERM are recorded in ``received`` instead of raising.
+    """Context manager: while inside, SIGINT/SIGTERM/SIGHUP are recorded in ``received`` instead of raising.
 
     Nested uses share the outermost instance (the CLI wraps run and save, the run loop wraps itself).
     """
@@ -45,9 +48,9 @@ class StopSignals:
     _active: StopSignals | None = None
 
     def __init__(self, *, raising: bool = False, redeliver_term: bool = False) -> None:
-        #: when this is the outermost instance, end the process with a SIGTERM it caught once its block is left (the
-        #: run's result kept): for a library call (``apexseal.simulate``), so that a script looping over runs stops
-        #: as a batch scheduler asks, not only its current run (the CLI exits with 143 itself)
+        #: when this is the outermost instance, end the process with a SIGTERM (or SIGHUP) it caught once its block
+        #: is left (the run's result kept): for a library call (``apexseal.simulate``), so that a script looping over
+        #: runs stops as a batch scheduler asks, not only its current run (the CLI exits with 143 or 129 itself)
         self.redeliver_term = redeliver_term
         #: also raise ``KeyboardInterrupt`` (after noting the signal) while True: for work that a signal abandons
         #: wherever it is, IPOPT's iterations among it (a study; the caller tells an interruption from the error
@@ -83,12 +86,12 @@ class StopSignals:
             return
         for s, handler in self._previous.items():
             signal.signal(s, handler)
-        caught = signal.SIGTERM in self._previous
+        caught = set(self._previous)
         self._previous.clear()
         StopSignals._active = None
-        if self.redeliver_term and caught and signal.SIGTERM in self.received and \
-                signal.getsignal(signal.SIGTERM) not in (signal.SIG_IGN, None):
-            signal.raise_signal(signal.SIGTERM)  # its handler now: by default the process ends, as it was asked
+        ending = [s for s in self.received if s in ENDING and s in caught]
+        if self.redeliver_term and ending and signal.getsignal(ending[0]) not in (signal.SIG_IGN, None):
+            signal.raise_signal(ending[0])  # its handler now: by default the process ends, as it was asked
 
     def _note(self, signum, frame) -> None:
         self.request(signum)
@@ -174,6 +177,8 @@ class StopSignals:
         first = self.received[0]
         if first == signal.SIGINT:
             return "the user (Ctrl-C, SIGINT)"
+        if first == getattr(signal, "SIGHUP", None):
+            return "SIGHUP (its terminal or session closed)"
         return f"{signal.Signals(first).name} (kill, timeout or a batch scheduler)"
 
     def exit_code(self) -> int:

@@ -414,8 +414,11 @@ def _wait_for_parts(out: Path, proc: subprocess.Popen, count: int, timeout: floa
     raise AssertionError(f"no {count} parts after {timeout} s")
 
 
-@pytest.mark.parametrize("signum,code,words", [(signal.SIGTERM, 143, "SIGTERM"), (signal.SIGINT, 130, "Ctrl-C")])
+@pytest.mark.parametrize("signum,code,words", [(signal.SIGTERM, 143, "SIGTERM"), (signal.SIGINT, 130, "Ctrl-C"),
+                                               (signal.SIGHUP, 129, "SIGHUP (its terminal or session closed)")])
 def test_a_signal_keeps_every_completed_revolution(slow_scene, tmp_path, signum, code, words):
+    """SIGHUP (a terminal or ssh session that closed) ended the run as SIGKILL does (its .partial- folder left
+    interrupted): it is caught as SIGTERM is."""
     out = tmp_path / "o"
     proc = _start(slow_scene, out)
     _wait_for_parts(out, proc, 2)
