@@ -226,6 +226,8 @@ class ResultFolder:
         #: files the run was asked for beyond its own (trajectory.csv), recorded from the first progress record on,
         #: so that a folder killed before they were written says so (apexseal show) and --resume writes them
         self.asked: tuple[str, ...] = ()
+        #: the run was asked for no figures (--no-figures): recorded, so that --resume draws none either
+        self.no_figures = False
         self.final, self.status = False, ""
         self.error: ResultStorageError | None = None  # the first storage error, if any
         self.stop_written: StopInfo | None = None  # the stop it makes: at the last sample written
@@ -267,6 +269,7 @@ class ResultFolder:
         folder.last = cont.last
         folder.info = dict(record["info"])
         folder.asked = tuple(folder.info.get("files_asked", ()))
+        folder.no_figures = folder.info.get("figures") is False
         # the run at the target when the run continued began, not when its continuation did: a result another run
         # wrote there since (a killed run resumed days later) is not this run's to replace; unknown in a record
         # written before it was kept, so then any other run's result at the target is kept
@@ -284,7 +287,8 @@ class ResultFolder:
 
     def _stamped(self, info: dict) -> dict:
         """``info`` with the run id and the files the run was asked for (:attr:`asked`)."""
-        return dict(info) | {"run_id": self.run_id} | ({"files_asked": list(self.asked)} if self.asked else {})
+        return (dict(info) | {"run_id": self.run_id} | ({"files_asked": list(self.asked)} if self.asked else {})
+                | ({"figures": False} if self.no_figures else {}))
 
     def append(self, part: SimulationResult, z_end: np.ndarray | None = None,
                carried: np.ndarray | None = None) -> None:

@@ -47,7 +47,7 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
                    "revolutions it was asked for or --revolutions; the same samples as a run never stopped.")
 @click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv (text; slower than the binary parts; --resume "
               "writes it again, whole, when the folder it continues held one).")
-@click.option("--no-figures", is_flag=True, help="Skip the figures.")
+@click.option("--no-figures", is_flag=True, help="Skip the figures (recorded: --resume draws none either).")
 @click.option("--quiet", "-q", is_flag=True,
               help="No progress (stages, compilation times, the revolutions' bar; in a log, a line every 10 s).")
 @click.option("--timings", is_flag=True, help="Print where the wall time went (startup, import, scene, load, compile, "
@@ -74,6 +74,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
     watch = Stopwatch()  # stages always timed (two clock reads each), printed with --timings
     with watch.stage("import"):  # light: matplotlib is imported by the worker
         from .runtime.results.figure_worker import FigureWorker
+    no_figures = no_figures or (resume is not None and _declined_figures(resume))
 
     # a second process imports matplotlib while this one imports, reads the scene and integrates; stopped unless the
     # result is handed to it
@@ -114,6 +115,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                             same_model(cont, functions)
                         writer = ResultFolder(out) if cont is None else ResultFolder.continuing(cont)
                         writer.asked = ("trajectory.csv",) if csv else ()
+                        writer.no_figures = no_figures
                     except ResultFolderError as err:
                         raise click.BadParameter(str(err), param_hint="--resume") from err
                     with warnings.catch_warnings():  # the plausibility checks are printed below, with the summary
@@ -190,6 +192,17 @@ def _said(samples: int, what: str):
     from .runtime.solving.run import LONG_RESULT
 
     return stage(what) if samples >= LONG_RESULT else contextlib.nullcontext()
+
+
+def _declined_figures(folder: Path) -> bool:
+    """Whether the run of the result ``folder`` was asked for no figures (``--no-figures``, recorded in its
+    result.json): its continuation draws none either. False where the record cannot be read (--resume says why)."""
+    from .runtime.results.reading import ResultFolderError, read_record
+
+    try:
+        return read_record(folder)["info"].get("figures") is False
+    except (ResultFolderError, OSError, KeyError, TypeError):
+        return False
 
 
 def _save(watch, writer, result, source: str, csv) -> tuple[dict, list[str]]:

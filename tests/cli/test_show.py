@@ -126,3 +126,18 @@ def test_a_csv_asked_for_and_not_written_is_named_and_show_writes_it(tmp_path):
     (out / "trajectory.csv").unlink()  # and --resume writes it, as the run it continues was asked
     r = CliRunner().invoke(main, ["simulate", "--resume", str(out), "-n", "2", "--no-figures", "--quiet"])
     assert r.exit_code == 0 and (out / "trajectory.csv").is_file(), r.output
+
+
+def test_a_run_without_figures_is_resumed_without_figures(tmp_path):
+    """`simulate --no-figures`, then `--resume` with more revolutions: the continuation drew four figures, as the
+    --csv request was remembered and --no-figures was not. It is recorded in result.json now."""
+    import json
+
+    out = tmp_path / "nf"
+    r = CliRunner().invoke(main, ["simulate", "-n", "1", "--set", "solver.samples_per_revolution=360",
+                                  "--no-figures", "--quiet", "--out", str(out)])
+    assert r.exit_code == 0, r.output
+    assert json.loads((out / "result.json").read_text())["info"]["figures"] is False
+    r = CliRunner().invoke(main, ["simulate", "--resume", str(out), "-n", "2", "--quiet"])
+    assert r.exit_code == 0, r.output
+    assert not list(out.glob("*.png")) and json.loads((out / "result.json").read_text())["info"]["figures"] is False
