@@ -160,32 +160,49 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
             finally:
                 sink.release()  # a run that raised leaves a .partial- folder another process may continue
             _commit(sink)
-    return _after_a_ctrl_c(result, stop, signals, out)
+        return _after_a_ctrl_c(result, stop, signals, out)  # inside: a SIGTERM ends the process on leaving
 
 
 def _after_a_ctrl_c(result: SimulationResult, stop, signals, out) -> SimulationResult:
-    """``result``, once its run is kept; after a Ctrl-C that stopped it (caught by this call's own
-    :class:`~apexseal.signals.StopSignals`, not by an enclosing command's or study's), in a script
-    :class:`~apexseal.signals.RunInterrupted` carrying it, so that the script stops as Ctrl-C asks (a loop over
-    designs went on to its next one, and an optimiser took the partial run's numbers); in an interactive session
-    (a notebook) the result is returned for the next cell to look at, with a :class:`RunInterruptedWarning`."""
+    """``result``, once its run is kept; after a Ctrl-C that stopped it, :func:`after_an_interrupt`."""
+    kept = f"{result.revolutions:.2f} revolutions kept" + (f" in {out}" if out is not None else "")
+    lost = f"{result.revolutions:.2f} revolutions computed in memory only, lost with the process (out= writes a run " \
+           "as it goes)"
+    return after_an_interrupt(result, stop, signals, result.status == "interrupted", "the run", kept,
+                              kept if out is not None else lost)
+
+
+def after_an_interrupt(result, stop, signals, interrupted: bool, what: str, kept: str, ending: str | None = None):
+    """``result`` (a run, a study's report), once what was computed is kept; after a Ctrl-C that stopped it
+    (``interrupted``; caught by this call's own :class:`~apexseal.signals.StopSignals` ``stop``, not by an enclosing
+    command's or study's), in a script :class:`~apexseal.signals.RunInterrupted` carrying it, so that the script
+    stops as Ctrl-C asks (a loop over designs went on to its next one, and an optimiser took the partial run's
+    numbers); in an interactive session (a notebook) it is returned for the next cell to look at, with a
+    :class:`RunInterruptedWarning`. ``what`` and ``kept`` say what stopped and what was kept. A SIGTERM or SIGHUP
+    ends the process when ``stop`` is left, after one line on stderr saying what was kept (``ending``, where it
+    differs from ``kept``: what lives in memory only is lost with the process)."""
     import signal
 
     from ..signals import RunInterrupted, interactive
 
-    if signals is not stop or signal.SIGINT not in stop.received or result.status != "interrupted":
-        return result  # (a Ctrl-C while a completed run was written leaves it completed: nothing to say)
-    kept = f"{result.revolutions:.2f} revolutions kept" + (f" in {out}" if out is not None else "")
-    if interactive():
-        warnings.warn(f"the run was interrupted by Ctrl-C: {kept}; the result's status is interrupted",
-                      RunInterruptedWarning, stacklevel=3)
+    if signals is not stop:
         return result
-    raise RunInterrupted(f"the run was interrupted by Ctrl-C: {kept}; the exception's .result holds it", result)
+    stop.farewell = f"{what} was stopped: {ending or kept}"
+    if signal.SIGINT not in stop.received or not interrupted:
+        return result  # (a Ctrl-C while a completed run was written leaves it completed: nothing to say)
+    if interactive():
+        from ..stacklevel import user_stacklevel
+
+        warnings.warn(f"{what} was interrupted by Ctrl-C: {kept}", RunInterruptedWarning,
+                      stacklevel=user_stacklevel())
+        return result
+    raise RunInterrupted(f"{what} was interrupted by Ctrl-C: {kept}; the exception's .result holds it", result)
 
 
 class RunInterruptedWarning(UserWarning):
-    """Ctrl-C stopped ``apexseal.simulate`` or ``apexseal.resume`` in an interactive session: the returned result
-    is the interrupted run (in a script, :class:`~apexseal.signals.RunInterrupted` is raised instead)."""
+    """Ctrl-C stopped ``apexseal.simulate``, ``apexseal.resume`` or a study (the preload study, a sweep, the
+    calibration) in an interactive session: the returned result is what it computed (in a script,
+    :class:`~apexseal.signals.RunInterrupted` is raised instead)."""
 
 
 def _commit(sink) -> None:
@@ -228,7 +245,7 @@ def resume(folder, *, revolutions: int | None = None, max_wall_time: float | Non
         finally:
             sink.release()
         _commit(sink)
-    return _after_a_ctrl_c(result, stop, signals, sink.target)
+        return _after_a_ctrl_c(result, stop, signals, sink.target)  # inside: a SIGTERM ends the process on leaving
 
 
 def continuing(folder, *, revolutions: int | None = None, max_wall_time: float | None = None):

@@ -38,8 +38,11 @@ def calibrate(scene: Path | None, sets, grid, polish, revolutions, out, quiet) -
     click.echo(f"{scene_label(scene, sets)}; grid {grid}, polish {polish}, "
                f"{revolutions} revolutions per simulation; writing to {out}/")
     say = None if quiet else (lambda line: click.echo(line, err=True))
+    from .signals import StopSignals
+
     try:
-        result = run_study(sc, grid=grid, polish=polish, revolutions=revolutions, progress=say)
+        with StopSignals():  # the command's: it writes what was completed and exits with 128 + the signal itself
+            result = run_study(sc, grid=grid, polish=polish, revolutions=revolutions, progress=say)
     except CalibrationInterrupted as err:
         click.echo(str(err), err=True)
         sys.exit(err.exit_code)

@@ -98,9 +98,12 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
         click.echo(f"study {st.name} ({path if study else f'example {example}'}): {len(st.parameters)} parameters, "
                    f"{st.design} design; writing to {out}/")
 
+    from .signals import StopSignals
+
     try:
-        report = run_sweep(st, out, workers=workers, scheduler=scheduler, resume=resume, retry_failed=retry_failed,
-                           quiet=quiet, on_start=accepted)
+        with StopSignals() as caught:  # the command's: it reports an interruption itself (exit code 128 + signal)
+            report = run_sweep(st, out, workers=workers, scheduler=scheduler, resume=resume,
+                               retry_failed=retry_failed, quiet=quiet, on_start=accepted)
     except (StudyError, SchedulerError) as err:  # refused before the folder was taken
         if created and not any(out.iterdir()):
             out.rmdir()
@@ -126,7 +129,6 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
     drawing = None
     if figures and not report.table.empty:
         from .runtime.studies.sweep.figures import sweep_figures
-        from .signals import StopSignals
 
         with StopSignals() as drawing:  # a signal while they are drawn is noted: each figure is written whole
             paths = sweep_figures(st, report.table, out)
@@ -136,7 +138,7 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
                    f"{int(report.table['feasible'].sum())} of {len(report.table)} points")
     if report.interrupted:
         click.echo("  interrupted: run the same command again to compute the remaining points", err=True)
-        sys.exit(130)
+        sys.exit(caught.exit_code() or 130)
     if drawing is not None and drawing.requested:  # every point was done: only the figures were being drawn
         click.echo(f"  interrupted by {drawing.sender()} while the figures were drawn: they were finished first",
                    err=True)

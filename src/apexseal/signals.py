@@ -52,6 +52,8 @@ class StopSignals:
         #: is left (the run's result kept): for a library call (``apexseal.simulate``), so that a script looping over
         #: runs stops as a batch scheduler asks, not only its current run (the CLI exits with 143 or 129 itself)
         self.redeliver_term = redeliver_term
+        #: what was kept, said on stderr before a redelivered signal ends the process (set by the library call)
+        self.farewell = ""
         #: also raise ``KeyboardInterrupt`` (after noting the signal) while True: for work that a signal abandons
         #: wherever it is, IPOPT's iterations among it (a study; the caller tells an interruption from the error
         #: it turned into by ``requested``), and that writes what it had once this is set back to False
@@ -91,6 +93,11 @@ class StopSignals:
         StopSignals._active = None
         ending = [s for s in self.received if s in ENDING and s in caught]
         if self.redeliver_term and ending and signal.getsignal(ending[0]) not in (signal.SIG_IGN, None):
+            if self.farewell:  # the process ends without a traceback: one line says what was kept
+                import sys
+
+                print(f"apexseal: {signal.Signals(ending[0]).name}: {self.farewell}; ending the process",
+                      file=sys.stderr, flush=True)
             signal.raise_signal(ending[0])  # its handler now: by default the process ends, as it was asked
 
     def _note(self, signum, frame) -> None:
@@ -197,10 +204,11 @@ def interactive() -> bool:
 
 
 class RunInterrupted(KeyboardInterrupt):
-    """Ctrl-C stopped ``apexseal.simulate`` or ``apexseal.resume`` in a script: raised once the interrupted run is
-    kept (and written, with ``out``), so that the script stops as Ctrl-C asks instead of going on to its next
-    design with a partial result; ``result`` is that run (status ``interrupted``). A ``KeyboardInterrupt``: a
-    script that does not catch it ends as Ctrl-C ends it."""
+    """Ctrl-C stopped ``apexseal.simulate``, ``apexseal.resume`` or a study of the library (``optimise_preload``,
+    ``run_sweep``, ``calibrate``) in a script: raised once what it computed is kept (and written, with ``out``),
+    so that the script stops as Ctrl-C asks instead of going on to its next design with a partial result;
+    ``result`` is that run (status ``interrupted``) or the study's report (its stopped state said in it). A
+    ``KeyboardInterrupt``: a script that does not catch it ends as Ctrl-C ends it."""
 
     def __init__(self, message: str, result) -> None:
         super().__init__(message)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -624,6 +625,9 @@ print("the loop went on to its end", flush=True)
     out, err = proc.communicate(timeout=120)
     assert proc.returncode == -signal.SIGTERM, out + err
     assert "returned" not in out and "the loop went on" not in out
+    # it ended without a word on what it kept
+    assert re.search(r"apexseal: SIGTERM: the run was stopped: \d+\.\d\d revolutions kept in .*5e3; ending the "
+                     r"process", err), err
     from apexseal.runtime.results.result import SimulationResult
 
     kept = SimulationResult.load(tmp_path / "5e3")  # the interrupted run, moved into place
@@ -675,7 +679,7 @@ def test_ctrl_c_returns_the_run_in_a_session_and_leaves_an_enclosing_owner_s_sig
     stop = StopSignals()
     stop.received.append(signal.SIGINT)
     monkeypatch.setattr(apexseal.signals, "interactive", lambda: True)
-    with pytest.warns(RunInterruptedWarning, match="2.00 revolutions kept in o; the result's status is interrupted"):
+    with pytest.warns(RunInterruptedWarning, match="the run was interrupted by Ctrl-C: 2.00 revolutions kept in o"):
         assert _after_a_ctrl_c(result, stop, stop, "o") is result
     monkeypatch.setattr(apexseal.signals, "interactive", lambda: False)
     with pytest.raises(RunInterrupted, match="2.00 revolutions kept; the exception's .result holds it") as info:

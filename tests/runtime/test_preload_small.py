@@ -689,3 +689,34 @@ def test_the_stiffness_valley_says_which_stiffnesses_keep_the_force_feasible():
     assert rows[0].endswith("yes") and rows[1].endswith("yes (within the 5 % the study allows its optimum)")
     assert rows[2].endswith("no: force deficit above its bound")
     assert rows[3].endswith("no: groove-force excess above its bound")
+
+
+def test_ctrl_c_in_a_script_stops_the_study_and_carries_what_it_had(light, monkeypatch):
+    """From Python, a Ctrl-C during IPOPT's iterations came back as a result with ok False and the status
+    User_Requested_Stop, and the script went on (the Ctrl-C swallowed), unlike apexseal.simulate. Now the stage is
+    abandoned and RunInterrupted carries the result as far as it got, as for a run; in an interactive session it is
+    returned with a warning."""
+    import os
+    import signal
+
+    import apexseal.signals
+    from apexseal.runtime.api import RunInterruptedWarning
+    from apexseal.signals import RunInterrupted
+
+    solve = ShootingNlp.solve
+
+    def interrupted(self, *args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)  # noted by the study's handler, raised at once (IPOPT abandoned)
+        return solve(self, *args, **kwargs)
+
+    monkeypatch.setattr(ShootingNlp, "solve", interrupted)
+    scene = light[0]
+    with pytest.raises(RunInterrupted, match="the preload study was interrupted by Ctrl-C") as info:
+        optimise_preload(scene, min_force=MIN_FORCE, nodes=NODES, setup=_setup(light))
+    res = info.value.result
+    assert not res.ok and res.message.startswith("interrupted by the user (Ctrl-C, SIGINT) before the study ended")
+    monkeypatch.setattr(apexseal.signals, "interactive", lambda: True)
+    with pytest.warns(RunInterruptedWarning, match="the preload study was interrupted by Ctrl-C"):
+        res = optimise_preload(scene, min_force=MIN_FORCE, nodes=NODES, setup=_setup(light))
+    assert not res.ok and "interrupted" in res.message
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # the handler is given back

@@ -7,6 +7,7 @@ import os
 import re
 import signal
 import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -140,8 +141,9 @@ def test_an_interrupted_sweep_resumes_without_recomputing_or_losing_anything(ser
 
 
 def test_sigterm_stops_a_dask_sweep_as_ctrl_c_does(tmp_path):
-    """SIGTERM (kill, timeout, a batch scheduler) to a sweep on a LocalCluster: exit 130, every finished point in
-    results.parquet. It used to kill the process outright, with no table written and nothing said."""
+    """SIGTERM (kill, timeout, a batch scheduler) to a sweep on a LocalCluster: exit 143 (128 + SIGTERM, as a run's;
+    it was 130, Ctrl-C's), every finished point in results.parquet. It used to kill the process outright, with no
+    table written and nothing said."""
     study = tmp_path / "light.toml"
     study.write_text(LIGHT)
     out = tmp_path / "out"
@@ -151,7 +153,7 @@ def test_sigterm_stops_a_dask_sweep_as_ctrl_c_does(tmp_path):
     _wait_for_points(out, proc, 2)
     proc.send_signal(signal.SIGTERM)
     stdout, stderr = proc.communicate(timeout=120)
-    assert proc.returncode == 130, stdout + stderr
+    assert proc.returncode == 143, stdout + stderr
     assert "interrupted" in stderr and "Traceback" not in stderr, stderr
     finished = len(list(parts.glob("point-*.parquet")))
     assert 2 <= finished < 16 and len(read_results(out)) == finished
@@ -599,3 +601,38 @@ def test_a_sweep_on_a_scheduler_that_answers_runs_there(tmp_path):
     here = run_sweep(light_study(), tmp_path / "here", workers=1, quiet=True)
     assert len(there.table) == len(here.table) == 16
     pd.testing.assert_frame_equal(stable(there.table), stable(here.table))
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
+def test_a_signal_stops_a_script_s_sweep_once_its_points_are_kept(tmp_path, signum):
+    """run_sweep from a script returned its report (interrupted) after a Ctrl-C or a SIGTERM without a word, and the
+    script went on and exited 0. Now, as apexseal.simulate: after a Ctrl-C RunInterrupted carries the report, after
+    a SIGTERM the process ends by it, saying what was kept; the finished points are in the folder either way."""
+    study = tmp_path / "light.toml"
+    study.write_text(LIGHT)
+    out = tmp_path / "out"
+    script = tmp_path / "go.py"
+    script.write_text(f"""
+import apexseal
+from apexseal.runtime.studies.sweep import load_study, run_sweep
+
+try:
+    report = run_sweep(load_study({str(study)!r}), {str(out)!r}, workers=1, quiet=True)
+    print("returned", report.interrupted, flush=True)
+except apexseal.RunInterrupted as stop:
+    print("stopped:", stop.result.interrupted, len(stop.result.table), flush=True)
+    raise
+print("the script went on", flush=True)
+""")
+    proc = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    _wait_for_points(out, proc, 2)
+    proc.send_signal(signum)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert "returned" not in stdout and "the script went on" not in stdout, stdout + stderr
+    finished = len(read_results(out))
+    assert 2 <= finished < 16
+    if signum == signal.SIGINT:
+        assert f"stopped: True {finished}" in stdout and "RunInterrupted: the sweep was interrupted by Ctrl-C" in stderr
+    else:
+        assert proc.returncode == -signal.SIGTERM, stdout + stderr
+        assert f"apexseal: SIGTERM: the sweep was stopped: {finished} of 16 points finished, kept in" in stderr

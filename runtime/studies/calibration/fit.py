@@ -198,10 +198,13 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     ``grid``: points per unknown (log-spaced); ``polish``: Nelder-Mead evaluations after the grid (0: none);
     ``samples``: samples per revolution (default: the scene's, or where that is fewer the least multiple of 360
     with at least 2.4 samples per period of the stiffest contact any candidate can have, :func:`fastest_contact`).
+    A Ctrl-C stops the simulation in progress and keeps the others: in a script
+    :class:`~apexseal.signals.RunInterrupted` then carries the study (``stopped`` says why), in an interactive
+    session it is returned with a warning, and a SIGTERM ends the process.
     """
     from ....derive.submodels.registry import is_read, needing, parameter, submodels
     from ....signals import StopSignals
-    from ...api import model_functions
+    from ...api import after_an_interrupt, model_functions
 
     # a damping ratio whose damping is off is read by nothing: not an unknown by default, refused if asked for
     ratios = {zeta for cls in submodels() for _, zeta in cls.damping_ratios}
@@ -235,21 +238,25 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     if samples is None:  # Nyquist above the stiffest contact's mode, so that no candidate's peak is aliased
         fastest = fastest_contact(scene, ranges)
         samples = max(scene.solver.samples_per_revolution, 360 * math.ceil(2.4 * fastest / scene.omega / 360))
-    with StopSignals() as signals:  # a signal stops the candidate in progress; the others are kept
+    stop = StopSignals(redeliver_term=True)  # a signal stops the candidate in progress; the others are kept
+    with stop as signals:
         try:
             _search(scene, functions, names, lo, hi, grid, polish, revolutions, samples, evaluations, say, signals)
         except _Stopped:
             pass
-    finite = [e for e in evaluations if math.isfinite(e.cost)]
-    if not finite and signals.requested:
-        raise CalibrationInterrupted(f"interrupted by {signals.sender()} before any candidate completed: nothing "
-                                     "to report", signals.exit_code())
-    if not finite:
-        raise CalibrationError("no candidate completed; see the statuses of the evaluations")
-    best = min(finite, key=lambda e: e.cost)
-    stopped = f"interrupted by {signals.sender()}" if signals.requested else ""
-    return Calibration(best, evaluations, ranges, revolutions, time.perf_counter() - start, mass=scene.parameters["ms"],
-                       stopped=stopped, exit_code=signals.exit_code())
+        finite = [e for e in evaluations if math.isfinite(e.cost)]
+        if not finite and signals.requested:
+            raise CalibrationInterrupted(f"interrupted by {signals.sender()} before any candidate completed: "
+                                         "nothing to report", signals.exit_code())
+        if not finite:
+            raise CalibrationError("no candidate completed; see the statuses of the evaluations")
+        best = min(finite, key=lambda e: e.cost)
+        stopped = f"interrupted by {signals.sender()}" if signals.requested else ""
+        cal = Calibration(best, evaluations, ranges, revolutions, time.perf_counter() - start,
+                          mass=scene.parameters["ms"], stopped=stopped, exit_code=signals.exit_code())
+        return after_an_interrupt(cal, stop, signals, bool(stopped), "the calibration",
+                                  f"{len(evaluations)} simulations completed, in the returned result",
+                                  f"{len(evaluations)} simulations completed in memory only, lost with the process")
 
 
 def inward_simplex(u0: np.ndarray, lo, hi, share: float = 0.1) -> np.ndarray:

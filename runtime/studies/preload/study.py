@@ -92,13 +92,48 @@ from .shooting import study_functions
 OBJECTIVES = ("friction", "preload")
 
 
+def _kept_on_interrupt(study):
+    """``study`` (which appends its result to ``_holder`` as soon as it makes one) as a library call: a Ctrl-C,
+    SIGTERM or SIGHUP abandons its stage in progress (IPOPT's iterations included) and the result as far as it got
+    is returned, marked stopped; then :func:`~apexseal.runtime.api.after_an_interrupt` (in a script a Ctrl-C
+    raises :class:`~apexseal.signals.RunInterrupted` carrying it, a SIGTERM ends the process). Under a command's own
+    signal handling (the command line's report) the interruption is the command's."""
+    import functools
+    import inspect
+
+    @functools.wraps(study)
+    def call(*args, **kwargs):
+        from ...api import after_an_interrupt
+
+        holder: list[PreloadResult] = []
+        stop = StopSignals(raising=True, redeliver_term=True)
+        with stop as signals:
+            try:
+                res = study(*args, _holder=holder, **kwargs)
+            except KeyboardInterrupt:
+                if signals is not stop or not stop.requested or not holder:
+                    raise
+                res = holder[0]
+                res.ok = False
+                res.message = (f"interrupted by {stop.sender()} before the study ended: "
+                               + ("nothing solved yet" if res.knots is None else "the last solution found is kept"))
+            kept = (f"the study's result so far ({'none solved' if res.knots is None else 'a solution'}), "
+                    "returned in memory")
+            return after_an_interrupt(res, stop, signals, stop.requested, "the preload study", kept)
+
+    sig = inspect.signature(study)
+    call.__signature__ = sig.replace(parameters=[p for n, p in sig.parameters.items() if n != "_holder"])
+    return call
+
+
+@_kept_on_interrupt
 def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 1, nodes: int = 4,
                      samples: int | None = None, rtol: float | None = None, objective: str = "friction",
                      deficit_tol: float = DEFICIT_TOL, max_rate: float | None = None, functions=None,
                      max_iter: int = 100, revolutions: int = 3, max_preload: float = 0.1, flags: str = "quick",
                      rounds: int = 3, start: PreloadResult | None = None, verbose: bool = False,
                      ipopt_options: dict | None = None, setup: PreloadSetup | None = None,
-                     max_groove_force: float | None = None) -> PreloadResult:
+                     max_groove_force: float | None = None, _holder: list | None = None) -> PreloadResult:
     """The preload design (constant for ``knots = 1``, else a periodic piecewise-linear schedule).
 
     ``exclude``: crank-angle windows ``(start_deg, end_deg)`` where the force is not required;
@@ -107,6 +142,10 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     result (e.g. the constant optimum) to start a schedule from; ``max_groove_force`` (N): bound every
     seal-groove contact force between samples too (the excess quadrature within ``deficit_tol``; with a
     ``setup``, its own bound is used). See the module docstring.
+
+    A Ctrl-C (or SIGTERM) abandons the stage in progress, IPOPT's iterations included; in a script
+    :class:`~apexseal.signals.RunInterrupted` then carries the result as far as it got (``ok`` False, ``message``
+    saying so), in an interactive session it is returned with a warning, and a SIGTERM ends the process.
     """
     from ...api import model_functions, scene_of
 
@@ -124,6 +163,8 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     res = PreloadResult(False, "", float(min_force), [list(w) for w in exclude], objective=objective,
                         scene_delta_s=scene_ds, deficit_tol=float(deficit_tol), nodes=nodes, samples=setup.samples,
                         rtol=setup.rtol, max_groove_force=setup.max_groove_force)
+    if _holder is not None:  # what an interruption from here on returns (_kept_on_interrupt)
+        _holder.append(res)
 
     # 1. the compiled pieces (cached by content: another min_force, windows or knots reuse them)
     t = time.perf_counter()

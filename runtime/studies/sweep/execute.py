@@ -117,7 +117,14 @@ def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, sche
     ``on_row``: called with each finished point's row. ``on_start``: called once every point is checked and
     ``out`` is taken for the study, before anything runs (never for a study refused: :class:`StudyError`, or a
     folder of another study: :class:`~.store.StoreError`).
+
+    A Ctrl-C stops the running points (every finished one is kept in ``out``); then, in a script,
+    :class:`~apexseal.signals.RunInterrupted` carries the report (``interrupted`` True), in an interactive session
+    the report is returned with a warning, and a SIGTERM ends the process once the points are kept.
     """
+    from ....signals import StopSignals
+    from ...api import after_an_interrupt
+
     check_workers(workers)
     if retry_failed and not resume:
         raise ValueError("retry_failed = True with resume = False: resume = False discards every point in out, so "
@@ -125,11 +132,18 @@ def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, sche
     t0 = time.perf_counter()
     points = scenes_of(study)
     # the scheduler is reached before the folder is taken: one that does not answer leaves nothing written
-    own_client = connect(scheduler) if client is None and scheduler is not None else None
+    with StopSignals.abandoning():  # a signal while it waits for the scheduler (up to 30 s) stops at once
+        own_client = connect(scheduler) if client is None and scheduler is not None else None
     store = Store(out)
+    stop = StopSignals(redeliver_term=True)  # the points' own signal handling shares it (nested)
     try:
-        return _sweep(store, study, points, t0, workers, scheduler, own_client or client, resume, retry_failed,
-                      quiet, on_row, on_start)
+        with stop as signals:
+            report = _sweep(store, study, points, t0, workers, scheduler, own_client or client, resume,
+                            retry_failed, quiet, on_row, on_start)
+            left = report.total - len(report.table)
+            return after_an_interrupt(report, stop, signals, report.interrupted, "the sweep",
+                                      f"{len(report.table)} of {report.total} points finished, kept in {report.folder} "
+                                      f"(run_sweep again with the same folder computes the {left} left)")
     finally:
         store.close()
         if own_client is not None:
