@@ -172,6 +172,7 @@ def _overridden(raw: dict[str, Any], dotted: dict[str, Any], name: str) -> dict[
     from apexseal.derive.submodels.registry import alternatives
 
     raw = copy.deepcopy(raw)
+    dotted = {key: _plain(value) for key, value in dotted.items()}
     _children_follow(raw, dotted)
     _source_follows(raw, dotted)
     for pair in alternatives():
@@ -330,7 +331,13 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
 
 
 def _plain(value: Any) -> Any:
-    """numpy scalars and paths as TOML-like Python values."""
+    """An override as the TOML would hold it: numpy scalars and 0-d arrays as the Python numbers and bools they
+    hold (``np.bool_(False)`` switched an effect off without its children, which follow a ``False``), paths as
+    strings, pint quantities as their magnitude and unit written out ("3.2 millimeter"), tables likewise."""
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value.item()
     if isinstance(value, bool | np.bool_):
         return bool(value)
     if isinstance(value, numbers.Integral):
@@ -339,6 +346,9 @@ def _plain(value: Any) -> Any:
         return float(value)
     if isinstance(value, Path):
         return str(value)
+    if type(value).__module__.split(".")[0] == "pint" and hasattr(value, "magnitude") and hasattr(value, "units"):
+        magnitude = _plain(value.magnitude)
+        return f"{magnitude!r} {value.units}" if isinstance(magnitude, int | float) else value
     return value
 
 
@@ -459,7 +469,8 @@ class Scene:
     def with_overrides(self, **dotted: Any) -> Scene:
         """A new, checked scene with keys replaced, e.g. ``**{"contacts.kw": 2e9, "operation.rpm": 6000}``.
 
-        Values are written as in the TOML (numbers in SI, or strings with units);
+        Values are written as in the TOML (numbers in SI, or strings with units; numpy numbers, 0-d arrays and pint
+        quantities are read as what they hold);
         ``None`` removes a key, restoring its default. Setting one key of a pair that states one thing two ways
         (``contacts.cw`` or the damping ratio ``contacts.zeta_w``, ...) removes the other, unless both are given.
         """

@@ -698,3 +698,19 @@ def test_the_docs_error_table_shows_these_messages(default):
     docs = (Path(__file__).resolve().parents[2] / "docs" / "scenes.md").read_text(encoding="utf-8")
     for _, overrides, *_ in CASES:
         assert f"`{_error(default, overrides).errors[0]}`" in docs
+
+
+def test_overrides_from_numpy_and_pint_are_read_as_the_toml_would_hold_them(default):
+    """From Python, `np.bool_(False)` switched effects.spring off but not its damping and friction (they follow a
+    False), a 0-d numpy array was refused ("got ndarray"), and so was a pint quantity ("got Quantity"), pint being
+    apexseal's own unit library."""
+    import numpy as np
+    import pint
+
+    off = default.with_overrides(**{"effects.spring": np.bool_(False)})
+    assert not off.effects.spring and not off.effects.spring_damping and not off.effects.spring_friction
+    u = pint.UnitRegistry()
+    odd = default.with_overrides(**{"seal.Ws": 2.9 * u.mm, "operation.rpm": np.array(1600.0),
+                                    "contacts.kw": np.float32(2e9)})
+    assert odd.seal.Ws == pytest.approx(2.9e-3) and odd.operation.rpm == 1600.0 and odd.contacts.kw == 2e9
+    assert 'seal.Ws = "3.2 kilogram": wrong unit: expected a length' in str(_error(default, {"seal.Ws": 3.2 * u.kg}))
