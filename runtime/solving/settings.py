@@ -80,8 +80,16 @@ def check_value(name: str, value: Any) -> Any:
             raise _fail(f"expected an integer, {allowed(name)}")
         value = int(value)
     else:
+        if isinstance(value, str) and name in UNITS:  # "10 s", "1e-8 rad": as the scene's [solver] and --set take it
+            from ..scenes.units import QuantityError, parse_quantity
+
+            try:
+                value = parse_quantity(value, UNITS[name])
+            except QuantityError as err:
+                raise _fail(f"{err.reason}; allowed: {allowed(name)}") from None
         if isinstance(value, bool) or not isinstance(value, numbers.Real):
-            raise _fail(f"expected a number, {allowed(name)}")
+            raise _fail(f"expected a number{f' in {UNITS[name]}, or a quantity with its unit' if name in UNITS else ''}"
+                        f", {allowed(name)}")
         value = float(value)
     if not rng.holds(value):  # NaN fails every bound
         shown = value if kind.startswith("int") else format(value, ".6g") + (f" {UNITS[name]}" if name in UNITS else "")

@@ -720,3 +720,21 @@ def test_ctrl_c_in_a_script_stops_the_study_and_carries_what_it_had(light, monke
         res = optimise_preload(scene, min_force=MIN_FORCE, nodes=NODES, setup=_setup(light))
     assert not res.ok and "interrupted" in res.message
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # the handler is given back
+
+
+def test_the_api_takes_quantities_and_windows_as_the_command_line_does(light):
+    """`optimise_preload(min_force="5 N")`, `max_preload="10 mm"` and `exclude=["180:200"]` were refused (a number
+    in N, pairs only) where the command line takes `--min-force 5N` and `--exclude 180:200`."""
+    import pint
+
+    from apexseal.runtime.studies.preload.problem import quantity_of, windows
+
+    assert quantity_of("min_force", "5 N", "N") == 5.0 and quantity_of("max_preload", "10 mm", "m") == 0.01
+    assert quantity_of("max_preload", pint.UnitRegistry().Quantity(2, "cm"), "m") == pytest.approx(0.02)
+    assert quantity_of("min_force", 5.0, "N") == 5.0
+    with pytest.raises(PreloadStudyError, match=r"min_force = '5 mm': wrong unit: expected a force in N"):
+        quantity_of("min_force", "5 mm", "N")
+    assert windows(["180:200", (350, 10)]) == ((180.0, 200.0), (350.0, 10.0))
+    scene = light[0]
+    a = optimise_preload(scene, min_force=f"{MIN_FORCE} N", nodes=NODES, max_preload="100 mm", setup=_setup(light))
+    assert a.ok and a.min_force == MIN_FORCE

@@ -34,6 +34,8 @@ BAD = [
     ("chatter_events", 1, "2 <= n <= 1e+08"),
     ("chatter_window", 7.0, "7 rad is out of range; allowed: 0 < value <= 6.28319 rad"),  # as the scene's key says
     ("max_wall_time", math.inf, "inf s is out of range; allowed: 0 < value <= 1e+07 s"),
+    ("max_wall_time", "10 m", 'wrong unit: expected a time in s (e.g. "600 s"), got m ([length]); allowed: 0 < value'),
+    ("max_wall_time", "-1 s", "-1 s is out of range; allowed: 0 < value <= 1e+07 s"),
     ("method", "rk45", "not a method"),
     ("flags", "fast", "not allowed"),
     ("compile", "fast", "not allowed"),  # the scene's names are the API's too
@@ -49,6 +51,13 @@ def test_api_refuses_bad_settings_naming_field_value_and_range(default_scene, fi
     assert err.value.keys() == [field]
     line = str(err.value).splitlines()[1]
     assert line.strip().startswith(f"{field} = ") and fragment in line, line
+
+
+def test_a_setting_with_a_unit_takes_a_quantity_as_the_scene_does():
+    """`simulate(max_wall_time="10 s")` was refused ("expected a number") where the scene, the command line and
+    --set take "600 s"."""
+    st = RunSettings(max_wall_time="2 min", event_tol="1e-9 rad", chatter_window="0.1 deg")
+    assert (st.max_wall_time, st.event_tol) == (120.0, 1e-9) and st.chatter_window == pytest.approx(math.radians(0.1))
 
 
 def test_unknown_setting_is_named_with_a_suggestion():

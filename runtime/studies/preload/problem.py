@@ -36,6 +36,7 @@ import math
 import numbers
 import warnings
 from dataclasses import dataclass, field
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -169,12 +170,16 @@ MAX_WINDOWS = 4
 
 
 def windows(exclude) -> tuple[tuple[float, float], ...]:
-    """``exclude`` of the API (pairs of degrees) as checked windows, or a :class:`PreloadStudyError` naming it."""
+    """``exclude`` of the API (pairs of degrees, or the command line's "START:END" texts) as checked windows, or a
+    :class:`PreloadStudyError` naming it."""
     if isinstance(exclude, str | bytes) or not hasattr(exclude, "__iter__"):
         raise PreloadStudyError(f"exclude = {exclude!r}: expected a list of (start_deg, end_deg) pairs, e.g. "
-                                "[(180, 200)]")
+                                "[(180, 200)], or of \"START:END\" texts, e.g. [\"180:200\"]")
     out = []
     for w in exclude:
+        if isinstance(w, str):
+            out.append(parse_window(w))
+            continue
         try:
             a, b = (float(v) for v in w)
         except (TypeError, ValueError):
@@ -387,6 +392,22 @@ class PreloadSetup:
 def is_integer(x) -> bool:
     """An integer (Python's or numpy's), not a bool."""
     return isinstance(x, numbers.Integral) and not isinstance(x, bool | np.bool_)
+
+
+def quantity_of(name: str, value: Any, unit: str) -> Any:
+    """A study option given as a quantity ("5 N", "10 mm", a pint quantity), in the SI ``unit``, as the command line
+    and the scene take it; any other value as it is (checked by the option's own test). A text that is no quantity
+    of the kind is a :class:`PreloadStudyError` naming the option."""
+    from ...scenes.units import QuantityError, parse_quantity
+
+    if type(value).__module__.split(".")[0] == "pint" and hasattr(value, "units"):
+        value = f"{value.magnitude!r} {value.units}"
+    if not isinstance(value, str):
+        return value
+    try:
+        return parse_quantity(value, unit)
+    except QuantityError as err:
+        raise PreloadStudyError(f"{name} = {value!r}: {err.reason}") from None
 
 
 def is_force(x) -> bool:

@@ -83,6 +83,7 @@ from .problem import (
     is_integer,
     max_preload_problem,
     nodes_problem,
+    quantity_of,
     windows,
 )
 from .result import ALLOWANCE, DEFICIT_TOL, PreloadResult, contact_powers, fill_result
@@ -150,6 +151,9 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     from ...api import model_functions, scene_of
 
     scene = scene_of(scene)
+    min_force, max_preload = quantity_of("min_force", min_force, "N"), quantity_of("max_preload", max_preload, "m")
+    if max_groove_force is not None:
+        max_groove_force = quantity_of("max_groove_force", max_groove_force, "N")
     _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter, max_preload, start)
     knots, nodes = int(knots), int(nodes)
     exclude = windows(exclude)
