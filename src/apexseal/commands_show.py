@@ -60,20 +60,25 @@ def show(folder: Path, figures: bool, csv: bool) -> None:
                        f"{folder}")
         else:
             click.echo(f"  more revolutions: apexseal simulate --resume {folder} -n <total>")
-    if csv:
-        from .files import atomic_open
-        from .runtime.results.csv_table import write_csv
+    try:
+        if csv:
+            from .files import atomic_open
+            from .runtime.results.csv_table import write_csv
 
-        with atomic_open(folder / "trajectory.csv") as fh:
-            write_csv(fh, str(info["run_id"]), result.n, [result], result.guard_names)
-        click.echo(f"  wrote trajectory.csv ({result.n} samples) in {folder}/")
-    if figures:
-        from .runtime.results.figure_job import FigureJob
-        from .runtime.results.figures import ports_of
+            with atomic_open(folder / "trajectory.csv") as fh:
+                write_csv(fh, str(info["run_id"]), result.n, [result], result.guard_names)
+            click.echo(f"  wrote trajectory.csv ({result.n} samples) in {folder}/")
+        if figures:
+            from .runtime.results.figure_job import FigureJob
+            from .runtime.results.figures import ports_of
 
-        ports = ports_of(result.scene) if result.scene is not None else None
-        drawn = FigureJob(result, folder, ports).start().finish()
-        click.echo(f"  drew {', '.join(p.name for p in drawn)} in {folder}/")
+            ports = ports_of(result.scene) if result.scene is not None else None
+            drawn = FigureJob(result, folder, ports).start().finish()
+            click.echo(f"  drew {', '.join(p.name for p in drawn)} in {folder}/")
+    except OSError as err:  # a read-only copy of a result, a full disk: the files already there are untouched
+        raise click.ClickException(f"cannot write into {folder}: {err.strerror or err} (each file is written whole "
+                                   "or not at all; the result is unchanged): copy the folder somewhere writable "
+                                   "and run the command there") from None
 
 
 def _being_written(folder: Path) -> bool:

@@ -141,3 +141,24 @@ def test_a_run_without_figures_is_resumed_without_figures(tmp_path):
     r = CliRunner().invoke(main, ["simulate", "--resume", str(out), "-n", "2", "--quiet"])
     assert r.exit_code == 0, r.output
     assert not list(out.glob("*.png")) and json.loads((out / "result.json").read_text())["info"]["figures"] is False
+
+
+def test_show_into_a_folder_it_cannot_write_says_so(tmp_path, monkeypatch):
+    """`apexseal show <read-only folder> --figures` (or --csv) ended in an OSError traceback."""
+    import errno
+
+    from apexseal import files
+
+    out = tmp_path / "ro"
+    r = CliRunner().invoke(main, ["simulate", "-n", "1", "--set", "solver.samples_per_revolution=360",
+                                  "--no-figures", "--quiet", "--out", str(out)])
+    assert r.exit_code == 0, r.output
+
+    def read_only(*args, **kwargs):
+        raise OSError(errno.EROFS, "Read-only file system")
+
+    monkeypatch.setattr(files, "atomic_open", read_only)
+    r = CliRunner().invoke(main, ["show", str(out), "--csv"])
+    assert r.exit_code == 1 and "Traceback" not in r.output, r.output
+    assert f"cannot write into {out}: Read-only file system" in r.output
+    assert not (out / "trajectory.csv").exists()
