@@ -157,8 +157,11 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
                                               "memory"))
             try:
                 result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)
+            except BaseException:
+                sink.abandon_if_empty()  # a run that raised leaves a .partial- folder another process may continue,
+                raise  # if it holds a revolution
             finally:
-                sink.release()  # a run that raised leaves a .partial- folder another process may continue
+                sink.release()
             _commit(sink)
         return _after_a_ctrl_c(result, stop, signals, out)  # inside: a SIGTERM ends the process on leaving
 
@@ -242,6 +245,9 @@ def resume(folder, *, revolutions: int | None = None, max_wall_time: float | Non
             with stages.enabled(progress):
                 result = run_scene(cont.scene, st, progress=progress, functions=functions, sink=sink,
                                    continuation=cont)
+        except BaseException:
+            sink.abandon_if_empty()
+            raise
         finally:
             sink.release()
         _commit(sink)

@@ -17,7 +17,6 @@ next call in its tight phase: close to the run never stopped, not equal to it).
 from __future__ import annotations
 
 import os
-import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -25,6 +24,7 @@ import numpy as np
 
 from ...files import try_lock_folder
 from .reading import (
+    PARTIAL,
     SCENE_FILE,
     ResultFolderError,
     check_stamp,
@@ -35,9 +35,6 @@ from .reading import (
     scene_of_result,
 )
 from .result import SimulationResult
-
-#: the folder a run killed outright leaves beside its target (runtime/results/folder.py)
-_PARTIAL = re.compile(r"^(?P<name>.+)\.partial-(?P<run>[0-9a-f]{12})$")
 
 
 @dataclass
@@ -63,7 +60,7 @@ class Continuation:
 def partial_target(folder: Path, run_id: str) -> Path | None:
     """The target of ``folder`` if it is run ``run_id``'s ``<out>.partial-<run id>`` folder (a run killed outright,
     or one kept aside so as not to replace another run's result), else None."""
-    match = _PARTIAL.match(Path(folder).name)
+    match = PARTIAL.match(Path(folder).name)
     return Path(folder).with_name(match["name"]) if match and run_id.startswith(match["run"]) else None
 
 

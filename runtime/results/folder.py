@@ -434,6 +434,18 @@ class ResultFolder:
         shutil.rmtree(self.staging, ignore_errors=True)
         self.release()
 
+    def abandon_if_empty(self) -> None:
+        """After a run that raised: remove its folder if it holds no revolution (a crash before the first one, a
+        full disk at it: a folder that only said "killed before its first revolution"); release it otherwise (a
+        continuation's folder holds the revolutions it continues). Does not raise."""
+        if self.parts or self.final:
+            self.release()
+            return
+        try:
+            self.abandon()
+        except Exception:  # noqa: BLE001  (the run's own error is the one to report)
+            self.release()
+
     def release(self) -> None:
         """Let go of the folder: another process may continue it from now on (``apexseal simulate --resume``).
         Done by :meth:`commit` and :meth:`abandon`; a run that raised leaves its ``.partial-`` folder released."""
@@ -460,7 +472,7 @@ class ResultFolder:
 
     def _storage_error(self, path: Path, err: OSError, what: str) -> ResultStorageError:
         kept = (f"{len(self.parts)} completed part(s), {self.samples} samples, are kept in {self.staging}"
-                if self.parts else f"nothing of this run was kept ({self.staging} holds no complete part)")
+                if self.parts else "nothing of this run was kept (no complete part was written)")
         # nothing of this run replaces the result at the target when no part is kept, or when a failed write
         # abandons the folder (a save); otherwise the commit decides, and says so
         previous = f"; the previous result in {self.target} is unchanged" if self.target.exists() and (

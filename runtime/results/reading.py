@@ -12,6 +12,7 @@ from __future__ import annotations
 import io
 import json
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -67,6 +68,11 @@ STUDY_REPORTS = {"preload.md": "a preload study's report (`apexseal optimise-pre
                  "calibration.json": "a calibration's report (`apexseal calibrate`): read calibration.json"}
 
 
+#: the folder a run writes beside its target and a run killed outright leaves there (runtime/results/folder.py:
+#: ``<out>.partial-<run id>``)
+PARTIAL = re.compile(r"^(?P<name>.+)\.partial-(?P<run>[0-9a-f]{12})$")
+
+
 def _what_else(folder: Path) -> str:
     """``"; it is <what>"`` for a study's folder (:data:`STUDY_REPORTS`), else ``""``."""
     what = next((w for name, w in STUDY_REPORTS.items() if (folder / name).is_file()), None)
@@ -81,6 +87,10 @@ def read_record(folder: Path) -> dict:
             raise ResultFolderError(f"{folder} holds no result: run {began} began here and was killed before it wrote "
                                     "its first revolution, so there is nothing to load or continue; simulate the "
                                     f"scene again ({folder / SCENE_FILE}) and delete this folder")
+        if PARTIAL.match(folder.name) and {p.name for p in folder.iterdir()} <= {"parts"} and \
+                not any((folder / "parts").iterdir() if (folder / "parts").is_dir() else ()):
+            raise ResultFolderError(f"{folder} holds no result: a run was killed here before it wrote anything (an "
+                                    "empty parts/), so there is nothing to load or continue; delete this folder")
         raise ResultFolderError(f"{folder} is not a result folder: it has no result.json{_what_else(folder)}")
     try:
         meta = json.loads(path.read_text())

@@ -126,8 +126,12 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                                                functions=functions, continuation=cont)
                         except KeyboardInterrupt:  # the integrator's compilation abandoned: no step was taken
                             if not signals.requested:
+                                writer.abandon_if_empty()
                                 raise
                             _stopped_before_the_run(signals, writer, resumed=cont is not None)
+                        except BaseException:  # a crash, a full disk at the first revolution: no empty folder
+                            writer.abandon_if_empty()  # left to be taken for a killed run
+                            raise
                 watch.split("run", result.info.get("timings_s", {}))
                 figures = None
                 if not no_figures and result.n > 1 and not signals.requested:

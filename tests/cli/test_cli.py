@@ -242,7 +242,8 @@ def test_progress_reports_stages_with_elapsed_time(capsys):
     (["generate", "--no-compile", "--assumptions", "damping=bogus"], ["--assumptions", "'bogus'", "allowed"]),
     (["generate", "--no-compile", "--assumptions", "foo=bar"], ["--assumptions", "not a modelling choice"]),
     (["sweep", "--example", "preload-map", "--scheduler", "foo"], ["--scheduler", "'foo'", "missing port"]),
-    (["bench", "--quick", "--scenes", "bogus"], ["--scenes", "unknown scene(s) bogus", "known: default"]),
+    (["bench", "--quick", "--scenes", "bogus"], ["--scenes", "unknown scene(s) bogus",
+                                                 "in the quick run (its scenes: default)"]),
     (["bench", "--quick", "--methods", "bogus"], ["--methods", "unknown method(s) bogus"]),
     # what is no number names the range too (click said only "not a valid integer"); NaN is no number (it passed
     # click's range and ended in a traceback)

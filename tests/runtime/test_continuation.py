@@ -237,6 +237,12 @@ def test_a_run_killed_before_its_first_revolution_is_named_as_such(light, tmp_pa
     (killed / "scene.toml").write_text("[machine]\n")  # a scene file of a user's: no run named
     r = CliRunner().invoke(main, ["show", str(killed)])
     assert r.exit_code != 0 and "is not a result folder: it has no result.json" in r.output
+    # killed before even its scene.toml: an empty parts/ in a run's folder ("not a result folder", no hint)
+    empty = tmp_path / "o.partial-0123456789ab"
+    (empty / "parts").mkdir(parents=True)
+    r = CliRunner().invoke(main, ["show", str(empty)])
+    assert r.exit_code != 0 and "a run was killed here before it wrote anything (an empty parts/)" in r.output
+    assert "delete this folder" in r.output
 
 
 @pytest.fixture(scope="module")

@@ -224,6 +224,19 @@ def test_a_full_disk_during_a_streamed_run_keeps_the_completed_revolutions(defau
     assert back.status == "failed" and back.stop == r.stop
 
 
+def test_a_run_that_keeps_nothing_leaves_no_folder(default_scene, tmp_path, monkeypatch):
+    """A full disk at the first revolution (or a crash before it) said "nothing of this run was kept" and left
+    o.partial-<id>/ behind, which `show` then took for a run killed before its first revolution. Now the folder
+    goes with it, and the message names no folder that is gone."""
+    import apexseal
+
+    _disk_full_at(monkeypatch, "part-00000.npz")
+    with pytest.raises(ResultStorageError) as err:
+        apexseal.simulate(default_scene, revolutions=1, samples_per_revolution=360, out=tmp_path / "o")
+    assert "nothing of this run was kept (no complete part was written)" in str(err.value)
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_a_run_that_did_not_complete_never_replaces_a_completed_result(default_scene, default_functions, tmp_path,
                                                                         two_results):
     """A rerun at the same --out that is interrupted or fails (here: a full disk at its third part) leaves the
