@@ -7,7 +7,9 @@ and looked up before pint is asked. The key is the sha256 of units.py (the rules
 a change to either starts a new file. Only successful conversions are kept; a value pint rejects is read by pint
 again, so its message is always the current one. The file is read once per process and written (atomically,
 merged with what other processes added) when the process ends; a file that cannot be read or written is
-ignored and rebuilt, like the compile cache.
+ignored and rebuilt, like the compile cache. The file holds its entries with their sha256 (``{"entries": ...,
+"sha256": ...}``): a file whose entries do not match it (a value edited by hand, a file of another format) is
+discarded whole, so a warm load never reads a conversion pint did not make.
 """
 
 from __future__ import annotations
@@ -40,10 +42,14 @@ def _path() -> Path:
 
 
 def _read(path: Path) -> dict[str, float]:
-    from apexseal.files import read_json_object
+    """The file's conversions, or none when its entries do not match their sha256 (see the module's docstring)."""
+    from apexseal.files import content_key, read_json_object
 
     data = read_json_object(path) or {}
-    return {k: float(v) for k, v in data.items() if isinstance(v, int | float)}
+    entries = data.get("entries")
+    if not isinstance(entries, dict) or data.get("sha256") != content_key(entries):
+        return {}
+    return {k: float(v) for k, v in entries.items() if isinstance(v, int | float)}
 
 
 def _loaded() -> dict[str, float]:
@@ -74,7 +80,7 @@ def flush() -> None:
     if not _added:
         return
     try:
-        from apexseal.files import atomic_write
+        from apexseal.files import atomic_write, content_key
 
         path = _path()
         merged = _read(path)
@@ -82,7 +88,7 @@ def flush() -> None:
         if len(merged) > LIMIT:  # keep the newest: this process's, then the file's latest entries
             merged = dict(list(merged.items())[-LIMIT:])
         path.parent.mkdir(parents=True, exist_ok=True)
-        atomic_write(path, json.dumps(merged, sort_keys=False).encode())
+        atomic_write(path, json.dumps({"entries": merged, "sha256": content_key(merged)}).encode())
     except Exception:  # a cache that cannot be written only costs the next run pint's import
         pass
     _added.clear()

@@ -32,7 +32,7 @@ def test_second_load_reads_no_unit_with_pint_and_gives_the_same_scene(tmp_path):
     first, pint_first = _load(tmp_path)
     files = list((tmp_path / "units").glob("conversions-*.json"))
     assert pint_first and len(files) == 1
-    memo = json.loads(files[0].read_text())
+    memo = json.loads(files[0].read_text())["entries"]
     assert json.dumps(["str", "3.06 mm", "m", None]) in memo and memo[json.dumps(["str", "3.06 mm", "m", None])] == 0.00306
     second, pint_second = _load(tmp_path)
     assert second == first and not pint_second
@@ -46,6 +46,32 @@ def test_a_damaged_memo_is_ignored_and_rewritten(tmp_path):
     assert again == first and pint  # read with pint again ...
     assert isinstance(json.loads(path.read_text()), dict)  # ... and remembered anew
     assert _load(tmp_path) == (first, False)
+
+
+def test_a_memo_edited_by_hand_is_discarded(tmp_path, monkeypatch):
+    """The memo's entries were used unchecked: a value edited by hand in conversions-*.json silently changed every
+    scene that read it. The file holds the sha256 of its entries; one that does not match is discarded whole (the
+    quantity is read by pint again, and the memo written anew)."""
+    from apexseal.runtime.scenes import unit_memo
+    from apexseal.runtime.scenes.units import parse_quantity
+
+    monkeypatch.setenv("APEXSEAL_CACHE", str(tmp_path))
+    monkeypatch.setattr(unit_memo, "_memo", None)
+    monkeypatch.setattr(unit_memo, "_added", {})
+    key = unit_memo.key_of("7 mm", "m", None)
+    assert parse_quantity("7 mm", "m") == pytest.approx(0.007)
+    unit_memo.flush()
+    (path,) = (tmp_path / "units").glob("conversions-*.json")
+    data = json.loads(path.read_text())
+    assert data["entries"][key] == pytest.approx(0.007)
+    data["entries"][key] = 0.7  # a hand edit, its hash left as it was
+    path.write_text(json.dumps(data))
+    monkeypatch.setattr(unit_memo, "_memo", None)  # as a new process reads it
+    assert unit_memo.lookup(key) is None
+    assert parse_quantity("7 mm", "m") == pytest.approx(0.007)
+    unit_memo.flush()
+    monkeypatch.setattr(unit_memo, "_memo", None)
+    assert unit_memo.lookup(key) == pytest.approx(0.007)  # written anew, with a matching hash
 
 
 def test_a_rejected_value_is_not_remembered():
