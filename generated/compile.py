@@ -16,7 +16,10 @@ one older than :data:`ABANDONED_AFTER`.
 
 Compiler: ``$APEXSEAL_CC``, else ``$CC``, else ``gcc``. When it is missing or fails,
 callers fall back to CasADi's interpreted SX Functions with a
-:class:`CompilerFallbackWarning` that says what that costs.
+:class:`CompilerFallbackWarning` that says what that costs. A compiler that fails because it cannot write (a
+full disk, a read-only file system) is no missing compiler: that is a :class:`~apexseal.files.CacheError`, as is
+any other write below the cache that fails; a warm cache is only read, so a read-only or shared one serves every
+run whose artefacts it holds.
 """
 
 from __future__ import annotations
@@ -37,7 +40,16 @@ import casadi as ca
 
 from ..cores import parallel_threads
 from ..derive.cache import cache_dir
-from ..files import atomic_write, content_key, file_lock, sha256_bytes, sha256_file
+from ..files import (
+    DISK_ERRNOS,
+    atomic_write,
+    content_key,
+    file_lock,
+    read_json_object,
+    sha256_bytes,
+    sha256_file,
+    writing_cache,
+)
 from ..progress import stage
 from .codegen import write_c
 from .compiler import CompilerUnavailable, compiler, compiler_identity, flag_list, lib_root, run_compiler, stop, stop_all
@@ -82,11 +94,23 @@ def sweep_build_folders(key: str) -> list[Path]:
 
 
 def _valid(so: Path, record_path: Path, key: str) -> bool:
-    try:
-        record = json.loads(record_path.read_text())
-    except (OSError, ValueError):
-        return False
+    record = read_json_object(record_path) or {}
     return record.get("key") == key and so.is_file() and sha256_file(so) == record.get("so_sha256")
+
+
+def disk_error(stderr: str, folder: Path) -> OSError | None:
+    """The OS error a compiler reports when it cannot write its output (a full disk, a quota, a read-only or
+    failing device), as an ``OSError`` of ``folder`` quoting the compiler's line; None for any other failure."""
+    for code in DISK_ERRNOS:
+        line = next((ln.strip() for ln in stderr.splitlines() if os.strerror(code) in ln), None)
+        if line is not None:
+            return OSError(code, f"{os.strerror(code)}; the compiler said: {line[-300:]}", os.fspath(folder))
+    return None
+
+
+def _failed(cc: str, what: str, stderr: str, folder: Path) -> Exception:
+    """The error of a compiler run that failed: a :func:`disk_error`, else :class:`CompilerUnavailable`."""
+    return disk_error(stderr, folder) or CompilerUnavailable(f"{cc} failed {what}: {stderr.strip()[-600:]}")
 
 
 def _compile_all(cc: str, flags: tuple[str, ...], sources: list[Path], build_dir: Path, target: Path,
@@ -101,13 +125,13 @@ def _compile_all(cc: str, flags: tuple[str, ...], sources: list[Path], build_dir
         obj = build_dir / (src.stem + ".o")
         out = run_compiler([cc, *flags, "-fPIC", *includes, "-c", str(src), "-o", str(obj)], running=running)
         if out.returncode != 0:
-            raise CompilerUnavailable(f"{cc} failed on {src.name}: {out.stderr.strip()[-600:]}")
+            raise _failed(cc, f"on {src.name}", out.stderr, build_dir)
         return obj
 
     objects = _abandonable_map(one, sources, parallel_threads(len(sources)), lambda: stop(running))
     out = run_compiler([cc, "-shared", *[str(o) for o in objects], "-o", str(target), *link, "-lm"])
     if out.returncode != 0:
-        raise CompilerUnavailable(f"{cc} failed to link {target.name}: {out.stderr.strip()[-600:]}")
+        raise _failed(cc, f"to link {target.name}", out.stderr, build_dir)
 
 
 def link_arguments(library: Path, lib_dir: Path) -> list[str]:
@@ -121,7 +145,8 @@ def link_arguments(library: Path, lib_dir: Path) -> list[str]:
 def build_library(key_payload: dict, sources: list[Path], name: str, *, flags: str, link: Path | None = None) -> Path:
     """The cached library built from ``sources`` (building it if missing or modified), linked against the
     library ``link`` when given (its sha256 must be in ``key_payload``); ``{key}`` in ``name`` becomes the
-    start of the cache key."""
+    start of the cache key. A cached library is only read (no lock, no write); what must be built and cannot be
+    written raises :class:`~apexseal.files.CacheError`."""
     cc = compiler()
     fl = flag_list(flags)
     key = content_key({**key_payload, "flags": list(fl), "compiler": compiler_identity(cc, fl), "cc": cc})
@@ -130,7 +155,7 @@ def build_library(key_payload: dict, sources: list[Path], name: str, *, flags: s
     so, record = lib_dir / name, lib_dir / "build.json"
     if _valid(so, record, key):
         return so
-    with file_lock(lib_root() / f"{key}.lock"):
+    with writing_cache(cache_dir()), file_lock(lib_root() / f"{key}.lock", name):
         if _valid(so, record, key):  # another process built it while we waited
             return so
         if so.exists():
@@ -269,11 +294,7 @@ def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: s
         raise ValueError(f"the C of {fn.name()} calls {', '.join(externs[:3])}... of a library: pass link=")
     folder = function_dir(digest)
     src = folder / f"{stem}.c"
-    try:
-        earlier = json.loads((folder / FUNCTION_RECORD).read_text())
-        earlier = earlier if isinstance(earlier, dict) else {}
-    except (OSError, ValueError):
-        earlier = {}
+    earlier = read_json_object(folder / FUNCTION_RECORD) or {}
     record = {"format": "apexseal-function/1", "name": fn.name(), "files": {src.name: digest}, "model": model_hash,
               "derivatives": derivatives}
     variant = variant_record(model_hash)
@@ -288,9 +309,11 @@ def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: s
         use |= {"library": link.name, "so_sha256": linked["so_sha256"]}
     uses = [u for u in earlier.get("uses", []) if isinstance(u, dict) and u != use]
     record["uses"] = sorted([*uses, use], key=lambda u: json.dumps(u, sort_keys=True))
-    if not (src.is_file() and sha256_file(src) == digest):
-        atomic_write(src, data)
-    atomic_write(folder / FUNCTION_RECORD, json.dumps(record, indent=2) + "\n")
+    with writing_cache(cache_dir()):  # an entry as it should be is only read: a read-only cache serves it
+        if not (src.is_file() and sha256_file(src) == digest):
+            atomic_write(src, data)
+        if record != earlier:
+            atomic_write(folder / FUNCTION_RECORD, json.dumps(record, indent=2) + "\n")
     return FunctionSource(fn.name(), src, payload, link)
 
 
@@ -359,7 +382,7 @@ def variant_library(fns: ModelFunctions, *, flags: str) -> Path:
     if record is None:
         raise ValueError(f"model_hash: {fns.model_hash!r} names no variant on record; make one with record_variant")
     folder = variant_dir(record["hash"])
-    with file_lock(folder / ".lock"):
+    with writing_cache(cache_dir()), file_lock(folder / ".lock", f"the C of variant {record['hash'][:12]}"):
         staging = Path(tempfile.mkdtemp(dir=folder, prefix=".staging-"))
         try:
             written = write_c(fns, staging)

@@ -31,7 +31,7 @@ from ..derive.choices import options_of
 from ..derive.effects import Effects
 from ..derive.modes import Mode
 from ..derive.submodels.registry import extended
-from ..files import content_key, file_lock, stat_key
+from ..files import content_key, file_lock, stat_key, writing_cache
 from ..progress import stage
 from .codegen import SERIALIZED, read_serialized
 from .compile import compiled_or_interpreted
@@ -92,7 +92,8 @@ def _current(directory: Path, expected: str) -> bool:
 
 
 def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None = None, *, echo=None) -> Path:
-    """The folder holding current, trusted artefacts for these inputs (deriving and generating them if needed)."""
+    """The folder holding current, trusted artefacts for these inputs (deriving and generating them if needed;
+    current ones are only read, and a cache that cannot take new ones raises :class:`~apexseal.files.CacheError`)."""
     effects = effects or Effects()
     assumptions = assumptions or Assumptions()
     expected = input_hash(effects, assumptions)
@@ -107,7 +108,8 @@ def artefact_dir(effects: Effects | None = None, assumptions: Assumptions | None
     target = cache_dir() / "gen" / expected
     if target.is_dir() and _current(target, expected):
         return target
-    with file_lock(cache_dir() / "gen" / f"{expected}.lock"):
+    with writing_cache(cache_dir()), file_lock(cache_dir() / "gen" / f"{expected}.lock",
+                                               f"the artefacts of effects {effects.label}"):
         try:
             verify(target, expected_hash=expected, trusted=True)  # another process generated it while we waited
             return target

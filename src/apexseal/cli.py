@@ -43,6 +43,7 @@ class LazyGroup(click.Group):
 
     def invoke(self, ctx: click.Context):
         from .derive.submodels.registry import RegistryError
+        from .files import CacheError
         from .signals import command_scope
 
         exiting = bool((ctx.obj or {}).get(EXITING))
@@ -50,6 +51,8 @@ class LazyGroup(click.Group):
             with command_scope(exiting=exiting):
                 return super().invoke(ctx)
         except RegistryError as err:  # an installed submodel that cannot load or clashes: its package is named
+            raise click.ClickException(str(err)) from None
+        except CacheError as err:  # a cache that cannot be written (permissions, a full disk): folder, path, cause
             raise click.ClickException(str(err)) from None
 
 

@@ -69,6 +69,26 @@ def _check_default(echo) -> bool:
     return True
 
 
+def _generate_into(out: Path, effects, assumptions, flags: str, no_compile: bool, quiet: bool):
+    """Generate into ``out``; a write that fails (a full disk, permissions) is one line naming the folder, the path
+    and the cause: a :class:`~apexseal.files.CacheError` below the cache folder, else against ``--out``."""
+    from .derive.cache import cache_dir
+    from .files import CacheError, cache_error, inside
+    from .generated.generate import generate as run_generate
+
+    try:
+        return run_generate(effects, assumptions, out, flags=flags, compile=not no_compile,
+                            echo=None if quiet else click.echo)
+    except CacheError:
+        raise
+    except OSError as err:
+        if inside(err.filename or out, cache_dir()):  # the default --out is in the cache, as are derivations
+            raise cache_error(OSError(err.errno, err.strerror, str(err.filename or out)), cache_dir()) from err
+        raise click.ClickException(f"cannot write the generated artefacts to {out} ({err.filename or out}: "
+                                   f"{err.strerror or err}); give --out a folder you can write, on a disk with "
+                                   "free space") from None
+
+
 def _refuse_a_stray_default(out: Path | None) -> None:
     """Refuse ``--out .../generated/default`` that is not the committed default artefacts' folder (the command run
     outside the repository's root): it would write a copy nothing reads and leave the committed ones stale."""
@@ -113,7 +133,6 @@ def generate(scene: Path | None, out: Path | None, flags: str, effect_opts: tupl
                                    f"takes no {', '.join(given)}; to see a scene's model, run `apexseal generate "
                                    "SCENE` without --check")
         sys.exit(0 if _check_default(click.echo) else 1)
-    from .generated.generate import generate as run_generate
     from .generated.manifest import input_hash
 
     effects, assumptions = _scene_inputs(scene)
@@ -135,8 +154,7 @@ def generate(scene: Path | None, out: Path | None, flags: str, effect_opts: tupl
         out = cache_dir() / "gen" / input_hash(effects, assumptions)
     writable(out)  # a folder that cannot be made or written is refused before the derivation, naming it
     click.echo(f"effects: {effects.label}; assumptions: {assumptions.as_dict()}")
-    manifest = run_generate(effects, assumptions, out, flags=flags, compile=not no_compile,
-                            echo=None if quiet else click.echo)
+    manifest = _generate_into(out, effects, assumptions, flags, no_compile, quiet)
     c_bytes = sum((out / n).stat().st_size for n in manifest.files if n.endswith(".c"))
     n_instr = sum(f["n_instructions"] for f in manifest.data["functions"].values())
     if not quiet:

@@ -13,6 +13,7 @@ others exactly as any file the user writes. ``tempfile.mkstemp`` alone would lea
 
 from __future__ import annotations
 
+import errno
 import fcntl
 import hashlib
 import json
@@ -121,6 +122,61 @@ def _umask() -> int:
     return mask
 
 
+#: errors of the file system rather than of the data: a full disk or quota, a read-only or failing device
+DISK_ERRNOS = (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EIO)
+
+
+class CacheError(OSError):
+    """Something must be written to the cache folder (``$APEXSEAL_CACHE``) and cannot be: one line naming the
+    folder, the path and the cause, and what to do (:func:`cache_error`); ``errno`` is the cause's."""
+
+
+def cache_error(err: OSError, root: Path) -> CacheError:
+    """``err``, an error of writing below the cache folder ``root``, as the :class:`CacheError` a user reads."""
+    root = Path(root)
+    path = err.filename if err.filename is not None else root
+    cause = err.strerror or str(err)
+    advice = "set APEXSEAL_CACHE to a folder you can write"
+    if err.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
+        head = f"the cache folder {root} is not writable"
+    elif err.errno in (errno.ENOSPC, errno.EDQUOT):
+        head = f"the disk of the cache folder {root} is full"
+        advice = "free some space there or set APEXSEAL_CACHE to a folder on another disk"
+    elif err.errno in (errno.ENOTDIR, errno.EEXIST):
+        blocker = next((p for p in (Path(path), *Path(path).parents) if p.exists() and not p.is_dir()), None)
+        head, cause = f"the cache folder {root} is not a folder", f"{blocker or path} is a file"
+        path = None
+    else:
+        head = f"cannot write to the cache folder {root}"
+    where = f"{path}: {cause}" if path is not None else cause
+    out = CacheError(f"{head} ({where}); {advice}")
+    out.errno = err.errno
+    return out
+
+
+def inside(path, root: Path) -> bool:
+    """``path`` is ``root`` or below it."""
+    try:
+        return os.path.commonpath([os.path.abspath(path), os.path.abspath(root)]) == os.path.abspath(root)
+    except ValueError:  # another drive
+        return False
+
+
+@contextmanager
+def writing_cache(root: Path) -> Iterator[None]:
+    """Inside the block, an ``OSError`` of a path below the cache folder ``root`` (or of no path: a write to an
+    open file) is raised as the :class:`CacheError` of :func:`cache_error`, never as a traceback of an OS error
+    naming a temporary file or nothing."""
+    try:
+        yield
+    except CacheError:
+        raise
+    except OSError as err:
+        if err.filename is not None and not inside(err.filename, root):
+            raise
+        raise cache_error(err, root) from err
+
+
 @contextmanager
 def atomic_open(path: Path, mode: str = "w", *, durable: bool = False) -> Iterator[IO]:
     """Open a temporary file beside ``path`` for writing (``mode`` "w" or "wb"); it replaces ``path`` on success.
@@ -143,6 +199,11 @@ def atomic_open(path: Path, mode: str = "w", *, durable: bool = False) -> Iterat
                 os.fsync(fh.fileno())
         os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
+    except OSError as err:
+        Path(tmp).unlink(missing_ok=True)
+        if err.filename is None and err.errno is not None:  # a write to the open file (a full disk): name the file
+            raise OSError(err.errno, err.strerror, os.fspath(path)) from err
+        raise
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
@@ -168,13 +229,32 @@ def try_lock_folder(path: Path) -> int | None:
     return fd
 
 
-@contextmanager
-def file_lock(path: Path) -> Iterator[None]:
-    """An exclusive ``fcntl`` lock on ``path`` (created if needed), held for the ``with`` block."""
-    path = Path(path)
+def _lock_file(path: Path) -> IO:
+    """``path`` opened for a lock: created if needed; an existing one that cannot be written (a read-only or shared
+    cache) is opened for reading, which ``flock`` needs no more than."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("a+b") as fh:
-        fcntl.flock(fh.fileno(), fcntl.LOCK_EX)
+    try:
+        return path.open("a+b")
+    except OSError as err:
+        if err.errno not in (errno.EACCES, errno.EPERM, errno.EROFS) or not path.is_file():
+            raise
+        return path.open("rb")
+
+
+@contextmanager
+def file_lock(path: Path, what: str | None = None) -> Iterator[None]:
+    """An exclusive ``fcntl`` lock on ``path`` (created if needed), held for the ``with`` block. When another
+    process holds it, one progress line says so before waiting: "waiting for another apexseal process building
+    ``what`` in <the lock's folder> ..." (``what``: the lock file's name if not given)."""
+    path = Path(path)
+    with _lock_file(path) as fh:
+        try:
+            fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            from .progress import announce
+
+            announce(f"waiting for another apexseal process building {what or path.name} in {path.parent} ...")
+            fcntl.flock(fh.fileno(), fcntl.LOCK_EX)
         try:
             yield
         finally:
