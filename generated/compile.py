@@ -10,7 +10,8 @@ reused for exactly what it was built from (the compiler and its identity: genera
 Builds are safe with concurrent processes: an ``fcntl`` lock per key serialises
 builders, objects and the library are built in a uniquely named temporary folder,
 and the library is moved in with ``os.replace``. A library whose sha256 differs
-from its ``build.json`` is rebuilt with a warning, never used. Build folders a killed
+from its ``build.json``, or whose C on disk is not the C its key names, is rebuilt with a warning, never used
+(the C of a run Function is restored first, :func:`function_source`): the C on disk is what runs. Build folders a killed
 compile left behind are swept: those of the same key under its lock, any other
 one older than :data:`ABANDONED_AFTER`.
 
@@ -54,7 +55,7 @@ from ..progress import stage
 from .codegen import write_c
 from .compiler import CompilerUnavailable, compiler, compiler_identity, flag_list, lib_root, run_compiler, stop, stop_all
 from .functions import EXTERNAL_OPTIONS, ModelFunctions
-from .manifest import StaleArtefactWarning, verify
+from .manifest import StaleArtefactError, StaleArtefactWarning, verify
 from .variant import VARIANT_LIBRARY, VARIANT_RECORD, variant_dir, variant_record
 
 #: the model library's file name; unique per cache key, because an integrator that links against it finds it by
@@ -93,9 +94,26 @@ def sweep_build_folders(key: str) -> list[Path]:
     return removed
 
 
-def _valid(so: Path, record_path: Path, key: str) -> bool:
+def source_hashes(key_payload: dict, sources: Sequence[Path]) -> dict[Path, str]:
+    """The sha256 each of a library's C files must have: the one its key names (a model's or a variant's ``files``,
+    a run Function's ``c_sha256``)."""
+    files = key_payload.get("files")
+    if isinstance(files, dict):
+        return {src: files.get(src.name) for src in sources}
+    return {src: key_payload.get("c_sha256") for src in sources}
+
+
+def _edited(expected: Mapping[Path, str]) -> list[Path]:
+    """The C files whose content is not the one the library's key names."""
+    return [src for src, digest in expected.items() if not (src.is_file() and sha256_file(src) == digest)]
+
+
+def _valid(so: Path, record_path: Path, key: str, expected: Mapping[Path, str]) -> bool:
+    """The library is the one its build record describes, built from the C on disk (rechecked on every load: the
+    C files are small, and their hashes are remembered for the process while their stat is unchanged)."""
     record = read_json_object(record_path) or {}
-    return record.get("key") == key and so.is_file() and sha256_file(so) == record.get("so_sha256")
+    return (record.get("key") == key and so.is_file() and sha256_file(so) == record.get("so_sha256")
+            and not _edited(expected))
 
 
 def disk_error(stderr: str, folder: Path) -> OSError | None:
@@ -146,18 +164,24 @@ def build_library(key_payload: dict, sources: list[Path], name: str, *, flags: s
     """The cached library built from ``sources`` (building it if missing or modified), linked against the
     library ``link`` when given (its sha256 must be in ``key_payload``); ``{key}`` in ``name`` becomes the
     start of the cache key. A cached library is only read (no lock, no write); what must be built and cannot be
-    written raises :class:`~apexseal.files.CacheError`."""
+    written raises :class:`~apexseal.files.CacheError`; a C file that is not the one the key names,
+    :class:`~.manifest.StaleArtefactError` (it is never compiled under that key)."""
     cc = compiler()
     fl = flag_list(flags)
     key = content_key({**key_payload, "flags": list(fl), "compiler": compiler_identity(cc, fl), "cc": cc})
     name = name.format(key=key[:16])
     lib_dir = lib_root() / key
     so, record = lib_dir / name, lib_dir / "build.json"
-    if _valid(so, record, key):
+    expected = source_hashes(key_payload, sources)
+    if _valid(so, record, key, expected):
         return so
     with writing_cache(cache_dir()), file_lock(lib_root() / f"{key}.lock", name):
-        if _valid(so, record, key):  # another process built it while we waited
+        if _valid(so, record, key, expected):  # another process built it while we waited
             return so
+        edited = _edited(expected)
+        if edited:
+            raise StaleArtefactError(edited[0].parent, [f"{edited[0].name} is not the C the library {name} is built "
+                                                        "from (modified since it was generated)"])
         if so.exists():
             warnings.warn(f"compiled library {so} does not match its build record (modified or partial); rebuilding",
                           StaleArtefactWarning, stacklevel=3)
@@ -310,6 +334,9 @@ def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: s
     uses = [u for u in earlier.get("uses", []) if isinstance(u, dict) and u != use]
     record["uses"] = sorted([*uses, use], key=lambda u: json.dumps(u, sort_keys=True))
     with writing_cache(cache_dir()):  # an entry as it should be is only read: a read-only cache serves it
+        if src.is_file() and sha256_file(src) != digest:
+            warnings.warn(f"generated C {src} was modified (its sha256 is not the one its folder is named by); "
+                          "restoring it", StaleArtefactWarning, stacklevel=3)
         if not (src.is_file() and sha256_file(src) == digest):
             atomic_write(src, data)
         if record != earlier:

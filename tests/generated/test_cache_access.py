@@ -1,4 +1,4 @@
-"""The artefact cache when it cannot be written (read-only, shared, a file, a full disk).
+"""The artefact cache when it cannot be written (read-only, shared, a file, a full disk) and when its C is edited.
 
 Unwritability is emulated in-process (the writes and the lock raise what the operating system raises), so the tests
 bite when they run as root too.
@@ -15,6 +15,7 @@ import pytest
 
 from apexseal.files import CacheError
 from apexseal.generated import compile as comp
+from apexseal.generated.manifest import StaleArtefactError, StaleArtefactWarning
 
 
 @pytest.fixture
@@ -110,6 +111,22 @@ def test_a_full_disk_while_writing_an_entry_names_it(cache, monkeypatch):
     with pytest.raises(CacheError, match=f"^the disk of the cache folder {cache} is full \\({cache}/gen/fn/.*\\.c: "
                                          "No space left on device\\)"):
         comp.compile_function(_function("fullc"), flags="quick")
+
+
+def test_an_edited_c_file_is_flagged_and_never_runs(cache):
+    """With its library cached, an edited gen/fn/*/fn_*.c was restored without a word, and build_library never
+    checked the C on disk against the c_sha256 its key names: the edit is flagged and undone, and a library whose
+    C on disk is not that C is not used (nor compiled under that key)."""
+    f = _function("edited")
+    comp.compile_function(f, flags="quick")
+    source = comp.function_source(f)
+    original = source.c_file.read_bytes()
+    source.c_file.write_bytes(original + b"\n/* edited */\n")
+    with pytest.raises(StaleArtefactError, match="fn_edited.c is not the C the library"):
+        comp.build_function(source, flags="quick")
+    with pytest.warns(StaleArtefactWarning, match="was modified"):
+        g = comp.compile_function(f, flags="quick")
+    assert source.c_file.read_bytes() == original and float(g(2.0)) == 7.0
 
 
 def test_the_cli_reports_an_unusable_cache_in_one_line(tmp_path):
