@@ -13,6 +13,8 @@ Public API::
     apexseal.plot_comparison([result_a, result_b], ["x", "Pf_total"])  # several results in one Figure
     apexseal.compare(["out/a", "out/b"])    # the scene keys that differ and the runs' numbers, side by side
     with apexseal.reusing_engines(): ...     # many runs of one model and settings share one integrator
+    apexseal.optimise_preload(scene, min_force=5.0)  # the spring-preload study (a PreloadResult)
+    apexseal.preload_functions(scene)        # that study's compiled CasADi Functions, every input/output slot named
 """
 
 __version__ = "0.1.0"
@@ -33,6 +35,7 @@ _LAZY = {
     "reusing_engines": ("runtime.solving.engine_pool", "reusing"),
     "RunInterrupted": ("signals", "RunInterrupted"),
     "RunInterruptedWarning": ("runtime.api", "RunInterruptedWarning"),
+    "preload_functions": ("runtime.studies.preload.functions", "preload_functions"),
 }
 
 

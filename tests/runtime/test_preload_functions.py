@@ -1,0 +1,118 @@
+"""The preload study's Functions from Python (``apexseal.preload_functions``, docs/preload.md).
+
+Before, the compiled Functions were reachable only through three internal modules, with CasADi's generic slot names
+(x0, p, u, qf) whose entries only module docstrings explained. The docs' example is run here: one call of the
+interval integrator over the small study's revolution gives simulate()'s samples, and its friction quadrature
+differs from simulate()'s mean at the samples by the rectangle rule's error only.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import apexseal
+from apexseal.runtime.studies.preload.problem import PreloadStudyError
+
+SAMPLES = 72
+
+
+@pytest.fixture(scope="module")
+def small(soft_scene):
+    """The small study's scene (soft contacts without chamber pressure), its Functions at 72 and 720 samples per
+    call (one revolution each, CasADi's own evaluation: nothing to compile), and simulate()'s first revolution."""
+    scene = soft_scene.with_overrides(**{"effects.chamber_pressure": False})
+    pf = apexseal.preload_functions(scene, samples=SAMPLES, min_force=10.0, compile_c=False)
+    fine = apexseal.preload_functions(scene, samples=10 * SAMPLES, min_force=10.0, compile_c=False,
+                                      functions=pf.setup.functions)
+    with pytest.warns(UserWarning):  # the soft contacts' implausible penetration
+        run = apexseal.simulate(scene, revolutions=1, method="erk", samples_per_revolution=SAMPLES)
+    return scene, pf, fine, run
+
+
+def one_revolution(pf, delta_s):
+    """The docs' example: one call of the interval integrator from the scene's start."""
+    theta0 = pf.setup.theta_start
+    r = pf.interval(x0=pf.setup.start_state(delta_s), p=pf.p(delta_s, theta0), u=pf.u(theta0))
+    return np.array(r["xf"]), np.array(r["qf"]), theta0
+
+
+def pf_total_at_samples(pf, xf, theta0, delta_s):
+    s = pf.setup
+    edges = theta0 + s.dth * np.arange(pf.m + 1)
+    P = np.repeat(s.pmap(delta_s)[:, None], pf.m, 1)
+    Y = s.at_samples(s.functions.outputs, xf, edges[1:], P, s.pressures(edges))
+    return Y[tuple(s.functions.output_names).index("Pf_total")]
+
+
+def test_every_slot_is_named(small):
+    _, pf, _, _ = small
+    f, s = pf.interval, pf.setup
+    assert f.size_in("x0") == (len(pf.x0_names), 1) and f.size_in("p") == (len(pf.p_names), 1)
+    assert f.size_in("u") == (len(pf.u_names), SAMPLES) and f.size_out("qf") == (len(pf.qf_names), SAMPLES)
+    assert pf.x0_names[:6] == ("x", "y", "phi", "xd", "yd", "phid")
+    assert pf.x0_names[6] == f"closed_{s.layout.guard_names[0]}" and pf.x0_names[-1].startswith("events_")
+    assert pf.p_names[:len(s.pmap.names)] == s.pmap.names
+    assert pf.p_names[len(s.pmap.names):len(s.pmap.names) + 4] == ("theta0", "slope", "f_min", "f_max")
+    assert pf.p_names[-1] == "window4_end" and pf.qf_names == ("friction_energy", "force_deficit")
+    assert all(pf.p_names) and "qf 2x72: friction_energy, force_deficit" in pf.describe()
+    p = pf.p(2e-3, 1.0, slope=0.5)
+    assert p[pf.p_names.index("delta_s")] == 2e-3 and p[pf.p_names.index("theta0")] == 1.0
+    assert p[pf.p_names.index("slope")] == 0.5 and p[pf.p_names.index("f_min")] == 10.0
+
+
+def test_one_interval_gives_simulates_samples_and_its_friction_power_between_them(small):
+    """The interval's samples are simulate()'s (the same model, integrator and rtol): the mean of Pf_total at them is
+    simulate()'s friction_power to 1e-6. The quadrature integrates Pf_total between the samples too, so it differs
+    from that mean (27.911 against 27.962 W here) by the right-endpoint rectangle rule's error, at most
+    (2 pi / n) TV / (2 pi) = TV / n for Pf_total's total variation TV over the revolution; it does not depend on the
+    samples (no chamber pressure here), while the mean at 10 x the samples moves towards it."""
+    scene, pf, fine, run = small
+    d = scene.parameters["delta_s"]
+    xf, qf, theta0 = one_revolution(pf, d)
+    # the same erk at the same rtol (1e-6), but the quadratures enter its error control: other steps, rtol-level
+    scale = np.abs(run.state).max(axis=1, keepdims=True)
+    assert np.all(np.abs(pf.physical(xf) - run.state[:, 1:]) <= 1e-4 * scale)
+    at_samples = pf_total_at_samples(pf, xf, theta0, d)
+    assert at_samples.mean() == pytest.approx(run.friction_power, rel=1e-6)
+    quadrature = qf[0, -1] / (2 * np.pi)
+    xf10, qf10, _ = one_revolution(fine, d)
+    assert qf10[0, -1] / (2 * np.pi) == pytest.approx(quadrature, rel=1e-6)  # grid-independent
+    fine_samples = pf_total_at_samples(fine, xf10, theta0, d)
+    tv = np.abs(np.diff(np.r_[fine_samples[-1], fine_samples])).sum()  # the variation the finer samples see
+    assert 0 < abs(run.friction_power - quadrature) <= tv / SAMPLES
+    assert abs(fine_samples.mean() - quadrature) < abs(run.friction_power - quadrature) / 2
+
+
+def test_hybrid_state_is_the_inverse_of_physical(small):
+    _, pf, _, run = small
+    z = pf.hybrid_state(run.state[:, 5], run.closed[:, 5])
+    assert np.allclose(pf.physical(z[:, None])[:, 0], run.state[:, 5], rtol=1e-12)
+    assert np.array_equal(z[pf.setup.layout.active], run.closed[:, 5].astype(float))
+
+
+def test_a_bad_per_interval_names_the_option_and_range(small):
+    scene, pf, _, _ = small
+    with pytest.raises(PreloadStudyError, match=r"per_interval = 7: must be an integer in 1\.\.72 dividing"):
+        apexseal.preload_functions(scene, samples=SAMPLES, min_force=10.0, per_interval=7, compile_c=False,
+                                   functions=pf.setup.functions)
+
+
+if __name__ == "__main__":  # the numbers of docs/preload.md, "The study's Functions from Python"
+    import warnings
+
+    from apexseal.runtime.scenes.scene import embedded_scene_path
+
+    warnings.simplefilter("ignore")
+    scene = apexseal.load_scene(embedded_scene_path("soft-contacts.toml"),
+                                overrides={"effects.chamber_pressure": False})
+    for n in (SAMPLES, 10 * SAMPLES):
+        pf = apexseal.preload_functions(scene, samples=n, min_force=10.0, compile_c=False)
+        d = scene.parameters["delta_s"]
+        xf, qf, theta0 = one_revolution(pf, d)
+        run = apexseal.simulate(scene, revolutions=1, method="erk", samples_per_revolution=n)
+        at = pf_total_at_samples(pf, xf, theta0, d)
+        tv = np.abs(np.diff(np.r_[at[-1], at])).sum()
+        print(f"{n} samples: quadrature {qf[0, -1] / (2 * np.pi):.4f} W, mean at the interval's samples {at.mean():.4f} "
+              f"W, simulate().friction_power {run.friction_power:.4f} W, total variation at the samples / n "
+              f"{tv / n:.3f} W")
