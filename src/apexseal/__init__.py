@@ -15,6 +15,10 @@ Public API::
     with apexseal.reusing_engines(): ...     # many runs of one model and settings share one integrator
     apexseal.optimise_preload(scene, min_force=5.0)  # the spring-preload study (a PreloadResult)
     apexseal.preload_functions(scene)        # that study's compiled CasADi Functions, every input/output slot named
+
+Exceptions to catch: SceneError (a scene), SettingsError (run settings), PreloadStudyError (the preload study's
+options), StudyError (a sweep's study file), SchedulerError (a sweep's Dask scheduler), ResultFolderError (a
+result folder that cannot be read or resumed), ResultStorageError (one that cannot be written).
 """
 
 __version__ = "0.1.0"
@@ -36,6 +40,13 @@ _LAZY = {
     "RunInterrupted": ("signals", "RunInterrupted"),
     "RunInterruptedWarning": ("runtime.api", "RunInterruptedWarning"),
     "preload_functions": ("runtime.studies.preload.functions", "preload_functions"),
+    # the exceptions a user of the API catches (each a ValueError or an OSError, so older handlers still catch it)
+    "SettingsError": ("runtime.solving.settings", "SettingsError"),
+    "PreloadStudyError": ("runtime.studies.preload.problem", "PreloadStudyError"),
+    "StudyError": ("runtime.studies.sweep.study", "StudyError"),
+    "SchedulerError": ("runtime.studies.sweep.execute", "SchedulerError"),
+    "ResultFolderError": ("runtime.results.reading", "ResultFolderError"),
+    "ResultStorageError": ("runtime.results.folder", "ResultStorageError"),
 }
 
 

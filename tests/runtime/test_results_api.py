@@ -63,6 +63,22 @@ def test_dir_of_the_package_lists_the_api():
     assert {"load_scene", "simulate", "SimulationResult", "plot_comparison", "Model"} <= set(dir(apexseal))
 
 
+@pytest.mark.parametrize(("name", "module"), [
+    ("SceneError", "apexseal.runtime.scenes.errors"), ("SettingsError", "apexseal.runtime.solving.settings"),
+    ("PreloadStudyError", "apexseal.runtime.studies.preload.problem"),
+    ("StudyError", "apexseal.runtime.studies.sweep.study"), ("SchedulerError", "apexseal.runtime.studies.sweep.execute"),
+    ("ResultFolderError", "apexseal.runtime.results.reading"),
+    ("ResultStorageError", "apexseal.runtime.results.folder")])
+def test_the_exceptions_a_user_catches_are_the_package_s(name, module):
+    """Before, only SceneError was: ``except apexseal.SettingsError`` was an AttributeError, and a user had to find
+    the module that defines each."""
+    import importlib
+
+    assert getattr(apexseal, name) is getattr(importlib.import_module(module), name)
+    assert name in apexseal.__all__ and name in dir(apexseal) and issubclass(getattr(apexseal, name), Exception)
+    assert name in apexseal.__doc__
+
+
 def test_xarray_has_units_and_meanings_and_round_trips_through_netcdf(result, tmp_path):
     ds = result.to_xarray()
     assert ds["x"].dims == ("theta",) and ds["time"].attrs["units"] == "s"
