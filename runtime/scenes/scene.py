@@ -53,7 +53,8 @@ from .pressure import PressureSource, make_source
 from .schema import OperationSection, Section, SolverSection, validate_sections
 from .units import PlausibilityWarning
 
-__all__ = ["Scene", "SceneError", "load_scene", "default_scene_text", "derive_parameters", "embedded_scene_path"]
+__all__ = ["Scene", "SceneError", "load_scene", "scene_file", "default_scene_text", "derive_parameters",
+           "embedded_scene_path"]
 
 DEFAULT_SCENE = "default.toml"
 #: bump when the meaning of a scene's content changes (it enters the content hash)
@@ -78,16 +79,31 @@ def default_scene_text() -> str:
     return _scenes_folder().joinpath(DEFAULT_SCENE).read_text(encoding="utf-8")
 
 
+#: the name that stands for the embedded default scene, in a study file (``scene = "default"``) and to load_scene
+DEFAULT_NAME = "default"
+
+
+def scene_file(name: str | Path | None, base_dir: Path | None = None) -> Path | None:
+    """Where a scene named by a user is: None for the embedded default (None or the string ``"default"``, as a
+    study file names it), else the file, relative to ``base_dir`` when given (a study file's folder)."""
+    if name is None or isinstance(name, str) and name == DEFAULT_NAME:
+        return None
+    p = path_argument("path", name, f"the path of a scene file (str or Path), or None or {DEFAULT_NAME!r} for the "
+                      "embedded default")
+    return p if base_dir is None else base_dir / p
+
+
 def load_scene(path: str | Path | None = None, overrides: dict[str, Any] | None = None) -> Scene:
-    """Load and check a scene file; ``None`` loads the embedded default (the paper's case study). ``overrides``
-    (dotted keys, as :meth:`Scene.with_overrides` takes them) replace the file's keys before anything is checked,
-    so they can repair a file that would not load alone."""
+    """Load and check a scene file; ``None`` or ``"default"`` (the name a study file gives it) loads the embedded
+    default (the paper's case study). ``overrides`` (dotted keys, as :meth:`Scene.with_overrides` takes them)
+    replace the file's keys before anything is checked, so they can repair a file that would not load alone."""
+    path = scene_file(path)
     if path is None:
         folder = _scenes_folder()
         source = Path(str(folder.joinpath(DEFAULT_SCENE))) if isinstance(folder, Path) else None
         return Scene.from_toml_string(default_scene_text(), folder, name="default", source_path=source,
                                       overrides=overrides)
-    p = path_argument("path", path, "the path of a scene file (str or Path), or None for the default")
+    p = path
     try:
         text = p.read_text(encoding="utf-8")
     except FileNotFoundError:
@@ -443,16 +459,22 @@ class Scene:
         """The parameter vector as a CasADi Function of the named parameters (the others at the scene's values).
 
         Derived parameters follow through the submodels' own formulas: ``parameter_function("delta_s")`` moves
-        delta_w (Eq. 9) and Li (Eq. 12) with the preload, so a study can differentiate ``p(delta_s)``.
+        delta_w (Eq. 9) and Li (Eq. 12) with the preload, so a study can differentiate ``p(delta_s)``. A name is a
+        parameter's (``scene.parameters``: ``"delta_s"``) or its scene key (``"spring.delta_s"``); the Function's
+        inputs are named by the parameters. Any other name is a KeyError with the closest known name and the list.
         """
         import casadi as ca
 
         from apexseal.derive.choices import options_of
         from apexseal.derive.submodels.registry import parameters
+        from apexseal.suggest import not_known
 
-        unknown = [n for n in names if n not in self.parameters]
-        if unknown:
-            raise KeyError(f"no parameters {unknown}; known: {', '.join(self.parameters)}")
+        by_key = {q.key: q.name for q in parameters(all_inputs=True) if q.key is not None and q.name in self.parameters}
+        names = tuple(by_key.get(n, n) for n in names)
+        for n in names:
+            if n not in self.parameters:
+                raise KeyError(not_known(f"parameter_function: {n!r}", n, [*self.parameters, *by_key],
+                                         "a parameter of the scene's model nor its scene key", listing="known"))
         sym = {n: ca.SX.sym(n) for n in names}
         options = options_of(self.effects, self.assumptions)
         values = parameter_values(self._sections, options, **sym)

@@ -260,6 +260,20 @@ def test_the_parameters_as_a_function_of_the_preload_follow_the_scene_s_vector(d
     np.testing.assert_allclose(pmap(smooth.parameters["delta_s"]), own, rtol=1e-12)
 
 
+def test_the_parameter_function_takes_a_scene_key_and_names_an_unknown_name(default_scene):
+    """``parameter_function("spring.delta_s")`` (the key a scene file and with_overrides use) was a bare KeyError:
+    it is the parameter delta_s, and a name that is neither gets the closest known one and the list."""
+    by_key, by_name = default_scene.parameter_function("spring.delta_s"), default_scene.parameter_function("delta_s")
+    assert by_key.name_in(0) == "delta_s"
+    np.testing.assert_array_equal(np.array(by_key(3e-3)), np.array(by_name(3e-3)))
+    with pytest.raises(KeyError, match=r"'spring\.delta_x' is not a parameter of the scene's model nor its scene key "
+                                       r"\(did you mean 'spring\.delta_s'\?\); known: omega, .*spring\.ks"):
+        default_scene.parameter_function("spring.delta_x")
+    smooth = default_scene.with_overrides(**{"effects.groove_friction": False, "friction.mu2": None})
+    with pytest.raises(KeyError, match="'friction.mu2' is not a parameter"):  # an effect that is off reads none
+        smooth.parameter_function("friction.mu2")
+
+
 def test_quantities_of_a_contact_the_model_does_not_have_are_missing_not_zero(default_scene):
     """Without the housing contact the housing force, and without the groove's contacts the leakage gap, are null in
     summary.json and NaN among a sweep's quantities (as a friction power of a contact without friction is), and no

@@ -565,6 +565,19 @@ def test_missing_scene_file(tmp_path):
     assert info.value.errors[0] == ("scene", str(missing), "file not found")
 
 
+def test_the_default_scene_by_the_name_a_study_file_gives_it(tmp_path):
+    """A study file's ``scene = "default"`` is the embedded default, and load_scene("default") was "file not found":
+    both now take the name through one resolver (scene_file)."""
+    from apexseal.runtime.scenes.scene import scene_file
+
+    assert load_scene("default").content_hash() == load_scene().content_hash()
+    assert load_scene("default", overrides={"spring.ks": 1e4}).parameters["ks"] == 1e4
+    assert scene_file("default", tmp_path) is None and scene_file("my.toml", tmp_path) == tmp_path / "my.toml"
+    with pytest.raises(TypeError, match=r"path = 3: expected the path of a scene file \(str or Path\), or None or "
+                                        "'default' for the embedded default"):
+        load_scene(3)
+
+
 def test_unreadable_scene_file(tmp_path):
     with pytest.raises(SceneError) as info:
         load_scene(tmp_path)

@@ -356,12 +356,13 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
     """Check a parsed study (see the module docstring for the keys)."""
     import apexseal
     from apexseal.runtime.scenes.errors import SceneError
+    from apexseal.runtime.scenes.scene import scene_file
 
     spec, problems, malformed = _structure(raw, source)
 
     # base scene and its fixed overrides
     scene = None
-    path = None if spec.study.scene == "default" else base_dir / spec.study.scene
+    path = scene_file(spec.study.scene, base_dir)  # load_scene's own resolver: "default" is the embedded scene
     overrides = _dotted(spec.scene)  # solver.rtol = 5 sets that key (a table would replace the whole section)
     try:
         base = apexseal.load_scene(path)
