@@ -31,10 +31,11 @@ UNKNOWN = "(no scene.toml)"
 FIGURE_QUANTITIES = ("x", "y", "phi", "Pf_total")
 
 
-@dataclass
+@dataclass(eq=False)
 class Comparison:
     """``scenes``: a row per scene key whose value differs between the results (a column per result);
-    ``numbers``: a row per quantity (its unit in the row's name), a column per result."""
+    ``numbers``: a row per quantity (its unit in the row's name), a column per result. ``==`` is identity (the
+    frames' own ``.equals`` compares their content)."""
 
     labels: list[str]
     scenes: pd.DataFrame

@@ -40,7 +40,7 @@ class StopInfo:
         return f"stopped at crank angle {np.degrees(self.theta):.3f} deg in mode {self.mode}: {self.reason}"
 
 
-@dataclass(repr=False)
+@dataclass(repr=False, eq=False)
 class SimulationResult:
     """The trajectory of a run, one column per output sample (``n`` samples, the first at the start state).
 
@@ -48,16 +48,20 @@ class SimulationResult:
 
     * ``theta`` (n,): crank angle in rad, measured from the scene's start angle (``operation.start_angle``);
     * ``time`` (n,): time in s since the start (``theta / omega``);
-    * ``state`` (6, n): the seal's state in the groove frame (Eq. 10), rows in the order of
-      ``state_names()`` = x, y (m), phi (rad), xd, yd (m/s), phid (rad/s);
-    * ``closed`` (n_guards, n): True where the contact of ``guard_names[i]`` is closed (Algorithm 3);
-    * ``events`` (n_guards, n): running count of the switches of each contact (events between samples
-      included); :meth:`event_list` lists them with their crank angle and direction;
+    * ``state`` (n_x, n): the seal's state in the groove frame (Eq. 10), rows in the order of the tuple
+      ``state_names`` = x, y (m), phi (rad), xd, yd (m/s), phid (rad/s), then a submodel's own states (the chamber
+      gas);
+    * ``closed`` (n_guards, n), bool: True where the contact of ``guard_names[i]`` is closed (Algorithm 3);
+    * ``events`` (n_guards, n), float64 holding whole numbers (the integrator's state carries them): the switches
+      of each contact counted from the run's start to each sample (events between samples included; never
+      decreasing, so ``events[:, -1]`` are the run's); :meth:`event_list` lists them with their crank angle and
+      direction;
     * ``outputs``: name -> (n,) array: forces ``F_<contact>_X/_Y`` (N, groove frame), moments ``M_<contact>``
       (N m, about the centre of gravity), friction powers ``Pf_<contact>`` and ``Pf_total`` (W), gaps
       ``b1..b4``, ``b_gap`` (m), housing penetration ``xs5`` (m), ``spring_compression`` (m), chamber
       pressures ``Pa``, ``Pb`` (Pa);
-    * ``guard_names``: the contacts, e.g. ``("b1", "b2", "b3", "b4", "xs5", "spring")``;
+    * ``guard_names``: the contacts, in the model's order, the rows of ``closed`` and ``events``: on the default
+      scene ``("xs5", "b1", "b2", "b3", "b4", "spring")`` (the housing contact, the four groove gaps, the spring);
     * ``modes`` (n,): the contact mode at each sample (case of Algorithm 3, then ``h``/``s`` when the
       housing/spring contact is closed);
     * ``status``: ``completed``, ``interrupted``, ``failed`` or ``chattering``; ``stop`` says where and why a
@@ -69,13 +73,18 @@ class SimulationResult:
 
     Look at it with :meth:`summary`, :meth:`plot`, :meth:`to_xarray`, :meth:`to_pandas`; compare several with
     :func:`apexseal.plot_comparison`.
+
+    ``a == b`` is ``a is b``, as for the objects of scientific libraries that hold arrays beside other data (a
+    field-wise comparison of numpy arrays raised "truth value of an array is ambiguous"): compare the data as
+    xarray and pandas compare theirs, ``a.to_xarray().equals(b.to_xarray())`` (every column and coordinate),
+    or a column with numpy, ``np.array_equal(a.column("x"), b.column("x"))``.
     """
 
     theta: np.ndarray  # (n,) crank angle, rad, measured from the scene's start angle
     time: np.ndarray  # (n,) s
     state: np.ndarray  # (n_x, n) x, y (m), phi (rad), their time derivatives, then the submodels' own states
     closed: np.ndarray  # (n_guards, n) bool
-    events: np.ndarray  # (n_guards, n) running count of switches of each guard
+    events: np.ndarray  # (n_guards, n) float64, switches of each guard counted from the run's start
     outputs: dict[str, np.ndarray]  # name -> (n,)
     guard_names: tuple[str, ...]
     modes: list[str]
@@ -128,9 +137,15 @@ class SimulationResult:
         return dict(self.info.get("solver_stats", {}))
 
     def column(self, name: str) -> np.ndarray:
-        """A state (``x`` ... ``phid``, a submodel's own) or output by name, SI."""
+        """A state (``x`` ... ``phid``, a submodel's own) or output by name, SI; any other name is a KeyError with
+        the closest known name and the list (as :meth:`plot` says it)."""
         if name in self.state_names:
             return self.state[self.state_names.index(name)]
+        if name not in self.outputs:
+            from ...suggest import not_known
+
+            raise KeyError(not_known(f"column {name!r}", name, [*self.state_names, *self.outputs],
+                                     "a state nor an output of this result", listing="its columns"))
         return self.outputs[name]
 
     # ------------------------------------------------------------------ looking at it

@@ -51,6 +51,41 @@ def test_repr_is_short_and_says_what_matters(result):
                            "1.00 rev") and len(text) < 200
 
 
+def test_equality_is_identity_and_the_data_compare_as_xarray_compares_them(result):
+    """``a == b`` raised "truth value of an array is ambiguous" (the dataclass compared its numpy fields): it is
+    identity, and the docstring says how to compare the data."""
+    from dataclasses import replace
+
+    from apexseal.runtime.results.compare import Comparison
+    from apexseal.runtime.studies.preload.problem import Periodic, PreloadMap, PreloadSetup
+    from apexseal.runtime.studies.preload.schedule import Resimulation
+    from apexseal.runtime.studies.sweep.execute import SweepReport
+
+    twin = replace(result)
+    assert result == result and result != twin and twin in [result, twin]
+    assert result.to_xarray().equals(twin.to_xarray()) and "to_xarray().equals" in SimulationResult.__doc__
+    for cls in (Comparison, SweepReport, PreloadMap, Periodic, PreloadSetup, Resimulation):  # they hold arrays too
+        assert cls.__eq__ is object.__eq__, cls
+
+
+def test_an_unknown_column_names_the_closest_and_the_columns(result):
+    """``result.column("xx")`` was a bare KeyError('xx'): it says what plot() says of an unknown quantity."""
+    with pytest.raises(KeyError, match=r"column 'Pf_totl' is not a state nor an output of this result \(did you mean "
+                                       r"'Pf_total'\?\); its columns: x, y, phi, xd, yd, phid, "):
+        result.column("Pf_totl")
+    assert np.array_equal(result.column("Pf_total"), result.outputs["Pf_total"])
+
+
+def test_the_docstring_describes_the_fields_as_they_are(result):
+    """It said ``state_names()`` (a tuple), listed the guards b1 first (the model's order starts at xs5) and called
+    ``events`` a running count without saying it is float64."""
+    doc = SimulationResult.__doc__
+    assert isinstance(result.state_names, tuple) and "state_names()" not in doc
+    assert f"``{result.guard_names!r}``".replace("'", '"') in doc
+    assert result.events.dtype == np.float64 and "float64" in doc
+    assert np.all(np.diff(result.events, axis=1) >= 0) and result.n_events == result.events[:, -1].sum()
+
+
 def test_help_documents_every_field_with_units():
     doc = SimulationResult.__doc__
     for name in ("theta", "time", "state", "closed", "events", "outputs", "guard_names", "modes", "status", "stop",

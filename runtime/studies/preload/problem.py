@@ -61,7 +61,7 @@ class PreloadStudyError(ValueError):
     """A bad request (the message names the option, the value and the allowed range)."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class PreloadMap:
     """The simulator's parameter vector (the scene's model's, ``names``) as an affine function of delta_s (m)."""
 
@@ -191,7 +191,7 @@ def windows(exclude) -> tuple[tuple[float, float], ...]:
     return tuple(out)
 
 
-@dataclass
+@dataclass(eq=False)
 class Periodic:
     """Periodic revolutions of the simulator at several preloads (full simulations from the scene's start)."""
 
@@ -203,7 +203,7 @@ class Periodic:
     friction_power: np.ndarray  # (n,) mean friction power over the last revolution (W)
 
 
-@dataclass
+@dataclass(eq=False)
 class PreloadSetup:
     """The study's model, grid and checks for one scene (see the module docstring)."""
 

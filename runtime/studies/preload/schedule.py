@@ -141,9 +141,10 @@ def chain_function(sf, grid: SegmentGrid, n_z: int, *, derivatives: bool, nd: in
     return ca.Function("preload_chain" + ("_fwd" if derivatives else ""), ins, outs)
 
 
-@dataclass
+@dataclass(eq=False)
 class Resimulation:
-    """A periodic revolution of a schedule, chained from the scene's initial state (see the module docstring)."""
+    """A periodic revolution of a schedule, chained from the scene's initial state (see the module docstring).
+    Holds arrays, so ``==`` is identity."""
 
     thetas: np.ndarray  # (samples,) rad, absolute crank angle of the last revolution's samples
     z: np.ndarray  # (n_z, samples + 1) its hybrid states, the start included

@@ -31,9 +31,10 @@ from .study import Study, StudyError
 from .watch import EVERY_S, Bar, running_on, watching_here
 
 
-@dataclass
+@dataclass(eq=False)
 class SweepReport:
-    """What a sweep did: the table of every finished point, and counts of this run."""
+    """What a sweep did: the table of every finished point, and counts of this run. ``==`` is identity (compare two
+    sweeps' tables with ``a.table.equals(b.table)``)."""
 
     table: pd.DataFrame
     folder: Path
