@@ -98,6 +98,53 @@ def test_a_bad_per_interval_names_the_option_and_range(small):
                                    functions=pf.setup.functions)
 
 
+def test_a_preload_results_contact_powers_are_means_at_the_samples_and_its_total_a_quadrature(small):
+    """PreloadResult.contact_friction_power (each contact's mean at the samples) and friction_power (the quadrature)
+    are measured differently: on the small study's 2-knot schedule the housing's 23.876 W exceeded the total's
+    23.857 W. The contacts sum to the mean of Pf_total at the samples, which is within TV / n of the quadrature (the
+    docstring and docs/preload.md say so)."""
+    from apexseal.runtime.studies.preload.result import PreloadResult, contact_powers
+    from apexseal.runtime.studies.preload.schedule import SegmentGrid, simulate_schedule
+
+    scene, pf, _, _ = small
+    halves = apexseal.preload_functions(scene, samples=SAMPLES, min_force=10.0, per_interval=SAMPLES // 2,
+                                        compile_c=False, functions=pf.setup.functions)  # a call per knot stretch
+    s = halves.setup
+    grid = SegmentGrid(s.samples, 1, 2, s.theta_start, s.dth)
+    sim = simulate_schedule(s, halves.study, grid, np.array([0.0, 2.4e-3]), s.min_force, ())
+    contacts = contact_powers(s, sim)
+    xf = sim.z[:, 1:]
+    P = s.pmap.p0[:, None] + s.pmap.dp[:, None] * sim.delta_s[None, :]
+    Y = s.at_samples(s.functions.outputs, xf, sim.thetas, P, sim.pressures)
+    at_samples = Y[tuple(s.functions.output_names).index("Pf_total")]
+    assert sum(contacts.values()) == pytest.approx(at_samples.mean(), rel=1e-9)
+    tv = np.abs(np.diff(np.r_[at_samples[-1], at_samples])).sum()
+    assert abs(at_samples.mean() - sim.friction_power) <= tv / s.samples
+    doc = PreloadResult.__doc__
+    assert "mean of each contact's ``Pf_<contact>`` at the ``samples``" in doc and "quadrature of ``Pf_total``" in doc
+
+
+def test_a_preload_result_without_an_optimum_has_no_simulation_and_a_short_repr():
+    """A failed or interrupted study's result had no ``simulation`` attribute at all (AttributeError where a solved
+    one had it), and its repr was every field (kilobytes, the start search's history included)."""
+    from apexseal.runtime.studies.preload.result import PreloadResult
+
+    failed = PreloadResult(False, "infeasible: no constant preload up to max_preload = 100 mm keeps the contact force "
+                                  ">= 5 N between samples", 5.0, [], history=[(1e-3, -3.0, 1.0)] * 200)
+    assert failed.simulation is None and failed.scene_simulation is None
+    assert repr(failed) == ("PreloadResult(failed (infeasible: no constant preload up to max_preload = 100 mm …), "
+                            "IPOPT not run, 0 iterations)")
+    solved = PreloadResult(True, "solved", 5.0, [], knot_angles_deg=[0.0], knots=[1.7565e-3], delta_s=1.7565e-3,
+                           friction_power=26.849, ipopt_status="Solved_To_Acceptable_Level", ipopt_iterations=11)
+    solved.__dict__["simulation"] = "the re-simulation"  # as fill_result keeps it
+    assert solved.simulation == "the re-simulation" and "simulation" not in solved.to_dict()
+    assert repr(solved) == ("PreloadResult(solved, constant 1.7565 mm, friction power 26.849 W, IPOPT "
+                            "Solved_To_Acceptable_Level, 11 iterations)")
+    assert solved == PreloadResult(**solved.to_dict())  # the fields compared, not the simulations
+    for method in (PreloadResult.describe, PreloadResult.to_dict, PreloadResult.schedule.fget):
+        assert method.__doc__
+
+
 if __name__ == "__main__":  # the numbers of docs/preload.md, "The study's Functions from Python"
     import warnings
 
@@ -116,3 +163,16 @@ if __name__ == "__main__":  # the numbers of docs/preload.md, "The study's Funct
         print(f"{n} samples: quadrature {qf[0, -1] / (2 * np.pi):.4f} W, mean at the interval's samples {at.mean():.4f} "
               f"W, simulate().friction_power {run.friction_power:.4f} W, total variation at the samples / n "
               f"{tv / n:.3f} W")
+
+    from apexseal.runtime.studies.preload.result import contact_powers
+    from apexseal.runtime.studies.preload.schedule import SegmentGrid, simulate_schedule
+
+    halves = apexseal.preload_functions(scene, samples=SAMPLES, min_force=10.0, per_interval=SAMPLES // 2,
+                                        compile_c=False)
+    s = halves.setup
+    sim = simulate_schedule(s, halves.study, SegmentGrid(s.samples, 1, 2, s.theta_start, s.dth),
+                            np.array([0.0, 2.4e-3]), s.min_force, ())
+    contacts = contact_powers(s, sim)
+    print(f"2 knots (0, 2.4 mm), {SAMPLES} samples: friction_power (quadrature) {sim.friction_power:.3f} W; "
+          f"contact_friction_power (at the samples) {', '.join(f'{k} {v:.3f}' for k, v in contacts.items())} W, "
+          f"sum {sum(contacts.values()):.3f} W")

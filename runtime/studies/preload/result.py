@@ -4,6 +4,7 @@ re-simulated revolution fills it."""
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -20,9 +21,30 @@ DEFICIT_TOL = 0.2**2 * np.radians(0.1)
 ALLOWANCE = 1.05
 
 
-@dataclass
+@dataclass(repr=False)
 class PreloadResult:
-    """What the study found. ``knots`` is None when it failed (``message`` says why)."""
+    """What the study found. ``knots`` is None when it failed (``message`` says why).
+
+    Two friction powers, measured differently on the same re-simulated revolution: ``friction_power`` (and
+    ``scene_friction_power``, ``nlp_friction_power``) is the quadrature of ``Pf_total`` over crank angle divided by
+    2 pi, between the samples too, while ``contact_friction_power`` (and ``scene_contact_friction_power``) is the
+    mean of each contact's ``Pf_<contact>`` at the ``samples`` output samples, as a run's means are. The contacts'
+    powers sum to the mean of ``Pf_total`` at the samples, which differs from the quadrature by the rectangle rule's
+    error, at most the total variation of ``Pf_total`` over the revolution / ``samples`` (the impacts make it large
+    on a coarse grid): on the small study's 72-sample 2-knot schedule a contact's mean can exceed the total
+    (docs/preload.md, "The study's Functions from Python").
+
+    ``simulation`` (and ``scene_simulation``, the scene's own preload) is the re-simulated revolution the numbers
+    come from (a :class:`.schedule.Resimulation`: the hybrid states, the contact measure and the preload at the
+    samples), kept for the figures and not written by :meth:`to_dict`; None where the study ended before
+    re-simulating an optimum (it failed or was interrupted). ``==`` compares the fields (plain numbers, lists and
+    dicts: the JSON of :meth:`to_dict`), not the simulations.
+    """
+
+    #: the re-simulated revolution of the optimum (not a field: see the class docstring); None until there is one
+    simulation: ClassVar = None
+    #: the re-simulated revolution at the scene's own preload (not a field); None until there is one
+    scene_simulation: ClassVar = None
 
     ok: bool
     message: str
@@ -34,10 +56,11 @@ class PreloadResult:
     delta_s: float | None = None  # m, the mean preload over the revolution (the constant preload for 1 knot)
     spring_force: float | None = None  # N, ks * mean delta_s (the spring's force at rest, Eq. 39)
     scene_delta_s: float = 0.0  # m
-    friction_power: float | None = None  # W, cycle mean at the optimum (re-simulation)
+    friction_power: float | None = None  # W, cycle mean at the optimum (re-simulation; quadrature, between samples)
     scene_friction_power: float | None = None  # W, at the scene's preload
     nlp_friction_power: float | None = None  # W, the NLP's own
-    contact_friction_power: dict = field(default_factory=dict)  # W, cycle mean of each contact (re-simulation)
+    #: W, each contact's mean at the samples of the re-simulated revolution (not a quadrature: see the docstring)
+    contact_friction_power: dict = field(default_factory=dict)
     scene_contact_friction_power: dict = field(default_factory=dict)  # W, the same at the scene's preload
     deficit: float | None = None  # N^2 rad, the force-deficit quadrature of the re-simulation
     #: where most of that deficit builds up: [start, end] deg (mod 360) of the span around its densest output
@@ -74,13 +97,28 @@ class PreloadResult:
     filter_bounded: bool = False
 
     def to_dict(self) -> dict:
+        """The fields as plain data (numbers, strings, lists, dicts), as ``preload.json`` holds them; not the
+        simulations."""
         return asdict(self)
 
     @property
     def schedule(self) -> Schedule | None:
+        """The optimum as a callable ``delta_s(theta_deg)`` (m; periodic, piecewise linear through the knots, constant
+        for one knot), or None for a study that found none."""
         return Schedule(tuple(self.knot_angles_deg), tuple(self.knots)) if self.knots else None
 
+    def __repr__(self) -> str:
+        ipopt = f"IPOPT {self.ipopt_status or 'not run'}, {self.ipopt_iterations} iterations"
+        if not self.ok or not self.knots:
+            why = self.message if len(self.message) <= 60 else self.message[:59] + "…"  # the whole: .message
+            return f"PreloadResult(failed ({why}), {ipopt})"
+        what = (f"constant {self.knots[0] / MM:.4f} mm" if len(self.knots) == 1 else
+                f"{len(self.knots)} knots, mean {self.delta_s / MM:.4f} mm")
+        return f"PreloadResult(solved, {what}, friction power {self.friction_power:.3f} W, {ipopt})"
+
     def describe(self) -> str:
+        """The report's lines: the optimum, the force deficit and where it builds up, the smallest force at the
+        samples, the friction power against the scene's preload, what holds the optimum, IPOPT's run."""
         if not self.ok:
             return f"preload study failed: {self.message}"
         what = ("constant preload delta_s*" if len(self.knots) == 1 else
