@@ -337,7 +337,16 @@ def initial_state(scene, functions=None) -> np.ndarray:
 
 
 class Model:
-    """The seal model of a scene, evaluated pointwise (for checks and small scripts; slow in loops)."""
+    """The seal model of a scene, evaluated pointwise (for checks and small scripts; slow in loops).
+
+    ``Model(scene).functions`` are the scene's CasADi Functions themselves (docs/codegen.md, "What is generated"),
+    with named inputs and outputs: ``functions.rhs(theta, x, a, p, u) -> xdot``, ``guards``, ``outputs``,
+    ``rhs_switched``; ``functions.state_names``, ``guard_names``, ``output_names`` and ``parameter_names`` name
+    their entries, and ``self.params`` is the scene's parameter vector in that order. Where a C compiler is
+    available they are the compiled library (``casadi.external``), which carries first derivatives only: a
+    Jacobian works, a Hessian (IPOPT with its exact Hessian, ``ca.hessian``) fails. ``functions.sx()`` is the same
+    set as CasADi SX expressions, with derivatives of every order, to embed in an NLP or an integrator.
+    """
 
     def __init__(self, scene, functions=None):
         self.scene = scene = scene_of(scene)
