@@ -52,6 +52,16 @@ def settings_of(scene, **overrides) -> RunSettings:
     return RunSettings(**merged(base, overrides))
 
 
+def check_progress(progress) -> None:
+    """``progress`` of :func:`simulate`: True or False (a numpy bool too), or a :class:`SettingsError` naming it
+    (``progress="yes"`` was taken silently, and ``"no"`` turned the report on)."""
+    if not isinstance(progress, bool | np.bool_):
+        from .solving.settings import SettingsError
+
+        raise SettingsError([("progress", progress, "must be True or False (True: report the long stages and the "
+                                                    "integration on stderr); a callback is not taken")])
+
+
 def scene_of(scene):
     """A scene, or a scene loaded from a path (str or Path); anything else is a TypeError naming what was given."""
     from .scenes.scene import Scene, load_scene
@@ -133,7 +143,8 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
     result keeps the scene that ran with them applied (``result.scene``, saved as scene.toml).
     With ``out`` (a folder) the revolutions are streamed to disk as they finish and the folder is written as
     one unit (runtime/results/folder.py); the returned result is read back from it. ``progress=True`` reports
-    the long stages (derivation, code generation, compilation with elapsed times) and the integration on stderr.
+    the long stages (derivation, code generation, compilation with elapsed times) and the integration on stderr;
+    it takes True or False only (no callback: anything else, ``"yes"`` too, is a :class:`SettingsError`).
     Warns with :class:`PenetrationWarning` when a contact sinks into its wall by more than a stated fraction of
     the side clearance (:mod:`apexseal.runtime.results.plausibility`). After a Ctrl-C the run stops at its next
     check and is kept (written, with ``out``); then, in a script, :class:`~apexseal.signals.RunInterrupted` (a
@@ -143,6 +154,7 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
     from .. import progress as stages
     from ..signals import StopSignals
 
+    check_progress(progress)
     scene = scene_of(scene)
     st = settings_of(scene, method=method, rtol=rtol, revolutions=revolutions, **settings)
     # a SIGTERM stops the run, keeps its result (written when ``out`` is given) and then ends the process

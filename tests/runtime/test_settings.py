@@ -149,6 +149,9 @@ def test_simulate_accepts_a_path_and_names_a_wrong_type(tmp_path):
     (lambda sc, r: apexseal.simulate(sc, out="o\0"), ValueError, "out = 'o\\x00': a path cannot contain a NUL"),
     (lambda sc, r: apexseal.resume("r\0"), ValueError, "folder = 'r\\x00': a path cannot contain a NUL"),
     (lambda sc, r: apexseal.resume(5), TypeError, "folder = 5: expected a result folder"),
+    # taken silently before ("no" even turned the report on)
+    (lambda sc, r: apexseal.simulate(sc, progress="yes"), SettingsError, 'progress = "yes": must be True or False'),
+    (lambda sc, r: apexseal.simulate(sc, progress=print), SettingsError, "a callback is not taken"),
 ])
 def test_the_api_names_an_argument_of_the_wrong_kind(default_scene, default_functions, tmp_path, call, error,
                                                       fragment):
