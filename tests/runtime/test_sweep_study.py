@@ -394,3 +394,18 @@ def test_a_malformed_study_table_keeps_its_scene_and_a_bad_parameter_its_own_pro
     with pytest.raises(StudyError) as info:
         study_from_toml(text, base_dir=tmp_path)
     assert {p.key for p in info.value.errors} == {"study.name", "parameters.bad"}, info.value
+
+
+def test_the_output_folder_table_says_the_figures_are_the_command_s_and_how_to_draw_them():
+    """docs/sweeps.md listed <quantity>.png and feasible.png in the output folder while run_sweep from Python writes
+    no figure: the table says they are the command's and names the function that draws them."""
+    from pathlib import Path
+
+    import apexseal.commands_sweep as command
+    from apexseal.runtime.studies.sweep.figures import sweep_figures
+
+    docs = (Path(__file__).resolve().parents[2] / "docs" / "sweeps.md").read_text(encoding="utf-8")
+    assert "| `<quantity>.png` | `apexseal sweep` only" in docs and "| `feasible.png` | `apexseal sweep` only" in docs
+    assert "`apexseal.runtime.studies.sweep.figures.sweep_figures(study, report.table, \"out/\")`" in docs
+    assert "sweep_figures(st, report.table, out)" in Path(command.__file__).read_text(encoding="utf-8")
+    assert sweep_figures.__module__ == "apexseal.runtime.studies.sweep.figures"
