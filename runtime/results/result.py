@@ -214,6 +214,11 @@ class SimulationResult:
 
         See runtime/results/folder.py: written beside ``folder`` and renamed into place, so a failed save leaves
         a previous result there intact; storage errors name the folder and what was kept.
+
+        A saved result loads (:meth:`load`) but cannot be continued: its parts hold the samples, not the
+        integrator's state after them (``z_end``, which only a run streamed to its folder records), so
+        :func:`apexseal.resume` refuses it with a ResultFolderError. To continue a run later, simulate with
+        ``out=folder`` (or on the command line).
         """
         from .folder import save
 

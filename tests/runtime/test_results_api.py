@@ -86,6 +86,14 @@ def test_the_docstring_describes_the_fields_as_they_are(result):
     assert np.all(np.diff(result.events, axis=1) >= 0) and result.n_events == result.events[:, -1].sum()
 
 
+def test_save_says_a_saved_result_cannot_be_continued():
+    """docs/results.md said each part holds z_end, but a result saved from memory holds none, and resume refuses it
+    (tests/runtime/test_continuation.py): its docstring and the docs say so."""
+    assert "cannot be continued" in SimulationResult.save.__doc__ and "out=folder" in SimulationResult.save.__doc__
+    docs = (REPO / "docs" / "results.md").read_text(encoding="utf-8")
+    assert "saved\n  from memory with `result.save(folder)` has the samples only" in docs
+
+
 def test_help_documents_every_field_with_units():
     doc = SimulationResult.__doc__
     for name in ("theta", "time", "state", "closed", "events", "outputs", "guard_names", "modes", "status", "stop",
