@@ -26,9 +26,32 @@ def test_without_pressure_the_main_peak_is_the_housing_mode(scene, default_funct
             r = apexseal.simulate(s, revolutions=2, functions=default_functions.sx)
         f = features(r, s.omega)
         assert f.main_peak_rad_s == pytest.approx(math.sqrt(kw / s.parameters["ms"]), rel=0.06), kw
-        # the paper's 0.01e4 peak is the rotor speed (to one bin of the spectrum)
+        # the band around the paper's 0.01e4 rad/s peak is highest at the rotor speed, the spectrum's first bin
         assert f.small_peaks_rad_s[0] == pytest.approx(s.omega, rel=1e-3)
         assert 80 <= f.x_max_deg <= 100  # inertia alone: the seal digs in where the chord's sliding reverses
+
+
+def test_the_findings_print_the_unsmoothed_spectrum_at_its_bins():
+    """The findings script printed the 5-bin-smoothed spectrum interpolated at 314, 471 and 538 rad/s: over the one
+    revolution analysed the bins are omega = 157 rad/s apart, so 538 rad/s lay between two bins, and the smoothing
+    carried the 157 rad/s line into its neighbours (5.3 N "at 471" where the bin holds 0.6 N). It prints the
+    unsmoothed amplitude at the bins of the rotor harmonics, and the largest above 1e4 rad/s."""
+    from types import SimpleNamespace
+
+    from apexseal.runtime.studies.calibration.features import force_spectrum
+    from apexseal.runtime.studies.calibration.findings import HIGH_BAND, spectrum_lines
+
+    omega, n = 157.08, 3601
+    t = np.linspace(0, 2 * np.pi / omega, n)  # one revolution
+    mode = 1250 * 2 * np.pi / (n * t[1])  # a contact mode at 1.96e5 rad/s, on a bin of the spectrum
+    F = 30 + 10 * np.cos(omega * t) + 0.5 * np.cos(mode * t)
+    run = SimpleNamespace(outputs={"F_housing_X": F, "F_housing_Y": 0 * F}, n=n, time=t, theta=omega * t)
+    lines = spectrum_lines(*force_spectrum(run, bins=1), omega)
+    assert lines["bin_rad_s"] == pytest.approx(omega, rel=1e-3)
+    assert list(lines["harmonics_N"]) == pytest.approx([omega * k for k in (1, 2, 3, 4)], rel=1e-3)
+    # the 157 rad/s line, half of it in each neighbouring bin (the Hann window), nothing at 471 rad/s
+    assert list(lines["harmonics_N"].values())[:3] == pytest.approx([10, 5, 0], abs=0.05)
+    assert lines["high_N"] == pytest.approx((0.5, mode), rel=0.01) and mode > HIGH_BAND
 
 
 def test_last_revolution_and_angles(scene, default_functions):

@@ -55,13 +55,14 @@ def last_revolution(result) -> slice:
     return slice(start, result.n)
 
 
-def force_spectrum(result, window: slice | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """The amplitude spectrum of |Fs5| over ``window`` (default: the last revolution), smoothed."""
+def force_spectrum(result, window: slice | None = None, bins: int = SMOOTH_BINS) -> tuple[np.ndarray, np.ndarray]:
+    """The amplitude spectrum of |Fs5| over ``window`` (default: the last revolution), smoothed over ``bins`` bins
+    (1: not smoothed). Over one revolution the bins are the rotor speed apart."""
     window = window or last_revolution(result)
     F = housing_force(result)[window]
     dt = float(np.mean(np.diff(result.time[window])))
     w, amp = spectrum(F, dt)
-    kernel = np.ones(SMOOTH_BINS) / SMOOTH_BINS
+    kernel = np.ones(bins) / bins
     return w, np.convolve(amp, kernel, mode="same")
 
 

@@ -1,9 +1,13 @@
 """The numbers of docs/paper-findings.md: the paper's features on the default scene, with and without the chamber
-pressure, by erk and by the paper's explicit Euler at several steps.
+pressure, by erk and by explicit (forward) Euler at several steps (apexseal's reading of the paper's "Euler
+method", Section 1).
 
     python -m apexseal.runtime.studies.calibration.findings        # about a minute on one core
 
-Each run is two revolutions from rest; the features are those of the last one (:mod:`.features`).
+Each run is two revolutions from rest; the features are those of the last one (:mod:`.features`). Besides them it
+prints the unsmoothed |Fs5| spectrum at its first bins, which over the one revolution analysed are the rotor's
+harmonics (bins omega = 157 rad/s apart), and its largest amplitude above ``HIGH_BAND``, where the paper's main
+peak lies.
 """
 
 from __future__ import annotations
@@ -20,8 +24,24 @@ from .features import force_spectrum, last_revolution
 #: (label, method, Euler steps per revolution)
 RUNS = (("erk", "erk", None), ("euler 1e6", "euler", 1_000_000), ("euler 2e5", "euler", 200_000),
         ("euler 6e4", "euler", 60_000))
-#: frequencies (rad/s) whose spectral amplitude is printed: the rotor's 2nd and 3rd harmonics, the spring mode
-PROBES = (314.16, 471.24, 538.2)
+#: the rotor harmonics (multiples of omega, the first bins of a one-revolution spectrum) whose amplitude is printed
+HARMONICS = (1, 2, 3, 4)
+#: rad/s: the largest amplitude above this is printed (the paper's main peak, 6e4 rad/s, lies above it; its smaller
+#: peaks at 1e2 and 5e2 rad/s below)
+HIGH_BAND = 1.0e4
+
+
+def spectrum_lines(w: np.ndarray, amp: np.ndarray, omega: float) -> dict:
+    """What a spectrum ``w`` (rad/s), ``amp`` (N) says of the paper's Fig. 14: its bin width, the amplitude at the
+    bin nearest each of ``HARMONICS`` times ``omega`` (as ``{frequency of the bin: amplitude}``), and the largest
+    amplitude above ``HIGH_BAND`` with its frequency."""
+    lines = {}
+    for k in HARMONICS:
+        i = int(np.argmin(np.abs(w - k * omega)))
+        lines[float(w[i])] = float(amp[i])
+    high = w > HIGH_BAND
+    j = int(np.argmax(np.where(high, amp, -np.inf)))
+    return {"bin_rad_s": float(w[1] - w[0]), "harmonics_N": lines, "high_N": (float(amp[j]), float(w[j]))}
 
 
 def run_all(scene=None, revolutions: int = 2) -> list[dict]:
@@ -48,12 +68,12 @@ def run_all(scene=None, revolutions: int = 2) -> list[dict]:
             f = features_of(r, sc.omega)
             w = last_revolution(r)
             x, y = r.state[0][w] * 1e6, r.state[1][w] * 1e6
-            om, amp = force_spectrum(r, w)
+            om, raw = force_spectrum(r, w, bins=1)
             row.update(f.to_dict())
             row.update({"x_um": (float(x.min()), float(x.max())), "y_um": (float(y.min()), float(y.max())),
                         "penetration_um": penetration_check(r)["penetration_um"],
                         "events": int(r.events[:, -1].sum() - r.events[:, int(w.start)].sum()),
-                        "probes_N": {p: float(np.interp(p, om, amp)) for p in PROBES},
+                        "spectrum": spectrum_lines(om, raw, sc.omega),
                         "housing_mode_rad_s": math.sqrt(sc.parameters["kw"] / sc.parameters["ms"])})
             rows.append(row)
     return rows
@@ -66,13 +86,16 @@ def main() -> None:
             print(head + row["status"] + ": " + row["stop"][:160])
             continue
         pen = max(row["penetration_um"].values())
-        probes = ", ".join(f"{a:.3g} N at {p:.0f}" for p, a in row["probes_N"].items())
+        sp = row["spectrum"]
+        lines = ", ".join(f"{a:.3g} N at {p:.0f}" for p, a in sp["harmonics_N"].items())
         print(head + f"x {row['x_um'][0]:.3f}..{row['x_um'][1]:.3f} um (largest at {row['x_max_deg']:.1f} deg), "
               f"y {row['y_um'][0]:.2f}..{row['y_um'][1]:.2f} um | main peak {row['main_peak_rad_s']:.3g} rad/s "
               f"(sqrt(kw/ms) {row['housing_mode_rad_s']:.3g}), small-peak bands "
               + ", ".join(f"{v:.3g}" for v in row["small_peaks_rad_s"])
               + f" | |Fs5| mean {row['housing_force_mean_N']:.1f} N, max {row['housing_force_max_N']:.0f} N | "
-              f"deepest penetration {pen:.2f} um | {row['events']} switches | smoothed spectrum: {probes}")
+              f"deepest penetration {pen:.2f} um | {row['events']} switches | spectrum (bins {sp['bin_rad_s']:.0f} "
+              f"rad/s apart, not smoothed): {lines}; largest above {HIGH_BAND:.0e} rad/s {sp['high_N'][0]:.3g} N "
+              f"at {sp['high_N'][1]:.3g}")
 
 
 if __name__ == "__main__":
