@@ -9,8 +9,9 @@ Contact switches are not located: a step that straddles one loses the rule's
 order. They are counted at every step: the fold carries each contact's state at the
 last step's start and its running count of switches, so a contact that closes and
 opens within one output interval counts twice, and the count does not depend on how
-often the run is sampled. Two rules: explicit Euler (the paper's method,
-``solver.method = "euler"``) and classical RK4 (the benchmark's ``rk4-C``).
+often the run is sampled. Two rules: explicit (forward) Euler (``solver.method = "euler"``, apexseal's reading
+of the paper's "Euler method", Section 1, which does not say which Euler) and classical RK4 (the benchmark's
+``rk4-C``).
 """
 
 from __future__ import annotations
@@ -138,8 +139,10 @@ class FixedStepIntegrator(Engine):
 
 
 class EulerIntegrator(FixedStepIntegrator):
-    """The paper's explicit Euler on the switched right-hand side (its stability, as every explicit fixed-step
-    method's: :mod:`.contact_stability`, :mod:`.friction_stability`)."""
+    """Explicit (forward) Euler on the switched right-hand side: apexseal's reading of the paper's "Euler method"
+    (Section 1). Its stability, as every explicit fixed-step method's: :mod:`.contact_stability`,
+    :mod:`.friction_stability` (the negative numerical damping they guard against is explicit Euler's; a
+    semi-implicit Euler would behave differently)."""
 
     rule = EULER
 

@@ -137,8 +137,9 @@ METHODS: dict[str, Method] = {
                  "loop", stability=CLASSICAL_RK4),
     "collocation": Method(_STEPPER, "collocation", "fixed-step Radau collocation, mode switches located by the event "
                           "loop", needs_derivatives=True),
-    "euler": Method(".fixed_step:EulerIntegrator", "euler", "the paper's method: explicit Euler on the "
-                    "switched right-hand side, fixed step", locates_events=False, stability=EXPLICIT_EULER),
+    "euler": Method(".fixed_step:EulerIntegrator", "euler", "explicit (forward) Euler on the switched right-hand "
+                    "side, fixed step (apexseal's reading of the paper's 'Euler method', Section 1)",
+                    locates_events=False, stability=EXPLICIT_EULER),
 }
 
 

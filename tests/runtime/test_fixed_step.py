@@ -1,4 +1,5 @@
-"""The one fixed-step engine with its two step rules (Euler: the paper's method; RK4: the benchmark's rk4-C)."""
+"""The one fixed-step engine with its two step rules (explicit Euler: apexseal's reading of the paper's "Euler
+method"; RK4: the benchmark's rk4-C)."""
 
 from __future__ import annotations
 

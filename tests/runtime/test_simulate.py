@@ -95,7 +95,8 @@ def test_erk_and_cvodes_agree(default_scene, default_functions):
 
 @pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")
 def test_euler_converges_at_first_order(soft_scene, default_functions):
-    """The paper's explicit Euler: halving the step halves the error against a tight erk run.
+    """Explicit Euler (apexseal's reading of the paper's "Euler method"): halving the step halves the error against
+    a tight erk run.
 
     On the soft-contacts scene (kw = 6.2e7 N/m), where 50 000 steps per revolution are stable; the default's
     metal housing contact (2.4e5 rad/s) needs about 1e5 (docs/paper-findings.md).
