@@ -103,6 +103,23 @@ def test_default_toml_tags_every_value():
                 assert any(t in line for t in tags), line
 
 
+def test_the_scenes_and_pages_do_not_say_cr_is_for_circular_lobes_only():
+    """default.toml (and the scenes copied from it), docs/scene-estimates.md and docs/scenes.md said the clearance Cr
+    is used "by circular-lobe embodiments only"; the limaçon lobe of the chamber volumes is brought in by Cr too
+    (derive/chambers.py), so a limaçon-to-limaçon machine's gas model reads it."""
+    from pathlib import Path
+
+    from apexseal.derive.chambers import lobe_area
+
+    assert lobe_area("limacon-to-limacon", r=0.01, L=0.05, Cr=1e-4) < lobe_area("limacon-to-limacon", r=0.01, L=0.05)
+    root = Path(__file__).resolve().parents[2]
+    texts = [*(root / "runtime" / "scenes").rglob("*.toml"), root / "docs" / "scene-estimates.md",
+             root / "docs" / "scenes.md"]
+    claims = [f"{t.relative_to(root)}: {line.strip()}" for t in texts for line in t.read_text().splitlines()
+              if "Cr" in line and ("circular-lobe embodiments only" in line or "clearance of circular lobes" in line)]
+    assert not claims, claims
+
+
 def test_section_defaults_apply_when_omitted(scene):
     text = default_scene_text().split("[effects]")[0]  # no [effects], [assumptions], [solver]
     bare = Scene.from_toml_string(text, files("apexseal.runtime").joinpath("scenes"))
