@@ -48,11 +48,11 @@ class Column:
 
 #: fixed columns, in the order of the CSV
 FIXED: dict[str, Column] = {c.name: c for c in (
-    Column("theta_deg", "deg", "crank angle since the scene's start angle (Eq. 1)"),
+    Column("theta_deg", "deg", "crank angle since the scene's start angle (θ, Section 2, Fig. 1)"),
     Column("time_s", "s", "time since the start of the run"),
     Column("x", "m", "seal displacement along the groove axis X (groove frame, Eq. 10)", "µm", 1e6),
     Column("y", "m", "seal displacement across the groove, along Y (groove frame, Eq. 10)", "µm", 1e6),
-    Column("phi", "rad", "seal tilt angle in the groove (Eq. 10)", "mrad", 1e3),
+    Column("phi", "rad", "seal tilt angle in the groove (Eq. 11)", "mrad", 1e3),
     Column("xd", "m/s", "time derivative of x", "mm/s", 1e3),
     Column("yd", "m/s", "time derivative of y", "mm/s", 1e3),
     Column("phid", "rad/s", "time derivative of phi"),

@@ -74,7 +74,7 @@ class Ports(Section):
 
 
 def _initial_field(state) -> tuple[Any, float]:
-    """The scene field of a seal state's initial value (Eq. 10), as the state declares it
+    """The scene field of a seal state's initial value (Eqs. 10-11), as the state declares it
     (derive/submodels/seal.py): its unit, the unit messages show it in, +-its ``initial_limit``; 0 if omitted."""
     limit = state.initial_limit
     return _q(state.unit, ge=-limit, le=limit, show=state.show), 0.0
@@ -83,7 +83,7 @@ def _initial_field(state) -> tuple[Any, float]:
 InitialState = create_model("InitialState", __base__=Section,
                             **{s.name: _initial_field(s) for s in SealBody.states})
 InitialState.__doc__ = (
-    """Initial seal state in the groove frame (Eq. 10), one key per state of the seal body. The bounds refuse only
+    """Initial seal state in the groove frame (Eqs. 10-11), one key per state of the seal body. The bounds refuse only
     the absurd (a unit slip, an overflow): a seal displaced by a metre, tilted beyond the model's geometry (45 deg),
     or moving faster than 1 km/s in its groove; whether the start is inside a wall is the run's start check
     (runtime/solving/preflight.py).""")

@@ -395,6 +395,15 @@ def test_the_seal_s_displacement_columns_name_the_groove_frame_of_eq10():
         assert "groove frame" in meaning and f"{axis}s" not in meaning, (name, meaning)
 
 
+def test_the_state_columns_cite_the_equations_that_introduce_them():
+    """phi cited Eq. 10 (rc = x X̂ + y Ŷ), but the paper introduces the seal's rotation with Eq. 11 (the seal frame
+    turned by phi); theta cited Eq. 1 (the sliding s = 2 r sin theta), while theta is defined in the text of
+    Section 2 with Fig. 1."""
+    assert "Eq. 10)" in describe("x").meaning and "Eq. 10)" in describe("y").meaning
+    assert "(Eq. 11)" in describe("phi").meaning
+    assert "Section 2, Fig. 1" in describe("theta_deg").meaning and "Eq. 1)" not in describe("theta_deg").meaning
+
+
 def test_the_recorded_pressures_are_the_scene_s_at_each_sample(result, default_scene):
     """With linear pressures (the default) each sample records the scene's chamber pressures at its own crank angle
     (values lagging one interval behind went unnoticed: runs at two output densities lag alike)."""
