@@ -5,7 +5,9 @@ The paper prints no parameter values, only what it saw:
 * Fig. 14 and the text after it: the spectrum of the seal-housing force |Fs5| "centres at around 6 x 10^4 rad/s",
   with smaller peaks near 0.01, 0.05 and 0.78 x 10^4 rad/s;
 * Fig. 12a and the text: the displacement x (out of the groove, into the housing) "is of significant magnitude"
-  near 270 deg, where the seal digs into the housing wall.
+  with the seal "approximately at the 3 pi/2 (270 deg) position on the housing", where it digs into the housing
+  wall. Compared here with the crank angle of the largest x: one reading of a text that does not settle which angle
+  it means (docs/paper-findings.md, finding 3).
 
 :func:`features` measures the same things on the last whole revolution of a result (the start transient left
 out): the frequency of the largest peak of the |Fs5| spectrum above ``MIN_CONTACT_HARMONIC`` times the rotor
@@ -24,7 +26,8 @@ from ...results.spectra import housing_force, spectrum
 #: the paper's Fig. 14 peaks, rad/s (text after Fig. 14): the main one, then the smaller ones
 PAPER_MAIN_PEAK = 6.0e4
 PAPER_SMALL_PEAKS = (1.0e2, 5.0e2, 7.8e3)
-#: the crank angle where the paper's x is largest (text after Fig. 14: "approximately at 3 pi/2")
+#: the angle where the paper's x is largest (Section 4.5: "approximately at the 3 pi/2 position on the housing"),
+#: taken as a crank angle
 PAPER_X_ANGLE_DEG = 270.0
 #: peaks below this multiple of the rotor speed are the rotor's harmonics, not a contact's mode
 MIN_CONTACT_HARMONIC = 20
