@@ -55,7 +55,8 @@ class SealBody(Submodel):
         Parameter("L", "m", "half chord of the rotor (Eq. 2)", key="machine.L", plausible=(2e-3, 2.0, "mm"), gt=0),
         Parameter("H", "m", "machine depth along the axis (Algorithm 4)", key="machine.H",
                   plausible=(2e-3, 2.0, "mm"), gt=0, in_vector=False),
-        Parameter("Cr", "m", "rotor-housing clearance of circular lobes (Eqs. 5, 8)", key="machine.Cr", default=0.0,
+        Parameter("Cr", "m", "rotor-housing clearance: of circular lobes (Eqs. 5, 8), and of every lobe in the gas "
+                  "model's chamber volumes", key="machine.Cr", default=0.0,
                   ge=0, in_vector=False),
         Parameter("k", "m", "offset of a circular lobe's centre on the Yr axis (Eq. 5)", key="machine.k",
                   default=0.0, sign="real", in_vector=False),
@@ -101,7 +102,7 @@ class SealBody(Submodel):
         State("x", "m", "the seal's centre of gravity along the groove axis Xg, out of the groove (Eq. 10)", 1e-6,
               initial_limit=1.0),
         State("y", "m", "the seal's centre of gravity across the groove, along Yg (Eq. 10)", 1e-6, initial_limit=1.0),
-        State("phi", "rad", "the seal's tilt from the groove axis (Eq. 10)", 1e-3, show="deg",
+        State("phi", "rad", "the seal's tilt from the groove axis (Eq. 11)", 1e-3, show="deg",
               initial_limit=MAX_TILT),
         State("xd", "m/s", "dx/dt", 1e-6, rate=True, initial_limit=1e3),
         State("yd", "m/s", "dy/dt", 1e-6, rate=True, initial_limit=1e3),
