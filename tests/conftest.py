@@ -71,6 +71,21 @@ def soft_scene():
 
 
 @pytest.fixture
+def sigterm_redelivered():
+    """A SIGTERM handler that records, for the test: a library call that caught a SIGTERM ends the process by
+    delivering it again once what it computed is kept (apexseal.signals.StopSignals.redeliver_term), which would end
+    the test process. Yields the list of SIGTERMs so delivered."""
+    import signal
+
+    seen: list[int] = []
+    before = signal.signal(signal.SIGTERM, lambda signum, frame: seen.append(signum))
+    try:
+        yield seen
+    finally:
+        signal.signal(signal.SIGTERM, before)
+
+
+@pytest.fixture
 def signalled_in(monkeypatch):
     """``signalled_in(module, name)``: ``module.name`` sends this process a SIGTERM, then does what it did (a signal
     that lands exactly while that work runs)."""

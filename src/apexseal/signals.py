@@ -59,6 +59,9 @@ class StopSignals:
         #: it turned into by ``requested``), and that writes what it had once this is set back to False
         self.raising = raising
         self.received: list[int] = []
+        #: the signals the operating system delivered (not those :meth:`request` was asked for): only these are
+        #: redelivered
+        self.delivered: list[int] = []
         self._previous: dict[int, object] = {}
         self._engines: list = []
         self._outer: StopSignals | None = None
@@ -91,7 +94,7 @@ class StopSignals:
         caught = set(self._previous)
         self._previous.clear()
         StopSignals._active = None
-        ending = [s for s in self.received if s in ENDING and s in caught]
+        ending = [s for s in self.delivered if s in ENDING and s in caught]
         if self.redeliver_term and ending and signal.getsignal(ending[0]) not in (signal.SIG_IGN, None):
             if self.farewell:  # the process ends without a traceback: one line says what was kept
                 import sys
@@ -101,6 +104,7 @@ class StopSignals:
             signal.raise_signal(ending[0])  # its handler now: by default the process ends, as it was asked
 
     def _note(self, signum, frame) -> None:
+        self.delivered.append(signum)
         self.request(signum)
         if self.raising:
             raise KeyboardInterrupt

@@ -205,7 +205,7 @@ def test_no_more_workers_start_than_points_are_left_and_more_than_cores_is_said(
     assert started == [2]
 
 
-def test_a_signal_stops_the_points_running_on_a_dask_cluster_not_only_the_sweep(tmp_path):
+def test_a_signal_stops_the_points_running_on_a_dask_cluster_not_only_the_sweep(tmp_path, sigterm_redelivered):
     """SIGTERM while a long point runs on a cluster (a client's own, as on a shared cluster): the sweep returned,
     but the point ran on to its end (minutes), holding its worker; now it stops at its run's next check as a
     serial sweep's point does, the point not started is cancelled, and the finished one is kept."""
@@ -228,9 +228,10 @@ def test_a_signal_stops_the_points_running_on_a_dask_cluster_not_only_the_sweep(
         assert list(read_results(tmp_path / "out")["point"]) == [0]  # the table on disk: resumable
         # the worker is free again: the long point was stopped, not left to run out its 300 s budget
         assert client.submit(os.getpid, pure=False).result(timeout=30) > 0
+    assert sigterm_redelivered == [signal.SIGTERM]  # then it ends the process, as the signal asked
 
 
-def test_a_signal_while_a_dask_sweep_writes_a_point_keeps_that_point(tmp_path, signalled_in):
+def test_a_signal_while_a_dask_sweep_writes_a_point_keeps_that_point(tmp_path, signalled_in, sigterm_redelivered):
     """SIGTERM while the row of a finished point was written raised there (KeyboardInterrupt), and the point was
     lost; now the signal is noted, the row written whole, and the sweep stops after it."""
     from apexseal.runtime.studies.sweep.store import Store
@@ -241,6 +242,7 @@ def test_a_signal_while_a_dask_sweep_writes_a_point_keeps_that_point(tmp_path, s
     assert report.interrupted and report.where == "LocalCluster"
     assert 1 <= len(rows) < 16 and sorted(rows) == sorted(report.table["point"])
     assert sorted(read_results(tmp_path / "out")["point"]) == sorted(rows)
+    assert sigterm_redelivered == [signal.SIGTERM]  # then it ends the process, as the signal asked
 
 
 def test_a_second_sweep_into_a_folder_being_written_is_refused(tmp_path):
