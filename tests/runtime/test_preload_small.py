@@ -729,11 +729,12 @@ def test_the_api_takes_quantities_and_windows_as_the_command_line_does(light):
 
     from apexseal.runtime.studies.preload.problem import quantity_of, windows
 
-    assert quantity_of("min_force", "5 N", "N") == 5.0 and quantity_of("max_preload", "10 mm", "m") == 0.01
-    assert quantity_of("max_preload", pint.UnitRegistry().Quantity(2, "cm"), "m") == pytest.approx(0.02)
-    assert quantity_of("min_force", 5.0, "N") == 5.0
-    with pytest.raises(PreloadStudyError, match=r"min_force = '5 mm': wrong unit: expected a force in N"):
-        quantity_of("min_force", "5 mm", "N")
+    assert quantity_of("min_force", "5 N", "N", 1e5) == 5.0 and quantity_of("max_preload", "10 mm", "m", 1) == 0.01
+    assert quantity_of("max_preload", pint.UnitRegistry().Quantity(2, "cm"), "m", 1) == pytest.approx(0.02)
+    assert quantity_of("min_force", 5.0, "N", 1e5) == 5.0
+    with pytest.raises(PreloadStudyError, match=r"min_force = '5 mm': wrong unit: expected a force in N .*; allowed: "
+                                                 r"> 0 and <= 100000 N"):
+        quantity_of("min_force", "5 mm", "N", 1e5)
     assert windows(["180:200", (350, 10)]) == ((180.0, 200.0), (350.0, 10.0))
     scene = light[0]
     a = optimise_preload(scene, min_force=f"{MIN_FORCE} N", nodes=NODES, max_preload="100 mm", setup=_setup(light))

@@ -394,10 +394,10 @@ def is_integer(x) -> bool:
     return isinstance(x, numbers.Integral) and not isinstance(x, bool | np.bool_)
 
 
-def quantity_of(name: str, value: Any, unit: str) -> Any:
+def quantity_of(name: str, value: Any, unit: str, largest: float) -> Any:
     """A study option given as a quantity ("5 N", "10 mm", a pint quantity), in the SI ``unit``, as the command line
     and the scene take it; any other value as it is (checked by the option's own test). A text that is no quantity
-    of the kind is a :class:`PreloadStudyError` naming the option."""
+    of the kind is a :class:`PreloadStudyError` naming the option and its range, (0, ``largest``]."""
     from ...scenes.units import QuantityError, parse_quantity
 
     if type(value).__module__.split(".")[0] == "pint" and hasattr(value, "units"):
@@ -407,7 +407,7 @@ def quantity_of(name: str, value: Any, unit: str) -> Any:
     try:
         return parse_quantity(value, unit)
     except QuantityError as err:
-        raise PreloadStudyError(f"{name} = {value!r}: {err.reason}") from None
+        raise PreloadStudyError(f"{name} = {value!r}: {err.reason}; allowed: > 0 and <= {largest:g} {unit}") from None
 
 
 def is_force(x) -> bool:

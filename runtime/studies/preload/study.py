@@ -75,6 +75,7 @@ from .nlp import STUCK_ITERATIONS, THETA_MAX_FACT, ShootingNlp
 from .periodic import periodic
 from .problem import (
     MAX_FORCE,
+    MAX_PRELOAD,
     MM,
     PreloadSetup,
     PreloadStudyError,
@@ -151,9 +152,10 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     from ...api import model_functions, scene_of
 
     scene = scene_of(scene)
-    min_force, max_preload = quantity_of("min_force", min_force, "N"), quantity_of("max_preload", max_preload, "m")
+    min_force = quantity_of("min_force", min_force, "N", MAX_FORCE)
+    max_preload = quantity_of("max_preload", max_preload, "m", MAX_PRELOAD)
     if max_groove_force is not None:
-        max_groove_force = quantity_of("max_groove_force", max_groove_force, "N")
+        max_groove_force = quantity_of("max_groove_force", max_groove_force, "N", MAX_FORCE)
     _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter, max_preload, start)
     knots, nodes = int(knots), int(nodes)
     exclude = windows(exclude)
