@@ -121,7 +121,9 @@ def _kept_on_interrupt(study):
                                + ("nothing solved yet" if res.knots is None else "the last solution found is kept"))
             kept = (f"the study's result so far ({'none solved' if res.knots is None else 'a solution'}), "
                     "returned in memory")
-            return after_an_interrupt(res, stop, signals, stop.requested, "the preload study", kept)
+            return after_an_interrupt(res, stop, signals, stop.requested, "the preload study", kept,
+                                      "its result so far, in memory only, lost with the process (the command "
+                                      "line, apexseal optimise-preload, writes its report as it goes)")
 
     sig = inspect.signature(study)
     call.__signature__ = sig.replace(parameters=[p for n, p in sig.parameters.items() if n != "_holder"])
