@@ -168,13 +168,11 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
             sink = ResultFolder(path_argument("out", out, "a folder (str or Path), or None to keep the result in "
                                               "memory"))
             try:
-                result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)
-            except BaseException:
-                sink.abandon_if_empty()  # a run that raised leaves a .partial- folder another process may continue,
-                raise  # if it holds a revolution
+                with sink.discarded_if_empty():  # a run that raised leaves a .partial- folder another process may
+                    result = run_scene(scene, st, progress=progress, functions=functions, sink=sink)  # continue
             finally:
                 sink.release()
-            _commit(sink)
+            out = _commit(sink)
         return _after_a_ctrl_c(result, stop, signals, out)  # inside: a SIGTERM ends the process on leaving
 
 
@@ -220,13 +218,15 @@ class RunInterruptedWarning(UserWarning):
     :class:`~apexseal.signals.RunInterrupted` is raised instead)."""
 
 
-def _commit(sink) -> None:
-    """Move the result folder into place; a result that stayed aside (see ResultFolder.commit) is warned of."""
+def _commit(sink) -> Path:
+    """Move the result folder into place and return where it is; a result that stayed aside (see
+    ResultFolder.commit) is warned of."""
     from .results.folder import KeptAsideWarning
 
     where = sink.commit()
     if sink.kept_aside:
         warnings.warn(f"{sink.kept_aside}; this run's result is in {where}", KeptAsideWarning, stacklevel=3)
+    return where
 
 
 def resume(folder, *, revolutions: int | None = None, max_wall_time: float | None = None, progress: bool = False,
@@ -247,6 +247,7 @@ def resume(folder, *, revolutions: int | None = None, max_wall_time: float | Non
     from ..signals import StopSignals
     from .results.folder import ResultFolder
 
+    check_progress(progress)
     cont, st = continuing(folder, revolutions=revolutions, max_wall_time=max_wall_time)
     stop = StopSignals(redeliver_term=True)
     with stop as signals:  # as simulate: a SIGTERM ends the process once the result is written
@@ -254,16 +255,13 @@ def resume(folder, *, revolutions: int | None = None, max_wall_time: float | Non
         same_model(cont, functions)
         sink = ResultFolder.continuing(cont)
         try:
-            with stages.enabled(progress):
+            with stages.enabled(progress), sink.discarded_if_empty():
                 result = run_scene(cont.scene, st, progress=progress, functions=functions, sink=sink,
                                    continuation=cont)
-        except BaseException:
-            sink.abandon_if_empty()
-            raise
         finally:
             sink.release()
-        _commit(sink)
-        return _after_a_ctrl_c(result, stop, signals, sink.target)  # inside: a SIGTERM ends the process on leaving
+        where = _commit(sink)
+        return _after_a_ctrl_c(result, stop, signals, where)  # inside: a SIGTERM ends the process on leaving
 
 
 def continuing(folder, *, revolutions: int | None = None, max_wall_time: float | None = None):

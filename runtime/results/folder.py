@@ -32,6 +32,7 @@ the same rules: :class:`ReportFolder`, each report written whole beside the fold
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 import os
@@ -194,6 +195,12 @@ def part_arrays(part: SimulationResult, run_id: str, index: int, z_end: np.ndarr
     return arrays
 
 
+def figures_declined(info: dict) -> bool:
+    """Whether the run whose record's ``info`` this is was asked for no figures (``--no-figures``): its
+    continuation draws none either."""
+    return info.get("figures") is False
+
+
 class ResultFolder:
     """Writes one result folder (see the module docstring); the run loop's sink when a run streams to disk."""
 
@@ -269,7 +276,7 @@ class ResultFolder:
         folder.last = cont.last
         folder.info = dict(record["info"])
         folder.asked = tuple(folder.info.get("files_asked", ()))
-        folder.no_figures = folder.info.get("figures") is False
+        folder.no_figures = figures_declined(folder.info)
         # the run at the target when the run continued began, not when its continuation did: a result another run
         # wrote there since (a killed run resumed days later) is not this run's to replace; unknown in a record
         # written before it was kept, so then any other run's result at the target is kept
@@ -434,17 +441,24 @@ class ResultFolder:
         shutil.rmtree(self.staging, ignore_errors=True)
         self.release()
 
-    def abandon_if_empty(self) -> None:
-        """After a run that raised: remove its folder if it holds no revolution (a crash before the first one, a
-        full disk at it: a folder that only said "killed before its first revolution"); release it otherwise (a
-        continuation's folder holds the revolutions it continues). Does not raise."""
-        if self.parts or self.final:
-            self.release()
-            return
+    @contextlib.contextmanager
+    def discarded_if_empty(self):
+        """Around the run writing this folder: where it raises, the folder is removed if it holds no revolution (a
+        crash before the first one, a full disk at it: a folder that only said "killed before its first
+        revolution"), and released otherwise (a continuation's folder holds the revolutions it continues)."""
         try:
-            self.abandon()
-        except Exception:  # noqa: BLE001  (the run's own error is the one to report)
-            self.release()
+            yield self
+        except BaseException:
+            try:
+                self.sync()  # a revolution handed to the writer thread is written, and counts, before deciding
+            except BaseException:  # noqa: BLE001  (the run's own error is the one to report)
+                pass
+            if self.parts or self.final:
+                self.release()
+            else:
+                shutil.rmtree(self.staging, ignore_errors=True)
+                self.release()
+            raise
 
     def release(self) -> None:
         """Let go of the folder: another process may continue it from now on (``apexseal simulate --resume``).

@@ -87,7 +87,7 @@ def read_record(folder: Path) -> dict:
             raise ResultFolderError(f"{folder} holds no result: run {began} began here and was killed before it wrote "
                                     "its first revolution, so there is nothing to load or continue; simulate the "
                                     f"scene again ({folder / SCENE_FILE}) and delete this folder")
-        if PARTIAL.match(folder.name) and {p.name for p in folder.iterdir()} <= {"parts"} and \
+        if PARTIAL.match(folder.name) and folder.is_dir() and {p.name for p in folder.iterdir()} <= {"parts"} and \
                 not any((folder / "parts").iterdir() if (folder / "parts").is_dir() else ()):
             raise ResultFolderError(f"{folder} holds no result: a run was killed here before it wrote anything (an "
                                     "empty parts/), so there is nothing to load or continue; delete this folder")

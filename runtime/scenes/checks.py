@@ -489,7 +489,7 @@ def unread_keys(effects: Effects, assumptions: Assumptions | None = None) -> fro
     from apexseal.derive.submodels.registry import is_read, need_holds, parameters, scene_inputs
 
     inputs = {key for table, need in scene_inputs().items() if not need_holds(need, effects, assumptions)
-              for key in key_paths(table)}
+              for key in key_paths(table) if key == table or key.startswith(f"{table}.")}
     return frozenset(p.key for p in parameters(all_inputs=True)
                      if p.key is not None and not is_read(p, effects, assumptions)) | inputs
 

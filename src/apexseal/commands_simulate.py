@@ -122,16 +122,13 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                         warnings.simplefilter("ignore", PenetrationWarning)
                         warnings.simplefilter("ignore", FlankWarning)
                         try:
-                            result = run_scene(sc, settings, progress=not quiet, sink=writer,
-                                               functions=functions, continuation=cont)
+                            with writer.discarded_if_empty():  # a crash, a full disk at the first revolution: no
+                                result = run_scene(sc, settings, progress=not quiet, sink=writer,  # empty folder
+                                                   functions=functions, continuation=cont)
                         except KeyboardInterrupt:  # the integrator's compilation abandoned: no step was taken
                             if not signals.requested:
-                                writer.abandon_if_empty()
                                 raise
                             _stopped_before_the_run(signals, writer, resumed=cont is not None)
-                        except BaseException:  # a crash, a full disk at the first revolution: no empty folder
-                            writer.abandon_if_empty()  # left to be taken for a killed run
-                            raise
                 watch.split("run", result.info.get("timings_s", {}))
                 figures = None
                 if not no_figures and result.n > 1 and not signals.requested:
@@ -201,10 +198,11 @@ def _said(samples: int, what: str):
 def _declined_figures(folder: Path) -> bool:
     """Whether the run of the result ``folder`` was asked for no figures (``--no-figures``, recorded in its
     result.json): its continuation draws none either. False where the record cannot be read (--resume says why)."""
+    from .runtime.results.folder import figures_declined
     from .runtime.results.reading import ResultFolderError, read_record
 
     try:
-        return read_record(folder)["info"].get("figures") is False
+        return figures_declined(read_record(folder)["info"])
     except (ResultFolderError, OSError, KeyError, TypeError):
         return False
 

@@ -99,8 +99,11 @@ class StopSignals:
             if self.farewell:  # the process ends without a traceback: one line says what was kept
                 import sys
 
-                print(f"apexseal: {signal.Signals(ending[0]).name}: {self.farewell}; ending the process",
-                      file=sys.stderr, flush=True)
+                try:
+                    print(f"apexseal: {signal.Signals(ending[0]).name}: {self.farewell}; ending the process",
+                          file=sys.stderr, flush=True)
+                except (OSError, ValueError):  # no terminal any more (a SIGHUP), a closed pipe: the signal all the same
+                    pass
             signal.raise_signal(ending[0])  # its handler now: by default the process ends, as it was asked
 
     def _note(self, signum, frame) -> None:

@@ -189,6 +189,9 @@ def test_a_peak_near_the_paper_s_that_is_not_the_housing_mode_is_not_called_repr
     assert v["matched"] and not v["is_housing_mode"] and v["housing_mode_rad_s"] == pytest.approx(1.435e5, rel=1e-3)
     assert "main_peak: paper 6e+04, fit 6.7e+04: matched in value only: " in off_mode.describe()
     assert "reproduced" not in off_mode.describe()
+    only_kg = Evaluation({"kg": 2e9}, Features(6.0e4, (157.0,), 185.0, 0.3, 30.0, 200.0), 0.2, "completed")
+    scene_kw = Calibration(only_kg, [only_kg], ranges={"kg": (3e8, 1e10)}, mass=ms, kw=6.1e7)
+    assert scene_kw.verdicts()["main_peak"]["is_housing_mode"]  # kw no unknown: the scene's (it was "nan rad/s")
     at_mode = study(6.1e7, 6.0e4)  # sqrt(6.1e7 / 0.017) = 5.99e4 rad/s
     assert at_mode.verdicts()["main_peak"]["is_housing_mode"]
     assert "main_peak: paper 6e+04, fit 6e+04: reproduced" in at_mode.describe()

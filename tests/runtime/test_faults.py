@@ -779,3 +779,34 @@ def test_a_command_stopped_by_a_signal_leaves_the_next_run_of_its_process_catchi
     finally:
         for s, handler in before.items():
             signal.signal(s, handler)
+
+
+def test_a_run_that_raises_after_a_revolution_was_handed_over_keeps_it(two_results, tmp_path, monkeypatch):
+    """The folder of a run that raised was removed when it held no part yet, checked before the writer thread had
+    written the revolution handed to it: that revolution went with the folder. The writer is waited for first."""
+    import threading
+
+    gate = threading.Event()
+    real = folder_mod._write_bytes
+
+    def slow(path, data):
+        gate.wait(5)
+        real(path, data)
+
+    monkeypatch.setattr(folder_mod, "_write_bytes", slow)
+    sink = ResultFolder(tmp_path / "o", background=True)
+    sink.append(two_results[1])
+    threading.Timer(0.2, gate.set).start()
+    with pytest.raises(RuntimeError, match="a crash"), sink.discarded_if_empty():
+        raise RuntimeError("a crash")
+    assert sink.staging.is_dir() and len(sink.parts) == 1
+    empty = ResultFolder(tmp_path / "e")
+    with pytest.raises(RuntimeError), empty.discarded_if_empty():
+        raise RuntimeError("a crash before the first revolution")
+    assert not empty.staging.exists()
+
+
+def test_a_partial_folder_that_is_gone_is_said_to_be_no_result(tmp_path):
+    """Loading a .partial- folder that no longer exists (its resume committed it) raised FileNotFoundError."""
+    with pytest.raises(ResultFolderError, match="no result.json"):
+        SimulationResult.load(tmp_path / "o.partial-0123456789ab")

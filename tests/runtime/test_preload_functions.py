@@ -176,3 +176,10 @@ if __name__ == "__main__":  # the numbers of docs/preload.md, "The study's Funct
     print(f"2 knots (0, 2.4 mm), {SAMPLES} samples: friction_power (quadrature) {sim.friction_power:.3f} W; "
           f"contact_friction_power (at the samples) {', '.join(f'{k} {v:.3f}' for k, v in contacts.items())} W, "
           f"sum {sum(contacts.values()):.3f} W")
+
+
+def test_it_takes_the_study_s_quantities_as_optimise_preload_does():
+    """preload_functions refused min_force="5 N", which optimise_preload takes; a text that is no force names the
+    option and its range (before anything is built)."""
+    with pytest.raises(PreloadStudyError, match=r"min_force = '5 mm': wrong unit.*allowed: > 0 and <= 100000 N"):
+        apexseal.preload_functions("default", min_force="5 mm")

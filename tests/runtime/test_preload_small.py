@@ -721,6 +721,16 @@ def test_ctrl_c_in_a_script_stops_the_study_and_carries_what_it_had(light, monke
     assert not res.ok and "interrupted" in res.message
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # the handler is given back
 
+    def as_casadi_does(self, *args, **kwargs):  # the interruption raised inside a CasADi call becomes its error
+        os.kill(os.getpid(), signal.SIGINT)
+        raise NotImplementedError("Wrong number or type of arguments")
+
+    monkeypatch.setattr(ShootingNlp, "solve", as_casadi_does)
+    monkeypatch.setattr(apexseal.signals, "interactive", lambda: False)
+    with pytest.raises(RunInterrupted) as info:  # the CasADi error it became escaped, and the result with it
+        optimise_preload(scene, min_force=MIN_FORCE, nodes=NODES, setup=_setup(light))
+    assert not info.value.result.ok
+
 
 def test_the_api_takes_quantities_and_windows_as_the_command_line_does(light):
     """`optimise_preload(min_force="5 N")`, `max_preload="10 mm"` and `exclude=["180:200"]` were refused (a number

@@ -216,3 +216,9 @@ def test_the_absolute_tolerance_and_the_chamber_pressures_reach_the_run(default_
     assert tight.status == loose.status == "completed"
     assert np.abs(tight.state - loose.state).max() > 0  # another step sequence: the atol was used
     assert np.all(tight.outputs["Pa"] == 6e5) and np.all(tight.outputs["Pb"] == 1e5)
+
+
+def test_resume_takes_progress_as_simulate_does(tmp_path):
+    """resume(progress="no") turned the report on, where simulate refuses it."""
+    with pytest.raises(SettingsError, match="progress"):
+        apexseal.resume(tmp_path, progress="no")

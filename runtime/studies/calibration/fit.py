@@ -100,6 +100,7 @@ class Calibration:
     revolutions: int = 2
     wall_time_s: float = 0.0
     mass: float = float("nan")  # the seal's mass ms, kg (for the stiffness a feature would need)
+    kw: float = float("nan")  # the scene's tip-housing stiffness, N/m (the housing mode where kw is no unknown)
     stopped: str = ""  # why the study ended early (a signal), or "" for a study that ran to its end
     exit_code: int = 0  # 128 + the signal that stopped it, or 0
 
@@ -117,8 +118,8 @@ class Calibration:
         main_ok = abs(f.main_peak_rad_s / PAPER_MAIN_PEAK - 1) <= FREQUENCY_MATCH
         angle_ok = angle_error_deg(f.x_max_deg, PAPER_X_ANGLE_DEG) <= ANGLE_MATCH_DEG
         kw_needed = PAPER_MAIN_PEAK**2 * self.mass
-        housing = math.sqrt(self.best.values["kw"] / self.mass) if "kw" in self.best.values else float("nan")
-        is_mode = abs(f.main_peak_rad_s / housing - 1) <= FREQUENCY_MATCH  # False without kw among the unknowns
+        housing = math.sqrt(self.best.values.get("kw", self.kw) / self.mass)
+        is_mode = abs(f.main_peak_rad_s / housing - 1) <= FREQUENCY_MATCH
         near = sorted(ok, key=lambda e: e.cost)[:5]
         near_peaks = [e.features.main_peak_rad_s for e in near]
         return {
@@ -136,7 +137,7 @@ class Calibration:
                  f"{f.main_peak_rad_s:.3g} rad/s, {100 * (f.main_peak_rad_s / PAPER_MAIN_PEAK - 1):+.0f} % from the "
                  f"paper's (a match is within {100 * FREQUENCY_MATCH:.0f} %), the sets simulated "
                  f"{peaks.min():.3g}..{peaks.max():.3g} rad/s; the housing mode sqrt(kw/ms) is at 6e4 rad/s only for "
-                 f"kw = {kw_needed:.3g} N/m, below the plausible {self.ranges['kw'][0]:.3g} N/m of a metal line "
+                 f"kw = {kw_needed:.3g} N/m, below the plausible {PLAUSIBLE['kw'][0]:.3g} N/m of a metal line "
                  "contact"),
             },
             "x_max_angle": {
@@ -253,7 +254,8 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
         best = min(finite, key=lambda e: e.cost)
         stopped = f"interrupted by {signals.sender()}" if signals.requested else ""
         cal = Calibration(best, evaluations, ranges, revolutions, time.perf_counter() - start,
-                          mass=scene.parameters["ms"], stopped=stopped, exit_code=signals.exit_code())
+                          mass=scene.parameters["ms"], kw=scene.parameters["kw"], stopped=stopped,
+                          exit_code=signals.exit_code())
         return after_an_interrupt(cal, stop, signals, bool(stopped), "the calibration",
                                   f"{len(evaluations)} simulations completed, in the returned result",
                                   f"{len(evaluations)} simulations completed in memory only, lost with the process")

@@ -119,9 +119,10 @@ def preload_functions(scene, *, min_force: float = 5.0, exclude=(), samples: int
     ranges (a :class:`PreloadStudyError` names a bad one).
     """
     from ...api import model_functions, scene_of
-    from .problem import PreloadStudyError, is_integer, windows
+    from .problem import PreloadStudyError, is_integer, study_quantities, windows
 
     scene = scene_of(scene)
+    min_force, max_groove_force, _ = study_quantities(min_force, max_groove_force)
     setup = PreloadSetup(scene, functions or model_functions(scene), min_force, windows(exclude), samples, rtol,
                          flags=flags, max_groove_force=max_groove_force)
     m = setup.samples if per_interval is None else per_interval

@@ -410,6 +410,14 @@ def quantity_of(name: str, value: Any, unit: str, largest: float) -> Any:
         raise PreloadStudyError(f"{name} = {value!r}: {err.reason}; allowed: > 0 and <= {largest:g} {unit}") from None
 
 
+def study_quantities(min_force, max_groove_force=None, max_preload=None) -> tuple:
+    """The study's quantity options (:func:`quantity_of`): ``min_force`` and ``max_groove_force`` in N (None: no
+    bound), ``max_preload`` in m (None where the caller takes none)."""
+    return (quantity_of("min_force", min_force, "N", MAX_FORCE),
+            None if max_groove_force is None else quantity_of("max_groove_force", max_groove_force, "N", MAX_FORCE),
+            None if max_preload is None else quantity_of("max_preload", max_preload, "m", MAX_PRELOAD))
+
+
 def is_force(x) -> bool:
     """A force the study takes (N): a real number in (0, MAX_FORCE]."""
     return isinstance(x, numbers.Real) and not isinstance(x, bool | np.bool_) and 0 < x <= MAX_FORCE

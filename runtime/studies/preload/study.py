@@ -75,7 +75,6 @@ from .nlp import STUCK_ITERATIONS, THETA_MAX_FACT, ShootingNlp
 from .periodic import periodic
 from .problem import (
     MAX_FORCE,
-    MAX_PRELOAD,
     MM,
     PreloadSetup,
     PreloadStudyError,
@@ -84,7 +83,7 @@ from .problem import (
     is_integer,
     max_preload_problem,
     nodes_problem,
-    quantity_of,
+    study_quantities,
     windows,
 )
 from .result import ALLOWANCE, DEFICIT_TOL, PreloadResult, contact_powers, fill_result
@@ -112,10 +111,12 @@ def _kept_on_interrupt(study):
         with stop as signals:
             try:
                 res = study(*args, _holder=holder, **kwargs)
-            except KeyboardInterrupt:
+            except BaseException:  # the interruption, or the CasADi error it became inside a call (signals.py)
                 if signals is not stop or not stop.requested or not holder:
                     raise
                 res = holder[0]
+            finally:
+                stop.raising = False  # a further signal while the result is reported is only noted
                 res.ok = False
                 res.message = (f"interrupted by {stop.sender()} before the study ended: "
                                + ("nothing solved yet" if res.knots is None else "the last solution found is kept"))
@@ -154,10 +155,7 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     from ...api import model_functions, scene_of
 
     scene = scene_of(scene)
-    min_force = quantity_of("min_force", min_force, "N", MAX_FORCE)
-    max_preload = quantity_of("max_preload", max_preload, "m", MAX_PRELOAD)
-    if max_groove_force is not None:
-        max_groove_force = quantity_of("max_groove_force", max_groove_force, "N", MAX_FORCE)
+    min_force, max_groove_force, max_preload = study_quantities(min_force, max_groove_force, max_preload)
     _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter, max_preload, start)
     knots, nodes = int(knots), int(nodes)
     exclude = windows(exclude)
