@@ -115,11 +115,11 @@ def _kept_on_interrupt(study):
                 if signals is not stop or not stop.requested or not holder:
                     raise
                 res = holder[0]
-            finally:
-                stop.raising = False  # a further signal while the result is reported is only noted
                 res.ok = False
                 res.message = (f"interrupted by {stop.sender()} before the study ended: "
                                + ("nothing solved yet" if res.knots is None else "the last solution found is kept"))
+            finally:
+                stop.raising = False  # a further signal while the result is reported is only noted
             kept = (f"the study's result so far ({'none solved' if res.knots is None else 'a solution'}), "
                     "returned in memory")
             return after_an_interrupt(res, stop, signals, stop.requested, "the preload study", kept,
