@@ -334,10 +334,11 @@ def function_source(fn: ca.Function, *, derivatives: bool = False, model_hash: s
     uses = [u for u in earlier.get("uses", []) if isinstance(u, dict) and u != use]
     record["uses"] = sorted([*uses, use], key=lambda u: json.dumps(u, sort_keys=True))
     with writing_cache(cache_dir()):  # an entry as it should be is only read: a read-only cache serves it
-        if src.is_file() and sha256_file(src) != digest:
-            warnings.warn(f"generated C {src} was modified (its sha256 is not the one its folder is named by); "
-                          "restoring it", StaleArtefactWarning, stacklevel=3)
-        if not (src.is_file() and sha256_file(src) == digest):
+        on_disk = sha256_file(src) if src.is_file() else None
+        if on_disk != digest:
+            if on_disk is not None:
+                warnings.warn(f"generated C {src} was modified (its sha256 is not the one its folder is named by); "
+                              "restoring it", StaleArtefactWarning, stacklevel=3)
             atomic_write(src, data)
         if record != earlier:
             atomic_write(folder / FUNCTION_RECORD, json.dumps(record, indent=2) + "\n")

@@ -456,8 +456,7 @@ class ResultFolder:
             if self.parts or self.final:
                 self.release()
             else:
-                shutil.rmtree(self.staging, ignore_errors=True)
-                self.release()
+                self.abandon()
             raise
 
     def release(self) -> None:

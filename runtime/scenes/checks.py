@@ -392,13 +392,22 @@ def check_alternatives(raw: dict[str, Any]) -> list[Problem]:
     damping = {pair for cls in submodels() for pair in cls.damping_alternatives()}
     meaning = {p.key: p.meaning.split(";")[0] for cls in submodels() for p in cls.parameters if p.key}
     out = []
-    for first, second in (pair for pair in alternatives() if pair not in superseding()):
+    pairs = [pair for pair in alternatives() if pair not in superseding()]
+    for first, second, a, b in _given_together(raw, pairs):
+        same = "the same damping as a ratio of critical damping" if (first, second) in damping else \
+            f"the {meaning[first]} another way"
+        out.append(Problem(first, a, f"given together with {second} = {b!r}, which states {same}; allowed: one "
+                                     f"of {first} or {second}"))
+    return out
+
+
+def _given_together(raw: dict[str, Any], pairs) -> list[tuple[str, str, Any, Any]]:
+    """(first key, second key, their values) of the ``pairs`` of scene keys of which ``raw`` gives both."""
+    out = []
+    for first, second in pairs:
         a, b = raw_at(raw, first.split(".")), raw_at(raw, second.split("."))
         if a is not MISSING and b is not MISSING:
-            same = "the same damping as a ratio of critical damping" if (first, second) in damping else \
-                f"the {meaning[first]} another way"
-            out.append(Problem(first, a, f"given together with {second} = {b!r}, which states {same}; allowed: one "
-                                         f"of {first} or {second}"))
+            out.append((first, second, a, b))
     return out
 
 
@@ -407,13 +416,8 @@ def check_superseded(raw: dict[str, Any]) -> list[Problem]:
     for the scene's warning."""
     from apexseal.derive.submodels.registry import superseding
 
-    out = []
-    for first, second in superseding():
-        a, b = raw_at(raw, first.split(".")), raw_at(raw, second.split("."))
-        if a is not MISSING and b is not MISSING:
-            out.append(Problem(second, b, f"not read: {first} = {show_value(a)} is given, and {second} only "
-                                          f"computes it; give one of {first} or {second}"))
-    return out
+    return [Problem(second, b, f"not read: {first} = {show_value(a)} is given, and {second} only computes it; give "
+                               f"one of {first} or {second}") for first, second, a, b in _given_together(raw, superseding())]
 
 
 def check_set_by(raw: dict[str, Any], assumptions: Assumptions) -> list[Problem]:
@@ -422,10 +426,10 @@ def check_set_by(raw: dict[str, Any], assumptions: Assumptions) -> list[Problem]
     read, for the scene's warning."""
     from apexseal.derive.submodels.registry import slots
 
-    out = []
+    out, chosen = [], assumptions.as_dict()
     for slot, option in slots("assumptions").items():
         given = raw_at(raw, ["assumptions", slot])
-        made = assumptions.as_dict().get(slot)
+        made = chosen.get(slot)
         if option.set_by and given is not MISSING and given != made:
             by = raw_at(raw, option.set_by.split("."))
             out.append(Problem(f"assumptions.{slot}", given, f"not read: {option.set_by} = {show_value(by)} makes "
@@ -489,9 +493,14 @@ def unread_keys(effects: Effects, assumptions: Assumptions | None = None) -> fro
     from apexseal.derive.submodels.registry import is_read, need_holds, parameters, scene_inputs
 
     inputs = {key for table, need in scene_inputs().items() if not need_holds(need, effects, assumptions)
-              for key in key_paths(table) if key == table or key.startswith(f"{table}.")}
+              for key in key_paths(table) if _within(key, table)}
     return frozenset(p.key for p in parameters(all_inputs=True)
                      if p.key is not None and not is_read(p, effects, assumptions)) | inputs
+
+
+def _within(key: str, table: str) -> bool:
+    """Scene key ``key`` is ``table`` or one of its keys (``machine.ports.inlet.width`` of ``machine.ports``)."""
+    return key == table or key.startswith(f"{table}.")
 
 
 def key_needing(key: str) -> str | tuple[str, ...] | None:
@@ -502,7 +511,7 @@ def key_needing(key: str) -> str | tuple[str, ...] | None:
     from apexseal.derive.submodels.registry import needing, parameter_of_key, scene_inputs
 
     for table, need in scene_inputs().items():
-        if key == table or key.startswith(f"{table}."):
+        if _within(key, table):
             return need
     try:
         return needing(parameter_of_key(key))

@@ -51,7 +51,7 @@ from .checks import (
 from .errors import IgnoredValueWarning, Problem, SceneError
 from .pressure import PressureSource, make_source
 from .schema import OperationSection, Section, SolverSection, validate_sections
-from .units import PlausibilityWarning
+from .units import PlausibilityWarning, quantity_text
 
 __all__ = ["Scene", "SceneError", "load_scene", "scene_file", "default_scene_text", "derive_parameters",
            "embedded_scene_path"]
@@ -362,10 +362,8 @@ def _plain(value: Any) -> Any:
         return float(value)
     if isinstance(value, Path):
         return str(value)
-    if type(value).__module__.split(".")[0] == "pint" and hasattr(value, "magnitude") and hasattr(value, "units"):
-        magnitude = _plain(value.magnitude)
-        return f"{magnitude!r} {value.units}" if isinstance(magnitude, int | float) else value
-    return value
+    text = quantity_text(value)
+    return value if text is None else text
 
 
 def _normalise(obj: Any) -> Any:

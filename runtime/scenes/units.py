@@ -147,6 +147,18 @@ def _has_angle(q: pint.Quantity) -> bool:
     return dict(q.to_root_units().unit_items()).get("radian", 0) == 1
 
 
+def quantity_text(value: Any) -> str | None:
+    """A pint quantity with a number as magnitude as the text a scene writes ("3.2 millimeter"), or None for any
+    other value (the scene, the command line and the API take pint's quantities as they take this text)."""
+    if type(value).__module__.split(".")[0] != "pint" or not hasattr(value, "magnitude") or not hasattr(value, "units"):
+        return None
+    magnitude = value.magnitude
+    if type(magnitude).__module__ == "numpy" and getattr(magnitude, "ndim", None) == 0:
+        magnitude = magnitude.item()
+    return f"{magnitude!r} {value.units}" if isinstance(magnitude, int | float) and not isinstance(magnitude, bool) \
+        else None
+
+
 def parse_quantity(value: Any, unit: str, *, key: str = "", bare: str | None = None) -> float:
     """The magnitude of ``value`` in ``unit`` (pint syntax, e.g. ``"m"``, ``"N/m"``, ``"rad"``).
 

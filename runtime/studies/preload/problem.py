@@ -398,10 +398,9 @@ def quantity_of(name: str, value: Any, unit: str, largest: float) -> Any:
     """A study option given as a quantity ("5 N", "10 mm", a pint quantity), in the SI ``unit``, as the command line
     and the scene take it; any other value as it is (checked by the option's own test). A text that is no quantity
     of the kind is a :class:`PreloadStudyError` naming the option and its range, (0, ``largest``]."""
-    from ...scenes.units import QuantityError, parse_quantity
+    from ...scenes.units import QuantityError, parse_quantity, quantity_text
 
-    if type(value).__module__.split(".")[0] == "pint" and hasattr(value, "units"):
-        value = f"{value.magnitude!r} {value.units}"
+    value = quantity_text(value) or value
     if not isinstance(value, str):
         return value
     try:
