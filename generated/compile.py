@@ -46,9 +46,11 @@ from ..files import (
     atomic_write,
     content_key,
     file_lock,
+    inside,
     read_json_object,
     sha256_bytes,
     sha256_file,
+    temporary_folder_error,
     writing_cache,
 )
 from ..progress import stage
@@ -118,11 +120,19 @@ def _valid(so: Path, record_path: Path, key: str, expected: Mapping[Path, str]) 
 
 def disk_error(stderr: str, folder: Path) -> OSError | None:
     """The OS error a compiler reports when it cannot write its output (a full disk, a quota, a read-only or
-    failing device), as an ``OSError`` of ``folder`` quoting the compiler's line; None for any other failure."""
+    failing device), as an ``OSError`` of ``folder`` quoting the compiler's line; None for any other failure.
+    A line that names a file of the temporary folder (gcc's assembler files) outside ``folder`` is that folder's
+    :class:`~apexseal.files.TemporaryFolderError`: the cache's disk may have room."""
     for code in DISK_ERRNOS:
         line = next((ln.strip() for ln in stderr.splitlines() if os.strerror(code) in ln), None)
-        if line is not None:
-            return OSError(code, f"{os.strerror(code)}; the compiler said: {line[-300:]}", os.fspath(folder))
+        if line is None:
+            continue
+        said = line[-300:]
+        temp = Path(tempfile.gettempdir())
+        named = [Path(p) for p in re.findall(r"(?<![\w.])(/[^\s:'\"]+)", line)]
+        if any(inside(p, temp) for p in named) and not any(inside(p, folder) for p in named):
+            return temporary_folder_error(code, temp, said)
+        return OSError(code, f"{os.strerror(code)}; the compiler said: {said}", os.fspath(folder))
     return None
 
 

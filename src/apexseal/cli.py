@@ -43,7 +43,7 @@ class LazyGroup(click.Group):
 
     def invoke(self, ctx: click.Context):
         from .derive.submodels.registry import RegistryError
-        from .files import CacheError
+        from .files import CacheError, TemporaryFolderError
         from .signals import command_scope
 
         exiting = bool((ctx.obj or {}).get(EXITING))
@@ -52,7 +52,7 @@ class LazyGroup(click.Group):
                 return super().invoke(ctx)
         except RegistryError as err:  # an installed submodel that cannot load or clashes: its package is named
             raise click.ClickException(str(err)) from None
-        except CacheError as err:  # a cache that cannot be written (permissions, a full disk): folder, path, cause
+        except (CacheError, TemporaryFolderError) as err:  # a cache or TMPDIR that cannot be written: folder, cause
             raise click.ClickException(str(err)) from None
 
 

@@ -154,6 +154,22 @@ def cache_error(err: OSError, root: Path) -> CacheError:
     return out
 
 
+class TemporaryFolderError(OSError):
+    """The temporary folder (``TMPDIR``) cannot take what a compiler writes there (a full disk or quota, a
+    read-only device): one line naming the folder, the compiler's line and what to do (:func:`temporary_folder_error`).
+    Not a :class:`CacheError`: the cache folder may have room to spare."""
+
+
+def temporary_folder_error(code: int, folder: Path, said: str) -> TemporaryFolderError:
+    """The :class:`TemporaryFolderError` of the OS error ``code`` in the temporary ``folder``, quoting ``said``."""
+    head = (f"the disk of the temporary folder {folder} is full" if code in (errno.ENOSPC, errno.EDQUOT)
+            else f"the temporary folder {folder} is not writable")
+    out = TemporaryFolderError(f"{head} ({os.strerror(code)}; the compiler said: {said}); free some space there "
+                               "or set TMPDIR to a folder on another disk")
+    out.errno = code
+    return out
+
+
 def inside(path, root: Path) -> bool:
     """``path`` is ``root`` or below it."""
     try:
@@ -169,7 +185,7 @@ def writing_cache(root: Path) -> Iterator[None]:
     naming a temporary file or nothing."""
     try:
         yield
-    except CacheError:
+    except (CacheError, TemporaryFolderError):
         raise
     except OSError as err:
         if err.filename is not None and not inside(err.filename, root):

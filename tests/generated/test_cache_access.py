@@ -8,12 +8,13 @@ from __future__ import annotations
 
 import errno
 import subprocess
+import tempfile
 import warnings
 
 import casadi as ca
 import pytest
 
-from apexseal.files import CacheError
+from apexseal.files import CacheError, TemporaryFolderError
 from apexseal.generated import compile as comp
 from apexseal.generated.manifest import StaleArtefactError, StaleArtefactWarning
 
@@ -96,6 +97,31 @@ def test_a_full_disk_is_no_missing_compiler(cache, monkeypatch):
     assert message.startswith(f"the disk of the cache folder {cache} is full ({cache}/lib/.build-")
     assert "No space left on device; the compiler said: " in message and "APEXSEAL_CACHE" in message
     assert not list((cache / "lib").glob(".build-*"))  # the build folder is removed
+
+
+def test_a_full_temporary_folder_is_not_the_cache_s_disk(cache, tmp_path, monkeypatch):
+    """gcc writes its assembler files to TMPDIR: a full TMPDIR was reported as the cache's disk being full, with
+    advice to move APEXSEAL_CACHE (which had room). It names the temporary folder and TMPDIR."""
+    temp = tmp_path / "tmp"
+    temp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(temp))
+    real = comp.run_compiler
+
+    def full(cmd, *args, **kwargs):
+        if "-c" in cmd:
+            return subprocess.CompletedProcess(cmd, 1, "", f"{temp}/ccAbC123.s: Fatal error: can't write 17 bytes to "
+                                               "section .text: 'No space left on device'\n")
+        return real(cmd, *args, **kwargs)
+
+    monkeypatch.setattr(comp, "run_compiler", full)
+    with warnings.catch_warnings(), pytest.raises(TemporaryFolderError) as caught:
+        warnings.simplefilter("error")
+        comp.compile_function(_function("tmpfull"), flags="quick")
+    assert caught.value.errno == errno.ENOSPC and not isinstance(caught.value, CacheError)
+    message = str(caught.value)
+    assert message.startswith(f"the disk of the temporary folder {temp} is full (No space left on device; the "
+                              f"compiler said: {temp}/ccAbC123.s: Fatal error")
+    assert message.endswith("set TMPDIR to a folder on another disk") and "APEXSEAL_CACHE" not in message
 
 
 def test_a_full_disk_while_writing_an_entry_names_it(cache, monkeypatch):
