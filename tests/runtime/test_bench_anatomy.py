@@ -140,6 +140,7 @@ def test_scipy_methods_count_their_evaluations_and_converge(tiny):
     assert "LSODA" in text and "RHS evaluations for a scaled error of 1e-6" in text and "Radau" not in text
 
 
+@pytest.mark.slow  # a benchmark study's command (the run method's own tests are in the default suite)
 def test_the_exponential_prototype_finds_the_switches_and_converges(tiny):
     """runtime/bench/exponential.py on the short span: the reference's switches, an error that falls with rtol,
     and a looser velocity tolerance that takes fewer steps."""
@@ -193,6 +194,7 @@ def test_the_composite_prototype_switches_phases_and_converges(tiny):
     assert "| 100, 100, 2 deg | 1e-09 |" in comp_markdown(tiny, rs)
 
 
+@pytest.mark.slow  # a benchmark study's command (the run method's own tests are in the default suite)
 def test_the_composite_on_a_stress_scene_finds_its_switches():
     """``composite --hard``: the first degrees of one stress scene, against erk at rtol 1e-10; a failing integrator
     is reported by its innermost message."""
