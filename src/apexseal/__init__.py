@@ -15,6 +15,7 @@ Public API::
     with apexseal.reusing_engines(): ...     # many runs of one model and settings share one integrator
     apexseal.optimise_preload(scene, min_force=5.0)  # the spring-preload study (a PreloadResult)
     apexseal.preload_functions(scene)        # that study's compiled CasADi Functions, every input/output slot named
+    apexseal.save_preload_report("out", constant, schedule)  # its report, as the command writes it
 
 Exceptions to catch: SceneError (a scene), SettingsError (run settings), PreloadStudyError (the preload study's
 options), StudyError (a sweep's study file), SchedulerError (a sweep's Dask scheduler), ResultFolderError (a
@@ -40,6 +41,7 @@ _LAZY = {
     "RunInterrupted": ("signals", "RunInterrupted"),
     "RunInterruptedWarning": ("runtime.api", "RunInterruptedWarning"),
     "preload_functions": ("runtime.studies.preload.functions", "preload_functions"),
+    "save_preload_report": ("runtime.studies.preload.report", "save_report"),
     # the exceptions a user of the API catches (each a ValueError or an OSError, so older handlers still catch it)
     "SettingsError": ("runtime.solving.settings", "SettingsError"),
     "PreloadStudyError": ("runtime.studies.preload.problem", "PreloadStudyError"),

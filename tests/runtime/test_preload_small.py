@@ -128,6 +128,43 @@ def _light_cli(out, *args) -> list[str]:
             f"{NO_BOUND} N", "--out", str(out), *args]
 
 
+def test_a_study_run_from_python_writes_the_command_s_report(studies, light, tmp_path):
+    """From Python the study's report could not be written (only the command wrote one): save_preload_report
+    writes the command's files from the results in memory, with the scene the study ran; a failed result beside a
+    completed report is kept aside, and what is not a study's result of the right kind is refused by name."""
+    import dataclasses
+    import json
+
+    import apexseal
+    from apexseal.runtime.results.folder import KeptAsideWarning
+    from apexseal.runtime.scenes.scene import load_scene
+
+    c, s = studies[0], studies[2]
+    out = tmp_path / "report"
+    assert apexseal.save_preload_report(out, c, s) == out
+    assert sorted(p.name for p in out.iterdir()) == ["preload.json", "preload.md", "preload.png", "pressure.csv",
+                                                     "scene.toml"]  # the scene's pressure table beside it
+    data = json.loads((out / "preload.json").read_text())
+    as_json = lambda r: json.loads(json.dumps(r.to_dict(), default=str))  # noqa: E731 (tuples as lists)
+    assert data["status"] == "completed" and data["constant"] == as_json(c) and data["schedule"] == as_json(s)
+    assert data["saved_friction_power_W"] == c.friction_power - s.friction_power
+    assert data["options"]["schedule_knots"] == 2 and data["options"]["min_force_N"] == MIN_FORCE
+    assert load_scene(out / "scene.toml").content_hash() == light[0].content_hash()
+    failed = dataclasses.replace(c, ok=False, message="interrupted by the user")
+    failed.__dict__["scene"] = c.scene
+    with pytest.warns(KeptAsideWarning):
+        aside = apexseal.save_preload_report(out, failed)
+    assert aside != out and json.loads((aside / "preload.json").read_text())["status"] == "failed"
+    assert json.loads((out / "preload.json").read_text())["run_id"] == data["run_id"]  # the completed one stays
+    with pytest.raises(PreloadStudyError, match="^constant: a result of 2 knots; the constant optimum has one"):
+        apexseal.save_preload_report(tmp_path / "x", s)
+    with pytest.raises(PreloadStudyError, match="^schedule: expected the PreloadResult .* not dict"):
+        apexseal.save_preload_report(tmp_path / "x", c, s.to_dict())
+    with pytest.raises(PreloadStudyError, match="^constant: this result holds no scene"):
+        apexseal.save_preload_report(tmp_path / "x", dataclasses.replace(c))
+    assert not (tmp_path / "x").exists()
+
+
 def test_cli_writes_the_report_with_the_groove_bound_and_the_stiffness_valley(light, tmp_path, caplog):
     """The report records what ran: the --set keys in preload.json and preload.md, and the scene itself (every value
     explicit) in scene.toml, which loads as the scene the study ran; the stiffness valley reports each simulation

@@ -33,6 +33,60 @@ def report_folder(out: Path, run_id: str | None = None):
     return ReportFolder(out, RECORD, REPORT_FILES, "a preload report", run_id)
 
 
+def save_report(out, constant, schedule=None) -> Path:
+    """The report of a preload study run from Python (``apexseal.optimise_preload``), written to the folder ``out``
+    as ``apexseal optimise-preload --out`` writes its own: preload.json, preload.md, preload.png and scene.toml (the
+    scene the study ran), moved into place as a whole (:func:`report_folder`: a folder holding other files is refused
+    with a ResultFolderError, a completed report of another study is not replaced by a failed one). ``constant``: the
+    constant optimum (``knots=1``); ``schedule``: a schedule started from it, or None. Returns where the report is:
+    ``out``, or ``<out>.partial-<id>`` when kept aside (a KeptAsideWarning says why)."""
+    import warnings
+
+    from ...results.folder import KeptAsideWarning
+    from .problem import PreloadStudyError
+    from .result import PreloadResult
+
+    for name, r, many in (("constant", constant, False), ("schedule", schedule, True)):
+        if r is None and name == "schedule":
+            continue
+        if not isinstance(r, PreloadResult):
+            raise PreloadStudyError(f"{name}: expected the PreloadResult of apexseal.optimise_preload, "
+                                    f"not {type(r).__name__}")
+        if r.knots is not None and (len(r.knots) > 1) != many:
+            raise PreloadStudyError(f"{name}: a result of {len(r.knots)} knot{'s' * (len(r.knots) > 1)}; the "
+                                    f"{'schedule' if many else 'constant optimum'} has "
+                                    f"{'more than one' if many else 'one (knots=1)'}")
+        if r.scene is None:
+            raise PreloadStudyError(f"{name}: this result holds no scene (only a result apexseal.optimise_preload "
+                                    "returned in this session does); its report cannot name what it ran")
+    scene = constant.scene
+    if schedule is not None and schedule.scene.content_hash() != scene.content_hash():
+        raise PreloadStudyError(f"schedule: a study of another scene ({schedule.scene.name}, content hash "
+                                f"{schedule.scene.content_hash()}) than the constant optimum's ({scene.name}, "
+                                f"{scene.content_hash()})")
+    ok = constant.ok and (schedule is None or schedule.ok)
+    status = "completed" if ok else "failed"
+    stopped = "" if constant.ok else f"the constant optimum failed: {constant.message.rstrip('.')}"
+    if constant.ok and schedule is not None and not schedule.ok:
+        stopped = f"the schedule failed: {schedule.message.rstrip('.')}"
+    knots = len(schedule.knots) if schedule is not None and schedule.knots else None
+    options = {"min_force_N": constant.min_force, "max_groove_force_N": constant.max_groove_force,
+               "exclude_deg": constant.exclude_deg, "schedule_knots": knots, "objective": constant.objective,
+               "samples": constant.samples, "nodes": constant.nodes, "written_by": "apexseal.save_preload_report"}
+    folder = report_folder(Path(out))
+    try:
+        folder.write(lambda into: write_report(
+            into, scene, scene.name, {"constant": constant, "schedule": schedule}, None, constant.min_force,
+            stopped=stopped, options=options, run_id=folder.run_id, status=status))
+        where = folder.commit(status)
+    except BaseException:
+        folder.abandon()
+        raise
+    if folder.kept_aside:
+        warnings.warn(f"{folder.kept_aside}; this report is in {where}", KeptAsideWarning, stacklevel=2)
+    return where
+
+
 def _shown(overrides: dict) -> str:
     return ", ".join(f"{k}={v if isinstance(v, str) else json.dumps(v)}" for k, v in overrides.items())
 
@@ -122,7 +176,7 @@ def figure(scene, results: dict, min_force: float):
         for lo, hi in ([(start, end)] if end > start else [(start, 360.0), (0.0, end)]):
             a3.axvspan(lo, hi, color="0.9", zorder=0)
     a1.set(xlabel="crank angle (deg)", ylabel="delta_s (mm)", title="preload delta_s(theta)")
-    a1.legend(fontsize=8)
+    _legend(a1)
     sim = next((d[2] for d in designs if d[2] is not None), None)
     if sim is not None:
         deg = np.degrees(sim.thetas) % 360.0
@@ -145,8 +199,14 @@ def figure(scene, results: dict, min_force: float):
     if contacts:
         a4.set_xticks(np.arange(len(contacts)) + 0.4 - width / 2, contacts)
     a4.set(ylabel="cycle-mean friction power (W)", title="friction power per contact")
-    a4.legend(fontsize=8)
+    _legend(a4)
     return fig
+
+
+def _legend(ax) -> None:
+    """The panel's legend, where it has a labelled design (a study that simulated nothing has none)."""
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8)
 
 
 def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=None, min_force: float = 5.0,

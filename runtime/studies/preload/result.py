@@ -45,6 +45,8 @@ class PreloadResult:
     simulation: ClassVar = None
     #: the re-simulated revolution at the scene's own preload (not a field); None until there is one
     scene_simulation: ClassVar = None
+    #: the scene the study ran (not a field): what :func:`.report.save_report` writes as scene.toml
+    scene: ClassVar = None
 
     ok: bool
     message: str

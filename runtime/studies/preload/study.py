@@ -123,8 +123,9 @@ def _kept_on_interrupt(study):
             kept = (f"the study's result so far ({'none solved' if res.knots is None else 'a solution'}), "
                     "returned in memory")
             return after_an_interrupt(res, stop, signals, stop.requested, "the preload study", kept,
-                                      "its result so far, in memory only, lost with the process (the command "
-                                      "line, apexseal optimise-preload, writes its report as it goes)")
+                                      "its result so far, in memory only, lost with the process "
+                                      "(apexseal.save_preload_report writes its report; the command line, "
+                                      "apexseal optimise-preload, writes it as it goes)")
 
     sig = inspect.signature(study)
     call.__signature__ = sig.replace(parameters=[p for n, p in sig.parameters.items() if n != "_holder"])
@@ -169,6 +170,7 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     res = PreloadResult(False, "", float(min_force), [list(w) for w in exclude], objective=objective,
                         scene_delta_s=scene_ds, deficit_tol=float(deficit_tol), nodes=nodes, samples=setup.samples,
                         rtol=setup.rtol, max_groove_force=setup.max_groove_force)
+    res.__dict__["scene"] = scene  # for the report (save_preload_report)
     if _holder is not None:  # what an interruption from here on returns (_kept_on_interrupt)
         _holder.append(res)
 
