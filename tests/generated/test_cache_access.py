@@ -75,25 +75,30 @@ def test_a_cache_path_that_is_a_file_is_one_clear_error(tmp_path, monkeypatch):
         comp.compile_function(_function("file"), flags="quick")
 
 
-def test_a_full_disk_is_no_missing_compiler(cache, monkeypatch):
-    """gcc failing with "No space left on device" was reported as CompilerUnavailable, and the run fell back to
-    the interpreted Functions (4-10x slower) before it crashed on an OSError naming no path: it is a CacheError
-    naming the build folder and the compiler's line, with no fallback."""
+def _full_compile(monkeypatch, written, name: str, expected: type) -> OSError:
+    """The error of compiling a Function with a compiler whose object step fails as gcc's assembler does on a full
+    disk, naming the file it could not write (``written(cmd)``)."""
     real = comp.run_compiler
 
     def full(cmd, *args, **kwargs):
         if "-c" in cmd:
-            obj = cmd[cmd.index("-o") + 1]
-            return subprocess.CompletedProcess(cmd, 1, "", f"{obj}: Fatal error: can't write 5 bytes to section "
-                                               ".text: 'No space left on device'\n")
+            return subprocess.CompletedProcess(cmd, 1, "", f"{written(cmd)}: Fatal error: can't write 5 bytes to "
+                                               "section .text: 'No space left on device'\n")
         return real(cmd, *args, **kwargs)
 
     monkeypatch.setattr(comp, "run_compiler", full)
-    with warnings.catch_warnings(), pytest.raises(CacheError) as caught:
+    with warnings.catch_warnings(), pytest.raises(expected) as caught:
         warnings.simplefilter("error")
-        comp.compile_function(_function("full"), flags="quick")
+        comp.compile_function(_function(name), flags="quick")
     assert caught.value.errno == errno.ENOSPC
-    message = str(caught.value)
+    return caught.value
+
+
+def test_a_full_disk_is_no_missing_compiler(cache, monkeypatch):
+    """gcc failing with "No space left on device" was reported as CompilerUnavailable, and the run fell back to
+    the interpreted Functions (4-10x slower) before it crashed on an OSError naming no path: it is a CacheError
+    naming the build folder and the compiler's line, with no fallback."""
+    message = str(_full_compile(monkeypatch, lambda cmd: cmd[cmd.index("-o") + 1], "full", CacheError))
     assert message.startswith(f"the disk of the cache folder {cache} is full ({cache}/lib/.build-")
     assert "No space left on device; the compiler said: " in message and "APEXSEAL_CACHE" in message
     assert not list((cache / "lib").glob(".build-*"))  # the build folder is removed
@@ -105,20 +110,9 @@ def test_a_full_temporary_folder_is_not_the_cache_s_disk(cache, tmp_path, monkey
     temp = tmp_path / "tmp"
     temp.mkdir()
     monkeypatch.setattr(tempfile, "tempdir", str(temp))
-    real = comp.run_compiler
-
-    def full(cmd, *args, **kwargs):
-        if "-c" in cmd:
-            return subprocess.CompletedProcess(cmd, 1, "", f"{temp}/ccAbC123.s: Fatal error: can't write 17 bytes to "
-                                               "section .text: 'No space left on device'\n")
-        return real(cmd, *args, **kwargs)
-
-    monkeypatch.setattr(comp, "run_compiler", full)
-    with warnings.catch_warnings(), pytest.raises(TemporaryFolderError) as caught:
-        warnings.simplefilter("error")
-        comp.compile_function(_function("tmpfull"), flags="quick")
-    assert caught.value.errno == errno.ENOSPC and not isinstance(caught.value, CacheError)
-    message = str(caught.value)
+    err = _full_compile(monkeypatch, lambda cmd: f"{temp}/ccAbC123.s", "tmpfull", TemporaryFolderError)
+    assert not isinstance(err, CacheError)
+    message = str(err)
     assert message.startswith(f"the disk of the temporary folder {temp} is full (No space left on device; the "
                               f"compiler said: {temp}/ccAbC123.s: Fatal error")
     assert message.endswith("set TMPDIR to a folder on another disk") and "APEXSEAL_CACHE" not in message
