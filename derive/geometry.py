@@ -101,9 +101,12 @@ def truncation_circular() -> sp.Expr:
 
 
 def initial_wall_deflection() -> sp.Expr:
-    """Eq. 9: delta_w from the force balance of the seal at rest, ks delta_s = kw delta_w.
+    """Eq. 9: delta_w from the force balance of the seal at rest, Fs = kw delta_w (ks delta_s = kw delta_w as printed).
 
     The X component of the housing force is kw delta_w (Algorithm 2 with xs5 =
-    delta_w); the spring pushes with ks delta_s; nothing else acts at rest.
+    delta_w); the spring pushes with its force at rest Fs (Eq. 39, ``SpringContact.rest_force``);
+    nothing else acts at rest.
     """
-    return numbers.initial_wall_deflection(ks=P["ks"], delta_s=P["delta_s"], kw=P["kw"])
+    from .submodels.spring import SpringContact
+
+    return numbers.initial_wall_deflection(spring_force=SpringContact.rest_force(P), kw=P["kw"])

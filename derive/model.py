@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from . import contact_geometry, eom, kinematics
+from . import contact_geometry, eom, kinematics, rest_balance
 from .assumptions import Assumptions
 from .choices import Options, options_of
 from .effects import Effects
@@ -130,6 +130,7 @@ def derive_model(effects: Effects | None = None, assumptions: Assumptions | None
         outputs[f"M_{c.name}"] = plain(mz)
         if any(load.friction_power != 0 for load in c.loads):
             outputs[f"Pf_{c.name}"] = plain(sum((load.friction_power for load in c.loads), sp.S.Zero))
+    rest_balance.check(eq.forcing[0], activations, options)  # Eq. 9: the laws balance at rest with delta_w
     pf = [e for n, e in outputs.items() if n.startswith("Pf_")]
     outputs["Pf_total"] = sum(pf, sp.S.Zero)
     rates, pressures, own_outputs = _own_states(k, g, options)

@@ -2,8 +2,9 @@
 
 * :func:`tip_half_angle` - beta_o, Eq. 24 (a derived parameter: no derivative passes through asin at ro = Ws/2);
 * :func:`machine_numbers` - aspect ratio and groove truncation, Eqs. 4-8;
-* :func:`initial_wall_deflection` - delta_w from the rest balance ks delta_s = kw delta_w, Eq. 9 (also the symbolic
-  form: ``derive.geometry.initial_wall_deflection`` calls it with the parameters' symbols);
+* :func:`initial_wall_deflection` - delta_w from the rest balance Fs = kw delta_w, Eq. 9, Fs the spring's force at
+  rest (``SpringContact.rest_force``, Eq. 39; also the symbolic form: ``derive.geometry.initial_wall_deflection``
+  calls it with the parameters' symbols);
 * :func:`damping_of_ratio` - a contact's damping coefficient from its damping ratio, c = 2 zeta sqrt(k ms), and
   :func:`ratio_of_damping`, the ratio of a coefficient;
 * :func:`housing_radius` - the housing's distance from the pole, Eq. 2 or the circolimaçon's circle (the ports' areas);
@@ -35,18 +36,21 @@ def tip_arc_start(*, ds1: float, ro: float, beta_o: float) -> float:
     return ds1 - ro * (1 - math.cos(beta_o))
 
 
-def initial_wall_deflection(*, ks, delta_s, kw):
-    """Eq. 9: delta_w = ks delta_s / kw (works on numbers and on CasADi and sympy symbols alike)."""
-    return ks * delta_s / kw
+def initial_wall_deflection(*, spring_force, kw):
+    """Eq. 9: delta_w = Fs / kw, the housing's groove-axis force kw delta_w balancing the spring's force at rest Fs
+    (ks delta_s under the paper's law, Eq. 39: ``SpringContact.rest_force``). Works on numbers and on CasADi and
+    sympy symbols alike."""
+    return spring_force / kw
 
 
-def initial_wall_deflection_normal(*, ks, delta_s, kw, r, L, mu1=0.0):
+def initial_wall_deflection_normal(*, spring_force, kw, r, L, mu1=0.0):
     """delta_w where kw acts on the normal penetration xs5 cos(lambda) (``assumptions.housing_stiffness =
-    "normal"``): the X balance of Eq. 9 at rest at theta = 0, ks delta_s = kw delta_w cos(lambda0) (cos(lambda0) +
-    mu1 sin(lambda0)), lambda0 = atan(2 r / L) (Eq. 9), the normal force kw delta_w cos(lambda0) with its friction
-    (``mu1``; 0 without housing friction) that the tip's forward slide turns towards +X (Algorithm 2). Numbers."""
+    "normal"``): the X balance of Eq. 9 at rest at theta = 0, Fs = kw delta_w cos(lambda0) (cos(lambda0) +
+    mu1 sin(lambda0)), lambda0 = atan(2 r / L) (Eq. 9), Fs the spring's force at rest (Eq. 39), against the normal
+    force kw delta_w cos(lambda0) with its friction (``mu1``; 0 without housing friction) that the tip's forward
+    slide turns towards +X (Algorithm 2). Numbers for r, L, mu1; Fs and kw may be CasADi symbols."""
     lam0 = math.atan(2 * r / L)
-    return ks * delta_s / (kw * math.cos(lam0) * (math.cos(lam0) + mu1 * math.sin(lam0)))
+    return spring_force / (kw * math.cos(lam0) * (math.cos(lam0) + mu1 * math.sin(lam0)))
 
 
 def damping_of_ratio(zeta, k, ms):

@@ -10,7 +10,6 @@ import numpy as np
 import sympy as sp
 
 from .. import seal_shape as shape
-from ..numbers import initial_wall_deflection
 from ..symbols import P
 from .counterparts import Derived
 from .values import (
@@ -26,6 +25,7 @@ from .values import (
     STATE_RANGES,
     SYMBOLIC_MAX_OPS,
     I,
+    rest_deflection,
 )
 
 
@@ -73,9 +73,7 @@ def _values(names: list[str], rng: np.random.Generator, jitter: bool, ranges: di
     if "beta_o" in vals:  # a derived parameter: consistent with the (jittered) Ws and ro
         vals["beta_o"] = shape.tip_half_angle(vals.get("Ws", DEFAULTS["Ws"]), vals.get("ro", DEFAULTS["ro"]))
     if "delta_w" in vals and jitter:
-        vals["delta_w"] = initial_wall_deflection(ks=vals.get("ks", DEFAULTS["ks"]),
-                                                  delta_s=vals.get("delta_s", DEFAULTS["delta_s"]),
-                                                  kw=vals.get("kw", DEFAULTS["kw"]))
+        vals["delta_w"] = rest_deflection(vals)
     return vals
 
 
@@ -102,7 +100,7 @@ def _sample_points(exprs: tuple[sp.Expr, ...], seed_label: str, n: int = N_SAMPL
 
 def example_point(overrides: dict[str, float]) -> dict[str, float]:
     pt = dict(DEFAULTS) | EXTRA_DEFAULTS | EXAMPLE_STATE | overrides
-    pt["delta_w"] = initial_wall_deflection(ks=pt["ks"], delta_s=pt["delta_s"], kw=pt["kw"])
+    pt["delta_w"] = rest_deflection(pt)
     pt["beta_o"] = shape.tip_half_angle(pt["Ws"], pt["ro"])
     return pt
 

@@ -11,6 +11,7 @@ from ..assumptions import Assumptions
 from ..numbers import initial_wall_deflection
 from ..submodels.pressure import groove_bottom_pressure as _pend
 from ..submodels.registry import activation_symbols
+from ..submodels.spring import SpringContact
 from ..symbols import Pa, Pb, qs, us
 
 I = paper.INTERMEDIATES  # noqa: E741
@@ -22,7 +23,8 @@ REL_TOL = 1e-9
 SYMBOLIC_MAX_OPS = 160
 SIMPLIFY_MAX_OPS = 28  # simplify is slow with asin and sqrt terms; larger ones are checked numerically
 
-#: the values the default scene states (runtime/scenes/default.toml; v_eps is needed only by the check)
+#: the values the default scene states (runtime/scenes/default.toml; v_eps is needed only by the check); a parameter
+#: not here takes the default its submodel declares (``Parameter(..., default=...)``)
 STATED: dict[str, float] = {
     "r": 0.010, "L": 0.050, "zeta0": 7.1e-4, "Ws": 3.0e-3, "Wg": 3.06e-3, "ds1": 4.0e-3, "ds2": 4.0e-3, "ro": 3.0e-3,
     "Bs": 0.0999, "density": 7200.0, "ks": 5.0e3, "delta_s": 2.0e-3, "kw": 1e9, "kg1": 1e9, "kg2": 1e9, "kg3": 1e9,
@@ -31,9 +33,38 @@ STATED: dict[str, float] = {
 RPM = 1500.0
 
 
+class MissingValue(LookupError):
+    """A parameter of the default model with neither a stated value nor a declared default."""
+
+    def __str__(self) -> str:
+        return str(self.args[0])
+
+
+def _declared_values(options) -> dict[str, float | None]:
+    """The defaults the submodels declare for the parameters of the model of ``options``, then STATED over them.
+
+    A parameter of that model's vector with a scene key, no default and no stated value is a :class:`MissingValue`
+    naming it."""
+    from ..submodels.registry import parameters, submodels
+
+    vector = parameters(opts=options)  # not the scene inputs outside it (Cr, k: the check samples their ranges)
+    values: dict[str, float | None] = {p.name: p.default for p in vector if p.default is not None}
+    values.update(STATED)
+    missing = [p for p in vector if p.key is not None and not p.optional and p.name not in values]
+    if missing:
+        owner = {p.name: cls for cls in submodels() for p in cls.parameters}
+        names = "; ".join(f"{p.name} ({p.key}, declared by the submodel {owner[p.name].name!r} in "
+                          f"{owner[p.name].__module__})" for p in missing)
+        raise MissingValue(f"the paper check has no value for the parameter(s) {names}: give each a default in its "
+                           "Parameter(..., default=...) declaration, or a value in STATED of "
+                           "derive/paper_check/values.py")
+    return values
+
+
 def _default_values() -> dict[str, float]:
-    """The default scene's parameters: the stated values and what the submodels derive from them (omega, ms, Icg,
-    beta_o, delta_w of Eq. 9, Li of Eq. 12, the damping coefficients of the ratios), as the scene computes them."""
+    """The default scene's parameters: the stated values (and the declared defaults of the others) and what the
+    submodels derive from them (omega, ms, Icg, beta_o, delta_w of Eq. 9, Li of Eq. 12, the damping coefficients of
+    the ratios), as the scene computes them."""
     from types import SimpleNamespace
 
     from ..choices import options_of
@@ -41,7 +72,7 @@ def _default_values() -> dict[str, float]:
     from ..submodels.registry import submodels
 
     options = options_of(Effects(), Assumptions())
-    values: dict[str, float | None] = {**STATED, "ms": None, "Icg": None, "cw": None, "cr": None, "cs": None}
+    values = {**_declared_values(options), "ms": None, "Icg": None, "cw": None, "cr": None, "cs": None}
     inputs = {"operation": SimpleNamespace(omega=RPM * 2 * math.pi / 60)}
     for cls in submodels():
         if cls.active(options):
@@ -49,9 +80,16 @@ def _default_values() -> dict[str, float]:
     return {n: float(v) for n, v in values.items() if v is not None}
 
 
+def rest_deflection(values: dict[str, float]) -> float:
+    """delta_w of Eq. 9 (the housing's groove-axis force balancing the spring's force at rest, Eq. 39) at
+    ``values``, the defaults for what they leave out."""
+    v = DEFAULTS | values
+    return initial_wall_deflection(spring_force=SpringContact.rest_force(v), kw=v["kw"])
+
+
 #: the default scene's parameter values, to full precision (tests/derive/test_paper_check.py compares them)
 DEFAULTS: dict[str, float] = _default_values()
-assert DEFAULTS["delta_w"] == initial_wall_deflection(ks=DEFAULTS["ks"], delta_s=DEFAULTS["delta_s"], kw=DEFAULTS["kw"])
+assert DEFAULTS["delta_w"] == rest_deflection(DEFAULTS)
 assert DEFAULTS["beta_o"] == shape.tip_half_angle(DEFAULTS["Ws"], DEFAULTS["ro"])
 EXTRA_DEFAULTS = {"Cr": 1.0e-4, "k": 0.02, "b": 0.2, "theta0": 0.03}
 

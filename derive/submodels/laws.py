@@ -17,7 +17,8 @@ def approach(v: sp.Expr) -> sp.Expr:
 
 
 def penalty(stiffness: sp.Expr, penetration: sp.Expr, activation: sp.Expr) -> sp.Expr:
-    """activation * k * max(penetration, 0): elastic, and a contact never pulls (Eqs. 34, 39, Algorithm 1)."""
+    """activation * k * max(penetration, 0): elastic, and a contact never pulls (Eq. 34, Algorithm 1; the spring's
+    law, Eq. 39, is its own: SpringContact.push)."""
     return activation * stiffness * sp.Max(penetration, 0)
 
 

@@ -23,6 +23,7 @@ from ..numbers import (
 from ..options import NONE, ON, Option
 from ..parameters import Parameter
 from .base import Guard, State, Submodel
+from .spring import SpringContact
 
 #: the choices of ``assumptions.damping_law``: the paper's contact dampers c max(v, 0) (Eqs. 55, 62, 67, 73), or
 #: the same times the penetration over contacts.delta_ref (Hunt-Crossley type: continuous at the touch; not in the
@@ -62,7 +63,8 @@ class SealBody(Submodel):
                   default=0.0, sign="real", in_vector=False),
         Parameter("Li", "m", "distance from the chord centre to the seal's centre of gravity at rest (Eq. 12): "
                   "L - ds1 + delta_w"),
-        Parameter("delta_w", "m", "initial deflection of the housing wall (Eq. 9): ks delta_s / kw", sign="real"),
+        Parameter("delta_w", "m", "initial deflection of the housing wall (Eq. 9): the spring's force at rest "
+                  "(Eq. 39) / kw", sign="real"),
         Parameter("Ws", "m", "seal width (Eq. 19)", key="seal.Ws", plausible=(0.3e-3, 30e-3, "mm"), gt=0),
         Parameter("Wg", "m", "groove width (Eq. 17)", key="seal.Wg", plausible=(0.3e-3, 30e-3, "mm"), gt=0),
         Parameter("ds1", "m", "centre of gravity to the seal tip along Xs (Eq. 16)", key="seal.ds1",
@@ -143,14 +145,24 @@ class SealBody(Submodel):
         if v.get("zeta0") is None:
             m = inputs["machine"]
             out["zeta0"] = machine_numbers(m.embodiment, r=v["r"], L=v["L"], Wg=v["Wg"], Cr=v["Cr"], k=v["k"]).truncation
-        pressed = options.on("spring") and options.on("housing_contact")
-        if not pressed:
-            out["delta_w"] = 0.0
-        elif options["housing_stiffness"] == "normal":  # kw on the normal penetration: its X component balances
-            mu1 = v["mu1"] if options.on("housing_friction") else 0.0
-            out["delta_w"] = initial_wall_deflection_normal(ks=v["ks"], delta_s=v["delta_s"], kw=v["kw"], r=v["r"],
-                                                            L=v["L"], mu1=mu1)
-        else:
-            out["delta_w"] = initial_wall_deflection(ks=v["ks"], delta_s=v["delta_s"], kw=v["kw"])
+        out["delta_w"] = cls.rest_wall_deflection(v, options)
         out["Li"] = v["L"] - v["ds1"] + out["delta_w"]
         return out
+
+    @staticmethod
+    def rest_wall_deflection(values, options):
+        """delta_w, Eq. 9: the housing wall's deflection that balances the spring's force at rest
+        (``SpringContact.rest_force``, Eq. 39) when the spring and the housing contact are both on, else 0.
+
+        With the groove-axis component of the housing force kw delta_w, or, under housing_stiffness = "normal", the
+        X component of the normal force and its friction at theta = 0 (numbers.initial_wall_deflection_normal).
+        ``values``: the parameters by name (numbers; delta_s, ks may be CasADi symbols). The derivation checks that
+        the model's laws balance at rest with it (derive/rest_balance.py)."""
+        v = values
+        if not (options.on("spring") and options.on("housing_contact")):
+            return 0.0
+        force = SpringContact.rest_force(v)
+        if options["housing_stiffness"] == "normal":  # kw on the normal penetration: its X component balances
+            mu1 = v["mu1"] if options.on("housing_friction") else 0.0
+            return initial_wall_deflection_normal(spring_force=force, kw=v["kw"], r=v["r"], L=v["L"], mu1=mu1)
+        return initial_wall_deflection(spring_force=force, kw=v["kw"])

@@ -4,6 +4,10 @@ The spring sits on the groove axis and pushes along +X on the seal's back face,
 at the point s6 where the face crosses the axis (Eq. 36). Its force is
 ks times its compression, delta_s at rest less the outward travel of s6
 (Eq. 38); it exists while the compression is positive (the spring can only push).
+
+The law is written once, :meth:`SpringContact.push`: the model's contact force (:meth:`SpringContact.contacts`),
+the spring's force at rest (:meth:`SpringContact.rest_force`), which the housing wall's rest deflection delta_w
+balances (Eq. 9, ``SealBody.derived``), and the preload study's spring force all call it.
 """
 
 from __future__ import annotations
@@ -43,6 +47,23 @@ class SpringContact(Submodel):
     frictions = (Friction("mus", ("spring",), offsets=((-1.0, "ds2"),), slide="the seal's back face across the spring"),)
     damping_ratios = (("cs", "zeta_s"),)
 
+    @staticmethod
+    def push(compression, p):
+        """Eq. 39: the spring's force (N, along +X) at a compression >= 0 (m), ks compression.
+
+        ``p`` maps parameter names to values: the parameters' sympy symbols (``ctx.P``) in the model, numbers (or
+        CasADi symbols) in a scene. The one place of the spring's law: a changed law (a progressive spring,
+        ``p["ks"] * compression + p["k3"] * compression**3`` with a parameter k3 declared above) changes the model,
+        the rest deflection delta_w of Eq. 9 and the preload study's spring force together.
+        """
+        return p["ks"] * compression
+
+    @classmethod
+    def rest_force(cls, p):
+        """The spring's force at rest (Eq. 39 at the compression delta_s of Eq. 38, x = y = phi = 0), which the
+        housing's rest deflection delta_w balances (Eq. 9). ``p`` as in :meth:`push`."""
+        return cls.push(p["delta_s"], p)
+
     def contacts(self, ctx: Context) -> list[ContactModel]:
         """Fs6 = Fsp X + Fd_s6 + Ff_s6 (Eq. 74)."""
         import sympy as sp
@@ -55,7 +76,7 @@ class SpringContact(Submodel):
         v = k.relative_velocity(g.r_s6)  # Eqs. 70-72
         closing = -v.dot(G.x)  # > 0 while the seal moves down into the spring
         guards = {"v_s6_n": closing}
-        normal = laws.penalty(P["ks"], g.spring_compression, act)  # Eq. 39 (a spring cannot pull)
+        normal = act * self.push(sp.Max(g.spring_compression, 0), P)  # Eq. 39 (a spring cannot pull)
         if opts.on("spring_damping"):
             depth = laws.damper_depth(ctx, self.guards[0], g.spring_compression)  # 1: closed at rest
             normal = laws.damped(normal, P["cs"], closing, act, opts["damping"], depth)  # Eq. 73

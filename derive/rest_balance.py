@@ -1,0 +1,73 @@
+"""The rest balance of Eq. 9 (ks delta_s = kw delta_w as printed), checked on every derived model.
+
+A scene places the housing wall delta_w into the seal's tip at rest (``SealBody.rest_wall_deflection``) so that the
+housing's force balances the spring's force at rest (``SpringContact.rest_force``, Eq. 39) along the groove axis.
+That balance is written for the model's laws: a law changed on one side only (the housing's, or a spring law not
+written through ``SpringContact.push``) would start every run out of balance, silently. :func:`check` evaluates the
+X forcing of the derived model at rest - the state at zero, theta = 0, the housing and spring contacts closed,
+every other contact open, no chamber pressure, no inertia (omega = 0), the tip sliding forward along the housing
+(tanh -> 1, as Eq. 9 and Algorithm 2 take it) - with delta_w from the rest balance, at a few exact points: it must
+be zero. Cheap: one substitution of the rest state, then three numeric evaluations (never a simplification).
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from .submodels.housing import HousingContact
+from .submodels.registry import parameter_names
+from .submodels.seal import SealBody
+from .submodels.spring import SpringContact
+from .symbols import P, Pa, Pb, qs, theta, us
+
+#: the residual allowed, relative to the spring's force at rest (the points are exact; delta_w may be a float)
+REL_TOL = 1e-9
+
+
+class RestBalanceError(ValueError):
+    """The model's laws do not balance at rest with the wall deflection delta_w of Eq. 9."""
+
+
+def _point(shift: int, names) -> dict[str, sp.Rational]:
+    """Distinct positive exact values 1.1 ... 3.3 for every parameter (a different assignment per ``shift``)."""
+    return {n: sp.Rational(11 + (i + shift) % 23, 10) for i, n in enumerate(names)}
+
+
+def check(forcing_x: sp.Expr, activations: dict[str, sp.Symbol], options) -> None:
+    """Raise :class:`RestBalanceError` unless the X forcing ``forcing_x`` vanishes at rest (see the module's
+    docstring) with delta_w = ``SealBody.rest_wall_deflection`` (Eq. 9). ``activations``: guard name -> activation
+    symbol of the model's contacts. Nothing to check unless the spring and the housing contact are both on."""
+    if not (options.on("spring") and options.on("housing_contact")):
+        return
+    closed = {HousingContact.guards[0].name, SpringContact.guards[0].name}
+    rest = {s: sp.S.Zero for s in (*qs, *us, theta, Pa, Pb)}
+    rest |= {a: sp.S.One if name in closed else sp.S.Zero for name, a in activations.items()}
+    # the forward slide before omega = 0 (which would stop the tip, and tanh(0) its friction)
+    at_rest = forcing_x.xreplace(rest).replace(sp.tanh, lambda a: sp.S.One).xreplace({P["omega"]: sp.S.Zero})
+    names = parameter_names(all_inputs=True)
+    for shift in (0, 7, 19):
+        values = _point(shift, names)
+        values["delta_w"] = SealBody.rest_wall_deflection(values, options)
+        subs = {P[n]: v for n, v in values.items()}
+        expr = at_rest.xreplace(subs)
+        expr = expr.xreplace(_point(shift, sorted(expr.free_symbols, key=str)))  # any other symbol
+        residual = complex(expr.evalf(30))
+        force = float(SpringContact.rest_force(values))
+        if not abs(residual) <= REL_TOL * max(abs(force), 1e-300):
+            raise RestBalanceError(_message(residual, force, options))
+
+
+def _message(residual: complex, force: float, options) -> str:
+    where = {cls.name: f"{cls.__module__}.{cls.__qualname__}" for cls in (HousingContact, SpringContact, SealBody)}
+    stiffness = options["housing_stiffness"]
+    return (
+        f"Eq. 9: the seal is not in balance at rest: its X force is {residual.real:.6g} N against the spring's force "
+        f"at rest of {force:.6g} N (at a test point: the state at zero, theta = 0, the housing and spring contacts "
+        "closed, every other contact open, no pressure, no inertia, the tip sliding forward). The wall deflection "
+        f"delta_w of Eq. 9 ({where['seal']}.rest_wall_deflection, housing_stiffness = {stiffness!r}) balances the "
+        f"spring's law {where['spring']}.push with the housing's law kw delta_w of {where['housing']}.contacts: "
+        "a submodel's law changed without the other side. Write the spring's law in SpringContact.push only "
+        "(derive/submodels/spring.py; contacts() and the rest balance both call it), and when the housing's law "
+        "changes, change SealBody.rest_wall_deflection (derive/submodels/seal.py, numbers.initial_wall_deflection) "
+        "to the deflection at which that law balances SpringContact.rest_force"
+    )

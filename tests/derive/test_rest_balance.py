@@ -1,0 +1,115 @@
+"""Eq. 9's rest balance follows the spring's law, and the derivation refuses laws that do not balance at rest.
+
+The spring's law is written once (SpringContact.push, Eq. 39). Before, a progressive spring written into
+contacts() left delta_w = ks delta_s / kw hand-written in numbers.py, and the seal started out of balance silently
+(26 N of spring force against 10 N from the housing at k3 = 2 N/mm^3); the paper check crashed with
+``KeyError: 'no value for symbol k3'`` because its values ignored the parameters' declared defaults.
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from apexseal.derive import derive_model
+from apexseal.derive.assumptions import Assumptions
+from apexseal.derive.choices import options_of
+from apexseal.derive.effects import Effects
+from apexseal.derive.paper_check import evaluation
+from apexseal.derive.paper_check import values as paper_values
+from apexseal.derive.parameters import Parameter
+from apexseal.derive.rest_balance import RestBalanceError
+from apexseal.derive.submodels import laws
+from apexseal.derive.submodels.registry import activation_symbols
+from apexseal.derive.submodels.seal import SealBody
+from apexseal.derive.submodels.spring import SpringContact
+from apexseal.derive.symbols import P, qs, theta, us
+
+#: small models: the check needs only the spring and the housing (with its friction, under both stiffness rules)
+EFFECTS = Effects.only("spring", "housing_contact", "housing_friction")
+
+
+def cubic(compression, p):
+    """A progressive spring: ks c + k3 c^3."""
+    return p["ks"] * compression + p["k3"] * compression**3
+
+
+def k3(**kw) -> Parameter:
+    return Parameter("k3", "N/m**3", "cubic stiffness of a progressive spring", key="spring.k3", ge=0, **kw)
+
+
+@pytest.fixture
+def progressive(monkeypatch):
+    """The user's change: the spring's push law with a cubic term and its parameter k3 (default 0)."""
+    monkeypatch.setattr(SpringContact, "push", staticmethod(cubic))
+    monkeypatch.setattr(SpringContact, "parameters", (*SpringContact.parameters, k3(default=0.0)))
+
+
+def scene_values(assumptions: Assumptions, **over) -> dict[str, float]:
+    """The default scene's parameters (as the paper check computes them) with ``over``, and delta_w derived again."""
+    v = {**paper_values._default_values(), **over}
+    opts = options_of(EFFECTS, assumptions)
+    return {**v, **SealBody.derived(v, {"operation": SimpleNamespace(omega=v["omega"])}, opts)}
+
+
+@pytest.mark.parametrize("stiffness", ["groove-axis", "normal"])
+def test_a_progressive_spring_moves_delta_w_and_the_model_balances_at_rest(progressive, stiffness):
+    """delta_w balances ks delta_s + k3 delta_s^3 (it stayed ks delta_s / kw), and the derived forcing is zero at rest
+    with it at the default scene's values (k3 = 2 N/mm^3)."""
+    assumptions = Assumptions(housing_stiffness=stiffness)
+    model = derive_model(EFFECTS, assumptions)  # the derivation's own rest-balance check passes
+    assert P["k3"] in model.forcing[0].free_symbols
+    v = scene_values(assumptions, k3=2e9)
+    rest_force = v["ks"] * v["delta_s"] + v["k3"] * v["delta_s"] ** 3
+    assert SpringContact.rest_force(v) == pytest.approx(rest_force, rel=1e-15)
+    act = activation_symbols()
+    rest = {s: 0 for s in (*qs, *us, theta)} | {act["s_h"]: 1, act["s_sp"]: 1}
+    x_force = model.forcing[0].xreplace(rest).replace(sp.tanh, lambda a: sp.S.One).xreplace({P["omega"]: 0})
+    residual = float(x_force.xreplace({P[n]: x for n, x in v.items() if n in P}).evalf(30))
+    assert abs(residual) < 1e-9 * rest_force
+    v_linear = scene_values(assumptions, k3=0.0)
+    assert v["delta_w"] / v_linear["delta_w"] == pytest.approx(rest_force / (v["ks"] * v["delta_s"]), rel=1e-12)
+
+
+def test_the_paper_check_takes_a_new_parameter_s_declared_default(progressive, monkeypatch):
+    """k3 is in no stated value: it takes its declared default (it was ``KeyError: no value for symbol k3``).
+
+    (A k3 declared in spring.py is in the values when they are computed, at import; here they are computed again.)"""
+    defaults = paper_values._default_values()
+    assert defaults["k3"] == 0.0
+    monkeypatch.setattr(evaluation, "DEFAULTS", defaults)
+    monkeypatch.setattr(paper_values, "DEFAULTS", defaults)
+    point = evaluation._values(["k3", "ks", "delta_w"], np.random.default_rng(1), jitter=True, ranges={})
+    assert point["k3"] == 0.0 and point["delta_w"] == pytest.approx(point["ks"] * defaults["delta_s"] / defaults["kw"])
+
+
+def test_a_new_parameter_without_default_is_named_by_the_paper_check(monkeypatch):
+    monkeypatch.setattr(SpringContact, "parameters", (*SpringContact.parameters, k3()))
+    with pytest.raises(paper_values.MissingValue, match=r"k3 \(spring.k3, declared by the submodel 'spring'.*"
+                                                       r"default=.*STATED of derive/paper_check/values.py"):
+        paper_values._default_values()
+
+
+def test_a_spring_law_the_rest_balance_does_not_follow_stops_the_derivation(monkeypatch):
+    """The law in contacts() and the force at rest must be the same: a cubic law with a linear rest force (the
+    hand-written ks delta_s of before) is refused, naming Eq. 9, the submodels and what to edit."""
+    monkeypatch.setattr(SpringContact, "parameters", (*SpringContact.parameters, k3(default=0.0)))
+    monkeypatch.setattr(SpringContact, "push", staticmethod(cubic))
+    monkeypatch.setattr(SpringContact, "rest_force", classmethod(lambda cls, p: p["ks"] * p["delta_s"]))
+    with pytest.raises(RestBalanceError, match=r"Eq\. 9: the seal is not in balance at rest.*SpringContact\.push.*"
+                                               r"HousingContact\.contacts.*SealBody\.rest_wall_deflection"):
+        derive_model(EFFECTS)
+
+
+def test_a_housing_law_changed_alone_stops_the_derivation(monkeypatch):
+    """A Hertzian housing, kw xs5^1.5, with delta_w still the linear balance: refused, not a silent imbalance."""
+    def hertz(stiffness, penetration, activation):
+        return activation * stiffness * sp.Max(penetration, 0) ** sp.Rational(3, 2)
+
+    monkeypatch.setattr(laws, "penalty", hertz)
+    with pytest.raises(RestBalanceError, match=r"Eq\. 9.*housing_stiffness = 'groove-axis'.*change "
+                                               r"SealBody\.rest_wall_deflection"):
+        derive_model(EFFECTS)
