@@ -58,6 +58,20 @@ def test_the_preload_parameters_are_those_of_the_scene(default_scene):
     assert pmap.dp[pmap.dp != 0].size == 3  # delta_s, delta_w (Eq. 9) and Li (Eq. 12) move
 
 
+def test_the_study_s_spring_force_is_the_spring_submodel_s_law(default_scene, monkeypatch):
+    """The study's spring force at rest is the spring's own law (SpringContact.push, Eq. 39), not a hand-written
+    ks delta_s: a changed law (here a linear law with an offset force) changes the study's force and the stiffness
+    valley's preload with it."""
+    from apexseal.derive.submodels.spring import SpringContact
+
+    pmap = preload_parameters(default_scene)
+    ks, ds = pmap.at("ks"), 3.7e-3
+    assert pmap.spring_force(ds) == pytest.approx(ks * ds, rel=1e-15)
+    monkeypatch.setattr(SpringContact, "push", staticmethod(lambda c, p: p["ks"] * c + 0.25 * p["ks"] * p["delta_s"]))
+    assert pmap.spring_force(ds) == pytest.approx(1.25 * ks * ds, rel=1e-15)
+    assert pmap.spring_force(1.0, ks=2 * ks) == pytest.approx(2.5 * ks, rel=1e-15)
+
+
 def test_check_windows_wrap_around_360():
     th = np.radians([350.0, 355.0, 0.0, 5.0, 10.0, 180.0])
     np.testing.assert_array_equal(check_mask(th, ((355.0, 5.0),)), [True, False, False, False, True, True])

@@ -185,7 +185,7 @@ def test_cli_writes_the_report_with_the_groove_bound_and_the_stiffness_valley(li
     assert r.exit_code == 0, r.output
     data = json.loads((out / "preload.json").read_text())
     assert data["constant"]["max_groove_force"] == GROOVE_MAX and data["constant"]["groove_excess"] == 0.0
-    assert len(data["stiffness_valley"]) == 5 and "spring force ks*delta_s" in r.output
+    assert len(data["stiffness_valley"]) == 5 and "the spring's force at rest (Eq. 39)" in r.output
     md = (out / "preload.md").read_text()
     assert "the same spring force at other stiffnesses" in md
     assert data["status"] == "completed" and data["overrides"] == {"effects.chamber_pressure": False}

@@ -76,6 +76,14 @@ class PreloadMap:
         """A parameter's value at delta_s = 0 (the same at every preload for all but delta_s, delta_w and Li)."""
         return float(self.p0[self.names.index(name)])
 
+    def spring_force(self, delta_s: float, **over: float) -> float:
+        """N, the spring's force at rest at the preload ``delta_s`` (Eq. 39: the spring submodel's own law,
+        ``SpringContact.push``), the parameters at the scene's values but ``over`` (e.g. ``ks=...``)."""
+        from apexseal.derive.submodels.spring import SpringContact
+
+        values = dict(zip(self.names, (float(v) for v in self(delta_s)), strict=True)) | over
+        return float(SpringContact.rest_force(values))
+
 
 def preload_parameters(scene) -> PreloadMap:
     """``p(delta_s)`` from the scene: delta_s itself, delta_w (Eq. 9) and Li (Eq. 12) move with it.

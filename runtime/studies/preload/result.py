@@ -56,7 +56,7 @@ class PreloadResult:
     knot_angles_deg: list = field(default_factory=list)
     knots: list | None = None  # m, the optimal delta_s at the knots (one value: the constant preload)
     delta_s: float | None = None  # m, the mean preload over the revolution (the constant preload for 1 knot)
-    spring_force: float | None = None  # N, ks * mean delta_s (the spring's force at rest, Eq. 39)
+    spring_force: float | None = None  # N, the spring's force at rest at the mean delta_s (Eq. 39, PreloadMap.spring_force)
     scene_delta_s: float = 0.0  # m
     friction_power: float | None = None  # W, cycle mean at the optimum (re-simulation; quadrature, between samples)
     scene_friction_power: float | None = None  # W, at the scene's preload
@@ -126,7 +126,7 @@ class PreloadResult:
         what = ("constant preload delta_s*" if len(self.knots) == 1 else
                 f"preload schedule ({len(self.knots)} knots), mean delta_s")
         lines = [
-            f"{what} = {self.delta_s / MM:.4f} mm (spring force ks*delta_s = {self.spring_force:.3f} N; "
+            f"{what} = {self.delta_s / MM:.4f} mm (the spring's force at rest (Eq. 39) = {self.spring_force:.3f} N; "
             f"scene: {self.scene_delta_s / MM:.4g} mm)",
         ]
         if len(self.knots) > 1:
@@ -191,7 +191,7 @@ def fill_result(res, setup, grid, knots_m, sim) -> None:
     res.knots = [float(v) for v in knots_m]
     res.delta_s = float(np.mean(Schedule(tuple(res.knot_angles_deg), tuple(res.knots))(
         np.degrees(sim.thetas))))
-    res.spring_force = float(setup.pmap.at("ks") * res.delta_s)
+    res.spring_force = setup.pmap.spring_force(res.delta_s)
     res.friction_power = sim.friction_power
     res.deficit = sim.deficit
     span = deficit_span(sim.thetas, sim.deficit_at, setup.dth)

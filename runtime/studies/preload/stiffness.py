@@ -32,14 +32,15 @@ FACTORS = (0.25, 0.5, 1.0, 2.0, 4.0)
 class ValleyPoint:
     ks: float  # N/m
     delta_s: float  # m, F0* / ks
-    spring_force: float  # N, ks delta_s (the same at every point)
+    spring_force: float  # N, the spring's force at rest (Eq. 39; the same at every point)
     friction_power: float  # W, cycle mean of the periodic revolution
     deficit: float  # N^2 rad, the force-deficit quadrature
     groove_excess: float  # N^2 rad (0 without a groove-force bound)
 
 
 def stiffness_valley(setup: PreloadSetup, result, *, nodes: int = 4, factors=FACTORS) -> list[ValleyPoint]:
-    """Re-simulate the constant optimum's spring force ``ks delta_s`` at the stiffnesses ``factors`` x the scene's.
+    """Re-simulate the constant optimum's spring force at rest (Eq. 39) at the stiffnesses ``factors`` x the
+    scene's: at each, the preload whose force at rest is the same.
 
     Uses the study's compiled interval integrator (the same cache entry as the study: for a constant preload the
     integrator's built-in d p / d delta_s multiplies a zero slope, so the scene's units serve every ks).
@@ -53,7 +54,7 @@ def stiffness_valley(setup: PreloadSetup, result, *, nodes: int = 4, factors=FAC
     if not all(isinstance(f, int | float) and 0 < f <= 100 for f in factors):
         raise PreloadStudyError(f"factors = {list(factors)!r}: each must be in (0, 100] (times the scene's ks)")
     ks0 = setup.pmap.at("ks")
-    force = ks0 * float(result.knots[0])
+    force = setup.pmap.spring_force(float(result.knots[0]))
     sf = study_functions(setup, setup.samples // nodes)
     grid = SegmentGrid(setup.samples, nodes, 1, setup.theta_start, setup.dth)
     points = []
@@ -62,7 +63,9 @@ def stiffness_valley(setup: PreloadSetup, result, *, nodes: int = 4, factors=FAC
         scene = setup.scene.with_overrides(**{"spring.ks": ks0 * f})
         s = PreloadSetup(scene, setup.functions, setup.min_force, setup.exclude, setup.samples, setup.rtol,
                          setup.revolutions, setup.flags, setup.max_groove_force)
-        d = force / (ks0 * f)
+        # the law is linear in the preload (preload_parameters refuses a scene whose parameters are not affine in
+        # it), so its force at 1 m is its slope at this stiffness
+        d = force / setup.pmap.spring_force(1.0, ks=ks0 * f)
         announce(f"  stiffness valley: ks = {ks0 * f:.4g} N/m ({f:g} x the scene's), delta_s = {d / MM:.4f} mm, "
                  f"simulated until periodic ({i} of {len(factors)} done, {time.perf_counter() - t:.0f} s)")
         sim = periodic(s, sf, grid, np.array([d]), s.min_force, s.exclude)
@@ -81,7 +84,7 @@ def feasible(p: ValleyPoint, deficit_tol: float) -> str:
 
 def describe(points: list[ValleyPoint], deficit_tol: float) -> str:
     """The valley as a table: the same spring force at each stiffness, feasible as the study's optimum is."""
-    lines = [f"  the same spring force ks*delta_s = {points[0].spring_force:.3f} N at other stiffnesses (periodic "
+    lines = [f"  the same spring force at rest (Eq. 39) = {points[0].spring_force:.3f} N at other stiffnesses (periodic "
              "re-simulations):",
              "    ks (N/m)   delta_s (mm)   friction power (W)   force deficit (x bound)   feasible"]
     lines += [f"    {p.ks:9.4g}   {p.delta_s / MM:12.4f}   {p.friction_power:18.3f}   {p.deficit / deficit_tol:23.3f}   "
