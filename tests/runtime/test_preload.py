@@ -72,6 +72,19 @@ def test_the_study_s_spring_force_is_the_spring_submodel_s_law(default_scene, mo
     assert pmap.spring_force(1.0, ks=2 * ks) == pytest.approx(2.5 * ks, rel=1e-15)
 
 
+def test_a_progressive_spring_law_is_refused_by_the_study_naming_it(default_scene, monkeypatch):
+    """The study moves delta_w and Li in proportion to the preload (the paper's linear spring): under a
+    progressive spring law it stopped on a bare RuntimeError ("update preload_parameters"); it is a
+    PreloadStudyError naming the key, the law's place and the parameters that do not move in proportion."""
+    from apexseal.derive.submodels.spring import SpringContact
+    from apexseal.runtime.studies.preload.problem import PreloadStudyError
+
+    monkeypatch.setattr(SpringContact, "push", staticmethod(lambda c, p: p["ks"] * c + 1e9 * c**3))
+    scene = default_scene.with_overrides(**{"spring.delta_s": "3 mm"})  # its values under the progressive law
+    with pytest.raises(PreloadStudyError, match=r"^spring\.delta_s: .*SpringContact\.push.* Li, delta_w do not"):
+        preload_parameters(scene)
+
+
 def test_check_windows_wrap_around_360():
     th = np.radians([350.0, 355.0, 0.0, 5.0, 10.0, 180.0])
     np.testing.assert_array_equal(check_mask(th, ((355.0, 5.0),)), [True, False, False, False, True, True])

@@ -96,8 +96,14 @@ def preload_parameters(scene) -> PreloadMap:
     dp = ca.Function("dp", [d], [ca.jacobian(f(d), d)])
     pmap = PreloadMap(np.array(f(0.0)).ravel(), np.array(dp(0.0)).ravel(), tuple(scene.parameters))
     own = scene.parameter_vector()
-    if not np.allclose(pmap(scene.parameters["delta_s"]), own, rtol=1e-12, atol=1e-15):  # pragma: no cover
-        raise RuntimeError("the scene's parameters are not affine in spring.delta_s; update preload_parameters")
+    if not np.allclose(pmap(scene.parameters["delta_s"]), own, rtol=1e-12, atol=1e-15):
+        moved = [n for n, a, b in zip(scene.parameters, pmap(scene.parameters["delta_s"]), own, strict=True)
+                 if not np.isclose(a, b, rtol=1e-12, atol=1e-15)]
+        raise PreloadStudyError(
+            f"spring.delta_s: the preload study needs the parameters that move with the preload to move in proportion "
+            f"(the paper's linear spring, Eq. 39); under this model's spring law (SpringContact.push, "
+            f"derive/submodels/spring.py) {', '.join(moved)} do not: a non-linear spring law is not supported by "
+            "the study's parametrisation (problem.preload_parameters)")
     return pmap
 
 
