@@ -171,7 +171,8 @@ class RunChecks:
             return None
         lay, st = self.layout, self.settings
         names = self.functions.parameter_names
-        chatter = chattering(Z, lay, thetas - self.theta_start, z_start[lay.counts], st, names, self.params)
+        chatter = chattering(Z, lay, thetas - self.theta_start, z_start[lay.counts], st, names, self.params,
+                             self.omega)
         if chatter is not None:
             return "chattering", StopInfo(chatter.theta, lay.mode(Z[lay.active, -1]), str(chatter))
         if method_of(st.method).locates_events:
@@ -221,15 +222,33 @@ class RunChecks:
                                   f"integrator's mode but its gap is {gap:.4g} µm ({why})")
 
 
+#: rad/s (1500 rpm, the paper's speed): at this rotor speed and above, the chattering detector's window is the crank
+#: angle ``solver.chatter_window``; below it, the time that angle takes at this speed (see :func:`chatter_window`)
+WINDOW_SPEED = 50.0 * np.pi
+
+
+def chatter_window(settings: RunSettings, omega: float | None) -> float:
+    """The chattering detector's window (rad of crank angle) at the rotor speed ``omega`` (rad/s; None: as given).
+
+    A contact rings with a period in time, not in crank angle: at 10 rpm a window of 1e-3 rad lasts 150 times as long
+    as at 1500 rpm and holds 150 times the bounces of a seal settling on a wall, which stopped ordinary low-speed
+    runs as chattering. Below :data:`WINDOW_SPEED` the window is therefore the time ``chatter_window`` takes at that
+    speed, a smaller crank angle; at and above it, the crank angle as given."""
+    if omega is None or not omega < WINDOW_SPEED:
+        return settings.chatter_window
+    return settings.chatter_window * float(omega) / WINDOW_SPEED
+
+
 def chattering(Z, layout: HybridLayout, thetas, counts_before, settings: RunSettings,
-               names: Sequence[str] | None = None, params=None) -> Chattering | None:
-    """More switches of one guard in one output interval than ``chatter_events`` per ``chatter_window``, with the
-    advice for that guard's contact (:func:`chatter_advice`; ``names``, ``params``: the run's parameters)."""
+               names: Sequence[str] | None = None, params=None, omega: float | None = None) -> Chattering | None:
+    """More switches of one guard in one output interval than ``chatter_events`` per chatter window
+    (:func:`chatter_window` at the rotor speed ``omega``), with the advice for that guard's contact
+    (:func:`chatter_advice`; ``names``, ``params``: the run's parameters)."""
     counts = np.c_[counts_before, Z[layout.counts]]
     per_interval = np.diff(counts, axis=1)
     dth = thetas[1] - thetas[0] if thetas.size > 1 else 2 * np.pi / settings.samples_per_revolution
     # events per output interval, scaled to the chatter window
-    limit = settings.chatter_events * max(1.0, dth / settings.chatter_window)
+    limit = settings.chatter_events * max(1.0, dth / chatter_window(settings, omega))
     hot = np.argwhere(per_interval > limit)
     if hot.size == 0:
         return None

@@ -84,7 +84,9 @@ def test_chatter_names_the_guard_and_the_remedies(fns):
     which the second detector needs (with linear pressures the revolution's budget is reached first)."""
     scene = load("tip-chatter").with_overrides(**{"solver.pressure": "steps"})
     for settings, where in (({}, "in less than one revolution"),
-                            ({"chatter_events": 5}, "within one output interval"),
+                            # the window is the time 1e-3 rad takes at 1500 rpm (checks.chatter_window): 25 times
+                            # the crank angle at this scene's 60 rpm gives the window the test was written with
+                            ({"chatter_events": 5, "chatter_window": 0.025}, "within one output interval"),
                             ({"max_events_per_revolution": 30, "calls_per_revolution": 360},
                              "output interval whose switches reached the integrator's event limit")):
         r = simulate(scene, fns, **(FAST["tip-chatter"] | settings))
@@ -92,6 +94,24 @@ def test_chatter_names_the_guard_and_the_remedies(fns):
         assert "chattering on guard xs5" in r.stop.reason and where in r.stop.reason, r.stop.reason
         assert "friction.v_eps" in r.stop.reason and "'euler'" in r.stop.reason and "damping" in r.stop.reason
         assert 9 < np.degrees(r.stop.theta) < 60  # the chambers swap 10 deg after the start
+
+
+def test_a_seal_settling_at_low_speed_is_no_chatter():
+    """The detector's window was a crank angle (1e-3 rad): at 10 rpm that is 150 times as long as at 1500 rpm and
+    held 105 switches of the seal settling on its groove wall (b1), which stopped the default scene at 0.9 deg as
+    chattering. Below 1500 rpm the window is now a time (checks.chatter_window): the run goes on, and a genuine
+    chatter (tip-chatter, test above) is still stopped."""
+    from apexseal.runtime.scenes.scene import load_scene
+    from apexseal.runtime.solving.checks import WINDOW_SPEED, chatter_window
+    from apexseal.runtime.solving.settings import RunSettings
+
+    st = RunSettings()
+    assert chatter_window(st, 2 * WINDOW_SPEED) == chatter_window(st, WINDOW_SPEED) == st.chatter_window
+    assert chatter_window(st, WINDOW_SPEED / 150) == pytest.approx(st.chatter_window / 150, rel=1e-12)
+    import apexseal
+
+    r = apexseal.simulate(load_scene().with_overrides(**{"operation.rpm": 10}), revolutions=1, progress=False)
+    assert r.ok, r.stop
 
 
 def test_tip_arc_edge_runs_with_methods_that_differentiate(fns):
