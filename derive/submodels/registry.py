@@ -29,6 +29,7 @@ from contextlib import contextmanager
 from ...suggest import not_known
 from ..options import NONE, ON, Option, need_met, needed_effects, needed_on, resolve
 from ..parameters import Parameter
+from . import declarations
 from .base import Friction, Guard, State, Submodel, built_in
 from .sources import source_key
 
@@ -96,9 +97,24 @@ def laws_of(cls: type[Submodel], method: str):
     except Exception as exc:
         if built_in(cls):
             raise  # apexseal's own: a bug to report as it is
-        where = (f"installed by {_installed[cls.name]}" if cls.name in _installed else f"from module {cls.__module__}")
-        raise RegistryError(f"the submodel {cls.name} ({where}) failed in {method}: {type(exc).__name__}: {exc}; "
-                            "fix its code, or switch it off in the scene") from exc
+        raise RegistryError(f"the submodel {cls.name} ({origin(cls)}) failed in {method}: {type(exc).__name__}: "
+                            f"{exc}; fix its code, or switch it off in the scene") from exc
+
+
+def origin(cls: type[Submodel]) -> str:
+    """Where submodel ``cls`` comes from, for messages: "installed by <package> <version>" or "from module <m>"."""
+    return f"installed by {_installed[cls.name]}" if cls.name in _installed else f"from module {cls.__module__}"
+
+
+def _check_declarations(cls: type[Submodel]) -> None:
+    """Refuse a submodel whose own declarations are wrong (:mod:`.declarations`: its parameters' names, scene keys,
+    ranges, defaults and units, its switch), naming it and each mistake. Units are read with pint for a user's or
+    a package's submodel only (the built-in ones are checked by the tests)."""
+    problems = declarations.parameter_problems(cls, units=not built_in(cls))
+    slots = {o.name: o for c in (*_registry.values(), cls) for o in c.options}
+    problems += [p for p in (declarations.switch_problem(cls, slots),) if p is not None]
+    if problems:
+        raise RegistryError(f"submodel {cls.name!r} ({origin(cls)}): " + "; ".join(problems))
 
 
 def _check_needs(cls: type[Submodel]) -> None:
@@ -137,9 +153,13 @@ def register(cls: type[Submodel], *, check_needs: bool = True) -> type[Submodel]
     old = _registry.get(cls.name)
     if old is not None and _redefinition(old, cls):
         return _replace(old, cls)
+    if old is cls:
+        raise RegistryError(f"the submodel {cls.name!r} ({cls.__module__}.{cls.__qualname__}) is registered already "
+                            "(this very class: register it once; registry.registered(...) registers it for a block)")
     if old is not None:
         raise RegistryError(f"a submodel named {cls.name!r} is registered already (by {old.__module__}."
                             f"{old.__qualname__})")
+    _check_declarations(cls)
     for what, mine, theirs in (("parameter", [p.name for p in cls.parameters], parameter_names(all_inputs=True)),
                                ("option", [o.name for o in cls.options], list(options())),
                                ("guard", [g.name for g in cls.guards], [g.name for g in guards()]),

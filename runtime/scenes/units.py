@@ -128,6 +128,34 @@ def show_factor(unit: str, show: str) -> float:
     return 1.0 if show == unit else float(registry().Quantity(1.0, unit).to(show).magnitude)
 
 
+def declared_unit_problem(unit: str, to: str | None = None) -> str | None:
+    """Why a submodel's declared SI unit ``unit`` is not one (pint does not read it, or reads it as a unit that is
+    not SI: "Nm" is pint's number_meter, not a newton metre), or with ``to``, why ``to`` (the unit its messages or
+    its plausible range are shown in) does not convert to it; None when it is fine. What pint accepted is
+    remembered (:mod:`.unit_memo`), so a warm process that registers the submodel again imports no pint."""
+    memo = unit_memo.key_of(unit, to, "declared unit")
+    if unit_memo.lookup(memo) is not None:
+        return None
+    ureg = registry()
+    try:
+        q = ureg.Quantity(1.0, unit)
+        reading = str(q.units)
+        if to is not None:
+            q.to(to)
+        else:
+            base = q.to_base_units()
+            if not math.isclose(base.magnitude, 1.0, rel_tol=1e-12):
+                return (f"is not an SI unit: pint reads it as {reading}, 1 {unit} = {base.magnitude:g} {base.units} "
+                        "(declare the SI unit in pint's syntax, e.g. \"N*m\", \"N/m\", \"Pa\"; show= and plausible= "
+                        "give the unit values are shown in)")
+    except Exception as exc:  # noqa: BLE001 - pint's own errors (undefined unit, syntax, dimensionality), in words
+        if to is not None and type(exc).__name__ == "DimensionalityError":
+            return f"does not convert to {unit!r}: {exc}"
+        return f"is not a unit pint reads: {exc}"
+    unit_memo.remember(memo, 1.0)
+    return None
+
+
 def expected(unit: str) -> str:
     """Words for the expected kind, e.g. ``a length in m (e.g. "3 mm")``; a unit of neither table (a user's
     submodel's) is ``a quantity in N*m (e.g. "1 N*m")``."""

@@ -1,0 +1,98 @@
+"""A submodel's mistakes in its own declarations and laws are refused where it is declared, registered or derived,
+naming the submodel, what is wrong and what is allowed (each was accepted silently, or failed far from its cause
+with a bare traceback)."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from apexseal.derive.options import NONE, ON, Option
+from apexseal.derive.parameters import Parameter
+from apexseal.derive.submodels import registry
+from apexseal.derive.submodels.base import Submodel
+from apexseal.derive.submodels.declarations import RESERVED_KEYS, RESERVED_SECTIONS
+
+
+def _with(**changes) -> type[Submodel]:
+    """A submodel "zz" with one parameter, the parameter's declaration changed by ``changes``."""
+    kw = {"name": "c_zz", "unit": "N*s/m", "meaning": "a damper", "key": "zz.c", "default": 1.0, "ge": 0} | changes
+    p = Parameter(kw.pop("name"), kw.pop("unit"), kw.pop("meaning"), **kw)
+    return type("ZZ", (Submodel,), {"name": "zz", "__module__": "elsewhere", "parameters": (p,)})
+
+
+@pytest.mark.parametrize(("changes", "message"), [
+    # an IndexError in Parameter.leaf on every command before
+    ({"key": "radial_damper_c"}, r"key='radial_damper_c' is not a scene key \"section.name\""),
+    ({"ge": 5, "le": 1, "default": None}, r"its range ge=5, le=1 holds no value"),
+    ({"gt": 1, "lt": 1, "default": None}, r"its range gt=1, lt=1 holds no value"),
+    # `apexseal scene` called the default valid and used it
+    ({"default": 1e5, "le": 1e4}, r"default=100000.0 is outside its own range \(le=10000.0\)"),
+    ({"unit": ""}, r"unit='' is empty .*\"1\" for a plain number"),
+    # pint reads "Nm" as its number_meter: a unit, but no SI one
+    ({"unit": "Nm/furlong"}, r"unit='Nm/furlong' is not an SI unit: pint reads it as number_meter / furlong"),
+    ({"unit": "furlongz"}, r"unit='furlongz' is not a unit pint reads"),
+    ({"show": "kg"}, r"show='kg' does not convert to 'N\*s/m'"),
+    ({"key": "effects.spring"}, r"key='effects.spring' is in the scene's \[effects\] table, whose keys are not "
+                                r"parameters"),
+    ({"key": "solver.c"}, r"key='solver.c' is in the scene's \[solver\] table"),
+    ({"key": "machine.ports"}, r"key='machine.ports' is a scene key that is not a parameter's"),
+    ({"plausible": (10, 1, "N*s/m")}, r"plausible=\(10, 1, 'N\*s/m'\) has its low end 10 above its high end 1"),
+    ({"plausible": (1, 10, "N")}, r"the unit 'N' of plausible=\(1, 10, 'N'\) does not convert"),
+    ({"name": "p z"}, r"its name is not an identifier"),
+])
+def test_a_wrong_parameter_declaration_is_refused_at_registration(changes, message):
+    """Each was accepted (or failed later, far from the declaration): refused naming the submodel, the parameter
+    and what is allowed."""
+    name = re.escape(changes.get("name", "c_zz"))
+    with pytest.raises(registry.RegistryError, match=rf"submodel 'zz' \(from module elsewhere\): parameter '{name}': "
+                                                     + message):
+        registry.register(_with(**changes))
+    assert "zz" not in {c.name for c in registry.submodels()}
+
+
+def test_two_parameters_on_one_scene_key_are_refused():
+    """One of them silently took the other's default."""
+    twins = type("ZZ", (Submodel,), {"name": "zz", "__module__": "elsewhere", "parameters": (
+        Parameter("c_zz", "N*s/m", "a damper", key="zz.c", default=1.0, ge=0),
+        Parameter("k_zz", "N/m", "a spring", key="zz.c", default=5.0, ge=0))})
+    with pytest.raises(registry.RegistryError, match=r"parameters 'c_zz' and 'k_zz' have the same scene key 'zz.c'"):
+        registry.register(twins)
+
+
+def test_a_switch_no_option_declares_is_refused():
+    """``switch = "nope"`` was accepted: the submodel was never on, whatever the scene said."""
+    nope = type("ZZ", (Submodel,), {"name": "zz", "__module__": "elsewhere", "switch": "nope",
+                                    "options": (Option("zz", (NONE, ON), "a damper"),)})
+    with pytest.raises(registry.RegistryError, match=r"submodel 'zz' .*switch='nope' is not an effect .*effects: .*zz "
+                                                     r"\(declare options"):
+        registry.register(nope)
+
+
+def test_the_built_in_declarations_pass_every_check():
+    """The built-in submodels skip the unit check at registration (pint is not imported for them): they pass it."""
+    from apexseal.derive.submodels.declarations import parameter_problems
+
+    assert {c.name: parameter_problems(c, units=True) for c in registry.submodels()} == {
+        c.name: [] for c in registry.submodels()}
+
+
+def test_the_reserved_scene_keys_are_the_schemas_own():
+    """The sections and keys a parameter may not take are those the scene schema fills itself."""
+    from apexseal.runtime.scenes.schema import key_paths, sections
+
+    own = {s for s in sections() if not any(p.section == s for p in registry.parameters(all_inputs=True))}
+    assert own == set(RESERVED_SECTIONS)
+    declared = {p.key for p in registry.parameters(all_inputs=True)}
+    fixed = {re.sub(r"^machine\.ports\..*", "machine.ports", k) for k in key_paths("machine.")} - declared
+    assert fixed == set(RESERVED_KEYS)
+
+
+def test_registering_the_same_class_twice_says_so():
+    """It said "registered already (by ...SpringContact)", as if another class had taken the name."""
+    from apexseal.derive.submodels.spring import SpringContact
+
+    with pytest.raises(registry.RegistryError, match=r"'spring' .*SpringContact\) is registered already \(this very "
+                                                     r"class"):
+        registry.register(SpringContact)
