@@ -13,13 +13,14 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from . import contact_geometry, eom, kinematics, rest_balance
+from . import contact_geometry, eom, kinematics, law_symbols, rest_balance
 from .assumptions import Assumptions
 from .choices import Options, options_of
 from .effects import Effects
 from .kinematics import plain
-from .submodels.base import ContactModel, Context
-from .submodels.registry import guard, laws_of, parameter_names, state_names, submodels
+from .submodels.base import ContactModel, Context, Submodel
+from .submodels.declarations import contact_problem
+from .submodels.registry import RegistryError, guard, laws_of, origin, parameter_names, state_names, submodels
 from .symbols import STATE_NAMES, P, Pa, Pb, state_symbol
 
 
@@ -62,19 +63,41 @@ def _context(k, g, options: Options) -> Context:
     return Context(k, g, options, P, Pa, Pb, {n: state_symbol(n) for n in names})
 
 
-def _contacts(k, g, options: Options) -> list[ContactModel]:
+def _contacts(k, g, options: Options) -> list[tuple[type[Submodel], ContactModel]]:
+    """The contacts of the active submodels, each with the submodel whose laws gave it (each one it declares, with
+    a guard it declares: :func:`_refuse_undeclared`)."""
     ctx = _context(k, g, options)
     out = []
     for cls in submodels():
         if cls.active(options):
             with laws_of(cls, "contacts()"):
-                out += cls().contacts(ctx)
+                own = cls().contacts(ctx)
+            _refuse_undeclared(cls, own)
+            out += [(cls, c) for c in own]
     return out
 
 
-def _own_states(k, g, options: Options) -> tuple[dict, dict, dict]:
-    """The submodels' own state derivatives, the chamber pressures they compute, and their extra outputs."""
+def _refuse_undeclared(cls: type[Submodel], contacts: list[ContactModel]) -> None:
+    """A contact that submodel ``cls`` does not declare (its ``contact_names``), or a guard of it that ``cls`` does
+    not declare, is refused, naming both (outputs of an undeclared contact had no meaning, a guard no mode)."""
+    for c in contacts:
+        why = contact_problem(cls, c.name)
+        if why is None and c.guard is not None and c.guard_name not in {gd.name for gd in cls.guards}:
+            why = (f"returned ContactModel({c.name!r}) with guard_name={c.guard_name!r}, a guard it does not declare "
+                   f"(its guards: {', '.join(gd.name for gd in cls.guards) or 'none'})")
+        if why is not None:
+            raise RegistryError(f"the submodel {cls.name} ({origin(cls)}) {why}")
+
+
+def _contact_where(c: ContactModel) -> str:
+    return f"contact {c.name}" + (f" (guard {c.guard_name})" if c.guard is not None else "")
+
+
+def _own_states(k, g, options: Options, known: frozenset) -> tuple[dict, dict, dict]:
+    """The submodels' own state derivatives, the chamber pressures they compute, and their extra outputs (each in
+    the symbols ``known``: :func:`.law_symbols.check`)."""
     ctx = _context(k, g, options)
+    moving = law_symbols.velocities(options)
     rates, pressures, outputs = {}, {}, {}
     for cls in submodels():
         if not cls.active(options):
@@ -82,16 +105,21 @@ def _own_states(k, g, options: Options) -> tuple[dict, dict, dict]:
         model = cls()
         with laws_of(cls, "rates()"):
             own_rates = model.rates(ctx)
-        rates.update({n: plain(e) for n, e in own_rates.items()})
+        own_rates = {n: plain(e) for n, e in own_rates.items()}
+        law_symbols.check(cls, "rates()", own_rates.values(), known, options, moving)
+        rates.update(own_rates)
         with laws_of(cls, "chamber_pressures()"):
             pa_pb = model.chamber_pressures(ctx)
         if pa_pb is not None:
             if pressures:
                 raise ValueError(f"two submodels compute the chamber pressures ({cls.name!r} is the second)")
             pressures = {"Pa": plain(pa_pb[0]), "Pb": plain(pa_pb[1])}
+            law_symbols.check(cls, "chamber_pressures()", pressures.values(), known, options)
         with laws_of(cls, "outputs()"):
             own_outputs = model.outputs(ctx)
-        outputs.update({n: plain(e) for n, e in own_outputs.items()})
+        own_outputs = {n: plain(e) for n, e in own_outputs.items()}
+        law_symbols.check(cls, "outputs()", own_outputs.values(), known, options)
+        outputs.update(own_outputs)
     own = [n for n in state_names(options) if n not in STATE_NAMES]
     missing = sorted(set(own) - set(rates))
     if missing:
@@ -112,28 +140,32 @@ def derive_model(effects: Effects | None = None, assumptions: Assumptions | None
     options = options_of(effects, assumptions)
     k = kinematics.build()
     g = contact_geometry.build(k)
-    contacts = _contacts(k, g, options)
+    owned = _contacts(k, g, options)
+    contacts = [c for _, c in owned]
     loads = [load for c in contacts for load in c.loads]
     eq = eom.build(k, loads, inertia=options.on("inertia"))
 
-    guards, activations, vguards, outputs = {}, {}, {}, {}
-    for c in contacts:
-        if c.guard is not None:
-            guards[c.guard_name] = plain(c.guard)
-            activations[c.guard_name] = guard(c.guard_name).symbol
-        vguards.update({n: plain(e) for n, e in c.velocity_guards.items()})
+    guards, vguards, outputs = {}, {}, {}
+    activations = {c.guard_name: guard(c.guard_name).symbol for c in contacts if c.guard is not None}
+    known, moving = law_symbols.known_symbols(options, activations.values()), law_symbols.velocities(options)
+    for cls, c in owned:
+        own_guards = {c.guard_name: plain(c.guard)} if c.guard is not None else {}
+        own_vguards = {n: plain(e) for n, e in c.velocity_guards.items()}
         fx = sum((load.force.dot(k.G.x) for load in c.loads), sp.S.Zero)
         fy = sum((load.force.dot(k.G.y) for load in c.loads), sp.S.Zero)
         mz = sum((load.r_CP.cross(load.force).dot(k.G.z) for load in c.loads), sp.S.Zero)
-        outputs[f"F_{c.name}_X"] = plain(fx)
-        outputs[f"F_{c.name}_Y"] = plain(fy)
-        outputs[f"M_{c.name}"] = plain(mz)
+        forces = {f"F_{c.name}_X": plain(fx), f"F_{c.name}_Y": plain(fy), f"M_{c.name}": plain(mz)}
         if any(load.friction_power != 0 for load in c.loads):
-            outputs[f"Pf_{c.name}"] = plain(sum((load.friction_power for load in c.loads), sp.S.Zero))
+            forces[f"Pf_{c.name}"] = plain(sum((load.friction_power for load in c.loads), sp.S.Zero))
+        law_symbols.check(cls, _contact_where(c), [*own_guards.values(), *own_vguards.values()], known, options)
+        law_symbols.check(cls, _contact_where(c), forces.values(), known, options, moving)
+        guards.update(own_guards)
+        vguards.update(own_vguards)
+        outputs.update(forces)
     rest_balance.check(eq.forcing[0], activations, options)  # Eq. 9: the laws balance at rest with delta_w
     pf = [e for n, e in outputs.items() if n.startswith("Pf_")]
     outputs["Pf_total"] = sum(pf, sp.S.Zero)
-    rates, pressures, own_outputs = _own_states(k, g, options)
+    rates, pressures, own_outputs = _own_states(k, g, options, known)
     outputs.update(own_outputs)
 
     quantities = _quantities(k, g)

@@ -5,13 +5,15 @@ with a bare traceback)."""
 from __future__ import annotations
 
 import re
+import warnings
 
 import pytest
 
+from apexseal.derive.effects import Effects
 from apexseal.derive.options import NONE, ON, Option
 from apexseal.derive.parameters import Parameter
 from apexseal.derive.submodels import registry
-from apexseal.derive.submodels.base import Submodel
+from apexseal.derive.submodels.base import ContactModel, Guard, Load, Submodel
 from apexseal.derive.submodels.declarations import RESERVED_KEYS, RESERVED_SECTIONS
 
 
@@ -96,3 +98,92 @@ def test_registering_the_same_class_twice_says_so():
     with pytest.raises(registry.RegistryError, match=r"'spring' .*SpringContact\) is registered already \(this very "
                                                      r"class"):
         registry.register(SpringContact)
+
+
+class _Drag(Submodel):
+    name = "zz"
+    switch = "zz"
+    options = (Option("zz", (NONE, ON), "a drag on the seal"),)
+    parameters = (Parameter("c_zz", "N*s/m", "drag coefficient", key="zz.c", default=1.0, ge=0),)
+    guards = (Guard("gzz", "s_zz", "a gap", output="zz_gap"),)
+    #: what the laws return: (the contact's name, force along the groove axis, guard name, guard)
+    law = ("zz", None, None, None)
+
+    def contacts(self, ctx):
+        import sympy as sp
+        from sympy.physics.vector import Vector
+
+        name, force, guard_name, guard = self.law
+        f = force(ctx, sp) if force is not None else ctx.P["c_zz"] * ctx.X["xd"]
+        return [ContactModel(name, [Load("zz", Vector(0), f * ctx.k.G.x)], guard_name=guard_name,
+                             guard=guard(ctx, sp) if guard is not None else None)]
+
+
+def _derive(law):
+    from apexseal.derive.model import derive_model
+
+    drag = type("Drag", (_Drag,), {"law": law, "__module__": "elsewhere"})
+    with registry.registered(drag):
+        return derive_model(Effects.from_mapping({"zz": True}))
+
+
+@pytest.mark.parametrize(("law", "message"), [
+    # a raw "KeyError: 'no CasADi value for symbol c_extra'" when the model was generated, before
+    (("zz", lambda ctx, sp: sp.Symbol("c_extra") * ctx.X["xd"], None, None),
+     r"the submodel zz \(from module elsewhere\) uses in contact zz symbol 'c_extra', which no submodel declares "
+     r"\(declare it as a Parameter of zz and read it as ctx.P\['c_extra'\]\)"),
+    (("zz", None, "gzz", lambda ctx, sp: ctx.X["x"] - sp.Symbol("h_extra")),
+     r"uses in contact zz \(guard gzz\) symbol 'h_extra'"),
+    (("zz", lambda ctx, sp: sp.Symbol("c_zz") * ctx.X["xd"], None, None),
+     r"a symbol c_zz that is not the parameter c_zz .*ctx.P\['c_zz'\]"),
+])
+def test_a_law_in_a_symbol_no_submodel_declares_is_refused_at_derivation(law, message):
+    with pytest.raises(registry.RegistryError, match=message):
+        _derive(law)
+
+
+def test_a_parameter_whose_effect_is_off_is_refused_in_a_law():
+    """A law that reads a parameter not in the model's vector (its effect off) failed at generation too."""
+    from apexseal.derive.model import derive_model
+
+    drag = type("Drag", (_Drag,), {"__module__": "elsewhere",
+                                   "law": ("zz", lambda ctx, sp: ctx.P["mus"] * ctx.X["xd"], None, None)})
+    with registry.registered(drag), pytest.raises(registry.RegistryError,
+                                                  match=r"parameter 'mus', which is not in this model's parameter "
+                                                        r"vector while effects.spring_friction is off"):
+        derive_model(Effects.from_mapping({"zz": True, "spring_friction": False}))
+
+
+@pytest.mark.parametrize(("law", "message"), [
+    # accepted: the outputs F_drag_* had no meaning, and the contact no entry among the registry's contacts
+    (("drag", None, None, None), r"the submodel zz \(from module elsewhere\) returned ContactModel\('drag'\), a "
+                                 r"contact it does not declare \(its contacts: zz;"),
+    # a bare KeyError out of the registry's guard lookup
+    (("zz", None, "gother", lambda ctx, sp: ctx.X["x"]), r"guard_name='gother', a guard it does not declare "
+                                                         r"\(its guards: gzz\)"),
+])
+def test_a_contact_or_guard_the_submodel_does_not_declare_is_refused(law, message):
+    with pytest.raises(registry.RegistryError, match=message):
+        _derive(law)
+
+
+@pytest.mark.parametrize("jump", ["sign", "Heaviside"])
+def test_a_law_that_jumps_with_a_velocity_is_refused(jump):
+    """A bare sign of a sliding velocity was derived without a word, and the run stopped at its step limit with a
+    message about stiffness and friction.v_eps, which the law does not read."""
+    law = ("zz", lambda ctx, sp: -ctx.P["c_zz"] * getattr(sp, jump)(ctx.X["yd"]), None, None)
+    with pytest.raises(registry.RegistryError, match=rf"the submodel zz .*jumps with a velocity: {jump}\(yd\).*"
+                                                     r"laws.coulomb"):
+        _derive(law)
+
+
+def test_a_kink_in_a_velocity_another_submodels_parameter_and_the_built_in_laws_pass():
+    """Abs(v) is continuous (as the built-in laws' Max(v, 0)) and mu2 is in the vector: neither is refused; the
+    default model derives without a warning."""
+    from apexseal.derive.model import derive_model
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        derive_model()
+    law = ("zz", lambda ctx, sp: -ctx.P["c_zz"] * ctx.P["mu2"] * sp.Abs(ctx.X["yd"]) * ctx.X["yd"], None, None)
+    assert "F_zz_X" in _derive(law).outputs
