@@ -536,6 +536,37 @@ def ignored_values(ignored: list[Problem]) -> str:
             f"effect on {'or making the choice ' if choices else ''}makes it an error")
 
 
+def check_unread_tables(raw: dict[str, Any], sections: dict[str, Section], effects: Effects,
+                        assumptions: Assumptions | None, reported: set[str]) -> list[str]:
+    """The tables of a user's or a package's submodel a scene gives of which no law of its model reads any key (a
+    whole ``[damper]`` while ``effects.damper`` is off), for the scene's warning: one per table, naming it, its
+    keys and what is off. A table whose keys all keep their defaults says nothing, nor one whose values were
+    ``reported`` already (out of range: :func:`ignored_values`), nor a built-in table (the default scene gives
+    them all, so switching an effect off by an override would warn of values the user never wrote)."""
+    from apexseal.derive.submodels.base import built_in
+    from apexseal.derive.submodels.registry import parameter_of_key, submodels, unmet
+
+    unread = unread_keys(effects, assumptions)
+    builtin_keys = {p.key for cls in submodels() if built_in(cls) for p in cls.parameters}
+    out = []
+    for table, given in raw.items():
+        keys = [f"{table}.{k}" for k, v in given.items() if not isinstance(v, dict)] if isinstance(given, dict) \
+            else []
+        if not keys or table not in sections or any(k not in unread or k in reported or k in builtin_keys
+                                                    for k in keys):
+            continue
+        try:
+            declared = [parameter_of_key(k) for k in keys]
+        except KeyError:  # a key of no parameter (an input of a submodel's own: machine.ports)
+            continue
+        if all(p.default is not None and getattr(sections[table], p.leaf, None) == p.default for p in declared):
+            continue
+        off = " and ".join(dict.fromkeys(unmet(key_needing(k)) for k in keys))
+        out.append(f"[{table}] is not read: no law reads {', '.join(keys)} while {off} (switch it on to use them, "
+                   "or leave the table out)")
+    return out
+
+
 def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure: Any,
                     effects: Effects | None = None, assumptions: Assumptions | None = None) -> list[Problem]:
     """Values far outside engineering practice (:func:`.units.plausible_ranges`), each against the key the user

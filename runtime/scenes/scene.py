@@ -43,6 +43,7 @@ from .checks import (
     check_plausible,
     check_set_by,
     check_superseded,
+    check_unread_tables,
     ignored_values,
     resolve_assumptions,
     resolve_effects,
@@ -319,7 +320,8 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
     if ignored:
         warnings.warn(f"scene {name}: {ignored_values(ignored)}", IgnoredValueWarning,
                       stacklevel=user_stacklevel())
-    for p in check_superseded(raw) + check_set_by(raw, assumptions):
+    for p in [*check_superseded(raw), *check_set_by(raw, assumptions),
+              *(check_unread_tables(raw, sections, effects, assumptions, {p.key for p in ignored}) if effects else [])]:
         warnings.warn(f"scene {name}: {p}", IgnoredValueWarning, stacklevel=user_stacklevel())
     assert pressure is not None and effects is not None and assumptions is not None
     values = derive_parameters(sections, effects, assumptions)

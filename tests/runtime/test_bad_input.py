@@ -154,6 +154,36 @@ def test_an_out_of_range_value_of_an_effect_that_is_off_loads_with_one_warning(t
     assert [str(p) for p in info.value.errors] == ["friction.mu2 = 1.5: 1.5 is out of range; allowed: 0 <= value < 1"]
 
 
+def test_a_whole_table_of_a_users_submodel_that_is_off_loads_with_one_warning(tmp_path):
+    """An in-range [damper] table while effects.damper is off was ignored without a word (only out-of-range values
+    warned): one warning names the table, its keys and the switch. Keys left at their defaults, or the effect on,
+    say nothing; nor do the built-in tables of the default scene when an override switches their effect off."""
+    import warnings
+
+    from apexseal.derive.options import NONE, ON, Option
+    from apexseal.derive.parameters import Parameter
+    from apexseal.derive.submodels import registry
+    from apexseal.derive.submodels.base import Submodel
+
+    damper = type("Damper", (Submodel,), {"name": "damper", "__module__": "elsewhere", "switch": "damper",
+                                          "options": (Option("damper", (NONE, ON), "a radial damper"),),
+                                          "parameters": (Parameter("c_d", "N*s/m", "damping", key="damper.c",
+                                                                   default=10.0, ge=0),)})
+    path = _write_scene(tmp_path, "[effects]", '[damper]\nc = "30 N*s/m"\n\n[effects]')
+    with registry.registered(damper):
+        with pytest.warns(IgnoredValueWarning) as caught:
+            load_scene(path)
+        assert [str(w.message) for w in caught if w.category is IgnoredValueWarning] == [
+            "scene scene.toml: [damper] is not read: no law reads damper.c while effects.damper is off (switch it on "
+            "to use them, or leave the table out)"]
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", IgnoredValueWarning)
+            load_scene(path, overrides={"effects.damper": True})
+            load_scene(path, overrides={"damper.c": "10 N*s/m"})  # its default
+            load_scene(overrides={"effects.spring": False, "effects.spring_damping": False,
+                                  "effects.spring_friction": False})
+
+
 def test_the_command_line_loads_it_with_the_same_warning(tmp_path):
     from apexseal.cli import command
 
