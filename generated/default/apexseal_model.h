@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: da09604e69a21f0325744e1efad745c156d30bf674b7715d3ff35873fc613a84.
+ * Effects: all. Input hash: 016e2408aee04f6f6fcf6e4f076ef6a857ebae05626449838164a95ef0e91f05.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "da09604e69a21f0325744e1efad745c156d30bf674b7715d3ff35873fc613a84"
+#define APEXSEAL_INPUT_HASH "016e2408aee04f6f6fcf6e4f076ef6a857ebae05626449838164a95ef0e91f05"
 
 /* state x */
 #define APEXSEAL_NX 6
