@@ -38,18 +38,22 @@ def quantity_help() -> dict[str, tuple[str, str]]:
                                    "mean friction power, all contacts") for c in friction_contacts()},
         "liftoff_fraction": ("1", "fraction of the samples with the seal tip off the housing (modes *_h0_*)"),
         "housing_force.mean": ("N", "mean seal-housing contact force |Fs5| (Eq. 68)"),
-        "housing_force.max": ("N", "largest seal-housing contact force"),
+        "housing_force.max": ("N", "largest seal-housing contact force at the output samples (an impact between two "
+                                   "samples is not seen: it grows with solver.samples_per_revolution)"),
         "housing_force.max_at": ("deg", "crank angle of the largest housing force, within its revolution"),
-        **{f"{s}.{e}": (u, f"{e}imum of {s}") for s, (u, _) in EXTREMES.items() for e in ("min", "max")},
+        **{f"{s}.{e}": (u, f"{e}imum of {s} at the output samples") for s, (u, _) in EXTREMES.items()
+           for e in ("min", "max")},
         **{f"{s}.{e}_at": ("deg", f"crank angle of the {e}imum of {s}, within its revolution") for s in EXTREMES
            for e in ("min", "max")},
         "gap.open_fraction": ("1", "fraction of the samples with a seal-groove leakage gap (Algorithm 4)"),
         "gap.mean": ("um", "mean seal-groove leakage gap b_gap"),
-        "gap.max": ("um", "largest seal-groove leakage gap b_gap"),
+        "gap.max": ("um", "largest seal-groove leakage gap b_gap at the output samples"),
         **{f"events.{g}": ("1", f"contact switches of guard {g}" if g != "total" else "contact switches, all guards")
            for g in guard_names()},
-        **{f"penetration.{c}": ("um", f"deepest penetration of the {c} contact into its wall (force / stiffness; "
-                                      "the plausibility check)") for c in penetrations()},
+        **{f"penetration.{c}": ("um", f"deepest penetration of the {c} contact into its wall at the output samples "
+                                      "(force / stiffness; the plausibility check; an impact between two samples is "
+                                      "not seen: it grows with solver.samples_per_revolution)")
+           for c in penetrations()},
         "flank.least": ("mm", "least of the groove mouth corners' lengths l1..l4 over the run (negative: a corner "
                               "left the seal's flat sides, outside the contact model of Eqs. 20-23)"),
         "revolutions": ("rev", "revolutions computed (less than asked when a point stopped early)"),

@@ -174,7 +174,9 @@ class SimulationResult:
 
     def summary(self) -> dict:
         """The numbers a designer reads first (extremes with crank angles, time in each mode, events, friction
-        power, leakage gap, housing-force spectral peaks), as written to summary.json."""
+        power, leakage gap, housing-force spectral peaks), as written to summary.json. Its extremes, peak forces
+        and deepest penetrations are maxima over the output samples (``samples_per_revolution`` of them per
+        revolution), not of the motion between them: denser sampling finds higher impact peaks."""
         from .summary import summarise
 
         return summarise(self)

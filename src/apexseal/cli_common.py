@@ -177,24 +177,35 @@ def _power(total: float | None) -> str:
     return "friction power: none computed (no output interval)" if total is None else f"friction power {total:.2f} W"
 
 
+def at_samples(summary: dict) -> str:
+    """Where a summary's extremes and peaks were taken: "at the 3600 output samples per revolution" (the largest
+    sample, not the largest of the motion between samples; a short impact between two of them is not seen)."""
+    per_revolution = summary.get("samples_per_revolution")
+    if per_revolution is None:  # a summary written before it was recorded
+        return f"at the {summary['samples']} output samples"
+    return f"at the {per_revolution} output samples per revolution"
+
+
 def describe_result(result, summary: dict) -> None:
     """The designer's numbers of a result on the console (``simulate`` at its end, ``show``): status, revolutions,
-    switches, displacement ranges, friction power, deepest penetrations (a warning when implausible), the chamber
+    switches, displacement ranges and deepest penetrations (both at the output samples, and the line says how many
+    per revolution), friction power, a warning when a penetration is implausible, the chamber
     gas's cycle (with the gas model), the groove mouth corners' margins on the seal's flat sides (a warning when one
     left them)."""
     from .runtime.results.plausibility import describe, describe_flank
 
     ext = summary["extremes"]
+    at = at_samples(summary)
     wall = result.info.get("wall_time_s")
     click.echo(f"{result.status}: {summary['revolutions']:.2f} revolutions, {summary['events_total']} contact switches"
                + (f", wall {wall:.2f} s" if wall is not None else ""))
     click.echo(f"  x {ext['x']['min']:.3f}..{ext['x']['max']:.3f} µm, y {ext['y']['min']:.2f}..{ext['y']['max']:.2f} µm, "
-               f"phi {ext['phi']['min']:.3f}..{ext['phi']['max']:.3f} mrad; "
+               f"phi {ext['phi']['min']:.3f}..{ext['phi']['max']:.3f} mrad ({at}); "
                + _power(summary["mean_friction_power_W"].get("total", 0.0)))
     check = summary.get("plausibility")
     if check is not None and check["penetration_um"]:
         depth = ", ".join(f"{c} {d:.3g}" for c, d in check["penetration_um"].items())
-        click.echo(f"  deepest penetration (µm): {depth}; side clearance {check['side_clearance_um']:.3g} µm")
+        click.echo(f"  deepest penetration {at} (µm): {depth}; side clearance {check['side_clearance_um']:.3g} µm")
         if not check["ok"]:
             click.echo(f"  warning: {describe(check)}", err=True)
     gas = summary.get("gas")

@@ -194,6 +194,27 @@ def test_summary_has_the_promised_fields(erk_result):
     assert s["extremes"]["y"]["min"] <= s["extremes"]["y"]["max"]
 
 
+def test_the_summary_says_its_peaks_are_at_the_output_samples(erk_result, capsys):
+    """The extremes, peak forces and deepest penetrations are maxima over the output samples, and an impact of a
+    few microseconds falls between them (the default scene's housing peak: 85.6 N at 360 samples per revolution,
+    246 N at 3600, 384 N at 36000): summary.json says how many samples a revolution had, and the console lines that
+    show extremes and penetrations say they are at those samples."""
+    from apexseal.cli_common import describe_result
+    from apexseal.runtime.results.summary import summarise
+
+    s = summarise(erk_result)
+    assert s["samples_per_revolution"] == SAMPLES == erk_result.info["samples_per_revolution"]
+    describe_result(erk_result, s)
+    lines = capsys.readouterr().out.splitlines()
+    extremes = next(line for line in lines if line.lstrip().startswith("x "))
+    depths = next(line for line in lines if "deepest penetration" in line)
+    assert f"mrad (at the {SAMPLES} output samples per revolution)" in extremes
+    assert f"deepest penetration at the {SAMPLES} output samples per revolution (µm): housing " in depths
+    older = {k: v for k, v in s.items() if k != "samples_per_revolution"}  # a summary without it: the total
+    describe_result(erk_result, older)
+    assert f"at the {erk_result.n} output samples (µm)" in capsys.readouterr().out
+
+
 def test_a_run_that_computed_no_interval_has_no_friction_power(erk_result, capsys):
     """A run stopped before its first output interval ended (a wall-time budget spent on compiling) reported the
     start's friction power as the run's mean (8.76 W at 0 revolutions)."""
