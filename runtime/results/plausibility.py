@@ -7,10 +7,11 @@ touches which wall, Algorithm 3) are then no longer those of the real seal.
 
 The check compares the deepest penetration of every contact that a guard opens and closes (as the submodels
 declare them: the housing contact's ``xs5``, Eq. 33, minus the seal-groove gaps ``b1..b4`` of Eqs. 40-43, and a
-user's contact's guard output) with ``PENETRATION_FRACTION`` of the side clearance ``(Wg - Ws) / 2`` (Eq. 17),
-the smallest fit of the seal. A contact closed at rest by design (the preloaded spring) is left out.
-:func:`apexseal.simulate` records the clearance in the result, warns with :class:`PenetrationWarning` when the
-check fails, and ``summary.json`` carries the check as ``plausibility``.
+user's contact's guard output), the deepest at the output samples (not between them: a denser
+``solver.samples_per_revolution`` can find deeper impacts of a few microseconds), with ``PENETRATION_FRACTION``
+of the side clearance ``(Wg - Ws) / 2`` (Eq. 17), the smallest fit of the seal. A contact closed at rest by
+design (the preloaded spring) is left out. :func:`apexseal.simulate` records the clearance in the result, warns
+with :class:`PenetrationWarning` when the check fails, and ``summary.json`` carries the check as ``plausibility``.
 
 The seal-groove contacts also hold only while the groove's mouth corners g1, g3 face the seal's flat sides
 (Eqs. 20-23): a seal that sinks into its groove until a corner lies on its tip arc, or rises until its back face
@@ -67,7 +68,11 @@ def penetrations() -> dict[str, tuple[tuple[str, float], ...]]:
 
 
 def penetration_check(result, clearance: float | None = None, fraction: float = PENETRATION_FRACTION) -> dict:
-    """Deepest penetration of each contact (µm), the limit, and the contacts beyond it.
+    """Deepest penetration of each contact (µm) and its largest force (N), the limit, and the contacts beyond it.
+
+    Depths and forces are the largest at the output samples: an impact of a few microseconds between two samples
+    is not seen, so a denser ``solver.samples_per_revolution`` can find a deeper one (a failed check stays failed;
+    a passed one holds for the samples).
 
     ``clearance`` (m) defaults to the side clearance :func:`apexseal.simulate` recorded in ``result.info``.
     """
@@ -96,8 +101,8 @@ def describe(check: dict) -> str:
     metal, or, where the peak force over the depth is a metal's stiffness, loads beyond the seal's (a check of a
     summary.json written before the forces were recorded names both)."""
     worst = ", ".join(f"{c} {check['penetration_um'][c]:.3g} µm" for c in check["beyond_limit"])
-    head = (f"implausible penetration: {worst} into the wall, more than {check['fraction']:g} of the side clearance "
-            f"(Wg - Ws)/2 = {check['side_clearance_um']:.3g} µm (limit {check['limit_um']:.3g} µm)")
+    head = (f"implausible penetration: {worst} into the wall at the output samples, more than {check['fraction']:g} "
+            f"of the side clearance (Wg - Ws)/2 = {check['side_clearance_um']:.3g} µm (limit {check['limit_um']:.3g} µm)")
     soft = "the contact stiffness is far below a metal contact's (docs/scene-estimates.md gives plausible values)"
     loads = ("the loads are beyond what the seal takes (rotor speed, chamber pressures and their unit, preload, "
              "mass: the scene's plausibility warnings name doubtful keys)")

@@ -100,6 +100,7 @@ def test_a_soft_groove_is_flagged(scene, default_functions):
     assert not check["ok"] and set(check["beyond_limit"]) <= {"i1", "c2", "i2", "c4"} and check["beyond_limit"]
     assert all(check["penetration_um"][c] > 7.5 for c in check["beyond_limit"])
     assert str(w[0].message).startswith("implausible penetration: ")
+    assert " into the wall at the output samples, more than 0.25" in str(w[0].message)  # not between them
     assert "far below a metal contact's" in str(w[0].message)  # F / depth is about the 1.05e6 N/m given
     assert summarise(r)["plausibility"] == check
 
