@@ -5,8 +5,8 @@ Each check returns what is wrong, in words that name the parameter (or the switc
 default outside its own range, two parameters on one scene key) or failed far from its cause (a scene key without
 a section: an IndexError on every command) is refused here, where the submodel is declared.
 
-This module imports neither sympy nor the runtime; a unit is read with pint (through the scenes' unit layer, which
-remembers what it read: :mod:`apexseal.runtime.scenes.unit_memo`) only for a submodel that is not built in.
+This module imports neither sympy nor the runtime, nor pint: what pint reads of a declared unit is checked when the
+scene's tables are built from the registry (runtime/scenes/declared_units.py).
 """
 
 from __future__ import annotations
@@ -22,10 +22,10 @@ RESERVED_SECTIONS = ("effects", "assumptions", "operation", "pressure", "solver"
 RESERVED_KEYS = ("machine.embodiment", "machine.ports")
 
 
-def parameter_problems(cls, *, units: bool) -> list[str]:
-    """What is wrong with the parameters submodel ``cls`` declares (each in words), with ``units``: also with
-    their units as pint reads them."""
-    out = [why for p in cls.parameters for why in _parameter_problems(p, units=units)]
+def parameter_problems(cls) -> list[str]:
+    """What is wrong with the parameters submodel ``cls`` declares (each in words); their units as pint reads them
+    are checked by the scene layer (runtime/scenes/declared_units.py), which the derivation does not import."""
+    out = [why for p in cls.parameters for why in _parameter_problems(p)]
     seen: dict[str, str] = {}
     for p in cls.parameters:
         if p.key is not None and p.key in seen:
@@ -36,7 +36,7 @@ def parameter_problems(cls, *, units: bool) -> list[str]:
     return out
 
 
-def _parameter_problems(p: Parameter, *, units: bool) -> list[str]:
+def _parameter_problems(p: Parameter) -> list[str]:
     name = f"parameter {p.name!r}"
     out = []
     if not isinstance(p.name, str) or not p.name.isidentifier():
@@ -47,8 +47,6 @@ def _parameter_problems(p: Parameter, *, units: bool) -> list[str]:
     if not isinstance(p.unit, str) or not p.unit.strip():
         out.append(f"{name}: unit={p.unit!r} is empty (its SI unit in pint's syntax, e.g. \"N/m\"; \"1\" for a "
                    "plain number)")
-    elif units:
-        out += _unit_problems(p, name)
     return out
 
 
@@ -107,22 +105,6 @@ def _plausible_problems(p: Parameter, name: str) -> list[str]:
         return [f"{name}: plausible={p.plausible!r} has its low end {low!r} above its high end {high!r} (SI low "
                 "first, then SI high)"]
     return []
-
-
-def _unit_problems(p: Parameter, name: str) -> list[str]:
-    from ...runtime.scenes.units import declared_unit_problem  # pint, remembered: only for a user's submodel
-
-    why = declared_unit_problem(p.unit)
-    if why is not None:
-        return [f"{name}: unit={p.unit!r} {why}"]
-    shown = {"show": p.show, "bare": p.bare, "plausible": p.plausible[2] if p.plausible else None}
-    out = []
-    for field, unit in shown.items():
-        why = declared_unit_problem(p.unit, unit) if unit is not None and unit != p.unit else None
-        if why is not None:
-            out.append(f"{name}: {field}={unit!r} {why}" if field != "plausible" else
-                       f"{name}: the unit {unit!r} of plausible={p.plausible!r} {why}")
-    return out
 
 
 def switch_problem(cls, slots: dict) -> str | None:

@@ -41,8 +41,8 @@ def damper_depth(ctx, guard, penetration: sp.Expr) -> sp.Expr:
     K. H. Hunt and F. R. E. Crossley, "Coefficient of restitution interpreted as damping in vibroimpact", J. Appl.
     Mech. 42(2) (1975), F = k delta^n + lambda delta^n v, here with n = 1 (the linear penalty) and lambda =
     c / delta_ref, on approach only like the paper's. A contact closed at rest (the preloaded spring) keeps the
-    factor 1 (:func:`.seal.penetration_damped`, the rule the runtime's damping checks share)."""
-    from .seal import penetration_damped
+    factor 1 (:func:`.damping_rule.penetration_damped`, the rule the runtime's damping checks share)."""
+    from .damping_rule import penetration_damped
 
     if not penetration_damped(guard, ctx.options["damping_law"]):
         return sp.S.One

@@ -108,9 +108,9 @@ def origin(cls: type[Submodel]) -> str:
 
 def _check_declarations(cls: type[Submodel]) -> None:
     """Refuse a submodel whose own declarations are wrong (:mod:`.declarations`: its parameters' names, scene keys,
-    ranges, defaults and units, its switch), naming it and each mistake. Units are read with pint for a user's or
-    a package's submodel only (the built-in ones are checked by the tests)."""
-    problems = declarations.parameter_problems(cls, units=not built_in(cls))
+    ranges, defaults and units (present), its switch), naming it and each mistake. What pint reads of the units is
+    checked by the scene layer when it builds its tables (runtime/scenes/declared_units.py)."""
+    problems = declarations.parameter_problems(cls)
     slots = {o.name: o for c in (*_registry.values(), cls) for o in c.options}
     problems += [p for p in (declarations.switch_problem(cls, slots),) if p is not None]
     if problems:

@@ -22,13 +22,10 @@ from ..numbers import (
 )
 from ..options import NONE, ON, Option
 from ..parameters import Parameter
-from .base import Guard, State, Submodel
+from .base import State, Submodel
+from .damping_rule import DAMPING_LAWS
 from .spring import SpringContact
 
-#: the choices of ``assumptions.damping_law``: the paper's contact dampers c max(v, 0) (Eqs. 55, 62, 67, 73), or
-#: the same times the penetration over contacts.delta_ref (Hunt-Crossley type: continuous at the touch; not in the
-#: paper), derive/submodels/laws.py
-DAMPING_LAWS = ("velocity", "penetration")
 #: the largest tilt (rad) of the seal in its groove that the model's geometry describes: Eqs. 20-43 hold for a seal
 #: tilted by a few degrees (the paper's nine contact cases end near 11 deg); 45 deg is a seal turned over. A run
 #: stops past it (runtime/solving/checks.py, RunChecks.tilt), and a scene's initial tilt must lie within it
@@ -36,14 +33,6 @@ MAX_TILT = math.pi / 4
 #: kg/m^3: the density of osmium, the densest material; the bound of seal.density, and with the seal's outline of
 #: its mass seal.ms (runtime/scenes/checks.py)
 DENSEST = 22590.0
-
-
-def penetration_damped(guard: Guard, law: str) -> bool:
-    """Whether the damping law ``law`` scales the damper of the contact ``guard`` opens and closes by its penetration:
-    under "penetration", every contact but one closed at rest by design (the preloaded spring: its compression is
-    mostly its preload, not the depth of an impact, and it does not touch and leave). The one rule of the laws
-    (:func:`.laws.damper_depth`) and of the runtime's damping checks (runtime/scenes/damping.py)."""
-    return law == DAMPING_LAWS[1] and not guard.closed_at_rest
 
 
 class SealBody(Submodel):

@@ -26,8 +26,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from ...derive.numbers import damping_of_ratio, ratio_of_damping
+from ...derive.submodels.damping_rule import DAMPING_LAWS, penetration_damped
 from ...derive.submodels.registry import parameter, submodels
-from ...derive.submodels.seal import DAMPING_LAWS, penetration_damped
 
 #: the largest plausible damping ratio of a contact: critical damping (above it approach-only damping can chatter)
 MAX_DAMPING_RATIO = 1.0

@@ -222,6 +222,9 @@ def _sections(classes: tuple[type, ...]) -> dict[str, tuple[type[Section], bool]
     keeps alive, so that a class defined again never meets the sections of one whose id it took over)."""
     from apexseal.derive.submodels.registry import parameters
 
+    from .declared_units import check_declared_units
+
+    check_declared_units(classes)  # a user's submodel's units, as pint reads them
     by_section: dict[str, list] = {}
     for p in parameters(all_inputs=True):
         if p.key is not None:

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...derive.submodels.damping_rule import DAMPING_LAWS
 from ...derive.submodels.registry import dampers, oscillators, parameter_names
-from ...derive.submodels.seal import DAMPING_LAWS
 from ..scenes.damping import continuous_dampers
 from .methods import ExplicitSteps
 

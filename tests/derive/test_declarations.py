@@ -32,16 +32,11 @@ def _with(**changes) -> type[Submodel]:
     # `apexseal scene` called the default valid and used it
     ({"default": 1e5, "le": 1e4}, r"default=100000.0 is outside its own range \(le=10000.0\)"),
     ({"unit": ""}, r"unit='' is empty .*\"1\" for a plain number"),
-    # pint reads "Nm" as its number_meter: a unit, but no SI one
-    ({"unit": "Nm/furlong"}, r"unit='Nm/furlong' is not an SI unit: pint reads it as number_meter / furlong"),
-    ({"unit": "furlongz"}, r"unit='furlongz' is not a unit pint reads"),
-    ({"show": "kg"}, r"show='kg' does not convert to 'N\*s/m'"),
     ({"key": "effects.spring"}, r"key='effects.spring' is in the scene's \[effects\] table, whose keys are not "
                                 r"parameters"),
     ({"key": "solver.c"}, r"key='solver.c' is in the scene's \[solver\] table"),
     ({"key": "machine.ports"}, r"key='machine.ports' is a scene key that is not a parameter's"),
     ({"plausible": (10, 1, "N*s/m")}, r"plausible=\(10, 1, 'N\*s/m'\) has its low end 10 above its high end 1"),
-    ({"plausible": (1, 10, "N")}, r"the unit 'N' of plausible=\(1, 10, 'N'\) does not convert"),
     ({"name": "p z"}, r"its name is not an identifier"),
 ])
 def test_a_wrong_parameter_declaration_is_refused_at_registration(changes, message):
@@ -52,6 +47,24 @@ def test_a_wrong_parameter_declaration_is_refused_at_registration(changes, messa
                                                      + message):
         registry.register(_with(**changes))
     assert "zz" not in {c.name for c in registry.submodels()}
+
+
+@pytest.mark.parametrize(("changes", "message"), [
+    # pint reads "Nm" as its number_meter: a unit, but no SI one
+    ({"unit": "Nm/furlong"}, r"unit='Nm/furlong' is not an SI unit: pint reads it as number_meter / furlong"),
+    ({"unit": "furlongz"}, r"unit='furlongz' is not a unit pint reads"),
+    ({"show": "kg"}, r"show='kg' does not convert to 'N\*s/m'"),
+    ({"plausible": (1, 10, "N")}, r"the unit 'N' of plausible=\(1, 10, 'N'\) does not convert"),
+])
+def test_a_unit_pint_cannot_read_is_refused_before_any_scene(changes, message):
+    """A unit pint does not read (or not as SI) was accepted and no value could ever be given: the scene layer, which
+    reads units with pint (the registry does not import it), refuses the submodel when it builds its tables, naming
+    the submodel, the parameter and the unit, before any scene is read."""
+    from apexseal.runtime.scenes.schema import sections
+
+    with registry.registered(_with(**changes)), pytest.raises(
+            registry.RegistryError, match=r"submodel 'zz' \(from module elsewhere\): parameter 'c_zz': " + message):
+        sections()
 
 
 def test_two_parameters_on_one_scene_key_are_refused():
@@ -73,11 +86,13 @@ def test_a_switch_no_option_declares_is_refused():
 
 
 def test_the_built_in_declarations_pass_every_check():
-    """The built-in submodels skip the unit check at registration (pint is not imported for them): they pass it."""
+    """The built-in submodels skip the units' check of the scene layer (pint is not imported for them): they pass it
+    and the registry's own."""
     from apexseal.derive.submodels.declarations import parameter_problems
+    from apexseal.runtime.scenes.declared_units import unit_problems
 
-    assert {c.name: parameter_problems(c, units=True) for c in registry.submodels()} == {
-        c.name: [] for c in registry.submodels()}
+    assert {c.name: parameter_problems(c) + [w for p in c.parameters for w in unit_problems(p)]
+            for c in registry.submodels()} == {c.name: [] for c in registry.submodels()}
 
 
 def test_the_reserved_scene_keys_are_the_schemas_own():
