@@ -1,0 +1,72 @@
+"""Does the |Fs5| spectrum's main peak (Fig. 14) depend on the output sampling? The main peak of the default scene
+at several output samples per revolution, and the densest run's record thinned to the default sampling two ways:
+every k-th sample (what a sparser run sees, aliasing included) and the mean of each block of k samples (a crude
+anti-aliasing filter before the same thinning).
+
+    python -m apexseal.runtime.studies.calibration.sampling   # three runs of two revolutions, a few seconds
+
+Each run is two revolutions from rest by the scene's method, the last one analysed (:mod:`.features`).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ...results.spectra import housing_force, spectrum
+from .features import MIN_CONTACT_HARMONIC, SMOOTH_BINS, features, force_spectrum, last_revolution
+
+SAMPLES = (3600, 36000, 72000)
+
+
+def _main_peak(signal: np.ndarray, dt: float, omega: float) -> tuple[float, float]:
+    w, amp = spectrum(signal, dt)
+    amp = np.convolve(amp, np.ones(SMOOTH_BINS) / SMOOTH_BINS, mode="same")
+    band = w > MIN_CONTACT_HARMONIC * omega
+    j = int(np.argmax(np.where(band, amp, -np.inf)))
+    return float(w[j]), float(amp[j])
+
+
+def main() -> None:
+    import apexseal
+
+    sc = apexseal.load_scene()
+    omega = sc.omega
+    runs = {}
+    for n in SAMPLES:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            r = apexseal.simulate(sc, revolutions=2, samples_per_revolution=n)
+        runs[n] = r
+        w, amp = force_spectrum(r)
+        band = w > MIN_CONTACT_HARMONIC * omega
+        maxima = [i for i in range(1, w.size - 1) if band[i] and amp[i] >= amp[i - 1] and amp[i] > amp[i + 1]]
+        top = sorted(maxima, key=lambda i: -amp[i])[:6]
+        print(f"{n:6d} samples/rev: sampling rate {n * omega:.3g} rad/s, Nyquist {n * omega / 2:.3g} rad/s, main peak "
+              f"{features(r, omega).main_peak_rad_s:.3g} rad/s; largest local maxima: "
+              + ", ".join(f"{amp[i]:.2f} N at {w[i]:.3g}" for i in top))
+    dense = max(SAMPLES)
+    r = runs[dense]
+    win = last_revolution(r)
+    F, t = housing_force(r)[win], r.time[win]
+    dt = float(np.mean(np.diff(t)))
+    k = dense // SAMPLES[0]
+    f, a = _main_peak(F[::k], dt * k, omega)
+    print(f"{dense} thinned to every {k}th sample ({SAMPLES[0]}/rev): main peak {f:.3g} rad/s ({a:.2f} N)")
+    blocks = F[: F.size // k * k].reshape(-1, k).mean(axis=1)
+    f, a = _main_peak(blocks, dt * k, omega)
+    print(f"{dense} as means of {k}-sample blocks ({SAMPLES[0]}/rev): main peak {f:.3g} rad/s ({a:.2f} N)")
+    w, amp = force_spectrum(r)
+    rate = SAMPLES[0] * omega
+    for label, freq in (("the stiffest contact's ringing (2.87e3 per rad x omega)", 2.87e3 * omega),
+                        (f"sampling rate at {SAMPLES[0]} minus 1.97e5", rate - 1.97e5)):
+        near = (w > freq - 1e4) & (w < freq + 1e4)
+        print(f"{dense}-sample spectrum near {freq:.3g} rad/s, {label}: at most {amp[near].max():.2f} N")
+    ring = 2.87e3 * omega
+    print(f"the ringing at {ring:.3g} rad/s folds to {abs(rate - ring):.3g} rad/s at {SAMPLES[0]} samples; it lies below "
+          f"the Nyquist frequency from {2 * ring / omega:.0f} samples per revolution")
+
+
+if __name__ == "__main__":
+    main()
