@@ -3,15 +3,14 @@ the state of the numeric examples, the ranges of the random states, and how each
 
 from __future__ import annotations
 
+import functools
 import math
 
 from .. import paper
 from .. import seal_shape as shape
 from ..assumptions import Assumptions
-from ..numbers import initial_wall_deflection
 from ..submodels.pressure import groove_bottom_pressure as _pend
 from ..submodels.registry import activation_symbols
-from ..submodels.spring import SpringContact
 from ..symbols import Pa, Pb, qs, us
 
 I = paper.INTERMEDIATES  # noqa: E741
@@ -61,17 +60,24 @@ def _declared_values(options) -> dict[str, float | None]:
     return values
 
 
+@functools.lru_cache(maxsize=1)
+def _default_options():
+    """The options of the default model (the default effects and assumptions)."""
+    from ..choices import options_of
+    from ..effects import Effects
+
+    return options_of(Effects(), Assumptions())
+
+
 def _default_values() -> dict[str, float]:
     """The default scene's parameters: the stated values (and the declared defaults of the others) and what the
     submodels derive from them (omega, ms, Icg, beta_o, delta_w of Eq. 9, Li of Eq. 12, the damping coefficients of
     the ratios), as the scene computes them."""
     from types import SimpleNamespace
 
-    from ..choices import options_of
-    from ..effects import Effects
     from ..submodels.registry import submodels
 
-    options = options_of(Effects(), Assumptions())
+    options = _default_options()
     values = {**_declared_values(options), "ms": None, "Icg": None, "cw": None, "cr": None, "cs": None}
     inputs = {"operation": SimpleNamespace(omega=RPM * 2 * math.pi / 60)}
     for cls in submodels():
@@ -82,9 +88,11 @@ def _default_values() -> dict[str, float]:
 
 def rest_deflection(values: dict[str, float]) -> float:
     """delta_w of Eq. 9 (the housing's groove-axis force balancing the spring's force at rest, Eq. 39) at
-    ``values``, the defaults for what they leave out."""
-    v = DEFAULTS | values
-    return initial_wall_deflection(spring_force=SpringContact.rest_force(v), kw=v["kw"])
+    ``values``, the defaults for what they leave out: the scene's own rule (``SealBody.rest_wall_deflection``) under
+    the default effects and assumptions."""
+    from ..submodels.seal import SealBody
+
+    return SealBody.rest_wall_deflection(DEFAULTS | values, _default_options())
 
 
 #: the default scene's parameter values, to full precision (tests/derive/test_paper_check.py compares them)

@@ -63,10 +63,23 @@ def force_spectrum(result, window: slice | None = None, bins: int = SMOOTH_BINS)
     (1: not smoothed). Over one revolution the bins are the rotor speed apart."""
     window = window or last_revolution(result)
     F = housing_force(result)[window]
-    dt = float(np.mean(np.diff(result.time[window])))
-    w, amp = spectrum(F, dt)
-    kernel = np.ones(bins) / bins
-    return w, np.convolve(amp, kernel, mode="same")
+    return smoothed_spectrum(F, float(np.mean(np.diff(result.time[window]))), bins)
+
+
+def smoothed_spectrum(signal: np.ndarray, dt: float, bins: int = SMOOTH_BINS) -> tuple[np.ndarray, np.ndarray]:
+    """The amplitude spectrum of ``signal`` (sampled every ``dt`` s), smoothed over ``bins`` bins."""
+    w, amp = spectrum(signal, dt)
+    return w, np.convolve(amp, np.ones(bins) / bins, mode="same")
+
+
+def main_peak(w: np.ndarray, amp: np.ndarray, omega: float) -> tuple[float, float]:
+    """The frequency (rad/s) and amplitude of the largest peak above ``MIN_CONTACT_HARMONIC`` times the rotor speed
+    ``omega`` (nan, nan where the spectrum ends below it)."""
+    band = np.flatnonzero(w >= MIN_CONTACT_HARMONIC * omega)
+    if band.size == 0:
+        return float("nan"), float("nan")
+    j = band[np.argmax(amp[band])]
+    return float(w[j]), float(amp[j])
 
 
 def _peak_in(w: np.ndarray, amp: np.ndarray, lo: float, hi: float) -> float:
@@ -80,7 +93,7 @@ def features(result, omega: float) -> Features:
     """The paper's features measured on the last whole revolution of ``result`` (rotor speed ``omega``, rad/s)."""
     window = last_revolution(result)
     w, amp = force_spectrum(result, window)
-    main = _peak_in(w, amp, MIN_CONTACT_HARMONIC * omega, w[-1])
+    main = main_peak(w, amp, omega)[0]
     small = tuple(_peak_in(w, amp, p / 2, p * 2) for p in PAPER_SMALL_PEAKS)
     x = result.state[0][window]
     deg = np.degrees(result.theta[window]) % 360

@@ -14,18 +14,17 @@ import warnings
 
 import numpy as np
 
-from ...results.spectra import housing_force, spectrum
-from .features import MIN_CONTACT_HARMONIC, SMOOTH_BINS, features, force_spectrum, last_revolution
+from ...results.spectra import housing_force
+from .features import (
+    MIN_CONTACT_HARMONIC,
+    features,
+    force_spectrum,
+    last_revolution,
+    main_peak,
+    smoothed_spectrum,
+)
 
 SAMPLES = (3600, 36000, 72000)
-
-
-def _main_peak(signal: np.ndarray, dt: float, omega: float) -> tuple[float, float]:
-    w, amp = spectrum(signal, dt)
-    amp = np.convolve(amp, np.ones(SMOOTH_BINS) / SMOOTH_BINS, mode="same")
-    band = w > MIN_CONTACT_HARMONIC * omega
-    j = int(np.argmax(np.where(band, amp, -np.inf)))
-    return float(w[j]), float(amp[j])
 
 
 def main_peaks(samples=SAMPLES) -> dict:
@@ -63,10 +62,10 @@ def main() -> None:
     F, t = housing_force(r)[win], r.time[win]
     dt = float(np.mean(np.diff(t)))
     k = dense // SAMPLES[0]
-    f, a = _main_peak(F[::k], dt * k, omega)
+    f, a = main_peak(*smoothed_spectrum(F[::k], dt * k), omega)
     print(f"{dense} thinned to every {k}th sample ({SAMPLES[0]}/rev): main peak {f:.3g} rad/s ({a:.2f} N)")
     blocks = F[: F.size // k * k].reshape(-1, k).mean(axis=1)
-    f, a = _main_peak(blocks, dt * k, omega)
+    f, a = main_peak(*smoothed_spectrum(blocks, dt * k), omega)
     print(f"{dense} as means of {k}-sample blocks ({SAMPLES[0]}/rev): main peak {f:.3g} rad/s ({a:.2f} N)")
     w, amp = force_spectrum(r)
     rate = SAMPLES[0] * omega
