@@ -8,6 +8,7 @@ what is allowed. The paper's reasons are cited with each check.
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import Any
 
@@ -489,7 +490,17 @@ def unread_keys(effects: Effects, assumptions: Assumptions | None = None) -> fro
     ``assumptions`` (None: the defaults) reads (their effect off or their choice not made, registry.is_read), and
     the scene inputs of the submodels out of that model (``Submodel.scene_inputs``: the constant chamber pressures,
     the gas model's ports): neither required (:func:`check_needed`), range-checked
-    as an error (:func:`ignored_values`) nor questioned (:func:`check_plausible`)."""
+    as an error (:func:`ignored_values`) nor questioned (:func:`check_plausible`). Remembered for each model and
+    registry: a scene's build asks several times, and a sweep builds a scene per point."""
+    from apexseal.derive.submodels.registry import submodels
+
+    return _unread_keys(effects, assumptions, submodels())
+
+
+@functools.lru_cache(maxsize=64)
+def _unread_keys(effects: Effects, assumptions: Assumptions | None, classes: tuple) -> frozenset[str]:
+    """:func:`unread_keys` for the registered submodels ``classes`` (the key: the classes themselves, kept alive by
+    the cache, as :func:`.schema._sections`'s)."""
     from apexseal.derive.submodels.registry import is_read, need_holds, parameters, scene_inputs
 
     inputs = {key for table, need in scene_inputs().items() if not need_holds(need, effects, assumptions)
