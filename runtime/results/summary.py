@@ -31,12 +31,17 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     Every extreme, peak and deepest penetration here (``extremes``, ``housing_force_N.max``, ``leakage_gap.max_um``,
     ``plausibility``'s ``penetration_um`` and ``peak_force_N``) is the largest over the output samples, whose number
     per revolution is ``samples_per_revolution`` (null for a result that does not record it): an impact of a few
-    microseconds between two samples is not seen, so these peaks grow with ``solver.samples_per_revolution``."""
+    microseconds between two samples is not seen, so these peaks grow with ``solver.samples_per_revolution``.
+    ``sampling`` says whether those samples resolve the contacts' fastest ringing (its Nyquist frequency above it)
+    and which sampling would (runtime/solving/ringing.py); null for a run without contacts, one that failed at its
+    start, or a result that does not record it."""
     deg = np.degrees(result.theta)
     per_revolution = result.info.get("samples_per_revolution")
     out: dict = {"status": result.status, "stop": None if result.stop is None else result.stop.describe(),
                  "samples": int(result.n),
                  "samples_per_revolution": None if per_revolution is None else int(per_revolution),
+                 # whether those samples resolve the contacts' ringing (runtime/solving/ringing.py; null: not known)
+                 "sampling": result.info.get("sampling"),
                  "revolutions": result.revolutions}
     extremes = {}
     for name, (unit, scale) in EXTREMES.items():

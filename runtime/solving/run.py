@@ -38,6 +38,7 @@ from .diagnosis import locate_failure
 from .methods import WallTimeExceeded, make_engine
 from .pace import FailedInterval, IntervalByInterval, Pace
 from .preflight import far_outside_practice, initial_activations, preflight
+from .ringing import sampling
 from .settings import RunSettings, out_of_time, samples_per_call
 
 #: samples from which a run says that it joins its result once the revolutions' bar has ended (about a second
@@ -117,7 +118,10 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     info = dict(info or {}) | {"state_names": list(lay.state_names), "method": settings.method,
                                "rtol": settings.rtol, "atol": settings.atol, "samples_per_revolution": N,
                                "pressure_substeps": sub, "pressure": settings.pressure, "calls_per_revolution": calls,
-                               "revolutions_asked": revolutions}
+                               "revolutions_asked": revolutions,
+                               # do the samples resolve the contacts' ringing (runtime/solving/ringing.py)?
+                               "sampling": None if stop is not None else sampling(functions, params, theta_start,
+                                                                                  state0, N)}
     sink.begin(info)  # what is known before the first step: a killed run's progress record says how it was run
     stats_total: dict = {}
     check = RunChecks(functions, settings, params, theta_start, dth)

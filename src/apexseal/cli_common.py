@@ -189,10 +189,12 @@ def at_samples(summary: dict) -> str:
 def describe_result(result, summary: dict) -> None:
     """The designer's numbers of a result on the console (``simulate`` at its end, ``show``): status, revolutions,
     switches, displacement ranges and deepest penetrations (both at the output samples, and the line says how many
-    per revolution), friction power, a warning when a penetration is implausible, the chamber
+    per revolution), friction power, a warning when a penetration is implausible, a note when the samples do not
+    resolve the contacts' ringing (runtime/solving/ringing.py), the chamber
     gas's cycle (with the gas model), the groove mouth corners' margins on the seal's flat sides (a warning when one
     left them)."""
     from .runtime.results.plausibility import describe, describe_flank
+    from .runtime.solving.ringing import describe_sampling
 
     ext = summary["extremes"]
     at = at_samples(summary)
@@ -208,6 +210,9 @@ def describe_result(result, summary: dict) -> None:
         click.echo(f"  deepest penetration {at} (µm): {depth}; side clearance {check['side_clearance_um']:.3g} µm")
         if not check["ok"]:
             click.echo(f"  warning: {describe(check)}", err=True)
+    sampling = summary.get("sampling")
+    if sampling is not None and not sampling["resolved"]:  # a note, not a warning: the default sampling is one
+        click.echo(f"  note: {describe_sampling(sampling)}")
     gas = summary.get("gas")
     if gas is not None:  # the chamber gas model: its cycle (last revolution)
         p = gas["pressure_Pa"]

@@ -187,19 +187,31 @@ def test_the_groove_stiffness_unknown_sets_all_four_contacts():
     assert overrides({"kg": 5e8, "kw": 2e9}) == {**{f"contacts.kg{i}": 5e8 for i in range(1, 5)}, "contacts.kw": 2e9}
 
 
-def test_the_default_samples_follow_the_stiffest_oscillator_any_candidate_can_have(scene):
-    """The fastest contact is every unknown at the top of its range and every other oscillator the submodels declare
-    at the scene's value, the spring's included (it was left out when the stiffnesses were listed by name)."""
+def test_the_default_samples_follow_the_fastest_ringing_any_candidate_can_have(scene, default_functions):
+    """The samples rule took the fastest contact as sqrt(k/ms) of one contact (2.4e5 rad/s on the default scene), but
+    the seal rings twice as fast with two groove corners and the tip closed: the rule kept 3600 samples, whose
+    Nyquist frequency lies below that ringing. It now takes the ringing of runtime/solving/ringing.py (what a run
+    records) with every unknown at the top of its range, and every contact the submodels declare counts, the
+    spring's included (along the groove axis with the tip: at least sqrt((ks + kw)/ms))."""
+    from apexseal.runtime.solving.ringing import samples_resolving
     from apexseal.runtime.studies.calibration.fit import fastest_contact
 
+    f = default_functions.c
     p = scene.parameters
     ms = p["ms"]
-    assert fastest_contact(scene, {"kg": (3e8, 2e9)}) == math.sqrt(2e9 / ms)  # the four groove contacts at 2e9
-    assert fastest_contact(scene, {"zeta_w": (0.05, 0.2)}) == math.sqrt(max(p["kw"], p["kg1"]) / ms)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run = apexseal.simulate(scene, revolutions=1, samples_per_revolution=360, functions=f.sx(), flags="quick")
+    own = fastest_contact(scene, {"kw": (3e8, p["kw"]), "kg": (3e8, p["kg1"])}, f)
+    assert own == run.info["sampling"]["ringing_rad_s"] > 2 * math.sqrt(p["kw"] / ms)
+    assert samples_resolving(own, scene.omega) * scene.omega / 2 > own
+    assert samples_resolving(own, scene.omega) > scene.solver.samples_per_revolution  # 3600 does not resolve it
+    assert fastest_contact(scene, {"kg": (3e8, 2 * p["kg1"])}, f) > own
+    assert fastest_contact(scene, {"zeta_w": (0.05, 0.2)}, f) == own  # a damping ratio does not move it
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a spring this stiff is implausible; it is the fastest oscillator here
         stiff = scene.with_overrides(**{"spring.ks": 2e10})
-    assert fastest_contact(stiff, {"kw": (3e8, 1e9)}) == math.sqrt(2e10 / stiff.parameters["ms"])
+    assert fastest_contact(stiff, {"kw": (3e8, 1e9)}, f) >= math.sqrt((2e10 + 1e9) / stiff.parameters["ms"])
 
 
 def test_a_peak_near_the_paper_s_that_is_not_the_housing_mode_is_not_called_reproduced():

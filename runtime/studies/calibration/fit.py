@@ -69,15 +69,18 @@ def overrides(values: dict[str, float]) -> dict[str, float]:
     return {f"contacts.{name}": v for name, v in contact_settings(values).items()}
 
 
-def fastest_contact(scene, ranges: dict[str, tuple[float, float]]) -> float:
-    """sqrt(k/ms) of the stiffest contact a candidate can have (rad/s): every unknown at the top of its range, the
-    other parameters the scene's, the contacts those of ``contact_frequencies`` (every oscillator the submodels
-    declare whose stiffness is in the scene's vector, the spring's included)."""
-    from ...solving.contact_stability import contact_frequencies
+def fastest_contact(scene, ranges: dict[str, tuple[float, float]], functions=None) -> float:
+    """The fastest ringing of the seal on its contacts (rad/s) that a candidate can have: every unknown at the top of
+    its range, the other parameters the scene's, the ringing that of ``ringing`` (runtime/solving/ringing.py: the
+    modes of the model, the spring's contact included, linearised at the scene's initial state). ``functions``:
+    the scene's model Functions (default: loaded)."""
+    from ...api import initial_state, model_functions
+    from ...solving.ringing import ringing
 
-    p = dict(scene.parameters)
+    functions = model_functions(scene) if functions is None else functions
+    p = dict(zip(functions.parameter_names, scene.parameter_vector(functions.parameter_names), strict=True))
     p.update({n: v for n, v in contact_settings({n: hi for n, (_, hi) in ranges.items()}).items() if n in p})
-    return max(contact_frequencies(list(p.values()), tuple(p)).values())
+    return ringing(functions, list(p.values()), scene.operation.start_angle, initial_state(scene, functions)).rad_s
 
 
 @dataclass
@@ -198,7 +201,8 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
 
     ``grid``: points per unknown (log-spaced); ``polish``: Nelder-Mead evaluations after the grid (0: none);
     ``samples``: samples per revolution (default: the scene's, or where that is fewer the least multiple of 360
-    with at least 2.4 samples per period of the stiffest contact any candidate can have, :func:`fastest_contact`).
+    with at least 2.4 samples per period of the fastest ringing any candidate can have, :func:`fastest_contact`,
+    runtime/solving/ringing.py ``samples_resolving``).
     A Ctrl-C stops the simulation in progress and keeps the others: in a script
     :class:`~apexseal.signals.RunInterrupted` then carries the study (``stopped`` says why), in an interactive
     session it is returned with a warning, and a SIGTERM ends the process.
@@ -206,6 +210,7 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     from ....derive.submodels.registry import is_read, needing, parameter, submodels
     from ....signals import StopSignals
     from ...api import after_an_interrupt, model_functions
+    from ...solving.ringing import samples_resolving
 
     # a damping ratio whose damping is off is read by nothing: not an unknown by default, refused if asked for
     ratios = {zeta for cls in submodels() for _, zeta in cls.damping_ratios}
@@ -236,9 +241,9 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     functions = model_functions(scene)
     evaluations: list[Evaluation] = []
     start = time.perf_counter()
-    if samples is None:  # Nyquist above the stiffest contact's mode, so that no candidate's peak is aliased
-        fastest = fastest_contact(scene, ranges)
-        samples = max(scene.solver.samples_per_revolution, 360 * math.ceil(2.4 * fastest / scene.omega / 360))
+    if samples is None:  # Nyquist above the fastest ringing, so that no candidate's peak is aliased
+        samples = max(scene.solver.samples_per_revolution,
+                      samples_resolving(fastest_contact(scene, ranges, functions), scene.omega))
     stop = StopSignals(redeliver_term=True)  # a signal stops the candidate in progress; the others are kept
     with stop as signals:
         try:

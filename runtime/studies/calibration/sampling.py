@@ -10,11 +10,13 @@ Each run is two revolutions from rest by the scene's method, the last one analys
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
 
 from ...results.spectra import housing_force
+from ...solving.ringing import samples_resolving
 from .features import (
     MIN_CONTACT_HARMONIC,
     features,
@@ -69,14 +71,15 @@ def main() -> None:
     print(f"{dense} as means of {k}-sample blocks ({SAMPLES[0]}/rev): main peak {f:.3g} rad/s ({a:.2f} N)")
     w, amp = force_spectrum(r)
     rate = SAMPLES[0] * omega
-    for label, freq in (("the stiffest contact's ringing (2.87e3 per rad x omega)", 2.87e3 * omega),
+    ring = r.info["sampling"]["ringing_rad_s"]  # the seal's fastest ringing (runtime/solving/ringing.py)
+    for label, freq in ((f"the contacts' fastest ringing ({ring / omega:.4g} per rad x omega)", ring),
                         (f"sampling rate at {SAMPLES[0]} minus its main peak", rate - peaks[SAMPLES[0]])):
         near = (w > freq - 1e4) & (w < freq + 1e4)
         print(f"{dense}-sample spectrum near {freq:.3g} rad/s, {label}: at most {amp[near].max():.2f} N")
-    ring = 2.87e3 * omega
-    print(f"the ringing at {ring:.3g} rad/s folds to {abs(rate - ring):.3g} rad/s at {SAMPLES[0]} samples; it lies below "
-          f"the Nyquist frequency from {2 * ring / omega:.0f} samples per revolution")
-
+    print(f"the ringing at {ring:.3g} rad/s (mode {r.info['sampling']['ringing_mode']}; sqrt(kw/ms) of the tip "
+          f"alone {math.sqrt(sc.parameters['kw'] / sc.parameters['ms']):.3g} rad/s) folds to {abs(rate - ring):.3g} "
+          f"rad/s at {SAMPLES[0]} samples; it lies below the Nyquist frequency from {2 * ring / omega:.0f} samples "
+          f"per revolution (with a margin: {samples_resolving(ring, omega)})")
 
 if __name__ == "__main__":
     main()

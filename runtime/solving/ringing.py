@@ -1,0 +1,149 @@
+"""How fast the seal rings on its contacts, and whether a run's output samples resolve it.
+
+A single penalty contact of stiffness k rings at sqrt(k/ms) only if it pushes through the seal's centre of
+gravity. The contacts do not: a groove corner pushes at its arm a from the centre, so it also turns the seal
+(moment of inertia Icg), and its own contact rings at sqrt(k (1/ms + a^2/Icg)), 1.9 sqrt(k/ms) for a back corner
+of the default seal (a = ds2 = 4 mm against sqrt(Icg/ms) = 2.5 mm); two corners and the tip closed together ring
+faster still. :func:`ringing` takes it from the model itself: for each mode (Algorithm 3's groove case with the
+other contacts; the modes no other mode contains, since closing one more contact adds stiffness and can only raise
+the frequencies), the seal is moved from its rest state until every contact of the mode is closed (penetrated by
+:data:`PENETRATION`, Newton on the contacts' gaps), and the undamped natural frequencies are the square roots of
+the eigenvalues of -(d accelerations / d positions)(d position rates / d velocities) of the model's right-hand
+side there, with those contacts active (the linearised equations of motion M u' = f, Eq. 80, with every contact
+law).
+Friction, which the rest state does not engage, and damping move the ringing by a few percent.
+
+The output samples resolve a ringing of w rad/s when their Nyquist frequency, samples per revolution x omega / 2,
+lies above it (:func:`sampling`, the ``sampling`` record of a run and its summary.json): below, the peaks, extremes
+and |Fs5| spectrum computed from the samples see it aliased (docs/paper-findings.md, "The main peak and the output
+sampling"); :func:`samples_resolving` is the sampling to ask for, with a margin.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...derive.names import STATE_NAMES
+
+__all__ = [
+    "PENETRATION", "SAMPLES_PER_PERIOD", "Ringing", "describe_sampling", "mode_frequencies", "ringing", "sampling",
+    "samples_resolving",
+]
+
+#: m: how far every contact of a mode is pressed into its wall where the mode is linearised (a contact's force is
+#: k max(penetration, 0): its stiffness acts only with some penetration; a nanometre moves no arm measurably)
+PENETRATION = 1e-9
+#: samples per period of the ringing that :func:`samples_resolving` asks for: above the Nyquist criterion's 2 by a
+#: fifth, for what the estimate at rest leaves out (friction and the motion move the ringing by a few percent)
+SAMPLES_PER_PERIOD = 2.4
+#: the seal's positions (x, y, phi) and their rates, the first entries of every model's state
+_POSITIONS = len(STATE_NAMES) // 2
+
+
+@dataclass(frozen=True)
+class Ringing:
+    """The highest undamped natural frequency of the seal on its contacts (``rad_s``), in the mode ``mode``."""
+
+    rad_s: float
+    mode: str
+
+    def per_rad(self, omega: float) -> float:
+        """Oscillations in rad of oscillation per rad of crank angle: the frequency over the rotor speed."""
+        return self.rad_s / omega
+
+
+def _maximal(modes) -> list:
+    """The modes whose closed contacts no other mode's include (every other mode's frequencies are at most theirs)."""
+    sets = [frozenset(i for i, c in enumerate(m.closed) if c) for m in modes]
+    return [m for m, s in zip(modes, sets, strict=True) if not any(s < t for t in sets)]
+
+
+def _closed_state(guards, guards_jac, theta, X, closed, params, u) -> np.ndarray | None:
+    """``X`` with its positions moved until every contact of ``closed`` is penetrated by at least
+    :data:`PENETRATION` (least-norm Newton steps on the gaps of those less deep, towards twice that); None when
+    they cannot be closed together."""
+    X = np.array(X, float)
+    for _ in range(30):
+        g = np.asarray(guards(theta, X, params, u), float).ravel()
+        if not np.isfinite(g[closed]).all():
+            return None
+        short = closed & (g > -PENETRATION)  # a contact already deeper is left free
+        if not short.any():
+            return X
+        G = np.asarray(guards_jac(theta, X, params, u), float)[short][:, :_POSITIONS]
+        if not np.isfinite(G).all():
+            return None
+        X[:_POSITIONS] -= np.linalg.lstsq(G, g[short] + 2 * PENETRATION, rcond=None)[0]
+    return None
+
+
+def mode_frequencies(functions, params, theta: float, X, modes=None) -> dict[str, float]:
+    """The highest undamped natural frequency (rad/s) of the seal in each mode of ``modes`` (default: every mode of
+    the model) whose contacts close together near the state ``X`` at crank angle ``theta`` (its velocities taken
+    as zero: the seal at rest there), by the mode's label; module docstring."""
+    import casadi as ca
+
+    sx = functions.sx()
+    x = ca.SX.sym("x", sx.guards.size1_in(1))
+    theta_, p, u_ = ca.SX.sym("theta"), ca.SX.sym("p", sx.guards.size1_in(2)), ca.SX.sym("u", sx.guards.size1_in(3))
+    guards_jac = ca.Function("guards_jac", [theta_, x, p, u_], [ca.jacobian(sx.guards(theta_, x, p, u_), x)])
+    u = np.zeros(sx.guards.size1_in(3))  # no chamber pressure: it does not stiffen a contact
+    X = np.array(X, float)
+    n = _POSITIONS
+    X[n:2 * n] = 0.0
+    params = np.asarray(params, float)
+    out = {}
+    for mode in functions.mode_list if modes is None else modes:
+        closed = np.array(mode.closed, bool)
+        at = _closed_state(functions.guards, guards_jac, theta, X, closed, params, u) if closed.any() else None
+        if at is None:
+            continue
+        J = np.asarray(functions.rhs_jac(theta, at, closed.astype(float), params, u, np.zeros(at.size))[1], float)
+        squares = np.linalg.eigvals(-J[n:2 * n, :n] @ J[:n, n:2 * n]).real
+        out[mode.label] = math.sqrt(max(float(squares.max()), 0.0))
+    return out
+
+
+def ringing(functions, params, theta: float, X) -> Ringing | None:
+    """The fastest ringing of the seal on its contacts (:func:`mode_frequencies` of the modes that no other mode
+    contains: closing one more contact adds stiffness, which cannot lower a natural frequency), linearised near the
+    state ``X`` at crank angle ``theta``. None for a model whose contacts close in no mode (no contact at all)."""
+    frequencies = mode_frequencies(functions, params, theta, X, _maximal(functions.mode_list))
+    if not frequencies:
+        return None
+    mode = max(frequencies, key=frequencies.get)
+    return Ringing(frequencies[mode], mode)
+
+
+def samples_resolving(rad_s: float, omega: float) -> int:
+    """The output samples per revolution that resolve a ringing of ``rad_s`` with a margin: :data:`SAMPLES_PER_PERIOD`
+    per period of it, rounded up to a multiple of 360 (whole samples per degree)."""
+    return 360 * math.ceil(SAMPLES_PER_PERIOD * rad_s / omega / 360)
+
+
+def sampling(functions, params, theta: float, X, samples_per_revolution: int) -> dict | None:
+    """Whether ``samples_per_revolution`` output samples resolve the seal's fastest ringing (:func:`ringing`): the
+    record a run keeps (``info["sampling"]``, summary.json's ``sampling``); None for a model without contacts."""
+    omega = functions.omega(params)
+    ring = ringing(functions, params, theta, X)
+    if ring is None:
+        return None
+    nyquist = samples_per_revolution * omega / 2
+    return {"ringing_rad_s": ring.rad_s, "ringing_mode": ring.mode, "nyquist_rad_s": nyquist,
+            "resolved": bool(nyquist > ring.rad_s), "samples_per_revolution": int(samples_per_revolution),
+            "samples_per_revolution_resolving": samples_resolving(ring.rad_s, omega)}
+
+
+def describe_sampling(record: dict) -> str:
+    """What a run's ``sampling`` record says, on one line: the ringing, the Nyquist frequency of its samples, and,
+    where they do not resolve it, the setting that would."""
+    head = (f"the contacts ring at up to {record['ringing_rad_s']:.3g} rad/s (mode {record['ringing_mode']}), the "
+            f"Nyquist frequency of {record['samples_per_revolution']} output samples per revolution is "
+            f"{record['nyquist_rad_s']:.3g} rad/s")
+    if record["resolved"]:
+        return head + ": the samples resolve the ringing"
+    return (head + ": peaks, extremes and the |Fs5| spectrum computed from the samples see the ringing aliased; "
+            f"--set solver.samples_per_revolution={record['samples_per_revolution_resolving']} resolves it")
