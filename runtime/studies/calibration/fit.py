@@ -102,6 +102,7 @@ class Calibration:
     ranges: dict[str, tuple[float, float]] = field(default_factory=dict)
     revolutions: int = 2
     wall_time_s: float = 0.0
+    samples_per_revolution: int = 0  # the output samples each simulation took (its spectrum's sampling)
     mass: float = float("nan")  # the seal's mass ms, kg (for the stiffness a feature would need)
     kw: float = float("nan")  # the scene's tip-housing stiffness, N/m (the housing mode where kw is no unknown)
     stopped: str = ""  # why the study ended early (a signal), or "" for a study that ran to its end
@@ -155,13 +156,15 @@ class Calibration:
     def to_dict(self) -> dict:
         return {"best": self.best.to_dict(), "residuals": self.residuals(), "verdicts": self.verdicts(),
                 "ranges": {k: list(v) for k, v in self.ranges.items()}, "revolutions": self.revolutions,
+                "samples_per_revolution": self.samples_per_revolution,
                 "evaluations": [e.to_dict() for e in self.evaluations], "wall_time_s": self.wall_time_s,
                 "stopped": self.stopped}
 
     def describe(self) -> str:
         b = self.best
         lines = ["best plausible set: " + ", ".join(f"{k} = {v:.3g}" for k, v in b.values.items())
-                 + f" (cost {b.cost:.3g}, {len(self.evaluations)} simulations, {self.wall_time_s:.1f} s)"]
+                 + f" (cost {b.cost:.3g}, {len(self.evaluations)} simulations of {self.samples_per_revolution} samples per "
+                 f"revolution, {self.wall_time_s:.1f} s)"]
         if self.stopped:
             lines.insert(0, f"{self.stopped}: the best of the {len(self.evaluations)} simulations completed")
         for name, v in self.verdicts().items():
@@ -258,7 +261,7 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
             raise CalibrationError("no candidate completed; see the statuses of the evaluations")
         best = min(finite, key=lambda e: e.cost)
         stopped = f"interrupted by {signals.sender()}" if signals.requested else ""
-        cal = Calibration(best, evaluations, ranges, revolutions, time.perf_counter() - start,
+        cal = Calibration(best, evaluations, ranges, revolutions, time.perf_counter() - start, samples,
                           mass=scene.parameters["ms"], kw=scene.parameters["kw"], stopped=stopped,
                           exit_code=signals.exit_code())
         return after_an_interrupt(cal, stop, signals, bool(stopped), "the calibration",
