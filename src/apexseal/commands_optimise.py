@@ -121,7 +121,7 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     complete (a signal, a stage refused) stays in ``<out>.partial-<run id>`` when ``<out>`` holds a completed one."""
     from .runtime.results.folder import ResultFolderError, ResultStorageError
     from .runtime.studies.preload.problem import PreloadSetup, PreloadStudyError, check_grid, check_request, excluded
-    from .runtime.studies.preload.report import report_folder, write_report
+    from .runtime.studies.preload.report import report_folder, report_status, write_report
     from .signals import StopSignals
     from .stopwatch import Stopwatch
 
@@ -183,8 +183,9 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
             except PreloadStudyError as err:  # a stage refused: the stages before it are reported as they ended
                 if done["results"]["constant"] is not None:
                     signals.raising = False
-                    report(f"the {done['stage']} failed: {err}", "failed")
-                    where = folder.commit("failed")
+                    status, stopped = report_status(done["results"], stage=done["stage"], refused=str(err))
+                    report(stopped, status)
+                    where = folder.commit(status)
                 else:
                     folder.abandon()
                 raise click.BadParameter(str(err)) from None
@@ -192,21 +193,17 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
                 if not signals.requested:
                     raise
             signals.raising = False  # the report is written whole; a further signal is only noted
-            stopped = ""
+            results = done["results"]
+            c = results["constant"]
+            status, stopped = report_status(results, interrupted_by=signals.sender() if signals.requested else "",
+                                            stage=done["stage"])
             if signals.requested:
-                stopped = f"interrupted by {signals.sender()} during the {done['stage']}"
-                kept = "the report holds the stages before it" if done["results"]["constant"] else "nothing to report"
+                kept = "the report holds the stages before it" if c is not None else "nothing to report"
                 if done["bisection"] is not None and not done["bisection"].complete:
                     kept += f" and the bisection's {done['bisection'].simulations} simulations so far"
                 click.echo(f"  {stopped}: {kept}", err=True)
                 signals.ignore_after()
-            results = done["results"]
-            c, s = results["constant"], results.get("schedule")
             if c is not None:
-                failed = not c.ok or (s is not None and not s.ok)  # the exit code 2 below
-                status = "interrupted" if signals.requested else "failed" if failed else "completed"
-                if not c.ok and not stopped:  # the stages that start from the constant optimum did not run
-                    stopped = f"the constant optimum failed: {c.message.rstrip('.')}"
                 paths = report(stopped, status)
                 where = folder.commit(status)
                 click.echo(f"  wrote {', '.join(p.name for p in paths)} to {where}/; wall time "
@@ -224,7 +221,7 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
             click.echo(f"  {folder.kept_aside}; this study's report is in {where}/", err=True)
     if signals.requested:
         sys.exit(signals.exit_code())
-    if not c.ok or (s is not None and not s.ok):
+    if status == "failed":  # IPOPT did not reach the constant optimum or the schedule
         sys.exit(2)
 
 

@@ -165,6 +165,80 @@ def test_a_study_run_from_python_writes_the_command_s_report(studies, light, tmp
     assert not (tmp_path / "x").exists()
 
 
+def _report(folder) -> tuple[dict, list]:
+    """A preload report's JSON and Markdown (its lines, not the blank ones), but for what names how it was asked (the
+    command: the scene's path, its --set keys and options; save_preload_report: the scene's name and the options its
+    results hold) and its run."""
+    import json
+
+    data = json.loads((folder / "preload.json").read_text())
+    for key in ("run_id", "scene", "overrides", "options"):
+        data.pop(key)
+    md = [line for line in (folder / "preload.md").read_text().splitlines()
+          if line and not line.startswith(("# Preload study of ", "Scene keys replaced (--set): "))]
+    return data, md
+
+
+def test_the_command_and_save_preload_report_report_the_same_results_alike(studies, light, tmp_path, monkeypatch):
+    """The command decided its report's status and top line by one rule, save_preload_report by another: for a
+    schedule IPOPT did not solve the command's report said "failed" without saying why, and for a constant-only study
+    the function wrote "schedule": null where the command wrote none; a study interrupted in its schedule from Python
+    was reported "failed" ("the schedule failed: interrupted by ..."), by the command "interrupted". Now one rule
+    (report.report_status) decides both, and the same results give the same report: constant only, a failed
+    schedule, an interrupted one (the command's stages return the small study's results here, without IPOPT)."""
+    import dataclasses
+    import json
+    import os
+    import signal
+
+    from click.testing import CliRunner
+
+    import apexseal
+    import apexseal.signals
+    from apexseal.cli import main
+    from apexseal.runtime.studies.preload import study
+
+    c, s = studies[0], studies[2]
+    failed = dataclasses.replace(s, ok=False, message="IPOPT returned Restoration_Failed after 7 iterations.")
+    failed.__dict__["scene"] = s.scene
+    solve = ShootingNlp.solve
+
+    def ctrl_c(self, *args, **kwargs):  # Ctrl-C in the schedule's IPOPT, from Python: the result so far, returned
+        os.kill(os.getpid(), signal.SIGINT)
+        return solve(self, *args, **kwargs)
+
+    with monkeypatch.context() as m:
+        m.setattr(ShootingNlp, "solve", ctrl_c)
+        m.setattr(apexseal.signals, "interactive", lambda: True)
+        with pytest.warns(apexseal.RunInterruptedWarning):
+            stopped = optimise_preload(light[0], min_force=MIN_FORCE, nodes=NODES, knots=2, start=c,
+                                       setup=_setup(light))
+    assert stopped.interrupted_by == "the user (Ctrl-C, SIGINT)" and not stopped.ok
+
+    def schedule_interrupted():  # under the command's own signal handling the stage is abandoned, nothing returned
+        os.kill(os.getpid(), signal.SIGINT)
+        raise AssertionError("not reached: the command's handler raises")
+
+    cases = [("constant", (), None, 0, "completed", ""),
+             ("failed", ("--schedule", "2"), failed, 2, "failed",
+              "the schedule failed: IPOPT returned Restoration_Failed after 7 iterations"),
+             ("interrupted", ("--schedule", "2"), stopped, 130, "interrupted",
+              "interrupted by the user (Ctrl-C, SIGINT) during the schedule")]
+    for name, args, schedule, code, status, why in cases:
+        ran = schedule_interrupted if name == "interrupted" else lambda schedule=schedule: schedule
+        monkeypatch.setattr(study, "optimise_preload", lambda scene, knots=1, ran=ran, **kw: c if knots == 1 else ran())
+        r = CliRunner().invoke(main, _light_cli(tmp_path / f"{name}-command", *args, "--no-check", "--quiet"))
+        assert r.exit_code == code, r.output
+        command = _report(tmp_path / f"{name}-command")
+        saved = _report(apexseal.save_preload_report(tmp_path / f"{name}-python", c, schedule))
+        assert command[0]["status"] == saved[0]["status"] == status, name
+        assert command[0].get("stopped", "") == saved[0].get("stopped", "") == why, name
+        if name == "interrupted":  # the command abandons the stage; from Python its result so far is in memory, kept
+            assert saved[0].pop("schedule") == json.loads(json.dumps(stopped.to_dict(), default=str))
+            saved = saved[0], saved[1][:saved[1].index("## schedule")]
+        assert command == saved, name
+
+
 def test_cli_writes_the_report_with_the_groove_bound_and_the_stiffness_valley(light, tmp_path, caplog):
     """The report records what ran: the --set keys in preload.json and preload.md, and the scene itself (every value
     explicit) in scene.toml, which loads as the scene the study ran; the stiffness valley reports each simulation

@@ -33,12 +33,47 @@ def report_folder(out: Path, run_id: str | None = None):
     return ReportFolder(out, RECORD, REPORT_FILES, "a preload report", run_id)
 
 
+#: the stage that makes each of a study's results (the command's names for them, as its report says where it stopped)
+STAGES = {"constant": "constant optimum", "schedule": "schedule"}
+
+
+def report_status(results: dict, *, interrupted_by: str = "", stage: str = "", refused: str = "") -> tuple[str, str]:
+    """The status of a preload report and why the study ended where it did (``stopped``, the top line of
+    preload.md; "" for a study that completed): the one rule of ``apexseal optimise-preload`` and of
+    :func:`save_report`, so that a study run from Python reports as the command does. ``results``: the stages'
+    results by name (:data:`STAGES`) in their order, a stage that did not run left out; ``interrupted_by`` and
+    ``stage``: the signal's sender and the stage it stopped (the command's own signal handling); ``refused``: why
+    ``stage`` was refused (a PreloadStudyError of the command's stages). In this order:
+
+    * interrupted (the command's signal, or a result stopped by one, ``interrupted_by``, as
+      ``apexseal.optimise_preload`` returns it): ``interrupted``, "interrupted by <sender> during the <stage>";
+    * a stage refused: ``failed``, "the <stage> failed: <why>";
+    * a result that failed (IPOPT did not reach the optimum, the start was infeasible): ``failed``, "the <stage>
+      failed: <its message>" for the first such result;
+    * otherwise ``completed``.
+    """
+    if not interrupted_by:
+        key = next((k for k, r in results.items() if r is not None and r.interrupted_by), None)
+        if key is not None:
+            interrupted_by, stage = results[key].interrupted_by, STAGES[key]
+    if interrupted_by:
+        return "interrupted", f"interrupted by {interrupted_by} during the {stage}"
+    if refused:
+        return "failed", f"the {stage} failed: {refused}"
+    key = next((k for k, r in results.items() if r is not None and not r.ok), None)
+    if key is not None:
+        return "failed", f"the {STAGES[key]} failed: {results[key].message.rstrip('.')}"
+    return "completed", ""
+
+
 def save_report(out, constant, schedule=None) -> Path:
     """The report of a preload study run from Python (``apexseal.optimise_preload``), written to the folder ``out``
     as ``apexseal optimise-preload --out`` writes its own: preload.json, preload.md, preload.png and scene.toml (the
     scene the study ran), moved into place as a whole (:func:`report_folder`: a folder holding other files is refused
     with a ResultFolderError, a completed report of another study is not replaced by a failed one). ``constant``: the
-    constant optimum (``knots=1``); ``schedule``: a schedule started from it, or None. Returns where the report is:
+    constant optimum (``knots=1``); ``schedule``: a schedule started from it, or None. Its status and top line are
+    the command's for the same results (:func:`report_status`): "interrupted" for a result a signal stopped,
+    "failed" naming the stage that failed, else "completed". Returns where the report is:
     ``out``, or ``<out>.partial-<id>`` when kept aside (a KeptAsideWarning says why)."""
     import warnings
 
@@ -64,11 +99,8 @@ def save_report(out, constant, schedule=None) -> Path:
         raise PreloadStudyError(f"schedule: a study of another scene ({schedule.scene.name}, content hash "
                                 f"{schedule.scene.content_hash()}) than the constant optimum's ({scene.name}, "
                                 f"{scene.content_hash()})")
-    ok = constant.ok and (schedule is None or schedule.ok)
-    status = "completed" if ok else "failed"
-    stopped = "" if constant.ok else f"the constant optimum failed: {constant.message.rstrip('.')}"
-    if constant.ok and schedule is not None and not schedule.ok:
-        stopped = f"the schedule failed: {schedule.message.rstrip('.')}"
+    results = {"constant": constant} | ({"schedule": schedule} if schedule is not None else {})  # as the command's
+    status, stopped = report_status(results)
     knots = len(schedule.knots) if schedule is not None and schedule.knots else None
     options = {"min_force_N": constant.min_force, "max_groove_force_N": constant.max_groove_force,
                "exclude_deg": constant.exclude_deg, "schedule_knots": knots, "objective": constant.objective,
@@ -76,7 +108,7 @@ def save_report(out, constant, schedule=None) -> Path:
     folder = report_folder(Path(out))
     try:
         folder.write(lambda into: write_report(
-            into, scene, scene.name, {"constant": constant, "schedule": schedule}, None, constant.min_force,
+            into, scene, scene.name, results, None, constant.min_force,
             stopped=stopped, options=options, run_id=folder.run_id, status=status))
         where = folder.commit(status)
     except BaseException:

@@ -97,6 +97,9 @@ class PreloadResult:
     #: the first solve, from a start where the force deficit and its gradient were 0, ended at its iteration limit or
     #: stayed beyond the bounded filter's reach for nlp.STUCK_ITERATIONS iterations
     filter_bounded: bool = False
+    #: who stopped the study before it ended (a signal's sender, e.g. "the user (Ctrl-C, SIGINT)"), "" where it ended
+    #: by itself: the report's status is then "interrupted" (:func:`.report.report_status`)
+    interrupted_by: str = ""
 
     def to_dict(self) -> dict:
         """The fields as plain data (numbers, strings, lists, dicts), as ``preload.json`` holds them; not the

@@ -115,8 +115,8 @@ def _kept_on_interrupt(study):
                 if signals is not stop or not stop.requested or not holder:
                     raise
                 res = holder[0]
-                res.ok = False
-                res.message = (f"interrupted by {stop.sender()} before the study ended: "
+                res.ok, res.interrupted_by = False, stop.sender()
+                res.message = (f"interrupted by {res.interrupted_by} before the study ended: "
                                + ("nothing solved yet" if res.knots is None else "the last solution found is kept"))
             finally:
                 stop.raising = False  # a further signal while the result is reported is only noted
