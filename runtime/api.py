@@ -19,6 +19,7 @@ from .results.plausibility import (
     side_clearance,
 )
 from .results.result import SimulationResult
+from .solving.accuracy import AccuracyWarning, loose_tolerances
 from .solving.run import run
 from .solving.settings import RunSettings, merged
 
@@ -146,7 +147,9 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
     the long stages (derivation, code generation, compilation with elapsed times) and the integration on stderr;
     it takes True or False only (no callback: anything else, ``"yes"`` too, is a :class:`SettingsError`).
     Warns with :class:`PenetrationWarning` when a contact sinks into its wall by more than a stated fraction of
-    the side clearance (:mod:`apexseal.runtime.results.plausibility`). After a Ctrl-C the run stops at its next
+    the side clearance (:mod:`apexseal.runtime.results.plausibility`), and before the run with
+    :class:`~apexseal.runtime.solving.accuracy.AccuracyWarning` when ``rtol`` or ``atol`` is looser than the peaks
+    bear (:mod:`apexseal.runtime.solving.accuracy`). After a Ctrl-C the run stops at its next
     check and is kept (written, with ``out``); then, in a script, :class:`~apexseal.signals.RunInterrupted` (a
     ``KeyboardInterrupt`` whose ``result`` is the run) is raised, and in an interactive session the run is returned
     with a :class:`RunInterruptedWarning`.
@@ -300,6 +303,9 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     The scene that ran (the settings written into its [solver] and [operation] keys) goes to the sink first
     (scene.toml of a result folder) and is the result's ``scene``."""
     ran = scene_that_ran(scene, settings)
+    loose = loose_tolerances(settings)  # said before the run, and recorded in its summary (info["accuracy"])
+    if loose is not None:
+        warnings.warn(loose, AccuracyWarning, stacklevel=3)
     if hasattr(sink, "write_scene"):
         sink.write_scene(ran)
     functions = functions or model_functions(ran)  # the settings' compile and interpreted too

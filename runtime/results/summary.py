@@ -34,7 +34,9 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     microseconds between two samples is not seen, so these peaks grow with ``solver.samples_per_revolution``.
     ``sampling`` says whether those samples resolve the contacts' fastest ringing (its Nyquist frequency above it)
     and which sampling would (runtime/solving/ringing.py); null for a run without contacts, one that failed at its
-    start, or a result that does not record it."""
+    start, or a result that does not record it. ``accuracy`` says whether the method controls its error
+    (``error_control``; false for a fixed-step method) and, in ``note``, what a fixed step or a loose tolerance
+    costs and how to check it (runtime/solving/accuracy.py); null for a result that does not record it."""
     deg = np.degrees(result.theta)
     per_revolution = result.info.get("samples_per_revolution")
     out: dict = {"status": result.status, "stop": None if result.stop is None else result.stop.describe(),
@@ -42,6 +44,8 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
                  "samples_per_revolution": None if per_revolution is None else int(per_revolution),
                  # whether those samples resolve the contacts' ringing (runtime/solving/ringing.py; null: not known)
                  "sampling": result.info.get("sampling"),
+                 # error control of its method and what its tolerances cost (runtime/solving/accuracy.py; null: not known)
+                 "accuracy": result.info.get("accuracy"),
                  "revolutions": result.revolutions}
     extremes = {}
     for name, (unit, scale) in EXTREMES.items():

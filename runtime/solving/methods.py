@@ -106,6 +106,9 @@ class Method:
     #: True where its integrator differentiates the right-hand side (Jacobians, or event location on derivatives):
     #: the start check then refuses a right-hand side whose derivative is not finite (runtime/solving/preflight.py)
     needs_derivatives: bool = False
+    #: True for a method that takes fixed steps (solver.euler_steps_per_revolution) and estimates no error: it
+    #: reads no rtol or atol, and its run says that it controls no error (runtime/solving/accuracy.py)
+    fixed_step: bool = False
 
     def engine_class(self) -> type:
         if isinstance(self.engine, type):
@@ -122,7 +125,7 @@ METHODS: dict[str, Method] = {
     "erk": Method(_EVENTS, "erk", "adaptive RK45 (Dormand-Prince) with events located on its dense output; "
                   "compiles to C", needs_derivatives=True),
     "erk-rk4": Method(_EVENTS, "erk", "fixed-step RK4 with events on its dense output; compiles to C",
-                      stability=CLASSICAL_RK4, needs_derivatives=True),
+                      stability=CLASSICAL_RK4, needs_derivatives=True, fixed_step=True),
     "composite": Method(".composite:CompositeIntegrator", "", "RK45 with events where contacts switch, exponential "
                         "Rosenbrock (exprb32) steps between; generated C in the model library"),
     "rosenbrock": Method(_EVENTS, "rosenbrock", "L-stable Rosenbrock order 5(4) for stiff contacts, events on dense "
@@ -134,23 +137,25 @@ METHODS: dict[str, Method] = {
     "idas": Method(_STEPPER, "idas", "SUNDIALS IDAS, mode switches located by the apexseal event loop",
                    needs_derivatives=True),
     "rk": Method(_STEPPER, "rk", "fixed-step RK4 per output interval, mode switches located by the apexseal event "
-                 "loop", stability=CLASSICAL_RK4),
+                 "loop", stability=CLASSICAL_RK4, fixed_step=True),
     "collocation": Method(_STEPPER, "collocation", "fixed-step Radau collocation, mode switches located by the event "
-                          "loop", needs_derivatives=True),
+                          "loop", needs_derivatives=True, fixed_step=True),
     "euler": Method(".fixed_step:EulerIntegrator", "euler", "explicit (forward) Euler on the switched right-hand "
                     "side, fixed step (apexseal's reading of the paper's 'Euler method', Section 1)",
-                    locates_events=False, stability=EXPLICIT_EULER),
+                    locates_events=False, stability=EXPLICIT_EULER, fixed_step=True),
 }
 
 
 def register_method(name: str, engine: type, description: str, *, plugin: str = "", locates_events: bool = True,
-                    stability: StabilityFunction | None = None, needs_derivatives: bool = False) -> None:
+                    stability: StabilityFunction | None = None, needs_derivatives: bool = False,
+                    fixed_step: bool = False) -> None:
     """Make ``engine`` (a subclass of :class:`Engine`) available as ``solver.method = name``; ``stability``: the
     stability function of an explicit fixed-step engine's step (its steps per revolution: ``Engine.steps_taken``);
-    ``needs_derivatives``: its integrator differentiates the right-hand side (``Method.needs_derivatives``)."""
+    ``needs_derivatives``: its integrator differentiates the right-hand side (``Method.needs_derivatives``);
+    ``fixed_step``: it takes fixed steps and estimates no error (``Method.fixed_step``)."""
     if not (isinstance(engine, type) and issubclass(engine, Engine)):
         raise TypeError(f"method {name!r}: the engine must be a subclass of apexseal's Engine, not {engine!r}")
-    METHODS[name] = Method(engine, plugin, description, locates_events, stability, needs_derivatives)
+    METHODS[name] = Method(engine, plugin, description, locates_events, stability, needs_derivatives, fixed_step)
 
 
 def method_of(method: str | type) -> Method:

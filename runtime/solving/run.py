@@ -33,6 +33,7 @@ from ..results.folder import ResultStorageError
 from ..results.parts import InMemory
 from ..results.result import SimulationResult, StopInfo
 from . import engine_pool
+from .accuracy import accuracy
 from .checks import RunChecks
 from .diagnosis import locate_failure
 from .methods import WallTimeExceeded, make_engine
@@ -119,6 +120,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                "rtol": settings.rtol, "atol": settings.atol, "samples_per_revolution": N,
                                "pressure_substeps": sub, "pressure": settings.pressure, "calls_per_revolution": calls,
                                "revolutions_asked": revolutions,
+                               # its error control, and what a loose tolerance or a fixed step costs (accuracy.py)
+                               "accuracy": accuracy(settings),
                                # do the samples resolve the contacts' ringing (runtime/solving/ringing.py)?
                                "sampling": None if stop is not None else sampling(functions, params, theta_start,
                                                                                   state0, N)}

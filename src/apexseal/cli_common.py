@@ -190,7 +190,8 @@ def describe_result(result, summary: dict) -> None:
     """The designer's numbers of a result on the console (``simulate`` at its end, ``show``): status, revolutions,
     switches, displacement ranges and deepest penetrations (both at the output samples, and the line says how many
     per revolution), friction power, a warning when a penetration is implausible, a note when the samples do not
-    resolve the contacts' ringing (runtime/solving/ringing.py), the chamber
+    resolve the contacts' ringing (runtime/solving/ringing.py), a note when the method controls no error and a
+    warning when its tolerances are loose (runtime/solving/accuracy.py), the chamber
     gas's cycle (with the gas model), the groove mouth corners' margins on the seal's flat sides (a warning when one
     left them)."""
     from .runtime.results.plausibility import describe, describe_flank
@@ -213,6 +214,12 @@ def describe_result(result, summary: dict) -> None:
     sampling = summary.get("sampling")
     if sampling is not None and not sampling["resolved"]:  # a note, not a warning: the default sampling is one
         click.echo(f"  note: {describe_sampling(sampling)}")
+    accuracy = summary.get("accuracy")  # a fixed step's note; a loose tolerance's warning (runtime/solving/accuracy.py)
+    if accuracy is not None and accuracy["note"]:
+        if accuracy["error_control"]:
+            click.echo(f"  warning: {accuracy['note']}", err=True)
+        else:
+            click.echo(f"  note: {accuracy['note']}")
     gas = summary.get("gas")
     if gas is not None:  # the chamber gas model: its cycle (last revolution)
         p = gas["pressure_Pa"]

@@ -86,6 +86,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
             from .runtime.results.folder import ResultFolder, ResultFolderError, ResultStorageError
             from .runtime.results.plausibility import FlankWarning, PenetrationWarning
             from .runtime.results.summary import summarise  # noqa: F401  (timed here; used by _save)
+            from .runtime.solving.accuracy import AccuracyWarning
             from .signals import StopSignals
 
             if timings:  # imported by the load stage anyway; up front, so that the split shows what importing costs
@@ -118,9 +119,10 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                         writer.no_figures = no_figures
                     except ResultFolderError as err:
                         raise click.BadParameter(str(err), param_hint="--resume") from err
-                    with warnings.catch_warnings():  # the plausibility checks are printed below, with the summary
+                    with warnings.catch_warnings():  # the plausibility and accuracy checks: printed below, with the summary
                         warnings.simplefilter("ignore", PenetrationWarning)
                         warnings.simplefilter("ignore", FlankWarning)
+                        warnings.simplefilter("ignore", AccuracyWarning)
                         try:
                             with writer.discarded_if_empty():  # a crash, a full disk at the first revolution: no
                                 result = run_scene(sc, settings, progress=not quiet, sink=writer,  # empty folder

@@ -206,6 +206,7 @@ def test_interpreted_through_the_api_runs_the_interpreted_functions(default_scen
     assert asked == [(False, "quick")] and r.info["compiled"] is False and r.scene.solver.interpreted is True
 
 
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.solving.accuracy.AccuracyWarning")  # atol 1e-2: loose
 def test_the_absolute_tolerance_and_the_chamber_pressures_reach_the_run(default_scene, default_functions):
     """solver.atol is the integrator's abstol (it was rtol whatever the scene said, and no test noticed), and the
     result's Pa and Pb columns are chamber a's and chamber b's (a swap of the two went unnoticed too)."""
