@@ -147,7 +147,8 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
     the long stages (derivation, code generation, compilation with elapsed times) and the integration on stderr;
     it takes True or False only (no callback: anything else, ``"yes"`` too, is a :class:`SettingsError`).
     Warns with :class:`PenetrationWarning` when a contact sinks into its wall by more than a stated fraction of
-    the side clearance (:mod:`apexseal.runtime.results.plausibility`), and before the run with
+    the side clearance, and at least a metal contact's deflection under ordinary loads
+    (:mod:`apexseal.runtime.results.plausibility`), and before the run with
     :class:`~apexseal.runtime.solving.accuracy.AccuracyWarning` when ``rtol`` or ``atol`` is looser than the peaks
     bear (:mod:`apexseal.runtime.solving.accuracy`). After a Ctrl-C the run stops at its next
     check and is kept (written, with ``out``); then, in a script, :class:`~apexseal.signals.RunInterrupted` (a

@@ -9,7 +9,12 @@ The check compares the deepest penetration of every contact that a guard opens a
 declare them: the housing contact's ``xs5``, Eq. 33, minus the seal-groove gaps ``b1..b4`` of Eqs. 40-43, and a
 user's contact's guard output), the deepest at the output samples (not between them: a denser
 ``solver.samples_per_revolution`` can find deeper impacts of a few microseconds), with ``PENETRATION_FRACTION``
-of the side clearance ``(Wg - Ws) / 2`` (Eq. 17), the smallest fit of the seal. A contact closed at rest by
+of the side clearance ``(Wg - Ws) / 2`` (Eq. 17), the smallest fit of the seal, and never less than
+``PENETRATION_FLOOR``: a quarter of a clearance of a micrometre is below what a metal contact sinks under the
+loads every seal carries, so the clearance alone made ordinary contacts implausible (the default scene with the
+groove 1 µm wider than the seal: 0.17 µm under 172 N at 1e9 N/m, flagged as loads beyond what the seal takes). The
+floor is the deflection of the softest metal contact (``METAL_STIFFNESS``) under ``FLOOR_LOAD``; a contact softer
+than metal still sinks far deeper under those loads and is flagged at any clearance. A contact closed at rest by
 design (the preloaded spring) is left out. :func:`apexseal.simulate` records the clearance in the result, warns
 with :class:`PenetrationWarning` when the check fails, and ``summary.json`` carries the check as ``plausibility``.
 
@@ -33,6 +38,16 @@ PENETRATION_FRACTION = 0.25
 #: N/m: the softest a metal contact of the seal's size is (docs/scene-estimates.md: 1e9-6e9 N/m; the calibration's
 #: lower bound, runtime/studies/calibration/fit.py): a contact at least this stiff that sinks too deep is overloaded
 METAL_STIFFNESS = 3e8
+
+
+#: N: a load every seal's contacts carry: above the 88-172 N with which the default scene's pressures and inertia
+#: press the seal on its walls where the clearance leaves no room for impacts (side clearances of 0.1 and 0.5 µm: groove
+#: contacts 0.09-0.17 µm deep at 1e9 N/m, ``apexseal simulate -n 1 --set "seal.Wg=3.0002 mm"`` and ``3.001 mm``;
+#: docs/scene-estimates.md)
+FLOOR_LOAD = 300.0
+#: m: the least penetration limit whatever the clearance, the softest metal contact's deflection under FLOOR_LOAD
+#: (1 µm): a shallower penetration is a metal contact's under ordinary loads, not a soft contact or an overload
+PENETRATION_FLOOR = FLOOR_LOAD / METAL_STIFFNESS
 
 
 class PenetrationWarning(PlausibilityWarning):
@@ -67,8 +82,10 @@ def penetrations() -> dict[str, tuple[tuple[str, float], ...]]:
     return {c: tuple(v) for c, v in out.items()}
 
 
-def penetration_check(result, clearance: float | None = None, fraction: float = PENETRATION_FRACTION) -> dict:
-    """Deepest penetration of each contact (µm) and its largest force (N), the limit, and the contacts beyond it.
+def penetration_check(result, clearance: float | None = None, fraction: float = PENETRATION_FRACTION,
+                      floor: float = PENETRATION_FLOOR) -> dict:
+    """Deepest penetration of each contact (µm) and its largest force (N), the limit (``fraction`` of the side
+    clearance, at least ``floor``, m: see the module docstring), and the contacts beyond it.
 
     Depths and forces are the largest at the output samples: an impact of a few microseconds between two samples
     is not seen, so a denser ``solver.samples_per_revolution`` can find a deeper one (a failed check stays failed;
@@ -80,7 +97,7 @@ def penetration_check(result, clearance: float | None = None, fraction: float = 
         clearance = result.info.get("side_clearance_m")
     if clearance is None:
         raise ValueError("the result records no side clearance (run it with apexseal.simulate, or pass clearance)")
-    limit = fraction * clearance
+    limit = max(fraction * clearance, floor)
     depths, forces = {}, {}
     for contact, guards in penetrations().items():
         deepest = [float(np.max(sign * np.asarray(result.outputs[name], float))) for name, sign in guards
@@ -91,7 +108,8 @@ def penetration_check(result, clearance: float | None = None, fraction: float = 
         if force is not None and result.n:
             forces[contact] = float(np.max(force))
     beyond = sorted(c for c, d in depths.items() if d > limit)
-    return {"side_clearance_um": clearance * 1e6, "fraction": fraction, "limit_um": limit * 1e6,
+    return {"side_clearance_um": clearance * 1e6, "fraction": fraction, "floor_um": floor * 1e6,
+            "limit_um": limit * 1e6,
             "penetration_um": {c: d * 1e6 for c, d in depths.items()}, "peak_force_N": forces,
             "beyond_limit": beyond, "ok": not beyond}
 
@@ -101,8 +119,12 @@ def describe(check: dict) -> str:
     metal, or, where the peak force over the depth is a metal's stiffness, loads beyond the seal's (a check of a
     summary.json written before the forces were recorded names both)."""
     worst = ", ".join(f"{c} {check['penetration_um'][c]:.3g} µm" for c in check["beyond_limit"])
-    head = (f"implausible penetration: {worst} into the wall at the output samples, more than {check['fraction']:g} "
-            f"of the side clearance (Wg - Ws)/2 = {check['side_clearance_um']:.3g} µm (limit {check['limit_um']:.3g} µm)")
+    side = f"{check['fraction']:g} of the side clearance (Wg - Ws)/2 = {check['side_clearance_um']:.3g} µm"
+    bound = f"{side} (limit {check['limit_um']:.3g} µm)"
+    if check.get("floor_um") is not None and check["limit_um"] <= check["floor_um"]:  # the clearance's is smaller
+        bound = (f"{check['floor_um']:.3g} µm, the least limit at any clearance (a metal contact's deflection under "
+                 f"{FLOOR_LOAD:g} N; {side} is {check['fraction'] * check['side_clearance_um']:.3g} µm)")
+    head = f"implausible penetration: {worst} into the wall at the output samples, more than {bound}"
     soft = "the contact stiffness is far below a metal contact's (docs/scene-estimates.md gives plausible values)"
     loads = ("the loads are beyond what the seal takes (rotor speed, chamber pressures and their unit, preload, "
              "mass: the scene's plausibility warnings name doubtful keys)")

@@ -10,6 +10,7 @@ from hard_helpers import HARD_DIR
 import apexseal
 from apexseal.derive.numbers import tip_arc_start
 from apexseal.runtime.results.plausibility import (
+    PENETRATION_FLOOR,
     PENETRATION_FRACTION,
     FlankWarning,
     PenetrationWarning,
@@ -105,6 +106,26 @@ def test_a_soft_groove_is_flagged(scene, default_functions):
     assert summarise(r)["plausibility"] == check
 
 
+def test_a_tiny_clearance_does_not_make_metal_contacts_implausible(scene, default_functions):
+    """With the groove 1 µm wider than the seal (side clearance 0.5 µm, allowed: any Wg > Ws) the metal contacts
+    (1e9 N/m) sank 0.17 µm under 172 N, ordinary loads, and the check, a quarter of the clearance (0.125 µm), warned
+    that the loads were beyond what the seal takes. The limit is now at least the softest metal contact's deflection
+    under 300 N (1 µm); a groove softer than metal in the same clearance is still flagged."""
+    tight = scene.with_overrides(**{"seal.Wg": "3.001 mm"})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PenetrationWarning)
+        r = apexseal.simulate(tight, functions=default_functions.sx, samples_per_revolution=SAMPLES)
+    check = penetration_check(r)
+    assert check["side_clearance_um"] == pytest.approx(0.5) and check["ok"]
+    assert check["limit_um"] == pytest.approx(PENETRATION_FLOOR * 1e6) == pytest.approx(1.0)
+    assert PENETRATION_FRACTION * check["side_clearance_um"] < max(check["penetration_um"].values()) < 1.0
+    soft = tight.with_overrides(**{f"contacts.kg{i}": 1.05e6 for i in range(1, 5)} | {"contacts.cr": 27.0})
+    with pytest.warns(PenetrationWarning, match=r"more than 1 µm, the least limit at any clearance \(a metal "
+                      r"contact's deflection under 300 N; 0.25 of the side clearance \(Wg - Ws\)/2 = 0.5 µm is "
+                      r"0.125 µm\)"):
+        apexseal.simulate(soft, functions=default_functions.sx, samples_per_revolution=SAMPLES)
+
+
 def test_the_penetration_warning_blames_the_loads_when_the_contacts_are_metal():
     """A seal on metal contacts (1e9 N/m) at 20000 rpm sank 23 um into the housing under 23 kN, and the warning said
     its stiffness was far below a metal contact's: the peak force over the depth tells the two causes apart."""
@@ -144,7 +165,9 @@ def test_the_check_needs_a_clearance(scene, default_functions):
     with pytest.raises(ValueError, match="no side clearance"):
         penetration_check(r)
     assert "plausibility" not in summarise(r)
-    assert penetration_check(r, clearance=1e-9, fraction=0.5)["beyond_limit"]  # a 1 nm fit: every contact is too deep
+    # a 1 nm fit: every contact is deeper than half of it, but no deeper than metal sinks under ordinary loads
+    assert penetration_check(r, clearance=1e-9, fraction=0.5, floor=0.0)["beyond_limit"]
+    assert penetration_check(r, clearance=1e-9, fraction=0.5)["ok"]
 
 
 @pytest.mark.parametrize("explicit", [False, True])
