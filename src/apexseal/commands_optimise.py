@@ -121,7 +121,7 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     complete (a signal, a stage refused) stays in ``<out>.partial-<run id>`` when ``<out>`` holds a completed one."""
     from .runtime.results.folder import ResultFolderError, ResultStorageError
     from .runtime.studies.preload.problem import PreloadSetup, PreloadStudyError, check_grid, check_request, excluded
-    from .runtime.studies.preload.report import report_folder, report_status, write_report
+    from .runtime.studies.preload.report import report_folder, report_status, study_options, write_report
     from .signals import StopSignals
     from .stopwatch import Stopwatch
 
@@ -147,10 +147,10 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
                f"{excluded(exclude)}{bound}; writing to {out}/")
     watch = Stopwatch()
     done = {"results": {"constant": None}, "bisection": None, "valley": None, "stage": "set-up"}
-    options = {"min_force_N": min_force, "max_groove_force_N": max_groove_force, "exclude_deg": [list(w) for w in exclude],
-               "schedule_knots": knots, "max_rate_m_per_deg": max_rate, "objective": objective, "samples": samples,
-               "nodes": nodes, "vary_stiffness": vary_stiffness, "check": check, "max_preload_m": limits["max_preload"],
-               "max_iter": limits["max_iter"]}
+    options = study_options(min_force, max_groove_force, exclude, knots, objective,
+                            samples or sc.solver.samples_per_revolution, nodes) \
+        | {"max_rate_m_per_deg": max_rate, "vary_stiffness": vary_stiffness, "check": check,
+           "max_preload_m": limits["max_preload"], "max_iter": limits["max_iter"]}
 
     def report(stopped: str, status: str, unchanged: bool = False) -> list:
         """``unchanged``: the stages' results are those of the report in ``<out>.partial-<run id>`` (a checkpoint of
@@ -235,6 +235,7 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
     from .runtime.api import model_functions
     from .runtime.studies.preload.bisect import bisect_preload
     from .runtime.studies.preload.problem import MM, PreloadSetup
+    from .runtime.studies.preload.report import saved_friction_power
     from .runtime.studies.preload.study import optimise_preload as run_study
 
     def finished(value):
@@ -294,7 +295,7 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
         with stage("stiffness", "stiffness valley"):
             valley = done["valley"] = finished(stiffness_valley(setup, c, nodes=nodes))
         click.echo(describe(valley, c.deficit_tol))
-    s = results.get("schedule")
-    if s is not None and s.ok and c.ok:
-        click.echo(f"schedule saves {c.friction_power - s.friction_power:.3f} W of friction power against the best "
-                   f"constant preload ({s.friction_power:.3f} vs {c.friction_power:.3f} W)")
+    if (saved := saved_friction_power(results)) is not None:
+        s = results["schedule"]
+        click.echo(f"schedule saves {saved:.3f} W of friction power against the best constant preload "
+                   f"({s.friction_power:.3f} vs {c.friction_power:.3f} W)")

@@ -165,18 +165,18 @@ def test_a_study_run_from_python_writes_the_command_s_report(studies, light, tmp
     assert not (tmp_path / "x").exists()
 
 
-def _report(folder) -> tuple[dict, list]:
+def _report(folder) -> tuple[dict, list, dict]:
     """A preload report's JSON and Markdown (its lines, not the blank ones), but for what names how it was asked (the
-    command: the scene's path, its --set keys and options; save_preload_report: the scene's name and the options its
-    results hold) and its run."""
+    command: the scene's path and its --set keys; save_preload_report: the scene's name) and its run; and its
+    options."""
     import json
 
     data = json.loads((folder / "preload.json").read_text())
-    for key in ("run_id", "scene", "overrides", "options"):
+    for key in ("run_id", "scene", "overrides"):
         data.pop(key)
     md = [line for line in (folder / "preload.md").read_text().splitlines()
           if line and not line.startswith(("# Preload study of ", "Scene keys replaced (--set): "))]
-    return data, md
+    return data, md, data.pop("options")
 
 
 def test_the_command_and_save_preload_report_report_the_same_results_alike(studies, light, tmp_path, monkeypatch):
@@ -185,7 +185,12 @@ def test_the_command_and_save_preload_report_report_the_same_results_alike(studi
     the function wrote "schedule": null where the command wrote none; a study interrupted in its schedule from Python
     was reported "failed" ("the schedule failed: interrupted by ..."), by the command "interrupted". Now one rule
     (report.report_status) decides both, and the same results give the same report: constant only, a failed
-    schedule, an interrupted one (the command's stages return the small study's results here, without IPOPT)."""
+    schedule, an interrupted one (the command's stages return the small study's results here, without IPOPT).
+
+    The options both record (report.study_options) are the same too: the command recorded "samples": null for the
+    scene's own samples per revolution, where the function recorded the number the study ran, and "schedule_knots":
+    null for a schedule that found no design (its result now keeps the knots' angles from its start); and the saving the
+    command prints is the one its report records (report.saved_friction_power, once computed in three places)."""
     import dataclasses
     import json
     import os
@@ -214,12 +219,13 @@ def test_the_command_and_save_preload_report_report_the_same_results_alike(studi
             stopped = optimise_preload(light[0], min_force=MIN_FORCE, nodes=NODES, knots=2, start=c,
                                        setup=_setup(light))
     assert stopped.interrupted_by == "the user (Ctrl-C, SIGINT)" and not stopped.ok
+    assert stopped.knots is None and len(stopped.knot_angles_deg) == 2  # nothing solved; the knots asked
 
     def schedule_interrupted():  # under the command's own signal handling the stage is abandoned, nothing returned
         os.kill(os.getpid(), signal.SIGINT)
         raise AssertionError("not reached: the command's handler raises")
 
-    cases = [("constant", (), None, 0, "completed", ""),
+    cases = [("constant", (), None, 0, "completed", ""), ("schedule", ("--schedule", "2"), s, 0, "completed", ""),
              ("failed", ("--schedule", "2"), failed, 2, "failed",
               "the schedule failed: IPOPT returned Restoration_Failed after 7 iterations"),
              ("interrupted", ("--schedule", "2"), stopped, 130, "interrupted",
@@ -227,15 +233,23 @@ def test_the_command_and_save_preload_report_report_the_same_results_alike(studi
     for name, args, schedule, code, status, why in cases:
         ran = schedule_interrupted if name == "interrupted" else lambda schedule=schedule: schedule
         monkeypatch.setattr(study, "optimise_preload", lambda scene, knots=1, ran=ran, **kw: c if knots == 1 else ran())
-        r = CliRunner().invoke(main, _light_cli(tmp_path / f"{name}-command", *args, "--no-check", "--quiet"))
+        cli = _light_cli(tmp_path / f"{name}-command", *args, "--no-check", "--quiet")
+        if name == "constant":  # the scene's own samples per revolution: the same study, no --samples given
+            at = cli.index("--samples")
+            cli[at:at + 2] = ["--set", f"solver.samples_per_revolution={SAMPLES}"]
+        r = CliRunner().invoke(main, cli)
         assert r.exit_code == code, r.output
-        command = _report(tmp_path / f"{name}-command")
-        saved = _report(apexseal.save_preload_report(tmp_path / f"{name}-python", c, schedule))
+        *command, command_options = _report(tmp_path / f"{name}-command")
+        *saved, saved_options = _report(apexseal.save_preload_report(tmp_path / f"{name}-python", c, schedule))
+        shared = set(command_options) & set(saved_options)
+        assert len(shared) == 7 and {k: command_options[k] for k in shared} == {k: saved_options[k] for k in shared}
+        if name == "schedule":
+            assert f"schedule saves {command[0]['saved_friction_power_W']:.3f} W" in r.output
         assert command[0]["status"] == saved[0]["status"] == status, name
         assert command[0].get("stopped", "") == saved[0].get("stopped", "") == why, name
         if name == "interrupted":  # the command abandons the stage; from Python its result so far is in memory, kept
             assert saved[0].pop("schedule") == json.loads(json.dumps(stopped.to_dict(), default=str))
-            saved = saved[0], saved[1][:saved[1].index("## schedule")]
+            saved = [saved[0], saved[1][:saved[1].index("## schedule")]]
         assert command == saved, name
 
 

@@ -87,8 +87,9 @@ def save_report(out, constant, schedule=None) -> Path:
         if not isinstance(r, PreloadResult):
             raise PreloadStudyError(f"{name}: expected the PreloadResult of apexseal.optimise_preload, "
                                     f"not {type(r).__name__}")
-        if r.knots is not None and (len(r.knots) > 1) != many:
-            raise PreloadStudyError(f"{name}: a result of {len(r.knots)} knot{'s' * (len(r.knots) > 1)}; the "
+        count = len(r.knots or r.knot_angles_deg)  # the knots asked, where the study found no design
+        if count and (count > 1) != many:
+            raise PreloadStudyError(f"{name}: a result of {count} knot{'s' * (count > 1)}; the "
                                     f"{'schedule' if many else 'constant optimum'} has "
                                     f"{'more than one' if many else 'one (knots=1)'}")
         if r.scene is None:
@@ -101,10 +102,10 @@ def save_report(out, constant, schedule=None) -> Path:
                                 f"{scene.content_hash()})")
     results = {"constant": constant} | ({"schedule": schedule} if schedule is not None else {})  # as the command's
     status, stopped = report_status(results)
-    knots = len(schedule.knots) if schedule is not None and schedule.knots else None
-    options = {"min_force_N": constant.min_force, "max_groove_force_N": constant.max_groove_force,
-               "exclude_deg": constant.exclude_deg, "schedule_knots": knots, "objective": constant.objective,
-               "samples": constant.samples, "nodes": constant.nodes, "written_by": "apexseal.save_preload_report"}
+    knots = (len(schedule.knots or schedule.knot_angles_deg) or None) if schedule is not None else None
+    options = study_options(constant.min_force, constant.max_groove_force, constant.exclude_deg, knots,
+                            constant.objective, constant.samples, constant.nodes) \
+        | {"written_by": "apexseal.save_preload_report"}
     folder = report_folder(Path(out))
     try:
         folder.write(lambda into: write_report(
@@ -154,13 +155,28 @@ def markdown(scene_name: str, results: dict, bisection=None, valley=None, overri
 
         lines += ["## the design over (delta_s, ks): the same spring force at other stiffnesses", "", "```",
                   describe(valley, results["constant"].deficit_tol), "```", ""]
-    c, s = results.get("constant"), results.get("schedule")
-    if c is not None and c.ok and s is not None and s.ok:
+    saved = saved_friction_power(results)
+    if saved is not None:
+        c, s = results["constant"], results["schedule"]
         lines += ["## schedule against the best constant preload", "",
-                  f"friction power {s.friction_power:.3f} W vs {c.friction_power:.3f} W: saved "
-                  f"{c.friction_power - s.friction_power:.3f} W "
-                  f"({100 * (c.friction_power - s.friction_power) / c.friction_power:.2f} %)", ""]
+                  f"friction power {s.friction_power:.3f} W vs {c.friction_power:.3f} W: saved {saved:.3f} W "
+                  f"({100 * saved / c.friction_power:.2f} %)", ""]
     return "\n".join(lines)
+
+
+def saved_friction_power(results: dict) -> float | None:
+    """W, the friction power the schedule saves against the constant optimum (both solved; else None): what the
+    command prints, preload.md states and preload.json records (``saved_friction_power_W``)."""
+    c, s = results.get("constant"), results.get("schedule")
+    return c.friction_power - s.friction_power if c is not None and c.ok and s is not None and s.ok else None
+
+
+def study_options(min_force, max_groove_force, exclude, knots, objective: str, samples: int, nodes: int) -> dict:
+    """The study's options as preload.json records them (``options``), the command's and :func:`save_report`'s
+    alike: the minimum force and the groove-force bound (N), the excluded windows (deg), the schedule's knots (None:
+    no schedule), the objective, the samples per revolution the study ran and its shooting nodes."""
+    return {"min_force_N": min_force, "max_groove_force_N": max_groove_force, "exclude_deg": [list(w) for w in exclude],
+            "schedule_knots": knots, "objective": objective, "samples": samples, "nodes": nodes}
 
 
 def _bisection(b, c) -> list[str]:
@@ -268,9 +284,8 @@ def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=
         from dataclasses import asdict
 
         payload["stiffness_valley"] = [asdict(p) for p in valley]
-    c, s = results.get("constant"), results.get("schedule")
-    if c is not None and c.ok and s is not None and s.ok:
-        payload["saved_friction_power_W"] = c.friction_power - s.friction_power
+    if (saved := saved_friction_power(results)) is not None:
+        payload["saved_friction_power_W"] = saved
     paths = [folder / "preload.json", folder / "preload.md"]
     atomic_write(paths[0], json.dumps(payload, indent=2, default=str) + "\n")
     atomic_write(paths[1], (f"**{stopped}.**\n\n" if stopped else "")

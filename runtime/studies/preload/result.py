@@ -53,6 +53,8 @@ class PreloadResult:
     min_force: float  # N, the requirement
     exclude_deg: list  # excluded crank-angle windows [(start, end), ...] in degrees
     objective: str = "friction"
+    #: deg, the knots' crank angles: set as the study starts, so that a study that failed or was interrupted before
+    #: it found a design still says how many knots it was asked (its report's schedule_knots)
     knot_angles_deg: list = field(default_factory=list)
     knots: list | None = None  # m, the optimal delta_s at the knots (one value: the constant preload)
     delta_s: float | None = None  # m, the mean preload over the revolution (the constant preload for 1 knot)
@@ -189,8 +191,13 @@ class PreloadResult:
         return lines
 
 
+def knot_angles(grid) -> list:
+    """The knots' crank angles of a :class:`.schedule.SegmentGrid` as a result records them (deg, mod 360)."""
+    return [float(a) % 360.0 for a in grid.knot_angles_deg]
+
+
 def fill_result(res, setup, grid, knots_m, sim) -> None:
-    res.knot_angles_deg = [float(a) % 360.0 for a in grid.knot_angles_deg]
+    res.knot_angles_deg = knot_angles(grid)
     res.knots = [float(v) for v in knots_m]
     res.delta_s = float(np.mean(Schedule(tuple(res.knot_angles_deg), tuple(res.knots))(
         np.degrees(sim.thetas))))

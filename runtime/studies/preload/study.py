@@ -86,7 +86,7 @@ from .problem import (
     study_quantities,
     windows,
 )
-from .result import ALLOWANCE, DEFICIT_TOL, PreloadResult, contact_powers, fill_result
+from .result import ALLOWANCE, DEFICIT_TOL, PreloadResult, contact_powers, fill_result, knot_angles
 from .schedule import SegmentGrid, simulate_schedule, simulate_schedules
 from .shooting import study_functions
 
@@ -167,7 +167,9 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     if not keep.any():
         raise PreloadStudyError(f"exclude = {list(exclude)}: the windows cover every sample; nothing left to check")
     scene_ds = float(scene.parameters["delta_s"])
+    grid0 = SegmentGrid(setup.samples, nodes, knots, setup.theta_start, setup.dth)
     res = PreloadResult(False, "", float(min_force), [list(w) for w in exclude], objective=objective,
+                        knot_angles_deg=knot_angles(grid0),
                         scene_delta_s=scene_ds, deficit_tol=float(deficit_tol), nodes=nodes, samples=setup.samples,
                         rtol=setup.rtol, max_groove_force=setup.max_groove_force)
     res.__dict__["scene"] = scene  # for the report (save_preload_report)
@@ -200,7 +202,6 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     upper = min(max_preload, d0 if knots == 1 and start is None else 1.5 * max(knots0))
 
     # 3. solve, re-simulate, repeat while the re-simulation violates a constraint
-    grid0 = SegmentGrid(setup.samples, nodes, knots, setup.theta_start, setup.dth)
     sim = simulate_schedule(setup, sf, grid0, knots0, min_force, exclude)
     x_knots = knots0
     for r in range(rounds):
