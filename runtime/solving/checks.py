@@ -13,7 +13,7 @@ from ...generated.scaling import LENGTH, to_physical
 from ..results.result import StopInfo
 from ..results.sampled import guards_at, outputs_at
 from ..scenes.damping import MAX_DAMPING_RATIO, guard_damping
-from .contact_stability import contact_growth
+from .contact_stability import beyond, model_growth
 from .friction_stability import FrictionWatch
 from .methods import method_of, run_steps
 from .settings import MAX_TILT, RunSettings
@@ -82,11 +82,14 @@ class Chattering(RuntimeError):
 class RunChecks:
     """The checks of one run (see the module docstring); each returns ``(status, StopInfo)`` or None."""
 
-    def __init__(self, functions, settings: RunSettings, params, theta_start: float, dtheta: float | None = None):
+    def __init__(self, functions, settings: RunSettings, params, theta_start: float, dtheta: float | None = None,
+                 state0=None):
         """``dtheta``: the run's intervals (rad; default: its output intervals), at which a fixed-step method's steps
-        per revolution are judged (:func:`~.methods.explicit_steps`)."""
+        per revolution are judged (:func:`~.methods.explicit_steps`); ``state0``: the state at ``theta_start`` (the
+        contact modes' ringing is taken near it; default: the seal at rest in its groove's centre)."""
         self.functions, self.settings, self.params = functions, settings, params
         self.theta_start = theta_start
+        self.state0 = np.zeros(len(functions.state_names)) if state0 is None else np.asarray(state0, float)
         self.layout = HybridLayout.of(functions)
         self.omega = functions.omega(params)
         #: an explicit fixed-step method's steps (None for the others)
@@ -110,14 +113,13 @@ class RunChecks:
     def unstable(self, contact_first: bool = False) -> str | None:
         """An explicit fixed-step method's step beyond its stability, the likely cause of a failure: a friction law
         it has taken beyond its bound while sticking at some samples of this revolution (fewer than stop the run,
-        :meth:`friction`), or else a contact it amplifies (less than the preflight refuses:
+        :meth:`friction`), or else a contact mode whose ringing it amplifies (less than the preflight refuses:
         runtime/solving/contact_stability.py); with ``contact_first``, the contact first (as a non-finite state of
         explicit Euler has always been explained). None for other methods, or where neither is seen."""
         if self.steps is None:
             return None
-        growth = contact_growth(self.params, self.steps, self.functions.parameter_names,
-                                self.functions.parameters_read())
-        contact = growth[0].describe() if growth and growth[0].log_growth > 0 else None  # an amplified contact
+        amplified = beyond(model_growth(self.functions, self.params, self.steps, self.theta_start, self.state0), 0.0)
+        contact = amplified.describe() if amplified is not None else None
         step = self.sticking.beyond() if self.sticking is not None and self.sticking.active else None
         friction = step.describe() if step is not None else None
         return (contact or friction) if contact_first else (friction or contact)

@@ -13,7 +13,7 @@ from ..results.plausibility import FLANK_LENGTHS
 from ..results.result import StopInfo
 from ..scenes.schema import rpm_of_omega
 from ..scenes.units import show_factor
-from .contact_stability import MAX_GROWTH, contact_frequencies, contact_growth
+from .contact_stability import MAX_GROWTH, beyond, contact_frequencies, model_growth
 from .friction_stability import friction_at_start
 from .methods import method_of, run_steps
 from .settings import RunSettings
@@ -189,8 +189,9 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
       seal deep inside a wall (:func:`start_problem`) or with its groove's mouth off its flat sides
       (:func:`flank_problem`): each names the scene value;
     * NaN/Inf in the right-hand side;
-    * an explicit fixed-step method (euler, rk, erk-rk4: ``Method.stability``) with a step that amplifies a contact
-      oscillation more than MAX_GROWTH times per revolution (runtime/solving/contact_stability.contact_growth), or
+    * an explicit fixed-step method (euler, rk, erk-rk4: ``Method.stability``) with a step that amplifies the
+      seal's ringing in a contact mode more than MAX_GROWTH times per revolution
+      (runtime/solving/contact_stability.model_growth: each mode's frequency and damping from the model), or
       too long for the friction regularisation at the normal forces of the start, the spring's preload
       (runtime/solving/friction_stability.friction_at_start); its steps per revolution at the run's intervals of
       ``dtheta`` rad (default: its output intervals);
@@ -212,9 +213,8 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
                         f"{names_where(functions.state_names, ~np.isfinite(xdot))}): check the scene's values")
     steps = run_steps(settings, dtheta)
     if steps is not None:
-        growth = contact_growth(params, steps, functions.parameter_names, functions.parameters_read())
-        worst = growth[0] if growth else None
-        if worst is not None and worst.log_growth > math.log(MAX_GROWTH):
+        worst = beyond(model_growth(functions, params, steps, theta, X), math.log(MAX_GROWTH))
+        if worst is not None:
             return StopInfo(0.0, mode, worst.describe())
         sticking = friction_at_start(functions, params, steps, theta, X, closed, u)
         if sticking is not None:

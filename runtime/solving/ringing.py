@@ -29,8 +29,8 @@ import numpy as np
 from ...derive.names import STATE_NAMES
 
 __all__ = [
-    "PENETRATION", "SAMPLES_PER_PERIOD", "Ringing", "describe_sampling", "mode_frequencies", "ringing", "sampling",
-    "samples_resolving",
+    "PENETRATION", "SAMPLES_PER_PERIOD", "VELOCITY", "ModeRinging", "Ringing", "describe_sampling", "mode_damping",
+    "mode_frequencies", "ringing", "sampling", "samples_resolving",
 ]
 
 #: m: how far every contact of a mode is pressed into its wall where the mode is linearised (a contact's force is
@@ -39,6 +39,9 @@ PENETRATION = 1e-9
 #: samples per period of the ringing that :func:`samples_resolving` asks for: above the Nyquist criterion's 2 by a
 #: fifth, for what the estimate at rest leaves out (friction and the motion move the ringing by a few percent)
 SAMPLES_PER_PERIOD = 2.4
+#: m/s (rad/s for the tilt): how fast the seal moves along a mode where its damping is taken, slow against the
+#: friction regularisation (its part of the Jacobian cancels out: :func:`mode_damping`)
+VELOCITY = 1e-9
 #: the seal's positions (x, y, phi) and their rates, the first entries of every model's state
 _POSITIONS = len(STATE_NAMES) // 2
 
@@ -80,10 +83,11 @@ def _closed_state(guards, guards_jac, theta, X, closed, params, u) -> np.ndarray
     return None
 
 
-def mode_frequencies(functions, params, theta: float, X, modes=None) -> dict[str, float]:
-    """The highest undamped natural frequency (rad/s) of the seal in each mode of ``modes`` (default: every mode of
-    the model) whose contacts close together near the state ``X`` at crank angle ``theta`` (its velocities taken
-    as zero: the seal at rest there), by the mode's label; module docstring."""
+def _linearised(functions, params, theta: float, X, modes=None):
+    """For each mode of ``modes`` (default: every mode of the model) whose contacts close together near the state
+    ``X`` at crank angle ``theta``: the mode, the state where they are closed (velocities zero: the seal at rest
+    there), the Jacobian of the right-hand side there with those contacts active, and a function J(state, params) of
+    the same Jacobian at another state or parameter vector (module docstring)."""
     import casadi as ca
 
     sx = functions.sx()
@@ -95,15 +99,88 @@ def mode_frequencies(functions, params, theta: float, X, modes=None) -> dict[str
     n = _POSITIONS
     X[n:2 * n] = 0.0
     params = np.asarray(params, float)
-    out = {}
     for mode in functions.mode_list if modes is None else modes:
         closed = np.array(mode.closed, bool)
         at = _closed_state(functions.guards, guards_jac, theta, X, closed, params, u) if closed.any() else None
         if at is None:
             continue
-        J = np.asarray(functions.rhs_jac(theta, at, closed.astype(float), params, u, np.zeros(at.size))[1], float)
-        squares = np.linalg.eigvals(-J[n:2 * n, :n] @ J[:n, n:2 * n]).real
-        out[mode.label] = math.sqrt(max(float(squares.max()), 0.0))
+
+        def jac(state, p_, closed=closed):
+            return np.asarray(functions.rhs_jac(theta, state, closed.astype(float), p_, u, np.zeros(state.size))[1],
+                              float)
+
+        yield mode, at, jac(at, params), jac
+
+
+def _fastest(J) -> tuple[float, np.ndarray, np.ndarray]:
+    """The highest undamped natural frequency of the linearised seal (the Jacobian ``J`` of its state), with the
+    right and left eigenvectors of its mode: eigenvalues w^2 of (d position rates / d velocities)(-d accelerations /
+    d positions), the stiffness seen in the positions."""
+    n = _POSITIONS
+    AK = -J[:n, n:2 * n] @ J[n:2 * n, :n]
+    squares, right = np.linalg.eig(AK)
+    i = int(np.argmax(squares.real))
+    left_squares, left = np.linalg.eig(AK.T)
+    j = int(np.argmin(np.abs(left_squares - squares[i])))
+    return math.sqrt(max(float(squares[i].real), 0.0)), right[:, i].real, left[:, j].real
+
+
+def mode_frequencies(functions, params, theta: float, X, modes=None) -> dict[str, float]:
+    """The highest undamped natural frequency (rad/s) of the seal in each mode of ``modes`` (default: every mode of
+    the model) whose contacts close together near the state ``X`` at crank angle ``theta`` (its velocities taken
+    as zero: the seal at rest there), by the mode's label; module docstring."""
+    return {mode.label: _fastest(J)[0] for mode, _, J, _ in _linearised(functions, params, theta, X, modes)}
+
+
+@dataclass(frozen=True)
+class ModeRinging:
+    """The fastest ringing of one contact mode: its undamped frequency (``rad_s``), the damping ratio of that
+    ringing from the contacts' dampers on average over a period (``zeta``), and the contacts closed in it."""
+
+    mode: str
+    rad_s: float
+    zeta: float
+    contacts: tuple[str, ...]
+
+
+def mode_damping(functions, params, theta: float, X, dampers, undamped=(), modes=None) -> list[ModeRinging]:
+    """The fastest ringing of each mode (:func:`mode_frequencies`) with its damping ratio, from the contacts'
+    dampers ``dampers`` (parameter names), those of ``undamped`` counted as none.
+
+    The damping is c max(v, 0) (Eqs. 55, 62, 67, 73): on approach only, so over a period of the ringing each damper
+    acts on the half of it in which its contact closes. The ratio is that of the linearised seal, q'' + C q' + K q
+    = 0 (q the positions), for the ringing of frequency w, right and left eigenvectors phi, psi of K: to first order
+    in the damping, its eigenvalue is -zeta w +- i w with zeta = psi^T C phi / (2 w psi^T phi) (the modal damping
+    ratio; exact for a single contact, where it is c / (2 sqrt(k ms))). C is the mean of the dampers' part of the
+    Jacobian moving along +phi and along -phi (each damper acts in one of them): the Jacobian with the dampers less
+    that without them, which leaves out friction (it damps too where the seal is at rest, but is no contact's
+    ringing: runtime/solving/friction_stability.py). A damper that pushes at an arm from the centre of gravity damps
+    the turning too: a mode that rings faster than one contact's sqrt(k/ms) because it turns the seal is damped
+    more, in proportion (the ratio of a contact of stiffness k and damper c, c / (2 sqrt(k ms)), grows with its
+    frequency as c w / (2 k)); on the default scene 0.105 at 5.07e5 rad/s against 0.05 at sqrt(kw/ms)."""
+    n = _POSITIONS
+    names = list(functions.parameter_names)
+    params = np.asarray(params, float)
+    damped, bare = params.copy(), params.copy()
+    for c in dampers:
+        bare[names.index(c)] = 0.0
+        if c in undamped:
+            damped[names.index(c)] = 0.0
+    out = []
+    for mode, at, J, jac in _linearised(functions, params, theta, X, modes):
+        w, phi, psi = _fastest(J)
+        A = J[:n, n:2 * n]  # position rates per velocity
+        v = np.linalg.solve(A, phi / np.abs(phi).max()) * VELOCITY
+        C = np.zeros((n, n))
+        for sign in (1.0, -1.0):
+            state = at.copy()
+            state[n:2 * n] = sign * v
+            C -= (jac(state, damped) - jac(state, bare))[n:2 * n, n:2 * n] / 2
+        C = A @ C @ np.linalg.inv(A)  # in the positions' rates
+        zeta = float(psi @ C @ phi) / (2 * w * float(psi @ phi)) if w > 0 else 0.0
+        zeta = max(zeta, 0.0)  # dampers only take energy: below 0 is round-off (no damper at all: -1e-7)
+        guards = functions.guard_names
+        out.append(ModeRinging(mode.label, w, zeta, tuple(g for g, c in zip(guards, mode.closed, strict=True) if c)))
     return out
 
 

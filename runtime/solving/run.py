@@ -127,7 +127,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                                                                   state0, N)}
     sink.begin(info)  # what is known before the first step: a killed run's progress record says how it was run
     stats_total: dict = {}
-    check = RunChecks(functions, settings, params, theta_start, dth)
+    check = RunChecks(functions, settings, params, theta_start, dth, state0)
     # on a terminal a bar redrawn in place; in a log (stderr not a terminal) a line every LOG_INTERVAL s, kept
     tty = sys.stderr.isatty()
     bar = tqdm(total=revolutions, initial=done, unit="rev", disable=not progress, leave=not tty,

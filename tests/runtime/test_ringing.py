@@ -11,7 +11,7 @@ import pytest
 
 import apexseal
 from apexseal.runtime.api import initial_state
-from apexseal.runtime.solving.ringing import mode_frequencies, ringing
+from apexseal.runtime.solving.ringing import mode_damping, mode_frequencies, ringing
 
 
 @pytest.fixture(scope="module")
@@ -38,6 +38,24 @@ def test_a_contact_rings_at_its_analytic_frequency(default_scene, rest):
     assert w["p2_h_s0"] == pytest.approx(math.sqrt(p["kw"] / p["ms"]), rel=1e-6)
     assert w["n2_h0_s0"] == pytest.approx(math.sqrt(p["kg2"] * (1 / p["ms"] + p["ds2"] ** 2 / p["Icg"])), rel=1e-3)
     assert w["q2_h0_s0"] == pytest.approx(math.sqrt(p["kg4"] * (1 / p["ms"] + p["ds2"] ** 2 / p["Icg"])), rel=1e-3)
+
+
+def test_a_contacts_damping_ratio_is_its_analytic_one_halved(default_scene, rest):
+    """The explicit methods' stability check judged each contact alone, by c / (2 sqrt(k ms)) halved (the damping
+    acts on approach only); it now takes each mode's ratio from the model (``mode_damping``). Where the answer is
+    known it gives it: the tip alone, cw / (2 sqrt(kw ms)) / 2; a back corner alone, which turns the seal too and
+    moves a mass 1 / (1/ms + ds2^2/Icg) at the corner, cr w / (2 kg) / 2, 1.9 times the tip's ratio at 1.9 times
+    its frequency. Friction, which damps at rest too, is no part of it; a damper named undamped counts for none."""
+    p = default_scene.parameters
+    modes = {m.mode: m for m in mode_damping(*rest, ("cw", "cr", "cs"))}
+    tip, corner = modes["p2_h_s0"], modes["n2_h0_s0"]
+    assert tip.contacts == ("xs5",) and tip.rad_s == pytest.approx(math.sqrt(p["kw"] / p["ms"]), rel=1e-6)
+    assert tip.zeta == pytest.approx(p["cw"] / (2 * math.sqrt(p["kw"] * p["ms"])) / 2, rel=1e-4)
+    assert corner.zeta == pytest.approx(p["cr"] * corner.rad_s / (2 * p["kg2"]) / 2, rel=2e-3)
+    assert corner.zeta > 1.8 * tip.zeta
+    assert {m.mode: m.rad_s for m in modes.values()} == mode_frequencies(*rest)
+    without = {m.mode: m for m in mode_damping(*rest, ("cw", "cr", "cs"), undamped=("cw",))}
+    assert without["p2_h_s0"].zeta == 0 and without["n2_h0_s0"].zeta == corner.zeta
 
 
 def test_the_fastest_ringing_is_that_of_the_jacobian_along_a_run(default_scene, default_functions, rest):
