@@ -13,9 +13,10 @@ from ..results.plausibility import FLANK_LENGTHS
 from ..results.result import StopInfo
 from ..scenes.schema import rpm_of_omega
 from ..scenes.units import show_factor
-from .contact_stability import MAX_GROWTH, beyond, contact_frequencies, model_growth
+from .contact_stability import MAX_GROWTH, beyond, model_growth
 from .friction_stability import friction_at_start
 from .methods import method_of, run_steps
+from .ringing import ringing
 from .settings import RunSettings
 
 
@@ -63,21 +64,24 @@ def state_shown(i: int, value: float) -> str:
     return f"operation.initial_state.{st.name} = {value * show_factor(st.unit, show):.6g} {show}"
 
 
-def speed_problem(functions, params) -> str | None:
-    """The rotor speed, if it is too slow for the stiffest contact to be followed in crank angle."""
+def speed_problem(functions, params, theta: float = 0.0, X=None) -> str | None:
+    """The rotor speed, if it is too slow for the seal's fastest ringing on its contacts to be followed in crank angle
+    (runtime/solving/ringing.py: each contact mode's, from the model's Jacobian near the state ``X`` at crank angle
+    ``theta``; default: the seal at rest in its groove's centre)."""
     p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
     omega = p["omega"]
-    frequencies = contact_frequencies(params, functions.parameter_names, functions.parameters_read())
-    if not frequencies:  # no contact in the model
+    X = np.zeros(len(functions.state_names)) if X is None else X
+    ring = ringing(functions, params, theta, X)
+    if ring is None:  # no contact in the model
         return None
-    name, w = max(frequencies.items(), key=lambda item: item[1])
-    ratio = w / omega if omega > 0 else math.inf
+    ratio = ring.per_rad(omega) if omega > 0 else math.inf
     if ratio <= MAX_OSCILLATIONS_PER_RAD:
         return None
-    rpm, rpm_min = rpm_of_omega(omega), rpm_of_omega(w / MAX_OSCILLATIONS_PER_RAD)
-    return (f"operation.rpm = {rpm:.3g} rpm is too slow to simulate in crank angle: the stiffest contact ({name}, "
-            f"sqrt(k/ms) = {w:.3g} rad/s) would oscillate {ratio * 2 * math.pi:.3g} times per revolution; "
-            f"allowed: rpm >= {rpm_min:.3g} (at most {MAX_OSCILLATIONS_PER_RAD:g} oscillations per rad)")
+    rpm, rpm_min = rpm_of_omega(omega), rpm_of_omega(ring.rad_s / MAX_OSCILLATIONS_PER_RAD)
+    return (f"operation.rpm = {rpm:.3g} rpm is too slow to simulate in crank angle: the seal's fastest ringing on its "
+            f"contacts (contact mode {ring.mode}, {ring.rad_s:.3g} rad/s) would oscillate {ratio * 2 * math.pi:.3g} "
+            f"times per revolution; allowed: rpm >= {rpm_min:.3g} (at most {MAX_OSCILLATIONS_PER_RAD:g} oscillations "
+            "per rad)")
 
 
 def far_outside_practice(functions, params, pressure=None) -> str:
@@ -185,8 +189,8 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
               dtheta: float | None = None) -> StopInfo | None:
     """Refuse to start what cannot give a meaningful result, with the reason.
 
-    * a rotor speed too slow for the stiffest contact (:func:`speed_problem`), an initial state that starts the
-      seal deep inside a wall (:func:`start_problem`) or with its groove's mouth off its flat sides
+    * a rotor speed too slow for the seal's fastest ringing on its contacts (:func:`speed_problem`), an initial
+      state that starts the seal deep inside a wall (:func:`start_problem`) or with its groove's mouth off its flat sides
       (:func:`flank_problem`): each names the scene value;
     * NaN/Inf in the right-hand side;
     * an explicit fixed-step method (euler, rk, erk-rk4: ``Method.stability``) with a step that amplifies the
@@ -203,7 +207,7 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
       the right-hand side is finite.
     """
     mode = mode_label(functions.guard_names, closed)
-    for problem in (speed_problem(functions, params), start_problem(functions, params, theta, X, u),
+    for problem in (speed_problem(functions, params, theta, X), start_problem(functions, params, theta, X, u),
                     flank_problem(functions, params, theta, X, closed, u)):
         if problem:
             return StopInfo(0.0, mode, problem)

@@ -85,9 +85,9 @@ def _closed_state(guards, guards_jac, theta, X, closed, params, u) -> np.ndarray
 
 def _linearised(functions, params, theta: float, X, modes=None):
     """For each mode of ``modes`` (default: every mode of the model) whose contacts close together near the state
-    ``X`` at crank angle ``theta``: the mode, the state where they are closed (velocities zero: the seal at rest
-    there), the Jacobian of the right-hand side there with those contacts active, and a function J(state, params) of
-    the same Jacobian at another state or parameter vector (module docstring)."""
+    ``X`` at crank angle ``theta``, with a finite Jacobian there: the mode, the state where they are closed
+    (velocities zero: the seal at rest there), the Jacobian of the right-hand side there with those contacts active,
+    and a function J(state, params) of the same Jacobian at another state or parameter vector (module docstring)."""
     import casadi as ca
 
     sx = functions.sx()
@@ -109,7 +109,9 @@ def _linearised(functions, params, theta: float, X, modes=None):
             return np.asarray(functions.rhs_jac(theta, state, closed.astype(float), p_, u, np.zeros(state.size))[1],
                               float)
 
-        yield mode, at, jac(at, params), jac
+        J = jac(at, params)
+        if np.isfinite(J).all():  # a scene far outside practice can overflow it: no ringing to tell
+            yield mode, at, J, jac
 
 
 def _fastest(J) -> tuple[float, np.ndarray, np.ndarray]:
@@ -178,7 +180,8 @@ def mode_damping(functions, params, theta: float, X, dampers, undamped=(), modes
             C -= (jac(state, damped) - jac(state, bare))[n:2 * n, n:2 * n] / 2
         C = A @ C @ np.linalg.inv(A)  # in the positions' rates
         zeta = float(psi @ C @ phi) / (2 * w * float(psi @ phi)) if w > 0 else 0.0
-        zeta = max(zeta, 0.0)  # dampers only take energy: below 0 is round-off (no damper at all: -1e-7)
+        # dampers only take energy: below 0 is round-off (no damper at all: -1e-7); not finite, none is counted
+        zeta = max(zeta, 0.0) if math.isfinite(zeta) else 0.0
         guards = functions.guard_names
         out.append(ModeRinging(mode.label, w, zeta, tuple(g for g, c in zip(guards, mode.closed, strict=True) if c)))
     return out

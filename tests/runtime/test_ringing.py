@@ -104,3 +104,24 @@ def test_a_run_says_whether_its_samples_resolve_the_ringing(default_scene, defau
     assert t["resolved"] and t["ringing_rad_s"] == s["ringing_rad_s"] and t["samples_per_revolution"] == needed
     describe_result(high, summarise(high))
     assert "note:" not in capsys.readouterr().out
+
+
+@pytest.mark.filterwarnings("ignore::apexseal.runtime.scenes.units.PlausibilityWarning")  # the slow rotor
+def test_the_speed_check_follows_the_seals_fastest_ringing(default_scene, rest):
+    """The preflight's speed check (at most 1e8 oscillations per rad of crank angle) took the stiffest contact alone,
+    sqrt(kw/ms) = 2.4e5 rad/s, and let a rotor twice too slow for the seal's ringing on two groove corners and the
+    tip (5.07e5 rad/s) through; it takes that ringing now, and names its mode."""
+    from apexseal.runtime.solving.preflight import MAX_OSCILLATIONS_PER_RAD, speed_problem
+
+    f, params, theta, X = rest
+    ring = ringing(*rest)
+    p = default_scene.parameters
+    single = math.sqrt(p["kw"] / p["ms"])
+    between = (single + ring.rad_s) / 2 / MAX_OSCILLATIONS_PER_RAD  # rad/s of the rotor: the old check let it run
+    assert ring.rad_s > 2 * single
+    slow = default_scene.with_overrides(**{"operation.rpm": f"{between * 30 / math.pi} rpm"})
+    problem = speed_problem(f, slow.parameter_vector(f.parameter_names), theta, X)
+    assert problem is not None and f"contact mode {ring.mode}" in problem
+    enough = 1.01 * ring.rad_s / MAX_OSCILLATIONS_PER_RAD
+    fast = default_scene.with_overrides(**{"operation.rpm": f"{enough * 30 / math.pi} rpm"})
+    assert speed_problem(f, fast.parameter_vector(f.parameter_names), theta, X) is None
