@@ -12,6 +12,9 @@ the eigenvalues of -(d accelerations / d positions)(d position rates / d velocit
 side there, with those contacts active (the linearised equations of motion M u' = f, Eq. 80, with every contact
 law).
 Friction, which the rest state does not engage, and damping move the ringing by a few percent.
+:func:`mode_damping` adds each mode's damping ratio from the contacts' dampers; the explicit fixed-step methods'
+stability check judges every mode by the two (runtime/solving/contact_stability.py, ``model_growth``), and the
+preflight's speed check by the fastest ringing (runtime/solving/preflight.py, ``speed_problem``).
 
 The output samples resolve a ringing of w rad/s when their Nyquist frequency, samples per revolution x omega / 2,
 lies above it (:func:`sampling`, the ``sampling`` record of a run and its summary.json): below, the peaks, extremes
