@@ -53,6 +53,18 @@ def _windows(ctx, param, values) -> tuple:
         raise click.BadParameter(str(err).replace("exclude = ", "")) from None
 
 
+def _deficit_tol(ctx, param, value) -> float:
+    """--deficit-tol, range-checked as the study checks it (problem.deficit_tol_problem); the study's default."""
+    from .runtime.studies.preload.problem import deficit_tol_problem
+    from .runtime.studies.preload.result import DEFICIT_TOL
+
+    if value is None:
+        return DEFICIT_TOL
+    if problem := deficit_tol_problem(value):
+        raise click.BadParameter(problem)
+    return value
+
+
 def _rate(ctx, param, value):
     """--max-rate in mm per degree (its range checked by its type, FloatRange), as the study takes it: m per degree."""
     return None if value is None else value * 1e-3
@@ -75,6 +87,9 @@ def _rate(ctx, param, value):
                    "constant optimum.")
 @click.option("--max-rate", type=FloatRange(0, min_open=True), default=None, callback=_rate, metavar="MM_PER_DEG",
               help="Bound on |d delta_s / d theta| of the schedule in mm per degree [default: none].")
+@click.option("--deficit-tol", type=float, default=None, callback=_deficit_tol, metavar="N2_RAD",
+              help="Bound of the squared force deficit int max(0, min_force - F)^2 dtheta, in N^2 rad: how far the "
+                   "force may fall short of --min-force [default: (0.2 N)^2 x 0.1 deg = 1.75e-5].")
 @click.option("--max-preload", default="100 mm", show_default=True, callback=_length, metavar="LENGTH",
               help="Upper bound of the preload delta_s searched (a length, e.g. 150mm; a bare number is in m).")
 @click.option("--max-iter", type=IntRange(1, 10000), default=100, show_default=True,
@@ -95,8 +110,9 @@ def _rate(ctx, param, value):
               help="Output folder for preload.json, preload.md, preload.png and scene.toml, written beside it and "
                    "renamed into place as a whole [default: apexseal-out/<scene name>-preload].")
 @click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, IPOPT iterations).")
-def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_force, exclude, knots, max_rate, max_preload,
-                     max_iter, objective, samples, nodes, vary_stiffness, check, out, quiet) -> None:
+def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_force, exclude, knots, max_rate,
+                     deficit_tol, max_preload, max_iter, objective, samples, nodes, vary_stiffness, check, out,
+                     quiet) -> None:
     """Optimise the spring preload delta_s of SCENE (default: the embedded case study): the least friction power
     (or preload) for which the seal tip stays pressed on the housing with at least --min-force everywhere on the
     periodic revolution (between samples too), as a constant and, with --schedule, as a schedule delta_s(theta)."""
@@ -106,7 +122,8 @@ def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_forc
         raise click.UsageError("--max-rate bounds the slope of a schedule: give it with --schedule KNOTS")
     with progress.enabled(not quiet):  # generation, compilation (elapsed time) and IPOPT iterations on stderr
         _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes,
-                  vary_stiffness, check, out, {"max_preload": max_preload, "max_iter": max_iter})
+                  vary_stiffness, check, out, {"max_preload": max_preload, "max_iter": max_iter,
+                                                               "deficit_tol": deficit_tol})
 
 
 def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate, objective, samples, nodes,
@@ -150,7 +167,8 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     options = study_options(min_force, max_groove_force, exclude, knots, objective,
                             samples or sc.solver.samples_per_revolution, nodes) \
         | {"max_rate_m_per_deg": max_rate, "vary_stiffness": vary_stiffness, "check": check,
-           "max_preload_m": limits["max_preload"], "max_iter": limits["max_iter"]}
+           "max_preload_m": limits["max_preload"], "max_iter": limits["max_iter"],
+           "deficit_tol_N2_rad": limits["deficit_tol"]}
 
     def report(stopped: str, status: str, unchanged: bool = False) -> list:
         """``unchanged``: the stages' results are those of the report in ``<out>.partial-<run id>`` (a checkpoint of
@@ -231,8 +249,10 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
     a failure is raised again after it, so that the stage is not kept) and written (``checkpoint``) but for the
     last, whose report the caller writes. The schedule and the stiffness valley start from the constant optimum;
     the bisection needs only the feasible start, so it runs where IPOPT found no constant optimum too (its answer
-    is then the study's only one for a constant preload). ``limits``: max_preload and max_iter of the NLPs."""
+    is then the study's only one for a constant preload). ``limits``: max_preload, max_iter and deficit_tol of the
+    NLPs (deficit_tol the bisection's too)."""
     from .runtime.api import model_functions
+    from .runtime.studies.preload.advice import bisection_caveat
     from .runtime.studies.preload.bisect import bisect_preload
     from .runtime.studies.preload.problem import MM, PreloadSetup
     from .runtime.studies.preload.report import saved_friction_power
@@ -282,12 +302,15 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
         with stage("bisection", "bisection"):
             b = done["bisection"] = finished(bisect_preload(sc, min_force=min_force, exclude=exclude, setup=setup,
                                                             nodes=nodes, upper=c.start_delta_s,
-                                                            max_preload=limits["max_preload"], progress=probed))
+                                                            max_preload=limits["max_preload"], progress=probed,
+                                                            deficit_tol=limits["deficit_tol"]))
         against = (f"the constant optimum above ({c.delta_s / MM:.4f} mm) differs by "
                    f"{abs(b.delta_s - c.delta_s) / MM:.4f} mm" if c.ok else
                    "IPOPT found no constant optimum (above): this is the study's answer for a constant preload")
+        caveat = bisection_caveat(b)
         ended(f"  bisection over full simulations: delta_s* in [{b.lower / MM:.4f}, {b.delta_s / MM:.4f}] mm "
-              f"({b.simulations} simulations, {b.wall_time_s:.1f} s); {against}", "bisection",
+              f"({b.simulations} simulations, {b.wall_time_s:.1f} s); {against}"
+              + (f"\n  WARNING: {caveat}" if caveat else ""), "bisection",
               plan[-1] if plan[-1] != "bisection" else None)
     if c.ok and vary_stiffness:
         from .runtime.studies.preload.stiffness import describe, stiffness_valley

@@ -300,6 +300,9 @@ def test_study_needs_the_spring_and_the_housing_contact(default_scene):
     (["--max-preload", "0 mm"], ["--max-preload", "> 0"]),
     (["--max-preload", "5 N"], ["--max-preload", "5 N"]),
     (["--max-iter", "0"], ["--max-iter", "0"]),
+    (["--deficit-tol", "0"], ["--deficit-tol", "deficit_tol = 0.0", "(0, 1000) N^2 rad"]),  # as the API's range
+    (["--deficit-tol", "2000"], ["--deficit-tol", "deficit_tol = 2000.0", "(0, 1000) N^2 rad"]),
+    (["--deficit-tol", "nan"], ["--deficit-tol", "deficit_tol = nan", "(0, 1000) N^2 rad"]),
 ])
 def test_cli_bad_input(tmp_path, args, words):
     r = CliRunner().invoke(main, ["optimise-preload", *args, "--out", str(tmp_path / "o")])

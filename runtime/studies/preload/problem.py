@@ -449,6 +449,19 @@ def max_preload_problem(max_preload) -> str | None:
     return f"max_preload = {max_preload!r}: must be a length > 0 and <= {MAX_PRELOAD:g} m"
 
 
+#: the largest deficit_tol (N^2 rad) a study takes, from the command line and the API alike
+MAX_DEFICIT_TOL = 1e3
+
+
+def deficit_tol_problem(deficit_tol) -> str | None:
+    """What is wrong with a study's ``deficit_tol`` (the bound of the squared force deficit, in (0, MAX_DEFICIT_TOL)
+    N^2 rad), or None."""
+    if isinstance(deficit_tol, numbers.Real) and not isinstance(deficit_tol, bool | np.bool_) \
+            and 0 < deficit_tol < MAX_DEFICIT_TOL:
+        return None
+    return f"deficit_tol = {deficit_tol!r}: must be in (0, {MAX_DEFICIT_TOL:g}) N^2 rad"
+
+
 def check_request(scene, min_force, samples, revolutions, max_groove_force=None) -> None:
     """Reject what the study cannot answer, naming the option, its value and the allowed range."""
     problems = []

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ....files import atomic_write
+from .advice import caveats
 from .problem import MM
 
 #: the files a preload report folder may hold (another file makes the command refuse to replace the folder)
@@ -50,7 +51,10 @@ def report_status(results: dict, *, interrupted_by: str = "", stage: str = "", r
     * a stage refused: ``failed``, "the <stage> failed: <why>";
     * a result that failed (IPOPT did not reach the optimum, the start was infeasible): ``failed``, "the <stage>
       failed: <its message>" for the first such result;
-    * otherwise ``completed``.
+    * otherwise ``completed``: also where the study warns (:func:`.advice.caveats`: a constant optimum that is not
+      robust, a feasible set not monotone in the preload). The study then did what it was asked and its answer is a
+      feasible design; the warning (the console's lines, the top of preload.md, ``warnings`` in preload.json) says
+      what it is worth and what to do.
     """
     if not interrupted_by:
         key = next((k for k, r in results.items() if r is not None and r.interrupted_by), None)
@@ -140,6 +144,7 @@ def _designs(results: dict) -> list[tuple[str, object, object]]:
 def markdown(scene_name: str, results: dict, bisection=None, valley=None, overrides: dict | None = None,
              scene_file: bool = False) -> str:
     lines = [f"# Preload study of {scene_name}", ""]
+    lines += [f"**Warning: {w}**" + "\n" for w in caveats(results, bisection)]
     if overrides:
         lines += [f"Scene keys replaced (--set): {_shown(overrides)}.", ""]
     if scene_file:
@@ -280,6 +285,7 @@ def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=
         | {k: (r.to_dict() if r is not None else None) for k, r in results.items()}
     if bisection is not None:
         payload["bisection"] = bisection.to_dict()
+    payload["warnings"] = caveats(results, bisection)
     if valley:
         from dataclasses import asdict
 

@@ -8,6 +8,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from .advice import robustness, shortfall_advice, shortfall_kind
 from .problem import MM
 from .schedule import Schedule
 
@@ -71,6 +72,10 @@ class PreloadResult:
     #: interval, and the share of the deficit within it (:func:`deficit_span`); None without a deficit
     deficit_span_deg: list | None = None
     deficit_span_share: float | None = None
+    #: what that span is (advice.shortfall_kind): "transient" (next to a chamber switch, or the tip rings) or
+    #: "smooth" (a smooth minimum of the tip force, where the lift-off is real), and why; "" without a deficit
+    deficit_span_kind: str = ""
+    deficit_span_why: str = ""
     deficit_tol: float = DEFICIT_TOL
     max_groove_force: float | None = None  # N, the bound on every seal-groove contact force (None: none)
     groove_excess: float | None = None  # N^2 rad, the groove-force excess quadrature of the re-simulation
@@ -102,6 +107,11 @@ class PreloadResult:
     #: who stopped the study before it ended (a signal's sender, e.g. "the user (Ctrl-C, SIGINT)"), "" where it ended
     #: by itself: the report's status is then "interrupted" (:func:`.report.report_status`)
     interrupted_by: str = ""
+    #: a constant optimum held by a bound: whether every preload advice.ROBUST_STEPS above it re-simulates feasibly
+    #: too (:func:`.study._polish_constant`); False: a knife-edge point (:func:`.advice.robustness`); None: not checked
+    robust: bool | None = None
+    #: [[delta_s m, passed, smallest force at the samples N, its angle deg], ...] the robustness check's probes
+    robust_probes: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
         """The fields as plain data (numbers, strings, lists, dicts), as ``preload.json`` holds them; not the
@@ -138,6 +148,7 @@ class PreloadResult:
             lines.append("  knots: " + ", ".join(f"{a:.1f} deg: {v / MM:.3f} mm"
                                                   for a, v in zip(self.knot_angles_deg, self.knots, strict=True)))
         lines += [
+            *self._headline_force(),
             f"  force deficit int max(0, {self.min_force:g} N - F)^2 dtheta = {self.deficit:.3g} N^2 rad "
             f"(bound {self.deficit_tol:.3g})" + (
                 f", excluded: {', '.join(f'{a:g}..{b:g} deg' for a, b in self.exclude_deg)}" if self.exclude_deg else ""),
@@ -151,6 +162,7 @@ class PreloadResult:
             f"  friction power {self.friction_power:.3f} W vs {self.scene_friction_power:.3f} W at the scene's preload "
             f"({self.friction_power - self.scene_friction_power:+.3f} W)",
             *self._holding(),
+            *robustness(self),
             f"  IPOPT: {self.ipopt_status}, {self.ipopt_iterations} iterations, {self.ipopt_time_s:.1f} s "
             f"({self.rounds} round{'s' if self.rounds != 1 else ''}"
             f"{'; solved again with its filter bounded after its first solve stalled' if self.filter_bounded else ''}"
@@ -167,8 +179,18 @@ class PreloadResult:
         (start, end), share = self.deficit_span_deg, self.deficit_span_share
         if (end - start) % 360.0 == 0.0:
             return ["  the deficit is spread over the whole revolution (no window of it stands out)"]
-        return [f"  {100 * share:.0f} % of it at {start:.1f}...{end:.1f} deg, where the tip force between the samples "
-                "falls short (an --exclude window there frees the preload from it)"]
+        where = f"  {100 * share:.0f} % of it at {start:.1f}...{end:.1f} deg, where the tip force falls short"
+        if not self.deficit_span_kind:
+            return [where]
+        return [f"{where}: {shortfall_advice(self.deficit_span_kind, self.deficit_span_why)}"]
+
+    def _headline_force(self) -> list[str]:
+        """The smallest force the optimum reaches against the one asked, and the tolerance that accepts it."""
+        if self.min_measure >= self.min_force:
+            return [f"  at least the {self.min_force:g} N asked at every sample (smallest {self.min_measure:.4g} N)"]
+        return [f"  smallest force reached {self.min_measure:.4g} N for the {self.min_force:g} N asked: met within the "
+                f"force-deficit tolerance deficit_tol = {self.deficit_tol:.3g} N^2 rad (--deficit-tol; the default "
+                "allows e.g. a 0.2 N shortfall over 0.1 deg), not at every angle"]
 
     def _holding(self) -> list[str]:
         """What holds a constant optimum (:attr:`active`), and how it was lowered from where IPOPT stopped."""
@@ -207,6 +229,9 @@ def fill_result(res, setup, grid, knots_m, sim) -> None:
     span = deficit_span(sim.thetas, sim.deficit_at, setup.dth)
     if span is not None:
         res.deficit_span_deg, res.deficit_span_share = [span[0], span[1]], span[2]
+        if (span[1] - span[0]) % 360.0:
+            res.deficit_span_kind, res.deficit_span_why = shortfall_kind(sim.thetas, sim.measure, sim.pressures,
+                                                                         span[0], span[1])
     res.min_measure, res.min_measure_angle = setup.smallest(sim)
     res.periodic_change = sim.change
     if setup.max_groove_force is not None:

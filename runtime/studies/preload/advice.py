@@ -1,0 +1,113 @@
+"""What the preload study tells a spring designer beside its numbers: where the force falls short (an impact
+transient, which an ``--exclude`` window may rightly free, or a smooth minimum of the tip force, where the lift-off
+is real), when the spring itself cannot give the force asked, and whether a constant optimum is robust (more
+preload keeps it feasible) or a knife-edge point of a feasible set that is not monotone in the preload.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .problem import MM
+
+#: crank angle (deg) on each side of where the force falls short in which a chamber switch or the tip's ringing
+#: marks it as an impact transient
+MARGIN_DEG = 5.0
+#: a chamber switch: a step of Pa - Pb between two samples larger than this fraction of its range over the revolution
+PRESSURE_STEP = 0.25
+#: relative steps above a constant optimum re-simulated to check that more preload stays feasible
+#: (:func:`.study._polish_constant`): a spring loses or gains that much preload in its tolerances
+ROBUST_STEPS = (0.01, 0.05)
+
+
+def _near(deg: np.ndarray, start: float, end: float) -> np.ndarray:
+    """The samples (deg mod 360) within MARGIN_DEG of the span [start, end] (deg mod 360, may cross 0)."""
+    width = (end - start) % 360.0
+    return (deg - (start - MARGIN_DEG)) % 360.0 <= width + 2 * MARGIN_DEG
+
+
+def shortfall_kind(thetas, measure, pressures, start: float, end: float) -> tuple[str, str]:
+    """("transient", why) where the tip force falls short at [start, end] deg next to a chamber switch (a step of
+    Pa - Pb of more than PRESSURE_STEP of its range) or while the tip rings (two or more local minima of the force at
+    the samples within MARGIN_DEG of it); else ("smooth", why): a single smooth minimum of the force (the seal's
+    inertial or gas load), where the lift-off is real. ``thetas`` (rad), ``measure`` (N) and ``pressures`` (2 x
+    samples, Pa) at the samples of a re-simulated revolution."""
+    deg = np.degrees(np.asarray(thetas, float)) % 360.0
+    near = _near(deg, start, end)
+    dp = np.asarray(pressures[0], float) - np.asarray(pressures[1], float)
+    span = float(np.ptp(dp))
+    steps = np.abs(dp - np.roll(dp, 1))  # the step into each sample from the one before
+    if span > 0 and np.any(steps[near] > PRESSURE_STEP * span):
+        j = int(np.argmax(np.where(near, steps, -1.0)))
+        return "transient", f"a chamber switch at {deg[j]:.1f} deg (Pa - Pb steps by {steps[j] / 1e5:.3g} bar)"
+    m = np.asarray(measure, float)
+    minima = near & (m < np.roll(m, 1)) & (m <= np.roll(m, -1))
+    if np.count_nonzero(minima) >= 2:
+        return "transient", f"the tip rings there ({np.count_nonzero(minima)} dips of its force within " \
+                            f"{MARGIN_DEG:g} deg)"
+    return "smooth", "a single smooth minimum of the tip force (the seal's inertial and gas load), no chamber switch"
+
+
+def shortfall_advice(kind: str, why: str) -> str:
+    """What to do about a force that falls short, by :func:`shortfall_kind`."""
+    if kind == "transient":
+        return (f"an impact transient ({why}): an --exclude window there frees the preload from it, where the "
+                "seal may leave the housing that briefly")
+    return (f"{why}: the lift-off there is real, so do not exclude it (that hides the failure the study guards "
+            "against); more preload, a stiffer spring or a lower --min-force")
+
+
+def spring_capacity(setup, max_preload: float, min_force: float) -> str:
+    """The limit of the spring where its force at rest at ``max_preload`` (Eq. 39) is below ``min_force``: no preload
+    searched can press the tip with the force asked; "" where it can."""
+    force = setup.pmap.spring_force(max_preload)
+    if force >= min_force:
+        return ""
+    return (f"the spring cannot give it: its force at max_preload = {max_preload / MM:g} mm is ks x delta_s = "
+            f"{force:.4g} N < {min_force:g} N asked; use a stiffer spring (--set 'spring.ks=...') or a larger "
+            "max_preload (--max-preload)")
+
+
+def robustness(result) -> list[str]:
+    """The lines saying that a constant optimum is not robust (:attr:`.result.PreloadResult.robust` False): what it
+    means and what to do; [] otherwise."""
+    if result.robust is not False:
+        return []
+    failed = [p for p in result.robust_probes if not p[1]]
+    probes = "; ".join(f"{d / MM:.4f} mm fails (smallest force {f:.3g} N at {a:.1f} deg)" for d, _ok, f, a in failed)
+    return [f"NOT ROBUST: {result.delta_s / MM:.4f} mm is a knife-edge point: a little more preload violates the "
+            f"force requirement again ({probes}). The feasible set is not monotone in the preload, and no spring "
+            "can be made to such a narrow pocket of preload.",
+            "  likely cause: an impact transient (the ringing after a chamber switch) that the excluded windows "
+            "do not cover at this speed; widen or add an --exclude window around the failing angles, or take "
+            "the derivative-free bisection's answer (--check), the smallest preload above which every preload "
+            "probed passes"]
+
+
+def bisection_caveat(b) -> str:
+    """The line saying that the bisection found the feasible set not monotone in the preload; "" where it is."""
+    if b is None or b.monotone:
+        return ""
+    islands = [p for p in b.probes if p.passed and b.lower is not None and p.delta_s < b.lower]
+    fails = [p for p in b.probes if not p.passed and (b.delta_s is None or p.delta_s < b.delta_s)]
+    worst = min(fails, key=lambda p: p.min_measure) if fails else None
+    return ("the feasible set is not monotone in the preload: "
+            + (f"{len(islands)} probe{'s' * (len(islands) != 1)} below the bracket passed "
+               f"({', '.join(f'{p.delta_s / MM:.4f}' for p in islands[:4])} mm), islands not taken"
+               if islands else "probes below the bracket passed")
+            + (f"; the failing probes' worst force {worst.min_measure:.3g} N at {worst.min_measure_angle:.1f} deg"
+               if worst else "")
+            + ". The bracket is the robust answer (every preload probed above it passes); a lower optimum is a "
+            "knife-edge point. Likely cause: an excluded window too short at this speed.")
+
+
+def caveats(results: dict, bisection=None) -> list[str]:
+    """Every warning of a study's results, as the console, the top of preload.md and preload.json's ``warnings``
+    state them: a constant optimum that is not robust, a bisection that found the feasible set not monotone."""
+    out = []
+    c = results.get("constant")
+    if c is not None and c.ok:
+        out += robustness(c)
+    if line := bisection_caveat(bisection):
+        out.append(line)
+    return out

@@ -1,0 +1,154 @@
+"""What the preload study tells a spring designer beside its numbers (runtime/studies/preload/advice.py), on
+synthetic revolutions and stand-in re-simulations (no compiled units: fast).
+
+A user walk-through found: a constant optimum that was a knife-edge point (2.9338 mm passed, 2.9337 mm and 3.0 mm
+failed) reported as the optimum with no word of it; a headline saying "at least min_force everywhere" where the
+optimum met it only within the deficit tolerance; the advice "an --exclude window there frees the preload from it"
+at the smooth inertial minimum of the default scene, where the lift-off is real, and "exclude a window" where the
+spring itself could not give the force asked."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from apexseal.runtime.studies.preload import advice
+from apexseal.runtime.studies.preload.problem import MM
+from apexseal.runtime.studies.preload.result import DEFICIT_TOL, PreloadResult
+
+N = 720
+THETAS = np.radians(np.arange(1, N + 1) * 360.0 / N)
+DEG = np.degrees(THETAS) % 360.0
+
+
+def smooth_force():
+    """A tip force with one smooth minimum at 270 deg (an inertial load), under constant chamber pressures."""
+    return 5.0 + 3.0 * np.cos(np.radians(DEG - 90.0)), np.vstack([np.full(N, 2e5), np.full(N, 1e5)])
+
+
+def test_a_smooth_minimum_is_told_apart_from_an_impact_transient():
+    """The advice named every shortfall a place for an --exclude window, the smooth minimum too."""
+    force, p = smooth_force()
+    kind, why = advice.shortfall_kind(THETAS, force, p, 268.5, 275.0)
+    assert kind == "smooth" and "smooth minimum" in why
+    assert "do not exclude" in advice.shortfall_advice(kind, why)
+    stepped = p.copy()
+    stepped[0, DEG >= 272.0] = 6e5  # a chamber switch at 272 deg
+    kind, why = advice.shortfall_kind(THETAS, force, stepped, 268.5, 275.0)
+    assert kind == "transient" and "chamber switch at 272.0 deg" in why
+    assert "--exclude window there frees" in advice.shortfall_advice(kind, why)
+    ringing = force + 2.0 * np.sin(np.radians(DEG) * 200.0) * (np.abs(DEG - 272.0) < 4.0)
+    kind, why = advice.shortfall_kind(THETAS, ringing, p, 268.5, 275.0)
+    assert kind == "transient" and "rings" in why
+    # a span crossing 0 deg
+    kind, _ = advice.shortfall_kind(THETAS, 5.0 + 3.0 * np.cos(np.radians(DEG + 90.0 - 180.0)), p, 358.0, 2.0)
+    assert kind == "smooth"
+
+
+class _Pmap:
+    def __init__(self, ks):
+        self.ks = ks
+
+    def spring_force(self, delta_s):
+        return self.ks * delta_s
+
+
+class _Setup:
+    """What the advice and the polish read of a PreloadSetup."""
+
+    def __init__(self, ks=1e4, min_force=1000.0):
+        self.pmap, self.min_force = _Pmap(ks), min_force
+
+    def smallest(self, sim):
+        return sim.force, sim.angle
+
+
+def test_the_infeasible_advice_names_the_spring_s_limit_when_it_binds():
+    """For --min-force 1000N with ks x max_preload = 500 N the study advised an --exclude window."""
+    from apexseal.runtime.studies.preload.study import _infeasible_advice
+
+    force, p = smooth_force()
+
+    class Sim:
+        thetas, measure, pressures = THETAS, force, p
+
+    text = _infeasible_advice(_Setup(1e4, 1000.0), Sim, 270.0, 0.05)
+    assert "500 N < 1000 N" in text and "stiffer spring" in text and "--max-preload" in text
+    assert "xclude" not in text
+    smooth = _infeasible_advice(_Setup(1e4, 5.0), Sim, 270.0, 0.05)
+    assert "do not exclude" in smooth and "smooth minimum" in smooth
+
+
+class _Resim:
+    def __init__(self, d, feasible):
+        self.deficit = 0.0 if feasible else 1.0
+        self.groove_excess = 0.0
+        self.force, self.angle = (5.0, 270.0) if feasible else (-2.0, 191.5)
+        self.d = d
+
+
+def test_a_knife_edge_constant_optimum_is_flagged_not_robust(monkeypatch):
+    """The polish checked only 0.5 % less preload: a feasible pocket of 0.0002 mm, with more preload failing again,
+    was reported as the optimum with no warning. The robustness check re-simulates a little more preload."""
+    from apexseal.runtime.studies.preload import study
+
+    pocket = (2.93355 * MM, 2.93385 * MM)  # the walk-through's: 2.9336 and 2.9338 mm pass, 2.9337 mm too here
+
+    def feasible(d):
+        return pocket[0] <= d <= pocket[1] or d >= 4.4 * MM
+
+    monkeypatch.setattr(study, "periodic", lambda setup, sf, grid, k, *a: _Resim(k[0], feasible(k[0])))
+    monkeypatch.setattr(study, "periodic_many",
+                        lambda setup, sf, grid, ks, *a: [_Resim(k[0], feasible(k[0])) for k in ks])
+    res = PreloadResult(False, "", 5.0, [])
+    knots, _ = study._polish_constant(_Setup(), None, None, np.array([2.9338 * MM]), None, 5.0, (), DEFICIT_TOL, res)
+    assert knots[0] == 2.9338 * MM and res.active == "deficit"
+    assert res.robust is False and not any(p[1] for p in res.robust_probes)
+    res.ok, res.knots, res.delta_s = True, [knots[0]], knots[0]
+    lines = advice.robustness(res)
+    assert "NOT ROBUST" in lines[0] and "191.5 deg" in lines[0] and "--exclude" in lines[1]
+    assert advice.caveats({"constant": res}) == lines
+    # above the pockets every preload passes: robust, nothing said
+    good = PreloadResult(False, "", 5.0, [])
+    study._polish_constant(_Setup(), None, None, np.array([4.41 * MM]), None, 5.0, (), DEFICIT_TOL, good)
+    assert good.robust is True and advice.robustness(good) == []
+
+
+def test_the_headline_states_the_smallest_force_reached_and_the_tolerance():
+    """The headline said the force was at least min_force everywhere; the default optimum reaches 4.967 N for 5 N,
+    accepted by the deficit tolerance."""
+    r = PreloadResult(True, "solved", 5.0, [], knot_angles_deg=[0.0], knots=[1.7e-3], delta_s=1.7e-3,
+                      spring_force=17.0, scene_delta_s=1e-3, deficit=1e-5, min_measure=4.967, min_measure_angle=270.0,
+                      friction_power=20.0, scene_friction_power=19.0, samples=720)
+    text = r.describe()
+    assert "smallest force reached 4.967 N for the 5 N asked" in text and f"{DEFICIT_TOL:.3g} N^2 rad" in text
+    assert "--deficit-tol" in text
+    r.min_measure = 5.2
+    assert "at least the 5 N asked at every sample" in r.describe()
+
+
+def test_a_bisection_not_monotone_is_said_at_the_top_of_the_report_and_in_its_json():
+    """Only preload.json/.md said ``monotone: False``: the console and the report's top lines said nothing of why the
+    bisection and IPOPT differed, nor which answer to trust."""
+    from apexseal.runtime.studies.preload.bisect import BisectionResult, Probe
+    from apexseal.runtime.studies.preload.report import markdown
+
+    probes = [Probe(d * MM, ok, 0.0 if ok else 1.0, 0.0, 20.0, 5.0 if ok else f, a)
+              for d, ok, f, a in ((4.30, True, 0, 0), (4.35, False, -1.0, 191.5), (4.3611, True, 0, 0),
+                                  (4.3889, False, -0.5, 190.2), (4.3895, True, 0, 0))]
+    b = BisectionResult(4.3895 * MM, 4.3889 * MM, 5.0, 270.0, 20.0, 0.0, 0.0, 6, 1.0, False, probes)
+    line = advice.bisection_caveat(b)
+    assert "not monotone" in line and "4.3000, 4.3611" in line and "-1 N at 191.5 deg" in line
+    assert "robust answer" in line
+    text = markdown("s", {"constant": None}, b)
+    assert text.splitlines()[2] == f"**Warning: {line}**"
+    b.monotone = True
+    assert advice.bisection_caveat(b) == "" and "Warning" not in markdown("s", {"constant": None}, b)
+
+
+@pytest.mark.parametrize("bad", [0, -1.0, 1e3, float("nan"), True, "1e-5"])
+def test_deficit_tol_out_of_range_names_the_field_value_and_range(bad):
+    from apexseal.runtime.studies.preload.problem import deficit_tol_problem
+
+    assert deficit_tol_problem(bad) == f"deficit_tol = {bad!r}: must be in (0, 1000) N^2 rad"
+    assert deficit_tol_problem(DEFICIT_TOL) is None
