@@ -89,7 +89,7 @@ def _rate(ctx, param, value):
               help="Bound on |d delta_s / d theta| of the schedule in mm per degree [default: none].")
 @click.option("--deficit-tol", type=float, default=None, callback=_deficit_tol, metavar="N2_RAD",
               help="Bound of the squared force deficit int max(0, min_force - F)^2 dtheta, in N^2 rad: how far the "
-                   "force may fall short of --min-force [default: (0.2 N)^2 x 0.1 deg = 1.75e-5].")
+                   "force may fall short of --min-force [default: (0.2 N)^2 x 0.1 deg = 6.98e-5].")
 @click.option("--max-preload", default="100 mm", show_default=True, callback=_length, metavar="LENGTH",
               help="Upper bound of the preload delta_s searched (a length, e.g. 150mm; a bare number is in m).")
 @click.option("--max-iter", type=IntRange(1, 10000), default=100, show_default=True,

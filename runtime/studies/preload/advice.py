@@ -53,8 +53,8 @@ def shortfall_advice(kind: str, why: str) -> str:
     if kind == "transient":
         return (f"an impact transient ({why}): an --exclude window there frees the preload from it, where the "
                 "seal may leave the housing that briefly")
-    return (f"{why}: the lift-off there is real, so do not exclude it (that hides the failure the study guards "
-            "against); more preload, a stiffer spring or a lower --min-force")
+    return (f"{why}: the lift-off there is real and it sets the preload; do not exclude it (that hides the failure "
+            "the study guards against)")
 
 
 def spring_capacity(setup, max_preload: float, min_force: float) -> str:
