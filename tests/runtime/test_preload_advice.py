@@ -56,6 +56,8 @@ class _Pmap:
 class _Setup:
     """What the advice and the polish read of a PreloadSetup."""
 
+    dth = np.radians(360.0 / N)
+
     def __init__(self, ks=1e4, min_force=1000.0):
         self.pmap, self.min_force = _Pmap(ks), min_force
 
@@ -84,7 +86,8 @@ class _Resim:
         self.deficit = 0.0 if feasible else 1.0
         self.groove_excess = 0.0
         self.force, self.angle = (5.0, 270.0) if feasible else (-2.0, 191.5)
-        self.d = d
+        self.thetas = THETAS
+        self.deficit_at = np.where(np.abs(DEG - 191.0) < 0.6, 1.0, 0.0) if not feasible else None
 
 
 def test_a_knife_edge_constant_optimum_is_flagged_not_robust(monkeypatch):
@@ -106,7 +109,8 @@ def test_a_knife_edge_constant_optimum_is_flagged_not_robust(monkeypatch):
     assert res.robust is False and not any(p[1] for p in res.robust_probes)
     res.ok, res.knots, res.delta_s = True, [knots[0]], knots[0]
     lines = advice.robustness(res)
-    assert "NOT ROBUST" in lines[0] and "191.5 deg" in lines[0] and "--exclude" in lines[1]
+    assert "NOT ROBUST" in lines[0] and "at 190.0...191.5 deg" in lines[0] and "--exclude" in lines[1]
+    assert f"{1.0 / DEFICIT_TOL:.3g} x its bound" in lines[0]
     assert advice.caveats({"constant": res}) == lines
     # above the pockets every preload passes: robust, nothing said
     good = PreloadResult(False, "", 5.0, [])

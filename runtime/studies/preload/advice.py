@@ -74,8 +74,9 @@ def robustness(result) -> list[str]:
     if result.robust is not False:
         return []
     failed = [p for p in result.robust_probes if not p[1]]
-    probes = "; ".join(f"{d / MM:.4f} mm fails (smallest force {f:.3g} N at {a:.1f} deg)" for d, _ok, f, a in failed)
-    return [f"NOT ROBUST: {result.delta_s / MM:.4f} mm is a knife-edge point: a little more preload violates the "
+    probes = "; ".join(f"{d / MM:.4f} mm fails (force deficit {deficit / result.deficit_tol:.3g} x its bound, at "
+                       f"{a:.1f}...{b:.1f} deg)" for d, _ok, deficit, (a, b) in failed)
+    return [f"  NOT ROBUST: {result.delta_s / MM:.4f} mm is a knife-edge point: a little more preload violates the "
             f"force requirement again ({probes}). The feasible set is not monotone in the preload, and no spring "
             "can be made to such a narrow pocket of preload.",
             "  likely cause: an impact transient (the ringing after a chamber switch) that the excluded windows "

@@ -110,7 +110,8 @@ class PreloadResult:
     #: a constant optimum held by a bound: whether every preload advice.ROBUST_STEPS above it re-simulates feasibly
     #: too (:func:`.study._polish_constant`); False: a knife-edge point (:func:`.advice.robustness`); None: not checked
     robust: bool | None = None
-    #: [[delta_s m, passed, smallest force at the samples N, its angle deg], ...] the robustness check's probes
+    #: [[delta_s m, passed, force deficit N^2 rad, [start, end] deg where it builds up], ...] the robustness check's
+    #: probes
     robust_probes: list = field(default_factory=list)
 
     def to_dict(self) -> dict:

@@ -88,7 +88,15 @@ from .problem import (
     study_quantities,
     windows,
 )
-from .result import ALLOWANCE, DEFICIT_TOL, PreloadResult, contact_powers, fill_result, knot_angles
+from .result import (
+    ALLOWANCE,
+    DEFICIT_TOL,
+    PreloadResult,
+    contact_powers,
+    deficit_span,
+    fill_result,
+    knot_angles,
+)
 from .schedule import SegmentGrid, simulate_schedule, simulate_schedules
 from .shooting import study_functions
 
@@ -339,8 +347,19 @@ def _check_robust(setup, sf, grid, d, min_force, exclude, broken, res) -> None:
     cannot be made to such a pocket, so the report says so (:func:`.advice.robustness`)."""
     ds = [d * (1 + step) for step in ROBUST_STEPS]
     sims = periodic_many(setup, sf, grid, [np.array([x]) for x in ds], min_force, exclude)
-    res.robust_probes = [[float(x), not broken(s), *setup.smallest(s)] for x, s in zip(ds, sims, strict=True)]
+    res.robust_probes = [[float(x), not broken(s), float(s.deficit), _where(s, setup)]
+                         for x, s in zip(ds, sims, strict=True)]
     res.robust = all(p[1] for p in res.robust_probes)
+
+
+def _where(sim, setup) -> list:
+    """[start, end] deg where a re-simulation's force deficit builds up (:func:`.result.deficit_span`), else where its
+    smallest force at the samples is ([angle, angle])."""
+    span = deficit_span(sim.thetas, sim.deficit_at, setup.dth)
+    if span is not None:
+        return [span[0], span[1]]
+    angle = setup.smallest(sim)[1]
+    return [angle, angle]
 
 
 def _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter, max_preload, start) -> None:
