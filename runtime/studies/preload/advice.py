@@ -111,4 +111,4 @@ def caveats(results: dict, bisection=None) -> list[str]:
         out += robustness(c)
     if line := bisection_caveat(bisection):
         out.append(line)
-    return out
+    return [w.strip() for w in out]
