@@ -142,7 +142,7 @@ def test_a_bisection_not_monotone_is_said_at_the_top_of_the_report_and_in_its_js
                                   (4.3889, False, -0.5, 190.2), (4.3895, True, 0, 0))]
     b = BisectionResult(4.3895 * MM, 4.3889 * MM, 5.0, 270.0, 20.0, 0.0, 0.0, 6, 1.0, False, probes)
     line = advice.bisection_caveat(b)
-    assert "not monotone" in line and "4.3000, 4.3611" in line and "-1 N at 191.5 deg" in line
+    assert "not monotone" in line and "4.3000, 4.3611" in line
     assert "robust answer" in line
     text = markdown("s", {"constant": None}, b)
     assert text.splitlines()[2] == f"**Warning: {line}**"

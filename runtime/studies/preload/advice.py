@@ -90,16 +90,13 @@ def bisection_caveat(b) -> str:
     if b is None or b.monotone:
         return ""
     islands = [p for p in b.probes if p.passed and b.lower is not None and p.delta_s < b.lower]
-    fails = [p for p in b.probes if not p.passed and (b.delta_s is None or p.delta_s < b.delta_s)]
-    worst = min(fails, key=lambda p: p.min_measure) if fails else None
     return ("the feasible set is not monotone in the preload: "
             + (f"{len(islands)} probe{'s' * (len(islands) != 1)} below the bracket passed "
                f"({', '.join(f'{p.delta_s / MM:.4f}' for p in islands[:4])} mm), islands not taken"
                if islands else "probes below the bracket passed")
-            + (f"; the failing probes' worst force {worst.min_measure:.3g} N at {worst.min_measure_angle:.1f} deg"
-               if worst else "")
             + ". The bracket is the robust answer (every preload probed above it passes); a lower optimum is a "
-            "knife-edge point. Likely cause: an excluded window too short at this speed.")
+            "knife-edge point. Likely cause: an excluded window too short at this speed (the failing probes' "
+            "deficits lie between the samples: bisection.probes in preload.json).")
 
 
 def caveats(results: dict, bisection=None) -> list[str]:
