@@ -874,3 +874,26 @@ def test_the_api_takes_quantities_and_windows_as_the_command_line_does(light):
     scene = light[0]
     a = optimise_preload(scene, min_force=f"{MIN_FORCE} N", nodes=NODES, max_preload="100 mm", setup=_setup(light))
     assert a.ok and a.min_force == MIN_FORCE
+
+
+def test_max_rate_takes_a_rate_per_angle_and_is_refused_where_it_cannot_bind(light):
+    """`max_rate="0.01 mm/deg"` was refused with "must be > 0 m per degree" though positive (quantity texts were
+    taken by min_force and max_preload only); a number meant in mm per degree, as the command line's --max-rate
+    takes it, was a bound 1000x looser that never bound; with knots=1 max_rate was silently ignored."""
+    from apexseal.runtime.studies.preload.problem import max_rate_of, max_rate_problem
+
+    assert max_rate_of("0.01 mm/deg") == pytest.approx(1e-5) and max_rate_of(2e-5) == 2e-5
+    assert max_rate_of(None) is None
+    with pytest.raises(PreloadStudyError, match=r"max_rate = '0.01 mm': expected a length per angle"):
+        max_rate_of("0.01 mm")  # pint reads it per radian
+    with pytest.raises(PreloadStudyError, match=r"max_rate = '5 N/deg': wrong unit"):
+        max_rate_of("5 N/deg")
+    assert max_rate_problem(1e-5, 4, 0.1) is None
+    scene = light[0]
+    for kwargs, words in [({"knots": 1, "max_rate": "0.01 mm/deg"}, ["max_rate = 1e-05", "knots = 1", "knots >= 2"]),
+                          ({"knots": 4, "max_rate": 0.05, "max_preload": "10 mm"},
+                           ["max_rate = 0.05 m per degree: never binds", "0.000111 m per degree", "'0.01 mm/deg'"])]:
+        with pytest.raises(PreloadStudyError) as err:
+            optimise_preload(scene, min_force=MIN_FORCE, nodes=NODES, setup=_setup(light), **kwargs)
+        for w in words:
+            assert w in str(err.value), str(err.value)

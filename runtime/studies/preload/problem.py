@@ -431,6 +431,40 @@ def study_quantities(min_force, max_groove_force=None, max_preload=None) -> tupl
             None if max_preload is None else quantity_of("max_preload", max_preload, "m", MAX_PRELOAD))
 
 
+def max_rate_of(max_rate) -> Any:
+    """``max_rate`` of the API in m per degree: a number (m per degree, where the command line's ``--max-rate`` is in
+    mm per degree) or a quantity per angle ("0.01 mm/deg"); None: no bound. A text without an angle ("0.01 mm", which
+    pint would read per radian) is a :class:`PreloadStudyError`; other values as they are (checked by the study)."""
+    from ...scenes.units import quantity_text
+
+    text = quantity_text(max_rate) or max_rate
+    if isinstance(text, str) and "/" not in text:
+        raise PreloadStudyError(f"max_rate = {text!r}: expected a length per angle, e.g. '0.01 mm/deg' (a number: m "
+                                "per degree)")
+    return quantity_of("max_rate", max_rate, "m/deg", MAX_PRELOAD)
+
+
+def max_rate_problem(max_rate, knots, max_preload) -> str | None:
+    """What is wrong with a schedule's slope bound ``max_rate`` (m per degree, > 0; None: no bound), or None: it
+    bounds a schedule's slope (a constant preload, ``knots`` = 1, has none), and a bound at or above the steepest
+    slope knots within 0..``max_preload`` can have is no bound (mostly a rate meant in mm per degree)."""
+    if max_rate is None:
+        return None
+    if not (isinstance(max_rate, numbers.Real) and not isinstance(max_rate, bool | np.bool_) and max_rate > 0):
+        return f"max_rate = {max_rate!r}: must be > 0 m per degree, e.g. 1e-5 or '0.01 mm/deg' (or None: no bound)"
+    if not (is_integer(knots) and 1 <= knots <= 72) or max_preload_problem(max_preload):
+        return None  # those are reported on their own
+    if knots == 1:
+        return (f"max_rate = {max_rate!r}: bounds the slope of a schedule, and a constant preload (knots = 1) has "
+                "none: give knots >= 2 or max_rate=None")
+    steepest = max_preload / (360.0 / knots)
+    if max_rate >= steepest:
+        return (f"max_rate = {max_rate:g} m per degree: never binds ({knots} knots {360 / knots:g} deg apart within "
+                f"0..max_preload = {max_preload:g} m change by at most {steepest:.3g} m per degree); a number is in m "
+                "per degree (the command line's --max-rate is in mm per degree): e.g. '0.01 mm/deg'")
+    return None
+
+
 def is_force(x) -> bool:
     """A force the study takes (N): a real number in (0, MAX_FORCE]."""
     return isinstance(x, numbers.Real) and not isinstance(x, bool | np.bool_) and 0 < x <= MAX_FORCE

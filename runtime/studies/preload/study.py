@@ -84,6 +84,8 @@ from .problem import (
     is_force,
     is_integer,
     max_preload_problem,
+    max_rate_of,
+    max_rate_problem,
     nodes_problem,
     study_quantities,
     windows,
@@ -154,8 +156,8 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
 
     ``exclude``: crank-angle windows ``(start_deg, end_deg)`` where the force is not required;
     ``samples``: output samples per revolution (default the scene's); ``nodes``: shooting nodes;
-    ``max_rate``: bound on |d delta_s / d theta| in m per degree (schedules); ``start``: a previous
-    result (e.g. the constant optimum) to start a schedule from; ``max_groove_force`` (N): bound every
+    ``max_rate``: bound on |d delta_s / d theta| in m per degree, or a quantity ("0.01 mm/deg"; schedules only);
+    ``start``: a previous result (e.g. the constant optimum) to start a schedule from; ``max_groove_force`` (N): bound every
     seal-groove contact force between samples too (the excess quadrature within ``deficit_tol``; with a
     ``setup``, its own bound is used). See the module docstring.
 
@@ -167,6 +169,7 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
 
     scene = scene_of(scene)
     min_force, max_groove_force, max_preload = study_quantities(min_force, max_groove_force, max_preload)
+    max_rate = max_rate_of(max_rate)
     _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter, max_preload, start)
     knots, nodes = int(knots), int(nodes)
     exclude = windows(exclude)
@@ -376,8 +379,8 @@ def _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, ma
         problems.append(f"objective = {objective!r}: must be one of {', '.join(OBJECTIVES)}")
     if problem := deficit_tol_problem(deficit_tol):
         problems.append(problem)
-    if max_rate is not None and not (isinstance(max_rate, int | float) and max_rate > 0):
-        problems.append(f"max_rate = {max_rate!r}: must be > 0 m per degree (or None: no bound)")
+    if problem := max_rate_problem(max_rate, knots, max_preload):
+        problems.append(problem)
     if not (is_integer(rounds) and 1 <= rounds <= 10):
         problems.append(f"rounds = {rounds!r}: must be an integer in 1..10")
     if problem := max_preload_problem(max_preload):
