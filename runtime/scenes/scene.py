@@ -279,6 +279,12 @@ def _assumptions(sections: dict[str, Section]) -> Assumptions | None:
     return resolve_assumptions(sections["assumptions"], sections["pressure"].source if "pressure" in sections else None)
 
 
+def _recording(scene: Scene, overrides: dict[str, Any]) -> Scene:
+    """``scene`` holding the ``overrides`` it was built with (:attr:`Scene.overrides`)."""
+    object.__setattr__(scene, "overrides", dict(overrides))
+    return scene
+
+
 def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: str) -> Scene:
     sections, problems = validate_sections(raw)
     effects: Effects | None = None
@@ -404,6 +410,9 @@ class Scene:
     _values: tuple[float, ...] = field(repr=False)
     _names: tuple[str, ...] = field(repr=False, default=())
     _sections: dict[str, Section] = field(repr=False, default_factory=dict)
+    #: the dotted keys replaced when this scene was built (load_scene's ``overrides``, with_overrides), as given:
+    #: what a report records of them (a study's preload.json)
+    overrides: dict[str, Any] = field(repr=False, default_factory=dict)
 
     @classmethod
     def from_toml_string(
@@ -422,7 +431,7 @@ class Scene:
         if not overrides:
             return _build(raw, folder, source_path, name)
         with _naming_overrides(overrides):
-            return _build(_overridden(raw, dict(overrides), name), folder, source_path, name)
+            return _recording(_build(_overridden(raw, dict(overrides), name), folder, source_path, name), overrides)
 
     @property
     def reference(self) -> str:
@@ -497,7 +506,8 @@ class Scene:
         (``contacts.cw`` or the damping ratio ``contacts.zeta_w``, ...) removes the other, unless both are given.
         """
         with _naming_overrides(dotted):
-            return _build(_overridden(self._raw, dotted, self.name), self._base_dir, self.source_path, self.name)
+            return _recording(_build(_overridden(self._raw, dotted, self.name), self._base_dir, self.source_path,
+                                     self.name), self.overrides | dotted)
 
     # -- content ------------------------------------------------------------
 

@@ -131,7 +131,9 @@ def _light_cli(out, *args) -> list[str]:
 def test_a_study_run_from_python_writes_the_command_s_report(studies, light, tmp_path):
     """From Python the study's report could not be written (only the command wrote one): save_preload_report
     writes the command's files from the results in memory, with the scene the study ran; a failed result beside a
-    completed report is kept aside, and what is not a study's result of the right kind is refused by name."""
+    completed report is kept aside, and what is not a study's result of the right kind is refused by name. Its
+    preload.json recorded `"overrides": {}` for a scene loaded with overrides (scene.toml had them), and scene.toml
+    the scene's 3600 samples per revolution where the study ran 72 (`apexseal simulate scene.toml` differed)."""
     import dataclasses
     import json
 
@@ -149,7 +151,12 @@ def test_a_study_run_from_python_writes_the_command_s_report(studies, light, tmp
     assert data["status"] == "completed" and data["constant"] == as_json(c) and data["schedule"] == as_json(s)
     assert data["saved_friction_power_W"] == c.friction_power - s.friction_power
     assert data["options"]["schedule_knots"] == 2 and data["options"]["min_force_N"] == MIN_FORCE
-    assert load_scene(out / "scene.toml").content_hash() == light[0].content_hash()
+    assert data["overrides"] == {"effects.chamber_pressure": False} == light[0].overrides
+    written = load_scene(out / "scene.toml")
+    assert written.solver.samples_per_revolution == SAMPLES == c.samples != light[0].solver.samples_per_revolution
+    assert written.content_hash() == light[0].with_overrides(**{"solver.samples_per_revolution": SAMPLES}).content_hash()
+    assert f"the samples the study ran (the scene's {light[0].solver.samples_per_revolution})" in \
+        (out / "scene.toml").read_text()
     failed = dataclasses.replace(c, ok=False, message="interrupted by the user")
     failed.__dict__["scene"] = c.scene
     with pytest.warns(KeptAsideWarning):

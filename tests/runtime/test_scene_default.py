@@ -165,6 +165,17 @@ def test_overrides_return_a_new_checked_scene(scene):
     assert scene.parameters["kw"] == 1e9  # the original is unchanged
 
 
+def test_a_scene_records_the_overrides_it_was_built_with(scene):
+    """A scene did not keep the keys replaced in it, so a study's report from Python (save_preload_report) recorded
+    `"overrides": {}` for `load_scene(..., overrides={"effects.chamber_pressure": False})`."""
+    off = load_scene(None, overrides={"effects.chamber_pressure": False})
+    assert off.overrides == {"effects.chamber_pressure": False} and scene.overrides == {}
+    fast = off.with_overrides(**{"operation.rpm": "6000 rpm"})
+    assert fast.overrides == {"effects.chamber_pressure": False, "operation.rpm": "6000 rpm"}
+    assert off.overrides == {"effects.chamber_pressure": False}  # the original's unchanged
+    assert fast.content_hash() == load_scene(None, overrides=fast.overrides).content_hash()
+
+
 def test_overrides_take_units_and_nested_keys(scene):
     s = scene.with_overrides(
         **{

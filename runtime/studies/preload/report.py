@@ -113,7 +113,7 @@ def save_report(out, constant, schedule=None) -> Path:
     folder = report_folder(Path(out))
     try:
         folder.write(lambda into: write_report(
-            into, scene, scene.name, results, None, constant.min_force,
+            into, scene, scene.name, results, None, constant.min_force, overrides=scene.overrides,
             stopped=stopped, options=options, run_id=folder.run_id, status=status))
         where = folder.commit(status)
     except BaseException:
@@ -300,7 +300,8 @@ def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=
     if copied:
         return paths + copied
     if scene is not None:
-        paths += _write_scene(folder, scene, run_id)
+        paths += _write_scene(folder, scene, run_id, next((r.samples for r in results.values() if r is not None
+                                                           and r.samples), None))
     paths.append(folder / "preload.png")
     save_png(figure(scene, results, min_force), paths[-1], 100)
     return paths
@@ -317,13 +318,20 @@ def _copy_unchanged(source: Path, folder: Path) -> list:
     return [folder / n for n in names]
 
 
-def _write_scene(folder: Path, scene, run_id: str | None) -> list:
-    """scene.toml (and the pressure table it names): the scene the study ran, ``--set`` keys included."""
+def _write_scene(folder: Path, scene, run_id: str | None, samples: int | None = None) -> list:
+    """scene.toml (and the pressure table it names): the scene the study ran, ``--set`` keys included, with the
+    ``samples`` per revolution the study ran (its ``samples`` option) as solver.samples_per_revolution, so that
+    ``apexseal simulate scene.toml`` runs the study's grid."""
     from ...scenes.resolved import resolved_toml
 
     head = (f"apexseal preload study{' ' + run_id if run_id else ''}, scene {scene.name}, content hash "
-            f"{scene.content_hash()}\nre-run: apexseal optimise-preload scene.toml, with the options recorded in "
-            "preload.json")
+            f"{scene.content_hash()}")
+    own = scene.solver.samples_per_revolution
+    if samples and samples != own:
+        scene = scene.with_overrides(**{"solver.samples_per_revolution": samples})
+        head += (f"\nsolver.samples_per_revolution = {samples}: the samples the study ran (the scene's {own}); "
+                 f"content hash as written {scene.content_hash()}")
+    head += "\nre-run: apexseal optimise-preload scene.toml, with the options recorded in preload.json"
     text, extra = resolved_toml(scene, header=head)
     paths = []
     for name, content in extra.items():
