@@ -14,7 +14,7 @@ import pytest
 
 from apexseal.runtime.studies.preload import advice
 from apexseal.runtime.studies.preload.problem import MM
-from apexseal.runtime.studies.preload.result import DEFICIT_TOL, PreloadResult
+from apexseal.runtime.studies.preload.result import DEFICIT_TOL, PreloadResult, squares_text
 
 N = 720
 THETAS = np.radians(np.arange(1, N + 1) * 360.0 / N)
@@ -129,6 +129,19 @@ def test_the_headline_states_the_smallest_force_reached_and_the_tolerance():
     assert "--deficit-tol" in text
     r.min_measure = 5.2
     assert "at least the 5 N asked at every sample" in r.describe()
+
+
+def test_a_deficit_below_zero_by_round_off_is_printed_as_zero_naming_it():
+    """The force deficit (an integral of a square, so >= 0) printed negative, `-1.34e-13 N^2 rad`: the integrator's
+    round-off, shown as if a quantity could be below 0."""
+    r = PreloadResult(True, "solved", 5.0, [], knot_angles_deg=[0.0], knots=[1.7e-3], delta_s=1.7e-3,
+                      spring_force=17.0, scene_delta_s=1e-3, deficit=-1.34e-13, min_measure=5.2,
+                      min_measure_angle=270.0, friction_power=20.0, scene_friction_power=19.0, samples=720,
+                      max_groove_force=100.0, groove_excess=-2e-14, groove_peak=50.0)
+    text = r.describe()
+    assert "dtheta = 0 (round-off: -1.34e-13, an integral of a square is >= 0) N^2 rad" in text, text
+    assert "dtheta = 0 (round-off: -2e-14," in text and "= -1.34e-13 N^2" not in text
+    assert squares_text(3.2e-5) == "3.2e-05" and squares_text(0.0) == "0"
 
 
 def test_a_bisection_not_monotone_is_said_at_the_top_of_the_report_and_in_its_json():

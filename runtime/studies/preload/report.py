@@ -19,6 +19,7 @@ import numpy as np
 from ....files import atomic_write
 from .advice import caveats
 from .problem import MM
+from .result import squares_text
 
 #: the files a preload report folder may hold (another file makes the command refuse to replace the folder)
 REPORT_FILES = frozenset({"preload.json", "preload.md", "preload.png", "scene.toml", "pressure.csv"})
@@ -197,7 +198,8 @@ def _bisection(b, c) -> list[str]:
                   "probed:", "",
                   "| delta_s (mm) | passes | force deficit (N^2 rad) | groove-force excess (N^2 rad) | friction power (W) "
                   "| smallest force at the samples (N) |", "|---|---|---|---|---|---|"]
-        lines += [f"| {p.delta_s / MM:.4f} | {'yes' if p.passed else 'no'} | {p.deficit:.3g} | {p.groove_excess:.3g} | "
+        lines += [f"| {p.delta_s / MM:.4f} | {'yes' if p.passed else 'no'} | {squares_text(p.deficit)} | "
+                  f"{squares_text(p.groove_excess)} | "
                   f"{p.friction_power:.3f} | {p.min_measure:.4g} at {p.min_measure_angle:.1f} deg |" for p in b.probes]
         lines += [""]
     if c is not None and not c.ok and b.delta_s is not None:

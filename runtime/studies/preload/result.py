@@ -150,12 +150,12 @@ class PreloadResult:
                                                   for a, v in zip(self.knot_angles_deg, self.knots, strict=True)))
         lines += [
             *self._headline_force(),
-            f"  force deficit int max(0, {self.min_force:g} N - F)^2 dtheta = {self.deficit:.3g} N^2 rad "
+            f"  force deficit int max(0, {self.min_force:g} N - F)^2 dtheta = {squares_text(self.deficit)} N^2 rad "
             f"(bound {self.deficit_tol:.3g})" + (
                 f", excluded: {', '.join(f'{a:g}..{b:g} deg' for a, b in self.exclude_deg)}" if self.exclude_deg else ""),
             *self._deficit_where(),
             *([f"  groove forces: excess int sum max(0, |F| - {self.max_groove_force:g} N)^2 dtheta = "
-               f"{self.groove_excess:.3g} N^2 rad (bound {self.deficit_tol:.3g}); largest at the samples "
+               f"{squares_text(self.groove_excess)} N^2 rad (bound {self.deficit_tol:.3g}); largest at the samples "
                f"{self.groove_peak:.4g} N (impacts between the samples can reach higher; the excess above counts them)"]
               if self.max_groove_force is not None else []),
             f"  smallest contact force at the samples: {self.min_measure:.4f} N at {self.min_measure_angle:.1f} deg "
@@ -239,6 +239,12 @@ def fill_result(res, setup, grid, knots_m, sim) -> None:
         res.groove_excess, res.groove_peak = sim.groove_excess, sim.groove_peak
     res.contact_friction_power = contact_powers(setup, sim)
     res.__dict__["simulation"] = sim  # not a field: kept for the figures, not written to JSON
+
+
+def squares_text(x: float) -> str:
+    """An integral of a square (the force deficit, the groove-force excess; N^2 rad) as printed: the integrator's
+    round-off can leave it a little below 0, which is printed as 0, naming the raw value as round-off."""
+    return f"{x:.3g}" if x >= 0 else f"0 (round-off: {x:.3g}, an integral of a square is >= 0)"
 
 
 #: the span of :func:`deficit_span` holds the output intervals around the densest one whose deficit is at least this

@@ -98,6 +98,7 @@ from .result import (
     deficit_span,
     fill_result,
     knot_angles,
+    squares_text,
 )
 from .schedule import SegmentGrid, simulate_schedule, simulate_schedules
 from .shooting import study_functions
@@ -237,12 +238,13 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
         sim = periodic(setup, sf, nlp.grid, x_knots, min_force, exclude)
         if sim.deficit <= deficit_tol * ALLOWANCE and sim.groove_excess <= deficit_tol * ALLOWANCE:
             break
-        announce(f"re-simulation: deficit {sim.deficit:.3g}, groove excess {sim.groove_excess:.3g} (bound "
-                 f"{deficit_tol:.3g}): solving again from the re-simulated revolution")
+        announce(f"re-simulation: deficit {squares_text(sim.deficit)}, groove excess "
+                 f"{squares_text(sim.groove_excess)} (bound {deficit_tol:.3g}): solving again from the re-simulated "
+                 "revolution")
     else:
         res.message = (f"after {rounds} rounds the re-simulated optimum still violates a bound: force deficit "
-                       f"{sim.deficit:.3g}, groove-force excess {sim.groove_excess:.3g} (bound {deficit_tol:.3g} "
-                       "N^2 rad): raise rounds, use more samples or a smaller rtol")
+                       f"{squares_text(sim.deficit)}, groove-force excess {squares_text(sim.groove_excess)} (bound "
+                       f"{deficit_tol:.3g} N^2 rad): raise rounds, use more samples or a smaller rtol")
         fill_result(res, setup, nlp.grid, x_knots, sim)
         res.ok = False
         return res
