@@ -287,7 +287,8 @@ def test_cli_writes_the_report_with_the_groove_bound_and_the_stiffness_valley(li
     assert data["options"]["samples"] == SAMPLES and data["scene_file"] == "scene.toml"
     assert "Scene keys replaced (--set): effects.chamber_pressure=false." in md
     ran = load_scene(out / "scene.toml")
-    assert not ran.effects.chamber_pressure and ran.content_hash() == light[0].content_hash()
+    assert not ran.effects.chamber_pressure and ran.solver.samples_per_revolution == SAMPLES  # --samples: the grid
+    assert ran.content_hash() == light[0].with_overrides(**{"solver.samples_per_revolution": SAMPLES}).content_hash()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # nothing left beside it
     valley = [m for m in caplog.messages if "stiffness valley: ks = " in m]
     assert len(valley) == 5 and "(0 of 5 done" in valley[0] and "(4 x the scene's)" in valley[-1], caplog.messages
