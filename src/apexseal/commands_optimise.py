@@ -3,6 +3,7 @@ while the seal tip stays on the housing (IPOPT)."""
 
 from __future__ import annotations
 
+import contextlib
 import sys
 from pathlib import Path
 
@@ -63,6 +64,18 @@ def _deficit_tol(ctx, param, value) -> float:
     if problem := deficit_tol_problem(value):
         raise click.BadParameter(problem)
     return value
+
+
+@contextlib.contextmanager
+def _kept(results: dict, key: str):
+    """A study stage whose interruption keeps, as ``results[key]``, what the study held when a signal stopped it:
+    IPOPT's answer where the signal landed during its re-simulation (study.py, ``ipopt_knots``)."""
+    try:
+        yield
+    except BaseException as err:
+        if (kept := getattr(err, "preload_result", None)) is not None:
+            results[key] = kept
+        raise
 
 
 def _rate(ctx, param, value):
@@ -269,7 +282,7 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
 
     results = done["results"]
     setup = PreloadSetup(sc, model_functions(sc), min_force, tuple(exclude), samples, max_groove_force=max_groove_force)
-    with stage("constant", "constant optimum"):
+    with stage("constant", "constant optimum"), _kept(results, "constant"):
         c = results["constant"] = finished(run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes,
                                                      objective=objective, setup=setup, **limits))
     feasible = c.start_delta_s is not None  # a preload that meets the requirement: what the bisection starts from
@@ -288,7 +301,7 @@ def _stages(sc, done, watch, signals, checkpoint, min_force, max_groove_force, e
 
     ended(c.describe(), "constant optimum", plan[0] if plan else None)
     if knots and c.ok:
-        with stage("schedule", "schedule"):
+        with stage("schedule", "schedule"), _kept(results, "schedule"):
             results["schedule"] = finished(run_study(sc, min_force=min_force, exclude=exclude, nodes=nodes,
                                                      knots=knots, objective=objective, max_rate=max_rate, start=c,
                                                      setup=setup, **limits))

@@ -905,3 +905,39 @@ def test_max_rate_takes_a_rate_per_angle_and_is_refused_where_it_cannot_bind(lig
             optimise_preload(scene, min_force=MIN_FORCE, nodes=NODES, setup=_setup(light), **kwargs)
         for w in words:
             assert w in str(err.value), str(err.value)
+
+
+def test_a_signal_during_the_re_simulation_keeps_ipopt_s_answer(light, tmp_path, monkeypatch):
+    """A signal after "IPOPT ... done" but before its re-simulation ended lost IPOPT's finished answer: from Python
+    the result said "nothing solved yet", the command "nothing to report" and wrote no report. Now the result keeps
+    it as ``ipopt_knots``, marked not re-simulated (``knots`` stay None), and the command's report holds it."""
+    import json
+    import os
+    import signal
+
+    from click.testing import CliRunner
+
+    import apexseal.signals
+    from apexseal.cli import main
+    from apexseal.runtime.studies.preload import study
+
+    resimulate = study.periodic
+
+    def stopped_there(*args, **kwargs):  # the signal lands as IPOPT's answer is re-simulated
+        os.kill(os.getpid(), signal.SIGINT)
+        return resimulate(*args, **kwargs)
+
+    monkeypatch.setattr(study, "periodic", stopped_there)
+    monkeypatch.setattr(apexseal.signals, "interactive", lambda: True)
+    with pytest.warns(apexseal.RunInterruptedWarning, match=r"IPOPT's answer, not re-simulated"):
+        res = optimise_preload(light[0], min_force=MIN_FORCE, nodes=NODES, setup=_setup(light))
+    assert not res.ok and res.knots is None and len(res.ipopt_knots) == 1 and res.ipopt_knots[0] > 0
+    assert "IPOPT's answer is kept, not re-simulated (ipopt_knots: " in res.message, res.message
+    out = tmp_path / "o"
+    r = CliRunner().invoke(main, _light_cli(out, "--no-check", "--quiet"))
+    assert r.exit_code == 130 and "nothing to report" not in r.output, r.output
+    (folder,) = [p for p in tmp_path.iterdir() if (p / "preload.json").is_file()]
+    data = json.loads((folder / "preload.json").read_text())
+    assert data["status"] == "interrupted" and data["constant"]["knots"] is None, data
+    assert data["constant"]["ipopt_knots"] == pytest.approx(res.ipopt_knots, rel=1e-6)
+    assert "IPOPT's answer is kept, not re-simulated" in (folder / "preload.md").read_text()

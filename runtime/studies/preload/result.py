@@ -94,6 +94,9 @@ class PreloadResult:
     rtol: float = 0.0
     max_defect: float | None = None  # largest continuity/periodicity defect at the solution (scaled state)
     history: list = field(default_factory=list)  # [(delta_s m, min force at samples N, deficit), ...] start search
+    #: m, IPOPT's last answer at the knots, set as IPOPT ends, before its re-simulation: what a study interrupted
+    #: then keeps (its ``knots`` are None: not re-simulated, the force between samples not checked)
+    ipopt_knots: list | None = None
     #: m, where IPOPT stopped when a constant preload below it was found feasible (:func:`.study._polish_constant`)
     ipopt_delta_s: float | None = None
     #: what holds a constant optimum where it is (:func:`.study._polish_constant`): "deficit" or "groove" (less

@@ -124,17 +124,20 @@ def _kept_on_interrupt(study):
         with stop as signals:
             try:
                 res = study(*args, _holder=holder, **kwargs)
-            except BaseException:  # the interruption, or the CasADi error it became inside a call (signals.py)
+            except BaseException as err:  # the interruption, or the CasADi error it became inside a call (signals.py)
+                if signals is not stop and signals.requested and holder and (
+                        holder[0].knots is not None or holder[0].ipopt_knots):
+                    # under a command's own signal handling: what the study holds goes with the interruption, for
+                    # the command's report (IPOPT's answer, where a signal stopped its re-simulation)
+                    err.preload_result = _stopped(holder[0], signals)
                 if signals is not stop or not stop.requested or not holder:
                     raise
-                res = holder[0]
-                res.ok, res.interrupted_by = False, stop.sender()
-                res.message = (f"interrupted by {res.interrupted_by} before the study ended: "
-                               + ("nothing solved yet" if res.knots is None else "the last solution found is kept"))
+                res = _stopped(holder[0], stop)
             finally:
                 stop.raising = False  # a further signal while the result is reported is only noted
-            kept = (f"the study's result so far ({'none solved' if res.knots is None else 'a solution'}), "
-                    "returned in memory")
+            got = ("a solution" if res.knots is not None else "IPOPT's answer, not re-simulated" if res.ipopt_knots
+                   else "none solved")
+            kept = f"the study's result so far ({got}), returned in memory"
             return after_an_interrupt(res, stop, signals, stop.requested, "the preload study", kept,
                                       "its result so far, in memory only, lost with the process "
                                       "(apexseal.save_preload_report writes its report; the command line, "
@@ -143,6 +146,25 @@ def _kept_on_interrupt(study):
     sig = inspect.signature(study)
     call.__signature__ = sig.replace(parameters=[p for n, p in sig.parameters.items() if n != "_holder"])
     return call
+
+
+def _stopped(res: PreloadResult, signals) -> PreloadResult:
+    """``res`` marked as stopped by the signal ``signals`` noted, saying what it keeps."""
+    res.ok, res.interrupted_by = False, signals.sender()
+    res.message = f"interrupted by {res.interrupted_by} before the study ended: {_what_is_kept(res)}"
+    return res
+
+
+def _what_is_kept(res: PreloadResult) -> str:
+    """What a study interrupted before it ended keeps: its last re-simulated solution, IPOPT's answer before its
+    re-simulation ended (``ipopt_knots``), or nothing."""
+    if res.knots is not None:
+        return "the last solution found is kept"
+    if res.ipopt_knots:
+        return ("IPOPT's answer is kept, not re-simulated (ipopt_knots: "
+                + ", ".join(f"{v / MM:.4f}" for v in res.ipopt_knots) + " mm; the force between the samples is "
+                "not checked there: run the study again, or start from it)")
+    return "nothing solved yet"
 
 
 @_kept_on_interrupt
@@ -235,6 +257,7 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
         if not ok:
             return res
         x_knots = nlp.knots_m
+        res.ipopt_knots = [float(v) for v in x_knots]  # kept if a signal stops the re-simulation
         sim = periodic(setup, sf, nlp.grid, x_knots, min_force, exclude)
         if sim.deficit <= deficit_tol * ALLOWANCE and sim.groove_excess <= deficit_tol * ALLOWANCE:
             break
