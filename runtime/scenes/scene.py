@@ -412,7 +412,7 @@ class Scene:
     _sections: dict[str, Section] = field(repr=False, default_factory=dict)
     #: the dotted keys replaced when this scene was built (load_scene's ``overrides``, with_overrides), as given:
     #: what a report records of them (a study's preload.json)
-    overrides: dict[str, Any] = field(repr=False, default_factory=dict)
+    overrides: dict[str, Any] = field(repr=False, compare=False, default_factory=dict)
 
     @classmethod
     def from_toml_string(
