@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...derive.names import STATE_NAMES
+from .settings import LIMITS
 
 __all__ = [
     "PENETRATION", "SAMPLES_PER_PERIOD", "VELOCITY", "ModeRinging", "Ringing", "describe_sampling", "mode_damping",
@@ -228,5 +229,9 @@ def describe_sampling(record: dict) -> str:
             f"{record['nyquist_rad_s']:.3g} rad/s")
     if record["resolved"]:
         return head + ": the samples resolve the ringing"
-    return (head + ": peaks, extremes and the |Fs5| spectrum computed from the samples see the ringing aliased; "
-            f"--set solver.samples_per_revolution={record['samples_per_revolution_resolving']} resolves it")
+    aliased = head + ": peaks, extremes and the |Fs5| spectrum computed from the samples see the ringing aliased; "
+    needed, most = record["samples_per_revolution_resolving"], LIMITS["samples_per_revolution"][1].le
+    if needed > most:  # slow rotors and stiff contacts: no allowed sampling resolves it
+        return (aliased + f"resolving it would take {needed} samples per revolution, above the {most} allowed: read "
+                "the peaks as lower bounds, and the spectrum only below the Nyquist frequency")
+    return aliased + f"--set solver.samples_per_revolution={needed} resolves it"

@@ -11,7 +11,7 @@ import pytest
 
 import apexseal
 from apexseal.runtime.api import initial_state
-from apexseal.runtime.solving.ringing import mode_damping, mode_frequencies, ringing
+from apexseal.runtime.solving.ringing import describe_sampling, mode_damping, mode_frequencies, ringing
 
 
 @pytest.fixture(scope="module")
@@ -125,3 +125,17 @@ def test_the_speed_check_follows_the_seals_fastest_ringing(default_scene, rest):
     enough = 1.01 * ring.rad_s / MAX_OSCILLATIONS_PER_RAD
     fast = default_scene.with_overrides(**{"operation.rpm": f"{enough * 30 / math.pi} rpm"})
     assert speed_problem(f, fast.parameter_vector(f.parameter_names), theta, X) is None
+
+
+def test_the_note_never_advises_a_sampling_beyond_the_allowed_range():
+    """At 1 rpm the note advised --set solver.samples_per_revolution=17703360, which the scene then refused
+    (allowed: at most 100000): where no allowed sampling resolves the ringing the note says so instead."""
+    from apexseal.runtime.solving.settings import LIMITS
+
+    most = LIMITS["samples_per_revolution"][1].le
+    record = {"ringing_rad_s": 7.7e5, "ringing_mode": "q3_h_s", "nyquist_rad_s": 377.0, "resolved": False,
+              "samples_per_revolution": 3600, "samples_per_revolution_resolving": 17703360}
+    line = describe_sampling(record)
+    assert "--set" not in line and f"17703360 samples per revolution, above the {most} allowed" in line
+    assert "--set solver.samples_per_revolution=7920 resolves it" in describe_sampling(
+        record | {"samples_per_revolution_resolving": 7920})
