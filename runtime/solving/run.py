@@ -198,7 +198,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 if found is not None:
                     status, stop = found
                     break
-                bar.update(1 / calls)
+                bar.update((call + 1) / calls - bar.n)  # to the revolutions done: a sum of 1/calls overshot 1
                 advanced((call + 1) / calls, revolutions)  # a sweep shows its long points this way
                 if c == calls - 1:
                     part.flush()  # a completed revolution goes to the sink (to disk when streaming)

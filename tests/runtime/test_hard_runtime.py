@@ -529,3 +529,16 @@ def test_an_engine_watched_for_one_search_is_let_go_after_it():
         with StopSignals() as inner, inner.watching(Engine()) as engine:
             assert inner is outer and engine in outer._engines
         assert outer._engines == held
+
+
+def test_the_progress_bar_ends_at_the_revolutions_run(default_scene, fns):
+    """The bar advanced by 1/calls per call: nine calls summed to 1.0000000000000002 revolutions, and tqdm warned
+    "clamping frac to range [0, 1]" on the user's console (a run with a wall-time budget, cut into calls)."""
+    from tqdm import TqdmWarning
+
+    st = sim.RunSettings(samples_per_revolution=72, compile_c=False, calls_per_revolution=9)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", TqdmWarning)
+        r = sim.run(fns, default_scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=1,
+                    pressure=default_scene.pressure, progress=True)
+    assert r.status == "completed" and r.info["calls_per_revolution"] == 9
