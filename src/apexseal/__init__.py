@@ -16,6 +16,7 @@ Public API::
     apexseal.optimise_preload(scene, min_force=5.0)  # the spring-preload study (a PreloadResult)
     apexseal.preload_functions(scene)        # that study's compiled CasADi Functions, every input/output slot named
     apexseal.save_preload_report("out", constant, schedule)  # its report, as the command writes it
+    apexseal.PreloadResult.load("out")     # a saved study's constant optimum, e.g. to start a schedule from
 
 Exceptions to catch: SceneError (a scene), SettingsError (run settings), PreloadStudyError (the preload study's
 options), StudyError (a sweep's study file), SchedulerError (a sweep's Dask scheduler), ResultFolderError (a
@@ -42,6 +43,7 @@ _LAZY = {
     "RunInterruptedWarning": ("runtime.api", "RunInterruptedWarning"),
     "preload_functions": ("runtime.studies.preload.functions", "preload_functions"),
     "save_preload_report": ("runtime.studies.preload.report", "save_report"),
+    "PreloadResult": ("runtime.studies.preload.result", "PreloadResult"),
     # the exceptions a user of the API catches (each a ValueError or an OSError, so older handlers still catch it)
     "SettingsError": ("runtime.solving.settings", "SettingsError"),
     "PreloadStudyError": ("runtime.studies.preload.problem", "PreloadStudyError"),

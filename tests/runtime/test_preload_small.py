@@ -941,3 +941,27 @@ def test_a_signal_during_the_re_simulation_keeps_ipopt_s_answer(light, tmp_path,
     assert data["status"] == "interrupted" and data["constant"]["knots"] is None, data
     assert data["constant"]["ipopt_knots"] == pytest.approx(res.ipopt_knots, rel=1e-6)
     assert "IPOPT's answer is kept, not re-simulated" in (folder / "preload.md").read_text()
+
+
+def test_a_saved_study_loads_back_and_its_constant_optimum_starts_a_schedule(studies, light, tmp_path):
+    """A saved study could not be loaded back: PreloadResult had no ``load`` and was not exported from apexseal, and
+    ``start=`` took only a result in memory, so a schedule could not continue from a saved constant optimum."""
+    import json
+
+    import apexseal
+
+    c, s = studies[0], studies[2]
+    out = apexseal.save_preload_report(tmp_path / "report", c, s)
+    as_json = lambda r: json.loads(json.dumps(r.to_dict(), default=str))  # noqa: E731 (tuples as lists)
+    loaded = apexseal.PreloadResult.load(out)
+    assert loaded.to_dict() == as_json(c) and loaded.schedule(123.0) == c.schedule(123.0)
+    assert apexseal.PreloadResult.load(out, "schedule").to_dict() == as_json(s)
+    assert loaded.scene.content_hash() == light[0].with_overrides(
+        **{"solver.samples_per_revolution": SAMPLES}).content_hash()  # the scene.toml beside it, as the study ran
+    with pytest.raises(PreloadStudyError, match=r"no readable preload study report there"):
+        apexseal.PreloadResult.load(tmp_path)
+    only = apexseal.save_preload_report(tmp_path / "constant-only", c)
+    with pytest.raises(PreloadStudyError, match=r"its report holds no schedule result \(its status: completed\)"):
+        apexseal.PreloadResult.load(only, "schedule")
+    again = optimise_preload(light[0], min_force=MIN_FORCE, nodes=NODES, knots=2, start=loaded, setup=_setup(light))
+    assert again.ok and again.knots == pytest.approx(s.knots, rel=1e-6), (again.knots, s.knots)

@@ -122,6 +122,43 @@ class PreloadResult:
         simulations."""
         return asdict(self)
 
+    @classmethod
+    def load(cls, folder, stage: str = "constant") -> PreloadResult:
+        """A saved study's result, read back from the ``preload.json`` of its report ``folder`` (what the command
+        or ``apexseal.save_preload_report`` wrote): ``stage`` "constant" (the constant optimum) or "schedule". What
+        the JSON holds, not the simulations; with the folder's scene.toml as its ``scene``, so that it can start a
+        schedule (``optimise_preload(scene, knots=4, start=PreloadResult.load(folder))``) or be reported again. A
+        folder without a report, or a report without that stage, is a :class:`PreloadStudyError` saying so."""
+        import json
+        from dataclasses import fields
+        from pathlib import Path
+
+        from .problem import PreloadStudyError
+
+        if stage not in ("constant", "schedule"):
+            raise PreloadStudyError(f"stage = {stage!r}: must be 'constant' or 'schedule'")
+        path = Path(folder) / "preload.json"
+        try:
+            data = json.loads(path.read_text())
+        except (OSError, ValueError) as err:
+            raise PreloadStudyError(f"folder = {str(folder)!r}: no readable preload study report there "
+                                    f"(preload.json: {err})") from None
+        saved = data.get(stage) if isinstance(data, dict) else None
+        if not isinstance(saved, dict):
+            raise PreloadStudyError(f"folder = {str(folder)!r}: its report holds no {stage} result "
+                                    f"(its status: {data.get('status', '?') if isinstance(data, dict) else '?'})")
+        names = {f.name for f in fields(cls)}
+        try:
+            res = cls(**{k: v for k, v in saved.items() if k in names})
+        except TypeError as err:
+            raise PreloadStudyError(f"folder = {str(folder)!r}: its {stage} result is not a study's ({err})") from None
+        scene_file = Path(folder) / str(data.get("scene_file", "scene.toml"))
+        if scene_file.is_file():
+            from ...scenes.scene import load_scene
+
+            res.__dict__["scene"] = load_scene(scene_file)
+        return res
+
     @property
     def schedule(self) -> Schedule | None:
         """The optimum as a callable ``delta_s(theta_deg)`` (m; periodic, piecewise linear through the knots, constant
