@@ -444,25 +444,32 @@ def max_rate_of(max_rate) -> Any:
     return quantity_of("max_rate", max_rate, "m/deg", MAX_PRELOAD)
 
 
-def max_rate_problem(max_rate, knots, max_preload) -> str | None:
+def max_rate_problem(max_rate, knots) -> str | None:
     """What is wrong with a schedule's slope bound ``max_rate`` (m per degree, > 0; None: no bound), or None: it
-    bounds a schedule's slope (a constant preload, ``knots`` = 1, has none), and a bound at or above the steepest
-    slope knots within 0..``max_preload`` can have is no bound (mostly a rate meant in mm per degree)."""
+    bounds a schedule's slope (a constant preload, ``knots`` = 1, has none)."""
     if max_rate is None:
         return None
     if not (isinstance(max_rate, numbers.Real) and not isinstance(max_rate, bool | np.bool_) and max_rate > 0):
         return f"max_rate = {max_rate!r}: must be > 0 m per degree, e.g. 1e-5 or '0.01 mm/deg' (or None: no bound)"
-    if not (is_integer(knots) and 1 <= knots <= 72) or max_preload_problem(max_preload):
-        return None  # those are reported on their own
-    if knots == 1:
+    if is_integer(knots) and knots == 1:
         return (f"max_rate = {max_rate!r}: bounds the slope of a schedule, and a constant preload (knots = 1) has "
                 "none: give knots >= 2 or max_rate=None")
-    steepest = max_preload / (360.0 / knots)
-    if max_rate >= steepest:
-        return (f"max_rate = {max_rate:g} m per degree: never binds ({knots} knots {360 / knots:g} deg apart within "
-                f"0..max_preload = {max_preload:g} m change by at most {steepest:.3g} m per degree); a number is in m "
-                "per degree (the command line's --max-rate is in mm per degree): e.g. '0.01 mm/deg'")
     return None
+
+
+def max_rate_unbinding(max_rate, knots: int, max_preload: float) -> str | None:
+    """Why a schedule's slope bound ``max_rate`` (m per degree, checked) can never bind, or None: it is at or above
+    the steepest slope ``knots`` within 0..``max_preload`` can have (mostly a rate meant in mm per degree, as the
+    command line's --max-rate takes it)."""
+    if max_rate is None or knots < 2:
+        return None
+    steepest = max_preload / (360.0 / knots)
+    if max_rate < steepest:
+        return None
+    return (f"max_rate = {max_rate:g} m per degree never binds ({knots} knots {360 / knots:g} deg apart within "
+            f"0..max_preload = {max_preload:g} m change by at most {steepest:.3g} m per degree): the schedule is "
+            "optimised without a slope bound. From Python a number is in m per degree (the command line's --max-rate "
+            "is in mm per degree): give e.g. '0.01 mm/deg'")
 
 
 def is_force(x) -> bool:

@@ -86,6 +86,7 @@ from .problem import (
     max_preload_problem,
     max_rate_of,
     max_rate_problem,
+    max_rate_unbinding,
     nodes_problem,
     study_quantities,
     windows,
@@ -195,6 +196,12 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     max_rate = max_rate_of(max_rate)
     _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter, max_preload, start)
     knots, nodes = int(knots), int(nodes)
+    if unbound := max_rate_unbinding(max_rate, knots, max_preload):
+        import warnings
+
+        from ....stacklevel import user_stacklevel
+
+        warnings.warn(unbound, UserWarning, stacklevel=user_stacklevel())
     exclude = windows(exclude)
     setup = setup or PreloadSetup(scene, functions or model_functions(scene), float(min_force), exclude, samples,
                                   rtol, revolutions, flags, max_groove_force)
@@ -404,7 +411,7 @@ def _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, ma
         problems.append(f"objective = {objective!r}: must be one of {', '.join(OBJECTIVES)}")
     if problem := deficit_tol_problem(deficit_tol):
         problems.append(problem)
-    if problem := max_rate_problem(max_rate, knots, max_preload):
+    if problem := max_rate_problem(max_rate, knots):
         problems.append(problem)
     if not (is_integer(rounds) and 1 <= rounds <= 10):
         problems.append(f"rounds = {rounds!r}: must be an integer in 1..10")
