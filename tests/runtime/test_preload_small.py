@@ -884,7 +884,7 @@ def test_the_api_takes_quantities_and_windows_as_the_command_line_does(light):
     assert a.ok and a.min_force == MIN_FORCE
 
 
-def test_max_rate_takes_a_rate_per_angle_and_is_refused_where_it_cannot_bind(light):
+def test_max_rate_takes_a_rate_per_angle_and_is_checked_against_the_knots(light):
     """`max_rate="0.01 mm/deg"` was refused with "must be > 0 m per degree" though positive (quantity texts were
     taken by min_force and max_preload only); a number meant in mm per degree, as the command line's --max-rate
     takes it, was a bound 1000x looser that never bound, silently (now a warning naming the units); with knots=1
