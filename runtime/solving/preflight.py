@@ -64,14 +64,20 @@ def state_shown(i: int, value: float) -> str:
     return f"operation.initial_state.{st.name} = {value * show_factor(st.unit, show):.6g} {show}"
 
 
-def speed_problem(functions, params, theta: float = 0.0, X=None) -> str | None:
+#: a ringing not computed yet (None is an answer: no contact)
+_UNKNOWN = object()
+
+
+def speed_problem(functions, params, theta: float = 0.0, X=None, ring=_UNKNOWN) -> str | None:
     """The rotor speed, if it is too slow for the seal's fastest ringing on its contacts to be followed in crank angle
     (runtime/solving/ringing.py: each contact mode's, from the model's Jacobian near the state ``X`` at crank angle
-    ``theta``; default: the seal at rest in its groove's centre)."""
+    ``theta``; default: the seal at rest in its groove's centre). ``ring``: that ringing where the caller has it
+    (``ringing``'s answer, None included: no contact)."""
     p = dict(zip(functions.parameter_names, np.asarray(params, float), strict=True))
     omega = p["omega"]
-    X = np.zeros(len(functions.state_names)) if X is None else X
-    ring = ringing(functions, params, theta, X)
+    if ring is _UNKNOWN:
+        X = np.zeros(len(functions.state_names)) if X is None else X
+        ring = ringing(functions, params, theta, X)
     if ring is None:  # no contact in the model
         return None
     ratio = ring.per_rad(omega) if omega > 0 else math.inf
@@ -186,7 +192,7 @@ def flank_problem(functions, params, theta, X, closed, u) -> str | None:
 
 
 def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
-              dtheta: float | None = None) -> StopInfo | None:
+              dtheta: float | None = None, ring=_UNKNOWN) -> StopInfo | None:
     """Refuse to start what cannot give a meaningful result, with the reason.
 
     * a rotor speed too slow for the seal's fastest ringing on its contacts (:func:`speed_problem`), an initial
@@ -207,7 +213,7 @@ def preflight(functions, settings: RunSettings, params, theta, X, closed, u,
       the right-hand side is finite.
     """
     mode = mode_label(functions.guard_names, closed)
-    for problem in (speed_problem(functions, params, theta, X), start_problem(functions, params, theta, X, u),
+    for problem in (speed_problem(functions, params, theta, X, ring), start_problem(functions, params, theta, X, u),
                     flank_problem(functions, params, theta, X, closed, u)):
         if problem:
             return StopInfo(0.0, mode, problem)

@@ -208,11 +208,11 @@ def samples_resolving(rad_s: float, omega: float) -> int:
     return 360 * math.ceil(SAMPLES_PER_PERIOD * rad_s / omega / 360)
 
 
-def sampling(functions, params, theta: float, X, samples_per_revolution: int) -> dict | None:
-    """Whether ``samples_per_revolution`` output samples resolve the seal's fastest ringing (:func:`ringing`): the
-    record a run keeps (``info["sampling"]``, summary.json's ``sampling``); None for a model without contacts."""
+def sampling(functions, params, ring: Ringing | None, samples_per_revolution: int) -> dict | None:
+    """Whether ``samples_per_revolution`` output samples resolve the seal's fastest ringing ``ring``
+    (:func:`ringing`): the record a run keeps (``info["sampling"]``, summary.json's ``sampling``); None for a model
+    without contacts."""
     omega = functions.omega(params)
-    ring = ringing(functions, params, theta, X)
     if ring is None:
         return None
     nyquist = samples_per_revolution * omega / 2

@@ -39,7 +39,7 @@ from .diagnosis import locate_failure
 from .methods import WallTimeExceeded, make_engine
 from .pace import FailedInterval, IntervalByInterval, Pace
 from .preflight import far_outside_practice, initial_activations, preflight
-from .ringing import sampling
+from .ringing import ringing, sampling
 from .settings import RunSettings, out_of_time, samples_per_call
 
 #: samples from which a run says that it joins its result once the revolutions' bar has ended (about a second
@@ -92,10 +92,11 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     values, linear = pressure_values, settings.pressure == "linear"
     u0 = _pressures(pressure, theta_start + np.array([0.0, dth]), values, linear)[:, 0]
     z = lay.pack(to_scaled(state0, omega, lay.state_names), initial_activations(functions, theta_start, state0, params, u0))
+    ring = ringing(functions, params, theta_start, state0)  # for the speed check and the sampling record
     if continue_from is None:
         done = 0  # revolutions in the sink before the first call
         part = _Part(functions, params, theta_start, omega, sink, first=z.copy(), first_pressures=u0)
-        stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0, dth)
+        stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0, dth, ring)
     else:  # the run was checked when it started from its scene's state
         done, z = continue_from[0], np.array(continue_from[1], float)
         carried = continue_from[2] if len(continue_from) > 2 else None
@@ -123,8 +124,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                # its error control, and what a loose tolerance or a fixed step costs (accuracy.py)
                                "accuracy": accuracy(settings),
                                # do the samples resolve the contacts' ringing (runtime/solving/ringing.py)?
-                               "sampling": None if stop is not None else sampling(functions, params, theta_start,
-                                                                                  state0, N)}
+                               "sampling": None if stop is not None else sampling(functions, params, ring, N)}
     sink.begin(info)  # what is known before the first step: a killed run's progress record says how it was run
     stats_total: dict = {}
     check = RunChecks(functions, settings, params, theta_start, dth, state0)
