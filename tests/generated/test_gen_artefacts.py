@@ -210,6 +210,7 @@ def test_library_refuses_a_foreign_generation_record(loaded):
         check_library(loaded.library, other)
 
 
+@pytest.mark.slow  # 30 s: it generates twice (a benchmark table's command; generation itself is tested above)
 def test_the_stage_timing_command_reads_every_stage_of_both_generations(capsys):
     """runtime/bench/generate_stages.py (the README's stage table) parses what ``apexseal generate`` prints: if
     that output changed, the table's command would silently time nothing."""

@@ -173,6 +173,7 @@ def test_scaled_velocities_loosen_the_error_norm_and_nothing_else(tiny):
     np.testing.assert_array_equal(state_scale(100.0), before)
 
 
+@pytest.mark.slow  # 57 s: a benchmark study's numba prototype (the run method's own tests are in the default suite)
 def test_the_composite_prototype_switches_phases_and_converges(tiny):
     """runtime/bench/composite.py on the short span: RK45 through the start's switches (the reference's count),
     exprb32 once the contacts have rung down, an error that falls with rtol."""

@@ -278,7 +278,8 @@ def test_an_over_critically_damped_contact_is_judged_by_its_stiffer_real_eigenva
 
 
 # ---------------------------------------------------------------- friction
-@pytest.mark.parametrize("method", ["erk-rk4", "rk"])
+# erk-rk4 takes 29 s (its compiled integrator at 200000 steps): the slow step; rk (9 s) stays in the default suite
+@pytest.mark.parametrize("method", [pytest.param("erk-rk4", marks=pytest.mark.slow), "rk"])
 def test_rk4_stops_where_a_sticking_friction_is_beyond_its_bound(default_scene, fns, method, monkeypatch):
     """The sticky groove at the default 200000 steps: h mu N / (v_eps m) = 16 > 2.785. Both RK4 methods completed
     with the groove's friction wrong (the housing's friction power 14 % above rosenbrock's); now they stop where
