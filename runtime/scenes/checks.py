@@ -44,6 +44,9 @@ from .units import SETTINGS_PLAUSIBLE, bare_hint, implausible, plausible_ranges,
 
 #: largest aspect ratio b = r/L of a dimple-free limaçon (Eq. 4; derive.geometry.looping_free_limit)
 MAX_ASPECT_RATIO = 0.25
+#: a penalty contact may start at most this fraction of the seal width Ws inside its wall: the scene's bound on the
+#: preload's wall deflection (:func:`wall_deflection_problem`) and the run's start check (runtime/solving/preflight.py)
+MAX_START_PENETRATION = 0.1
 
 def _mm(x: float) -> str:
     return f"{x * 1e3:.6g} mm"
@@ -217,6 +220,44 @@ def check_friction_width(m: MachineSection, o: OperationSection, f: Section, raw
                     f"{v_eps:.6g} m/s is not below the tip's fastest sliding speed (L + 2 r) omega = {fastest:.6g} m/s "
                     f"(machine.L = {_mm(m.L)}, machine.r = {_mm(m.r)}, operation.rpm = {o.rpm:g}): tanh(v / v_eps) "
                     f"would make the friction law a viscous damper (Eq. 73); allowed: 0 < v_eps < {fastest:.6g} m/s")]
+
+
+def wall_deflection_problem(values: dict[str, float]) -> str | None:
+    """The spring's preload, if it deflects the housing wall by more than :data:`MAX_START_PENETRATION` Ws at rest.
+
+    The scene places the housing wall delta_w into the seal's tip at rest, the deflection whose force balances the
+    spring's force at rest (Eq. 9: delta_w = ks delta_s / kw, ``SealBody.rest_wall_deflection``), so the seal
+    starts delta_w deep in the housing contact. Deeper than a tenth of the seal's width the penalty contact has no
+    meaningful force there, and the run could only be refused at its start, whatever else it computes: a scene's
+    values alone decide it. delta_w is proportional to the force at rest over kw under either
+    ``assumptions.housing_stiffness``, and the force to delta_s (Eq. 39), so the allowed kw and delta_s follow by
+    proportion. ``values``: the model's parameters by name, SI (a scene's derived values, a run's parameter
+    vector). None when it is within the bound, or nothing presses the seal on the housing (delta_w = 0). The one
+    check of it: the scene refuses it on loading (:func:`check_wall_deflection`), a run's start check on a
+    parameter vector that did not come from a scene (runtime/solving/preflight.start_problem)."""
+    from apexseal.derive.submodels.registry import parameter
+    from apexseal.derive.submodels.spring import SpringContact
+
+    delta_w, limit = abs(values.get("delta_w", 0.0)), MAX_START_PENETRATION * values["Ws"]
+    if not delta_w > limit:
+        return None
+    ks, delta_s, kw, ws = (parameter(n).key for n in ("ks", "delta_s", "kw", "Ws"))
+    force = SpringContact.rest_force(values)
+    return (f"the spring's preload deflects the housing wall by delta_w = {delta_w * 1e6:.4g} µm at rest (Eq. 9: its "
+            f"force at rest ks delta_s = {force:.4g} N against {kw} = {values['kw']:.6g} N/m; {ks} = "
+            f"{values['ks']:.6g} N/m, {delta_s} = {_mm(values['delta_s'])}), which starts the seal that deep inside "
+            f"the housing wall; allowed: delta_w <= {MAX_START_PENETRATION:g} Ws = {limit * 1e6:.4g} µm ({ws} = "
+            f"{_mm(values['Ws'])}): {kw} >= {values['kw'] * delta_w / limit:.4g} N/m (a metal housing: about 1e9 "
+            f"N/m), or {delta_s} <= {_mm(values['delta_s'] * limit / delta_w)} at this {ks}")
+
+
+def check_wall_deflection(values: dict[str, float], raw: dict[str, Any]) -> list[Problem]:
+    """The preload's wall deflection beyond its bound (:func:`wall_deflection_problem`), against the housing's
+    stiffness ``contacts.kw``, whose bound holds whatever the spring's law (the message names the preload's keys
+    and their bound too): a housing soft enough for it is the usual slip, since a metal one (about 1e9 N/m) needs
+    some 3e5 N of preload. ``values``: the scene's parameters by name, SI."""
+    why = wall_deflection_problem(values)
+    return [] if why is None else [Problem("contacts.kw", raw_at(raw, ["contacts", "kw"]), why)]
 
 
 def check_seal_in_rotor(m: MachineSection, s: SealSection, raw: dict[str, Any]) -> list[Problem]:

@@ -44,6 +44,7 @@ from .checks import (
     check_set_by,
     check_superseded,
     check_unread_tables,
+    check_wall_deflection,
     ignored_values,
     resolve_assumptions,
     resolve_effects,
@@ -331,6 +332,9 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
         warnings.warn(f"scene {name}: {p}", IgnoredValueWarning, stacklevel=user_stacklevel())
     assert pressure is not None and effects is not None and assumptions is not None
     values = derive_parameters(sections, effects, assumptions)
+    deflection = check_wall_deflection(values, raw)  # of derived values: checked once they are computed
+    if deflection:
+        raise SceneError(deflection, source=name)
     for p in check_damping(values, raw):
         warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=user_stacklevel())
     return Scene(

@@ -6,11 +6,12 @@ import math
 
 import numpy as np
 
-from ...derive.submodels.registry import guard, parameter
+from ...derive.submodels.registry import guard
 from ...derive.submodels.seal import SealBody
 from ...generated.layout import mode_label
 from ..results.plausibility import FLANK_LENGTHS
 from ..results.result import StopInfo
+from ..scenes.checks import MAX_START_PENETRATION, wall_deflection_problem
 from ..scenes.schema import rpm_of_omega
 from ..scenes.units import show_factor
 from .contact_stability import MAX_GROWTH, beyond, model_growth
@@ -49,8 +50,6 @@ def names_where(names, mask) -> str:
 
 #: the most contact oscillations per radian of crank angle a run can resolve (every method steps in crank angle)
 MAX_OSCILLATIONS_PER_RAD = 1e8
-#: a penalty contact may start at most this fraction of the seal width Ws inside its wall
-MAX_START_PENETRATION = 0.1
 
 
 def state_shown(i: int, value: float) -> str:
@@ -143,15 +142,9 @@ def start_problem(functions, params, theta, X, u) -> str | None:
     where_ = (f"{-depth * 1e6:.4g} µm inside a wall (guard {names[where]})" if math.isfinite(depth) else
               f"where a contact's geometry is not defined (guard {names[where]} is not finite: far outside its groove)")
     allowed = f"allowed: at most {MAX_START_PENETRATION:g} Ws = {limit * 1e6:.4g} µm of penetration at the start"
-    if not shown and abs(p.get("delta_w", 0.0)) > limit:  # the seal at rest: the preload's wall deflection (Eq. 9)
-        ks, delta_s, kw = (parameter(n).key for n in ("ks", "delta_s", "kw"))
-        return (f"the spring's preload deflects the housing wall by delta_w = ks delta_s / kw = "
-                f"{p['delta_w'] * 1e6:.4g} µm (Eq. 9: {ks} = {p['ks']:.6g} N/m, {delta_s} = "
-                f"{p['delta_s'] * 1e3:.6g} mm, {kw} = {p['kw']:.6g} N/m), which starts the seal {where_}; "
-                f"{allowed}: a stiffer {kw} (a metal housing: about 1e9 N/m) or a smaller preload")
-    if not shown:
-        return (f"the scene's parameters start the seal at rest {where_}; {allowed}: check the geometry and the "
-                "contacts' stiffnesses")
+    if not shown:  # the seal at rest: the preload's wall deflection (Eq. 9), which a scene refuses on loading
+        return wall_deflection_problem(p) or (f"the scene's parameters start the seal at rest {where_}; {allowed}: "
+                                              "check the geometry and the contacts' stiffnesses")
     return f"{shown} starts the seal {where_}; {allowed}: check the initial state's units and sign"
 
 

@@ -498,22 +498,26 @@ def test_a_seal_without_groove_contacts_that_leaves_the_domain_is_not_advised_st
     assert "effects.groove_contact off" in r.stop.reason and "stiffer contacts" not in r.stop.reason
 
 
-def test_a_housing_too_soft_for_the_preload_is_refused_naming_its_keys(default_scene):
+def test_a_housing_too_soft_for_the_preload_is_refused_naming_its_keys(default_scene, default_functions):
     """kw at the bottom of its plausible range: the preload's wall deflection (Eq. 9) starts the seal a centimetre
-    inside the housing; the refusal blamed an initial state the scene never gave, and named no key."""
-    import apexseal
-    from apexseal.runtime.results.plausibility import FlankWarning
+    inside the housing. The refusal came only at the run's start (a sweep over kw then offered --retry-failed for a
+    failure no retry can change): the scene refuses it now, and the start check, for a parameter vector that no
+    scene built (the preload study's), says the same through the same function."""
+    from apexseal.runtime.scenes.checks import wall_deflection_problem
+    from apexseal.runtime.scenes.errors import SceneError
+    from apexseal.runtime.solving.preflight import start_problem
 
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        r = apexseal.simulate(default_scene.with_overrides(**{"contacts.kw": "1000 N/m"}), revolutions=1,
-                              samples_per_revolution=360)
-    assert r.status == "failed" and "delta_w = ks delta_s / kw" in r.stop.reason, r.stop
-    # its one sample, the start, has the seal's back face past the groove's mouth: the refusal says why, and no
-    # check after the run speaks of results that were never computed
-    assert r.n == 1 and not [w for w in caught if issubclass(w.category, FlankWarning)]
-    assert "flank" not in r.summary()
-    assert "contacts.kw = 1000 N/m" in r.stop.reason and "initial state" not in r.stop.reason
+    with pytest.raises(SceneError) as refused:
+        default_scene.with_overrides(**{"contacts.kw": "1000 N/m"})
+    assert refused.value.keys() == ["contacts.kw"] and "contacts.kw = 1000 N/m" in str(refused.value)
+    fns = default_functions.sx
+    names = list(fns.parameter_names)
+    p = default_scene.parameter_vector(names)
+    p[names.index("kw")] = 1000.0
+    p[names.index("delta_w")] = p[names.index("ks")] * p[names.index("delta_s")] / 1000.0  # Eq. 9
+    said = start_problem(fns, p, 0.0, np.zeros(6), np.zeros(2))
+    assert said is not None and said == wall_deflection_problem(dict(zip(names, p, strict=True)))
+    assert refused.value.errors[0].message == said
 
 
 def test_an_engine_watched_for_one_search_is_let_go_after_it():

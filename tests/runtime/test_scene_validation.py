@@ -448,6 +448,9 @@ CASES = [
      '"1e300 m/s"', ["out of range", "-1000 <= value <= 1000 m/s"]),  # a derivative message blamed parameters
     ("seal-longer-than-machine", {"seal.Bs": "150 mm"}, "seal.Bs", '"150 mm"',
      ["longer than the machine is deep", "machine.H = 100 mm"]),
+    ("housing-too-soft-for-the-preload", {"contacts.kw": "1e4 N/m"}, "contacts.kw", '"1e4 N/m"',  # was refused
+     ["delta_w = 1000 µm", "allowed: delta_w <= 0.1 Ws = 300 µm", "contacts.kw >= 3.333e+04 N/m",  # at run time only
+      "spring.delta_s <= 0.6 mm"]),
     (
         "no-contact-at-all",
         {key: False for key in ("effects.housing_contact", "effects.housing_damping", "effects.housing_friction",
