@@ -124,7 +124,10 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                # its error control, and what a loose tolerance or a fixed step costs (accuracy.py)
                                "accuracy": accuracy(settings),
                                # do the samples resolve the contacts' ringing (runtime/solving/ringing.py)?
-                               "sampling": None if stop is not None else sampling(functions, params, ring, N)}
+                               "sampling": None if stop is not None else sampling(functions, params, ring, N),
+                               # refused by the start check (preflight): the scene's values decide it, no rerun can
+                               # change it (a sweep's point is then "invalid", not one to retry)
+                               "refused_at_start": stop is not None}
     sink.begin(info)  # what is known before the first step: a killed run's progress record says how it was run
     stats_total: dict = {}
     check = RunChecks(functions, settings, params, theta_start, dth, state0)

@@ -118,8 +118,14 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
         click.echo(f"  point {row['point']}: {row['status']}: {row['stop']}", err=True)
     if len(bad) > 5:
         click.echo(f"  ... {len(bad) - 5} more (see the status and stop columns)", err=True)
-    if len(bad):
-        click.echo("  --retry-failed computes them again (the same command, the other points kept)", err=True)
+    invalid = bad["status"] == "invalid"
+    if invalid.any():
+        click.echo(f"  {int(invalid.sum())} point{'s' if invalid.sum() != 1 else ''} invalid: refused at the start for "
+                   "the values of its scene (the stop column says which key and the allowed range); no retry can "
+                   "change that: change the study's values", err=True)
+    if (~invalid).any():
+        click.echo("  --retry-failed computes them again (the same command, the other points kept)"
+                   + (", the invalid ones excepted" if invalid.any() else ""), err=True)
     warned = report.table[report.table["warnings"].fillna("") != ""] if "warnings" in report.table else bad[:0]
     if len(warned):
         click.echo(f"  {len(warned)} point{'s' if len(warned) != 1 else ''} warned of an implausible run (the warnings "

@@ -2,8 +2,9 @@
 
 This is what a worker runs. It uses only the public API (``apexseal.simulate``) and the run summary, so a point
 gives exactly what ``apexseal simulate`` of the same scene gives. A point never raises: a run that fails, chatters
-or uses up its budget is a row with its status and stop reason (and the quantities of what it computed); an
-exception is a row with status ``error`` and the exception's text.
+or uses up its budget is a row with its status and stop reason (and the quantities of what it computed); a run its
+start check refuses (its scene's values alone decide it) is a row with status ``invalid``; an exception is a row
+with status ``error`` and the exception's text.
 
 On Dask no signal reaches the thread a point runs in: a sweep that a signal stops runs :func:`stop_points` on
 every worker, which stops that sweep's running points as the signal stops a serial sweep's (at the run's next
@@ -27,8 +28,12 @@ from typing import Any
 _REPEATED_NOTICE = "Event support is experimental"
 _noticed = False
 
-#: statuses of a point: those of a run (SimulationResult.status), and "error" (the run raised)
-STATUSES = ("completed", "interrupted", "failed", "chattering", "error")
+#: statuses of a point: those of a run (SimulationResult.status), "invalid" (the run's start check refused it:
+#: its scene's values give no meaningful run, runtime/solving/preflight.py) and "error" (the run raised)
+STATUSES = ("completed", "interrupted", "failed", "chattering", "invalid", "error")
+#: statuses that computing the point again cannot change: --retry-failed leaves them (an invalid point is decided by
+#: its values alone; change the study's values instead)
+FINAL = ("completed", "invalid")
 
 
 #: the sweeps :func:`stop_points` stopped in this process, and the stop signal of each
@@ -127,7 +132,8 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
             finally:
                 row["warnings"] = _plausibility(caught)
         values = collect(result, quantities)
-        row.update(status=result.status, stop="" if result.stop is None else result.stop.describe())
+        status = "invalid" if result.info.get("refused_at_start") else result.status
+        row.update(status=status, stop="" if result.stop is None else result.stop.describe())
         run_time = float(result.info.get("wall_time_s", math.nan))
     except _Stopped as stopped:
         values, run_time = dict.fromkeys(quantities, math.nan), math.nan

@@ -83,10 +83,13 @@ class Store:
         return {int(m[1]) for p in self.parts.iterdir() if (m := _PART.match(p.name))}
 
     def not_completed(self) -> set[int]:
-        """The points whose rows hold a status other than ``completed`` (failed, chattering, an error...)."""
+        """The points whose rows hold a status that computing them again may change (failed, chattering, an
+        error...): not ``completed``, nor ``invalid`` (refused at its start for its scene's values, point.FINAL)."""
+        from .point import FINAL
+
         files = [p for p in self.parts.iterdir() if _PART.match(p.name)] if self.parts.is_dir() else []
         return {int(_PART.match(f.name)[1]) for f in files
-                if (pd.read_parquet(f, columns=["status"])["status"] != "completed").any()}
+                if (~pd.read_parquet(f, columns=["status"])["status"].isin(FINAL)).any()}
 
     # ------------------------------------------------------------------ writing
     def write(self, row: dict) -> Path:
