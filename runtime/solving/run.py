@@ -38,6 +38,7 @@ from .checks import RunChecks
 from .diagnosis import locate_failure
 from .methods import WallTimeExceeded, make_engine
 from .pace import FailedInterval, IntervalByInterval, Pace
+from .periodicity import PeriodicWatch
 from .preflight import far_outside_practice, initial_activations, preflight
 from .ringing import ringing, sampling
 from .settings import RunSettings, out_of_time, samples_per_call
@@ -131,6 +132,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     sink.begin(info)  # what is known before the first step: a killed run's progress record says how it was run
     stats_total: dict = {}
     check = RunChecks(functions, settings, params, theta_start, dth, state0)
+    # until_periodic: each revolution against the one before (runtime/solving/periodicity.py)
+    watch = PeriodicWatch(periodic_tol, revolutions, lay.state_names) if until_periodic else None
     # on a terminal a bar redrawn in place; in a log (stderr not a terminal) a line every LOG_INTERVAL s, kept
     tty = sys.stderr.isatty()
     bar = tqdm(total=revolutions, initial=done, unit="rev", disable=not progress, leave=not tty,
@@ -194,6 +197,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                     stats["n_events"] = int(z_end[lay.counts].sum() - z[lay.counts].sum())  # from the hybrid state
                 if Z.shape[1]:
                     part.add(Z, ends[:Z.shape[1]], P[:, :Z.shape[1]], z_end, _carried(use, z_end))
+                    if watch is not None:
+                        watch.add(Z[lay.x])
                 z = z_end
                 for k, v in stats.items():
                     if k.startswith("n_") and isinstance(v, int | float):
@@ -205,12 +210,10 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 advanced((call + 1) / calls, revolutions)  # a sweep shows its long points this way
                 if c == calls - 1:
                     part.flush()  # a completed revolution goes to the sink (to disk when streaming)
-                    z_prev, z_rev = z_rev, z.copy()
-                    if until_periodic and rev > 0:
-                        change = np.max(np.abs(z[lay.x] - z_prev[lay.x]) / np.maximum(1.0, np.abs(z[lay.x])))
-                        if change < periodic_tol:
-                            stats_total["periodic_after"] = rev + 1
-                            break
+                    z_rev = z.copy()
+                    if watch is not None and watch.revolution_done(rev + 1):  # the whole revolution repeats
+                        stats_total["periodic_after"] = rev + 1
+                        break
         except KeyboardInterrupt:  # outside the main thread, or raised by an engine: the same as a signal
             status = "interrupted"
             stop = StopInfo(part.theta_done, lay.mode(part.last_active(lay)), "interrupted by the user (Ctrl-C)")
@@ -230,6 +233,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                        "a compiled integrator reports engine calls and events only; set "
                        "solver.interpreted = true for CasADi's step counts",
                        "compiled": bool(engine is not None and engine.compiled)}
+        if watch is not None:  # until_periodic: where it stopped, or how far from periodic the last revolution was
+            info["periodic"] = watch.record()
         if signals.requested:
             info["signals"] = [int(s) for s in signals.received]
         if leased is not None:

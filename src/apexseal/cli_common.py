@@ -191,10 +191,12 @@ def describe_result(result, summary: dict) -> None:
     switches, displacement ranges and deepest penetrations (both at the output samples, and the line says how many
     per revolution), friction power, a warning when a penetration is implausible, a note when the samples do not
     resolve the contacts' ringing (runtime/solving/ringing.py), a note when the method controls no error and a
-    warning when its tolerances are loose (runtime/solving/accuracy.py), the chamber
+    warning when its tolerances are loose (runtime/solving/accuracy.py), with until_periodic whether and where the
+    revolutions repeated (runtime/solving/periodicity.py), the chamber
     gas's cycle (with the gas model), the groove mouth corners' margins on the seal's flat sides (a warning when one
     left them)."""
     from .runtime.results.plausibility import describe, describe_flank
+    from .runtime.solving.periodicity import describe_periodic
     from .runtime.solving.ringing import describe_sampling
 
     ext = summary["extremes"]
@@ -228,6 +230,9 @@ def describe_result(result, summary: dict) -> None:
                    f"indicated work {gas['indicated_work_J']['total']:.4g} J ({gas['indicated_power_W'] / 1e3:.4g} kW); "
                    f"pressures {min(p['a']['min'], p['b']['min']) / 1e5:.3g}..{max(p['a']['max'], p['b']['max']) / 1e5:.3g}"
                    " bar")
+    periodic = describe_periodic(summary.get("run", {}).get("periodic") or {})  # operation.until_periodic
+    if periodic is not None:
+        click.echo(f"  {periodic}")
     flank = summary.get("flank")
     if flank is not None:
         least = flank["least_mm"]

@@ -331,17 +331,70 @@ def friction_powers(scene, functions, widths) -> list[float]:
     return powers
 
 
-def test_until_periodic_stops_early(default_scene, default_functions):
-    """Without chamber pressure the seal settles; the run stops once a revolution repeats."""
-    quiet = default_scene.with_overrides(**{"pressure.source": "none", "pressure.file": None, "pressure.unit": None,
-                                            "effects.chamber_pressure": False,
-                                            "operation.until_periodic": True, "operation.periodic_tol": 1e-4})
-    r = _run(quiet, default_functions, method="erk", rtol=1e-8, samples_per_revolution=72, revolutions=12,
-             compile_c=False)
+def _settling(scene):
+    """Without chamber pressure the seal settles: the scene with until_periodic at a tolerance of 1e-4."""
+    return scene.with_overrides(**{"pressure.source": "none", "pressure.file": None, "pressure.unit": None,
+                                   "effects.chamber_pressure": False,
+                                   "operation.until_periodic": True, "operation.periodic_tol": 1e-4})
+
+
+def test_until_periodic_stops_early_and_says_so(default_scene, default_functions, capsys):
+    """The run stops once a revolution repeats; it stopped without a word on the console, and its record held only
+    the revolution (solver_stats.periodic_after): the run's info (summary.json's run.periodic) and its console line
+    give the revolution, the measured change and the tolerance."""
+    from apexseal.cli_common import describe_result
+
+    r = _run(_settling(default_scene), default_functions, method="erk", rtol=1e-8, samples_per_revolution=72,
+             revolutions=12, compile_c=False)
     assert r.ok
     revs = r.info["solver_stats"].get("periodic_after")
     assert revs is not None and revs < 12
     assert r.theta[-1] == pytest.approx(2 * np.pi * revs)
+    said = r.info["periodic"]
+    assert said["periodic"] and said["revolution"] == revs and said["change"] < said["tolerance"] == 1e-4
+    describe_result(r, r.summary())
+    assert (f"periodic after {revs} revolutions: revolution {revs} differs from revolution {revs - 1} by "
+            f"{said['change']:.3g} at most over its samples (operation.periodic_tol = 0.0001); stopped before the 12 "
+            "asked") in capsys.readouterr().out
+
+
+class _MidRevolutionWobble:
+    """Wraps a real engine; moves x by 1 nm at the middle sample of each call, the other way every call: each
+    revolution ends where the engine's does, and its motion within never repeats the previous one's."""
+
+    def __init__(self, engine):
+        self.__dict__.update(engine=engine, calls=0)
+
+    def __getattr__(self, name):
+        return getattr(self.engine, name)
+
+    def __setattr__(self, name, value):
+        setattr(self.engine, name, value)
+
+    def run(self, *args):
+        from apexseal.runtime.solving.methods import RevolutionResult
+
+        out = self.engine.run(*args)
+        self.__dict__["calls"] += 1
+        z = out.z.copy()
+        z[0, z.shape[1] // 2] += 1e-3 * (-1) ** self.calls  # x is scaled to µm (generated/scaling.py)
+        return RevolutionResult(z, out.stats)
+
+
+def test_until_periodic_compares_the_whole_revolution(default_scene, default_functions):
+    """The periodicity test compared the state at the start of each revolution only: a run whose motion within a
+    revolution changes from one revolution to the next stopped as periodic once the starts agreed."""
+    from apexseal.runtime.api import settings_of
+    from apexseal.runtime.solving.run import make_engine, run
+
+    scene = _settling(default_scene)
+    st = settings_of(scene, samples_per_revolution=72, compile_c=False, rtol=1e-8)
+    engine = _MidRevolutionWobble(make_engine(default_functions.sx, st))
+    r = run(default_functions.sx, scene.parameter_vector(), st, theta_start=0.0, state0=np.zeros(6), revolutions=12,
+            until_periodic=True, periodic_tol=1e-4, engine=engine)
+    assert r.ok and "periodic_after" not in r.info["solver_stats"] and r.revolutions == 12
+    said = r.info["periodic"]
+    assert not said["periodic"] and said["revolution"] == 12 and said["change"] > said["tolerance"]
 
 
 @pytest.mark.parametrize("calls", [1, 4, 36])
