@@ -9,6 +9,7 @@ import numpy as np
 
 from ..derive.names import STATE_NAMES
 from ..files import path_argument
+from .results.liftoff import LiftOffWarning, describe_liftoff, liftoff
 from .results.plausibility import (
     FlankWarning,
     PenetrationWarning,
@@ -148,7 +149,9 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
     it takes True or False only (no callback: anything else, ``"yes"`` too, is a :class:`SettingsError`).
     Warns with :class:`PenetrationWarning` when a contact sinks into its wall by more than a stated fraction of
     the side clearance, and at least a metal contact's deflection under ordinary loads
-    (:mod:`apexseal.runtime.results.plausibility`), and before the run with
+    (:mod:`apexseal.runtime.results.plausibility`), with :class:`~apexseal.runtime.results.liftoff.LiftOffWarning`
+    when the seal tip is off the housing for half the run or more, or for half a revolution in one stretch
+    (:mod:`apexseal.runtime.results.liftoff`), and before the run with
     :class:`~apexseal.runtime.solving.accuracy.AccuracyWarning` when ``rtol`` or ``atol`` is looser than the peaks
     bear (:mod:`apexseal.runtime.solving.accuracy`). After a Ctrl-C the run stops at its next
     check and is kept (written, with ``out``); then, in a script, :class:`~apexseal.signals.RunInterrupted` (a
@@ -333,6 +336,9 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     flank = flank_check(result)
     if flank is not None and not flank["ok"]:
         warnings.warn(describe_flank(flank), FlankWarning, stacklevel=3)
+    lifted = liftoff(result)
+    if lifted is not None and not lifted["ok"]:
+        warnings.warn(describe_liftoff(lifted, result.revolutions), LiftOffWarning, stacklevel=3)
     return result
 
 

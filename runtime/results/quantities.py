@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from .liftoff import fraction
 from .plausibility import penetrations
 from .summary import EXTREMES, summarise
 
@@ -87,13 +88,7 @@ def _number(value) -> float:
 def _get(summary: dict, name: str) -> float:
     head, _, tail = name.partition(".")
     if name == "liftoff_fraction":
-        from ...derive.submodels.registry import guard
-
-        tip = guard("xs5")  # the housing contact: its part of a mode's label, closed or open (e.g. "h", "h0")
-        modes = summary["mode_fraction"]
-        if not any({tip.closed_label, tip.open_label} & set(m.split("_")) for m in modes):
-            return math.nan  # no housing contact in this model
-        return float(sum(f for m, f in modes.items() if tip.open_label in m.split("_")))
+        return fraction(summary["liftoff"])  # NaN: no housing contact in this model
     if name == "revolutions":
         return float(summary["revolutions"])
     if head == "friction_power":

@@ -10,6 +10,7 @@ import numpy as np
 
 from ...derive.names import STATE_NAMES
 from .gas import gas_summary, has_gas
+from .liftoff import liftoff
 from .plausibility import flank_check, penetration_check
 from .result import SimulationResult, run_mean
 from .spectra import housing_force, spectral_peaks, spectrum
@@ -36,7 +37,10 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     and which sampling would (runtime/solving/ringing.py); null for a run without contacts, one that failed at its
     start, or a result that does not record it. ``accuracy`` says whether the method controls its error
     (``error_control``; false for a fixed-step method) and, in ``note``, what a fixed step or a loose tolerance
-    costs and how to check it (runtime/solving/accuracy.py); null for a result that does not record it."""
+    costs and how to check it (runtime/solving/accuracy.py); null for a result that does not record it. ``liftoff``
+    is the part of the run with the seal tip off the housing (:func:`.liftoff.liftoff`: ``fraction`` of the samples,
+    the ``longest_deg`` stretch and its start ``longest_from_deg``, ``ok`` false when it is most of the run); null
+    for a model without the housing contact."""
     deg = np.degrees(result.theta)
     per_revolution = result.info.get("samples_per_revolution")
     out: dict = {"status": result.status, "stop": None if result.stop is None else result.stop.describe(),
@@ -56,6 +60,8 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     counts = Counter(result.modes[1:] or result.modes)
     total = sum(counts.values())
     out["mode_fraction"] = {m: counts[m] / total for m in sorted(counts, key=lambda m: -counts[m])}
+    # the tip off the housing: fraction, longest stretch, whether it is most of the run (null: no housing contact)
+    out["liftoff"] = liftoff(result)
     out["events"] = {g: int(result.events[i, -1]) for i, g in enumerate(result.guard_names)}
     out["events_total"] = int(result.events[:, -1].sum()) if result.events.size else 0
     means = {k[3:]: run_mean(v) for k, v in result.outputs.items() if k.startswith("Pf_")}

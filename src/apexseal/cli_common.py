@@ -189,12 +189,14 @@ def at_samples(summary: dict) -> str:
 def describe_result(result, summary: dict) -> None:
     """The designer's numbers of a result on the console (``simulate`` at its end, ``show``): status, revolutions,
     switches, displacement ranges and deepest penetrations (both at the output samples, and the line says how many
-    per revolution), friction power, a warning when a penetration is implausible, a note when the samples do not
+    per revolution), friction power, a warning when a penetration is implausible, the part of the run with the seal
+    tip off the housing (a warning when it is most of it), a note when the samples do not
     resolve the contacts' ringing (runtime/solving/ringing.py), a note when the method controls no error and a
     warning when its tolerances are loose (runtime/solving/accuracy.py), with until_periodic whether and where the
     revolutions repeated (runtime/solving/periodicity.py), the chamber
     gas's cycle (with the gas model), the groove mouth corners' margins on the seal's flat sides (a warning when one
     left them)."""
+    from .runtime.results.liftoff import describe_liftoff
     from .runtime.results.plausibility import describe, describe_flank
     from .runtime.solving.periodicity import describe_periodic
     from .runtime.solving.ringing import describe_sampling
@@ -213,6 +215,13 @@ def describe_result(result, summary: dict) -> None:
         click.echo(f"  deepest penetration {at} (µm): {depth}; side clearance {check['side_clearance_um']:.3g} µm")
         if not check["ok"]:
             click.echo(f"  warning: {describe(check)}", err=True)
+    lifted = summary.get("liftoff")
+    if lifted is not None:  # the housing contact: the part of the run with the tip off it (runtime/results/liftoff.py)
+        longest = (f", longest {lifted['longest_deg']:.4g}° from {lifted['longest_from_deg']:.4g}°"
+                   if lifted["longest_from_deg"] is not None else "")
+        click.echo(f"  tip off the housing: {lifted['fraction']:.2%} of the samples{longest}")
+        if not lifted["ok"]:
+            click.echo(f"  warning: {describe_liftoff(lifted, summary['revolutions'])}", err=True)
     sampling = summary.get("sampling")
     if sampling is not None and not sampling["resolved"]:  # a note, not a warning: the default sampling is one
         click.echo(f"  note: {describe_sampling(sampling)}")

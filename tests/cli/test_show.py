@@ -16,6 +16,7 @@ def test_show_describes_a_result_and_how_to_continue_it(tmp_path):
     assert r.exit_code == 0, r.output
     assert f"run {result.info['run_id'][:12]} of scene default; method erk" in r.output
     assert "completed: 1.00 revolutions" in r.output and "friction power" in r.output
+    assert "  tip off the housing: " in r.output and "warning: the seal tip" not in r.output  # brief lift-offs
     assert f"more revolutions: apexseal simulate --resume {done} -n <total>" in r.output
     assert sorted(p.name for p in done.glob("*.png")) == ["fig12_displacements.png", "fig13_forces.png",
                                                           "fig14_housing_spectrum.png", "mode_timeline.png"]
@@ -36,6 +37,24 @@ def test_a_seal_outside_its_groove_contacts_is_said_once_by_simulate_and_again_b
     said = "warning: the seal sank into its groove until a mouth corner lay on its tip arc (least l1 = -0."
     assert r.output.count(said) == 1 and "FlankWarning" not in r.output, r.output
     assert "groove mouth corners (mm): -0." in r.output
+    r = CliRunner().invoke(main, ["show", str(out)])
+    assert r.exit_code == 0 and r.output.count(said) == 1, r.output
+
+
+def test_a_tip_off_the_housing_for_the_whole_revolution_is_said_once_by_simulate_and_again_by_show(tmp_path):
+    """A constant 100 bar on one side held the seal in its groove, off the housing for the whole revolution, and
+    the run's end said nothing of it: simulate prints the part of the run with the tip off and one warning (the
+    LiftOffWarning of the run is not printed twice), show the same from the folder."""
+    out = tmp_path / "held-off"
+    args = ["simulate", "-n", "1", "--no-figures", "-q", "--out", str(out), "--set", "solver.samples_per_revolution=360"]
+    for key, value in (("pressure.source", "constant"), ("pressure.Pa", "100 bar"), ("pressure.Pb", "1 bar"),
+                       ("operation.initial_state.x", "-20 um")):
+        args += ["--set", f"{key}={value}"]
+    r = CliRunner().invoke(main, args)
+    assert r.exit_code == 0, r.output
+    said = "warning: the seal tip is off the housing for 100.0% of the samples of 1 revolution (longest 360°"
+    assert r.output.count(said) == 1 and "LiftOffWarning" not in r.output, r.output
+    assert "tip off the housing: 100.00% of the samples, longest 360° from 0°" in r.output
     r = CliRunner().invoke(main, ["show", str(out)])
     assert r.exit_code == 0 and r.output.count(said) == 1, r.output
 

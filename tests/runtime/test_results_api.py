@@ -232,14 +232,6 @@ def test_an_event_angle_is_where_the_gap_interpolates_to_zero(result):
     assert checked > 0  # (3 such intervals in this run: most hold several switches)
 
 
-def test_liftoff_fraction_is_the_share_of_modes_with_the_tip_off_the_housing():
-    from apexseal.runtime.results.quantities import _get
-
-    summary = {"mode_fraction": {"q1_h_s": 0.6, "q1_h0_s": 0.3, "p2_h0_s0": 0.1}}
-    assert _get(summary, "liftoff_fraction") == pytest.approx(0.4)
-    assert np.isnan(_get({"mode_fraction": {"q1_s": 1.0}}, "liftoff_fraction"))  # no housing contact
-
-
 def test_plots_return_figures_and_leave_the_backend_alone(result):
     import matplotlib.pyplot as plt
 

@@ -150,8 +150,8 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
 
 
 def _plausibility(caught: list) -> str:
-    """The point's run's plausibility warnings (penetration, groove mouth corners), one text for its row: a warning
-    printed by a worker, or once per sweep by Python's filter, could not be told to its point. The others are
+    """The point's run's plausibility warnings (penetration, groove mouth corners, lift-off), one text for its row:
+    a warning printed by a worker, or once per sweep by Python's filter, could not be told to its point. The others are
     warned again, from here, so that Python's filter says each once per process, not once per point (a compiler
     fallback, a stale artefact). The warnings are caught process-wide: a worker runs one point at a time (one thread
     per worker, as the sweep starts them and docs/sweeps.md asks of a cluster's)."""
