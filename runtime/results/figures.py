@@ -18,7 +18,7 @@ import numpy as np
 from .decimate import columns_of, envelope, envelope_index, step_changes
 from .outputs import describe
 from .result import SimulationResult
-from .spectra import contact_force, housing_force, spectral_peaks, spectrum
+from .spectra import contact_force, spectral_peaks, spectrum
 
 PORT_COLOURS = {"inlet": "tab:orange", "outlet": "tab:green"}
 #: height of Fig. 12's panel titles (axes fraction): just above the 90 deg label, where matplotlib's automatic placement
@@ -236,6 +236,29 @@ def plain_log_ticks(ax) -> None:
             axis.set_minor_formatter(NullFormatter())
 
 
+#: N: the least amplitude Fig. 14 draws (its logarithmic axis has no zero); a spectrum no higher has nothing to show
+AMPLITUDE_FLOOR = 1e-12
+#: a spectrum below this fraction of the largest |Fs5| is the round-off of a constant force, not a spectrum
+ROUND_OFF = 1e-9
+
+
+def no_spectrum(result: SimulationResult, force: np.ndarray | None, amp: np.ndarray | None) -> str | None:
+    """Why Fig. 14 has no spectrum to draw on its logarithmic axes, or None when it has one: too few samples, no
+    housing contact in the model, a tip off the housing for the whole run (no contact force Fs5 at any sample), or a
+    constant force (its spectrum ``amp`` is round-off). ``force``: |Fs5| after the start sample (None: the model has
+    no housing contact)."""
+    if result.n <= 8:
+        return f"{result.n} samples: too few for a spectrum"
+    if force is None:
+        return "no seal-housing contact in this model (effects.housing_contact off): no force Fs5"
+    if not np.any(force > 0):
+        return ("the seal tip is off the housing for the whole run:\nno contact force Fs5, so no spectrum\n"
+                "(summary.json: liftoff)")
+    if not float(amp[1:].max()) > max(AMPLITUDE_FLOOR, ROUND_OFF * float(force.max())):
+        return f"the seal-housing force Fs5 is constant ({float(force.mean()):.4g} N): no spectrum"
+    return None
+
+
 def fig14_frame(pyplot: bool = False) -> Frame:
     """Fig. 14 without its data (see :func:`fig14_spectrum`)."""
     fig = new_figure((8, 4.2), pyplot)
@@ -250,24 +273,33 @@ def fig14_spectrum(result: SimulationResult, *, count: int = 5, pyplot: bool = F
                    frame: Frame | None = None):
     """Fig. 14: amplitude spectrum of the seal-housing force Fs5, on logarithmic axes, with its distinct peaks
     (:func:`.summary.spectral_peaks`, from every frequency) marked and labelled; with ``save_dpi`` the line is
-    its envelope over the pixel columns of the logarithmic axis (:func:`.decimate.envelope_index`). ``frame``: a
-    :func:`fig14_frame` built ahead."""
+    its envelope over the pixel columns of the logarithmic axis (:func:`.decimate.envelope_index`). Where there is
+    no spectrum to draw on logarithmic axes (:func:`no_spectrum`: e.g. the tip off the housing for the whole run)
+    the axes say why instead, and matplotlib warns of nothing. ``frame``: a :func:`fig14_frame` built ahead."""
     frame = _framed(frame, "fig14", None) or fig14_frame(pyplot)
     fig, ax = frame.fig, frame.axes[0]
-    if result.n > 8:
-        w, amp = spectrum(housing_force(result)[1:], float(np.mean(np.diff(result.time))))
-        line = np.maximum(amp[1:], 1e-12)
-        keep = (slice(None) if save_dpi is None else
-                envelope_index(np.log(w[1:]), line, columns_of(fig, save_dpi)))
-        ax.loglog(w[1:][keep], line[keep], lw=0.7)
-        ax.set_xlim(w[1] / 1.5, w[-1])  # room for the label of a peak at the first frequency
-        floor = max(float(amp[1:].max()) * 1e-4, 1e-12)
-        ax.set_ylim(floor, float(amp.max()) * 3)
-        plain_log_ticks(ax)
-        for p in spectral_peaks(w, amp, count):
-            ax.plot(p["omega_rad_s"], p["amplitude_N"], "v", color="tab:red", ms=6)
-            ax.annotate(f"{p['omega_rad_s']:.3g}", (p["omega_rad_s"], p["amplitude_N"]), textcoords="offset points",
-                        xytext=(0, 7), ha="center", fontsize=8, color="tab:red")
+    force, w, amp = contact_force(result.outputs, "housing"), None, None
+    if force is not None and result.n > 8:
+        force = force[1:]
+        w, amp = spectrum(force, float(np.mean(np.diff(result.time))))
+    empty = no_spectrum(result, force, amp)
+    if empty is not None:  # nothing positive to draw on logarithmic axes: say why instead
+        ax.set_xticks([])
+        ax.set_yticks([])
+        ax.text(0.5, 0.5, empty, transform=ax.transAxes, ha="center", va="center", color="0.3")
+        return fig
+    line = np.maximum(amp[1:], AMPLITUDE_FLOOR)
+    keep = (slice(None) if save_dpi is None else
+            envelope_index(np.log(w[1:]), line, columns_of(fig, save_dpi)))
+    ax.loglog(w[1:][keep], line[keep], lw=0.7)
+    ax.set_xlim(w[1] / 1.5, w[-1])  # room for the label of a peak at the first frequency
+    floor = max(float(amp[1:].max()) * 1e-4, AMPLITUDE_FLOOR)
+    ax.set_ylim(floor, float(amp.max()) * 3)
+    plain_log_ticks(ax)
+    for p in spectral_peaks(w, amp, count):
+        ax.plot(p["omega_rad_s"], p["amplitude_N"], "v", color="tab:red", ms=6)
+        ax.annotate(f"{p['omega_rad_s']:.3g}", (p["omega_rad_s"], p["amplitude_N"]), textcoords="offset points",
+                    xytext=(0, 7), ha="center", fontsize=8, color="tab:red")
     return fig
 
 

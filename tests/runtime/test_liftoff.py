@@ -1,15 +1,19 @@
-"""The seal tip off the housing: its part of a run in every summary, and a warning when it is most of the run
-(runtime/results/liftoff.py)."""
+"""The seal tip off the housing: its part of a run in every summary, a warning when it is most of the run, and a
+Fig. 14 that says why it has no spectrum (runtime/results/liftoff.py)."""
 
 from __future__ import annotations
 
+import logging
 import warnings
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 import apexseal
+from apexseal.runtime.results.figures import fig14_spectrum
 from apexseal.runtime.results.liftoff import LiftOffWarning, liftoff
 from apexseal.runtime.results.quantities import collect
 from apexseal.runtime.results.summary import summarise
@@ -88,3 +92,45 @@ def test_a_tip_held_off_the_housing_for_the_whole_revolution_is_warned_of_once(h
     assert check == {"fraction": 1.0, "longest_deg": pytest.approx(360.0), "longest_from_deg": 0.0, "ok": False}
     assert _tip_off(result.modes[1:]).all() and not np.any(result.outputs["F_housing_X"][1:])
     assert collect(result, ("liftoff_fraction",))["liftoff_fraction"] == 1.0
+
+
+def _drawn_quietly(fig, caplog) -> None:
+    """Draw ``fig``; fail on any warning, or any record of matplotlib's logger."""
+    with warnings.catch_warnings(), caplog.at_level(logging.WARNING, logger="matplotlib"):
+        warnings.simplefilter("error")
+        FigureCanvasAgg(fig).draw()
+    assert not [r for r in caplog.records if r.name.startswith("matplotlib")], caplog.text
+
+
+def test_fig14_of_a_tip_never_on_the_housing_says_why_and_warns_nothing(held_off, caplog):
+    """Fig. 14 of a run with no housing force was an empty log plot, and matplotlib warned of a non-positive
+    limit on the log axis: it now says why it has no spectrum, without a warning."""
+    result, _ = held_off
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fig = fig14_spectrum(result, save_dpi=100)
+    _drawn_quietly(fig, caplog)
+    ax = fig.axes[0]
+    assert [t.get_text() for t in ax.texts] == ["the seal tip is off the housing for the whole run:\nno contact force "
+                                                "Fs5, so no spectrum\n(summary.json: liftoff)"]
+    assert ax.get_yscale() == "linear" and not ax.lines
+
+
+def test_fig14_of_a_constant_housing_force_says_so(default_run, caplog):
+    """A constant force's spectrum is round-off (zero after the mean is taken out): drawn, it set a log axis's
+    limits from nothing and matplotlib warned; the figure says the force is constant."""
+    result, _ = default_run
+    outputs = dict(result.outputs, F_housing_X=np.full(result.n, -50.0), F_housing_Y=np.zeros(result.n))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        fig = fig14_spectrum(replace(result, outputs=outputs))
+    _drawn_quietly(fig, caplog)
+    assert [t.get_text() for t in fig.axes[0].texts] == ["the seal-housing force Fs5 is constant (50 N): no spectrum"]
+
+
+def test_fig14_of_a_default_run_is_still_a_log_spectrum(default_run, caplog):
+    fig = fig14_spectrum(default_run[0])
+    _drawn_quietly(fig, caplog)
+    ax = fig.axes[0]
+    assert ax.get_xscale() == ax.get_yscale() == "log" and ax.lines
+    assert not any("no spectrum" in t.get_text() for t in ax.texts)
