@@ -971,3 +971,53 @@ def test_a_saved_study_loads_back_and_its_constant_optimum_starts_a_schedule(stu
         apexseal.PreloadResult.load(only, "schedule")
     again = optimise_preload(light[0], min_force=MIN_FORCE, nodes=NODES, knots=2, start=loaded, setup=_setup(light))
     assert again.ok and again.knots == pytest.approx(s.knots, rel=1e-6), (again.knots, s.knots)
+
+
+def _ctrl_c_at(monkeypatch, iteration: int, stage: str = "") -> None:
+    """Ctrl-C as IPOPT reports its ``iteration`` (its progress line), in the IPOPT stage whose line starts with
+    ``stage`` ("" any): the signal lands before that iteration is looked at, inside IPOPT's callback."""
+    import os
+    import signal
+
+    from apexseal.runtime.studies.preload import nlp, study
+
+    seen = {"stage": not stage}
+    announce, begin = nlp.announce, study.stage
+
+    def stage_of(text, *args, **kwargs):
+        seen["stage"] = seen["stage"] or text.startswith(stage)
+        return begin(text, *args, **kwargs)
+
+    def line(text, *args, **kwargs):
+        if seen["stage"] and f"IPOPT iteration {iteration}:" in text:
+            os.kill(os.getpid(), signal.SIGINT)
+        return announce(text, *args, **kwargs)
+
+    monkeypatch.setattr(nlp, "announce", line)
+    monkeypatch.setattr(study, "stage", stage_of)
+
+
+def test_a_signal_during_ipopt_s_iterations_keeps_its_best_feasible_iterate(light, monkeypatch):
+    """Ctrl-C during the constant optimum's IPOPT iterations kept nothing of the feasible iterates IPOPT had visited
+    ("nothing solved yet"). Now the result keeps the best feasible one (``best_feasible``: lowest objective among
+    the iterates within IPOPT's constr_viol_tol of every constraint), marked interrupted and not optimal; simulated
+    from the scene's start, that preload meets the requirement."""
+    import apexseal.signals
+    from apexseal.runtime.studies.preload.periodic import periodic
+    from apexseal.runtime.studies.preload.result import ALLOWANCE
+
+    _ctrl_c_at(monkeypatch, 2)
+    monkeypatch.setattr(apexseal.signals, "interactive", lambda: True)
+    with pytest.warns(apexseal.RunInterruptedWarning, match=r"IPOPT's best feasible iterate, not optimal"):
+        res = optimise_preload(light[0], min_force=MIN_FORCE, nodes=NODES, setup=_setup(light))
+    best = res.best_feasible
+    assert not res.ok and res.interrupted_by and res.knots is None and best is not None, res.message
+    assert best["iteration"] in (0, 1) and 0 < best["knots"][0] <= res.start_delta_s * (1 + 1e-12), best
+    assert best["deficit"] <= DEFICIT_TOL * (1 + 1e-3) and best["max_defect"] <= 1e-3, best
+    assert "best feasible iterate so far is kept, NOT OPTIMAL and not re-simulated" in res.message, res.message
+    assert res.describe().startswith("preload study interrupted: ")
+    setup = _setup(light)
+    sf = study_functions(setup, SAMPLES // NODES)
+    grid = SegmentGrid(SAMPLES, NODES, 1, setup.theta_start, setup.dth)
+    sim = periodic(setup, sf, grid, np.array(best["knots"]), MIN_FORCE, ())
+    assert sim.deficit <= DEFICIT_TOL * ALLOWANCE, sim.deficit

@@ -18,6 +18,9 @@ from .shooting import CHUNK, TWO_PI
 
 #: IPOPT statuses taken as a solution
 SOLVED = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+#: IPOPT's constr_viol_tol: an iterate within it of every constraint's bounds is feasible (also what
+#: _Progress.keep_if_feasible keeps)
+CONSTR_VIOL_TOL = 1e-3
 #: IPOPT's filter accepts no iterate whose constraint violation exceeds this times max(1, the start's) (its option
 #: theta_max_fact; the deficit rows count in units of their bound) in the second solve of a study whose first one
 #: ended at its iteration limit from a start where every bounded quadrature is 0 (study.py). IPOPT's default, 1e4,
@@ -54,11 +57,17 @@ def _advice(status: str, groove: bool = False, gave_up: bool = False) -> str:
 
 
 class _Progress(ca.Callback):
-    """IPOPT's iterations as progress lines (objective, constraint violation)."""
+    """IPOPT's iterations as progress lines (objective, constraint violation), and the best feasible iterate so far
+    kept in the result as IPOPT visits it (:meth:`keep_if_feasible`): what a study interrupted during IPOPT's
+    iterations reports."""
 
-    def __init__(self, nx: int, ng: int, n_def: int, groove: bool = False, give_up: bool = False):
+    def __init__(self, nx: int, ng: int, n_def: int, groove: bool = False, give_up: bool = False, *, res=None,
+                 knots: int = 1, bounds=None, tol: float = 1e-3, deficit_tol: float = 1.0):
         ca.Callback.__init__(self)
         self.nx, self.ng, self.k, self.n_def, self.groove = nx, ng, 0, n_def, groove
+        #: where the best feasible iterate is kept (a PreloadResult's ``best_feasible``), the knots among the
+        #: variables, the constraints' bounds (lbg, ubg), IPOPT's constr_viol_tol and the deficit rows' unit
+        self.res, self.knots, self.bounds, self.tol, self.deficit_tol = res, knots, bounds, tol, deficit_tol
         #: stop IPOPT once it has stayed :data:`STUCK_ITERATIONS` iterations beyond the bounded filter's reach
         self.give_up, self.beyond, self.gave_up = give_up, 0, False
         self.construct("preload_progress", {})
@@ -93,6 +102,7 @@ class _Progress(ca.Callback):
         announce(f"  IPOPT iteration {self.k}{' (the start)' if self.k == 0 else ''}: objective {float(arg[1]):.6g}, "
                  f"force deficit {g[self.n_def]:.3g} x its "
                  f"bound{groove}, largest node defect {np.abs(g[:self.n_def]).max():.2g}")
+        self.keep_if_feasible(np.array(arg[0]).ravel(), float(arg[1]), g)
         self.k += 1
         bounded = g[self.n_def:self.n_def + (2 if self.groove else 1)]
         self.beyond = self.beyond + 1 if np.max(bounded) > THETA_MAX_FACT else 0
@@ -102,6 +112,24 @@ class _Progress(ca.Callback):
                      "where its bounded filter goes nowhere: given up")
             return [1]
         return [0]
+
+    def keep_if_feasible(self, x: np.ndarray, f: float, g: np.ndarray) -> None:
+        """Keep iterate ``x`` in ``res.best_feasible`` where it satisfies every constraint within IPOPT's
+        constr_viol_tol (the node defects, the force deficit and groove-force excess in units of their bound, the
+        schedule's slope bound) and its objective ``f`` is below the one kept: the knots (m, within their bounds as
+        :meth:`ShootingNlp.solve` reports its answer), the iteration, the objective, the force deficit (N^2 rad) and
+        the largest node defect. Assigned whole, so that a signal between two lines leaves the previous one."""
+        if self.res is None or self.bounds is None:
+            return
+        lbg, ubg = self.bounds
+        if not (np.all(g >= lbg - self.tol) and np.all(g <= ubg + self.tol)):
+            return
+        kept = self.res.best_feasible
+        if kept is not None and kept["objective"] <= f:
+            return
+        self.res.best_feasible = {
+            "iteration": self.k, "knots": [float(v) * MM for v in np.maximum(x[:self.knots], 0.0)], "objective": f,
+            "deficit": float(g[self.n_def]) * self.deficit_tol, "max_defect": float(np.abs(g[:self.n_def]).max())}
 
 
 class ShootingNlp:
@@ -226,14 +254,17 @@ class ShootingNlp:
             lim = max_rate / MM * span_deg
             lbg += [-lim] * K
             ubg += [lim] * K
-        prog = _Progress(V.numel(), int(sum(gi.numel() for gi in g)), self.n_def, self.groove, give_up)
-        opts = {"ipopt.hessian_approximation": "limited-memory", "ipopt.tol": 1e-3, "ipopt.constr_viol_tol": 1e-3,
+        options = {f"ipopt.{k}": v for k, v in (ipopt_options or {}).items()}
+        prog = _Progress(V.numel(), int(sum(gi.numel() for gi in g)), self.n_def, self.groove, give_up, res=res,
+                         knots=K, bounds=(np.array(lbg), np.array(ubg)), deficit_tol=self.deficit_tol,
+                         tol=float(options.get("ipopt.constr_viol_tol", CONSTR_VIOL_TOL)))
+        opts = {"ipopt.hessian_approximation": "limited-memory", "ipopt.tol": 1e-3,
+                "ipopt.constr_viol_tol": CONSTR_VIOL_TOL,
                 "ipopt.acceptable_tol": 1e10, "ipopt.acceptable_constr_viol_tol": 2e-2, "ipopt.acceptable_iter": 3,
                 "ipopt.acceptable_obj_change_tol": 1e-4,
                 "ipopt.max_iter": int(max_iter), "ipopt.linear_solver": "mumps",
                 "ipopt.print_level": 5 if verbose else 0, "print_time": False, "ipopt.sb": "yes",
-                "iteration_callback": prog,
-                **{f"ipopt.{k}": v for k, v in (ipopt_options or {}).items()}}
+                "iteration_callback": prog, **options}
         t = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")

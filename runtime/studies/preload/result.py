@@ -97,6 +97,11 @@ class PreloadResult:
     #: m, IPOPT's last answer at the knots, set as IPOPT ends, before its re-simulation: what a study interrupted
     #: then keeps (its ``knots`` are None: not re-simulated, the force between samples not checked)
     ipopt_knots: list | None = None
+    #: the best feasible iterate IPOPT visited in its current round (the lowest objective among the iterates within
+    #: IPOPT's constr_viol_tol of every constraint; nlp._Progress.keep_if_feasible), kept as IPOPT iterates: what a
+    #: study interrupted during IPOPT's iterations keeps. {"iteration", "knots" (m), "objective" (W, or mm for the
+    #: preload objective), "deficit" (N^2 rad, the NLP's), "max_defect"}; not optimal, not re-simulated
+    best_feasible: dict | None = None
     #: m, where IPOPT stopped when a constant preload below it was found feasible (:func:`.study._polish_constant`)
     ipopt_delta_s: float | None = None
     #: what holds a constant optimum where it is (:func:`.study._polish_constant`): "deficit" or "groove" (less
@@ -178,7 +183,7 @@ class PreloadResult:
         """The report's lines: the optimum, the force deficit and where it builds up, the smallest force at the
         samples, the friction power against the scene's preload, what holds the optimum, IPOPT's run."""
         if not self.ok:
-            return f"preload study failed: {self.message}"
+            return f"preload study {'interrupted' if self.interrupted_by else 'failed'}: {self.message}"
         what = ("constant preload delta_s*" if len(self.knots) == 1 else
                 f"preload schedule ({len(self.knots)} knots), mean delta_s")
         lines = [

@@ -126,8 +126,7 @@ def _kept_on_interrupt(study):
             try:
                 res = study(*args, _holder=holder, **kwargs)
             except BaseException as err:  # the interruption, or the CasADi error it became inside a call (signals.py)
-                if signals is not stop and signals.requested and holder and (
-                        holder[0].knots is not None or holder[0].ipopt_knots):
+                if signals is not stop and signals.requested and holder and _holds_an_answer(holder[0]):
                     # under a command's own signal handling: what the study holds goes with the interruption, for
                     # the command's report (IPOPT's answer, where a signal stopped its re-simulation)
                     err.preload_result = _stopped(holder[0], signals)
@@ -137,7 +136,7 @@ def _kept_on_interrupt(study):
             finally:
                 stop.raising = False  # a further signal while the result is reported is only noted
             got = ("a solution" if res.knots is not None else "IPOPT's answer, not re-simulated" if res.ipopt_knots
-                   else "none solved")
+                   else "IPOPT's best feasible iterate, not optimal" if res.best_feasible else "none solved")
             kept = f"the study's result so far ({got}), returned in memory"
             return after_an_interrupt(res, stop, signals, stop.requested, "the preload study", kept,
                                       "its result so far, in memory only, lost with the process "
@@ -149,6 +148,12 @@ def _kept_on_interrupt(study):
     return call
 
 
+def _holds_an_answer(res: PreloadResult) -> bool:
+    """Whether a study's result so far holds a preload worth reporting: a re-simulated solution, IPOPT's answer
+    (``ipopt_knots``) or the best feasible iterate IPOPT visited (``best_feasible``)."""
+    return res.knots is not None or bool(res.ipopt_knots) or res.best_feasible is not None
+
+
 def _stopped(res: PreloadResult, signals) -> PreloadResult:
     """``res`` marked as stopped by the signal ``signals`` noted, saying what it keeps."""
     res.ok, res.interrupted_by = False, signals.sender()
@@ -158,13 +163,22 @@ def _stopped(res: PreloadResult, signals) -> PreloadResult:
 
 def _what_is_kept(res: PreloadResult) -> str:
     """What a study interrupted before it ended keeps: its last re-simulated solution, IPOPT's answer before its
-    re-simulation ended (``ipopt_knots``), or nothing."""
+    re-simulation ended (``ipopt_knots``), the best feasible iterate IPOPT had visited when the signal stopped its
+    iterations (``best_feasible``: not optimal, not re-simulated, which a signal would stop too), or nothing."""
     if res.knots is not None:
         return "the last solution found is kept"
     if res.ipopt_knots:
         return ("IPOPT's answer is kept, not re-simulated (ipopt_knots: "
                 + ", ".join(f"{v / MM:.4f}" for v in res.ipopt_knots) + " mm; the force between the samples is "
                 "not checked there: run the study again, or start from it)")
+    if (best := res.best_feasible) is not None:
+        value = (f"friction power {best['objective']:.6g} W" if res.objective == "friction" else
+                 f"mean preload {best['objective']:.6g} mm")
+        return ("IPOPT's best feasible iterate so far is kept, NOT OPTIMAL and not re-simulated (best_feasible: "
+                f"iteration {best['iteration']}, knots " + ", ".join(f"{v / MM:.4f}" for v in best["knots"])
+                + f" mm, {value}, force deficit {squares_text(best['deficit'])} N^2 rad, largest node defect "
+                f"{best['max_defect']:.2g}, as the NLP has them; the force between the samples is not checked there: "
+                "run the study again, or start from it)")
     return "nothing solved yet"
 
 
@@ -249,6 +263,9 @@ def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 
     x_knots = knots0
     for r in range(rounds):
         res.rounds = r + 1
+        # a round's NLP starts from the re-simulation of the last one's answer, which violated a bound: neither
+        # that answer nor the feasible iterates of that NLP are an answer any longer
+        res.ipopt_knots, res.best_feasible = None, None
         nlp = ShootingNlp(setup, sf, sim, nodes, knots, min_force, exclude, deficit_tol, objective)
         with stage(f"IPOPT (round {r + 1}: {knots} knot{'s' if knots > 1 else ''}, {nodes} shooting nodes, "
                    f"{setup.samples} samples)"):
