@@ -68,12 +68,17 @@ def _deficit_tol(ctx, param, value) -> float:
 
 @contextlib.contextmanager
 def _kept(results: dict, key: str):
-    """A study stage whose interruption keeps, as ``results[key]``, what the study held when a signal stopped it:
-    IPOPT's answer where the signal landed during its re-simulation (study.py, ``ipopt_knots``)."""
+    """A study stage whose interruption keeps, as ``results[key]``, what the study held when a signal stopped it, as
+    ``apexseal.optimise_preload`` returns it from Python (study.py, ``_kept_on_interrupt``): IPOPT's answer where the
+    signal landed during its re-simulation (``ipopt_knots``), its best feasible iterate where it landed during its
+    iterations (``best_feasible``). The schedule's result is kept whatever it holds (the report holds the constant
+    optimum, and says the schedule was stopped before it had one), the constant optimum's where it holds a preload
+    (``has_answer``): without one there is nothing to report."""
     try:
         yield
     except BaseException as err:
-        if (kept := getattr(err, "preload_result", None)) is not None:
+        kept = getattr(err, "preload_result", None)
+        if kept is not None and (key != "constant" or kept.has_answer):
             results[key] = kept
         raise
 

@@ -228,9 +228,13 @@ def test_the_command_and_save_preload_report_report_the_same_results_alike(studi
     assert stopped.interrupted_by == "the user (Ctrl-C, SIGINT)" and not stopped.ok
     assert stopped.knots is None and len(stopped.knot_angles_deg) == 2  # nothing solved; the knots asked
 
-    def schedule_interrupted():  # under the command's own signal handling the stage is abandoned, nothing returned
-        os.kill(os.getpid(), signal.SIGINT)
-        raise AssertionError("not reached: the command's handler raises")
+    def schedule_interrupted():  # under the command's own signal handling the stage is abandoned, and the result it
+        try:  # held goes with the interruption (study._kept_on_interrupt)
+            os.kill(os.getpid(), signal.SIGINT)
+            raise AssertionError("not reached: the command's handler raises")
+        except KeyboardInterrupt as err:
+            err.preload_result = stopped
+            raise
 
     cases = [("constant", (), None, 0, "completed", ""), ("schedule", ("--schedule", "2"), s, 0, "completed", ""),
              ("failed", ("--schedule", "2"), failed, 2, "failed",
@@ -254,9 +258,8 @@ def test_the_command_and_save_preload_report_report_the_same_results_alike(studi
             assert f"schedule saves {command[0]['saved_friction_power_W']:.3f} W" in r.output
         assert command[0]["status"] == saved[0]["status"] == status, name
         assert command[0].get("stopped", "") == saved[0].get("stopped", "") == why, name
-        if name == "interrupted":  # the command abandons the stage; from Python its result so far is in memory, kept
-            assert saved[0].pop("schedule") == json.loads(json.dumps(stopped.to_dict(), default=str))
-            saved = [saved[0], saved[1][:saved[1].index("## schedule")]]
+        if name == "interrupted":  # the stage's result so far, in both (the command dropped it)
+            assert command[0]["schedule"] == json.loads(json.dumps(stopped.to_dict(), default=str))
         assert command == saved, name
 
 
@@ -386,7 +389,7 @@ def test_an_interrupted_rerun_keeps_the_earlier_report_and_its_own_beside_it(lig
     data = json.loads((beside[0] / "preload.json").read_text())
     assert data["status"] == "interrupted" and data["run_id"] != earlier["run_id"]
     assert data["stopped"] == "interrupted by the user (Ctrl-C, SIGINT) during the schedule"
-    assert data["constant"]["ok"] and "schedule" not in data
+    assert data["constant"]["ok"] and data["schedule"]["best_feasible"] is not None  # the schedule's so far, too
     assert sorted(p.name for p in beside[0].iterdir()) == sorted(before)
     assert f"so the completed report at {out} was kept; this study's report is in {beside[0]}/" in err
     stage = [line for line in err.splitlines() if line.startswith(f"apexseal: {ipopt}")]
@@ -1021,3 +1024,32 @@ def test_a_signal_during_ipopt_s_iterations_keeps_its_best_feasible_iterate(ligh
     grid = SegmentGrid(SAMPLES, NODES, 1, setup.theta_start, setup.dth)
     sim = periodic(setup, sf, grid, np.array(best["knots"]), MIN_FORCE, ())
     assert sim.deficit <= DEFICIT_TOL * ALLOWANCE, sim.deficit
+
+
+def test_the_command_reports_an_interrupted_schedule_s_best_feasible_knots(studies, light, tmp_path, monkeypatch):
+    """Ctrl-C during the schedule's IPOPT iterations: the command's report held the constant optimum and dropped the
+    schedule stage, which from Python is returned as far as it got. Now the report holds the schedule's result as
+    the study keeps it (its best feasible knots, at worst its start, the constant optimum: a feasible schedule),
+    through the same status rule as save_preload_report (status interrupted, "during the schedule")."""
+    import json
+
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+    from apexseal.runtime.studies.preload import study
+
+    real = study.optimise_preload
+    monkeypatch.setattr(study, "optimise_preload",  # the constant optimum the studies above found, not solved again
+                        lambda scene, knots=1, **kw: studies[0] if knots == 1 else real(scene, knots=knots, **kw))
+    _ctrl_c_at(monkeypatch, 2, "IPOPT (round 1: 2 knots")
+    out = tmp_path / "o"
+    r = CliRunner().invoke(main, _light_cli(out, "--schedule", "2", "--no-check", "--quiet"))
+    assert r.exit_code == 130, r.output
+    data = json.loads((out / "preload.json").read_text())
+    assert data["status"] == "interrupted" and data["stopped"].endswith("during the schedule"), data
+    c, s = data["constant"], data["schedule"]
+    assert c["ok"] and not s["ok"] and s["interrupted_by"] and s["knots"] is None, s
+    best = s["best_feasible"]
+    assert len(best["knots"]) == 2 and best["iteration"] in (0, 1), best
+    assert best["objective"] <= c["nlp_friction_power"] * (1 + 1e-3) + 1e-6, (best, c["nlp_friction_power"])
+    assert "preload study interrupted: " in (out / "preload.md").read_text()

@@ -165,6 +165,13 @@ class PreloadResult:
         return res
 
     @property
+    def has_answer(self) -> bool:
+        """Whether the result holds a preload: a re-simulated solution (``knots``), IPOPT's answer before its
+        re-simulation (``ipopt_knots``) or the best feasible iterate IPOPT visited (``best_feasible``); False for a
+        study stopped or failed before IPOPT reached a feasible iterate."""
+        return self.knots is not None or bool(self.ipopt_knots) or self.best_feasible is not None
+
+    @property
     def schedule(self) -> Schedule | None:
         """The optimum as a callable ``delta_s(theta_deg)`` (m; periodic, piecewise linear through the knots, constant
         for one knot), or None for a study that found none."""

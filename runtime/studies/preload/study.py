@@ -126,9 +126,10 @@ def _kept_on_interrupt(study):
             try:
                 res = study(*args, _holder=holder, **kwargs)
             except BaseException as err:  # the interruption, or the CasADi error it became inside a call (signals.py)
-                if signals is not stop and signals.requested and holder and _holds_an_answer(holder[0]):
+                if signals is not stop and signals.requested and holder:
                     # under a command's own signal handling: what the study holds goes with the interruption, for
-                    # the command's report (IPOPT's answer, where a signal stopped its re-simulation)
+                    # the command's report (a re-simulated solution, IPOPT's answer, its best feasible iterate, or
+                    # nothing solved: PreloadResult.has_answer)
                     err.preload_result = _stopped(holder[0], signals)
                 if signals is not stop or not stop.requested or not holder:
                     raise
@@ -146,12 +147,6 @@ def _kept_on_interrupt(study):
     sig = inspect.signature(study)
     call.__signature__ = sig.replace(parameters=[p for n, p in sig.parameters.items() if n != "_holder"])
     return call
-
-
-def _holds_an_answer(res: PreloadResult) -> bool:
-    """Whether a study's result so far holds a preload worth reporting: a re-simulated solution, IPOPT's answer
-    (``ipopt_knots``) or the best feasible iterate IPOPT visited (``best_feasible``)."""
-    return res.knots is not None or bool(res.ipopt_knots) or res.best_feasible is not None
 
 
 def _stopped(res: PreloadResult, signals) -> PreloadResult:
