@@ -9,40 +9,50 @@ from pathlib import Path
 
 import click
 
-from .cli_common import Choice, FloatRange, IntRange, default_folder, scene_label, scene_of, scene_settings, writable
+from .cli_common import Choice, default_folder, scene_label, scene_of, scene_settings, writable
+from .runtime.studies.preload.options import DEFAULTS, OBJECTIVES, default_text
 
 
-def _quantity(value, param, unit: str, largest: float, example: str) -> float | None:
-    """A quantity option (a bare number in the SI ``unit``, as a bare TOML number is), in (0, ``largest``]."""
-    from .runtime.scenes.units import QuantityError, parse_quantity
+def _checked(ctx, param, value):
+    """An option converted and range-checked by the study's own check (study.check_option: the API's, with its
+    message naming the option, its value and the allowed range); None where not given (the API's default is then
+    the option's own default, from runtime/studies/preload/options.py)."""
+    from .runtime.studies.preload.problem import PreloadStudyError
+    from .runtime.studies.preload.study import check_option
 
-    if value is None:  # an optional bound (--max-groove-force): none
-        return None
-    key = "--" + param.name.replace("_", "-")
-    allowed = f"allowed: > 0 and <= {largest:g} {unit}, e.g. {example}"
+    name = param.name
+    if value is None:
+        return DEFAULTS.get(name)
+    if name == "max_rate":  # a bare number is in mm per degree on the command line (m per degree from Python)
+        value = value if any(c.isalpha() for c in value) else f"{value} mm/deg"
+    elif name in ("knots", "nodes", "samples", "max_iter"):
+        value = _integer(value)
+    elif name in ("deficit_tol", "min_force", "max_groove_force", "max_preload"):  # a bare number: in the SI unit
+        value = _number(value)
     try:
-        number = float(value)
+        value = check_option(name, value, knots=ctx.params.get("knots") if name == "max_rate" else None)
+    except PreloadStudyError as err:
+        raise click.BadParameter(str(err)) from None
+    if name == "knots" and value == 1:
+        raise click.BadParameter("knots = 1: the constant preload, which the study always optimises; a schedule has "
+                                 "KNOTS >= 2")
+    return value
+
+
+def _number(text: str):
+    """A bare number as a float (a quantity's text, e.g. "5 N", as it is)."""
+    try:
+        return float(text)
     except ValueError:
-        number = value
+        return text
+
+
+def _integer(text: str):
+    """An integer's text as an int (anything else as it is, refused by the study's check)."""
     try:
-        x = parse_quantity(number, unit, key=key)
-    except QuantityError as err:
-        raise click.BadParameter(f"{value!r}: {err}; {allowed}") from None
-    if not (0 < x <= largest):
-        raise click.BadParameter(f"{value!r} is {x:g} {unit}; {allowed}")
-    return x
-
-
-def _force(ctx, param, value) -> float | None:
-    from .runtime.studies.preload.problem import MAX_FORCE
-
-    return _quantity(value, param, "N", MAX_FORCE, "5N")
-
-
-def _length(ctx, param, value) -> float:
-    from .runtime.studies.preload.problem import MAX_PRELOAD
-
-    return _quantity(value, param, "m", MAX_PRELOAD, "50mm")
+        return int(text)
+    except ValueError:
+        return text
 
 
 def _windows(ctx, param, values) -> tuple:
@@ -52,18 +62,6 @@ def _windows(ctx, param, values) -> tuple:
         return windows(tuple(parse_window(v) for v in values))
     except PreloadStudyError as err:
         raise click.BadParameter(str(err).replace("exclude = ", "")) from None
-
-
-def _deficit_tol(ctx, param, value) -> float:
-    """--deficit-tol, range-checked as the study checks it (problem.deficit_tol_problem); the study's default."""
-    from .runtime.studies.preload.problem import deficit_tol_problem
-    from .runtime.studies.preload.result import DEFICIT_TOL
-
-    if value is None:
-        return DEFICIT_TOL
-    if problem := deficit_tol_problem(value):
-        raise click.BadParameter(problem)
-    return value
 
 
 @contextlib.contextmanager
@@ -83,40 +81,38 @@ def _kept(results: dict, key: str):
         raise
 
 
-def _rate(ctx, param, value):
-    """--max-rate in mm per degree (its range checked by its type, FloatRange), as the study takes it: m per degree."""
-    return None if value is None else value * 1e-3
-
-
 @click.command("optimise-preload")
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @scene_settings
-@click.option("--min-force", default="5 N", show_default=True, callback=_force, metavar="FORCE",
+@click.option("--min-force", default=default_text("min_force"), show_default=True, callback=_checked, metavar="FORCE",
               help="Smallest contact force of the tip on the housing, everywhere outside --exclude (a force, e.g. 5N; "
                    "a bare number is in N).")
-@click.option("--max-groove-force", default=None, callback=_force, metavar="FORCE",
+@click.option("--max-groove-force", default=None, callback=_checked, metavar="FORCE",
               help="Bound on every seal-groove contact force (Eq. 63), everywhere on the revolution, between samples "
                    "too (a force, e.g. 400N; a bare number is in N) [default: none].")
 @click.option("--exclude", "exclude", multiple=True, callback=_windows, metavar="START:END",
               help="Crank-angle window in degrees where the force is not required (repeatable, up to 4), e.g. 180:200; "
                    "angles are taken modulo 360, so 350:10 crosses 0 and 200:180 leaves only 180-200 required.")
-@click.option("--schedule", "knots", type=IntRange(2, 72), default=None, metavar="KNOTS",
+@click.option("--schedule", "knots", default=None, callback=_checked, metavar="KNOTS", is_eager=True,
               help="Also optimise a periodic piecewise-linear preload schedule with KNOTS knots, started from the "
                    "constant optimum.")
-@click.option("--max-rate", type=FloatRange(0, min_open=True), default=None, callback=_rate, metavar="MM_PER_DEG",
-              help="Bound on |d delta_s / d theta| of the schedule in mm per degree [default: none].")
-@click.option("--deficit-tol", type=float, default=None, callback=_deficit_tol, metavar="N2_RAD",
+@click.option("--max-rate", default=None, callback=_checked, metavar="MM_PER_DEG",
+              help="Bound on |d delta_s / d theta| of the schedule in mm per degree (a bare number), or a rate "
+                   "such as 0.01mm/deg [default: none].")
+@click.option("--deficit-tol", default=None, callback=_checked, metavar="N2_RAD",
               help="Bound of the squared force deficit int max(0, min_force - F)^2 dtheta, in N^2 rad: how far the "
                    "force may fall short of --min-force [default: (0.2 N)^2 x 0.1 deg = 6.98e-5].")
-@click.option("--max-preload", default="100 mm", show_default=True, callback=_length, metavar="LENGTH",
+@click.option("--max-preload", default=default_text("max_preload"), show_default=True, callback=_checked,
+              metavar="LENGTH",
               help="Upper bound of the preload delta_s searched (a length, e.g. 150mm; a bare number is in m).")
-@click.option("--max-iter", type=IntRange(1, 10000), default=100, show_default=True,
+@click.option("--max-iter", default=str(DEFAULTS["max_iter"]), show_default=True, callback=_checked, metavar="N",
               help="IPOPT's iterations per solve.")
-@click.option("--objective", type=Choice(["friction", "preload"]), default="friction", show_default=True,
+@click.option("--objective", type=Choice(OBJECTIVES), default=DEFAULTS["objective"], show_default=True,
+              callback=_checked,
               help="Minimise the cycle-mean friction power, or the (mean) preload.")
-@click.option("--samples", type=IntRange(36, 100000),
+@click.option("--samples", callback=_checked, metavar="N",
               help="Output samples per revolution [default: the scene's samples_per_revolution].")
-@click.option("--nodes", type=IntRange(2, 64), default=4, show_default=True,
+@click.option("--nodes", default=str(DEFAULTS["nodes"]), show_default=True, callback=_checked, metavar="N",
               help="Shooting nodes over the revolution (with the knots, their least common multiple must divide "
                    "the samples).")
 @click.option("--vary-stiffness", is_flag=True,

@@ -283,20 +283,20 @@ def test_study_needs_the_spring_and_the_housing_contact(default_scene):
 
 
 @pytest.mark.parametrize("args, words", [
-    (["--min-force", "-5N"], ["--min-force", "-5N", "> 0"]),
+    (["--min-force", "-5N"], ["--min-force", "min_force = -5.0", "> 0"]),  # the API's words
     (["--min-force", "5 bar"], ["--min-force", "5 bar"]),
-    (["--min-force", "1e9 N"], ["--min-force", "1e9", "<= 100000"]),
+    (["--min-force", "1e9 N"], ["--min-force", "min_force = 1000000000.0", "<= 100000"]),
     (["--exclude", "abc"], ["--exclude", "abc", "START:END"]),
     (["--exclude", "0:360"], ["--exclude", "0:360", "0 < |END - START| < 360"]),
     (["--samples", "37"], ["--samples", "least common multiple 4 must divide the 37 samples"]),  # before any work
     ([arg for w in ("0:1", "2:3", "4:5", "6:7", "8:9") for arg in ("--exclude", w)], ["--exclude", "at most 4"]),
     (["--samples", "10"], ["--samples", "10"]),
     (["--schedule", "1"], ["--schedule", "1"]),
-    (["--max-rate", "-2"], ["--max-rate", "-2", "x>0"]),
-    (["--max-groove-force", "-3N"], ["--max-groove-force", "-3N", "> 0"]),
+    (["--max-rate", "-2"], ["--max-rate", "max_rate = -0.002", "> 0 m per degree"]),
+    (["--max-groove-force", "-3N"], ["--max-groove-force", "max_groove_force = -3.0", "> 0"]),
     (["--max-groove-force", "3 m"], ["--max-groove-force", "3 m"]),
     (["--max-groove-force", "-3"], ["--max-groove-force", "-3", "> 0"]),
-    (["--max-preload", "50"], ["--max-preload", "'50' is 50 m", "<= 1 m"]),  # a bare number is in m
+    (["--max-preload", "50"], ["--max-preload", "max_preload = 50.0", "<= 1 m"]),  # a bare number is in m
     (["--max-preload", "0 mm"], ["--max-preload", "> 0"]),
     (["--max-preload", "5 N"], ["--max-preload", "5 N"]),
     (["--max-iter", "0"], ["--max-iter", "0"]),

@@ -1053,3 +1053,44 @@ def test_the_command_reports_an_interrupted_schedule_s_best_feasible_knots(studi
     assert len(best["knots"]) == 2 and best["iteration"] in (0, 1), best
     assert best["objective"] <= c["nlp_friction_power"] * (1 + 1e-3) + 1e-6, (best, c["nlp_friction_power"])
     assert "preload study interrupted: " in (out / "preload.md").read_text()
+
+
+@pytest.mark.parametrize("cli, api", [
+    (("--min-force", "5 mm"), {"min_force": "5 mm"}), (("--min-force", "0"), {"min_force": 0.0}),
+    (("--max-groove-force", "3 m"), {"max_groove_force": "3 m"}), (("--max-preload", "2 m"), {"max_preload": "2 m"}),
+    (("--nodes", "65"), {"nodes": 65}), (("--max-iter", "0"), {"max_iter": 0}),
+    (("--deficit-tol", "1e4"), {"deficit_tol": 1e4}), (("--schedule", "73"), {"knots": 73}),
+    (("--schedule", "4", "--max-rate", "-1"), {"knots": 4, "max_rate": "-1 mm/deg"}),
+    (("--samples", "10"), {"samples": 10}),
+])
+def test_the_command_and_the_api_refuse_an_option_with_the_same_message(cli, api):
+    """The command checked its options with its own ranges and words (click's "65 is not in the range 2<=x<=64",
+    "'5 mm': ...; allowed: ..., e.g. 5N"), the API with others ("nodes = 65: must be an integer in 2..64"), and
+    declared its defaults apart. Now the command checks each option with the study's check (study.check_option)
+    and takes its defaults from the study's declaration (options.py): both name the same option, value and range."""
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+    from apexseal.runtime.scenes.scene import embedded_scene_path
+
+    scene = embedded_scene_path("soft-contacts.toml")
+    with pytest.raises(PreloadStudyError) as err:
+        optimise_preload(str(scene), **api)
+    r = CliRunner().invoke(main, ["optimise-preload", str(scene), *cli, "--quiet"])
+    assert r.exit_code == 2 and str(err.value) in " ".join(r.output.split()), (str(err.value), r.output)
+
+
+def test_the_command_s_defaults_are_the_api_s():
+    """The command's defaults were written in it apart from optimise_preload's ("5 N" and 5.0, "100 mm" and 0.1)."""
+    import inspect
+
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+    from apexseal.runtime.studies.preload.options import DEFAULTS
+
+    params = inspect.signature(optimise_preload).parameters
+    assert {k: params[k].default for k in DEFAULTS} == DEFAULTS
+    text = " ".join(CliRunner().invoke(main, ["optimise-preload", "--help"]).output.split())
+    for shown in ("[default: 5 N]", "[default: 100 mm]", "[default: 100]", "[default: 4]", "[default: friction]"):
+        assert shown in text, text

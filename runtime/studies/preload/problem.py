@@ -47,6 +47,7 @@ from ....generated.layout import HybridLayout
 from ....generated.scaling import LENGTH, to_physical, to_scaled
 from ...scenes.schema import GAS_SOURCES
 from ...solving.preflight import initial_activations
+from .options import OBJECTIVES
 
 #: the study's preload unit: decision variables and tolerances are in mm
 MM = 1e-3
@@ -503,20 +504,38 @@ def deficit_tol_problem(deficit_tol) -> str | None:
     return f"deficit_tol = {deficit_tol!r}: must be in (0, {MAX_DEFICIT_TOL:g}) N^2 rad"
 
 
+def option_problems(**options) -> dict[str, str]:
+    """What is wrong with each of the study options given (by name, as ``optimise_preload`` takes them, converted to N
+    and m), by name: the one statement of their ranges, for the API and the command line alike
+    (:func:`.study.check_option`)."""
+    checks = {
+        "nodes": nodes_problem,
+        "knots": lambda v: None if is_integer(v) and 1 <= v <= 72 else
+        f"knots = {v!r}: must be an integer in 1..72 (1: a constant preload)",
+        "min_force": lambda v: None if is_force(v) else
+        f"min_force = {v!r}: must be a force > 0 and <= {MAX_FORCE:g} N (a number, in N)",
+        "max_groove_force": lambda v: None if v is None or is_force(v) else
+        f"max_groove_force = {v!r}: must be a force > 0 and <= {MAX_FORCE:g} N, or None (no bound)",
+        "max_iter": lambda v: None if is_integer(v) and v >= 1 else
+        f"max_iter = {v!r}: must be an integer >= 1 (IPOPT's iterations)",
+        "objective": lambda v: None if v in OBJECTIVES else f"objective = {v!r}: must be one of {', '.join(OBJECTIVES)}",
+        "deficit_tol": deficit_tol_problem,
+        "max_rate": lambda v: max_rate_problem(v, options.get("knots")),
+        "rounds": lambda v: None if is_integer(v) and 1 <= v <= 10 else f"rounds = {v!r}: must be an integer in 1..10",
+        "max_preload": max_preload_problem,
+        "samples": lambda v: None if v is None or is_integer(v) and 36 <= v <= 100000 else
+        f"samples = {v!r}: must be an integer in 36..100000 (samples per revolution)",
+    }
+    return {k: p for k, v in options.items() if (p := checks[k](v))}
+
+
 def check_request(scene, min_force, samples, revolutions, max_groove_force=None) -> None:
     """Reject what the study cannot answer, naming the option, its value and the allowed range."""
-    problems = []
-    if max_groove_force is not None:
-        if not is_force(max_groove_force):
-            problems.append(f"max_groove_force = {max_groove_force!r}: must be a force > 0 and <= {MAX_FORCE:g} N, "
-                            "or None (no bound)")
-        elif not scene.effects.groove_contact:
-            problems.append(f"max_groove_force = {max_groove_force!r}: the scene's groove contacts are off "
-                            "(effects.groove_contact); there is no groove force to bound")
-    if not is_force(min_force):
-        problems.append(f"min_force = {min_force!r}: must be a force > 0 and <= {MAX_FORCE:g} N (a number, in N)")
-    if samples is not None and not (is_integer(samples) and 36 <= samples <= 100000):
-        problems.append(f"samples = {samples!r}: must be an integer in 36..100000 (samples per revolution)")
+    found = option_problems(max_groove_force=max_groove_force, min_force=min_force, samples=samples)
+    problems = list(found.values())
+    if max_groove_force is not None and "max_groove_force" not in found and not scene.effects.groove_contact:
+        problems.append(f"max_groove_force = {max_groove_force!r}: the scene's groove contacts are off "
+                        "(effects.groove_contact); there is no groove force to bound")
     if not (is_integer(revolutions) and 2 <= revolutions <= 50):
         problems.append(f"revolutions = {revolutions!r}: must be an integer in 2..50")
     eff = scene.effects

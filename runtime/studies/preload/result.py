@@ -9,13 +9,14 @@ from typing import ClassVar
 import numpy as np
 
 from .advice import robustness, shortfall_advice, shortfall_kind
+from .options import DEFAULTS
 from .problem import MM
 from .schedule import Schedule
 
 #: default bound of the squared force deficit: (0.2 N)^2 over 0.1 deg of crank angle (N^2 rad); at (0.1 N)^2 over
 #: 0.05 deg the deficit of the iterates near the optimum was noisy at ~10 % of the bound (the rattle's impacts at
 #: the erk rtol) and IPOPT wandered for 100 iterations within 1e-4 of the answer without stopping (measured)
-DEFICIT_TOL = 0.2**2 * np.radians(0.1)
+DEFICIT_TOL = DEFAULTS["deficit_tol"]
 #: a re-simulated optimum meets a bound (deficit_tol) when within this factor of it: IPOPT stops within 2 % of
 #: the bound, and the re-simulation from the scene's initial state differs from the NLP's trajectory at the
 #: rtol-level noise of the impacts (docs/preload.md, "The non-smooth strategy")

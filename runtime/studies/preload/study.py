@@ -73,21 +73,19 @@ from ....progress import announce, stage
 from ....signals import StopSignals
 from .advice import ROBUST_STEPS, shortfall_kind, spring_capacity
 from .nlp import STUCK_ITERATIONS, THETA_MAX_FACT, ShootingNlp
+from .options import DEFAULTS, UNITS
 from .periodic import periodic, periodic_many
 from .problem import (
     MAX_FORCE,
+    MAX_PRELOAD,
     MM,
     PreloadSetup,
     PreloadStudyError,
     check_grid,
-    deficit_tol_problem,
-    is_force,
-    is_integer,
-    max_preload_problem,
     max_rate_of,
-    max_rate_problem,
     max_rate_unbinding,
-    nodes_problem,
+    option_problems,
+    quantity_of,
     study_quantities,
     windows,
 )
@@ -104,7 +102,20 @@ from .result import (
 from .schedule import SegmentGrid, simulate_schedule, simulate_schedules
 from .shooting import study_functions
 
-OBJECTIVES = ("friction", "preload")
+
+def check_option(name: str, value, knots: int | None = None):
+    """One option of :func:`optimise_preload` (``min_force``, ``max_groove_force``, ``max_preload``, ``max_rate``,
+    ``knots``, ``nodes``, ``samples``, ``max_iter``, ``objective``, ``deficit_tol``, ``rounds``) converted as the
+    study converts it (quantities to N and m) and checked as it checks it: the value, or a
+    :class:`PreloadStudyError` with the study's own message (the option, its value, the allowed range). What the
+    command line checks its options with, so that both say the same; ``knots``: the schedule's, for ``max_rate``."""
+    if name in ("min_force", "max_groove_force", "max_preload"):
+        value = quantity_of(name, value, UNITS[name], MAX_PRELOAD if name == "max_preload" else MAX_FORCE)
+    elif name == "max_rate":
+        value = max_rate_of(value)
+    if problem := option_problems(**{name: value}, **({"knots": knots} if name == "max_rate" else {})).get(name):
+        raise PreloadStudyError(problem)
+    return value
 
 
 def _kept_on_interrupt(study):
@@ -178,10 +189,11 @@ def _what_is_kept(res: PreloadResult) -> str:
 
 
 @_kept_on_interrupt
-def optimise_preload(scene, *, min_force: float = 5.0, exclude=(), knots: int = 1, nodes: int = 4,
-                     samples: int | None = None, rtol: float | None = None, objective: str = "friction",
-                     deficit_tol: float = DEFICIT_TOL, max_rate: float | None = None, functions=None,
-                     max_iter: int = 100, revolutions: int = 3, max_preload: float = 0.1, flags: str = "quick",
+def optimise_preload(scene, *, min_force: float = DEFAULTS["min_force"], exclude=(), knots: int = 1,
+                     nodes: int = DEFAULTS["nodes"], samples: int | None = None, rtol: float | None = None,
+                     objective: str = DEFAULTS["objective"], deficit_tol: float = DEFICIT_TOL,
+                     max_rate: float | None = None, functions=None, max_iter: int = DEFAULTS["max_iter"],
+                     revolutions: int = 3, max_preload: float = DEFAULTS["max_preload"], flags: str = "quick",
                      rounds: int = 3, start: PreloadResult | None = None, verbose: bool = False,
                      ipopt_options: dict | None = None, setup: PreloadSetup | None = None,
                      max_groove_force: float | None = None, _holder: list | None = None) -> PreloadResult:
@@ -410,25 +422,9 @@ def _where(sim, setup) -> list:
 
 
 def _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter, max_preload, start) -> None:
-    problems = []
-    if problem := nodes_problem(nodes):
-        problems.append(problem)
-    if not (is_integer(knots) and 1 <= knots <= 72):
-        problems.append(f"knots = {knots!r}: must be an integer in 1..72 (1: a constant preload)")
-    if not is_force(min_force):
-        problems.append(f"min_force = {min_force!r}: must be a force > 0 and <= {MAX_FORCE:g} N (a number, in N)")
-    if not (is_integer(max_iter) and max_iter >= 1):
-        problems.append(f"max_iter = {max_iter!r}: must be an integer >= 1 (IPOPT's iterations)")
-    if objective not in OBJECTIVES:
-        problems.append(f"objective = {objective!r}: must be one of {', '.join(OBJECTIVES)}")
-    if problem := deficit_tol_problem(deficit_tol):
-        problems.append(problem)
-    if problem := max_rate_problem(max_rate, knots):
-        problems.append(problem)
-    if not (is_integer(rounds) and 1 <= rounds <= 10):
-        problems.append(f"rounds = {rounds!r}: must be an integer in 1..10")
-    if problem := max_preload_problem(max_preload):
-        problems.append(problem)
+    problems = list(option_problems(nodes=nodes, knots=knots, min_force=min_force, max_iter=max_iter,
+                                     objective=objective, deficit_tol=deficit_tol, max_rate=max_rate, rounds=rounds,
+                                     max_preload=max_preload).values())
     if start is not None and not isinstance(start, PreloadResult):
         problems.append(f"start = {start!r}: must be a PreloadResult (the constant optimum to start a schedule "
                         "from), or None")
