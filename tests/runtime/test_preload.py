@@ -100,13 +100,16 @@ def test_the_run_states_how_much_it_excludes(windows, degrees):
 
 
 def test_cli_forces_bare_numbers_are_newtons():
-    from apexseal.commands_optimise import _force
+    from apexseal.commands_optimise import _checked
 
     class Param:
         name = "min_force"
 
-    assert _force(None, Param, "5") == _force(None, Param, "5 N") == 5.0
-    assert _force(None, Param, "0.2kN") == 200.0
+    class Ctx:
+        params: dict = {}
+
+    assert _checked(Ctx, Param, "5") == _checked(Ctx, Param, "5 N") == 5.0
+    assert _checked(Ctx, Param, "0.2kN") == 200.0
 
 
 def test_segments_reproduce_the_schedule():
@@ -283,17 +286,17 @@ def test_study_needs_the_spring_and_the_housing_contact(default_scene):
 
 
 @pytest.mark.parametrize("args, words", [
-    (["--min-force", "-5N"], ["--min-force", "min_force = -5.0", "> 0"]),  # the API's words
+    (["--min-force", "-5N"], ["--min-force", "min_force = '-5N' (= -5.0 in SI units)", "> 0"]),  # the API's words
     (["--min-force", "5 bar"], ["--min-force", "5 bar"]),
-    (["--min-force", "1e9 N"], ["--min-force", "min_force = 1000000000.0", "<= 100000"]),
+    (["--min-force", "1e9 N"], ["--min-force", "min_force = '1e9 N' (= 1000000000.0 in SI units)", "<= 100000"]),
     (["--exclude", "abc"], ["--exclude", "abc", "START:END"]),
     (["--exclude", "0:360"], ["--exclude", "0:360", "0 < |END - START| < 360"]),
     (["--samples", "37"], ["--samples", "least common multiple 4 must divide the 37 samples"]),  # before any work
     ([arg for w in ("0:1", "2:3", "4:5", "6:7", "8:9") for arg in ("--exclude", w)], ["--exclude", "at most 4"]),
     (["--samples", "10"], ["--samples", "10"]),
     (["--schedule", "1"], ["--schedule", "1"]),
-    (["--max-rate", "-2"], ["--max-rate", "max_rate = -0.002", "> 0 m per degree"]),
-    (["--max-groove-force", "-3N"], ["--max-groove-force", "max_groove_force = -3.0", "> 0"]),
+    (["--max-rate", "-2"], ["--max-rate", "max_rate = '-2 mm/deg' (= -0.002 in SI units)", "> 0 m per degree"]),
+    (["--max-groove-force", "-3N"], ["--max-groove-force", "max_groove_force = '-3N' (= -3.0 in SI units)", "> 0"]),
     (["--max-groove-force", "3 m"], ["--max-groove-force", "3 m"]),
     (["--max-groove-force", "-3"], ["--max-groove-force", "-3", "> 0"]),
     (["--max-preload", "50"], ["--max-preload", "max_preload = 50.0", "<= 1 m"]),  # a bare number is in m

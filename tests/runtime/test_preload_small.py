@@ -904,7 +904,7 @@ def test_max_rate_takes_a_rate_per_angle_and_is_checked_against_the_knots(light)
     scene = light[0]
     with pytest.raises(PreloadStudyError) as err:
         optimise_preload(scene, min_force=MIN_FORCE, nodes=NODES, knots=1, max_rate="0.01 mm/deg", setup=_setup(light))
-    for w in ["max_rate = 1e-05", "knots = 1", "knots >= 2"]:
+    for w in ["max_rate = '0.01 mm/deg' (= 1e-05 in SI units)", "knots = 1", "knots >= 2"]:
         assert w in str(err.value), str(err.value)
     # 0.05 meant in mm per degree: a bound no schedule within 0..10 mm can reach, said as the study starts (the
     # lone text of exclude then stops it before any work)
@@ -1078,6 +1078,27 @@ def test_the_command_and_the_api_refuse_an_option_with_the_same_message(cli, api
         optimise_preload(str(scene), **api)
     r = CliRunner().invoke(main, ["optimise-preload", str(scene), *cli, "--quiet"])
     assert r.exit_code == 2 and str(err.value) in " ".join(r.output.split()), (str(err.value), r.output)
+
+
+@pytest.mark.parametrize("cli, api, given", [
+    (("--schedule", "4", "--max-rate", "-1"), {"knots": 4, "max_rate": "-1 mm/deg"}, "'-1 mm/deg'"),
+    (("--max-preload", "-2 mm"), {"max_preload": "-2 mm"}, "'-2 mm'"),
+])
+def test_a_refused_quantity_is_named_as_it_was_given(cli, api, given):
+    """``--max-rate -1`` (mm per degree on the command line) was refused as "max_rate = -0.001: must be > 0 m per
+    degree": a value the user never typed. A quantity's text is named as given, then in SI units, by both."""
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+    from apexseal.runtime.scenes.scene import embedded_scene_path
+
+    scene = embedded_scene_path("soft-contacts.toml")
+    with pytest.raises(PreloadStudyError, match="in SI units") as err:
+        optimise_preload(str(scene), **api)
+    name = list(api)[-1]
+    assert str(err.value).startswith(f"{name} = {given} (= "), str(err.value)
+    r = CliRunner().invoke(main, ["optimise-preload", str(scene), *cli, "--quiet"])
+    assert r.exit_code == 2 and given in r.output and str(err.value) in " ".join(r.output.split()), r.output
 
 
 def test_the_command_s_defaults_are_the_api_s():

@@ -441,7 +441,7 @@ def max_rate_of(max_rate) -> Any:
     text = quantity_text(max_rate) or max_rate
     if isinstance(text, str) and "/" not in text:
         raise PreloadStudyError(f"max_rate = {text!r}: expected a length per angle, e.g. '0.01 mm/deg' (a number: m "
-                                "per degree)")
+                                "per degree in Python, mm per degree on the command line)")
     return quantity_of("max_rate", max_rate, "m/deg", MAX_PRELOAD)
 
 

@@ -109,11 +109,14 @@ def check_option(name: str, value, knots: int | None = None):
     study converts it (quantities to N and m) and checked as it checks it: the value, or a
     :class:`PreloadStudyError` with the study's own message (the option, its value, the allowed range). What the
     command line checks its options with, so that both say the same; ``knots``: the schedule's, for ``max_rate``."""
+    given = value
     if name in ("min_force", "max_groove_force", "max_preload"):
         value = quantity_of(name, value, UNITS[name], MAX_PRELOAD if name == "max_preload" else MAX_FORCE)
     elif name == "max_rate":
         value = max_rate_of(value)
     if problem := option_problems(**{name: value}, **({"knots": knots} if name == "max_rate" else {})).get(name):
+        if isinstance(given, str) and not isinstance(value, str):  # as given ("-1 mm/deg"), then as checked
+            problem = problem.replace(f"{name} = {value!r}", f"{name} = {given!r} (= {value!r} in SI units)", 1)
         raise PreloadStudyError(problem)
     return value
 
@@ -213,6 +216,10 @@ def optimise_preload(scene, *, min_force: float = DEFAULTS["min_force"], exclude
     from ...api import model_functions, scene_of
 
     scene = scene_of(scene)
+    for name, given in (("min_force", min_force), ("max_groove_force", max_groove_force),
+                        ("max_preload", max_preload), ("max_rate", max_rate)):
+        if isinstance(given, str):  # a quantity's text: refused naming it as given, as the command line does
+            check_option(name, given, knots=knots)
     min_force, max_groove_force, max_preload = study_quantities(min_force, max_groove_force, max_preload)
     max_rate = max_rate_of(max_rate)
     _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, max_iter, max_preload, start)
