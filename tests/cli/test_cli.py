@@ -254,7 +254,8 @@ def test_progress_reports_stages_with_elapsed_time(capsys):
     (["optimise-preload", "--nodes", "x"], ["--nodes", "nodes = 'x': must be an integer in 2..64"]),  # the API's words
     (["optimise-preload", "--max-rate", "abc"], ["--max-rate", "max_rate = 'abc': expected a length per angle"]),
     (["optimise-preload", "--max-rate", "nan"], ["--max-rate", "max_rate = 'nan': expected a length per angle"]),
-    (["optimise-preload", "--max-rate", "-1"], ["--max-rate", "max_rate = '-1 mm/deg' (= -0.001 in SI units): must be > 0 m per degree"]),
+    (["optimise-preload", "--max-rate", "-1"],
+     ["--max-rate", "max_rate = '-1 mm/deg' (= -0.001 in SI units): must be > 0 m per degree"]),
     (["simulate", "-n", "1e20"], ["--revolutions", "'1e20' is not an integer", "allowed: 1 <= n <= 100000"]),
     (["simulate", "--rtol", "abc"], ["--rtol", "'abc' is not a number", "allowed: 1e-12 <= value <= 0.01"]),
     (["simulate", "--max-wall-time", "x"], ["--max-wall-time", "'x' is not a number", "allowed: 0 < value <= 1e+07 s"]),
