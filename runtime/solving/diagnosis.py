@@ -26,27 +26,54 @@ from .preflight import MAX_START_PENETRATION, penetration_guards
 from .settings import MAX_TILT, RunSettings, out_of_time
 
 
-def locate_failure(functions, settings, params, z, edges, P, err, deadline, theta_start, make=make_engine):
-    """Re-run a failed call interval by interval with the interpreted integrator (see the module docstring).
+def locate_failure(functions, settings, params, z, edges, P, err, deadline, theta_start, make=make_engine,
+                   counts_before=None, advance=None):
+    """Re-run a failed call interval by interval (see the module docstring).
 
-    ``make`` builds the engines (the run's engine factory, so that what is re-run is what ran).
+    ``make`` builds the engines (the run's engine factory, so that what is re-run is what ran). The intervals are
+    re-run compiled where the run compiles and has no wall-time budget (:func:`_compiled_single`: a compiled
+    revolution of erk at 1 rpm ran at 3.05 deg/s, 7 times as fast as the interpreted re-run); an
+    interval that fails is re-run interpreted, whose statistics the diagnosis reads.
+
+    ``counts_before``: the hybrid state's event counts when the revolution began; the re-run stops after the
+    interval in which the revolution's events pass ``max_events_per_revolution``, the cap at which CasADi's call
+    stops too (a compiled call only says 'Evaluation failed'; re-run interval by interval, each with a cap of its
+    own, every interval passed, and only after the whole revolution did the run's event check name the cap). The
+    samples then end there, with no stop: the run's event check stops the run at that sample, naming the cap.
+    ``advance(k)`` (optional) is called after each of the first k intervals passed: the run's progress.
 
     Returns the samples computed and the stop (status, StopInfo) at the first interval
-    that fails on its own, with the reason diagnosed; or every sample and no stop when
+    that fails on its own, with the reason diagnosed; or the samples and no stop when
     each interval passes alone (the run goes on from there).
     """
     what, t0 = f"re-running a failed integrator call ({edges.size - 1} output intervals) interval by interval", \
         time.perf_counter()
-    announce(f"{what}, interpreted ...")
+    fast = _compiled_single(functions, settings, edges[1] - edges[0], make, deadline)
+    announce(f"{what}, {'compiled' if fast is not None else 'interpreted'} ...")
     with StopSignals() as signals:
         Z, stop = _interval_by_interval(functions, settings, params, z, edges, P, err, deadline, theta_start, make,
-                                        signals)
-    outcome = "every interval passed" if stop is None else f"{stop[0]} at {np.degrees(stop[1].theta):.3f} deg"
+                                        signals, fast, counts_before, advance)
+    outcome = (f"{stop[0]} at {np.degrees(stop[1].theta):.3f} deg" if stop is not None else "every interval passed"
+               if Z.shape[1] == edges.size - 1 else "the revolution's events passed max_events_per_revolution = "
+               f"{settings.max_events_per_revolution}, the cap of CasADi's call")
     announce(f"{what}: {outcome}, {Z.shape[1]} passed, in {time.perf_counter() - t0:.1f} s")
     return Z, stop
 
 
-def _interval_by_interval(functions, settings, params, z, edges, P, err, deadline, theta_start, make, signals):
+def _compiled_single(functions, settings, dtheta: float, make, deadline: float):
+    """A compiled engine of one interval of ``dtheta`` rad for the re-run, or None: for an interpreted run, under a
+    wall-time budget (no compiling while it runs out, as runtime/solving/pace.py) and where nothing compiles."""
+    if not settings.compile_c or math.isfinite(deadline):
+        return None
+    try:
+        engine = make(functions, settings, n_samples=1, span=dtheta, compile_c=True)
+    except (RuntimeError, OSError):  # the interpreted re-run is the fallback of a compilation that failed too
+        return None
+    return engine if engine.compiled else None
+
+
+def _interval_by_interval(functions, settings, params, z, edges, P, err, deadline, theta_start, make, signals,
+                          fast=None, counts_before=None, advance=None):
     lay = HybridLayout.of(functions)
     dth = edges[1] - edges[0]
     linear = int(P.shape[1] == edges.size)  # pressure = "linear": the values at the edges, one more than intervals
@@ -61,7 +88,12 @@ def _interval_by_interval(functions, settings, params, z, edges, P, err, deadlin
                 where.reason = _stopped(signals, settings, deadline, context)
                 return _cols(cols, z), ("interrupted", where)
             try:
-                out = single.run(z, params, edges[k], P[:, k:k + 1 + linear])
+                try:
+                    out = (fast or single).run(z, params, edges[k], P[:, k:k + 1 + linear])
+                except RuntimeError as e:
+                    if fast is None or isinstance(e, WallTimeExceeded):
+                        raise
+                    out = single.run(z, params, edges[k], P[:, k:k + 1 + linear])  # for the statistics
             except WallTimeExceeded:
                 where.reason = _stopped(signals, settings, deadline, context)
                 return _cols(cols, z), ("interrupted", where)
@@ -74,6 +106,10 @@ def _interval_by_interval(functions, settings, params, z, edges, P, err, deadlin
                 return _cols(cols, z), (status, where)
             z = out.z[:, -1]
             cols.append(z.copy())
+            if advance is not None:
+                advance(k + 1)
+            if counts_before is not None and (z[lay.counts] - counts_before).sum() > settings.max_events_per_revolution:
+                break  # the run's event check names the cap
         return _cols(cols, z), None
 
 

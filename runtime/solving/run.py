@@ -48,6 +48,8 @@ from .settings import RunSettings, out_of_time, samples_per_call
 LONG_RESULT = 500_000
 #: seconds between the progress lines of a run whose stderr is a log, not a terminal
 LOG_INTERVAL = 10.0
+#: seconds between the progress reports of a failed call's re-run, interval by interval
+RERUN_REPORT = 0.2
 
 
 def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: float, state0: np.ndarray,
@@ -139,6 +141,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     bar = tqdm(total=revolutions, initial=done, unit="rev", disable=not progress, leave=not tty,
                mininterval=0.1 if tty else LOG_INTERVAL, file=sys.stderr)
     z_rev = z.copy()
+    report = _Progress(bar, revolutions)
     pace, split = Pace(deadline), None  # near the deadline, calls interval by interval (runtime/solving/pace.py)
     with StopSignals() as signals:
         signals.watch(engine)
@@ -176,7 +179,9 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                     head = err.partial if isinstance(err, FailedInterval) else np.zeros((z.size, 0))
                     k = head.shape[1]
                     Z, failure = locate_failure(functions, settings, params, head[:, -1] if k else z, edges[k:],
-                                                P_in[:, k:], err, deadline, theta_start, make_engine)
+                                                P_in[:, k:], err, deadline, theta_start, make_engine,
+                                                counts_before=z_rev[lay.counts],
+                                                advance=lambda j, c0=call * m + k: report((c0 + j) / m / calls))
                     Z = np.hstack([head, Z])
                     stats = {"n_recovered_calls": 1} if failure is None else {}
                 Z, bad = check.finite(Z, edges[1:])
@@ -187,7 +192,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                     if bad is not None:  # found in the samples before the call failed: the earlier stop, and its cause
                         failure = None
                 failure = check.explained(failure) or bad
-                found = failure or check.events(Z, z, edges[1:], P, z_rev)
+                n = Z.shape[1]  # fewer than the call's intervals where a re-run stopped at the revolution's event cap
+                found = failure or check.events(Z, z, edges[1:1 + n], P[:, :n], z_rev)
                 Z = _up_to_stop(Z, edges, theta_start, found)
                 z_end = Z[:, -1].copy() if Z.shape[1] else z  # where the next call starts
                 Z, P, ends = Z[:, sub - 1::sub], P[:, sub - 1::sub], edges[sub::sub]  # the output samples
@@ -206,8 +212,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 if found is not None:
                     status, stop = found
                     break
-                bar.update((call + 1) / calls - bar.n)  # to the revolutions done: a sum of 1/calls overshot 1
-                advanced((call + 1) / calls, revolutions)  # a sweep shows its long points this way
+                report((call + 1) / calls, every=True)
                 if c == calls - 1:
                     part.flush()  # a completed revolution goes to the sink (to disk when streaming)
                     z_rev = z.copy()
@@ -254,6 +259,24 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                     "integrate": t_finish - t_engine - part.assemble_s - part.save_s,
                                     "assemble": assembling, "save": part.save_s}
         return result
+
+
+class _Progress:
+    """The revolutions' bar and the listeners of :func:`~apexseal.progress.following_runs` (a sweep shows its long
+    points this way), told the revolutions done: after each call, and while a failed call is re-run interval by
+    interval (runtime/solving/diagnosis.py) at most every :data:`RERUN_REPORT` s, so that a long re-run moves the
+    bar too (at 1 rpm an interpreted revolution of erk takes 13 minutes, at 0.45 deg/s)."""
+
+    def __init__(self, bar, revolutions: int):
+        self.bar, self.revolutions, self.last = bar, revolutions, 0.0
+
+    def __call__(self, done: float, every: bool = False) -> None:
+        now = time.perf_counter()
+        if not every and now - self.last < RERUN_REPORT:
+            return
+        self.last = now
+        self.bar.update(done - self.bar.n)  # to the revolutions done: a sum of 1/calls overshot 1
+        advanced(done, self.revolutions)
 
 
 def pressure_substeps(pressure, samples_per_revolution: int) -> int:
