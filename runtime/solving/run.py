@@ -4,7 +4,8 @@
 :mod:`.methods`) and returns a :class:`SimulationResult`. A revolution is one
 integrator call, or ``calls_per_revolution`` calls (36, 10 degrees each, when a
 wall-time budget is set, so the budget is checked often enough; once the next call would end past the deadline,
-calls interval by interval, :mod:`.pace`). Nothing computed is lost, and every
+calls interval by interval, :mod:`.pace`; 36 too for a run far costlier than the default scene's, announced before its
+first step, :mod:`.cost`). Nothing computed is lost, and every
 run ends with a named reason: on SIGINT or SIGTERM (acted on between calls, :mod:`.signals`), a solver
 failure, a non-finite state, a fixed-step method's step beyond a sticking friction's (:mod:`.friction_stability`), a missed
 contact event, chattering or a used-up wall-time budget, the result keeps
@@ -21,6 +22,7 @@ import contextlib
 import math
 import sys
 import time
+import warnings
 
 import numpy as np
 
@@ -35,6 +37,7 @@ from ..results.result import SimulationResult, StopInfo
 from . import engine_pool
 from .accuracy import accuracy
 from .checks import RunChecks
+from .cost import SlowRunWarning, estimate, slow_rotor_note
 from .diagnosis import locate_failure
 from .methods import WallTimeExceeded, make_engine
 from .pace import FailedInterval, IntervalByInterval, Pace
@@ -48,6 +51,10 @@ from .settings import RunSettings, out_of_time, samples_per_call
 LONG_RESULT = 500_000
 #: seconds between the progress lines of a run whose stderr is a log, not a terminal
 LOG_INTERVAL = 10.0
+#: integrator calls per revolution of a run announced as slow (runtime/solving/cost.py) that sets none: 10 degrees
+#: each, as under a wall-time budget, so that its bar moves within a revolution (a whole revolution of erk at 1 rpm
+#: was one call of 52 s, the bar at 0 all along) and a failed call's re-run covers 10 degrees at most
+SLOW_CALLS = 36
 #: seconds between the progress reports of a failed call's re-run, interval by interval
 RERUN_REPORT = 0.2
 
@@ -106,6 +113,12 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         part = _Part(functions, params, theta_start, omega, sink, first=None, first_pressures=None)
         part.after(done * 2 * np.pi, z, carried)
         stop = None
+    cost = estimate(ring, omega, settings)  # said before the first step, where it is far above the default's
+    note = slow_rotor_note(cost, ring, omega) if stop is None else None
+    if note is not None:
+        warnings.warn(note, SlowRunWarning, stacklevel=3)
+        if engine is None and settings.calls_per_revolution is None and not settings.max_wall_time:
+            settings = settings.replace(calls_per_revolution=SLOW_CALLS)  # the bar moves within a revolution
     status = "completed" if stop is None else "failed"
     leased = None
     if engine is None and stop is None:  # no compiling for a run that cannot start
@@ -126,6 +139,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                "revolutions_asked": revolutions,
                                # its error control, and what a loose tolerance or a fixed step costs (accuracy.py)
                                "accuracy": accuracy(settings),
+                               # erk's steps and time, where they follow the ringing (runtime/solving/cost.py)
+                               "cost_estimate": None if cost is None else cost.record(),
                                # do the samples resolve the contacts' ringing (runtime/solving/ringing.py)?
                                "sampling": None if stop is not None else sampling(functions, params, ring, N),
                                # refused by the start check (preflight): the scene's values decide it, no rerun can
