@@ -82,8 +82,6 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     with ``pressure_values(theta)`` giving the values at crank angles for ``settings.pressure = "linear"``; None:
     no chamber pressure.
     """
-    from tqdm.auto import tqdm
-
     if revolutions is not None:
         settings = settings.replace(revolutions=revolutions)
     revolutions = settings.revolutions
@@ -153,7 +151,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     watch = PeriodicWatch(periodic_tol, revolutions, lay.state_names) if until_periodic else None
     # on a terminal a bar redrawn in place; in a log (stderr not a terminal) a line every LOG_INTERVAL s, kept
     tty = sys.stderr.isatty()
-    bar = tqdm(total=revolutions, initial=done, unit="rev", disable=not progress, leave=not tty,
+    bar = revolutions_bar(total=revolutions, initial=done, unit="rev", disable=not progress, leave=not tty,
                mininterval=0.1 if tty else LOG_INTERVAL, file=sys.stderr)
     z_rev = z.copy()
     report = _Progress(bar, revolutions)
@@ -274,6 +272,22 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                     "integrate": t_finish - t_engine - part.assemble_s - part.save_s,
                                     "assemble": assembling, "save": part.save_s}
         return result
+
+
+def revolutions_bar(**kwargs):
+    """tqdm's bar of the revolutions done, which are fractions while a revolution is cut into calls or re-run: shown
+    to two decimals (tqdm printed 0.1111111111111111/1)."""
+    from tqdm.auto import tqdm
+
+    class RevolutionsBar(tqdm):
+        @property
+        def format_dict(self):
+            d = super().format_dict
+            n = round(float(d["n"]), 2)
+            d["n"] = int(n) if n.is_integer() else n
+            return d
+
+    return RevolutionsBar(**kwargs)
 
 
 class _Progress:

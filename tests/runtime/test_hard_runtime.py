@@ -548,6 +548,23 @@ def test_the_progress_bar_ends_at_the_revolutions_run(default_scene, fns):
     assert r.status == "completed" and r.info["calls_per_revolution"] == 9
 
 
+def test_the_progress_bar_shows_a_fraction_of_a_revolution_to_two_decimals():
+    """Within a revolution cut into calls the bar showed ``0.1111111111111111/1`` (tqdm prints a float count as
+    it is)."""
+    import io
+
+    from apexseal.runtime.solving.run import revolutions_bar
+
+    out = io.StringIO()
+    bar = revolutions_bar(total=1, file=out, unit="rev", mininterval=0)
+    bar.update(1 / 9)
+    bar.refresh()
+    assert " 0.11/1 " in out.getvalue() and "0.111" not in out.getvalue(), out.getvalue()
+    bar.update(1 - 1 / 9)
+    bar.close()
+    assert out.getvalue().rstrip().split("\r")[-1].startswith("100%") and " 1/1 " in out.getvalue()
+
+
 # ---------------------------------------------------------------- a failed call's re-run: progress, event cap, compiled
 class _CountingFailsOnLongCalls(_FailsOnLongCalls):
     """:class:`_FailsOnLongCalls` counting the single intervals it makes; built interpreted whatever it is asked, it
