@@ -9,6 +9,7 @@ import numpy as np
 
 from ..derive.names import STATE_NAMES
 from ..files import path_argument
+from .results.gas import GasCycleWarning, describe_cycle, gas_summary, has_gas
 from .results.liftoff import LiftOffWarning, describe_liftoff, liftoff
 from .results.plausibility import (
     FlankWarning,
@@ -151,7 +152,9 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
     the side clearance, and at least a metal contact's deflection under ordinary loads
     (:mod:`apexseal.runtime.results.plausibility`), with :class:`~apexseal.runtime.results.liftoff.LiftOffWarning`
     when the seal tip is off the housing for half the run or more, or for half a revolution in one stretch
-    (:mod:`apexseal.runtime.results.liftoff`), and before the run with
+    (:mod:`apexseal.runtime.results.liftoff`), with :class:`~apexseal.runtime.results.gas.GasCycleWarning` when
+    the chamber gas model ran a cycle that is not an expander's (:mod:`apexseal.runtime.results.gas`: it has no
+    valves; a compressor's chamber pressures are given as a table), and before the run with
     :class:`~apexseal.runtime.solving.accuracy.AccuracyWarning` when ``rtol`` or ``atol`` is looser than the peaks
     bear (:mod:`apexseal.runtime.solving.accuracy`). After a Ctrl-C the run stops at its next
     check and is kept (written, with ``out``); then, in a script, :class:`~apexseal.signals.RunInterrupted` (a
@@ -339,6 +342,10 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     lifted = liftoff(result)
     if lifted is not None and not lifted["ok"]:
         warnings.warn(describe_liftoff(lifted, result.revolutions), LiftOffWarning, stacklevel=3)
+    if has_gas(result) and result.n > 2:
+        gas = gas_summary(result)
+        if not gas["expander_cycle"]["ok"]:
+            warnings.warn(describe_cycle(gas), GasCycleWarning, stacklevel=3)
     return result
 
 

@@ -193,9 +193,10 @@ def describe_result(result, summary: dict) -> None:
     tip off the housing (a warning when it is most of it), a note when the samples do not
     resolve the contacts' ringing (runtime/solving/ringing.py), a note when the method controls no error and a
     warning when its tolerances are loose (runtime/solving/accuracy.py), with until_periodic whether and where the
-    revolutions repeated (runtime/solving/periodicity.py), the chamber
-    gas's cycle (with the gas model), the groove mouth corners' margins on the seal's flat sides (a warning when one
-    left them)."""
+    revolutions repeated (runtime/solving/periodicity.py), the chamber gas's cycle (with the gas model; a warning when
+    it is not an expander's, runtime/results/gas.py), the groove mouth corners' margins on the seal's flat sides (a
+    warning when one left them)."""
+    from .runtime.results.gas import describe_cycle
     from .runtime.results.liftoff import describe_liftoff
     from .runtime.results.plausibility import describe, describe_flank
     from .runtime.solving.periodicity import describe_periodic
@@ -239,6 +240,9 @@ def describe_result(result, summary: dict) -> None:
                    f"indicated work {gas['indicated_work_J']['total']:.4g} J ({gas['indicated_power_W'] / 1e3:.4g} kW); "
                    f"pressures {min(p['a']['min'], p['b']['min']) / 1e5:.3g}..{max(p['a']['max'], p['b']['max']) / 1e5:.3g}"
                    " bar")
+        cycle = gas.get("expander_cycle")  # absent from the summaries written before it was recorded
+        if cycle is not None and not cycle["ok"]:
+            click.echo(f"  warning: {describe_cycle(gas)}", err=True)
     periodic = describe_periodic(summary.get("run", {}).get("periodic") or {})  # operation.until_periodic
     if periodic is not None:
         click.echo(f"  {periodic}")

@@ -84,6 +84,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
             from .runtime.results.figure_job import FigureJob
             from .runtime.results.figures import force_panels, ports_of
             from .runtime.results.folder import ResultFolder, ResultFolderError, ResultStorageError
+            from .runtime.results.gas import GasCycleWarning
             from .runtime.results.liftoff import LiftOffWarning
             from .runtime.results.plausibility import FlankWarning, PenetrationWarning
             from .runtime.results.summary import summarise  # noqa: F401  (timed here; used by _save)
@@ -124,6 +125,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                         warnings.simplefilter("ignore", PenetrationWarning)
                         warnings.simplefilter("ignore", FlankWarning)
                         warnings.simplefilter("ignore", LiftOffWarning)
+                        warnings.simplefilter("ignore", GasCycleWarning)
                         warnings.simplefilter("ignore", AccuracyWarning)
                         try:
                             with writer.discarded_if_empty():  # a crash, a full disk at the first revolution: no
