@@ -5,14 +5,21 @@ submodel (derive/submodels/) for its contacts, so an effect that is off never ap
 in any expression. Results are plain sympy expressions of the crank angle ``theta``,
 the state (x, y, phi, xd, yd, phid), the parameters (named, in the registry's order),
 the chamber pressures (Pa, Pb) and the activations of the contacts that exist.
+
+A cold derivation reports its long steps through :mod:`apexseal.progress` (lines on stderr where progress is on:
+the command line, ``simulate(..., progress=True)``): kinematics and contact geometry, the contacts and Eq. 80, and
+for a submodel with its own states (the chamber gas: 28 s of its 31 s, docs/gas.md) each rate and output as it is
+brought to plain symbols. The reports change nothing that is derived.
 """
 
 from __future__ import annotations
 
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 
 import sympy as sp
 
+from ..progress import announce, stage
 from . import contact_geometry, eom, kinematics, law_symbols, rest_balance
 from .assumptions import Assumptions
 from .choices import Options, options_of
@@ -105,7 +112,7 @@ def _own_states(k, g, options: Options, known: frozenset) -> tuple[dict, dict, d
         model = cls()
         with laws_of(cls, "rates()"):
             own_rates = model.rates(ctx)
-        own_rates = {n: plain(e) for n, e in own_rates.items()}
+        own_rates = _plain_each(cls, "rate of", own_rates)
         law_symbols.check(cls, "rates()", own_rates.values(), known, options, moving)
         rates.update(own_rates)
         with laws_of(cls, "chamber_pressures()"):
@@ -117,7 +124,7 @@ def _own_states(k, g, options: Options, known: frozenset) -> tuple[dict, dict, d
             law_symbols.check(cls, "chamber_pressures()", pressures.values(), known, options)
         with laws_of(cls, "outputs()"):
             own_outputs = model.outputs(ctx)
-        own_outputs = {n: plain(e) for n, e in own_outputs.items()}
+        own_outputs = _plain_each(cls, "output", own_outputs)
         law_symbols.check(cls, "outputs()", own_outputs.values(), known, options)
         outputs.update(own_outputs)
     own = [n for n in state_names(options) if n not in STATE_NAMES]
@@ -125,6 +132,18 @@ def _own_states(k, g, options: Options, known: frozenset) -> tuple[dict, dict, d
     if missing:
         raise ValueError(f"states without a rate: {', '.join(missing)} (a submodel's rates() must give each)")
     return {n: rates[n] for n in own}, pressures, outputs
+
+
+def _plain_each(cls: type[Submodel], what: str, exprs: dict) -> dict:
+    """:func:`.kinematics.plain` of each expression, by name. For a submodel with its own states (the chamber gas:
+    each of its rates and outputs takes seconds) a progress line before each, ``derivation: gas: rate of ma (1/4)``;
+    the others' are quick and report nothing."""
+    out = {}
+    for i, (n, e) in enumerate(exprs.items(), start=1):
+        if cls.states:
+            announce(f"derivation: {cls.name}: {what} {n} ({i}/{len(exprs)})")
+        out[n] = plain(e)
+    return out
 
 
 def submodel_contacts(name: str, k, g, options: Options | None = None) -> list[ContactModel]:
@@ -138,34 +157,38 @@ def derive_model(effects: Effects | None = None, assumptions: Assumptions | None
     effects = effects or Effects()
     assumptions = assumptions or Assumptions()
     options = options_of(effects, assumptions)
-    k = kinematics.build()
-    g = contact_geometry.build(k)
-    owned = _contacts(k, g, options)
-    contacts = [c for _, c in owned]
-    loads = [load for c in contacts for load in c.loads]
-    eq = eom.build(k, loads, inertia=options.on("inertia"))
-
-    guards, vguards, outputs = {}, {}, {}
-    activations = {c.guard_name: guard(c.guard_name).symbol for c in contacts if c.guard is not None}
-    known, moving = law_symbols.known_symbols(options, activations.values()), law_symbols.velocities(options)
-    for cls, c in owned:
-        own_guards = {c.guard_name: plain(c.guard)} if c.guard is not None else {}
-        own_vguards = {n: plain(e) for n, e in c.velocity_guards.items()}
-        fx = sum((load.force.dot(k.G.x) for load in c.loads), sp.S.Zero)
-        fy = sum((load.force.dot(k.G.y) for load in c.loads), sp.S.Zero)
-        mz = sum((load.r_CP.cross(load.force).dot(k.G.z) for load in c.loads), sp.S.Zero)
-        forces = {f"F_{c.name}_X": plain(fx), f"F_{c.name}_Y": plain(fy), f"M_{c.name}": plain(mz)}
-        if any(load.friction_power != 0 for load in c.loads):
-            forces[f"Pf_{c.name}"] = plain(sum((load.friction_power for load in c.loads), sp.S.Zero))
-        law_symbols.check(cls, _contact_where(c), [*own_guards.values(), *own_vguards.values()], known, options)
-        law_symbols.check(cls, _contact_where(c), forces.values(), known, options, moving)
-        guards.update(own_guards)
-        vguards.update(own_vguards)
-        outputs.update(forces)
-    rest_balance.check(eq.forcing[0], activations, options)  # Eq. 9: the laws balance at rest with delta_w
+    with stage("derivation: kinematics and contact geometry (Eqs. 10-47)"):
+        k = kinematics.build()
+        g = contact_geometry.build(k)
+    with stage("derivation: the contacts' laws and the equations of motion (Eqs. 33-80)"):
+        owned = _contacts(k, g, options)
+        contacts = [c for _, c in owned]
+        loads = [load for c in contacts for load in c.loads]
+        eq = eom.build(k, loads, inertia=options.on("inertia"))
+        guards, vguards, outputs = {}, {}, {}
+        activations = {c.guard_name: guard(c.guard_name).symbol for c in contacts if c.guard is not None}
+        known, moving = law_symbols.known_symbols(options, activations.values()), law_symbols.velocities(options)
+        for cls, c in owned:
+            own_guards = {c.guard_name: plain(c.guard)} if c.guard is not None else {}
+            own_vguards = {n: plain(e) for n, e in c.velocity_guards.items()}
+            fx = sum((load.force.dot(k.G.x) for load in c.loads), sp.S.Zero)
+            fy = sum((load.force.dot(k.G.y) for load in c.loads), sp.S.Zero)
+            mz = sum((load.r_CP.cross(load.force).dot(k.G.z) for load in c.loads), sp.S.Zero)
+            forces = {f"F_{c.name}_X": plain(fx), f"F_{c.name}_Y": plain(fy), f"M_{c.name}": plain(mz)}
+            if any(load.friction_power != 0 for load in c.loads):
+                forces[f"Pf_{c.name}"] = plain(sum((load.friction_power for load in c.loads), sp.S.Zero))
+            law_symbols.check(cls, _contact_where(c), [*own_guards.values(), *own_vguards.values()], known, options)
+            law_symbols.check(cls, _contact_where(c), forces.values(), known, options, moving)
+            guards.update(own_guards)
+            vguards.update(own_vguards)
+            outputs.update(forces)
+        rest_balance.check(eq.forcing[0], activations, options)  # Eq. 9: the laws balance at rest with delta_w
     pf = [e for n, e in outputs.items() if n.startswith("Pf_")]
     outputs["Pf_total"] = sum(pf, sp.S.Zero)
-    rates, pressures, own_outputs = _own_states(k, g, options, known)
+    own = [n for n in state_names(options) if n not in STATE_NAMES]
+    with stage(f"derivation: the submodels' own states ({', '.join(own)}): rates, pressures, outputs") if own \
+            else nullcontext():
+        rates, pressures, own_outputs = _own_states(k, g, options, known)
     outputs.update(own_outputs)
 
     quantities = _quantities(k, g)

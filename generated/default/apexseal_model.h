@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 966ac8ee035cfe00087f998c43223975dc5681fe762e4ce4a46280a36687ab55.
+ * Effects: all. Input hash: b64ac0e9fe531ed24b4ccba604f7b363fe8226f3df71f438644a5b1ffa647139.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "966ac8ee035cfe00087f998c43223975dc5681fe762e4ce4a46280a36687ab55"
+#define APEXSEAL_INPUT_HASH "b64ac0e9fe531ed24b4ccba604f7b363fe8226f3df71f438644a5b1ffa647139"
 
 /* state x */
 #define APEXSEAL_NX 6
