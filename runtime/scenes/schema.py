@@ -103,7 +103,10 @@ class OperationSection(Section):
         False, description="stop once a revolution repeats the previous one"
     )
     # below 1: a relative change of the state over a revolution of 100 % or more says nothing about periodicity
-    periodic_tol: _q("1", gt=0, lt=1) = Field(1e-6, description="relative state change that counts as periodic")
+    periodic_tol: _q("1", gt=0, lt=1) = Field(
+        1e-6, description="largest change from one revolution to the next that counts as periodic: the position at "
+                          "every output sample, the whole state at the revolution's end (relative above 1 µm or 1 "
+                          "mrad; runtime/solving/periodicity.py); it must lie above what the integrator resolves")
 
     @property
     def omega(self) -> float:
