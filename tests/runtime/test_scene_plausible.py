@@ -96,8 +96,8 @@ def test_a_value_no_law_reads_is_not_questioned(default_scene):
     with warnings.catch_warnings():
         warnings.simplefilter("error", PlausibilityWarning)
         default_scene.with_overrides(**off, **{"spring.ks": "1e9 N/m"})
-    with pytest.warns(PlausibilityWarning, match="spring.ks"):
-        default_scene.with_overrides(**{"spring.ks": "1e9 N/m"})
+    with pytest.warns(PlausibilityWarning, match="spring.ks"):  # its preload 0.1 mm: the wall's deflection at rest
+        default_scene.with_overrides(**{"spring.ks": "1e9 N/m", "spring.delta_s": "0.1 mm"})  # within 0.1 Ws
 
 
 def test_a_scene_s_warnings_point_at_the_line_that_made_the_scene(default_scene):
