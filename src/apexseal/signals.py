@@ -255,3 +255,29 @@ def handling(signum: int, handler):
         yield
     finally:
         signal.signal(signum, previous)
+
+
+@contextlib.contextmanager
+def held(signum: int):
+    """``signum`` blocked in this thread inside the block, and delivered (to the handler in force) when the block
+    ends if it arrived meanwhile: not lost (a thread started before the block, which does not block it, takes it at
+    once, for the same Python handler, run by this thread). What the block starts inherits the block: the threads
+    it creates keep the signal blocked for their life, and the processes they start keep it blocked after
+    ``exec``, so never see it (a Dask LocalCluster's workers, started from its event loop's thread: a terminal's
+    Ctrl-C reaches the whole process group, and each worker printed a ``KeyboardInterrupt`` traceback).
+    Where threads cannot block signals (no ``pthread_sigmask``: Windows) the signal is ignored inside the block
+    instead, which those processes inherit too (Python keeps an ignored SIGINT ignored), and one that arrives
+    there is lost. Nothing changes outside the main thread, where signals cannot be handled."""
+    if not _main():
+        yield
+        return
+    if not hasattr(signal, "pthread_sigmask"):
+        with handling(signum, signal.SIG_IGN):
+            yield
+        return
+    before = signal.pthread_sigmask(signal.SIG_BLOCK, {signum})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, before)  # a pending one is delivered now
+

@@ -178,6 +178,125 @@ def test_ctrl_c_on_the_terminal_stops_a_dask_sweep_without_the_workers_traceback
     assert "Traceback" not in stderr and "interrupted: run the same command again" in stderr, stderr
 
 
+#: a sweep command of four points (``apexseal`` with this script's arguments) that gets the signal SIGNAL at a
+#: moment of its LocalCluster's life (HOOK): SIGINT to the whole process group, as a terminal's Ctrl-C; SIGTERM to
+#: the sweep's process, as kill
+SIGNALLED_SWEEP = """
+import os
+import signal
+import sys
+import threading
+
+def signal_it():
+    (os.killpg(0, SIGNAL) if SIGNAL == signal.SIGINT else os.kill(os.getpid(), SIGNAL))
+
+if __name__ == "__main__":  # each worker imports this script again: nothing to do there
+    from apexseal.cli import console
+
+HOOK
+    sys.argv[0] = "apexseal"
+    console()
+"""
+#: 0.2 s after the cluster started its first worker process, while the cluster starts (a worker takes a second
+#: or more to import Dask and register)
+AT_WORKER_START = """
+    import multiprocessing.process
+
+    start = multiprocessing.process.BaseProcess.start
+    sent = []
+
+    def started(self):
+        start(self)
+        if "Dask Worker" in self.name and not sent:
+            sent.append(SIGNAL)
+            threading.Timer(0.2, signal_it).start()
+
+    multiprocessing.process.BaseProcess.start = started
+"""
+ONE_DELTA = {'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'values = ["2 mm"]'}
+
+
+def _signalled_sweep(tmp_path, hook: str, signum: int):
+    """Run :data:`SIGNALLED_SWEEP` with ``hook`` in a session of its own, as a command typed at a terminal; its
+    exit status, stdout and stderr, once none of its processes is left (zombies aside), and its folder."""
+    study = tmp_path / "light.toml"
+    study.write_text(LIGHT.replace(*next(iter(ONE_DELTA.items()))))
+    script = tmp_path / "signalled.py"
+    script.write_text(SIGNALLED_SWEEP.replace("HOOK", hook).replace("SIGNAL", f"signal.{signal.Signals(signum).name}"))
+    out = tmp_path / "out"
+
+    def foreground():  # as a command typed at a terminal: Ctrl-C acts (a job started in the background ignores it)
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+    proc = subprocess.Popen([sys.executable, str(script), "sweep", str(study), "--workers", "2", "--out", str(out),
+                             "-q", "--no-figures"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True, preexec_fn=foreground)
+    try:
+        stdout, stderr = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    deadline = time.monotonic() + 10  # the workers end with their nanny, as after a signal during the points
+    while _live_in_session(proc.pid) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert _live_in_session(proc.pid) == []
+    return proc.returncode, stdout, stderr, out
+
+
+def _live_in_session(session: int) -> list[int]:
+    """The processes still alive (zombies aside) in the session ``session``."""
+    import psutil
+
+    live = []
+    for pid in psutil.pids():
+        try:
+            if os.getsid(pid) == session and psutil.Process(pid).status() != psutil.STATUS_ZOMBIE:
+                live.append(pid)
+        except (OSError, psutil.Error):  # ended meanwhile
+            pass
+    return live
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
+def test_a_signal_while_the_dask_workers_start_stops_the_sweep_as_one_during_the_points(tmp_path, signum):
+    """A signal while the sweep's LocalCluster started its workers was not handled as one during the points: a
+    Ctrl-C was lost (the sweep ignored SIGINT then, for the workers to inherit the ignore) and the sweep ran to its
+    end with exit status 0; a SIGTERM abandoned the cluster halfway through its start, and the process ended with
+    an ``AssertionError: Status.init`` traceback from Dask's atexit hook. Now the signal is noted, the start
+    finishes, the cluster is closed before any point is submitted, and the command ends as after a signal during
+    the points: 130 or 143, no traceback (no worker's KeyboardInterrupt either: they start with SIGINT blocked), no
+    process left, the folder a consistent, resumable study of no point yet."""
+    code, stdout, stderr, out = _signalled_sweep(tmp_path, AT_WORKER_START, signum)
+    assert code == 128 + signum, stdout + stderr
+    assert "Traceback" not in stderr and "interrupted: run the same command again" in stderr, stderr
+    assert "interrupted: 0 of 4 points" in stdout and "(LocalCluster)" in stdout, stdout
+    assert read_results(out).empty  # the table is written, of no point: the same study resumes from it
+    report = run_sweep(light_study(**ONE_DELTA), out, workers=1, quiet=True)
+    assert report.complete and report.computed == 4 and report.skipped == 0
+
+
+@pytest.mark.skipif(not hasattr(signal, "pthread_sigmask"), reason="threads cannot block signals here")
+def test_a_sigint_held_while_the_workers_start_reaches_its_handler_after_and_never_the_threads_started():
+    """The sweep ignored SIGINT while its LocalCluster started (so that the workers inherited the ignore), and a
+    Ctrl-C in those seconds was lost. ``held`` blocks it instead: the threads started inside keep it blocked (the
+    workers they start inherit that), and one that arrived inside reaches the handler, at the latest when the
+    block ends."""
+    import threading
+
+    from apexseal.signals import handling, held
+
+    got, blocked = [], []
+    with handling(signal.SIGINT, lambda signum, frame: got.append(signum)):
+        with held(signal.SIGINT):
+            thread = threading.Thread(target=lambda: blocked.append(signal.pthread_sigmask(signal.SIG_BLOCK, [])))
+            thread.start()
+            thread.join()
+            os.kill(os.getpid(), signal.SIGINT)  # (a thread of pytest's, started before, may take it at once)
+        time.sleep(0.05)  # (the handler runs at the next bytecode check)
+    assert got == [signal.SIGINT] and signal.SIGINT in blocked[0]
+    assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, [])
+
+
 def test_no_more_workers_start_than_points_are_left_and_more_than_cores_is_said(tmp_path, monkeypatch):
     """`sweep -w 1000` started a thousand worker processes for 16 points on two cores (and took minutes to): the
     LocalCluster gets no more workers than points left to run, and the cap is said, in a warning and the report;

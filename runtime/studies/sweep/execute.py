@@ -341,18 +341,35 @@ def local_workers(asked: int, left: int) -> int:
 def local_cluster(workers: int):
     """A LocalCluster of ``workers`` processes with one thread each (the model is single-threaded C).
 
-    Its processes start with SIGINT ignored: a Ctrl-C on the terminal reaches the whole process group, and this
-    process, which stops the sweep and then the cluster, is the one to act on it (each worker printed a
-    KeyboardInterrupt traceback). This process ignores SIGINT while they start (the processes inherit it: Python
-    keeps an ignored SIGINT ignored), so a Ctrl-C in those seconds is lost; :func:`local_workers` keeps their
-    number to the points left."""
+    Its processes start with SIGINT blocked for their life: a Ctrl-C on the terminal reaches the whole process
+    group, and this process, which stops the sweep and then the cluster, is the one to act on it (each worker
+    printed a KeyboardInterrupt traceback). This process holds SIGINT while the cluster is made
+    (:func:`~apexseal.signals.held`: the cluster's threads, and the processes they start, inherit the block), so
+    a Ctrl-C in those seconds reaches its handler once the cluster is up, instead of being lost, as it was while
+    this process ignored SIGINT for the workers to inherit that; :func:`local_workers` keeps their number to
+    the points left. Python's resource tracker, started here before the block when it is not running yet, would
+    otherwise be started by the cluster's thread as it starts the first worker, and unblock SIGINT in that thread
+    for good as it does so (``multiprocessing.resource_tracker.ensure_running``): the workers got the Ctrl-C, and
+    their start failed with their KeyboardInterrupt tracebacks."""
     from dask.distributed import LocalCluster
 
-    from ....signals import handling
+    from ....signals import held
 
-    with handling(signal.SIGINT, signal.SIG_IGN):
+    _tracker_running()
+    with held(signal.SIGINT):
         return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
                             silence_logs=logging.CRITICAL)  # shutdown races of dask print ERRORs
+
+
+def _tracker_running() -> None:
+    """Start Python's multiprocessing resource tracker now, in this thread, if it is not running (POSIX only)."""
+    try:
+        from multiprocessing import resource_tracker
+    except ImportError:  # no such tracker where processes are not forked or spawned the POSIX way
+        return
+    ensure = getattr(resource_tracker, "ensure_running", None)
+    if ensure is not None and hasattr(signal, "pthread_sigmask"):
+        ensure()
 
 
 def _started_cluster(workers: int):
@@ -387,33 +404,34 @@ POLL_S = 0.05
 def _dask(todo, args, record, study, n, scheduler, client, shown):
     """The points on a Dask cluster (the one at ``scheduler``, ``client``'s, or a LocalCluster of ``n`` workers).
 
-    SIGINT and SIGTERM are caught as the serial path catches them (:class:`StopSignals`, for the whole sweep):
-    while the cluster starts, a signal abandons it at once (nothing is computed yet); while the points run, it is
-    acted on within :data:`POLL_S`, never in the middle of writing a row: the points not started are cancelled,
-    those running are stopped at their next check (:func:`_stop`), every finished one is kept, and the cluster this
-    sweep started is closed."""
+    SIGINT and SIGTERM are caught as the serial path catches them (:class:`StopSignals`, for the whole sweep),
+    whenever they come in the cluster's life: while the cluster starts, a signal is noted and acted on once the
+    start has finished (seconds; nothing is computed yet): the cluster is closed and no point submitted (abandoning
+    the start halfway left a cluster that could not be closed: an ``AssertionError: Status.init`` traceback at
+    exit); while the points run, it is acted on within :data:`POLL_S`, never in the middle of writing a row: the
+    points not started are cancelled, those running are stopped at their next check (:func:`_stop`), every
+    finished one is kept; and the cluster this sweep started is closed, a signal while it closes only noted."""
     from ....signals import StopSignals
 
     try:
         with StopSignals() as signals:
             return _on_cluster(todo, args, record, study, n, scheduler, client, signals, shown)
-    except KeyboardInterrupt:  # while the cluster starts
+    except KeyboardInterrupt:  # outside the main thread signals are not caught
         return scheduler or "LocalCluster", n, True
 
 
 def _on_cluster(todo, args, record, study, n, scheduler, client, signals, shown):
     from dask.distributed import Client, as_completed
 
-    from ....signals import StopSignals
-
     own_cluster = own_client = None
     try:
-        with StopSignals.abandoning():  # nothing computed yet: a signal stops the cluster's start at once
-            if client is None:  # (a scheduler's client is made by run_sweep, before the folder is taken)
-                own_cluster = _started_cluster(n)
-                client = own_client = Client(own_cluster)
-            where = scheduler or ("LocalCluster" if own_cluster is not None else str(client.scheduler.address))
-            n = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})) or n)
+        if client is None:  # (a scheduler's client is made by run_sweep, before the folder is taken)
+            own_cluster = _started_cluster(n)  # a signal meanwhile is noted: the start is never cut halfway
+            client = own_client = Client(own_cluster)
+        where = scheduler or ("LocalCluster" if own_cluster is not None else str(client.scheduler.address))
+        n = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})) or n)
+        if signals.requested:  # while the cluster started: nothing is computed yet, none is submitted
+            return where, n, True
         # this run of the sweep: its points' task keys, and what stops them on the workers (point.stop_points)
         stop_key = f"apexseal-sweep-{study.content_hash()[:12]}-{uuid.uuid4().hex[:8]}"
         queue = iter(todo)
