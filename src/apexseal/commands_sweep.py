@@ -145,6 +145,10 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
     if report.interrupted:
         click.echo("  interrupted: run the same command again to compute the remaining points", err=True)
         sys.exit(caught.exit_code() or 130)
+    if caught.requested:  # after the last point: while the cluster closed or the table was written (both finished)
+        click.echo(f"  interrupted by {caught.sender()} once every point was done (the sweep was closing its "
+                   "cluster or writing its table, and finished that first): nothing to compute again", err=True)
+        sys.exit(caught.exit_code())
     if drawing is not None and drawing.requested:  # every point was done: only the figures were being drawn
         click.echo(f"  interrupted by {drawing.sender()} while the figures were drawn: they were finished first",
                    err=True)

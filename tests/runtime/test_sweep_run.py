@@ -213,6 +213,18 @@ AT_WORKER_START = """
 
     multiprocessing.process.BaseProcess.start = started
 """
+#: as the cluster is closed, every point done
+AT_CLOSE = """
+    from distributed.deploy.spec import SpecCluster
+
+    close = SpecCluster.close
+
+    def closing(self, *args, **kwargs):
+        signal_it()
+        return close(self, *args, **kwargs)
+
+    SpecCluster.close = closing
+"""
 ONE_DELTA = {'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'values = ["2 mm"]'}
 
 
@@ -273,6 +285,17 @@ def test_a_signal_while_the_dask_workers_start_stops_the_sweep_as_one_during_the
     assert read_results(out).empty  # the table is written, of no point: the same study resumes from it
     report = run_sweep(light_study(**ONE_DELTA), out, workers=1, quiet=True)
     assert report.complete and report.computed == 4 and report.skipped == 0
+
+
+def test_a_signal_while_the_cluster_closes_after_the_last_point_is_said_and_exits_as_interrupted(tmp_path):
+    """A SIGTERM while the sweep closed its LocalCluster, every point done, was noted and then forgotten: the
+    command said nothing of it and exited with status 0, as if no signal had come. Now it says so in one line and
+    exits with 143, as a sweep stopped by a signal does (every point kept: nothing to compute again)."""
+    code, stdout, stderr, out = _signalled_sweep(tmp_path, AT_CLOSE, signal.SIGTERM)
+    assert code == 143, stdout + stderr
+    assert "Traceback" not in stderr and "done: 4 of 4 points" in stdout, stdout + stderr
+    assert "interrupted by SIGTERM (kill, timeout or a batch scheduler) once every point was done" in stderr, stderr
+    assert len(read_results(out)) == 4
 
 
 @pytest.mark.skipif(not hasattr(signal, "pthread_sigmask"), reason="threads cannot block signals here")
