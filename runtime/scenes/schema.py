@@ -104,7 +104,7 @@ class OperationSection(Section):
     )
     # below 1: a relative change of the state over a revolution of 100 % or more says nothing about periodicity
     periodic_tol: _q("1", gt=0, lt=1) = Field(
-        1e-6, description="largest change from one revolution to the next that counts as periodic: the position at "
+        3e-2, description="largest change from one revolution to the next that counts as periodic: the position at "
                           "every output sample, the whole state at the revolution's end (relative above 1 µm or 1 "
                           "mrad; runtime/solving/periodicity.py); it must lie above what the integrator resolves")
 

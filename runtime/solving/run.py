@@ -60,7 +60,7 @@ RERUN_REPORT = 0.2
 
 
 def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: float, state0: np.ndarray,
-        revolutions: int | None = None, pressure=None, until_periodic: bool = False, periodic_tol: float = 1e-6,
+        revolutions: int | None = None, pressure=None, until_periodic: bool = False, periodic_tol: float = 3e-2,
         progress: bool = False, engine=None, info: dict | None = None, sink=None,
         pressure_values=None, continue_from: tuple | None = None) -> SimulationResult:
     """Integrate ``revolutions`` (default ``settings.revolutions``) revolutions from ``state0`` (physical) at crank
