@@ -2,7 +2,9 @@
 side by side.
 
 Every quantity comes from the summary a single run writes (``summary.json`` of ``apexseal simulate``), so a sweep
-point, a comparison and a single run report the same numbers. A quantity a model does not have (friction at a
+point, a comparison and a single run report the same numbers. A run that went until periodic
+(``operation.until_periodic``) over two revolutions or more reports its last revolution (:func:`measured_part`):
+the periodic regime it was asked for, not the start-up from rest. A quantity a model does not have (friction at a
 contact whose effect is off, the housing force without the housing contact, the leakage gap without the groove's
 contacts) is NaN.
 """
@@ -85,12 +87,25 @@ def _number(value) -> float:
     return math.nan if value is None else float(value)
 
 
+def measured_part(summary: dict) -> dict:
+    """The part of a summary the quantities (except ``revolutions`` and ``gas.*``, the run's count and its gas cycle,
+    already the last revolution's) are read from: its ``last_revolution`` for a run that went until periodic
+    (``operation.until_periodic``: summary.json's ``run.periodic`` is recorded) over two revolutions or more, else
+    the whole run. Asking until_periodic asks for the periodic regime, which the start-up from rest is not."""
+    last = summary.get("last_revolution")
+    return last if last is not None and (summary.get("run") or {}).get("periodic") is not None else summary
+
+
 def _get(summary: dict, name: str) -> float:
     head, _, tail = name.partition(".")
-    if name == "liftoff_fraction":
-        return fraction(summary["liftoff"])  # NaN: no housing contact in this model
     if name == "revolutions":
         return float(summary["revolutions"])
+    if head == "gas":
+        gas = summary.get("gas")
+        return math.nan if gas is None else _number(GAS_QUANTITIES[tail][2](gas))
+    summary = measured_part(summary)
+    if name == "liftoff_fraction":
+        return fraction(summary["liftoff"])  # NaN: no housing contact in this model
     if head == "friction_power":
         value = summary["mean_friction_power_W"].get(tail, math.nan)
         return math.nan if value is None else float(value)  # None: no output interval computed
@@ -107,9 +122,6 @@ def _get(summary: dict, name: str) -> float:
         return math.nan if flank is None else float(min(flank["least_mm"].values()))
     if head in EXTREMES:
         return float(summary["extremes"][head][tail.replace("_at", "_at_deg")])
-    if head == "gas":
-        gas = summary.get("gas")
-        return math.nan if gas is None else _number(GAS_QUANTITIES[tail][2](gas))
     raise KeyError(name)  # pragma: no cover - names are checked when the study is loaded
 
 

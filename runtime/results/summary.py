@@ -5,11 +5,12 @@ from __future__ import annotations
 import math
 import platform
 from collections import Counter
+from dataclasses import replace
 
 import numpy as np
 
 from ...derive.names import STATE_NAMES
-from .gas import gas_summary, has_gas
+from .gas import gas_summary, has_gas, last_revolution
 from .liftoff import liftoff
 from .plausibility import flank_check, penetration_check
 from .result import SimulationResult, run_mean
@@ -40,8 +41,10 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     costs and how to check it (runtime/solving/accuracy.py); null for a result that does not record it. ``liftoff``
     is the part of the run with the seal tip off the housing (:func:`.liftoff.liftoff`: ``fraction`` of the samples,
     the ``longest_deg`` stretch and its start ``longest_from_deg``, ``ok`` false when it is most of the run); null
-    for a model without the housing contact."""
-    deg = np.degrees(result.theta)
+    for a model without the housing contact. ``last_revolution`` (runs of two revolutions or more) holds the same
+    numbers (:func:`run_quantities`) over the last revolution alone (``from_deg``..``to_deg`` of crank angle from
+    the run's start): without the start-up from rest, the periodic regime of a run that went until periodic; the
+    spectrum, the chamber gas (already its last revolution) and the run's record are the whole run's."""
     per_revolution = result.info.get("samples_per_revolution")
     out: dict = {"status": result.status, "stop": None if result.stop is None else result.stop.describe(),
                  "samples": int(result.n),
@@ -51,6 +54,31 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
                  # error control of its method and what its tolerances cost (runtime/solving/accuracy.py; null: not known)
                  "accuracy": result.info.get("accuracy"),
                  "revolutions": result.revolutions}
+    out.update(run_quantities(result))
+    if "F_housing_X" in result.outputs and result.n > 8:
+        w, amp = spectrum(housing_force(result)[1:], float(np.mean(np.diff(result.time))))
+        out["housing_force_spectrum_peaks"] = spectral_peaks(w, amp)
+    last = last_revolution_part(result)
+    if last is not None:  # the same numbers over the last revolution alone, without the start-up from rest
+        out["last_revolution"] = {"from_deg": float(np.degrees(last.theta[0])),
+                                  "to_deg": float(np.degrees(last.theta[-1])), **run_quantities(last)}
+    if has_gas(result) and result.n > 2:
+        out["gas"] = gas_summary(result)
+    out["run"] = dict(result.info)
+    out["versions"] = versions()
+    if scene_info:
+        out["scene"] = scene_info
+    return out
+
+
+def run_quantities(result: SimulationResult) -> dict:
+    """The designer's numbers over the samples of ``result``: ``extremes`` of x, y, phi with their crank angles,
+    ``mode_fraction``, ``liftoff``, ``events`` (the switches up to its last sample), mean friction
+    powers, the leakage gap, the housing force (Eq. 68), and the checks ``plausibility`` (with a recorded side
+    clearance) and ``flank`` (Eqs. 20-23). :func:`summarise` gives them over the whole run and, in
+    ``last_revolution``, over the part :func:`last_revolution_part` cuts out."""
+    deg = np.degrees(result.theta)
+    out: dict = {}
     extremes = {}
     for name, (unit, scale) in EXTREMES.items():
         v = result.state[result.state_names.index(name)] * scale
@@ -78,23 +106,27 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
         F = housing_force(result)
         out["housing_force_N"] = {"mean": float(F.mean()), "max": float(F.max()),
                                   "max_at_deg": float(deg[F.argmax()] % 360)}
-        if result.n > 8:
-            w, amp = spectrum(F[1:], float(np.mean(np.diff(result.time))))
-            out["housing_force_spectrum_peaks"] = spectral_peaks(w, amp)
     else:
         out["housing_force_N"] = dict.fromkeys(("mean", "max", "max_at_deg"))
-    if has_gas(result) and result.n > 2:
-        out["gas"] = gas_summary(result)
     if result.info.get("side_clearance_m") is not None:
         out["plausibility"] = penetration_check(result)
     flank = flank_check(result)
     if flank is not None:
         out["flank"] = flank
-    out["run"] = dict(result.info)
-    out["versions"] = versions()
-    if scene_info:
-        out["scene"] = scene_info
     return out
+
+
+def last_revolution_part(result: SimulationResult) -> SimulationResult | None:
+    """The last revolution of a run of two or more as a result of its own: the samples of :func:`.gas.last_revolution`
+    (the last 360° of crank angle, from the sample where it begins), its switches counted from that sample. None for
+    a run shorter than two revolutions (its last revolution is the start-up from rest)."""
+    if result.revolutions < 2:
+        return None
+    k = last_revolution(result)
+    events = result.events[:, k] - result.events[:, k.start:k.start + 1]  # its own, from where it begins
+    return replace(result, theta=result.theta[k], time=result.time[k], state=result.state[:, k],
+                   closed=result.closed[:, k], events=events, modes=list(result.modes[k]),
+                   outputs={name: np.asarray(v)[k] for name, v in result.outputs.items()})
 
 
 def versions() -> dict:

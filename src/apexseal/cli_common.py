@@ -195,7 +195,8 @@ def describe_result(result, summary: dict) -> None:
     warning when its tolerances are loose (runtime/solving/accuracy.py), with until_periodic whether and where the
     revolutions repeated (runtime/solving/periodicity.py), the chamber gas's cycle (with the gas model; a warning when
     it is not an expander's, runtime/results/gas.py), the groove mouth corners' margins on the seal's flat sides (a
-    warning when one left them)."""
+    warning when one left them), and for a run of two revolutions or more its last revolution's numbers (summary.json's
+    ``last_revolution``)."""
     from .runtime.results.gas import describe_cycle
     from .runtime.results.liftoff import describe_liftoff
     from .runtime.results.plausibility import describe, describe_flank
@@ -246,6 +247,9 @@ def describe_result(result, summary: dict) -> None:
     periodic = describe_periodic(summary.get("run", {}).get("periodic") or {})  # operation.until_periodic
     if periodic is not None:
         click.echo(f"  {periodic}")
+    last = summary.get("last_revolution")
+    if last is not None:  # a run of two revolutions or more: its numbers without the start-up from rest
+        click.echo(f"  {describe_last_revolution(last)}")
     flank = summary.get("flank")
     if flank is not None:
         least = flank["least_mm"]
@@ -254,3 +258,18 @@ def describe_result(result, summary: dict) -> None:
                    "flat sides)")
         if not flank["ok"]:
             click.echo(f"  warning: {describe_flank(flank)}", err=True)
+
+
+def describe_last_revolution(last: dict) -> str:
+    """One line of a summary's ``last_revolution``: y's range, the housing force's peak and where, the tip off the
+    housing, the friction power (each only where the model has it)."""
+    y = last["extremes"]["y"]
+    parts = [f"y {y['min']:.2f}..{y['max']:.2f} µm"]
+    force = last["housing_force_N"]
+    if force["max"] is not None:
+        parts.append(f"housing force max {force['max']:.4g} N at {force['max_at_deg']:.4g}°")
+    lifted = last.get("liftoff")
+    if lifted is not None:
+        parts.append(f"tip off the housing {lifted['fraction']:.2%}")
+    parts.append(_power(last["mean_friction_power_W"].get("total", 0.0)))
+    return f"last revolution ({last['from_deg']:.0f}..{last['to_deg']:.0f}°): " + ", ".join(parts)

@@ -358,6 +358,40 @@ def test_until_periodic_stops_early_and_says_so(default_scene, default_functions
             "asked") in capsys.readouterr().out
 
 
+def test_a_periodic_run_reports_its_last_revolution_beside_the_whole_run(default_scene, default_functions, capsys):
+    """A run that went until periodic reported only numbers over the whole run, the start-up from rest included
+    (its y maximum was the rest position's 0 at 0°), in summary.json, on the console and in the quantities of
+    compare and sweep: the summary's ``last_revolution`` holds the same numbers over the last revolution alone,
+    the console shows them, and the quantities of a run that went until periodic are its last revolution's."""
+    from dataclasses import replace
+
+    from apexseal.cli_common import describe_result
+    from apexseal.runtime.results.quantities import collect
+
+    r = _run(_settling(default_scene), default_functions, method="erk", rtol=1e-8, samples_per_revolution=72,
+             revolutions=12, compile_c=False)
+    revs = r.info["solver_stats"]["periodic_after"]
+    s = r.summary()
+    last = s["last_revolution"]
+    assert (last["from_deg"], last["to_deg"]) == pytest.approx((360.0 * (revs - 1), 360.0 * revs))
+    y = r.column("y")[-73:] * 1e6  # the last revolution's 72 intervals, from the sample where it begins
+    assert last["extremes"]["y"]["max"] == pytest.approx(y.max())
+    assert last["extremes"]["y"]["max"] < s["extremes"]["y"]["max"]  # the whole run's: the rest position
+    switches = r.events[:, -1] - r.events[:, -73]
+    assert last["events_total"] == switches.sum() < s["events_total"]
+    assert last["mean_friction_power_W"]["total"] == pytest.approx(r.outputs["Pf_total"][-72:].mean())
+    names = ("y.max", "events.total", "friction_power.total", "housing_force.max", "revolutions")
+    got = collect(r, names)
+    assert got == {"y.max": last["extremes"]["y"]["max"], "events.total": last["events_total"],
+                   "friction_power.total": last["mean_friction_power_W"]["total"],
+                   "housing_force.max": last["housing_force_N"]["max"], "revolutions": revs}
+    whole = collect(replace(r, info={k: v for k, v in r.info.items() if k != "periodic"}), names)  # not asked
+    assert whole["y.max"] == s["extremes"]["y"]["max"] and whole["events.total"] == s["events_total"]
+    describe_result(r, s)
+    assert (f"last revolution ({360 * (revs - 1)}..{360 * revs}°): y {y.min():.2f}..{y.max():.2f} µm, housing force "
+            f"max {last['housing_force_N']['max']:.4g} N") in capsys.readouterr().out
+
+
 class _MidRevolutionWobble:
     """Wraps a real engine; moves x by 1 nm at the middle sample of each call, the other way every call: each
     revolution ends where the engine's does, and its motion within never repeats the previous one's."""
