@@ -132,6 +132,16 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
                    f"column): point{'s' if len(warned) != 1 else ''} "
                    + ", ".join(str(p) for p in warned["point"].head(10)) + (", ..." if len(warned) > 10 else "")
                    + f"; point {warned['point'].iloc[0]}: {warned['warnings'].iloc[0]}", err=True)
+    if "periodic" in report.table:  # operation.until_periodic: the points whose run did not become periodic
+        late = report.table[~report.table["periodic"].fillna(False).astype(bool)]
+        if len(late):
+            click.echo(f"  {len(late)} of {len(report.table)} points did not become periodic (the periodic and "
+                       "periodic_change columns; their quantities are their last revolution's): point"
+                       f"{'s' if len(late) != 1 else ''} " + ", ".join(str(p) for p in late["point"].head(10))
+                       + (", ..." if len(late) > 10 else "") + "; more revolutions (operation.revolutions) or a "
+                       "looser operation.periodic_tol", err=True)
+        else:
+            click.echo(f"  all {len(report.table)} points became periodic (the periodic column)")
     drawing = None
     if figures and not report.table.empty:
         from .runtime.studies.sweep.figures import sweep_figures

@@ -809,3 +809,28 @@ def test_a_point_refused_for_its_values_is_invalid_and_not_retried(tmp_path):
     with pytest.raises(StudyError, match=r"parameters.contacts.kw = .*allowed: delta_w <= 0.1 Ws .*\(point 1\)"):
         run_sweep(study_from_toml(text.replace('values = ["0 mm", "0.4 mm"]', 'values = ["0 mm"]') + soft,
                                   source="soft.toml"), tmp_path / "soft", workers=1, quiet=True)
+
+
+def test_a_sweep_until_periodic_has_a_periodic_column_and_says_which_points_did_not_become_periodic(tmp_path,
+                                                                                                   monkeypatch):
+    """results.csv of a sweep whose scene asks until_periodic did not say which points reached periodicity: it has
+    ``periodic`` and ``periodic_change`` columns (summary.json's run.periodic), and the command's closing lines say
+    how many points did not become periodic."""
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+
+    text = LIGHT.replace('"operation.revolutions" = 1', '"operation.revolutions" = 3\n"operation.until_periodic" = true')
+    text = text.replace('[parameters."spring.ks"]\nfrom = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"',
+                        '[parameters."operation.periodic_tol"]\nvalues = [1e-6, 0.5]')
+    text = text.replace('values = ["1 mm", "2 mm", "3 mm", "4 mm"]', 'values = ["2 mm"]')
+    (tmp_path / "periodic.toml").write_text(text)
+    monkeypatch.chdir(tmp_path)
+    r = CliRunner().invoke(main, ["sweep", "periodic.toml", "--workers", "1", "--out", "o", "--no-figures", "-q"])
+    assert r.exit_code == 0, r.output
+    df = read_results(tmp_path / "o")
+    assert df["periodic"].tolist() == [False, True] and df["revolutions"].tolist() == [3, 2]
+    assert (df["periodic_change"] > df["operation.periodic_tol"]).tolist() == [True, False]
+    assert df.attrs["units"]["periodic_change"] == "1"
+    assert "1 of 2 points did not become periodic (the periodic and periodic_change columns" in r.output
+    assert "): point 0; more revolutions" in r.output

@@ -119,6 +119,9 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
 
     t0 = time.perf_counter()
     row: dict[str, Any] = {"point": int(index), "scene_hash": scene.content_hash(), **overrides}
+    asks_periodic = bool(scene.operation.until_periodic)
+    if asks_periodic:  # a point that did not run (or not far enough to compare) did not become periodic
+        row.update(periodic=False, periodic_change=math.nan)
     try:
         with _stoppable(stop_key) as signals:
             if signals is not None and signals.requested:  # its sweep was stopped before it started
@@ -132,6 +135,10 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
             finally:
                 row["warnings"] = _plausibility(caught)
         values = collect(result, quantities)
+        if asks_periodic:  # operation.until_periodic: whether this point's run became periodic (summary's run.periodic)
+            record = result.info.get("periodic") or {}
+            row.update(periodic=bool(record.get("periodic")),
+                       periodic_change=math.nan if record.get("change") is None else float(record["change"]))
         status = "invalid" if result.info.get("refused_at_start") else result.status
         row.update(status=status, stop="" if result.stop is None else result.stop.describe())
         run_time = float(result.info.get("wall_time_s", math.nan))

@@ -6,7 +6,8 @@ Layout of the output folder::
     points/point-000012.parquet   one row per finished point, written atomically as the point finishes
     results.parquet          every finished point, sorted, with units in the column metadata
     results.csv              the same table for spreadsheets
-    (``feasible``: a last column when the study states constraints: completed and every constraint met)
+    (``feasible``: a last column when the study states constraints: completed and every constraint met;
+    ``periodic``, ``periodic_change`` after the status when its scene asks operation.until_periodic)
 
 Only the process that runs the sweep writes (workers return rows), so a part-file is complete or absent:
 a killed worker, Ctrl-C or a crashed machine loses at most the points that were running, and a resumed sweep
@@ -28,6 +29,9 @@ from apexseal.files import atomic_write, try_lock_folder
 
 #: columns every row has, before the parameters and quantities, with their units
 HEAD = {"point": "", "scene_hash": "", "status": "", "stop": "", "warnings": ""}
+#: with operation.until_periodic (runtime/solving/periodicity.py): whether the point's run became periodic, and its
+#: last revolution's change from the one before (summary.json's run.periodic)
+PERIODIC = {"periodic": "", "periodic_change": "1"}
 TAIL = {"wall_time_s": "s", "run_time_s": "s", "worker": ""}
 _PART = re.compile(r"^point-(\d+)\.parquet$")
 
@@ -103,7 +107,7 @@ class Store:
     def table(self, study) -> pd.DataFrame:
         """Every finished point, sorted by point, columns in a fixed order (parameters, then quantities)."""
         files = sorted(p for p in self.parts.iterdir() if _PART.match(p.name)) if self.parts.is_dir() else []
-        order = [*HEAD, *(p.key for p in study.parameters), *study.quantities, *TAIL]
+        order = [*HEAD, *PERIODIC, *(p.key for p in study.parameters), *study.quantities, *TAIL]
         if not files:
             return pd.DataFrame(columns=order)
         df = pd.concat([pd.read_parquet(f) for f in files], ignore_index=True)
@@ -116,7 +120,7 @@ class Store:
         import pyarrow.parquet as pq
 
         df = self.table(study)
-        units = {**HEAD, **study.units(), **TAIL}
+        units = {**HEAD, **(PERIODIC if "periodic" in df else {}), **study.units(), **TAIL}
         if study.constraints:
             df["feasible"] = study.feasible(df)
             units["feasible"] = ""
