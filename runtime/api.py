@@ -22,6 +22,7 @@ from .results.plausibility import (
 )
 from .results.result import SimulationResult
 from .solving.accuracy import AccuracyWarning, loose_tolerances
+from .solving.periodicity import UntilPeriodicWarning, single_revolution
 from .solving.run import run
 from .solving.settings import RunSettings, merged
 
@@ -313,6 +314,9 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     loose = loose_tolerances(settings)  # said before the run, and recorded in its summary (info["accuracy"])
     if loose is not None:
         warnings.warn(loose, AccuracyWarning, stacklevel=3)
+    lonely = single_revolution(scene.operation.until_periodic, settings.revolutions)  # nothing to compare with
+    if lonely is not None:
+        warnings.warn(lonely, UntilPeriodicWarning, stacklevel=3)
     if hasattr(sink, "write_scene"):
         sink.write_scene(ran)
     functions = functions or model_functions(ran)  # the settings' compile and interpreted too

@@ -88,6 +88,21 @@ class PeriodicWatch:
                            "sample, the whole state at the revolution's end"}
 
 
+class UntilPeriodicWarning(UserWarning):
+    """``operation.until_periodic`` asked of a run that cannot compare two revolutions (one revolution asked)."""
+
+
+def single_revolution(until_periodic: bool, revolutions: int) -> str | None:
+    """What to say when ``until_periodic`` is asked of a run of fewer than two revolutions (the default scene has
+    one): it has no revolution to compare with the one before, so it neither stops early nor says whether it is
+    periodic. None otherwise."""
+    if not until_periodic or revolutions >= 2:
+        return None
+    return (f"operation.until_periodic = true does nothing with operation.revolutions = {revolutions}: a run of one "
+            "revolution has no revolution before it to compare with; ask for more (operation.revolutions, or -n on "
+            "the command line), the most the run may take")
+
+
 def describe_periodic(record: dict) -> str | None:
     """The console line of ``info["periodic"]`` (:meth:`PeriodicWatch.record`); None before two revolutions were
     compared."""

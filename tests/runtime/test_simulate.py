@@ -392,6 +392,18 @@ def test_a_periodic_run_reports_its_last_revolution_beside_the_whole_run(default
             f"max {last['housing_force_N']['max']:.4g} N") in capsys.readouterr().out
 
 
+def test_until_periodic_with_one_revolution_is_warned_of(default_scene, default_functions):
+    """until_periodic on a run of one revolution (the default scene's) did nothing and said nothing: the run warns,
+    naming operation.until_periodic, operation.revolutions and -n."""
+    from apexseal.runtime.solving.periodicity import UntilPeriodicWarning
+
+    with pytest.warns(UntilPeriodicWarning, match=r"operation.until_periodic = true does nothing with "
+                                                  r"operation.revolutions = 1: .*\(operation.revolutions, or -n"):
+        r = _run(_settling(default_scene), default_functions, samples_per_revolution=72, revolutions=1,
+                 compile_c=False)
+    assert r.ok and "last_revolution" not in r.summary()
+
+
 class _MidRevolutionWobble:
     """Wraps a real engine; moves x by 1 nm at the middle sample of each call, the other way every call: each
     revolution ends where the engine's does, and its motion within never repeats the previous one's."""
