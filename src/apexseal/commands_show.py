@@ -49,17 +49,23 @@ def show(folder: Path, figures: bool, csv: bool) -> None:
         click.echo(f"  not moved into place at {target} (the run was killed, or kept this result aside so as not to "
                    f"replace the one there)" + (f"; it is complete: rename it to {target} to make it that folder's "
                                                 "result" if result.status == "completed" else ""))
-    try:
-        cont = continuation(folder, result)  # its parts were read and checked above
-        same_model(cont, None)  # as --resume checks it: the model it was computed with is the current one
-    except ResultFolderError as err:
-        click.echo(f"  cannot be continued: {err}")
+    periodic = info.get("periodic") or {}  # operation.until_periodic (runtime/solving/periodicity.py)
+    if periodic.get("periodic"):  # more revolutions repeat its last one: no continuation to suggest
+        click.echo(f"  stopped because it is periodic (operation.until_periodic) after {periodic['revolution']} of the "
+                   f"{asked} revolution(s) asked: more revolutions add nothing (summary.json's last_revolution holds "
+                   "its numbers)")
     else:
-        if isinstance(asked, int) and asked > cont.revolutions:
-            click.echo(f"  continue it after its {cont.revolutions} whole revolution(s): apexseal simulate --resume "
-                       f"{folder}")
+        try:
+            cont = continuation(folder, result)  # its parts were read and checked above
+            same_model(cont, None)  # as --resume checks it: the model it was computed with is the current one
+        except ResultFolderError as err:
+            click.echo(f"  cannot be continued: {err}")
         else:
-            click.echo(f"  more revolutions: apexseal simulate --resume {folder} -n <total>")
+            if isinstance(asked, int) and asked > cont.revolutions:
+                click.echo(f"  continue it after its {cont.revolutions} whole revolution(s): apexseal simulate --resume "
+                           f"{folder}")
+            else:
+                click.echo(f"  more revolutions: apexseal simulate --resume {folder} -n <total>")
     try:
         if csv:
             from .files import atomic_open

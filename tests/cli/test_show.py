@@ -181,3 +181,21 @@ def test_show_into_a_folder_it_cannot_write_says_so(tmp_path, monkeypatch):
     assert r.exit_code == 1 and "Traceback" not in r.output, r.output
     assert f"cannot write into {out}: Read-only file system" in r.output
     assert not (out / "trajectory.csv").exists()
+
+
+def test_show_of_a_run_stopped_as_periodic_says_so_and_offers_no_resume(tmp_path):
+    """show suggested ``--resume`` for a run that stopped because it was periodic, where more revolutions add
+    nothing: it says the run stopped periodic instead."""
+    out = tmp_path / "periodic"
+    scene = apexseal.load_scene().with_overrides(**{
+        "solver.samples_per_revolution": 72, "solver.rtol": 1e-8, "pressure.source": "none", "pressure.file": None,
+        "pressure.unit": None, "effects.chamber_pressure": False, "operation.until_periodic": True,
+        "operation.periodic_tol": 1e-4})
+    result = apexseal.simulate(scene, revolutions=12, out=out)
+    revs = result.info["periodic"]["revolution"]
+    assert result.info["periodic"]["periodic"] and revs < 12
+    r = CliRunner().invoke(main, ["show", str(out)])
+    assert r.exit_code == 0, r.output
+    assert (f"stopped because it is periodic (operation.until_periodic) after {revs} of the 12 revolution(s) asked: "
+            "more revolutions add nothing") in r.output
+    assert "--resume" not in r.output
