@@ -61,8 +61,9 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
   nlp.THETA_MAX_FACT), which shortens that step (``_solve_with_the_filter_bounded``).
 * **Tolerances**: IPOPT's tol and constr_viol_tol 1e-3; the constraint function is noisy at the erk
   rtol (the rattle's impacts), so IPOPT also stops ("acceptable") once the objective changes by less
-  than 1e-4 relative over 3 iterations with the constraints within 2e-2 of their bounds (the deficit
-  within 2 % of its bound). IPOPT with MUMPS and the limited-memory Hessian.
+  than 1e-4 relative (a constant: 1e-3, nlp.CONSTANT_OBJ_CHANGE_TOL, the polish checks it) over 3 iterations
+  with the constraints within 2e-2 of their bounds (the deficit within 2 % of its bound). IPOPT with MUMPS and
+  the limited-memory Hessian.
 """
 
 from __future__ import annotations
