@@ -73,7 +73,8 @@ def test_an_undamped_tip_is_advised_damping_toward_the_default(default_functions
                           samples_per_revolution=72, calls_per_revolution=72)
     assert r.status == "chattering" and "in less than one revolution" in r.stop.reason, r.stop
     assert "more damping on this contact, toward the default ratio" in r.stop.reason
-    assert "contacts.zeta_w = 0, contacts.cw = 0 N*s/m, the default ratio 0.1" in r.stop.reason
+    assert ("the housing contact's damping: contacts.zeta_w = 0, i.e. contacts.cw = 0 N*s/m, the default ratio 0.1"
+            in r.stop.reason)
     assert "lower contacts.zeta_w" not in r.stop.reason
 
 
@@ -93,6 +94,8 @@ def test_the_advice_follows_the_chattering_contacts_damping(default_scene):
     assert "less damping on this contact, toward the default ratio" in half and "contacts.zeta_w = 0.5" in half
     at_default = advice("xs5")
     assert "contacts.zeta_w = 0.1" in at_default and "damping on this contact" not in at_default
+    groove_default = advice("b3")  # the parenthesis used to list two keys without saying what they were
+    assert f"(the groove's damping: contacts.zeta_g = 0.1, i.e. contacts.cr = {p['cr']:.4g} N*s/m)" in groove_default
     groove = advice("b3", cr=2.0 * p["cr"] / 0.1)
     assert "contacts.zeta_g = 2" in groove and "lower contacts.zeta_g to 1 or less" in groove
     assert "damping_law = 'penetration'" in groove
