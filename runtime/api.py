@@ -345,7 +345,7 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
         warnings.warn(describe_flank(flank), FlankWarning, stacklevel=3)
     lifted = liftoff(result)
     if lifted is not None and not lifted["ok"]:
-        warnings.warn(describe_liftoff(lifted, result.revolutions), LiftOffWarning, stacklevel=3)
+        warnings.warn(describe_liftoff(lifted, result.revolutions, result.guard_names), LiftOffWarning, stacklevel=3)
     if has_gas(result) and result.n > 2:
         gas = gas_summary(result)
         if not gas["expander_cycle"]["ok"]:

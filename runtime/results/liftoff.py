@@ -81,11 +81,16 @@ def fraction(check: dict | None) -> float:
     return float("nan") if check is None else float(check["fraction"])
 
 
-def describe_liftoff(check: dict, revolutions: float) -> str:
-    """One line for a :class:`LiftOffWarning`: how much of the run, the longest stretch, and what it means."""
+def describe_liftoff(check: dict, revolutions: float, guard_names=("spring",)) -> str:
+    """One line for a :class:`LiftOffWarning`: how much of the run, the longest stretch, and what it means;
+    ``guard_names``: the run's contacts (without ``spring``, the spring is off, and the message says so instead of
+    pointing at its preload)."""
+    spring = ("the spring preload (spring.delta_s, spring.ks)" if "spring" in guard_names else
+              "the spring, which is off (effects.spring = false): nothing presses the seal onto the housing but "
+              "the pressures")
     return (f"the seal tip is off the housing for {check['fraction']:.1%} of the samples of {revolutions:.3g} "
             f"revolution{'' if revolutions == 1 else 's'} (longest {check['longest_deg']:.4g}° in one stretch, "
             f"from {check['longest_from_deg']:.4g}°): "
             "there the tip does not seal the chambers from each other and its contact force Fs5 is zero (Fig. 14 "
-            "has little or no spectrum); check the chamber pressures (their unit, and which side is high) and the "
-            "spring preload (spring.delta_s, spring.ks)")
+            "has little or no spectrum); check the chamber pressures (their unit, and which side is high) and "
+            + spring)

@@ -223,7 +223,8 @@ def describe_result(result, summary: dict) -> None:
                    if lifted["longest_from_deg"] is not None else "")
         click.echo(f"  tip off the housing: {lifted['fraction']:.2%} of the samples{longest}")
         if not lifted["ok"]:
-            click.echo(f"  warning: {describe_liftoff(lifted, summary['revolutions'])}", err=True)
+            click.echo(f"  warning: {describe_liftoff(lifted, summary['revolutions'], result.guard_names)} "
+                       "(LiftOffWarning)", err=True)
     sampling = summary.get("sampling")
     if sampling is not None and not sampling["resolved"]:  # a note, not a warning: the default sampling is one
         click.echo(f"  note: {describe_sampling(sampling)}")

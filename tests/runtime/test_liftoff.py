@@ -134,3 +134,21 @@ def test_fig14_of_a_default_run_is_still_a_log_spectrum(default_run, caplog):
     ax = fig.axes[0]
     assert ax.get_xscale() == ax.get_yscale() == "log" and ax.lines
     assert not any("no spectrum" in t.get_text() for t in ax.texts)
+
+
+def test_the_warning_says_the_spring_is_off_and_the_console_names_its_class(held_off, capsys):
+    """With the spring off (``--set effects.spring=false``) the warning still asked to check "the spring preload
+    (spring.delta_s, spring.ks)", keys that do nothing then; and the console's line of it lacked the
+    "(LiftOffWarning)" tag the other warnings show. The run's contacts say whether the spring is on."""
+    from apexseal.cli_common import describe_result
+    from apexseal.runtime.results.liftoff import describe_liftoff
+
+    result, _ = held_off
+    check = summarise(result)["liftoff"]
+    off = tuple(g for g in result.guard_names if g != "spring")
+    text = describe_liftoff(check, 1.0, off)
+    assert "the spring, which is off (effects.spring = false)" in text and "spring.delta_s" not in text, text
+    assert "spring preload (spring.delta_s, spring.ks)" in describe_liftoff(check, 1.0, result.guard_names)
+    describe_result(replace(result, guard_names=off), summarise(result))
+    line = next(x for x in capsys.readouterr().err.splitlines() if "off the housing for" in x)
+    assert "effects.spring = false" in line and line.endswith("(LiftOffWarning)"), line
