@@ -58,12 +58,14 @@ def ringing_per_revolution(ring_rad_s: float, omega: float) -> float:
 
 @dataclass(frozen=True)
 class Cost:
-    """What a run of ``revolutions`` is estimated to cost against the default scene's revolution."""
+    """What a run of ``revolutions`` (those still to run: a resumed run's left) is estimated to cost against the
+    default scene's revolution."""
 
     factor: float  # ringing per revolution over the default scene's
     steps_per_revolution: float  # erk's
-    revolutions: int
+    revolutions: int  # still to run
     compiled: bool
+    done: int = 0  # revolutions already run (a resumed run's)
 
     @property
     def seconds(self) -> float:
@@ -76,15 +78,15 @@ class Cost:
                 "seconds": self.seconds, "compiled": self.compiled}
 
 
-def estimate(ring, omega: float, settings) -> Cost | None:
+def estimate(ring, omega: float, settings, done: int = 0) -> Cost | None:
     """The cost of a run of ``settings`` (a ``RunSettings``) at ``omega`` rad/s whose fastest ringing is ``ring``
-    (runtime/solving/ringing.py, ``Ringing``); None where it does not follow the ringing (no contact, or a method
-    other than :data:`FOLLOWS_RINGING`)."""
+    (runtime/solving/ringing.py, ``Ringing``), of the revolutions left after ``done`` (a resumed run's); None where
+    it does not follow the ringing (no contact, or a method other than :data:`FOLLOWS_RINGING`)."""
     if ring is None or not omega > 0 or settings.method not in FOLLOWS_RINGING:
         return None
     per_rev = ringing_per_revolution(ring.rad_s, omega)
-    return Cost(per_rev / DEFAULT_RINGING_PER_REVOLUTION, per_rev * STEPS_PER_RINGING_RAD, settings.revolutions,
-                bool(settings.compile_c))
+    return Cost(per_rev / DEFAULT_RINGING_PER_REVOLUTION, per_rev * STEPS_PER_RINGING_RAD,
+                max(settings.revolutions - done, 0), bool(settings.compile_c), done)
 
 
 def _duration(seconds: float) -> str:
@@ -101,7 +103,9 @@ def slow_rotor_note(cost: Cost | None, ring, omega: float) -> str | None:
     other = _duration(cost.seconds * SECONDS_PER_STEP[not cost.compiled] / SECONDS_PER_STEP[cost.compiled])
     return (f"a slow run: at operation.rpm = {rpm:.3g} rpm the seal's fastest ringing ({ring.rad_s:.3g} rad/s, mode "
             f"{ring.mode}) takes erk about {cost.steps_per_revolution:.2g} steps per revolution, {cost.factor:.3g} "
-            f"times the default scene's; {cost.revolutions} revolution(s): about {_duration(cost.seconds)} "
+            f"times the default scene's; {cost.revolutions} revolution(s)"
+            + (f" left (of {cost.revolutions + cost.done})" if cost.done else "")
+            + f": about {_duration(cost.seconds)} "
             f"{'compiled' if cost.compiled else 'interpreted'} ({other} {'interpreted' if cost.compiled else 'compiled'}"
             f"), on a machine like the one measured. Cheaper: a higher operation.rpm (the "
             f"cost falls in proportion), --method rosenbrock (implicit: its step does not follow the ringing; "

@@ -111,7 +111,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         part = _Part(functions, params, theta_start, omega, sink, first=None, first_pressures=None)
         part.after(done * 2 * np.pi, z, carried)
         stop = None
-    cost = estimate(ring, omega, settings)  # said before the first step, where it is far above the default's
+    cost = estimate(ring, omega, settings, done)  # said before the first step, where it is far above the default's
     note = slow_rotor_note(cost, ring, omega) if stop is None else None
     if note is not None:
         warnings.warn(note, SlowRunWarning, stacklevel=3)

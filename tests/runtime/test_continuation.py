@@ -290,3 +290,13 @@ def test_a_composite_folder_without_what_it_carried_continues_as_before(composit
     first = 1 + 36  # the initial sample and the first revolution: read back as written
     assert np.array_equal(continued.state[:, :first], whole.state[:, :first])
     assert not np.array_equal(continued.state[:, first:], whole.state[:, first:])
+
+
+def test_a_resumed_run_records_the_cost_of_the_revolutions_it_has_left(light, tmp_path):
+    """The cost estimate of a resumed run (said as a SlowRunWarning on a slow rotor, recorded in result.json)
+    counted every revolution asked for, also those already run: 1 of 3 done, 2 are left."""
+    scene, whole = light
+    apexseal.simulate(scene, revolutions=1, out=tmp_path / "b")
+    continued = apexseal.resume(tmp_path / "b", revolutions=3)
+    assert continued.info["cost_estimate"]["seconds"] == pytest.approx(
+        whole.info["cost_estimate"]["seconds"] * 2 / 3, rel=1e-12)

@@ -86,3 +86,14 @@ def test_the_note_is_given_before_the_first_step_and_cuts_the_revolution(default
                     state0=np.zeros(6), revolutions=1, pressure=scene.pressure)
     assert bool([w for w in caught if issubclass(w.category, SlowRunWarning)]) == noted, [str(w.message) for w in caught]
     assert asked["n_samples"] == per_call  # 360 samples, 2 intervals each (720 table rows)
+
+
+def test_a_resumed_run_is_estimated_for_the_revolutions_it_has_left(default_scene, fns):
+    """`--resume` with 1 of 4 revolutions left at 10 rpm said "4 revolution(s): about 18 s" (it took 3.5 s): the
+    estimate counted the revolutions asked for, not those left."""
+    slow = default_scene.with_overrides(**{"operation.rpm": 1})
+    whole, ring, omega = _cost(slow, fns, revolutions=4)
+    p = slow.parameter_vector(fns.parameter_names)
+    left = estimate(ring, fns.omega(p), sim.RunSettings(revolutions=4), done=3)
+    assert left.revolutions == 1 and left.seconds == pytest.approx(whole.seconds / 4, rel=1e-12)
+    assert "1 revolution(s) left (of 4): about" in slow_rotor_note(left, ring, omega)
