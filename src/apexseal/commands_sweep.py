@@ -120,9 +120,10 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
         click.echo(f"  ... {len(bad) - 5} more (see the status and stop columns)", err=True)
     invalid = bad["status"] == "invalid"
     if invalid.any():
-        click.echo(f"  {int(invalid.sum())} point{'s' if invalid.sum() != 1 else ''} invalid: refused at the start for "
-                   "the values of its scene (the stop column says which key and the allowed range); no retry can "
-                   "change that: change the study's values", err=True)
+        one = invalid.sum() == 1
+        click.echo(f"  {int(invalid.sum())} point{'' if one else 's'} invalid: refused at the start for the values of "
+                   f"{'its scene' if one else 'their scenes'} (the stop column says which key and the allowed range); "
+                   "no retry can change that: change the study's values", err=True)
     if (~invalid).any():
         click.echo("  --retry-failed computes them again (the same command, the other points kept)"
                    + (", the invalid ones excepted" if invalid.any() else ""), err=True)

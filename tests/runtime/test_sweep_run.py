@@ -834,3 +834,33 @@ def test_a_sweep_until_periodic_has_a_periodic_column_and_says_which_points_did_
     assert df.attrs["units"]["periodic_change"] == "1"
     assert "1 of 2 points did not become periodic (the periodic and periodic_change columns" in r.output
     assert "): point 0; more revolutions" in r.output
+
+
+def test_invalid_points_are_counted_apart_and_said_without_a_crank_angle(tmp_path):
+    """Points refused at their start were counted ``failed=`` by the progress bar while the closing line said
+    "invalid", their stop began with a meaningless "stopped at crank angle 0.000 deg in mode ...:", and the
+    closing sentence said "3 points invalid: ... the values of its scene". Now the bar counts them ``invalid=``,
+    the stop is the refusal's reason alone, and the sentence agrees in number."""
+    from types import SimpleNamespace
+
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+    from apexseal.runtime.studies.sweep.watch import Bar
+
+    ks = '[parameters."spring.ks"]\nfrom = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"'
+    text = LIGHT.replace(ks, '[parameters."operation.initial_state.y"]\nvalues = ["0.4 mm", "0.5 mm"]').replace(
+        'values = ["1 mm", "2 mm", "3 mm", "4 mm"]', 'values = ["2 mm"]')
+    (tmp_path / "start.toml").write_text(text)
+    r = CliRunner().invoke(main, ["sweep", str(tmp_path / "start.toml"), "-w", "1", "-q", "--no-figures", "-o",
+                                  str(tmp_path / "o")])
+    assert r.exit_code == 0, r.output
+    df = read_results(tmp_path / "o")
+    assert df["status"].tolist() == ["invalid", "invalid"]
+    assert not df["stop"].str.startswith("stopped at crank angle").any() and df["stop"].str.contains("wall").all()
+    assert "2 points invalid: refused at the start for the values of their scenes" in r.output
+    shown = []
+    bar = Bar(SimpleNamespace(set_postfix_str=lambda s, refresh: shown.append(s), update=lambda n: None))
+    for status in ("invalid", "completed", "failed", "invalid"):
+        bar.point_done(status)
+    assert shown[-1] == "failed=1, invalid=2", shown

@@ -241,7 +241,7 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, retry_f
     def record(row: dict) -> None:
         store.write(row)
         recorded.add(int(row["point"]))
-        shown.point_done(row["status"] != "completed")
+        shown.point_done(row["status"])
         if on_row is not None:
             on_row(row)
 

@@ -140,7 +140,9 @@ def run_point(index: int, scene, overrides: dict[str, Any], quantities: tuple[st
             row.update(periodic=bool(record.get("periodic")),
                        periodic_change=math.nan if record.get("change") is None else float(record["change"]))
         status = "invalid" if result.info.get("refused_at_start") else result.status
-        row.update(status=status, stop="" if result.stop is None else result.stop.describe())
+        # a start refusal has no crank angle nor mode to say: its reason alone (key, value, allowed range)
+        stop = "" if result.stop is None else result.stop.reason if status == "invalid" else result.stop.describe()
+        row.update(status=status, stop=stop)
         run_time = float(result.info.get("wall_time_s", math.nan))
     except _Stopped as stopped:
         values, run_time = dict.fromkeys(quantities, math.nan), math.nan

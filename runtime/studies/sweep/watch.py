@@ -36,13 +36,17 @@ def describe(running: dict[int, tuple[float, int, float]]) -> str:
 
 
 class Bar:
-    """The sweep's tqdm bar: finished points, the failed ones and the long points running."""
+    """The sweep's tqdm bar: finished points, the failed ones, the invalid ones (refused at their start for their
+    scene's values: no failure of the run, counted apart as the closing lines count them) and the long points
+    running."""
 
     def __init__(self, bar) -> None:
-        self.bar, self.failed, self.running = bar, 0, ""
+        self.bar, self.failed, self.invalid, self.running = bar, 0, 0, ""
 
-    def point_done(self, failed: bool) -> None:
-        self.failed += failed
+    def point_done(self, status: str) -> None:
+        """A point finished with ``status`` (a row's, point.STATUSES)."""
+        self.invalid += status == "invalid"
+        self.failed += status not in ("completed", "invalid")
         self.running = ""  # perhaps the point just done: the next look says which still run
         self._show(refresh=False)
         self.bar.update(1)
@@ -54,7 +58,8 @@ class Bar:
             self._show(refresh=True)
 
     def _show(self, refresh: bool) -> None:
-        post = f"failed={self.failed}" + (f", {self.running}" if self.running else "")
+        post = (f"failed={self.failed}" + (f", invalid={self.invalid}" if self.invalid else "")
+                + (f", {self.running}" if self.running else ""))
         self.bar.set_postfix_str(post, refresh=refresh)
 
 
