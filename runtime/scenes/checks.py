@@ -640,7 +640,8 @@ def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure:
                            "[machine.ports.inlet] and [machine.ports.outlet] for a machine's cycle (docs/scenes.md)"))
     if source in GAS_SOURCES and machine is not None and machine.ports is not None:
         out += _ports_overlap(machine, raw)
-    why = table_pressures_implausible(pressure.pa, pressure.pb) if isinstance(pressure, TablePressure) else None
+    table = isinstance(pressure, TablePressure)
+    why = table_pressures_implausible(pressure.pa, pressure.pb, pressure.unit) if table else None
     if why:
         out.append(Problem("pressure.unit", raw_at(raw, ["pressure", "unit"]) if "unit" in raw.get("pressure", {})
                            else "Pa", why))

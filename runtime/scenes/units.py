@@ -424,11 +424,19 @@ SETTINGS_PLAUSIBLE: dict[str, Plausible] = {
 #: absolute chamber pressures of a table outside this span are implausible (a table in bar declared in Pa, or in
 #: Pa declared in bar): the span of a constant pressure's keys
 TABLE_PRESSURES = SETTINGS_PLAUSIBLE["pressure.Pa"]
+#: a table whose absolute pressures all lie below this (Pa) is warned of too: well below atmospheric in both
+#: chambers over the whole revolution is no expander's (a table in bar declared unit = "kPa": 1.2-8 kPa)
+SUBATMOSPHERIC_MAX = 20e3
+#: atmospheric pressure (Pa): the unit suggested for a table below :data:`SUBATMOSPHERIC_MAX` lifts it above this
+ATMOSPHERIC = 101325.0
+#: the units a pressure table may be suggested in, smallest first
+TABLE_UNITS = ("Pa", "kPa", "bar", "MPa")
 
 
-def table_pressures_implausible(pa, pb) -> str | None:
-    """Why a pressure table's absolute pressures (Pa, both chambers) lie outside :data:`TABLE_PRESSURES` (a table in
-    bar or kPa read in Pa, or the other way round), or None when they do not."""
+def table_pressures_implausible(pa, pb, unit: str = "Pa") -> str | None:
+    """Why a pressure table's absolute pressures (Pa, both chambers; its numbers were declared in ``unit``) lie
+    outside :data:`TABLE_PRESSURES` (a table in bar or kPa read in Pa, or the other way round), or all below
+    :data:`SUBATMOSPHERIC_MAX` (a table in bar read in kPa), or None when they do not."""
     import numpy as np
 
     if not np.size(pa):
@@ -436,11 +444,26 @@ def table_pressures_implausible(pa, pb) -> str | None:
     low, high = float(min(np.min(pa), np.min(pb))), float(max(np.max(pa), np.max(pb)))
     lo, hi = TABLE_PRESSURES.lo, TABLE_PRESSURES.hi
     if lo <= low and high <= hi:
-        return None
+        return _subatmospheric(low, high, unit)
     why = (f"below {lo:g} Pa (a vacuum far beyond engineering practice)" if low < lo else
            f"above {hi:g} Pa (far beyond engineering practice)")
     return (f"the table's absolute pressures span {low:.4g}..{high:.4g} Pa, {why}: is the table in another unit "
             "(unit = \"Pa\", \"kPa\" or \"bar\")?")
+
+
+def _subatmospheric(low: float, high: float, unit: str) -> str | None:
+    """Why a table of absolute pressures ``low``..``high`` Pa, declared in ``unit``, all below
+    :data:`SUBATMOSPHERIC_MAX` is implausible, and the unit that would lift its numbers above atmospheric; None above
+    it."""
+    if high >= SUBATMOSPHERIC_MAX:
+        return None
+    factor = parse_pressure_unit(unit)
+    lifted = [u for u in TABLE_UNITS if ATMOSPHERIC <= high / factor * parse_pressure_unit(u) <= TABLE_PRESSURES.hi]
+    hint = (f"; read in {lifted[0]}, its numbers would span {low / factor:.4g}..{high / factor:.4g} {lifted[0]}: "
+            f"is the table in {lifted[0]} (unit = \"{lifted[0]}\")?" if lifted else "")
+    return (f"the table's absolute pressures span {low:.4g}..{high:.4g} Pa (unit = \"{unit}\"), all below "
+            f"{SUBATMOSPHERIC_MAX:g} Pa, well below atmospheric ({ATMOSPHERIC:g} Pa) in both chambers over the whole "
+            f"revolution: no expander's chambers{hint}")
 
 
 def plausible_ranges() -> dict[str, Plausible]:

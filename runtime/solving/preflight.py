@@ -107,7 +107,8 @@ def far_outside_practice(functions, params, pressure=None) -> str:
     ranges = plausible_ranges()
     shown = [f"{key} = {ranges[key].shown(x)} (engineering practice: {ranges[key].describe()})"
              for key, x, _ in implausible(values)]
-    table = table_pressures_implausible(pressure.pa, pressure.pb) if isinstance(pressure, TablePressure) else None
+    table = (table_pressures_implausible(pressure.pa, pressure.pb, pressure.unit)
+             if isinstance(pressure, TablePressure) else None)
     if table:
         shown.append(f"pressure.unit = \"{pressure.unit}\": {table}")
     return "" if not shown else ("; values far outside engineering practice, the likely cause: " + "; ".join(shown))

@@ -146,3 +146,17 @@ def test_the_gas_scene_is_plausible_and_its_keys_unread_elsewhere_are_not_questi
         warnings.simplefilter("error", PlausibilityWarning)
         apexseal.load_scene(REPO / "runtime" / "scenes" / "expander-gas.toml")
         default_scene.with_overrides(**{"gas.p_supply": 1e9})
+
+
+def test_a_pressure_table_in_bar_declared_in_kpa_warns(default_scene, tmp_path):
+    """A table in bar declared unit = "kPa" (chamber pressures 1.2-8 kPa, far below atmospheric for an expander)
+    loaded silently: only unit = "Pa" warned, below 1000 Pa. A table all below 20 kPa warns, and names the unit
+    that makes its numbers plausible."""
+    table = tmp_path / "bar.csv"
+    table.write_text("theta_deg,Pa,Pb\n0,1.2,8\n180,8,1.2\n")
+    with pytest.warns(PlausibilityWarning, match=r'pressure\.unit.*1200\.\.8000 Pa \(unit = "kPa"\), all below '
+                      r'20000 Pa.*1\.2\.\.8 bar: is the table in bar \(unit = "bar"\)\?'):
+        default_scene.with_overrides(**{"pressure.file": str(table), "pressure.unit": "kPa"})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        default_scene.with_overrides(**{"pressure.file": str(table), "pressure.unit": "bar"})
