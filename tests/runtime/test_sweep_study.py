@@ -409,3 +409,22 @@ def test_the_output_folder_table_says_the_figures_are_the_command_s_and_how_to_d
     assert "`apexseal.runtime.studies.sweep.figures.sweep_figures(study, report.table, \"out/\")`" in docs
     assert "sweep_figures(st, report.table, out)" in Path(command.__file__).read_text(encoding="utf-8")
     assert sweep_figures.__module__ == "apexseal.runtime.studies.sweep.figures"
+
+
+def test_a_heat_map_keeps_positive_values_positive_and_names_the_points_without_a_value():
+    """With rpm values [0.01, 1500, 3000] the heat map's first cell reached -750 rpm (a negative speed), and its
+    invalid points were blank cells without a legend entry."""
+    import pandas as pd
+
+    from apexseal.runtime.results.figures import new_figure
+    from apexseal.runtime.studies.sweep.figures import quantity_figure
+
+    st = light_study(**{'[parameters."spring.ks"]\nfrom = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"':
+                        '[parameters."operation.rpm"]\nvalues = ["0.01 rpm", "1500 rpm", "3000 rpm"]'})
+    pts = design_points(st)
+    table = pd.DataFrame([{"point": i, "status": "invalid" if p["operation.rpm"] < 1 else "completed", **p,
+                           **{q: float(i) for q in st.quantities}} for i, p in enumerate(pts)])
+    ax = new_figure((6.4, 4.8)).add_subplot()
+    quantity_figure(st, table, "friction_power.total", None, ax=ax, feasible=st.feasible(table))
+    assert ax.get_xlim()[0] >= 0, ax.get_xlim()
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["invalid (4): no value"]

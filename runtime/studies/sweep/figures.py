@@ -54,14 +54,34 @@ def _grid(study, table: pd.DataFrame, column: str, agg: str = "mean") -> tuple[n
 
 
 def _edges(centres: np.ndarray, log: bool) -> np.ndarray:
-    """Cell edges around grid values: midpoints (geometric on a log axis), the outer cells mirrored."""
+    """Cell edges around grid values: midpoints (geometric on a log axis), the outer cells mirrored; on a linear
+    axis of values of one sign the outer edges stop at zero (speeds of 0.01, 1500 and 3000 rpm had their first cell
+    reach -750 rpm, a negative speed)."""
     c = np.log(centres) if log else np.asarray(centres, float)
     if c.size == 1:
         e = np.array([c[0] - 0.5, c[0] + 0.5])
     else:
         mid = (c[1:] + c[:-1]) / 2
         e = np.r_[2 * c[0] - mid[0], mid, 2 * c[-1] - mid[-1]]
-    return np.exp(e) if log else e
+    if log:
+        return np.exp(e)
+    if c.min() >= 0:
+        e[0] = max(e[0], 0.0)
+    if c.max() <= 0:
+        e[-1] = min(e[-1], 0.0)
+    return e
+
+
+def _not_completed(ax, study, table: pd.DataFrame, ok: pd.Series) -> None:
+    """Mark the points without a value (their cells left blank) and say why in the legend, by status
+    (``invalid``: refused at their start; the others: their runs did not complete)."""
+    p1, p2 = study.parameters[:2]
+    bad = table[~ok.to_numpy()]
+    for status, rows in bad.groupby("status", sort=True):
+        ax.scatter(rows[p1.key] * _scale(p1)[0], rows[p2.key] * _scale(p2)[0], marker="x", c="tab:red", s=24,
+                   label=f"{status} ({len(rows)}): no value")
+    if len(bad):
+        ax.legend(fontsize=8)
 
 
 def _region(ax, xe: np.ndarray, ye: np.ndarray, ok: np.ndarray) -> None:
@@ -126,6 +146,7 @@ def quantity_figure(study, table: pd.DataFrame, column: str, path: Path, *, ax=N
         if feasible is not None:
             _, _, m = _grid(study, table.assign(_feasible=feasible.astype(float)), "_feasible", agg="min")
             _region(ax, xe, ye, np.nan_to_num(m) >= 0.5)
+        _not_completed(ax, study, table, ok)
         _axis(ax, p1, "x")
         _axis(ax, p2, "y")
     else:
