@@ -5,9 +5,13 @@ housing's force balances the spring's force at rest (``SpringContact.rest_force`
 That balance is written for the model's laws: a law changed on one side only (the housing's, or a spring law not
 written through ``SpringContact.push``) would start every run out of balance, silently. :func:`check` evaluates the
 X forcing of the derived model at rest - the state at zero, theta = 0, the housing and spring contacts closed,
-every other contact open, no chamber pressure, no inertia (omega = 0), the tip sliding forward along the housing
-(tanh -> 1, as Eq. 9 and Algorithm 2 take it) - with delta_w from the rest balance, at a few exact points: it must
-be zero. Cheap: one substitution of the rest state, then three numeric evaluations (never a simplification).
+every other contact open, no chamber pressure, no inertia (omega -> 0), the tip sliding forward along the housing
+(the friction laws in their sliding limit sign(v), as Eq. 9 and Algorithm 2 take it) - with delta_w from the rest
+balance, at a few exact points: it must be zero. The sliding limit is taken whatever form ``laws.slip_sign`` has
+(tanh(v / v_eps), v / sqrt(v^2 + v_eps^2), ...): omega is set to :data:`OMEGA_REST` and v_eps to :data:`V_EPS_REST`,
+exact and so small that the slide speed at rest (proportional to omega) is 10^40 regularisation widths, and what
+omega contributes (inertia, damping) is 10^-20 of the forces at most. Cheap: one substitution of the rest state,
+then three numeric evaluations (never a simplification).
 """
 
 from __future__ import annotations
@@ -22,6 +26,9 @@ from .symbols import P, Pa, Pb, qs, theta, us
 
 #: the residual allowed, relative to the spring's force at rest (the points are exact; delta_w may be a float)
 REL_TOL = 1e-9
+#: omega and v_eps at the test points: the slide before the stop, v / v_eps ~ 10^40 (see the module's docstring)
+OMEGA_REST = sp.Rational(1, 10**20)
+V_EPS_REST = sp.Rational(1, 10**60)
 
 
 class RestBalanceError(ValueError):
@@ -42,13 +49,13 @@ def check(forcing_x: sp.Expr, activations: dict[str, sp.Symbol], options) -> Non
     closed = {HousingContact.guards[0].name, SpringContact.guards[0].name}
     rest = {s: sp.S.Zero for s in (*qs, *us, theta, Pa, Pb)}
     rest |= {a: sp.S.One if name in closed else sp.S.Zero for name, a in activations.items()}
-    # the forward slide before omega = 0 (which would stop the tip, and tanh(0) its friction)
-    at_rest = forcing_x.xreplace(rest).replace(sp.tanh, lambda a: sp.S.One).xreplace({P["omega"]: sp.S.Zero})
+    at_rest = forcing_x.xreplace(rest)
     names = parameter_names(all_inputs=True)
     for shift in (0, 7, 19):
         values = _point(shift, names)
         values["delta_w"] = SealBody.rest_wall_deflection(values, options)
-        subs = {P[n]: v for n, v in values.items()}
+        # the slide before omega = 0 (which would stop the tip, and slip_sign(0) = 0 its friction)
+        subs = {P[n]: v for n, v in values.items()} | {P["omega"]: OMEGA_REST, P["v_eps"]: V_EPS_REST}
         expr = at_rest.xreplace(subs)
         expr = expr.xreplace(_point(shift, sorted(expr.free_symbols, key=str)))  # any other symbol
         residual = complex(expr.evalf(30))

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: b64ac0e9fe531ed24b4ccba604f7b363fe8226f3df71f438644a5b1ffa647139.
+ * Effects: all. Input hash: 13edcd1c0503908853b4b9c86718ae120043d168c69c8cee1cb8522c8f1d05fe.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "b64ac0e9fe531ed24b4ccba604f7b363fe8226f3df71f438644a5b1ffa647139"
+#define APEXSEAL_INPUT_HASH "13edcd1c0503908853b4b9c86718ae120043d168c69c8cee1cb8522c8f1d05fe"
 
 /* state x */
 #define APEXSEAL_NX 6

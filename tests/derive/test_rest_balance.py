@@ -113,3 +113,17 @@ def test_a_housing_law_changed_alone_stops_the_derivation(monkeypatch):
     with pytest.raises(RestBalanceError, match=r"Eq\. 9.*housing_stiffness = 'groove-axis'.*change "
                                                r"SealBody\.rest_wall_deflection"):
         derive_model(EFFECTS)
+
+
+@pytest.mark.parametrize("stiffness", ["groove-axis", "normal"])
+def test_the_rest_balance_takes_the_sliding_limit_of_any_regularisation(monkeypatch, stiffness):
+    """The friction laws' regularisation is the user's to change (laws.slip_sign's docstring): with the algebraic
+    v / sqrt(v^2 + v_eps^2) the model still balances at rest. Before, the check took the sliding limit by replacing
+    tanh with 1, so under housing_stiffness = "normal" (where the housing's friction is in the balance) the model
+    was refused with a RestBalanceError that blamed the spring's and the housing's laws."""
+    def algebraic(v, v_eps):
+        return v / sp.sqrt(v**2 + v_eps**2)
+
+    monkeypatch.setattr(laws, "slip_sign", algebraic)
+    model = derive_model(EFFECTS, Assumptions(housing_stiffness=stiffness))
+    assert not model.forcing[0].has(sp.tanh)
