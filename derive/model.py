@@ -18,6 +18,7 @@ from contextlib import nullcontext
 from dataclasses import dataclass, field
 
 import sympy as sp
+from sympy.physics.vector import Vector
 
 from ..progress import announce, stage
 from . import contact_geometry, eom, kinematics, law_symbols, rest_balance
@@ -92,8 +93,21 @@ def _refuse_undeclared(cls: type[Submodel], contacts: list[ContactModel]) -> Non
         if why is None and c.guard is not None and c.guard_name not in {gd.name for gd in cls.guards}:
             why = (f"returned ContactModel({c.name!r}) with guard_name={c.guard_name!r}, a guard it does not declare "
                    f"(its guards: {', '.join(gd.name for gd in cls.guards) or 'none'})")
+        if why is None:
+            why = next((w for load in c.loads if (w := _load_problem(c, load)) is not None), None)
         if why is not None:
             raise RegistryError(f"the submodel {cls.name} ({origin(cls)}) {why}")
+
+
+def _load_problem(c: ContactModel, load) -> str | None:
+    """Why a ``Load`` of contact ``c`` cannot enter the equations of motion (its force and point are vectors of
+    sympy.physics.vector, Eqs. 74-80 take their components), or None."""
+    for what, value in (("force", load.force), ("r_CP", load.r_CP)):
+        if not isinstance(value, Vector):
+            return (f"returned ContactModel({c.name!r}) with a Load {getattr(load, 'name', '?')!r} whose {what} is "
+                    f"{value} (a {type(value).__name__}), not a vector: give it as a magnitude times a unit vector, "
+                    "e.g. force=F * k.G.x (the ground frame's X axis) or F * k.S.y (the seal's)")
+    return None
 
 
 def _contact_where(c: ContactModel) -> str:
@@ -165,7 +179,7 @@ def derive_model(effects: Effects | None = None, assumptions: Assumptions | None
         contacts = [c for _, c in owned]
         loads = [load for c in contacts for load in c.loads]
         eq = eom.build(k, loads, inertia=options.on("inertia"))
-        guards, vguards, outputs = {}, {}, {}
+        guards, vguards, outputs, parts = {}, {}, {}, {}
         activations = {c.guard_name: guard(c.guard_name).symbol for c in contacts if c.guard is not None}
         known, moving = law_symbols.known_symbols(options, activations.values()), law_symbols.velocities(options)
         for cls, c in owned:
@@ -182,7 +196,8 @@ def derive_model(effects: Effects | None = None, assumptions: Assumptions | None
             guards.update(own_guards)
             vguards.update(own_vguards)
             outputs.update(forces)
-        rest_balance.check(eq.forcing[0], activations, options)  # Eq. 9: the laws balance at rest with delta_w
+            parts[cls.name] = parts.get(cls.name, sp.S.Zero) + forces[f"F_{c.name}_X"]
+        rest_balance.check(eq.forcing[0], activations, options, parts)  # Eq. 9: the laws balance at rest with delta_w
     pf = [e for n, e in outputs.items() if n.startswith("Pf_")]
     outputs["Pf_total"] = sum(pf, sp.S.Zero)
     own = [n for n in state_names(options) if n not in STATE_NAMES]

@@ -19,7 +19,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .submodels.housing import HousingContact
-from .submodels.registry import parameter_names
+from .submodels.registry import RegistryError, parameter_names
 from .submodels.seal import SealBody
 from .submodels.spring import SpringContact
 from .symbols import P, Pa, Pb, qs, theta, us
@@ -31,8 +31,9 @@ OMEGA_REST = sp.Rational(1, 10**20)
 V_EPS_REST = sp.Rational(1, 10**60)
 
 
-class RestBalanceError(ValueError):
-    """The model's laws do not balance at rest with the wall deflection delta_w of Eq. 9."""
+class RestBalanceError(RegistryError):
+    """The model's laws do not balance at rest with the wall deflection delta_w of Eq. 9 (a RegistryError: the
+    command line reports it as an error line, as it does a submodel's other mistakes)."""
 
 
 def _point(shift: int, names) -> dict[str, sp.Rational]:
@@ -40,10 +41,12 @@ def _point(shift: int, names) -> dict[str, sp.Rational]:
     return {n: sp.Rational(11 + (i + shift) % 23, 10) for i, n in enumerate(names)}
 
 
-def check(forcing_x: sp.Expr, activations: dict[str, sp.Symbol], options) -> None:
+def check(forcing_x: sp.Expr, activations: dict[str, sp.Symbol], options,
+          parts: dict[str, sp.Expr] | None = None) -> None:
     """Raise :class:`RestBalanceError` unless the X forcing ``forcing_x`` vanishes at rest (see the module's
     docstring) with delta_w = ``SealBody.rest_wall_deflection`` (Eq. 9). ``activations``: guard name -> activation
-    symbol of the model's contacts. Nothing to check unless the spring and the housing contact are both on."""
+    symbol of the model's contacts; ``parts``: submodel name -> the X force of its contacts, to name in the error
+    those whose force is in the balance. Nothing to check unless the spring and the housing contact are both on."""
     if not (options.on("spring") and options.on("housing_contact")):
         return
     closed = {HousingContact.guards[0].name, SpringContact.guards[0].name}
@@ -56,25 +59,33 @@ def check(forcing_x: sp.Expr, activations: dict[str, sp.Symbol], options) -> Non
         values["delta_w"] = SealBody.rest_wall_deflection(values, options)
         # the slide before omega = 0 (which would stop the tip, and slip_sign(0) = 0 its friction)
         subs = {P[n]: v for n, v in values.items()} | {P["omega"]: OMEGA_REST, P["v_eps"]: V_EPS_REST}
-        expr = at_rest.xreplace(subs)
-        expr = expr.xreplace(_point(shift, sorted(expr.free_symbols, key=str)))  # any other symbol
-        residual = complex(expr.evalf(30))
+        residual = _evaluate(at_rest, subs, shift)
         force = float(SpringContact.rest_force(values))
         if not abs(residual) <= REL_TOL * max(abs(force), 1e-300):
-            raise RestBalanceError(_message(residual, force, options))
+            acting = {n: _evaluate(f.xreplace(rest), subs, shift).real for n, f in (parts or {}).items()}
+            raise RestBalanceError(_message(residual, force, options, acting, REL_TOL * abs(force)))
 
 
-def _message(residual: complex, force: float, options) -> str:
+def _evaluate(expr: sp.Expr, subs: dict, shift: int) -> complex:
+    """``expr`` (at the rest state) at the parameter values ``subs``, any other symbol at :func:`_point`'s values."""
+    expr = expr.xreplace(subs)
+    return complex(expr.xreplace(_point(shift, sorted(expr.free_symbols, key=str))).evalf(30))
+
+
+def _message(residual: complex, force: float, options, acting: dict[str, float], small: float) -> str:
     where = {cls.name: f"{cls.__module__}.{cls.__qualname__}" for cls in (HousingContact, SpringContact, SealBody)}
     stiffness = options["housing_stiffness"]
+    forces = ", ".join(f"{n} {f:.6g} N" for n, f in acting.items() if abs(f) > small)
     return (
         f"Eq. 9: the seal is not in balance at rest: its X force is {residual.real:.6g} N against the spring's force "
         f"at rest of {force:.6g} N (at a test point: the state at zero, theta = 0, the housing and spring contacts "
-        "closed, every other contact open, no pressure, no inertia, the tip sliding forward). The wall deflection "
+        "closed, every other contact open, no pressure, no inertia, the tip sliding forward"
+        + (f"; the submodels' X forces there: {forces}" if forces else "") + "). The wall deflection "
         f"delta_w of Eq. 9 ({where['seal']}.rest_wall_deflection, housing_stiffness = {stiffness!r}) balances the "
         f"spring's law {where['spring']}.push with the housing's law kw delta_w of {where['housing']}.contacts: "
         "a submodel's law changed without the other side. Write the spring's law in SpringContact.push only "
         "(derive/submodels/spring.py; contacts() and the rest balance both call it), and when the housing's law "
         "changes, change SealBody.rest_wall_deflection (derive/submodels/seal.py, numbers.initial_wall_deflection) "
-        "to the deflection at which that law balances SpringContact.rest_force"
+        "to the deflection at which that law balances SpringContact.rest_force; a submodel of your own whose "
+        "force acts at rest belongs in that deflection too, or switch it off in the scene"
     )

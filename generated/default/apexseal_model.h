@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 13edcd1c0503908853b4b9c86718ae120043d168c69c8cee1cb8522c8f1d05fe.
+ * Effects: all. Input hash: c4c9551b23c373eeb1c79ae73055b99ccc85437de554ee817f7e23682252b9ae.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "13edcd1c0503908853b4b9c86718ae120043d168c69c8cee1cb8522c8f1d05fe"
+#define APEXSEAL_INPUT_HASH "c4c9551b23c373eeb1c79ae73055b99ccc85437de554ee817f7e23682252b9ae"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -50,7 +50,7 @@ class LazyGroup(click.Group):
         try:  # a command a signal stopped heeds no further one as the process exits; from Python, they come back
             with command_scope(exiting=exiting):
                 return super().invoke(ctx)
-        except RegistryError as err:  # an installed submodel that cannot load or clashes: its package is named
+        except RegistryError as err:  # a submodel that cannot load, clashes, or whose laws are refused: it is named
             raise click.ClickException(str(err)) from None
         except (CacheError, TemporaryFolderError) as err:  # a cache or TMPDIR that cannot be written: folder, cause
             raise click.ClickException(str(err)) from None

@@ -550,3 +550,25 @@ def test_a_damper_without_a_stiffness_is_weighed_by_the_explicit_methods_checks(
 
         advised = int(re.search(r"use at least (\d+) solver.euler_steps_per_revolution", r.stop.reason).group(1))
         assert g.steps_needed <= advised < 1.01 * g.steps_needed  # the least setting taking the steps it needs
+
+
+def test_a_load_whose_force_is_not_a_vector_names_the_submodel():
+    """docs/extending.md's damper with its force written as a scalar (-cv v, without * k.G.x): refused naming the
+    submodel, the contact and the load, and saying how to write a vector. It was a bare
+    ``AttributeError: 'Mul' object has no attribute 'dot'`` from deep in the equations of motion."""
+    from apexseal.derive.cache import cached_model
+    from apexseal.derive.effects import Effects
+
+    def scalar(self, ctx):
+        v = ctx.k.relative_velocity(ctx.g.r_s6).dot(ctx.k.G.x)
+        return [ContactModel("damper", [Load("dv", ctx.g.r_s6, -ctx.P["cv"] * v)])]  # the docs': ... * v * k.G.x
+
+    damper = type("GrooveDamper", (Submodel,), {
+        "name": "damper", "__module__": "my_models.damper", "switch": "damper", "contacts": scalar,
+        "parameters": (Parameter("cv", "N*s/m", "viscous damping", key="damper.cv", default=5.0, ge=0),),
+        "options": (Option("damper", (NONE, ON), "the viscous damper between seal and groove"),)})
+    with registry.registered(damper), pytest.raises(registry.RegistryError) as info:
+        cached_model(Effects.from_mapping({"damper": True}), refresh=True)
+    message = str(info.value)
+    assert "the submodel damper (from module my_models.damper) returned ContactModel('damper')" in message
+    assert "Load 'dv' whose force is -cv*" in message and "not a vector" in message and "* k.G.x" in message

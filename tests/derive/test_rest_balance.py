@@ -8,6 +8,7 @@ contacts() left delta_w = ks delta_s / kw hand-written in numbers.py, and the se
 
 from __future__ import annotations
 
+import re
 from types import SimpleNamespace
 
 import numpy as np
@@ -18,11 +19,13 @@ from apexseal.derive import derive_model
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.choices import options_of
 from apexseal.derive.effects import Effects
+from apexseal.derive.options import NONE, ON, Option
 from apexseal.derive.paper_check import evaluation
 from apexseal.derive.paper_check import values as paper_values
 from apexseal.derive.parameters import Parameter
 from apexseal.derive.rest_balance import RestBalanceError
-from apexseal.derive.submodels import laws
+from apexseal.derive.submodels import laws, registry
+from apexseal.derive.submodels.base import ContactModel, Load, Submodel
 from apexseal.derive.submodels.registry import activation_symbols
 from apexseal.derive.submodels.seal import SealBody
 from apexseal.derive.submodels.spring import SpringContact
@@ -127,3 +130,44 @@ def test_the_rest_balance_takes_the_sliding_limit_of_any_regularisation(monkeypa
     monkeypatch.setattr(laws, "slip_sign", algebraic)
     model = derive_model(EFFECTS, Assumptions(housing_stiffness=stiffness))
     assert not model.forcing[0].has(sp.tanh)
+
+
+class ConstantPush(Submodel):
+    """docs/extending.md's kind of user submodel: a constant load Fp along the groove axis, acting at rest too."""
+
+    name = "push"
+    switch = "push"
+    parameters = (Parameter("Fp", "N", "a constant push on the seal's back face", key="push.Fp", default=5.0, ge=0),)
+    options = (Option("push", (NONE, ON), "a constant push along the groove axis"),)
+
+    def contacts(self, ctx):
+        return [ContactModel("push", [Load("fp", ctx.g.r_s6, ctx.P["Fp"] * ctx.k.G.x)])]
+
+
+def test_a_users_load_at_rest_is_refused_naming_the_submodels_in_the_balance():
+    """A constant load of the user's own upsets Eq. 9: the error names the submodels whose X forces are in the
+    balance, with their forces at the test point (it named only the spring, the housing and the seal, so the user
+    could not tell their own submodel was the cause), and it is a RegistryError, which the command line reports
+    as an ``Error:`` line (it was a raw traceback)."""
+    with registry.registered(ConstantPush), pytest.raises(RestBalanceError) as info:
+        derive_model(Effects.only("spring", "housing_contact", "push"))
+    assert isinstance(info.value, registry.RegistryError)
+    assert re.search(r"the submodels' X forces there: (spring|housing|push) .*push \d\.\d+ N", str(info.value))
+    assert re.search(r"spring -?\d[.\d]* N", str(info.value)) and re.search(r"housing -?\d[.\d]* N", str(info.value))
+
+
+def test_the_command_line_reports_a_rest_balance_error_as_an_error_line(monkeypatch):
+    """``apexseal derive`` (and every command that derives) prints ``Error: Eq. 9: ...`` and exits 1, no
+    traceback."""
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+    from apexseal.derive import cache
+
+    def refused(*args, **kwargs):
+        raise RestBalanceError("Eq. 9: the seal is not in balance at rest: ...")
+
+    monkeypatch.setattr(cache, "cached_model", refused)
+    r = CliRunner().invoke(main, ["derive"])
+    assert r.exit_code == 1 and not isinstance(r.exception, RestBalanceError)
+    assert "\nError: Eq. 9: the seal is not in balance at rest: ...\n" in r.output and "Traceback" not in r.output
