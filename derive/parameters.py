@@ -68,7 +68,9 @@ class Parameter:
         """Refuse a sign the declared range contradicts: the derivation simplifies with the symbol's assumptions
         (Max(p, 0), Abs(p), sqrt(p**2) become p for a positive p), so a scene value the sign excludes would run a
         law that is wrong for it. Zero is admitted under "positive" (the built-in damping and friction
-        coefficients take it; tests/generated/test_gen_effects.py checks their laws there)."""
+        coefficients take it; tests/generated/test_gen_effects.py checks their laws there). A negative default
+        within a range that admits no negative value lies outside that range: the registry refuses it as such
+        (submodels/declarations.py), not as a question of sign."""
         signs = ("positive", "nonnegative", "real")
         if self.sign not in signs:
             raise ValueError(f"parameter {self.name}: sign={self.sign!r} is not one of {', '.join(map(repr, signs))}")
@@ -79,8 +81,6 @@ class Parameter:
         if low is None or low < 0:
             why = "its range admits negative values" + ("" if low is None else f" ({'gt' if low == self.gt else 'ge'}"
                                                                              f"={low!r})")
-        elif self.default is not None and self.default < 0:
-            why = f"its default is {self.default!r}"
         if why:
             raise ValueError(f"parameter {self.name} ({self.key}): sign={self.sign!r} lets the derivation assume "
                              f"{self.name} {'> 0' if self.sign == 'positive' else '>= 0'}, but {why}: declare "

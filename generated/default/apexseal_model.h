@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: c4c9551b23c373eeb1c79ae73055b99ccc85437de554ee817f7e23682252b9ae.
+ * Effects: all. Input hash: 82323f071c2147b87a549a2c9ed6d7d90f384cfaad20e1965019ea0415272709.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "c4c9551b23c373eeb1c79ae73055b99ccc85437de554ee817f7e23682252b9ae"
+#define APEXSEAL_INPUT_HASH "82323f071c2147b87a549a2c9ed6d7d90f384cfaad20e1965019ea0415272709"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -31,6 +31,8 @@ def _with(**changes) -> type[Submodel]:
     ({"gt": 1, "lt": 1, "default": None}, r"its range gt=1, lt=1 holds no value"),
     # `apexseal scene` called the default valid and used it
     ({"default": 1e5, "le": 1e4}, r"default=100000.0 is outside its own range \(le=10000.0\)"),
+    # it was a ValueError when the parameter was declared, asking for sign="real" or the lower bound ge=0 it has
+    ({"default": -5.0}, r"default=-5.0 is outside its own range \(ge=0\)"),
     ({"unit": ""}, r"unit='' is empty .*\"1\" for a plain number"),
     ({"key": "effects.spring"}, r"key='effects.spring' is in the scene's \[effects\] table, whose keys are not "
                                 r"parameters"),
