@@ -160,13 +160,13 @@ def register(cls: type[Submodel], *, check_needs: bool = True) -> type[Submodel]
         raise RegistryError(f"a submodel named {cls.name!r} is registered already (by {old.__module__}."
                             f"{old.__qualname__})")
     _check_declarations(cls)
-    for what, mine, theirs in (("parameter", [p.name for p in cls.parameters], parameter_names(all_inputs=True)),
-                               ("option", [o.name for o in cls.options], list(options())),
-                               ("guard", [g.name for g in cls.guards], [g.name for g in guards()]),
-                               ("state", [s.name for s in cls.states], list(state_names()))):
-        clash = sorted(set(mine) & set(theirs))
+    for what, declared in (("parameter", "parameters"), ("option", "options"), ("guard", "guards"),
+                           ("state", "states")):
+        owners = {d.name: c.name for c in submodels() for d in getattr(c, declared)}
+        clash = sorted({d.name for d in getattr(cls, declared)} & set(owners))
         if clash:
-            raise RegistryError(f"submodel {cls.name!r} declares {what}s that exist already: {', '.join(clash)}")
+            raise RegistryError(f"submodel {cls.name!r} declares {what}s that exist already: "
+                                + ", ".join(f"{n} (the {owners[n]}'s)" for n in clash))
     keys = {p.key: p.name for p in parameters(all_inputs=True) if p.key is not None}
     taken = sorted(f"{p.key} (already {keys[p.key]}'s)" for p in cls.parameters if p.key in keys)
     if taken:

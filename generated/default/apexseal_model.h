@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 82323f071c2147b87a549a2c9ed6d7d90f384cfaad20e1965019ea0415272709.
+ * Effects: all. Input hash: 366640e288aa0fade2fa6f30595913e6a5b613e9dd095a21f08a6dec530a0a64.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "82323f071c2147b87a549a2c9ed6d7d90f384cfaad20e1965019ea0415272709"
+#define APEXSEAL_INPUT_HASH "366640e288aa0fade2fa6f30595913e6a5b613e9dd095a21f08a6dec530a0a64"
 
 /* state x */
 #define APEXSEAL_NX 6
