@@ -19,7 +19,8 @@ from .cli_common import scene_label, scene_of, scene_settings, writable
 @click.option("--report", type=click.Path(dir_okay=False, path_type=Path), default=None,
               help="Where --check writes its Markdown report [default: apexseal-out/paper-check.md].")
 @click.option("--refresh", is_flag=True, help="Ignore the derivation cache.")
-def derive(scene: Path | None, sets, check: bool, report: Path | None, refresh: bool) -> None:
+@click.option("--quiet", "-q", is_flag=True, help="No progress on stderr: only the results.")
+def derive(scene: Path | None, sets, check: bool, report: Path | None, refresh: bool, quiet: bool) -> None:
     """Derive the equations of motion for SCENE's effects (default: the paper's case study), timing cold and warm."""
     from . import progress
     from .derive.cache import cached_model
@@ -31,7 +32,7 @@ def derive(scene: Path | None, sets, check: bool, report: Path | None, refresh: 
     if check:
         writable(report.parent, "--report")
     t0 = time.perf_counter()
-    with progress.enabled(True), progress.stage("deriving the equations of motion (sympy)"):
+    with progress.enabled(not quiet), progress.stage("deriving the equations of motion (sympy)"):
         model = cached_model(sc.effects, sc.assumptions, refresh=refresh)
     t1 = time.perf_counter()
     cached_model(sc.effects, sc.assumptions)
@@ -42,7 +43,8 @@ def derive(scene: Path | None, sets, check: bool, report: Path | None, refresh: 
     if check:
         from .derive.paper_check import main_check
 
-        with progress.enabled(True), progress.stage("checking every derived equation against the paper's print (sympy)"):
+        checking = "checking every derived equation against the paper's print (sympy)"
+        with progress.enabled(not quiet), progress.stage(checking):
             code = main_check(report, echo=click.echo)
         if scene is not None or sets:
             click.echo(f"  (of the paper's full model at the default scene's values: the effects, modelling choices and "

@@ -164,6 +164,15 @@ def test_derive_reports_cold_and_cached_times():
     assert "contact guards" in r.output and "cached call" in r.output
 
 
+def test_derive_q_silences_its_progress_and_keeps_its_results():
+    """The README says -q silences progress wherever a command takes it; derive had no -q ("No such option")."""
+    quiet = CliRunner().invoke(main, ["derive", "-q"])
+    assert quiet.exit_code == 0, quiet.output
+    assert "contact guards" in quiet.output and "cached call" in quiet.output
+    assert "deriving the equations of motion" not in quiet.output
+    assert "deriving the equations of motion" in CliRunner().invoke(main, ["derive"]).output
+
+
 def test_scene_default_writes_a_loadable_scene(tmp_path, monkeypatch):
     """The README said to copy runtime/scenes/default.toml, which a pip user does not have."""
     from apexseal.runtime.scenes.scene import default_scene_text, load_scene
