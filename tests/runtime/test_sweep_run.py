@@ -782,25 +782,31 @@ print("the script went on", flush=True)
         assert f"apexseal: SIGTERM: the sweep was stopped: {finished} of 16 points finished, kept in" in stderr
 
 
+def _sweep_of_one_preload(tmp_path, parameter: str):
+    """The light study with its spring stiffness replaced by ``parameter`` (a ``[parameters."..."]`` table) at one
+    preload, 2 mm, run by the command: its output and table."""
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+
+    ks = '[parameters."spring.ks"]\nfrom = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"'
+    text = LIGHT.replace(ks, parameter).replace('values = ["1 mm", "2 mm", "3 mm", "4 mm"]', 'values = ["2 mm"]')
+    (tmp_path / "start.toml").write_text(text)
+    r = CliRunner().invoke(main, ["sweep", str(tmp_path / "start.toml"), "-w", "1", "-q", "--no-figures", "-o",
+                                  str(tmp_path / "o")])
+    assert r.exit_code == 0, r.output
+    return text, r, read_results(tmp_path / "o")
+
+
 def test_a_point_refused_for_its_values_is_invalid_and_not_retried(tmp_path):
     """A point whose start is refused for its scene's values alone was a ``failed`` row, and the command offered
     --retry-failed, which computes the same refusal again. Such a point is ``invalid`` with the reason, the command
     says no retry changes it, and --retry-failed leaves it; a value the scene itself refuses (a housing too soft for
     the preload, once refused only at the run's start) refuses the study before any point runs."""
-    from click.testing import CliRunner
-
-    from apexseal.cli import main
     from apexseal.runtime.studies.sweep import StudyError, study_from_toml
 
     soft = '[parameters."contacts.kw"]\nvalues = ["1e9 N/m", "1e4 N/m"]'
-    ks = '[parameters."spring.ks"]\nfrom = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"'
-    text = LIGHT.replace(ks, '[parameters."operation.initial_state.y"]\nvalues = ["0 mm", "0.4 mm"]').replace(
-        'values = ["1 mm", "2 mm", "3 mm", "4 mm"]', 'values = ["2 mm"]')
-    (tmp_path / "start.toml").write_text(text)
-    r = CliRunner().invoke(main, ["sweep", str(tmp_path / "start.toml"), "-w", "1", "-q", "--no-figures", "-o",
-                                  str(tmp_path / "o")])
-    assert r.exit_code == 0, r.output
-    df = read_results(tmp_path / "o")
+    text, r, df = _sweep_of_one_preload(tmp_path, '[parameters."operation.initial_state.y"]\nvalues = ["0 mm", "0.4 mm"]')
     assert df["status"].tolist() == ["completed", "invalid"] and "inside a wall" in df.loc[1, "stop"]
     assert "1 point invalid: refused at the start" in r.output and "--retry-failed" not in r.output
     retried = run_sweep(study_from_toml(text, source="start.toml"), tmp_path / "o", workers=1, retry_failed=True,
@@ -843,19 +849,9 @@ def test_invalid_points_are_counted_apart_and_said_without_a_crank_angle(tmp_pat
     the stop is the refusal's reason alone, and the sentence agrees in number."""
     from types import SimpleNamespace
 
-    from click.testing import CliRunner
-
-    from apexseal.cli import main
     from apexseal.runtime.studies.sweep.watch import Bar
 
-    ks = '[parameters."spring.ks"]\nfrom = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"'
-    text = LIGHT.replace(ks, '[parameters."operation.initial_state.y"]\nvalues = ["0.4 mm", "0.5 mm"]').replace(
-        'values = ["1 mm", "2 mm", "3 mm", "4 mm"]', 'values = ["2 mm"]')
-    (tmp_path / "start.toml").write_text(text)
-    r = CliRunner().invoke(main, ["sweep", str(tmp_path / "start.toml"), "-w", "1", "-q", "--no-figures", "-o",
-                                  str(tmp_path / "o")])
-    assert r.exit_code == 0, r.output
-    df = read_results(tmp_path / "o")
+    _, r, df = _sweep_of_one_preload(tmp_path, '[parameters."operation.initial_state.y"]\nvalues = ["0.4 mm", "0.5 mm"]')
     assert df["status"].tolist() == ["invalid", "invalid"]
     assert not df["stop"].str.startswith("stopped at crank angle").any() and df["stop"].str.contains("wall").all()
     assert "2 points invalid: refused at the start for the values of their scenes" in r.output
