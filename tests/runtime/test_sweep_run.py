@@ -782,15 +782,15 @@ print("the script went on", flush=True)
         assert f"apexseal: SIGTERM: the sweep was stopped: {finished} of 16 points finished, kept in" in stderr
 
 
-def _sweep_of_one_preload(tmp_path, parameter: str):
-    """The light study with its spring stiffness replaced by ``parameter`` (a ``[parameters."..."]`` table) at one
-    preload, 2 mm, run by the command: its output and table."""
+def _sweep_of_one_preload(tmp_path, parameter: str, base: str = LIGHT):
+    """The light study (or ``base``, a variant of it) with its spring stiffness replaced by ``parameter`` (a
+    ``[parameters."..."]`` table) at one preload, 2 mm, run by the command: its text, output and table."""
     from click.testing import CliRunner
 
     from apexseal.cli import main
 
     ks = '[parameters."spring.ks"]\nfrom = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"'
-    text = LIGHT.replace(ks, parameter).replace('values = ["1 mm", "2 mm", "3 mm", "4 mm"]', 'values = ["2 mm"]')
+    text = base.replace(ks, parameter).replace('values = ["1 mm", "2 mm", "3 mm", "4 mm"]', 'values = ["2 mm"]')
     (tmp_path / "start.toml").write_text(text)
     r = CliRunner().invoke(main, ["sweep", str(tmp_path / "start.toml"), "-w", "1", "-q", "--no-figures", "-o",
                                   str(tmp_path / "o")])
@@ -817,24 +817,12 @@ def test_a_point_refused_for_its_values_is_invalid_and_not_retried(tmp_path):
                                   source="soft.toml"), tmp_path / "soft", workers=1, quiet=True)
 
 
-def test_a_sweep_until_periodic_has_a_periodic_column_and_says_which_points_did_not_become_periodic(tmp_path,
-                                                                                                   monkeypatch):
+def test_a_sweep_until_periodic_has_a_periodic_column_and_says_which_points_did_not_become_periodic(tmp_path):
     """results.csv of a sweep whose scene asks until_periodic did not say which points reached periodicity: it has
     ``periodic`` and ``periodic_change`` columns (summary.json's run.periodic), and the command's closing lines say
     how many points did not become periodic."""
-    from click.testing import CliRunner
-
-    from apexseal.cli import main
-
-    text = LIGHT.replace('"operation.revolutions" = 1', '"operation.revolutions" = 3\n"operation.until_periodic" = true')
-    text = text.replace('[parameters."spring.ks"]\nfrom = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"',
-                        '[parameters."operation.periodic_tol"]\nvalues = [1e-6, 0.5]')
-    text = text.replace('values = ["1 mm", "2 mm", "3 mm", "4 mm"]', 'values = ["2 mm"]')
-    (tmp_path / "periodic.toml").write_text(text)
-    monkeypatch.chdir(tmp_path)
-    r = CliRunner().invoke(main, ["sweep", "periodic.toml", "--workers", "1", "--out", "o", "--no-figures", "-q"])
-    assert r.exit_code == 0, r.output
-    df = read_results(tmp_path / "o")
+    base = LIGHT.replace('"operation.revolutions" = 1', '"operation.revolutions" = 3\n"operation.until_periodic" = true')
+    _, r, df = _sweep_of_one_preload(tmp_path, '[parameters."operation.periodic_tol"]\nvalues = [1e-6, 0.5]', base)
     assert df["periodic"].tolist() == [False, True] and df["revolutions"].tolist() == [3, 2]
     assert (df["periodic_change"] > df["operation.periodic_tol"]).tolist() == [True, False]
     assert df.attrs["units"]["periodic_change"] == "1"
