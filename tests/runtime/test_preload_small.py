@@ -593,32 +593,6 @@ def test_a_first_solve_stuck_beyond_the_bounded_filter_s_reach_is_given_up():
     assert run(patient, [far] * (2 * STUCK_ITERATIONS)) == [0] * (2 * STUCK_ITERATIONS) and not patient.gave_up
 
 
-#: a minimum force at which the small study's optimum (0.888 mm) sits above a noisy band: the re-simulated deficit
-#: is 5 to 64 x its bound, not monotone, from 0.80 to 0.88 mm (measured on a 0.01 mm grid)
-LOW_FORCE = 5.0
-
-
-def test_a_start_above_a_failed_candidate_bounds_the_filter_and_reaches_the_optimum_directly(light):
-    """A scene whose own preload (0.3 mm) is far below the optimum: the start search fails at 0.3, 0.45 and 0.675 mm
-    and starts IPOPT at 1.0125 mm, where the force deficit and its gradient are 0. IPOPT's first step, on the
-    friction power alone, leapt to 551 x the deficit bound, under the noisy band below the optimum (0.888 mm), and
-    IPOPT wandered there for 48 iterations (objective 21.9-23.7 W, deficit up to 675 x its bound) before it stopped at
-    the optimum. The candidate below the start failed, so the boundary lies within 1.5 x below it: IPOPT's filter is
-    now bounded from the first solve (nlp.THETA_MAX_FACT), and it reaches the same optimum (the bisection's, over
-    full simulations) in a few iterations."""
-    scene = light[0].with_overrides(**{"spring.delta_s": "0.3 mm"})
-    setup = PreloadSetup(scene, light[1], LOW_FORCE, (), SAMPLES, max_groove_force=NO_BOUND)
-    r = optimise_preload(scene, min_force=LOW_FORCE, nodes=NODES, setup=setup)
-    assert r.ok and r.ipopt_status in SOLVED, r.message
-    assert len(r.history) > 1 and r.history[-2][2] > DEFICIT_TOL  # the candidate below the start failed
-    assert r.ipopt_iterations <= 15 and r.rounds == 1, r.describe()
-    assert r.filter_bounded_from_start and not r.filter_bounded
-    assert "its filter bounded from the start" in r.describe()
-    b = bisect_preload(scene, min_force=LOW_FORCE, nodes=NODES, setup=setup, upper=r.start_delta_s, tol=0.01 * MM)
-    assert abs(r.delta_s - b.delta_s) <= (b.delta_s - b.lower) + 0.01 * b.delta_s, (r.delta_s, b.lower, b.delta_s)
-    assert r.deficit <= 1.05 * DEFICIT_TOL
-
-
 def _two_knot_nlp(light):
     """The NLP of a 2-knot schedule (1.7, 1.8 mm) whose groove forces exceed a 10 N bound between samples, at the
     simulated schedule's node states: (the NLP, its point, the hand-assembled Jacobian there, the simulation, a

@@ -33,11 +33,6 @@ THETA_MAX_FACT = 10.0
 #: go: it is then solved again bounded at once instead of at its iteration limit (the lift-off scene's first solve
 #: spent its 100 iterations there, and a user's own design most of its study's time the same way)
 STUCK_ITERATIONS = 25
-#: IPOPT's acceptable_obj_change_tol for a constant preload (1e-4 for a schedule): at the default scene's constant
-#: optimum the friction power of successive iterates still changed by 1e-4 to 5e-4 relative (21.3875-21.3975 W) with
-#: the deficit at 0.92-1 x its bound, for 30 iterations, since its gradient through the contact events is inexact;
-#: a constant's answer is checked and lowered to its boundary on re-simulations afterwards (study._polish_constant)
-CONSTANT_OBJ_CHANGE_TOL = 1e-3
 
 
 def _advice(status: str, groove: bool = False, gave_up: bool = False) -> str:
@@ -266,7 +261,7 @@ class ShootingNlp:
         opts = {"ipopt.hessian_approximation": "limited-memory", "ipopt.tol": 1e-3,
                 "ipopt.constr_viol_tol": CONSTR_VIOL_TOL,
                 "ipopt.acceptable_tol": 1e10, "ipopt.acceptable_constr_viol_tol": 2e-2, "ipopt.acceptable_iter": 3,
-                "ipopt.acceptable_obj_change_tol": CONSTANT_OBJ_CHANGE_TOL if K == 1 else 1e-4,
+                "ipopt.acceptable_obj_change_tol": 1e-4,
                 "ipopt.max_iter": int(max_iter), "ipopt.linear_solver": "mumps",
                 "ipopt.print_level": 5 if verbose else 0, "print_time": False, "ipopt.sb": "yes",
                 "iteration_callback": prog, **options}

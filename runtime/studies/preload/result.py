@@ -113,9 +113,6 @@ class PreloadResult:
     #: the first solve, from a start where the force deficit and its gradient were 0, ended at its iteration limit or
     #: stayed beyond the bounded filter's reach for nlp.STUCK_ITERATIONS iterations
     filter_bounded: bool = False
-    #: IPOPT's filter was bounded (nlp.THETA_MAX_FACT) from the first solve: the start search's candidate below the
-    #: start failed, so the boundary lies within a factor 1.5 below it (:func:`.study.optimise_preload`)
-    filter_bounded_from_start: bool = False
     #: who stopped the study before it ended (a signal's sender, e.g. "the user (Ctrl-C, SIGINT)"), "" where it ended
     #: by itself: the report's status is then "interrupted" (:func:`.report.report_status`)
     interrupted_by: str = ""
@@ -223,7 +220,6 @@ class PreloadResult:
             f"  IPOPT: {self.ipopt_status}, {self.ipopt_iterations} iterations, {self.ipopt_time_s:.1f} s "
             f"({self.rounds} round{'s' if self.rounds != 1 else ''}"
             f"{'; solved again with its filter bounded after its first solve stalled' if self.filter_bounded else ''}"
-            f"{'; its filter bounded from the start, a preload below it failed' if self.filter_bounded_from_start else ''}"
             "); "
             f"build {self.build_time_s:.1f} s; "
             f"{self.nodes} shooting nodes, erk rtol {self.rtol:g}",

@@ -49,10 +49,7 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
 * **Start**: a feasible periodic trajectory at a constant preload: the scene's times 1.5^k for the
   smallest k whose re-simulated revolution meets the deficit bound; the preload is bounded above by it.
   A schedule starts from the constant optimum (the constant is a feasible schedule, so the schedule's
-  friction power can only be lower). Where the search's candidate below the start failed, the optimum lies within
-  a factor 1.5 below the start and IPOPT's filter is bounded from the first solve (nlp.THETA_MAX_FACT): unbounded,
-  its first step leapt under that candidate, where the deficit is steep and noisy, and it wandered there (48
-  iterations instead of 7 on the small study's scene at 5 N from 0.3 mm; docs/preload.md).
+  friction power can only be lower).
 * **A start without gradient**: where the start's force deficit (and groove-force excess) is 0, so is its
   gradient, and IPOPT's first step follows the objective alone. Where IPOPT then ends at its iteration limit, or
   stays beyond the bounded filter's reach for nlp.STUCK_ITERATIONS iterations in a row (the lift-off scene: its
@@ -61,9 +58,8 @@ with events (shooting.py). Every formulation choice below was measured (docs/pre
   nlp.THETA_MAX_FACT), which shortens that step (``_solve_with_the_filter_bounded``).
 * **Tolerances**: IPOPT's tol and constr_viol_tol 1e-3; the constraint function is noisy at the erk
   rtol (the rattle's impacts), so IPOPT also stops ("acceptable") once the objective changes by less
-  than 1e-4 relative (a constant: 1e-3, nlp.CONSTANT_OBJ_CHANGE_TOL, the polish checks it) over 3 iterations
-  with the constraints within 2e-2 of their bounds (the deficit within 2 % of its bound). IPOPT with MUMPS and
-  the limited-memory Hessian.
+  than 1e-4 relative over 3 iterations with the constraints within 2e-2 of their bounds (the deficit
+  within 2 % of its bound). IPOPT with MUMPS and the limited-memory Hessian.
 """
 
 from __future__ import annotations
@@ -270,11 +266,6 @@ def optimise_preload(scene, *, min_force: float = DEFAULTS["min_force"], exclude
         if d0 is None:
             return res
         knots0 = np.full(knots, d0)
-        # the start search's candidate below the start (start / 1.5) failed: the boundary lies within that factor
-        # below the start, and IPOPT's first step, on the friction power alone (the deficit and its gradient are 0
-        # there), leapt past it into the noisy band under the boundary and wandered there (docs/preload.md, "A
-        # start above a failed candidate"): the filter is bounded from the first solve
-        res.filter_bounded_from_start = len(res.history) > 1
     res.start_delta_s = d0
     # the friction power grows with the preload, so a constant optimum lies below the feasible start: bounding
     # the preload there keeps IPOPT's first steps (pushed by the steep deficit in lift-off) from leaping to large
@@ -293,15 +284,12 @@ def optimise_preload(scene, *, min_force: float = DEFAULTS["min_force"], exclude
         with stage(f"IPOPT (round {r + 1}: {knots} knot{'s' if knots > 1 else ''}, {nodes} shooting nodes, "
                    f"{setup.samples} samples)"):
             gradless = sim.deficit == sim.groove_excess == 0
-            bounded = res.filter_bounded_from_start and r == 0
-            first = {"theta_max_fact": THETA_MAX_FACT} | (ipopt_options or {}) if bounded else ipopt_options
             ok = nlp.solve(x_knots, res, upper=upper, max_rate=max_rate, max_iter=max_iter,
-                           verbose=verbose, ipopt_options=first, give_up=gradless and not bounded)
+                           verbose=verbose, ipopt_options=ipopt_options, give_up=gradless)
             # IPOPT turns an interruption in its callbacks into a return status: under the CLI's StopSignals the
             # signal it caught abandons the stage here (logged "abandoned", not "done"), and the study with it
             StopSignals.raise_pending()
-            if not ok and gradless and not bounded and (nlp.gave_up or
-                                                        res.ipopt_status == "Maximum_Iterations_Exceeded"):
+            if not ok and gradless and (nlp.gave_up or res.ipopt_status == "Maximum_Iterations_Exceeded"):
                 ok = _solve_with_the_filter_bounded(nlp, x_knots, res, upper=upper, max_rate=max_rate,
                                                     max_iter=max_iter, verbose=verbose, ipopt_options=ipopt_options)
         if not ok:
@@ -335,8 +323,7 @@ def _solve_with_the_filter_bounded(nlp, x_knots, res, **solve) -> bool:
     violations up to 1e4, let it land deep in lift-off (the lift-off scene: 6980 x the deficit bound), where it
     stayed. Bounded, the line search shortens that step. Not the first solve: a long first step can also cross an
     infeasible band to a better optimum (the small study's scene at a 0.1 N minimum: no preload at all, across a
-    lift-off band at 0.02-0.09 mm; bounded, IPOPT stops above the band at 0.095 mm, measured), unless a candidate of
-    the start search below the start failed (then the first solve is bounded, and this one not run). Where this solve
+    lift-off band at 0.02-0.09 mm; bounded, IPOPT stops above the band at 0.095 mm, measured). Where this solve
     fails too, the first one's message is kept, and this one's status added to it."""
     first, before = res.message, res.ipopt_iterations
     how = (f"stayed above {THETA_MAX_FACT:g} x the bound for {STUCK_ITERATIONS} iterations" if nlp.gave_up else
