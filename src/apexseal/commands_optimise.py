@@ -26,9 +26,9 @@ def _checked(ctx, param, value):
     if name == "max_rate":  # a bare number is in mm per degree on the command line (m per degree from Python)
         value = value if any(c.isalpha() for c in value) else f"{value} mm/deg"
     elif name in ("knots", "nodes", "samples", "max_iter"):
-        value = _integer(value)
+        value = _parsed(value, int)
     elif name in ("deficit_tol", "min_force", "max_groove_force", "max_preload"):  # a bare number: in the SI unit
-        value = _number(value)
+        value = _parsed(value, float)
     try:
         value = check_option(name, value, knots=ctx.params.get("knots") if name == "max_rate" else None)
     except PreloadStudyError as err:
@@ -39,18 +39,11 @@ def _checked(ctx, param, value):
     return value
 
 
-def _number(text: str):
-    """A bare number as a float (a quantity's text, e.g. "5 N", as it is)."""
+def _parsed(text: str, kind: type):
+    """A bare number's text as ``kind`` (int or float); anything else as it is: a quantity's text ("5 N") for the
+    study to convert, or what its check refuses."""
     try:
-        return float(text)
-    except ValueError:
-        return text
-
-
-def _integer(text: str):
-    """An integer's text as an int (anything else as it is, refused by the study's check)."""
-    try:
-        return int(text)
+        return kind(text)
     except ValueError:
         return text
 
