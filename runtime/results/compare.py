@@ -5,7 +5,9 @@ changing a design: which keys of the scene changed, and what that did to frictio
 lift-off and penetrations. The numbers are the named quantities of each run's summary that a sweep collects
 (:mod:`.quantities`: the names a study file uses); the scene keys are those of each result's ``scene.toml``,
 written in full (:func:`..scenes.resolved.resolved_toml`), so a default value and the same value given explicitly
-compare equal.
+compare equal. Each number carries its numerical noise (:mod:`.noise`: by a rule from the runs' rtol, or measured by
+re-running the first at a tenth of it), and a change within it is marked as such: it is not an effect of what the
+runs differ in.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from .noise import measured_noise, rerun, rtol_of, rule_noise, same_run_but_rtol, within
 from .plausibility import penetrations
 from .quantities import GAS_QUANTITIES, collect, friction_contacts, quantity_help
 from .result import SimulationResult
@@ -34,13 +37,30 @@ FIGURE_QUANTITIES = ("x", "y", "phi", "Pf_total")
 @dataclass(eq=False)
 class Comparison:
     """``scenes``: a row per scene key whose value differs between the results (a column per result);
-    ``numbers``: a row per quantity (its unit in the row's name), a column per result. ``==`` is identity (the
-    frames' own ``.equals`` compares their content)."""
+    ``numbers``: a row per quantity (its unit in the row's name), a column per result; ``noise``: the same rows
+    (without the status) and columns, each number's numerical noise in its unit (NaN: not estimated, a fixed-step
+    method's), estimated as ``noise_source`` says; ``noise_run``: the first result re-run at a tighter rtol when
+    the noise was measured (``noise_run_kept``: False for one made in memory, which :meth:`save` writes). ``==``
+    is identity (the frames' own ``.equals`` compares their content)."""
 
     labels: list[str]
     scenes: pd.DataFrame
     numbers: pd.DataFrame
     results: list[SimulationResult]
+    noise: pd.DataFrame | None = None
+    noise_source: str = ""
+    noise_run: SimulationResult | None = None
+    #: False for a re-run made in memory (``compare(..., noise=True)``): :meth:`save` writes it
+    noise_run_kept: bool = True
+
+    def within_noise(self) -> pd.DataFrame:
+        """True where a result's number differs from the first's by no more than the two noises together
+        (:func:`.noise.within`); the first column, and a number equal to the first's, are False."""
+        base = self.labels[0]
+        return pd.DataFrame({label: [label != base and self.numbers.loc[q, label] != self.numbers.loc[q, base]
+                                     and within(self.numbers.loc[q, label], self.numbers.loc[q, base],
+                                                self.noise.loc[q, label], self.noise.loc[q, base])
+                                     for q in self.noise.index] for label in self.labels}, index=self.noise.index)
 
     def figure(self, quantities: Sequence[str] = FIGURE_QUANTITIES, *, pyplot: bool = False):
         """The results' quantities against crank angle, a line per result (:func:`.plots.plot_comparison`)."""
@@ -49,17 +69,22 @@ class Comparison:
         return plot_comparison(self.results, quantities, self.labels, pyplot=pyplot)
 
     def save(self, folder: str | Path) -> list[Path]:
-        """Write the numbers (comparison.csv), the scene keys that differ (scene-differences.csv) and the figure
-        (comparison.png) into ``folder``; the paths written."""
+        """Write the numbers (comparison.csv), the scene keys that differ (scene-differences.csv), each number's
+        noise (noise.csv, after a comment line saying how it was estimated), the figure (comparison.png) and a
+        re-run made in memory for the noise (noise-rerun/) into ``folder``; the paths written."""
         from ...files import atomic_write
         from .figures import save_png
 
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
-        paths = [folder / "comparison.csv", folder / "scene-differences.csv", folder / "comparison.png"]
+        paths = [folder / "comparison.csv", folder / "scene-differences.csv", folder / "noise.csv",
+                 folder / "comparison.png"]
         atomic_write(paths[0], self.numbers.to_csv())
         atomic_write(paths[1], self.scenes.to_csv())
-        save_png(self.figure(), paths[2], 120)
+        atomic_write(paths[2], f"# numerical noise of each number, {self.noise_source}\n" + self.noise.to_csv())
+        save_png(self.figure(), paths[3], 120)
+        if self.noise_run is not None and not self.noise_run_kept:
+            paths.append(self.noise_run.save(folder / "noise-rerun"))
         return paths
 
     def text(self) -> str:
@@ -77,14 +102,28 @@ class Comparison:
                        + "): the derivation, a submodel or the generator changed between the runs")
         numbers = self.numbers.copy().astype(object)
         base = self.numbers.iloc[:, 0]
+        marked = self.within_noise().reindex(self.numbers.index, fill_value=False)
         for column in numbers.columns:
-            numbers[column] = [_cell(v, b, column != numbers.columns[0]) for v, b in
-                               zip(self.numbers[column], base, strict=True)]
-        return f"{scenes}\n\nresults (change against {self.labels[0]}):\n{numbers.to_string()}"
+            numbers[column] = [_cell(v, b, column != numbers.columns[0]) + ("~" if m else "") for v, b, m in
+                               zip(self.numbers[column], base, marked[column], strict=True)]
+        numbers.insert(1, "noise", [_noise_cell(self.noise[self.labels[0]].get(q), b) for q, b in base.items()])
+        lines = [f"{scenes}\n", _tolerances(self.labels, self.results),
+                 f"noise (the first run's, beside it): {self.noise_source}",
+                 f"results (change against {self.labels[0]}):\n{numbers.to_string()}"]
+        if marked.to_numpy().any():
+            lines.append("~: a change within the numerical noise (no larger than the two runs' noises together): not "
+                         "an effect of what the runs differ in; a tighter --rtol for every run resolves it")
+        return "\n".join(lines)
 
 
-def compare(results: Sequence[SimulationResult | str | Path], labels: Sequence[str] | None = None) -> Comparison:
-    """Results (or result folders) side by side; ``labels`` default to the folders' names, or the scenes'."""
+def compare(results: Sequence[SimulationResult | str | Path], labels: Sequence[str] | None = None, *,
+            noise: bool | SimulationResult | str | Path | None = None) -> Comparison:
+    """Results (or result folders) side by side; ``labels`` default to the folders' names, or the scenes'.
+
+    ``noise``: how each number's numerical noise is estimated (:mod:`.noise`). None (the default, no run): from
+    each run's rtol by the rule measured on the default scene; True: measured by re-running the first result at a
+    tenth of its rtol (:func:`.noise.rerun`, a run as long as the first; kept as ``noise_run``); a result or result
+    folder: that re-run, made before (the first's scene at a tighter rtol)."""
     if isinstance(results, str | Path | SimulationResult):  # one result, not a sequence of them (nor of characters)
         raise TypeError(f"results = {results!r}: compare needs a list of at least two results or result folders")
     names = [Path(r) if isinstance(r, (str, Path)) else None for r in results]
@@ -95,7 +134,54 @@ def compare(results: Sequence[SimulationResult | str | Path], labels: Sequence[s
     if len(labels) != len(loaded) or len(set(labels)) != len(labels):
         raise ValueError(f"compare needs one distinct label per result, not {labels}")
     scenes = scene_differences([r.scene for r in loaded], labels)
-    return Comparison(labels, scenes, designer_numbers(loaded, labels), loaded)
+    numbers = designer_numbers(loaded, labels)
+    rerun_result, source = _noise_run(loaded[0], noise)
+    return Comparison(labels, scenes, numbers, loaded, *_noise(numbers, loaded, rerun_result, source),
+                      noise_run_kept=noise is not True)
+
+
+def _noise_run(first: SimulationResult, noise) -> tuple[SimulationResult | None, str]:
+    """The re-run of ``first`` that ``noise`` asks for (None: the rule), and how it names the estimate."""
+    if noise is None or noise is False:
+        return None, ("estimated from each run's rtol by the spread rtol alone gives on the default scene "
+                      "(docs/results.md, \"Numerical noise\"); --noise measures it for these runs")
+    if noise is True:
+        rerun_result = rerun(first)
+    elif isinstance(noise, str | Path | SimulationResult):
+        rerun_result = SimulationResult.load(noise) if isinstance(noise, str | Path) else noise
+        differing = same_run_but_rtol([scene_keys(first.scene), scene_keys(rerun_result.scene)])
+        tight, loose = rtol_of(rerun_result), rtol_of(first)
+        if differing or first.scene is None:
+            raise ValueError(f"noise = {noise!s:.200}: not a re-run of the first result's scene (differs in "
+                             f"{', '.join(differing) or 'scene'}; allowed: the same scene at a tighter solver.rtol)")
+        if tight is None or loose is None or not tight < loose:
+            raise ValueError(f"noise = {noise!s:.200}: its solver.rtol = {tight} is not tighter than the first "
+                             f"result's {loose} (allowed: 0 < rtol < {loose})")
+    else:
+        raise TypeError(f"noise = {noise!r}: expected None (estimate from the rtol), True (re-run the first result at "
+                        "a tenth of its rtol) or a re-run result or its folder")
+    return rerun_result, (f"measured: the first run re-run at rtol {rtol_of(rerun_result):g} changed by it (its "
+                          "integration error)")
+
+
+def _noise(numbers: pd.DataFrame, results: list[SimulationResult], rerun_result, source: str):
+    """The noise table of ``numbers`` (:mod:`.noise`): by the rule, or the re-run's change scaled to each run's
+    rtol; with the source and the re-run."""
+    names = [q for q in compared() if any(f"{q} (" == row[:len(q) + 2] for row in numbers.index)]
+    rows = {q: f"{q} ({quantity_help()[q][0]})" for q in names}
+    columns = {}
+    first = {q: numbers.loc[rows[q]].iloc[0] for q in names}
+    measured = None if rerun_result is None else measured_noise(first, collect(rerun_result, tuple(names)))
+    for label, result in zip(numbers.columns, results, strict=True):
+        values = {q: numbers.loc[rows[q], label] for q in names}
+        if measured is None:
+            columns[label] = rule_noise(values, rtol_of(result))
+        else:
+            ratio = (rtol_of(result) or math.nan) / rtol_of(results[0])
+            columns[label] = {q: measured[q] * ratio for q in names}
+    table = pd.DataFrame(columns).reindex(names)
+    table.index = pd.Index([rows[q] for q in names], name="quantity")
+    return table, source, rerun_result
 
 
 def scene_differences(scenes, labels: Sequence[str]) -> pd.DataFrame:
@@ -206,3 +292,22 @@ def _cell(value, base, relative: bool) -> str:
             text += f" ({100 * (value - base) / abs(base):+.1f} %)"
         return text
     return str(value)
+
+
+def _noise_cell(noise, base) -> str:
+    """A noise for the console: ± its share of the first run's value, or ± itself where that value is 0."""
+    if noise is None or isinstance(noise, float) and math.isnan(noise):
+        return "–" if noise is None else "not estimated"
+    if noise == 0:
+        return "0"
+    if isinstance(base, (int, float)) and base:
+        return f"±{100 * noise / abs(base):.2g} %"
+    return f"±{noise:.2g}"
+
+
+def _tolerances(labels: list[str], results: list[SimulationResult]) -> str:
+    """The runs' methods and rtol, one line (once when they are all the same)."""
+    each = [f"{r.info.get('method', '?')}, rtol {r.info.get('rtol', '?')}" for r in results]
+    if len(set(each)) == 1:
+        return f"every run: {each[0]}"
+    return "runs: " + "; ".join(f"{label} {e}" for label, e in zip(labels, each, strict=True))

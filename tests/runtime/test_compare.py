@@ -18,14 +18,16 @@ from apexseal.runtime.results.quantities import collect, quantity_help
 
 @pytest.fixture(scope="module")
 def folders(tmp_path_factory):
-    """The default scene, the same with a stiffer spring, and with groove friction off (one revolution each)."""
+    """The default scene, the same with a stiffer spring, and with groove friction off (one revolution each), and
+    the default scene at a tenth of its rtol ("tight")."""
     root = tmp_path_factory.mktemp("compare")
     scene = apexseal.load_scene()
     scenes = {"default": scene, "stiff": scene.with_overrides(**{"spring.ks": "2e4 N/m"}),
               "smooth": scene.with_overrides(**{"effects.groove_friction": False})}
     for name, s in scenes.items():
         apexseal.simulate(s, out=root / name, samples_per_revolution=360)
-    return {name: root / name for name in scenes}
+    apexseal.simulate(scene, out=root / "tight", samples_per_revolution=360, rtol=scene.solver.rtol / 10)
+    return {name: root / name for name in (*scenes, "tight")}
 
 
 def test_the_changed_key_and_each_runs_numbers(folders):
@@ -163,3 +165,98 @@ def test_a_change_against_a_run_without_the_quantity_is_not_a_percentage():
 
     assert _cell(0.0, math.nan, True) == "0" and _cell(2.0, math.inf, True) == "2"
     assert _cell(1.5, 1.0, True) == "1.5 (+50.0 %)"
+
+
+def _marked(c, label: str) -> list[str]:
+    """The quantities whose change against the first result ``compare`` marks as within the noise."""
+    return [q for q, m in c.within_noise()[label].items() if m]
+
+
+def _changed(c, label: str) -> list[str]:
+    base = c.numbers[c.labels[0]]
+    return [q for q in c.noise.index if c.numbers.loc[q, label] != base[q] and not math.isnan(base[q])]
+
+
+def test_runs_that_differ_only_in_rtol_are_within_the_noise(folders):
+    """compare stated no noise floor: the default scene at rtol 1e-6 and at 1e-7 (nothing physical changed) showed
+    changes of up to a few per cent (the impacts amplify integration error) as if they were effects. Each number
+    now carries a noise estimate from its run's rtol, and every one of those changes is marked within it."""
+    c = compare([folders["default"], folders["tight"]])
+    changed = _changed(c, "tight")
+    assert changed and _marked(c, "tight") == changed
+    text = c.text()
+    assert "runs: default erk, rtol 1e-06; tight erk, rtol 1e-07" in text
+    assert "estimated from each run's rtol" in text and "--noise measures it" in text
+    assert "~: a change within the numerical noise" in text and "a tighter --rtol" in text
+    row = next(ln for ln in text.splitlines() if ln.startswith(changed[0]))
+    assert row.endswith("%)~") and row.split()[3].startswith("±")  # the noise column beside the first, a share
+
+
+def test_a_real_change_is_not_within_the_noise(folders):
+    """A four times stiffer spring moves the means and the switches far beyond any noise: not marked."""
+    for noise in (None, folders["tight"]):  # by the rule, and measured from the re-run at a tenth of the rtol
+        c = compare([folders["default"], folders["stiff"]], noise=noise)
+        marked = _marked(c, "stiff")
+        for q in ("friction_power.total (W)", "friction_power.spring (W)", "housing_force.mean (N)",
+                  "events.total (1)"):
+            assert q in _changed(c, "stiff") and q not in marked, (noise, q)
+
+
+def test_the_measured_noise_is_the_first_run_s_change_at_a_tighter_rtol(folders):
+    """noise=<a re-run of the first at a tighter rtol>: each number's noise is its change in that re-run (the
+    first's integration error); a run at the same rtol carries the same, so the tight run's changes are all
+    within it, and a result that is not such a re-run is refused, naming what differs."""
+    c = compare([folders["default"], folders["tight"]], noise=folders["tight"])
+    assert c.noise_source.startswith("measured: the first run re-run at rtol 1e-07")
+    tight = c.numbers["tight"]
+    for q in c.noise.index:
+        assert c.noise.loc[q, "default"] == abs(c.numbers.loc[q, "default"] - tight[q])
+        assert c.noise.loc[q, "tight"] == pytest.approx(c.noise.loc[q, "default"] / 10)
+    assert _marked(c, "tight") == _changed(c, "tight")
+    with pytest.raises(ValueError, match=r"not a re-run of the first result's scene \(differs in .*spring\.ks"):
+        compare([folders["default"], folders["stiff"]], noise=folders["stiff"])
+    with pytest.raises(ValueError, match=r"solver\.rtol = 1e-06 is not tighter than the first result's 1e-07"):
+        compare([folders["tight"], folders["default"]], noise=folders["default"])
+    with pytest.raises(TypeError, match="noise = 3: expected None"):
+        compare([folders["default"], folders["tight"]], noise=3)
+
+
+def test_noise_true_reruns_the_first_and_save_keeps_the_rerun(folders, tmp_path):
+    c = compare([folders["default"], folders["stiff"]], noise=True)
+    assert c.noise_run.info["rtol"] == pytest.approx(1e-7) and not c.noise_run_kept
+    assert c.noise_run.scene.solver.samples_per_revolution == 360  # the first's settings, but its rtol
+    written = c.save(tmp_path / "cmp")
+    assert (tmp_path / "cmp" / "noise-rerun" / "result.json").exists() and len(written) == 5
+    noise = pd.read_csv(tmp_path / "cmp" / "noise.csv", comment="#", index_col=0)
+    assert noise.loc["friction_power.total (W)", "default"] == pytest.approx(c.noise.loc["friction_power.total (W)",
+                                                                                           "default"])
+    assert (tmp_path / "cmp" / "noise.csv").read_text().startswith("# numerical noise of each number, measured")
+
+
+def test_the_command_measures_the_noise_on_request(folders, tmp_path):
+    out = tmp_path / "cmp"
+    r = CliRunner().invoke(main, ["compare", str(folders["default"]), str(folders["tight"]), "--noise", "-o",
+                                  str(out)])
+    assert r.exit_code == 0, r.output
+    assert "measured: the first run re-run at rtol 1e-07" in r.output and (out / "noise-rerun" / "scene.toml").exists()
+    again = CliRunner().invoke(main, ["compare", str(folders["default"]), str(folders["tight"]), "--noise-from",
+                                      str(out / "noise-rerun")])
+    assert again.exit_code == 0 and "measured: the first run re-run at rtol 1e-07" in again.output
+    bad = CliRunner().invoke(main, ["compare", str(folders["default"]), str(folders["tight"]), "--noise-from",
+                                    str(folders["stiff"])])
+    assert bad.exit_code == 1 and "spring.ks" in bad.output and "tighter solver.rtol" in bad.output
+    both = CliRunner().invoke(main, ["compare", str(folders["default"]), str(folders["tight"]), "--noise",
+                                     "--noise-from", str(folders["tight"])])
+    assert both.exit_code == 2 and "give one" in both.output
+
+
+def test_the_rule_scales_with_rtol_and_leaves_a_fixed_step_run_unestimated():
+    from apexseal.runtime.results.noise import SPREAD_AT_1E6, kind, rule_noise
+
+    assert [kind(q) for q in ("revolutions", "events.total", "friction_power.c2", "friction_power.total",
+                              "housing_force.max", "penetration.i2", "liftoff_fraction")] == \
+        [None, "count", "groove friction", "mean", "peak", "peak", "count"]
+    values = {"housing_force.max": 200.0, "revolutions": 1.0}
+    assert rule_noise(values, 1e-7) == {"housing_force.max": pytest.approx(SPREAD_AT_1E6["peak"] * 20.0),
+                                        "revolutions": 0.0}
+    assert math.isnan(rule_noise(values, None)["housing_force.max"])
