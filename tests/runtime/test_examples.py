@@ -80,5 +80,6 @@ def test_the_compare_commands_of_docs_results_run_as_written(tmp_path, monkeypat
         r = CliRunner().invoke(main, words[1:])
         assert r.exit_code == 0, r.output
     assert re.search(r"^spring\.ks +5000 N/m +20000 N/m$", r.output, re.M), r.output
+    assert "every run: erk, rtol 1e-06" in r.output  # the page: the runs' methods and rtol, and the noise
     assert sorted(p.name for p in (tmp_path / "runs" / "compared").iterdir()) == [
-        "comparison.csv", "comparison.png", "scene-differences.csv"]
+        "comparison.csv", "comparison.png", "noise.csv", "scene-differences.csv"]
