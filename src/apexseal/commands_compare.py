@@ -41,7 +41,7 @@ def compare(folders: tuple[Path, ...], out: Path | None, rerun: bool, noise_from
             first = SimulationResult.load(folders[0])
             click.echo(f"re-running {folders[0]} at rtol {first.info.get('rtol', 1e-6) / 10:g} for its noise"
                        + ("" if out is not None else " (not kept: --out keeps it)"), err=True)
-            noise = rerun_first(first, out=None if out is None else out / "noise-rerun")
+            noise = rerun_first(first, out=None if out is None else out / "noise-rerun", progress=True)
         comparison = compare_results(folders, noise=noise)
     except ResultFolderError as err:
         raise click.ClickException(str(err)) from err
