@@ -191,6 +191,8 @@ def derive_model(effects: Effects | None = None, assumptions: Assumptions | None
             forces = {f"F_{c.name}_X": plain(fx), f"F_{c.name}_Y": plain(fy), f"M_{c.name}": plain(mz)}
             if any(load.friction_power != 0 for load in c.loads):
                 forces[f"Pf_{c.name}"] = plain(sum((load.friction_power for load in c.loads), sp.S.Zero))
+            if c.slide is not None:  # the seal's sliding velocity there, for the wear numbers (runtime/results/wear.py)
+                forces[f"v_{c.name}"] = plain(c.slide)
             law_symbols.check(cls, _contact_where(c), [*own_guards.values(), *own_vguards.values()], known, options)
             law_symbols.check(cls, _contact_where(c), forces.values(), known, options, moving)
             guards.update(own_guards)

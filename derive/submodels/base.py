@@ -113,6 +113,10 @@ class ContactModel:
     guard: Any = None
     #: velocity switches inside the contact law (for the guard outputs): name -> expression
     velocity_guards: dict[str, Any] = field(default_factory=dict)
+    #: the seal's sliding velocity along the contact's surface (m/s, signed), the one its friction law takes,
+    #: whether or not friction is on; the model outputs it as v_<name> (the wear numbers of a run read it:
+    #: runtime/results/wear.py); None: a load that does not slide on a wall (the pressures)
+    slide: Any = None
 
 
 @dataclass(frozen=True)

@@ -109,11 +109,11 @@ class GrooveContacts(Submodel):
                 normal = laws.damped(normal, P["cr"], closing, act, opts["damping"],
                                      laws.damper_depth(ctx, guard_of[point], -gap))
             force, power = normal * n, sp.S.Zero
+            v_slide = v.dot(tangent)  # along the wall (Eqs. 50-61 on its tangent)
             if opts.on("groove_friction"):
-                v_slide = v.dot(tangent)
                 friction, power = laws.coulomb(P["mu2"], normal, v_slide, P["v_eps"])  # gamma_i of Algorithm 1
                 force = force + friction * tangent
                 guards[f"v_{point}_slide"] = v_slide
             models.append(ContactModel(point, [Load(point, r, force, friction_power=power)], guard_name=gap_name,
-                                       guard=gap, velocity_guards=guards))
+                                       guard=gap, velocity_guards=guards, slide=v_slide))
         return models

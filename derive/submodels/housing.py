@@ -82,8 +82,8 @@ class HousingContact(Submodel):
             Fw = laws.damped(Fw, P["cw"], closing * along, act, opts["damping"],
                              laws.damper_depth(ctx, self.guards[0], depth))
 
+        v_slide = v_abs.dot(t_fwd)  # the tip along the housing (Eqs. 64-66 on the tangent), > 0 along the rotation
         if opts.on("housing_friction"):
-            v_slide = v_abs.dot(t_fwd)
             velocity_guards["v_s5_slide"] = v_slide
             if groove_axis:
                 # X component of N n_in - mu1 sigma N t_fwd equals -Fw (Algorithm 2)
@@ -96,4 +96,5 @@ class HousingContact(Submodel):
             normal = Fw / sp.cos(lam) if groove_axis else Fw
             force, power = normal * n_in, sp.S.Zero
         load = Load("s5", g.r_s5, force, friction_power=power)
-        return [ContactModel("housing", [load], guard_name="xs5", guard=-g.xs5, velocity_guards=velocity_guards)]
+        return [ContactModel("housing", [load], guard_name="xs5", guard=-g.xs5, velocity_guards=velocity_guards,
+                             slide=v_slide)]

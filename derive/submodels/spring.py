@@ -81,10 +81,10 @@ class SpringContact(Submodel):
             depth = laws.damper_depth(ctx, self.guards[0], g.spring_compression)  # 1: closed at rest
             normal = laws.damped(normal, P["cs"], closing, act, opts["damping"], depth)  # Eq. 73
         force, power = normal * G.x, sp.S.Zero
+        v_slide = v.dot(G.y)  # the back face across the spring (Eqs. 70-72 along Y)
         if opts.on("spring_friction"):
-            v_slide = v.dot(G.y)
             friction, power = laws.coulomb(P["mus"], normal, v_slide, P["v_eps"])  # Eq. 73
             force = force + friction * G.y
             guards["v_s6_slide"] = v_slide
         return [ContactModel("spring", [Load("s6", g.r_s6, force, friction_power=power)], guard_name="spring",
-                             guard=-g.spring_compression, velocity_guards=guards)]
+                             guard=-g.spring_compression, velocity_guards=guards, slide=v_slide)]

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 366640e288aa0fade2fa6f30595913e6a5b613e9dd095a21f08a6dec530a0a64.
+ * Effects: all. Input hash: b683d12a6bbfe82b65f518a4e53bb82247b0552ec268fa6ac6a3c22546cc1e02.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "366640e288aa0fade2fa6f30595913e6a5b613e9dd095a21f08a6dec530a0a64"
+#define APEXSEAL_INPUT_HASH "b683d12a6bbfe82b65f518a4e53bb82247b0552ec268fa6ac6a3c22546cc1e02"
 
 /* state x */
 #define APEXSEAL_NX 6
@@ -68,40 +68,46 @@ extern "C" {
 #define APEXSEAL_G_SPRING 5
 
 /* outputs y */
-#define APEXSEAL_NY 33
+#define APEXSEAL_NY 39
 #define APEXSEAL_Y_F_HOUSING_X 0
 #define APEXSEAL_Y_F_HOUSING_Y 1
 #define APEXSEAL_Y_M_HOUSING 2
 #define APEXSEAL_Y_PF_HOUSING 3
-#define APEXSEAL_Y_F_I1_X 4
-#define APEXSEAL_Y_F_I1_Y 5
-#define APEXSEAL_Y_M_I1 6
-#define APEXSEAL_Y_PF_I1 7
-#define APEXSEAL_Y_F_C2_X 8
-#define APEXSEAL_Y_F_C2_Y 9
-#define APEXSEAL_Y_M_C2 10
-#define APEXSEAL_Y_PF_C2 11
-#define APEXSEAL_Y_F_I2_X 12
-#define APEXSEAL_Y_F_I2_Y 13
-#define APEXSEAL_Y_M_I2 14
-#define APEXSEAL_Y_PF_I2 15
-#define APEXSEAL_Y_F_C4_X 16
-#define APEXSEAL_Y_F_C4_Y 17
-#define APEXSEAL_Y_M_C4 18
-#define APEXSEAL_Y_PF_C4 19
-#define APEXSEAL_Y_F_SPRING_X 20
-#define APEXSEAL_Y_F_SPRING_Y 21
-#define APEXSEAL_Y_M_SPRING 22
-#define APEXSEAL_Y_PF_SPRING 23
-#define APEXSEAL_Y_F_PRESSURE_X 24
-#define APEXSEAL_Y_F_PRESSURE_Y 25
-#define APEXSEAL_Y_M_PRESSURE 26
-#define APEXSEAL_Y_PF_TOTAL 27
-#define APEXSEAL_Y_L1 28
-#define APEXSEAL_Y_L2 29
-#define APEXSEAL_Y_L3 30
-#define APEXSEAL_Y_L4 31
-#define APEXSEAL_Y_B_GAP 32
+#define APEXSEAL_Y_V_HOUSING 4
+#define APEXSEAL_Y_F_I1_X 5
+#define APEXSEAL_Y_F_I1_Y 6
+#define APEXSEAL_Y_M_I1 7
+#define APEXSEAL_Y_PF_I1 8
+#define APEXSEAL_Y_V_I1 9
+#define APEXSEAL_Y_F_C2_X 10
+#define APEXSEAL_Y_F_C2_Y 11
+#define APEXSEAL_Y_M_C2 12
+#define APEXSEAL_Y_PF_C2 13
+#define APEXSEAL_Y_V_C2 14
+#define APEXSEAL_Y_F_I2_X 15
+#define APEXSEAL_Y_F_I2_Y 16
+#define APEXSEAL_Y_M_I2 17
+#define APEXSEAL_Y_PF_I2 18
+#define APEXSEAL_Y_V_I2 19
+#define APEXSEAL_Y_F_C4_X 20
+#define APEXSEAL_Y_F_C4_Y 21
+#define APEXSEAL_Y_M_C4 22
+#define APEXSEAL_Y_PF_C4 23
+#define APEXSEAL_Y_V_C4 24
+#define APEXSEAL_Y_F_SPRING_X 25
+#define APEXSEAL_Y_F_SPRING_Y 26
+#define APEXSEAL_Y_M_SPRING 27
+#define APEXSEAL_Y_PF_SPRING 28
+#define APEXSEAL_Y_V_SPRING 29
+#define APEXSEAL_Y_F_PRESSURE_X 30
+#define APEXSEAL_Y_F_PRESSURE_Y 31
+#define APEXSEAL_Y_M_PRESSURE 32
+#define APEXSEAL_Y_PF_TOTAL 33
+#define APEXSEAL_Y_L1 34
+#define APEXSEAL_Y_L2 35
+#define APEXSEAL_Y_L3 36
+#define APEXSEAL_Y_L4 37
+#define APEXSEAL_Y_B_GAP 38
 
 /* modes: the groove case of Algorithm 3, then each other contact closed or open by its declared label (e.g. h, h0) */
 #define APEXSEAL_NMODES 36

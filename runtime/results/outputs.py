@@ -66,6 +66,8 @@ _PATTERNS: tuple[tuple[str, str, str, str, float], ...] = (
     (r"M_(\w+)", "N*m", "moment about the seal's centre of gravity from the {c}", "N*mm", 1e3),
     (r"Pf_total", "W", "friction power of all contacts", "W", 1.0),
     (r"Pf_(\w+)", "W", "friction power dissipated at the {c}", "W", 1.0),
+    (r"v_(\w+)", "m/s", "sliding velocity of the seal on the wall (signed, also while open; the wear numbers of "
+                         "summary.json read it) at the {c}", "m/s", 1.0),
     (r"closed_(\w+)", "", "1 if contact {n} is closed at this sample, else 0 (Algorithm 3)", "", 1.0),
     (r"b_gap", "m", "leakage gap past the seal (Algorithm 4)", "µm", 1e6),
     (r"Pa", "Pa", "pressure of chamber a, +Ys side of the seal (Eq. 75)", "bar", 1e-5),
