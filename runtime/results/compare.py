@@ -27,6 +27,7 @@ from .plausibility import penetrations
 from .quantities import GAS_QUANTITIES, collect, friction_contacts, quantity_help
 from .result import SimulationResult
 from .summary import EXTREMES
+from .wear import sliding_contacts
 
 #: the scene keys of a result whose scene is not known (saved without its scene.toml)
 UNKNOWN = "(no scene.toml)"
@@ -247,6 +248,9 @@ def compared() -> tuple[str, ...]:
             "liftoff_fraction", "housing_force.mean", "housing_force.max",
             *(f"{s}.{e}" for s in EXTREMES for e in ("min", "max")), "gap.open_fraction", "gap.max",
             *(f"penetration.{c}" for c in penetrations()), "flank.least",
+            # the tip's sliding speed and the sliding work (Archard) at each contact (runtime/results/wear.py)
+            "wear.housing.speed_mean", "wear.housing.speed_max", "wear.housing.pv_max",
+            *(f"wear.{c}.work" for c in sliding_contacts()), "wear.seal_mass",
             *(f"gas.{name}" for name in GAS_QUANTITIES))  # left out where no run has the gas model
 
 

@@ -16,6 +16,7 @@ import math
 from .liftoff import fraction
 from .plausibility import penetrations
 from .summary import EXTREMES, summarise
+from .wear import sliding_contacts
 
 
 def friction_contacts() -> tuple[str, ...]:
@@ -59,6 +60,9 @@ def quantity_help() -> dict[str, tuple[str, str]]:
            for c in penetrations()},
         "flank.least": ("mm", "least of the groove mouth corners' lengths l1..l4 over the run (negative: a corner "
                               "left the seal's flat sides, outside the contact model of Eqs. 20-23)"),
+        **{f"wear.{c}.{name}": (unit, f"{meaning}, {'seal tip on the housing' if c == 'housing' else c + ' contact'}")
+           for c in sliding_contacts() for name, (unit, meaning, _) in WEAR_QUANTITIES.items()},
+        "wear.seal_mass": ("g", "seal mass ms as the scene gives it (Eq. 80)"),
         "revolutions": ("rev", "revolutions computed (less than asked when a point stopped early)"),
         **{f"gas.{name}": (unit, f"{meaning}, last revolution (the chamber gas model; NaN without it)")
            for name, (unit, meaning, _) in GAS_QUANTITIES.items()},
@@ -73,6 +77,18 @@ GAS_QUANTITIES = {
     "work": ("J", "indicated work of both chambers (their p-V loops)", lambda g: g["indicated_work_J"]["total"]),
     "power": ("W", "indicated power", lambda g: g["indicated_power_W"]),
     "pressure.max": ("Pa", "highest chamber pressure", lambda g: max(g["pressure_Pa"][c]["max"] for c in "ab")),
+}
+
+
+#: a contact's wear quantities (``wear`` of summary.json, runtime/results/wear.py): name -> (unit, meaning, its key)
+WEAR_QUANTITIES = {
+    "speed_mean": ("m/s", "mean sliding speed |v| while the contact is closed", "speed_mean_m_s"),
+    "speed_max": ("m/s", "largest sliding speed |v| at the output samples while the contact is closed",
+                  "speed_max_m_s"),
+    "work": ("J", "Archard's sliding work per revolution, the integral of N |v| dt", "sliding_work_J_per_rev"),
+    "power": ("W", "mean of N |v|, the rate of Archard's sliding work", "sliding_power_W"),
+    "pv_max": ("W/m", "largest N / Bs |v| (load per seal length x speed) while the contact is closed",
+               "pv_max_W_per_m"),
 }
 
 
@@ -120,6 +136,15 @@ def _get(summary: dict, name: str) -> float:
     if head == "flank":
         flank = summary.get("flank")
         return math.nan if flank is None else float(min(flank["least_mm"].values()))
+    if head == "wear":
+        block = summary.get("wear")
+        if block is None:
+            return math.nan
+        if tail == "seal_mass":
+            return _number(block["seal_mass_kg"]) * 1e3
+        contact, _, what = tail.partition(".")
+        entry = block["contacts"].get(contact)
+        return math.nan if entry is None else _number(entry[WEAR_QUANTITIES[what][2]])
     if head in EXTREMES:
         return float(summary["extremes"][head][tail.replace("_at", "_at_deg")])
     raise KeyError(name)  # pragma: no cover - names are checked when the study is loaded

@@ -15,6 +15,7 @@ from .liftoff import liftoff
 from .plausibility import flank_check, penetration_check
 from .result import SimulationResult, run_mean
 from .spectra import housing_force, spectral_peaks, spectrum
+from .wear import wear
 
 #: the state coordinates whose extremes a summary reports, the seal's positions (x, y, phi) -> (unit shown, factor
 #: from SI)
@@ -41,10 +42,12 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     costs and how to check it (runtime/solving/accuracy.py); null for a result that does not record it. ``liftoff``
     is the part of the run with the seal tip off the housing (:func:`.liftoff.liftoff`: ``fraction`` of the samples,
     the ``longest_deg`` stretch and its start ``longest_from_deg``, ``ok`` false when it is most of the run); null
-    for a model without the housing contact. ``last_revolution`` (runs of two revolutions or more) holds the same
-    numbers (:func:`run_quantities`) over the last revolution alone (``from_deg``..``to_deg`` of crank angle from
-    the run's start): without the start-up from rest, the periodic regime of a run that went until periodic; the
-    spectrum, the chamber gas (already its last revolution) and the run's record are the whole run's."""
+    for a model without the housing contact. ``wear`` is where and how fast the seal slides on its walls and
+    Archard's sliding work there, with the seal's mass and length (:func:`.wear.wear`). ``last_revolution`` (runs
+    of two revolutions or more) holds the same numbers (:func:`run_quantities`) over the last revolution alone
+    (``from_deg``..``to_deg`` of crank angle from the run's start): without the start-up from rest, the periodic
+    regime of a run that went until periodic; the spectrum, the chamber gas (already its last revolution) and the
+    run's record are the whole run's."""
     per_revolution = result.info.get("samples_per_revolution")
     out: dict = {"status": result.status, "stop": None if result.stop is None else result.stop.describe(),
                  "samples": int(result.n),
@@ -73,7 +76,7 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
 
 def run_quantities(result: SimulationResult) -> dict:
     """The designer's numbers over the samples of ``result``: ``extremes`` of x, y, phi with their crank angles,
-    ``mode_fraction``, ``liftoff``, ``events`` (the switches up to its last sample), mean friction
+    ``mode_fraction``, ``liftoff``, ``wear``, ``events`` (the switches up to its last sample), mean friction
     powers, the leakage gap, the housing force (Eq. 68), and the checks ``plausibility`` (with a recorded side
     clearance) and ``flank`` (Eqs. 20-23). :func:`summarise` gives them over the whole run and, in
     ``last_revolution``, over the part :func:`last_revolution_part` cuts out."""
@@ -90,6 +93,8 @@ def run_quantities(result: SimulationResult) -> dict:
     out["mode_fraction"] = {m: counts[m] / total for m in sorted(counts, key=lambda m: -counts[m])}
     # the tip off the housing: fraction, longest stretch, whether it is most of the run (null: no housing contact)
     out["liftoff"] = liftoff(result)
+    # sliding speeds and Archard's sliding work at each contact, the seal's mass and length (null: no sliding output)
+    out["wear"] = wear(result)
     out["events"] = {g: int(result.events[i, -1]) for i, g in enumerate(result.guard_names)}
     out["events_total"] = int(result.events[:, -1].sum()) if result.events.size else 0
     means = {k[3:]: run_mean(v) for k, v in result.outputs.items() if k.startswith("Pf_")}

@@ -190,7 +190,8 @@ def describe_result(result, summary: dict) -> None:
     """The designer's numbers of a result on the console (``simulate`` at its end, ``show``): status, revolutions,
     switches, displacement ranges and deepest penetrations (both at the output samples, and the line says how many
     per revolution), friction power, a warning when a penetration is implausible, the part of the run with the seal
-    tip off the housing (a warning when it is most of it), a note when the samples do not
+    tip off the housing (a warning when it is most of it), the sliding speeds and Archard's sliding work (the part
+    of the run sweeps read, runtime/results/wear.py), a note when the samples do not
     resolve the contacts' ringing (runtime/solving/ringing.py), a note when the method controls no error and a
     warning when its tolerances are loose (runtime/solving/accuracy.py), with until_periodic whether and where the
     revolutions repeated (runtime/solving/periodicity.py), the chamber gas's cycle (with the gas model; a warning when
@@ -225,6 +226,12 @@ def describe_result(result, summary: dict) -> None:
         if not lifted["ok"]:
             click.echo(f"  warning: {describe_liftoff(lifted, summary['revolutions'], result.guard_names)} "
                        "(LiftOffWarning)", err=True)
+    from .runtime.results.quantities import measured_part
+    from .runtime.results.wear import describe_wear
+
+    worn = measured_part(summary).get("wear")  # the part sweeps and compare read (runtime/results/wear.py)
+    if worn is not None:
+        click.echo(f"  {describe_wear(worn)}" + (" (last revolution)" if worn is not summary.get("wear") else ""))
     sampling = summary.get("sampling")
     if sampling is not None and not sampling["resolved"]:  # a note, not a warning: the default sampling is one
         click.echo(f"  note: {describe_sampling(sampling)}")
