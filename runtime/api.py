@@ -9,17 +9,10 @@ import numpy as np
 
 from ..derive.names import STATE_NAMES
 from ..files import path_argument
-from .results.gas import GasCycleWarning, describe_cycle, gas_summary, has_gas
-from .results.liftoff import LiftOffWarning, describe_liftoff, liftoff
-from .results.plausibility import (
-    FlankWarning,
-    PenetrationWarning,
-    describe,
-    describe_flank,
-    flank_check,
-    penetration_check,
-    side_clearance,
-)
+from .results.checked import checked
+from .results.gas import GasCycleWarning, describe_cycle
+from .results.liftoff import LiftOffWarning, describe_liftoff
+from .results.plausibility import FlankWarning, PenetrationWarning, describe, describe_flank, side_clearance
 from .results.result import SimulationResult
 from .solving.accuracy import AccuracyWarning, loose_tolerances
 from .solving.periodicity import UntilPeriodicWarning, single_revolution
@@ -337,19 +330,16 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
                  continue_from=None if continuation is None else (continuation.revolutions, continuation.z,
                                                                    continuation.carried))
     result.scene = ran
-    check = penetration_check(result, clearance)
-    if not check["ok"]:
-        warnings.warn(describe(check), PenetrationWarning, stacklevel=3)
-    flank = flank_check(result)
-    if flank is not None and not flank["ok"]:
-        warnings.warn(describe_flank(flank), FlankWarning, stacklevel=3)
-    lifted = liftoff(result)
-    if lifted is not None and not lifted["ok"]:
-        warnings.warn(describe_liftoff(lifted, result.revolutions, result.guard_names), LiftOffWarning, stacklevel=3)
-    if has_gas(result) and result.n > 2:
-        gas = gas_summary(result)
-        if not gas["expander_cycle"]["ok"]:
-            warnings.warn(describe_cycle(gas), GasCycleWarning, stacklevel=3)
+    checks = checked(result)  # kept with the result: its summary reads them, not computed again
+    if checks.plausibility is not None and not checks.plausibility["ok"]:
+        warnings.warn(describe(checks.plausibility), PenetrationWarning, stacklevel=3)
+    if checks.flank is not None and not checks.flank["ok"]:
+        warnings.warn(describe_flank(checks.flank), FlankWarning, stacklevel=3)
+    if checks.liftoff is not None and not checks.liftoff["ok"]:
+        warnings.warn(describe_liftoff(checks.liftoff, result.revolutions, result.guard_names), LiftOffWarning,
+                      stacklevel=3)
+    if checks.gas is not None and not checks.gas["expander_cycle"]["ok"]:
+        warnings.warn(describe_cycle(checks.gas), GasCycleWarning, stacklevel=3)
     return result
 
 

@@ -10,9 +10,8 @@ from dataclasses import replace
 import numpy as np
 
 from ...derive.names import STATE_NAMES
-from .gas import gas_summary, has_gas, last_revolution
-from .liftoff import liftoff
-from .plausibility import flank_check, penetration_check
+from .checked import checked
+from .gas import last_revolution
 from .result import SimulationResult, run_mean
 from .spectra import housing_force, spectral_peaks, spectrum
 from .wear import wear
@@ -65,8 +64,9 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     if last is not None:  # the same numbers over the last revolution alone, without the start-up from rest
         out["last_revolution"] = {"from_deg": float(np.degrees(last.theta[0])),
                                   "to_deg": float(np.degrees(last.theta[-1])), **run_quantities(last)}
-    if has_gas(result) and result.n > 2:
-        out["gas"] = gas_summary(result)
+    gas = checked(result).gas  # computed once: the run's warnings read it too (runtime/results/checked.py)
+    if gas is not None:
+        out["gas"] = gas
     out["run"] = dict(result.info)
     out["versions"] = versions()
     if scene_info:
@@ -92,7 +92,8 @@ def run_quantities(result: SimulationResult) -> dict:
     total = sum(counts.values())
     out["mode_fraction"] = {m: counts[m] / total for m in sorted(counts, key=lambda m: -counts[m])}
     # the tip off the housing: fraction, longest stretch, whether it is most of the run (null: no housing contact)
-    out["liftoff"] = liftoff(result)
+    checks = checked(result)  # computed once: the run's warnings read them too (runtime/results/checked.py)
+    out["liftoff"] = checks.liftoff
     # sliding speeds and Archard's sliding work at each contact, the seal's mass and length (null: no sliding output)
     out["wear"] = wear(result)
     out["events"] = {g: int(result.events[i, -1]) for i, g in enumerate(result.guard_names)}
@@ -113,11 +114,10 @@ def run_quantities(result: SimulationResult) -> dict:
                                   "max_at_deg": float(deg[F.argmax()] % 360)}
     else:
         out["housing_force_N"] = dict.fromkeys(("mean", "max", "max_at_deg"))
-    if result.info.get("side_clearance_m") is not None:
-        out["plausibility"] = penetration_check(result)
-    flank = flank_check(result)
-    if flank is not None:
-        out["flank"] = flank
+    if checks.plausibility is not None:
+        out["plausibility"] = checks.plausibility
+    if checks.flank is not None:
+        out["flank"] = checks.flank
     return out
 
 

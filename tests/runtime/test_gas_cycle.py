@@ -71,3 +71,25 @@ def test_the_console_prints_the_warning_from_the_summary(capsys):
     describe_result(result, summarise(result))
     err = capsys.readouterr().err
     assert err.count("not an expander's") == 1, err
+
+
+def test_the_run_s_checks_are_computed_once_for_its_warnings_and_its_summary(monkeypatch):
+    """run_scene computed the lift-off and the gas cycle (and the penetrations and mouth corners) for its warnings,
+    and summarise computed them all again from every sample when the run was saved. They are kept with the result
+    (runtime/results/checked.py): the summary holds the very objects the warnings were made from, computing
+    nothing again."""
+    import apexseal.runtime.results.checked as module
+
+    scene = apexseal.load_scene(Path(__file__).parents[2] / SCENE)
+    result = apexseal.simulate(scene.with_overrides(**{"solver.samples_per_revolution": 360}), revolutions=1)
+    kept = module.checked(result)
+
+    def again(*args, **kwargs):
+        raise AssertionError("computed again")
+
+    for name in ("liftoff", "gas_summary", "penetration_check", "flank_check"):
+        monkeypatch.setattr(module, name, again)
+    summary = summarise(result)
+    assert summary["gas"] is kept.gas and summary["liftoff"] is kept.liftoff
+    assert summary["plausibility"] is kept.plausibility and summary["flank"] is kept.flank
+    assert kept.gas is not None and kept.liftoff is not None
