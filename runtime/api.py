@@ -15,6 +15,7 @@ from .results.liftoff import LiftOffWarning, describe_liftoff
 from .results.plausibility import FlankWarning, PenetrationWarning, describe, describe_flank, side_clearance
 from .results.result import SimulationResult
 from .solving.accuracy import AccuracyWarning, loose_tolerances
+from .solving.near_chatter import NearChatterWarning, describe_near_chatter
 from .solving.periodicity import UntilPeriodicWarning, single_revolution
 from .solving.run import run
 from .solving.settings import RunSettings, merged
@@ -148,7 +149,9 @@ def simulate(scene, *, revolutions: int | None = None, method: str | None = None
     when the seal tip is off the housing for half the run or more, or for half a revolution in one stretch
     (:mod:`apexseal.runtime.results.liftoff`), with :class:`~apexseal.runtime.results.gas.GasCycleWarning` when
     the chamber gas model ran a cycle that is not an expander's (:mod:`apexseal.runtime.results.gas`: it has no
-    valves; a compressor's chamber pressures are given as a table), and before the run with
+    valves; a compressor's chamber pressures are given as a table), with
+    :class:`~apexseal.runtime.solving.near_chatter.NearChatterWarning` when a completed run's switches came close
+    to a chatter detector's limit (:mod:`apexseal.runtime.solving.near_chatter`), and before the run with
     :class:`~apexseal.runtime.solving.accuracy.AccuracyWarning` when ``rtol`` or ``atol`` is looser than the peaks
     bear (:mod:`apexseal.runtime.solving.accuracy`). After a Ctrl-C the run stops at its next
     check and is kept (written, with ``out``); then, in a script, :class:`~apexseal.signals.RunInterrupted` (a
@@ -340,6 +343,9 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
                       stacklevel=3)
     if checks.gas is not None and not checks.gas["expander_cycle"]["ok"]:
         warnings.warn(describe_cycle(checks.gas), GasCycleWarning, stacklevel=3)
+    cluster = result.info.get("switch_cluster")  # completed close to a chatter detector's limit
+    if result.status == "completed" and cluster is not None and cluster["near"]:
+        warnings.warn(describe_near_chatter(cluster), NearChatterWarning, stacklevel=3)
     return result
 
 

@@ -244,6 +244,13 @@ def chatter_window(settings: RunSettings, omega: float | None) -> float:
     return settings.chatter_window * float(omega) / WINDOW_SPEED
 
 
+def interval_limit(settings: RunSettings, dth: float, omega: float | None = None) -> float:
+    """The switches of one guard in one interval of ``dth`` rad beyond which :func:`chattering` stops a run:
+    ``chatter_events`` per chatter window (:func:`chatter_window` at the rotor speed ``omega``), scaled to the
+    interval where it is longer than the window."""
+    return settings.chatter_events * max(1.0, dth / chatter_window(settings, omega))
+
+
 def chattering(Z, layout: HybridLayout, thetas, counts_before, settings: RunSettings,
                names: Sequence[str] | None = None, params=None, omega: float | None = None) -> Chattering | None:
     """More switches of one guard in one output interval than ``chatter_events`` per chatter window
@@ -252,9 +259,7 @@ def chattering(Z, layout: HybridLayout, thetas, counts_before, settings: RunSett
     counts = np.c_[counts_before, Z[layout.counts]]
     per_interval = np.diff(counts, axis=1)
     dth = thetas[1] - thetas[0] if thetas.size > 1 else 2 * np.pi / settings.samples_per_revolution
-    # events per output interval, scaled to the chatter window
-    limit = settings.chatter_events * max(1.0, dth / chatter_window(settings, omega))
-    hot = np.argwhere(per_interval > limit)
+    hot = np.argwhere(per_interval > interval_limit(settings, dth, omega))
     if hot.size == 0:
         return None
     i, k = hot[0]

@@ -40,6 +40,7 @@ from .checks import RunChecks
 from .cost import SlowRunWarning, estimate, slow_rotor_note
 from .diagnosis import locate_failure
 from .methods import WallTimeExceeded, make_engine
+from .near_chatter import SwitchClusters
 from .pace import FailedInterval, IntervalByInterval, Pace
 from .periodicity import PeriodicWatch
 from .preflight import far_outside_practice, initial_activations, preflight
@@ -147,6 +148,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     sink.begin(info)  # what is known before the first step: a killed run's progress record says how it was run
     stats_total: dict = {}
     check = RunChecks(functions, settings, params, theta_start, dth, state0)
+    clusters = SwitchClusters(lay.guard_names, settings, omega, dth)  # how close to the chatter detectors
     # until_periodic: each revolution against the one before (runtime/solving/periodicity.py)
     watch = PeriodicWatch(periodic_tol, revolutions, lay.state_names) if until_periodic else None
     # on a terminal a bar redrawn in place; in a log (stderr not a terminal) a line every LOG_INTERVAL s, kept
@@ -208,6 +210,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 n = Z.shape[1]  # fewer than the call's intervals where a re-run stopped at the revolution's event cap
                 found = failure or check.events(Z, z, edges[1:1 + n], P[:, :n], z_rev)
                 Z = _up_to_stop(Z, edges, theta_start, found)
+                clusters.add(z[lay.counts], Z[lay.counts], edges[1:1 + Z.shape[1]] - theta_start, z_rev[lay.counts])
                 z_end = Z[:, -1].copy() if Z.shape[1] else z  # where the next call starts
                 Z, P, ends = Z[:, sub - 1::sub], P[:, sub - 1::sub], edges[sub::sub]  # the output samples
                 stats = dict(stats)
@@ -250,7 +253,9 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                        "solver_stats_note": "" if not uncounted else
                        "a compiled integrator reports engine calls and events only; set "
                        "solver.interpreted = true for CasADi's step counts",
-                       "compiled": bool(engine is not None and engine.compiled)}
+                       "compiled": bool(engine is not None and engine.compiled),
+                       # the densest cluster of one contact's switches (runtime/solving/near_chatter.py)
+                       "switch_cluster": clusters.record()}
         if watch is not None:  # until_periodic: where it stopped, or how far from periodic the last revolution was
             info["periodic"] = watch.record()
         if signals.requested:

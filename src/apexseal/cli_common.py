@@ -193,7 +193,8 @@ def describe_result(result, summary: dict) -> None:
     tip off the housing (a warning when it is most of it), the sliding speeds and Archard's sliding work (the part
     of the run sweeps read, runtime/results/wear.py), a note when the samples do not
     resolve the contacts' ringing (runtime/solving/ringing.py), a note when the method controls no error and a
-    warning when its tolerances are loose (runtime/solving/accuracy.py), with until_periodic whether and where the
+    warning when its tolerances are loose (runtime/solving/accuracy.py), a note when a completed run's switches came
+    close to a chatter detector's limit (runtime/solving/near_chatter.py), with until_periodic whether and where the
     revolutions repeated (runtime/solving/periodicity.py), the chamber gas's cycle (with the gas model; a warning when
     it is not an expander's, runtime/results/gas.py), the groove mouth corners' margins on the seal's flat sides (a
     warning when one left them), and for a run of two revolutions or more its last revolution's numbers (summary.json's
@@ -201,6 +202,7 @@ def describe_result(result, summary: dict) -> None:
     from .runtime.results.gas import describe_cycle
     from .runtime.results.liftoff import describe_liftoff
     from .runtime.results.plausibility import describe, describe_flank
+    from .runtime.solving.near_chatter import describe_near_chatter
     from .runtime.solving.periodicity import describe_periodic
     from .runtime.solving.ringing import describe_sampling
 
@@ -241,6 +243,9 @@ def describe_result(result, summary: dict) -> None:
             click.echo(f"  warning: {accuracy['note']}", err=True)
         else:
             click.echo(f"  note: {accuracy['note']}")
+    cluster = summary.get("run", {}).get("switch_cluster")  # a completed run close to the chatter detectors
+    if result.status == "completed" and cluster is not None and cluster["near"]:
+        click.echo(f"  note: {describe_near_chatter(cluster)}")
     gas = summary.get("gas")
     if gas is not None:  # the chamber gas model: its cycle (last revolution)
         p = gas["pressure_Pa"]

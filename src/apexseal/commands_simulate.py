@@ -89,6 +89,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
             from .runtime.results.plausibility import FlankWarning, PenetrationWarning
             from .runtime.results.summary import summarise  # noqa: F401  (timed here; used by _save)
             from .runtime.solving.accuracy import AccuracyWarning
+            from .runtime.solving.near_chatter import NearChatterWarning
             from .signals import StopSignals
 
             if timings:  # imported by the load stage anyway; up front, so that the split shows what importing costs
@@ -127,6 +128,7 @@ def _simulate(scene, sets, revolutions, method, rtol, max_wall_time, out, resume
                         warnings.simplefilter("ignore", LiftOffWarning)
                         warnings.simplefilter("ignore", GasCycleWarning)
                         warnings.simplefilter("ignore", AccuracyWarning)
+                        warnings.simplefilter("ignore", NearChatterWarning)
                         try:
                             with writer.discarded_if_empty():  # a crash, a full disk at the first revolution: no
                                 result = run_scene(sc, settings, progress=not quiet, sink=writer,  # empty folder
