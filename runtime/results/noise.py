@@ -32,16 +32,19 @@ _GROOVE = ("i1", "c2", "i2", "c4")
 
 
 def kind(name: str) -> str | None:
-    """The kind of a compared quantity (a key of :data:`SPREAD_AT_1E6`), None for one without noise (revolutions
-    computed)."""
+    """The kind of a compared quantity (a key of :data:`SPREAD_AT_1E6`), None for one without noise (the
+    revolutions computed, the seal's mass). The wear numbers' sliding work and power at a contact
+    (runtime/results/wear.py) are of a friction power's kind: N |v| where friction dissipates mu N |v|."""
     head, _, tail = name.partition(".")
-    if name == "revolutions":
+    if name in ("revolutions", "wear.seal_mass"):  # computed from the scene, not integrated
         return None
     if head == "events" or name in ("liftoff_fraction", "gap.open_fraction"):
         return "count"
     if head == "friction_power":
         return "groove friction" if tail in _GROOVE else "mean"
-    if name.endswith(".mean") or head == "gas" and name != "gas.pressure.max":
+    if head == "wear" and tail.split(".")[-1] in ("work", "power"):  # Archard's sliding work, like friction power
+        return "groove friction" if tail.split(".")[0] in _GROOVE else "mean"
+    if name.endswith((".mean", ".speed_mean")) or head == "gas" and name != "gas.pressure.max":
         return "mean"
     return "peak"  # extremes, largest forces and gaps, penetrations, flank.least, the highest chamber pressure
 
@@ -65,8 +68,6 @@ def rule_noise(values: dict[str, float], rtol: float | None) -> dict[str, float]
     the friction power at a groove contact of the groove contacts' sum (a few impacts share it out: at 360 samples
     per revolution one of 2e-5 W moved by 66 % between rtol 1e-6 and 1e-7, 0.008 % of the sum); NaN without an
     rtol."""
-    groove = sum(abs(values[f"friction_power.{c}"]) for c in _GROOVE
-                 if not math.isnan(values.get(f"friction_power.{c}", math.nan)))
     out = {}
     for name, value in values.items():
         k = kind(name)
@@ -75,8 +76,18 @@ def rule_noise(values: dict[str, float], rtol: float | None) -> dict[str, float]
         elif rtol is None or not isinstance(value, int | float) or math.isnan(value):
             out[name] = math.nan
         else:
-            out[name] = SPREAD_AT_1E6[k] * rtol / MEASURED_RTOL * (groove if k == "groove friction" else abs(value))
+            scale = _groove_sum(values, name) if k == "groove friction" else abs(value)
+            out[name] = SPREAD_AT_1E6[k] * rtol / MEASURED_RTOL * scale
     return out
+
+
+def _groove_sum(values: dict[str, float], name: str) -> float:
+    """The sum over the groove's contacts of the quantity ``name`` is one of (``friction_power.<c>`` or
+    ``wear.<c>.<what>``): a few impacts share it out between them."""
+    head, _, tail = name.partition(".")
+    what = tail.partition(".")[2]
+    names = [f"{head}.{c}" + (f".{what}" if what else "") for c in _GROOVE]
+    return sum(abs(values[n]) for n in names if not math.isnan(values.get(n, math.nan)))
 
 
 def measured_noise(values: dict[str, float], rerun: dict[str, float]) -> dict[str, float]:
