@@ -32,14 +32,15 @@ class RunChecked:
 
 
 def checked(result) -> RunChecked:
-    """The checks of ``result``, computed at the first call and kept with it."""
+    """The checks of ``result``, computed at the first call and kept with it while its samples and its recorded side
+    clearance are those they were computed from."""
     kept = getattr(result, ATTRIBUTE, None)
-    if kept is not None and kept[0] is result.theta:  # the samples they were computed from
-        return kept[1]
+    clearance = result.info.get("side_clearance_m")
+    if kept is not None and kept[0] is result.theta and kept[1] == clearance:  # the samples and clearance they had
+        return kept[2]
     checks = RunChecked(liftoff=liftoff(result),
                         gas=gas_summary(result) if has_gas(result) and result.n > 2 else None,
-                        plausibility=(penetration_check(result) if result.info.get("side_clearance_m") is not None
-                                      else None),
+                        plausibility=penetration_check(result) if clearance is not None else None,
                         flank=flank_check(result))
-    setattr(result, ATTRIBUTE, (result.theta, checks))
+    setattr(result, ATTRIBUTE, (result.theta, clearance, checks))
     return checks
