@@ -166,13 +166,20 @@ def test_cli_runs_the_composite(tmp_path):
     assert '"method": "composite"' in (out / "result.json").read_text()
 
 
+#: where the composite's revolution ends otherwise than the scene's own method's: the pivoting corner uses 70 % of
+#: the chatter limit under erk at rtol 1e-6 and chatters under erk at 1e-8 (docs/hard-cases.md, "Close to the
+#: chatter limit"); the composite's steps tip it over too, and it stops as chattering, naming the guard
+COMPOSITE_OUTCOME = {**OUTCOME, "pivot-near-chatter": "chattering"}
+
+
 @pytest.mark.parametrize("name", [s for s in SCENES if s != "friction-chatter-groove"])
 def test_stress_scene_ends_as_with_its_own_method(name, fns):
-    """A revolution of every stress scene (360 samples, the 60 s budget): the end its own method reaches, finite,
-    events bounded, penetrations within the physical bound, modes consistent with the gaps."""
+    """A revolution of every stress scene (360 samples, the 60 s budget): the end its own method reaches (or the
+    one :data:`COMPOSITE_OUTCOME` names), finite, events bounded, penetrations within the physical bound, modes
+    consistent with the gaps."""
     scene = load(name)
     r = simulate(scene, fns, method="composite", compile_c=True, **FAST.get(name, {}))
-    _check(name, scene, r, OUTCOME.get(name, "completed"))
+    _check(name, scene, r, COMPOSITE_OUTCOME.get(name, "completed"))
 
 
 @pytest.mark.parametrize("name", [s for s in SCENES if s not in STIFF_FRICTION + ("tip-chatter",)])

@@ -75,3 +75,20 @@ def test_a_completed_run_near_the_event_budget_warns_naming_the_contact_and_reco
     for part in (f"guard {rec['guard']}", f"{rec['switches']} times", f"{rec['from_deg']:.1f}°",
                  "max_events_per_revolution", "close to the chatter limit", "event_list()"):
         assert part in text, (part, text)
+
+
+def test_the_pivoting_corner_of_the_hard_scene_completes_and_says_it_is_close_to_the_limit(default_functions):
+    """runtime/scenes/hard/pivot-near-chatter.toml (a user's expander: a seal corner pivoting on its groove wall)
+    completed with thousands of switches of one groove gap in a few degrees and chattered at rtol 1e-8, and nothing
+    said how close it was: now a revolution warns, naming that gap, where it switched and against which limit."""
+    from hard_helpers import load, simulate
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        r = simulate(load("pivot-near-chatter"), default_functions.sx, samples_per_revolution=3600)  # its own
+    said = [w for w in caught if issubclass(w.category, NearChatterWarning)]
+    rec = r.info["switch_cluster"]
+    assert r.status == "completed" and len(said) == 1 and rec["near"], rec
+    assert rec["guard"] == "b3" and 280 < rec["from_deg"] < rec["to_deg"] < 300, rec
+    assert rec["switches"] > 1000 and rec["peak_per_interval"] >= 0.5 * rec["interval_limit"], rec
+    assert f"guard b3 switched {rec['switches']} times" in str(said[0].message)
