@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import click
@@ -52,9 +53,25 @@ def scene(scene: Path | None, sets, default: bool, out: Path | None, resolved: b
         click.echo(f"  submodel {name} from {dist}")
 
 
+def _read_by_a_pipe_or_terminal() -> bool:
+    """Whether stdout is a pipe or a terminal (``apexseal scene --default | less``): the scene printed is read, not
+    kept as a file, so the files it reads are not written into the current folder. False where stdout has no file
+    descriptor (a test's captured output) or is a file (``> my.toml``)."""
+    import os
+    import stat
+    import sys
+
+    try:
+        mode = os.fstat(sys.stdout.fileno()).st_mode
+    except (OSError, ValueError, AttributeError, io.UnsupportedOperation):
+        return False
+    return stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode) or sys.stdout.isatty()
+
+
 def _write(texts: dict[str, str], out: Path | None) -> None:
     """A scene (the first of ``texts``) on stdout, the files it reads (a pressure table) written to the current
-    folder, which a redirected ``> my.toml`` shares; or, with ``out``, all of them into that folder. A file there
+    folder, which a redirected ``> my.toml`` shares (not when stdout is a pipe or a terminal:
+    :func:`_read_by_a_pipe_or_terminal`); or, with ``out``, all of them into that folder. A file there
     that differs from what would be written is never replaced: refused with ``--out``, named on stderr without
     it."""
     main, *others = texts
@@ -72,6 +89,10 @@ def _write(texts: dict[str, str], out: Path | None) -> None:
         click.echo(f"wrote {' and '.join(str(folder / n) for n in texts)}")
         return
     click.echo(texts[main], nl=False)
+    if others and _read_by_a_pipe_or_terminal():
+        click.echo(f"# the scene reads {' and '.join(others)} beside it, not written here (the output goes to a pipe or "
+                   "a terminal): `--out FOLDER` writes both, `> my.toml` writes the table beside it", err=True)
+        return
     for name in others:
         if name in differ:
             click.echo(f"# kept {name} in the current folder, which differs from the scene's table: the scene "

@@ -60,11 +60,25 @@ def test_ctrl_c_before_a_run_catches_it_exits_with_130(monkeypatch, capsys):
 def test_a_reader_that_stops_reading_ends_the_command_quietly(tmp_path):
     """`apexseal scene --resolved | head -1`: a broken pipe ends the command with no traceback."""
     proc = subprocess.Popen(cli.command("scene", "--resolved"), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            cwd=tmp_path)  # it writes the scene's pressure table to the current folder
+                            cwd=tmp_path)
     proc.stdout.close()  # the reader is gone before the command writes
     stderr = proc.stderr.read().decode()
     proc.stderr.close()
     assert proc.wait(timeout=120) in (0, 1) and "Traceback" not in stderr, stderr
+
+
+def test_the_default_scene_piped_writes_nothing_here_and_redirected_writes_its_table(tmp_path):
+    """`apexseal scene --default | less` wrote the scene's pressure table into the current folder, unasked: a pipe
+    (or a terminal) reads the scene, it does not keep it. Redirected to a file (`> my.toml`), the table is still
+    written beside it, so the file loads."""
+    piped = subprocess.run(cli.command("scene", "--default"), capture_output=True, text=True, cwd=tmp_path,
+                           check=False)
+    assert piped.returncode == 0 and piped.stdout.startswith("# apexseal default scene")
+    assert list(tmp_path.iterdir()) == [] and "not written here" in piped.stderr and "--out FOLDER" in piped.stderr
+    with open(tmp_path / "my.toml", "w") as file:
+        kept = subprocess.run(cli.command("scene", "--default"), stdout=file, stderr=subprocess.PIPE, text=True,
+                              cwd=tmp_path, check=False)
+    assert kept.returncode == 0 and (tmp_path / "expander-pressure.csv").exists(), kept.stderr
 
 
 def test_the_command_line_of_a_subprocess_runs_the_console_script():
