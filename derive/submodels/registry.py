@@ -479,6 +479,17 @@ def guard(name: str) -> Guard:
     raise KeyError(name)
 
 
+def guard_label(name: str) -> str:
+    """A guard as messages name it: its name, the contact it opens and closes and its declared meaning (``b3 (contact
+    i2: gap at g3, the mouth corner on the seal's positive side (Eq. 42))``); the name alone for a guard no
+    registered submodel declares."""
+    try:
+        g = guard(name)
+    except KeyError:
+        return name
+    return f"{name} (contact {guard_contacts()[name]}: {g.meaning})"
+
+
 def activation_symbols() -> dict:
     """The activation symbol of every declared guard, by the activation's name (e.g. ``"s_h"``)."""
     return {g.activation: g.symbol for g in guards()}

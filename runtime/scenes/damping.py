@@ -41,7 +41,7 @@ WHY = ("the contact's damping acts on approach only and jumps from 0 to c v when
 @dataclass(frozen=True)
 class ContactDamping:
     """The damping coefficient of one submodel's contacts (cw: the housing; cr: the four groove contacts; cs: the
-    spring) and its ratio of critical damping."""
+    spring; a user's submodel's own) and its ratio of critical damping."""
 
     coefficient: str  # parameter name: cw, cr, cs
     ratio_name: str  # the name of its ratio: zeta_w, zeta_g, zeta_s
@@ -52,6 +52,9 @@ class ContactDamping:
     continuous: bool = False
     #: the damping law "penetration" would make its dampers continuous at the touch (not the preloaded spring's)
     switchable: bool = False
+    #: the submodel whose contacts it damps (its ``name``: "housing", "groove", "spring", a user's own), as the
+    #: chattering message names the contact
+    owner: str = ""
 
     @property
     def keys(self) -> tuple[str, str]:
@@ -122,7 +125,7 @@ def contact_dampings(values: Mapping[str, Any]) -> dict[str, ContactDamping]:
                 k, ms = cls.damped_stiffness(c, values), values["ms"]
                 out[c] = ContactDamping(c, zeta, float(values[c]), float(ratio_of_damping(values[c], k, ms)),
                                         float(damping_of_ratio(MAX_DAMPING_RATIO, k, ms)), c in continuous,
-                                        c in switchable)
+                                        c in switchable, cls.name)
     return out
 
 

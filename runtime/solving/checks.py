@@ -23,8 +23,6 @@ MISSED_EVENT_UM = 1e-3
 #: what to try when contacts chatter, besides the contact's damping (in the chattering message)
 OTHER_REMEDIES = ("a larger friction.v_eps, or method 'euler' (the switches inside the right-hand side, no events); or "
                   "raise solver.chatter_events / max_events_per_revolution if the switches are physical")
-#: what each damping coefficient damps, as the chattering message names it
-CONTACT_OF = {"cw": "the housing contact's", "cr": "the groove's", "cs": "the spring's"}
 #: a damping ratio this close to its default (relative) is the default: scenes state coefficients rounded (207 N*s/m
 #: for 10 % of critical on 6.2e7 N/m is a ratio of 0.09998)
 NEAR_DEFAULT = 0.1
@@ -48,7 +46,7 @@ def chatter_advice(guard: str, names: Sequence[str] | None = None, params=None) 
     if d is None:
         return CHATTER_ADVICE
     c_key, ratio_key = d.keys
-    now = f"{CONTACT_OF[d.coefficient]} damping: {ratio_key} = {d.zeta:.3g}, i.e. {c_key} = {d.c:.4g} N*s/m"
+    now = f"the {d.owner} contact's damping: {ratio_key} = {d.zeta:.3g}, i.e. {c_key} = {d.c:.4g} N*s/m"
     default = d.default_ratio
     if d.too_high:
         return (f"this contact is damped above critical ({now}): {d.why}; lower {ratio_key} to "

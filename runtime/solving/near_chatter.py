@@ -99,13 +99,16 @@ def describe_near_chatter(record: dict) -> str:
     it means, how to inspect it and the remedy measured (docs/hard-cases.md)."""
     g, peak, limit = record["guard"], record["peak_per_interval"], record["interval_limit"]
     in_rev, cap = record["revolution_switches"], record["max_events_per_revolution"]
-    return (f"the run is close to the chatter limit: guard {g} switched {record['switches']} times between "
+    from ...derive.submodels.registry import guard_label
+
+    return (f"the run is close to the chatter limit: guard {guard_label(g)} switched {record['switches']} times "
+            "between "
             f"{record['from_deg']:.1f}° and {record['to_deg']:.1f}° of crank angle ({peak} in one interval at "
             f"{record['peak_at_deg']:.1f}°, {peak / limit:.0%} of the {limit:.4g} the chatter detector allows, "
             f"solver.chatter_events per solver.chatter_window; {in_rev} switches in one revolution, {in_rev / cap:.0%} "
             f"of max_events_per_revolution = {cap}): another rtol or method may stop it as chattering. Inspect the "
-            f"switches with result.event_list() (contact {g}), the events_{g} variable of to_xarray() and the figure "
-            "of the contact modes (mode_timeline.png, result.plot(\"modes\")). Method 'euler' with a fine step "
-            "(solver.euler_steps_per_revolution) switches inside the right-hand side, without events: on the scene "
+            f"switches with result.event_list() (its rows of contact '{g}'), the events_{g} variable of to_xarray() "
+            "and the figure of the contact modes (mode_timeline.png, result.plot(\"modes\")). Method 'euler' with a fine "
+            "step (solver.euler_steps_per_revolution) switches inside the right-hand side, without events: on the scene "
             "measured in docs/hard-cases.md (\"Close to the chatter limit\") it removed such a cluster; check that it "
             "leaves your numbers as they are with apexseal compare")

@@ -95,7 +95,7 @@ def test_the_advice_follows_the_chattering_contacts_damping(default_scene):
     at_default = advice("xs5")
     assert "contacts.zeta_w = 0.1" in at_default and "damping on this contact" not in at_default
     groove_default = advice("b3")  # the parenthesis used to list two keys without saying what they were
-    assert f"(the groove's damping: contacts.zeta_g = 0.1, i.e. contacts.cr = {p['cr']:.4g} N*s/m)" in groove_default
+    assert f"(the groove contact's damping: contacts.zeta_g = 0.1, i.e. contacts.cr = {p['cr']:.4g} N*s/m)" in groove_default
     groove = advice("b3", cr=2.0 * p["cr"] / 0.1)
     assert "contacts.zeta_g = 2" in groove and "lower contacts.zeta_g to 1 or less" in groove
     assert "damping_law = 'penetration'" in groove
@@ -234,3 +234,22 @@ def damping_table(ratios=(0.1, 1.0, 2.0, 2.2, 2.4, 3.0, 5.0), laws=("velocity", 
 
 if __name__ == "__main__":  # python tests/runtime/test_damping_chatter.py: the table of hard-cases.md
     print(damping_table())
+
+
+def test_the_advice_names_the_contact_from_the_submodel_that_declares_its_damping(default_scene, monkeypatch):
+    """The advice named a damping by a hand-written table (cw: the housing contact's, cr: the groove's, cs: the
+    spring's), so a user's contact was named wrongly or not at all: it now takes the declaring submodel's name."""
+    from dataclasses import replace
+
+    from apexseal.derive.submodels.registry import submodels
+    from apexseal.runtime.scenes import damping
+    from apexseal.runtime.solving import checks
+
+    p = dict(default_scene.parameters)
+    owners = {c: cls.name for cls in submodels() for c, _ in cls.damping_ratios}
+    assert {c: d.owner for c, d in damping.contact_dampings(p).items()} == {c: owners[c] for c in
+                                                                             damping.contact_dampings(p)}
+    own = replace(damping.guard_damping("xs5", p), owner="vane")  # a user's submodel declaring this coefficient
+    monkeypatch.setattr(checks, "guard_damping", lambda guard, values: own)
+    text = checks.chatter_advice("xs5", tuple(p), list(p.values()))
+    assert "(the vane contact's damping: contacts.zeta_w = " in text and "housing" not in text
