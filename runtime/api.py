@@ -124,12 +124,13 @@ def provenance(scene, functions=None) -> dict:
     """What identifies a run's inputs: the scene as given (Scene.reference) and its content hash, the generated
     model's input hash (the ``input_hash`` of its manifest: the model ``functions`` were loaded from, or the
     scene's), and the package versions."""
+    from ..derive.choices import options_of
     from ..generated.manifest import input_hash
     from .results.summary import versions
 
     model_hash = getattr(functions, "model_hash", None) or input_hash(scene.effects, scene.assumptions)
     return {"scene": scene.reference, "scene_hash": scene.content_hash(), "model_hash": model_hash,
-            "versions": versions()}
+            "versions": versions(options_of(scene.effects, scene.assumptions))}
 
 
 def simulate(scene, *, revolutions: int | None = None, method: str | None = None, rtol: float | None = None,

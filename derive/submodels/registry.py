@@ -136,10 +136,13 @@ def _check_needs(cls: type[Submodel]) -> None:
                             f"default: {', '.join(undefaulted)} (give each a default)")
 
 
-def installed() -> dict[str, str]:
-    """The submodels added by installed packages: name -> "distribution version" (part of a run's provenance)."""
+def installed(opts=None) -> dict[str, str]:
+    """The submodels added by installed packages: name -> "distribution version" (part of a run's provenance); with
+    ``opts`` (a model's options) those that enter that model alone."""
     _ensure()
-    return dict(_installed)
+    if opts is None:
+        return dict(_installed)
+    return {cls.name: _installed[cls.name] for cls in submodels() if cls.name in _installed and cls.active(opts)}
 
 
 def register(cls: type[Submodel], *, check_needs: bool = True) -> type[Submodel]:

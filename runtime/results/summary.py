@@ -68,7 +68,7 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     if gas is not None:
         out["gas"] = gas
     out["run"] = dict(result.info)
-    out["versions"] = versions()
+    out["versions"] = result.info.get("versions") or versions()  # the run's own record, where it has one
     if scene_info:
         out["scene"] = scene_info
     return out
@@ -134,7 +134,10 @@ def last_revolution_part(result: SimulationResult) -> SimulationResult | None:
                    outputs={name: np.asarray(v)[k] for name, v in result.outputs.items()})
 
 
-def versions() -> dict:
+def versions(opts=None) -> dict:
+    """The versions a run's results depend on: apexseal's, its numerical libraries', Python's, the machine's kind,
+    and each installed package's whose submodel entered the model (``opts``: the model's options; None: every
+    installed package's). A submodel that is off enters neither the derivation nor the run, nor its record."""
     import casadi
     import numpy
 
@@ -146,5 +149,5 @@ def versions() -> dict:
     out = {"apexseal": __version__, "casadi": casadi.__version__, "sympy": distribution_version("sympy"),
            "numpy": numpy.__version__, "python": platform.python_version(), "machine": platform.machine()}
     # the packages whose submodels are in the registry (docs/extending.md), e.g. "submodel cushion": "seal-extras 0.2"
-    out.update({f"submodel {name}": dist for name, dist in installed().items()})
+    out.update({f"submodel {name}": dist for name, dist in installed(opts).items()})
     return out

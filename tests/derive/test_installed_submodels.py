@@ -132,6 +132,9 @@ def test_installed_submodels_come_after_the_built_in_ones_and_enter_the_provenan
     assert "kwp" not in fresh_registry.parameter_names() and "kwp" in fresh_registry.parameter_names(all_inputs=True)
     assert fresh_registry.parameter_names(opts=Options({"wiper": ON}))[-1] == "kwp"
     assert versions()["submodel wiper"] == "seal-extras-in-process 0.2"
+    # a run records only what entered its model: the wiper off (its default), its package is not in the record
+    assert "submodel wiper" not in versions(Options({}))
+    assert versions(Options({"wiper": ON}))["submodel wiper"] == "seal-extras-in-process 0.2"
 
 
 def test_an_installed_submodel_that_clashes_names_its_package(tmp_path, monkeypatch, fresh_registry):
