@@ -13,9 +13,23 @@ from ..options import NONE, ON, Option
 from .base import ContactModel, Context, Submodel
 
 
-def groove_bottom_pressure(Pa, Pb, rule: str):
-    """Pend under the seal's back face (Eq. 75 and the text after Eq. 76)."""
-    return (Pa + Pb) / 2 if rule == "mean" else (Pa - Pb) / 2
+def groove_bottom_pressure(Pa, Pb, rule: str, closed=None):
+    """Pend under the seal's back face (Eq. 75 and the text after Eq. 76).
+
+    ``rule`` "mean": (Pa + Pb)/2; "half-difference": the text's literal (Pa - Pb)/2; "open-side": the pressure of
+    the chamber whose side of the groove is open from the mouth to the back corner, so that its gas reaches the
+    groove bottom (chamber b on the seal's negative side, gaps b1 and b2 open; chamber a on its positive side, b3
+    and b4 open), the mean when both sides or neither are open. ``closed``: the activations (1 while closed) of
+    b1..b4, by guard name, which "open-side" needs (without the groove's contacts it is the mean)."""
+    if rule == "half-difference":
+        return (Pa - Pb) / 2
+    mean = (Pa + Pb) / 2
+    if rule == "mean" or closed is None:
+        return mean
+    open_b = (1 - closed["b1"]) * (1 - closed["b2"])
+    open_a = (1 - closed["b3"]) * (1 - closed["b4"])
+    only_a, only_b = open_a * (1 - open_b), open_b * (1 - open_a)
+    return only_a * Pa + only_b * Pb + (1 - only_a - only_b) * mean
 
 
 def tip_arc_force(k, P, pressure, a0, a1):
@@ -41,8 +55,10 @@ class ChamberPressure(Submodel):
     contact_meanings = {"pressure": "chamber pressure on the seal (Eq. 75)"}
     options = (
         Option("chamber_pressure", (ON, NONE), "gas pressure of the two chambers on the seal, Eqs. 75-79"),
-        Option("pend_rule", ("mean", "half-difference"), "groove-bottom pressure Pend under the seal (Eq. 75): the "
-               "mean (Pa + Pb)/2, or the text's literal 'half the difference' (Pa - Pb)/2", table="assumptions"),
+        Option("pend_rule", ("mean", "half-difference", "open-side"), "groove-bottom pressure Pend under the seal "
+               "(Eq. 75): the mean (Pa + Pb)/2, the text's literal 'half the difference' (Pa - Pb)/2, or 'open-side': "
+               "the pressure of the chamber whose side of the groove is open from mouth to back corner (b1, b2 > 0: "
+               "Pb; b3, b4 > 0: Pa), the mean when both or neither are", table="assumptions"),
         Option("gap_pressure", ("open-side", "chamber"), "side-gap pressures Ps2, Ps4 (Eq. 75, no rule printed): "
                "'open-side' = the chamber's pressure while the mouth contact on that side is open (b1 > 0, b3 > 0), "
                "else Pend; 'chamber' = always the chamber's", table="assumptions"),
@@ -56,8 +72,10 @@ class ChamberPressure(Submodel):
 
         k, g, P, opts, Pa, Pb = ctx.k, ctx.g, ctx.P, ctx.options, ctx.Pa, ctx.Pb
         S, Bs = k.S, P["Bs"]
-        Pend = groove_bottom_pressure(Pa, Pb, opts["pend_rule"])
-        if opts["gap_pressure"] == "open-side" and opts.on("groove_contact"):
+        grooved = opts.on("groove_contact")
+        closed = {b: ctx.activation(guard(b)) for b in ("b1", "b2", "b3", "b4")} if grooved else None
+        Pend = groove_bottom_pressure(Pa, Pb, opts["pend_rule"], closed)
+        if opts["gap_pressure"] == "open-side" and grooved:
             # the gap between seal side and groove sees its chamber while the mouth is open, else the groove bottom
             s_b1, s_b3 = ctx.activation(guard("b1")), ctx.activation(guard("b3"))
             Ps2 = (1 - s_b1) * Pb + s_b1 * Pend

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: f634d948359b8b877a9b880690a9f595f9a2feaab0eafc2687b9169ecbc49ebd.
+ * Effects: all. Input hash: b68fbbb4151acc05b88c840f5c182d34161db9c1735b46f4a02ab95a7decfab7.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "f634d948359b8b877a9b880690a9f595f9a2feaab0eafc2687b9169ecbc49ebd"
+#define APEXSEAL_INPUT_HASH "b68fbbb4151acc05b88c840f5c182d34161db9c1735b46f4a02ab95a7decfab7"
 
 /* state x */
 #define APEXSEAL_NX 6

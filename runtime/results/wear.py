@@ -106,13 +106,16 @@ def describe_wear(block: dict) -> str:
     (a groove contact or the spring), the seal's mass."""
     parts = []
     tip = block["contacts"].get("housing")
-    if tip is not None and tip["speed_mean_m_s"] is not None:
+    touches = tip is not None and tip["speed_mean_m_s"] is not None
+    if touches:
         parts.append(f"tip slides at {tip['speed_mean_m_s']:.3g} m/s (max {tip['speed_max_m_s']:.3g}), "
                      f"N·v {tip['sliding_work_J_per_rev']:.4g} J/rev")
+    elif tip is not None:
+        parts.append("the tip never touches the housing")
     others = {c: w for c, w in block["contacts"].items() if c != "housing" and w["sliding_work_J_per_rev"]}
     if others:
         c = max(others, key=lambda k: others[k]["sliding_work_J_per_rev"])
-        parts.append(f"next most at {c} {others[c]['sliding_work_J_per_rev']:.3g} J/rev")
+        parts.append(f"{'next most' if touches else 'most'} at {c} {others[c]['sliding_work_J_per_rev']:.3g} J/rev")
     if block["seal_mass_kg"] is not None:
         parts.append(f"seal {block['seal_mass_kg'] * 1e3:.3g} g")
     return "wear (Archard's N·v): " + ("; ".join(parts) if parts else "no sliding contact closed")

@@ -96,3 +96,15 @@ def test_a_run_reports_the_wear_of_each_contact_and_its_quantities(default_run, 
     assert list(got.values()) == pytest.approx([tip["speed_mean_m_s"], tip["sliding_work_J_per_rev"],
                                  block["contacts"]["i2"]["sliding_power_W"], tip["pv_max_W_per_m"], p["ms"] * 1e3])
     assert not math.isnan(got["wear.i2.power"])
+
+
+def test_the_console_line_of_a_tip_that_never_touches_says_so():
+    """A seal held off the housing for the whole run printed "next most at c2 …" after nothing: the line now says
+    that the tip never touches, and where the seal slides most."""
+    from apexseal.runtime.results.wear import describe_wear
+
+    empty = {"contact_fraction": 0.0, "speed_mean_m_s": None, "speed_max_m_s": None, "sliding_power_W": 0.0,
+             "sliding_work_J_per_rev": 0.0, "pv_mean_W_per_m": None, "pv_max_W_per_m": None}
+    c2 = dict(empty, contact_fraction=0.5, speed_mean_m_s=1e-3, speed_max_m_s=0.1, sliding_work_J_per_rev=0.0117)
+    line = describe_wear({"seal_mass_kg": 0.0173, "seal_length_m": 0.1, "contacts": {"housing": empty, "c2": c2}})
+    assert "the tip never touches the housing; most at c2 0.0117 J/rev" in line and "next most" not in line
