@@ -21,7 +21,7 @@ import sympy as sp
 from sympy.physics.vector import Vector
 
 from ..progress import announce, stage
-from . import contact_geometry, eom, kinematics, law_symbols, rest_balance
+from . import contact_geometry, contact_push, eom, kinematics, law_symbols, rest_balance
 from .assumptions import Assumptions
 from .choices import Options, options_of
 from .effects import Effects
@@ -195,6 +195,8 @@ def derive_model(effects: Effects | None = None, assumptions: Assumptions | None
                 forces[f"v_{c.name}"] = plain(c.slide)
             law_symbols.check(cls, _contact_where(c), [*own_guards.values(), *own_vguards.values()], known, options)
             law_symbols.check(cls, _contact_where(c), forces.values(), known, options, moving)
+            if c.guard is not None:  # its law pushes the seal out where its guard says closed
+                contact_push.check(cls, c.name, c.guard_name, own_guards[c.guard_name], forces, activations, options)
             guards.update(own_guards)
             vguards.update(own_vguards)
             outputs.update(forces)

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: b68fbbb4151acc05b88c840f5c182d34161db9c1735b46f4a02ab95a7decfab7.
+ * Effects: all. Input hash: 4955cedb682a2fa9e82bdd07b729928f89da1d2851a7fa7f6e1ee3cc69f9e94f.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "b68fbbb4151acc05b88c840f5c182d34161db9c1735b46f4a02ab95a7decfab7"
+#define APEXSEAL_INPUT_HASH "4955cedb682a2fa9e82bdd07b729928f89da1d2851a7fa7f6e1ee3cc69f9e94f"
 
 /* state x */
 #define APEXSEAL_NX 6
