@@ -592,9 +592,10 @@ def check_unread_tables(raw: dict[str, Any], sections: dict[str, Section], effec
                         assumptions: Assumptions | None, reported: set[str]) -> list[str]:
     """The tables of a user's or a package's submodel a scene gives of which no law of its model reads any key (a
     whole ``[damper]`` while ``effects.damper`` is off), for the scene's warning: one per table, naming it, its
-    keys and what is off. A table whose keys all keep their defaults says nothing, nor one whose values were
-    ``reported`` already (out of range: :func:`ignored_values`), nor a built-in table (the default scene gives
-    them all, so switching an effect off by an override would warn of values the user never wrote)."""
+    keys and what is off; and such a submodel's keys given in a table other laws read (``contacts.kwp`` in
+    ``[contacts]``), one warning per key with its value. Keys at their defaults say nothing, nor values
+    ``reported`` already (out of range: :func:`ignored_values`), nor a built-in submodel's keys (the default scene
+    gives them all, so switching an effect off by an override would warn of values the user never wrote)."""
     from apexseal.derive.submodels.base import built_in
     from apexseal.derive.submodels.registry import parameter_of_key, submodels, unmet
 
@@ -604,18 +605,25 @@ def check_unread_tables(raw: dict[str, Any], sections: dict[str, Section], effec
     for table, given in raw.items():
         keys = [f"{table}.{k}" for k, v in given.items() if not isinstance(v, dict)] if isinstance(given, dict) \
             else []
-        if not keys or table not in sections or any(k not in unread or k in reported or k in builtin_keys
-                                                    for k in keys):
+        own = [k for k in keys if k in unread and k not in reported and k not in builtin_keys]
+        if not own or table not in sections:
             continue
         try:
-            declared = [parameter_of_key(k) for k in keys]
+            declared = {k: parameter_of_key(k) for k in own}
         except KeyError:  # a key of no parameter (an input of a submodel's own: machine.ports)
             continue
-        if all(p.default is not None and getattr(sections[table], p.leaf, None) == p.default for p in declared):
+        changed = [k for k, p in declared.items()
+                   if p.default is None or getattr(sections[table], p.leaf, None) != p.default]
+        if not changed:
             continue
-        off = " and ".join(dict.fromkeys(unmet(key_needing(k)) for k in keys))
-        out.append(f"[{table}] is not read: no law reads {', '.join(keys)} while {off} (switch it on to use them, "
-                   "or leave the table out)")
+        if len(own) == len(keys):
+            off = " and ".join(dict.fromkeys(unmet(key_needing(k)) for k in keys))
+            out.append(f"[{table}] is not read: no law reads {', '.join(keys)} while {off} (switch it on to use "
+                       "them, or leave the table out)")
+            continue
+        for k in changed:  # a user's or a package's key in a table other laws read ([contacts])
+            out.append(f"{k} = {show_value(given[declared[k].leaf])} is not read: no law reads it while "
+                       f"{unmet(key_needing(k))} (switch it on to use it, or leave the key out)")
     return out
 
 

@@ -184,6 +184,35 @@ def test_a_whole_table_of_a_users_submodel_that_is_off_loads_with_one_warning(tm
                                   "effects.spring_friction": False})
 
 
+def test_a_key_of_a_packages_submodel_that_is_off_in_a_built_in_table_warns(tmp_path):
+    """A package's key in a built-in table (``contacts.kwp`` while effects.wiper is off), in range, loaded without a
+    word: the table's check skipped every table another law reads. Scene loading (the one check both ``apexseal
+    scene`` and ``apexseal simulate`` run) now names the key, its value and the switch; at its default it says
+    nothing."""
+    import warnings
+
+    from apexseal.derive.options import NONE, ON, Option
+    from apexseal.derive.parameters import Parameter
+    from apexseal.derive.submodels import registry
+    from apexseal.derive.submodels.base import Submodel
+
+    wiper = type("Wiper", (Submodel,), {"name": "wiper", "__module__": "elsewhere", "switch": "wiper",
+                                        "options": (Option("wiper", (NONE, ON), "a wiper ahead of the seal"),),
+                                        "parameters": (Parameter("kwp", "N/m", "wiper stiffness", key="contacts.kwp",
+                                                                 default=1e4, gt=0),)})
+    path = _write_scene(tmp_path, "[contacts]", '[contacts]\nkwp = "3 kN/m"')
+    with registry.registered(wiper):
+        with pytest.warns(IgnoredValueWarning) as caught:
+            load_scene(path)
+        assert [str(w.message) for w in caught if w.category is IgnoredValueWarning] == [
+            'scene scene.toml: contacts.kwp = "3 kN/m" is not read: no law reads it while effects.wiper is off '
+            "(switch it on to use it, or leave the key out)"]
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", IgnoredValueWarning)
+            load_scene(path, overrides={"effects.wiper": True})
+            load_scene(path, overrides={"contacts.kwp": "10 kN/m"})  # its default
+
+
 def test_the_command_line_loads_it_with_the_same_warning(tmp_path):
     from apexseal.cli import command
 
