@@ -68,7 +68,7 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     if gas is not None:
         out["gas"] = gas
     out["run"] = dict(result.info)
-    out["versions"] = result.info.get("versions") or versions()  # the run's own record, where it has one
+    out["versions"] = run_versions(result)
     if scene_info:
         out["scene"] = scene_info
     return out
@@ -132,6 +132,19 @@ def last_revolution_part(result: SimulationResult) -> SimulationResult | None:
     return replace(result, theta=result.theta[k], time=result.time[k], state=result.state[:, k],
                    closed=result.closed[:, k], events=events, modes=list(result.modes[k]),
                    outputs={name: np.asarray(v)[k] for name, v in result.outputs.items()})
+
+
+def run_versions(result: SimulationResult) -> dict:
+    """The versions a result's summary names: the run's own record (its info's ``versions``), or, for a result
+    without one, :func:`versions` of now for its scene's model, so that a package whose submodel was off in the run
+    is not named (every installed package's only where the scene is not known)."""
+    if result.info.get("versions"):
+        return result.info["versions"]
+    if result.scene is None:
+        return versions()
+    from ...derive.choices import options_of
+
+    return versions(options_of(result.scene.effects, result.scene.assumptions))
 
 
 def versions(opts=None) -> dict:

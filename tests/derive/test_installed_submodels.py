@@ -137,6 +137,29 @@ def test_installed_submodels_come_after_the_built_in_ones_and_enter_the_provenan
     assert versions(Options({"wiper": ON}))["submodel wiper"] == "seal-extras-in-process 0.2"
 
 
+def test_a_summary_without_the_runs_record_names_only_the_packages_of_its_scenes_model(tmp_path, monkeypatch,
+                                                                                       fresh_registry):
+    """A result without a ``versions`` record (a run's result before it is written, an older result.json) had its
+    summary name every installed package, the one whose submodel was off in its run too: the summary takes its
+    scene's model."""
+    from types import SimpleNamespace
+
+    from apexseal.derive.assumptions import Assumptions
+    from apexseal.derive.effects import Effects
+    from apexseal.runtime.results.summary import run_versions
+
+    site = tmp_path / "site"
+    _install(site, PLUGIN, "seal_extras_summary")
+    monkeypatch.syspath_prepend(str(site))
+    assert fresh_registry.installed() == {"wiper": "seal-extras-summary 0.2"}
+    off = SimpleNamespace(info={}, scene=SimpleNamespace(effects=Effects(), assumptions=Assumptions()))
+    assert "submodel wiper" not in run_versions(off)
+    on = SimpleNamespace(info={}, scene=SimpleNamespace(effects=Effects(wiper=True), assumptions=Assumptions()))
+    assert run_versions(on)["submodel wiper"] == "seal-extras-summary 0.2"
+    recorded = SimpleNamespace(info={"versions": {"apexseal": "x"}}, scene=None)
+    assert run_versions(recorded) == {"apexseal": "x"}
+
+
 def test_an_installed_submodel_that_clashes_names_its_package(tmp_path, monkeypatch, fresh_registry):
     site = tmp_path / "site"
     _install(site, PLUGIN.replace('Parameter("kwp"', 'Parameter("ks"'), "seal_extras_clash")
