@@ -483,14 +483,15 @@ def guard(name: str) -> Guard:
 
 
 def guard_label(name: str) -> str:
-    """A guard as messages name it: its name, the contact it opens and closes and its declared meaning (``b3 (contact
-    i2: gap at g3, the mouth corner on the seal's positive side (Eq. 42))``); the name alone for a guard no
-    registered submodel declares."""
-    try:
-        g = guard(name)
-    except KeyError:
+    """A guard as messages name it: its name, the contact it opens and closes named by its submodel as the chattering
+    message names a damped contact (``the groove contact``, runtime/solving/checks.py) and its declared meaning
+    (``b3 (the groove contact i2: gap at g3, the mouth corner on the seal's positive side (Eq. 42))``, ``xs5 (the
+    housing contact: ...)``); the name alone for a guard no registered submodel declares."""
+    owner = next((cls for cls in submodels() for g in cls.guards if g.name == name), None)
+    if owner is None:
         return name
-    return f"{name} (contact {guard_contacts()[name]}: {g.meaning})"
+    g, contact = guard(name), guard_contacts()[name]
+    return f"{name} (the {owner.name} contact{'' if contact == owner.name else ' ' + contact}: {g.meaning})"
 
 
 def activation_symbols() -> dict:

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 4955cedb682a2fa9e82bdd07b729928f89da1d2851a7fa7f6e1ee3cc69f9e94f.
+ * Effects: all. Input hash: 915a32597961ec476a923aed9f1c463be6c76d13ba3e4b3eb0165d158aad8e8d.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "4955cedb682a2fa9e82bdd07b729928f89da1d2851a7fa7f6e1ee3cc69f9e94f"
+#define APEXSEAL_INPUT_HASH "915a32597961ec476a923aed9f1c463be6c76d13ba3e4b3eb0165d158aad8e8d"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -92,4 +92,25 @@ def test_the_pivoting_corner_of_the_hard_scene_completes_and_says_it_is_close_to
     assert rec["guard"] == "b3" and 280 < rec["from_deg"] < rec["to_deg"] < 300, rec
     assert rec["switches"] > 1000 and rec["peak_per_interval"] >= 0.5 * rec["interval_limit"], rec
     text = str(said[0].message)  # the guard with its contact and what it is, from the submodels' declarations
-    assert "guard b3 (contact i2: gap at g3" in text and f"switched {rec['switches']} times" in text
+    assert "guard b3 (the groove contact i2: gap at g3" in text and f"switched {rec['switches']} times" in text
+
+
+def test_the_note_names_the_guards_contact_as_the_chattering_message_does(monkeypatch):
+    """The note named the guard with its contact's bare output prefix (``guard b3 (contact i2: ...)``), not as the
+    chattering message names a contact (``the groove contact's damping``): it names the declaring submodel, and a
+    user's contact by its own submodel's name."""
+    from apexseal.derive.options import NONE, ON, Option
+    from apexseal.derive.submodels import registry
+    from apexseal.derive.submodels.base import Guard, Submodel
+    from apexseal.runtime.solving.near_chatter import describe_near_chatter
+
+    record = {"guard": "b3", "peak_per_interval": 30, "interval_limit": 40, "revolution_switches": 600,
+              "max_events_per_revolution": 1000, "switches": 1200, "from_deg": 280.0, "to_deg": 300.0,
+              "peak_at_deg": 290.0}
+    assert "guard b3 (the groove contact i2: gap at g3" in describe_near_chatter(record)
+    assert "guard xs5 (the housing contact: minus the tip's" in describe_near_chatter(record | {"guard": "xs5"})
+    vane = type("Vane", (Submodel,), {"name": "vane", "__module__": "elsewhere", "switch": "vane",
+                                      "options": (Option("vane", (NONE, ON), "a vane"),),
+                                      "guards": (Guard("gv", "s_gv", "gap of the vane", output="vane_gap"),)})
+    with registry.registered(vane):
+        assert "guard gv (the vane contact: gap of the vane)" in describe_near_chatter(record | {"guard": "gv"})
