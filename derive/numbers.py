@@ -53,6 +53,16 @@ def initial_wall_deflection_normal(*, spring_force, kw, r, L, mu1=0.0):
     return spring_force / (kw * math.cos(lam0) * (math.cos(lam0) + mu1 * math.sin(lam0)))
 
 
+def initial_wall_deflection_tilted(*, spring_force, kw, r, L, mu1=0.0):
+    """delta_w where kw acts on the tip arc's penetration into the wall tilted by lambda (``assumptions.
+    housing_stiffness = "tilted-wall"``): at rest that penetration is delta_w itself, so the X balance of Eq. 9 at
+    theta = 0 is Fs = kw delta_w (cos(lambda0) + mu1 sin(lambda0)), lambda0 = atan(2 r / L) (Eq. 9), the normal
+    force and its friction turned towards +X by the tip's forward slide (Algorithm 2). Numbers for r, L, mu1; Fs and
+    kw may be CasADi symbols."""
+    lam0 = math.atan(2 * r / L)
+    return spring_force / (kw * (math.cos(lam0) + mu1 * math.sin(lam0)))
+
+
 def damping_of_ratio(zeta, k, ms):
     """c = 2 zeta sqrt(k ms): zeta times the critical damping of the seal's mass on a contact of stiffness k.
 

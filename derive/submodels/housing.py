@@ -35,10 +35,12 @@ class HousingContact(Submodel):
         Option("housing_contact", (ON, NONE), "elastic seal tip-housing contact, Eqs. 33-34"),
         Option("housing_damping", (ON, NONE), "damping of the tip-housing contact, Eq. 67", parent="housing_contact"),
         Option("housing_friction", (ON, NONE), "Coulomb friction at the tip, Algorithm 2", parent="housing_contact"),
-        Option("housing_stiffness", ("groove-axis", "normal"), "kw xs5 is the groove-axis (X) component of the "
-               "housing force, as Algorithm 2 prints ('groove-axis'), or the normal force, kw times the normal "
-               "penetration xs5 cos(lambda) ('normal'); cw damps the rate of the same penetration",
-               table="assumptions"),
+        Option("housing_stiffness", ("groove-axis", "normal", "tilted-wall"), "kw xs5 is the groove-axis (X) "
+               "component of the housing force, as Algorithm 2 prints ('groove-axis'), or the normal force, kw times "
+               "the normal penetration xs5 cos(lambda) ('normal'), or, not in the paper, kw times the penetration of "
+               "the tip arc into the housing wall tilted by lambda, along its normal, with the force at the arc's "
+               "contact point ('tilted-wall': the seal's slide y across its groove moves the tip towards the wall by "
+               "-y sin(lambda)); cw damps the rate of the same penetration", table="assumptions"),
     )
     guards = (Guard("xs5", "s_h", "minus the tip's penetration into the housing wall (Eq. 33)", output="xs5",
                     sign=-1, closed_label="h", open_label="h0"),)
@@ -53,7 +55,7 @@ class HousingContact(Submodel):
         import sympy as sp
 
         from ..geometry import housing_normal_angle
-        from ..kinematics import theta_t
+        from ..kinematics import plain, t, theta_t
         from ..symbols import theta
         from . import laws
 
@@ -73,13 +75,21 @@ class HousingContact(Submodel):
         velocity_guards = {"v_s5_X": closing}
 
         groove_axis = opts["housing_stiffness"] == "groove-axis"
-        # the penetration and its rate along the direction kw and cw act: the groove axis, xs5 and v_rel . X (Eq. 34,
-        # Algorithm 2), or the housing normal, whose depth in the wall tilted by lambda is xs5 cos(lambda)
-        along = sp.S.One if groove_axis else sp.cos(lam)
-        depth = g.xs5 * along
+        r_touch, guard = g.r_s5, -g.xs5
+        if opts["housing_stiffness"] == "tilted-wall":
+            depth, r_touch = tilted_wall_penetration(k, lam)
+            closing, guard = plain(depth.diff(t)), -plain(depth)
+            depth = plain(depth)
+            v_abs = k.point_on_seal("s5", r_touch).vel(k.N)  # the seal's material point where the arc touches
+            velocity_guards["v_s5_X"] = closing
+        else:
+            # the penetration and its rate along the direction kw and cw act: the groove axis, xs5 and v_rel . X
+            # (Eq. 34, Algorithm 2), or the housing normal, whose depth in the wall tilted by lambda is xs5 cos(lambda)
+            along = sp.S.One if groove_axis else sp.cos(lam)
+            depth, closing = g.xs5 * along, closing * along
         Fw = laws.penalty(P["kw"], depth, act)  # Eq. 34: X component or normal force (a contact cannot pull)
         if opts.on("housing_damping"):
-            Fw = laws.damped(Fw, P["cw"], closing * along, act, opts["damping"],
+            Fw = laws.damped(Fw, P["cw"], closing, act, opts["damping"],
                              laws.damper_depth(ctx, self.guards[0], depth))
 
         v_slide = v_abs.dot(t_fwd)  # the tip along the housing (Eqs. 64-66 on the tangent), > 0 along the rotation
@@ -95,6 +105,30 @@ class HousingContact(Submodel):
         else:
             normal = Fw / sp.cos(lam) if groove_axis else Fw
             force, power = normal * n_in, sp.S.Zero
-        load = Load("s5", g.r_s5, force, friction_power=power)
-        return [ContactModel("housing", [load], guard_name="xs5", guard=-g.xs5, velocity_guards=velocity_guards,
+        load = Load("s5", r_touch, force, friction_power=power)
+        return [ContactModel("housing", [load], guard_name="xs5", guard=guard, velocity_guards=velocity_guards,
                              slide=v_slide)]
+
+
+def tilted_wall_penetration(k, lam):
+    """(penetration, contact point from C) of the tip arc in the housing wall tilted by ``lam`` (lambda, Eq. 9), as
+    time-dependent expressions (``housing_stiffness = "tilted-wall"``, not in the paper).
+
+    The wall is the parallel curve of the arc's rest position (x = y = phi = 0) at the depth delta_w of Eq. 9: the
+    housing the tip runs on without a stroke, as the paper's wall X = ds1 - delta_w (Eq. 33) is, but with its normal
+    tilted by lambda from the groove axis as the force's (Algorithm 2). Its penetration is delta_w plus the
+    displacement of the arc's centre Co (Eqs. 25, 77) from its rest position along the wall's normal into the wall,
+    m = cos(lambda) X - sin(lambda) Y: the slide y across the groove moves the tip by -y sin(lambda), which the
+    paper's wall, perpendicular to X, does not see. The arc touches where its normal is the wall's, ro along m from
+    Co: the contact force passes through Co."""
+    import sympy as sp
+
+    from .. import seal_shape as shape
+    from ..symbols import P
+
+    G = k.G
+    m = sp.cos(lam) * G.x - sp.sin(lam) * G.y
+    r_Co = shape.tip_centre(k.S)
+    Co_rest = (P["ds1"] - P["ro"]) * G.x
+    depth = P["delta_w"] + (k.C.pos_from(k.Og) + r_Co - Co_rest).dot(m)
+    return depth, r_Co + P["ro"] * m

@@ -16,6 +16,7 @@ from typing import Any
 from ..numbers import (
     initial_wall_deflection,
     initial_wall_deflection_normal,
+    initial_wall_deflection_tilted,
     machine_numbers,
     outline_mass,
     tip_half_angle,
@@ -121,7 +122,8 @@ class SealBody(Submodel):
         Rh - 2 r sin(theta) = L from the chord centre, as Eq. 33 assumes. ``delta_w`` balances the spring's
         preload on the housing at rest when both are on, else 0 (nothing presses the seal on the housing): with the
         groove-axis component of the housing force (Eq. 9), or, under housing_stiffness = "normal", with the X
-        component of the normal force and its friction at theta = 0 (numbers.initial_wall_deflection_normal).
+        component of the normal force and its friction at theta = 0 (numbers.initial_wall_deflection_normal; under
+        "tilted-wall", numbers.initial_wall_deflection_tilted).
         """
         v = values
         out: dict[str, float] = {"omega": inputs["operation"].omega}
@@ -144,14 +146,17 @@ class SealBody(Submodel):
         (``SpringContact.rest_force``, Eq. 39) when the spring and the housing contact are both on, else 0.
 
         With the groove-axis component of the housing force kw delta_w, or, under housing_stiffness = "normal", the
-        X component of the normal force and its friction at theta = 0 (numbers.initial_wall_deflection_normal).
+        X component of the normal force and its friction at theta = 0 (numbers.initial_wall_deflection_normal; under
+        "tilted-wall", the arc's penetration, numbers.initial_wall_deflection_tilted).
         ``values``: the parameters by name (numbers; delta_s, ks may be CasADi symbols). The derivation checks that
         the model's laws balance at rest with it (derive/rest_balance.py)."""
         v = values
         if not (options.on("spring") and options.on("housing_contact")):
             return 0.0
         force = SpringContact.rest_force(v)
-        if options["housing_stiffness"] == "normal":  # kw on the normal penetration: its X component balances
+        stiffness = options["housing_stiffness"]
+        if stiffness in ("normal", "tilted-wall"):  # kw on a normal penetration: its X component balances
             mu1 = v["mu1"] if options.on("housing_friction") else 0.0
-            return initial_wall_deflection_normal(spring_force=force, kw=v["kw"], r=v["r"], L=v["L"], mu1=mu1)
+            deflection = initial_wall_deflection_normal if stiffness == "normal" else initial_wall_deflection_tilted
+            return deflection(spring_force=force, kw=v["kw"], r=v["r"], L=v["L"], mu1=mu1)
         return initial_wall_deflection(spring_force=force, kw=v["kw"])

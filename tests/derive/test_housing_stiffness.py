@@ -5,6 +5,8 @@ lambda (Eq. 9) and its rate ('normal')."""
 
 from __future__ import annotations
 
+import math
+
 import pytest
 import sympy as sp
 
@@ -87,3 +89,43 @@ def test_under_normal_the_initial_deflection_balances_the_preload_at_rest(kg, fr
     fx = float(sp.N(sp.sympify(k.components(load.force)[0]).subs(values)))
     assert _number(plain(g.xs5).subs(values)) == pytest.approx(scene.parameters["delta_w"], rel=1e-9)
     assert -fx == pytest.approx(scene.parameters["ks"] * scene.parameters["delta_s"], rel=1e-9)
+
+
+def _tilted(kg, state=None):
+    """The housing contact under "tilted-wall" (no friction, no damping): its guard (minus the penetration), its
+    force (X, Y) and point, at the default parameters and ``state`` (the rest of the state at zero)."""
+    k, g = kg
+    opts = options_of(Effects.from_mapping({"housing_friction": False, "housing_damping": False}),
+                      Assumptions(housing_stiffness="tilted-wall"))
+    contact = submodel_contacts("housing", k, g, opts)[0]
+    values = {P[n]: v for n, v in DEFAULTS.items() if n in P}
+    values.update({s: 1 for s in activation_symbols().values()})
+    values.update({theta: 0.9, x: 0.0, y: 0.0, phi: 0.0, xd: 0.0, yd: 0.0, phid: 0.0} | (state or {}))
+    load = contact.loads[0]
+    number = lambda e: float(sp.N(sp.sympify(plain(e)).subs(values)))  # noqa: E731
+    return (number(contact.guard), [number(c) for c in k.components(load.force)],
+            [number(c) for c in k.components(load.r_CP)])
+
+
+def test_under_tilted_wall_the_slide_across_the_groove_moves_the_tip_into_the_tilted_wall(kg):
+    """The paper's wall is perpendicular to the groove axis (Eq. 33), so the seal's slide y across its groove moved
+    the tip by -y^2 / (2 ro) only; the housing is tilted by lambda there (Eq. 9), and a physics review found the
+    first-order coupling -y sin(lambda) missing (11 um at the 30 um side clearance and lambda0 = 21.8 deg).
+    "tilted-wall" measures the arc's penetration along the tilted wall's normal: delta_w at rest, and delta_w -
+    y sin(lambda) + x cos(lambda) for a slide without a turn; the force is the normal force kw times it, along the
+    normal, through the arc's centre Co."""
+    lam = float(sp.N(housing_normal_angle().subs({theta: 0.9} | {P[n]: v for n, v in DEFAULTS.items() if n in P})))
+    kw, dw, ds1, ro = (DEFAULTS[n] for n in ("kw", "delta_w", "ds1", "ro"))
+    rest, _, _ = _tilted(kg)
+    assert -rest == pytest.approx(dw, rel=1e-12)
+    for dx, dy in ((0.0, 1e-5), (0.0, -1e-5), (2e-7, -3e-6)):
+        guard, (fx, fy), (px, py) = _tilted(kg, {x: dx, y: dy})
+        depth = dw + dx * math.cos(lam) - dy * math.sin(lam)
+        assert -guard == pytest.approx(depth, rel=1e-9)
+        normal = kw * max(depth, 0.0)  # a contact cannot pull: off the wall the slide lifts the tip
+        assert (fx, fy) == pytest.approx((-normal * math.cos(lam), normal * math.sin(lam)), rel=1e-9, abs=1e-9)
+        # the point: ro from Co = (ds1 - ro) X along the wall's normal into it, so the force passes through Co
+        assert (px, py) == pytest.approx(((ds1 - ro) + ro * math.cos(lam), -ro * math.sin(lam)), rel=1e-12)
+    paper = sp.sympify(plain(kg[1].xs5)).subs({P[n]: v for n, v in DEFAULTS.items() if n in P})
+    moved = float(sp.N(paper.subs({theta: 0.9, x: 0.0, y: 1e-5, phi: 0.0})))
+    assert abs(moved - dw) < 1e-2 * 1e-5 * math.sin(lam)  # Eq. 33's wall does not see the slide to first order
