@@ -137,16 +137,22 @@ class SimulationResult:
         return dict(self.info.get("solver_stats", {}))
 
     def column(self, name: str) -> np.ndarray:
-        """A state (``x`` ... ``phid``, a submodel's own) or output by name, SI; any other name is a KeyError with
-        the closest known name and the list (as :meth:`plot` says it)."""
+        """A state (``x`` ... ``phid``, a submodel's own) or output by name, SI, read-only (a view of the result's
+        own array: ``x = r.column("x"); x *= 1e6`` changed the result, its summary and what it saved; take
+        ``r.column("x") * 1e6``, or ``.copy()``); any other name is a KeyError with the closest known name and the
+        list (as :meth:`plot` says it)."""
         if name in self.state_names:
-            return self.state[self.state_names.index(name)]
-        if name not in self.outputs:
+            values = self.state[self.state_names.index(name)]
+        elif name in self.outputs:
+            values = self.outputs[name]
+        else:
             from ...suggest import not_known
 
             raise KeyError(not_known(f"column {name!r}", name, [*self.state_names, *self.outputs],
                                      "a state nor an output of this result", listing="its columns"))
-        return self.outputs[name]
+        view = np.asarray(values).view()
+        view.flags.writeable = False
+        return view
 
     # ------------------------------------------------------------------ looking at it
     def __repr__(self) -> str:

@@ -14,8 +14,10 @@ from .outputs import describe
 
 
 def columns(result) -> dict[str, np.ndarray]:
-    """Every column of the result in CSV order (name -> (n,) array, SI; ``mode`` as strings)."""
-    cols: dict[str, np.ndarray] = {"theta_deg": np.degrees(result.theta), "time_s": result.time}
+    """Every column of the result in CSV order (name -> (n,) array, SI; ``mode`` as strings). The crank angle in
+    degrees is rounded to 1e-9 deg, so that a sample at a whole degree is that number (``df.loc[183.0]``: the
+    radians' rounding made it 183.00000000000003)."""
+    cols: dict[str, np.ndarray] = {"theta_deg": np.round(np.degrees(result.theta), 9), "time_s": result.time}
     cols.update({name: result.state[i] for i, name in enumerate(result.state_names)})
     cols["mode"] = np.asarray(result.modes, dtype=str)
     cols.update({f"closed_{g}": result.closed[i].astype(np.int8) for i, g in enumerate(result.guard_names)})
@@ -45,7 +47,8 @@ def _attr(v):
 def to_xarray(result):
     """An xarray Dataset: dimension ``theta`` (crank angle in rad since the start; coordinates ``time`` in s
     and ``theta_deg``), every state and output with ``units`` and ``long_name`` attributes, the closed flag
-    and the running event count of each contact. Write it with ``ds.to_netcdf(path)``."""
+    and the running event count of each contact. Write it with ``ds.to_netcdf(path)``. Its arrays are its own
+    (copies): changing them (``ds["y"] *= 1e6``) leaves the result as it is."""
     import xarray as xr
 
     cols = columns(result)
@@ -66,7 +69,7 @@ def to_xarray(result):
     attrs = {"status": result.status, "stop": "" if result.stop is None else result.stop.describe(),
              "guard_names": ",".join(result.guard_names)}
     attrs.update({k: _attr(v) for k, v in result.info.items()})
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+    return xr.Dataset(data, coords=coords, attrs=attrs).copy(deep=True)
 
 
 def event_list(result):

@@ -19,6 +19,7 @@ by runtime/results/folder.py), so the loop holds one revolution whatever the len
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 import sys
 import time
@@ -282,6 +283,13 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
 def revolutions_bar(**kwargs):
     """tqdm's bar of the revolutions done, which are fractions while a revolution is cut into calls or re-run: shown
     to two decimals (tqdm printed 0.1111111111111111/1)."""
+    return _revolutions_bar_class()(**kwargs)
+
+
+@functools.cache
+def _revolutions_bar_class():
+    """The bar's class, made once per process: tqdm starts a monitor thread for each class it meets, so a class made
+    per run left a thread behind after every run (300 runs in a notebook: 300 threads)."""
     from tqdm.auto import tqdm
 
     class RevolutionsBar(tqdm):
@@ -292,7 +300,7 @@ def revolutions_bar(**kwargs):
             d["n"] = int(n) if n.is_integer() else n
             return d
 
-    return RevolutionsBar(**kwargs)
+    return RevolutionsBar
 
 
 class _Progress:

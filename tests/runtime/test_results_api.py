@@ -418,3 +418,37 @@ def test_a_summary_holds_no_nan_but_null_as_json_has_no_nan():
         raise ValueError(f"{name} is no JSON")
 
     json.loads((REPO / "docs" / "results" / "summary.json").read_text(), parse_constant=refuse)
+
+
+def test_the_columns_handed_out_cannot_change_the_result(result):
+    """``x = r.column("x"); x *= 1e6`` (SI to µm for a plot) and ``ds["y"] *= 1e6`` changed the result's own arrays:
+    its summary gave a 213792 µm extreme and its saved folder kept it. column() is read-only now, to_xarray() a
+    copy; the summary is unchanged by either."""
+    before = result.summary()["extremes"]
+    x = result.column("x")
+    with pytest.raises(ValueError, match="read-only"):
+        x *= 1e6
+    scaled = result.column("x") * 1e6  # the way that works: a new array
+    assert scaled.max() == pytest.approx(1e6 * result.state[0].max())
+    ds = result.to_xarray()
+    ds["y"] *= 1e6
+    assert result.summary()["extremes"] == before
+
+
+def test_whole_degrees_of_the_pandas_index_are_whole(result):
+    """``df.loc[183.0]`` was a KeyError: the index held 183.00000000000003 (radians' rounding)."""
+    df = result.to_pandas()
+    whole = [d for d in range(361) if d in set(np.round(df.index.to_numpy()))]
+    assert whole and all(float(d) in df.index for d in whole)
+
+
+def test_runs_leave_no_thread_behind(default_scene, default_functions):
+    """Each run defined its progress bar's class anew, and tqdm started a monitor thread per class: 300 runs in a
+    notebook left 300 threads."""
+    import threading
+
+    apexseal.simulate(default_scene, functions=default_functions.sx, samples_per_revolution=72)
+    before = threading.active_count()
+    for _ in range(3):
+        apexseal.simulate(default_scene, functions=default_functions.sx, samples_per_revolution=72)
+    assert threading.active_count() == before
