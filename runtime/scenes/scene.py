@@ -68,6 +68,28 @@ def _scenes_folder() -> Any:
     return importlib.resources.files("apexseal.runtime.scenes")
 
 
+def _files_from_here(dotted: dict[str, Any]) -> dict[str, Any]:
+    """Overrides of an embedded scene with its relative file names (``FILE_KEYS``: ``pressure.file``) made absolute
+    from the current folder, as the command line's ``--set`` makes them: the user's file is meant (``apexseal scene
+    --default > my.toml`` writes expander-pressure.csv there), not the package's table of that name beside the
+    embedded scene, which a path relative to the scene's folder found silently. A scene file of the user's keeps
+    its rule: relative to its own folder."""
+    from .schema import FILE_KEYS
+
+    def here(value):
+        return str(Path.cwd() / value) if isinstance(value, str) and value and not Path(value).is_absolute() \
+            else value
+
+    out = dict(dotted)
+    for key in FILE_KEYS:
+        table, _, leaf = key.rpartition(".")
+        if key in out:
+            out[key] = here(out[key])
+        if isinstance(out.get(table), dict) and leaf in out[table]:  # a whole table given inline
+            out[table] = out[table] | {leaf: here(out[table][leaf])}
+    return out
+
+
 def embedded_scene_path(name: str) -> Path:
     """The path of an embedded scene file, e.g. ``"soft-contacts.toml"`` or ``"hard/speed-6000.toml"``."""
     path = Path(str(_scenes_folder().joinpath(name)))
@@ -104,7 +126,7 @@ def load_scene(path: str | Path | None = None, overrides: dict[str, Any] | None 
         folder = _scenes_folder()
         source = Path(str(folder.joinpath(DEFAULT_SCENE))) if isinstance(folder, Path) else None
         return Scene.from_toml_string(default_scene_text(), folder, name="default", source_path=source,
-                                      overrides=overrides)
+                                      overrides=None if overrides is None else _files_from_here(overrides))
     p = path
     try:
         text = p.read_text(encoding="utf-8")
@@ -509,9 +531,18 @@ class Scene:
         ``None`` removes a key, restoring its default. Setting one key of a pair that states one thing two ways
         (``contacts.cw`` or the damping ratio ``contacts.zeta_w``, ...) removes the other, unless both are given.
         """
+        dotted = _files_from_here(dotted) if self.embedded else dotted
         with _naming_overrides(dotted):
             return _recording(_build(_overridden(self._raw, dotted, self.name), self._base_dir, self.source_path,
                                      self.name), self.overrides | dotted)
+
+    @property
+    def embedded(self) -> bool:
+        """Whether the scene is one of apexseal's own (the default, runtime/scenes/*.toml), not a user's file."""
+        try:
+            return Path(str(self._base_dir)).resolve().is_relative_to(Path(str(_scenes_folder())).resolve())
+        except (OSError, ValueError):
+            return False
 
     # -- content ------------------------------------------------------------
 

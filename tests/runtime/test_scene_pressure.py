@@ -367,3 +367,17 @@ def test_every_pressure_source_survives_its_resolved_scene(tmp_path, pressure):
         (tmp_path / name).write_text(content)
     again = load_scene(tmp_path / "scene.toml")
     assert again.pressure.to_dict() == scene.pressure.to_dict() and again.content_hash() == scene.content_hash()
+
+
+def test_a_relative_table_given_to_the_embedded_scene_is_the_current_folder_s(tmp_path, monkeypatch):
+    """``load_scene().with_overrides(**{"pressure.file": "expander-pressure.csv"})`` with the user's edited copy in
+    the current folder read the package's table of that name beside the embedded scene, silently (the same
+    content hash as the default). A relative file given to an embedded scene, from Python or --set, is taken from
+    the current folder; a scene file of the user's keeps its own folder (the test above)."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "expander-pressure.csv").write_text("theta_deg,Pa,Pb\n0,1e5,1e5\n180,1e5,1e5\n")
+    for scene in (load_scene().with_overrides(**{"pressure.file": "expander-pressure.csv"}),
+                  load_scene(overrides={"pressure.file": "expander-pressure.csv"})):
+        assert scene.pressure.Pa(1.0) == 1e5 and scene.content_hash() != load_scene().content_hash()
+    with pytest.raises(SceneError, match="file not found"):
+        load_scene().with_overrides(**{"pressure.file": "mine.csv"})  # not the package's folder either
