@@ -91,6 +91,14 @@ def read_record(folder: Path) -> dict:
                 not any((folder / "parts").iterdir() if (folder / "parts").is_dir() else ()):
             raise ResultFolderError(f"{folder} holds no result: a run was killed here before it wrote anything (an "
                                     "empty parts/), so there is nothing to load or continue; delete this folder")
+        partials = sorted(folder.parent.glob(f"{folder.name}.partial-*")) if folder.name else []
+        if partials:  # a run into ``folder`` killed outright left its revolutions beside it
+            raise ResultFolderError(
+                f"{folder} {'has no result.json' if folder.exists() else 'does not exist'}: a run into it was killed "
+                f"and left what it computed in {', '.join(str(p) for p in partials)}: load or resume that folder "
+                f"(apexseal.resume({str(partials[-1])!r}), apexseal simulate --resume {partials[-1]})")
+        if not folder.exists():
+            raise ResultFolderError(f"{folder} does not exist (a result folder holds result.json)")
         raise ResultFolderError(f"{folder} is not a result folder: it has no result.json{_what_else(folder)}")
     try:
         meta = json.loads(path.read_text())

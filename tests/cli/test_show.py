@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pytest
 from click.testing import CliRunner
 
 import apexseal
@@ -199,3 +200,20 @@ def test_show_of_a_run_stopped_as_periodic_says_so_and_offers_no_resume(tmp_path
     assert (f"stopped because it is periodic (operation.until_periodic) after {revs} of the 12 revolution(s) asked: "
             "more revolutions add nothing") in r.output
     assert "--resume" not in r.output
+
+
+def test_a_folder_a_killed_run_never_made_points_to_its_partial_folder(tmp_path):
+    """apexseal.resume("killed") after a kernel was killed said "killed is not a result folder: it has no
+    result.json": the run's revolutions were in killed.partial-<id>, which nothing named. A folder that does not
+    exist says so, and one a killed run left beside names it, with the call that continues it."""
+    from apexseal.runtime.results.folder import ResultFolderError
+    from apexseal.runtime.results.result import SimulationResult
+
+    with pytest.raises(ResultFolderError, match="does not exist"):
+        SimulationResult.load(tmp_path / "nope")
+    (tmp_path / "killed.partial-aa88666ba130").mkdir()
+    with pytest.raises(ResultFolderError, match=r"killed does not exist: a run into it was killed and left what it "
+                                                r"computed in .*killed\.partial-aa88666ba130: load or resume"):
+        SimulationResult.load(tmp_path / "killed")
+    with pytest.raises(ResultFolderError, match=r"apexseal\.resume\("):
+        apexseal.resume(tmp_path / "killed")
