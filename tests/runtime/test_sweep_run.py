@@ -848,3 +848,15 @@ def test_invalid_points_are_counted_apart_and_said_without_a_crank_angle(tmp_pat
     for status in ("invalid", "completed", "failed", "invalid"):
         bar.point_done(status)
     assert shown[-1] == "failed=1, invalid=2", shown
+
+
+def test_a_study_file_s_path_is_a_study_and_anything_else_a_clear_type_error(tmp_path):
+    """run_sweep("tiny.toml", ...) failed inside with AttributeError: 'str' object has no attribute 'parameters'
+    (simulate takes a scene file's path, so a Python user tries this): a path is loaded as the study file it is."""
+    path = tmp_path / "light.toml"
+    path.write_text(LIGHT)
+    report = run_sweep(str(path), tmp_path / "from-path", workers=1, quiet=True)
+    assert stable(report.table).equals(stable(run_sweep(light_study(), tmp_path / "from-study", workers=1,
+                                                        quiet=True).table))
+    with pytest.raises(TypeError, match="expected a Study"):
+        run_sweep(42, tmp_path / "bad", workers=1, quiet=True)

@@ -104,11 +104,12 @@ def _points(at: list[int]) -> str:
     return f"{len(at)} points: {', '.join(map(str, at[:POINTS_SHOWN]))}, ..., {at[-1]}"
 
 
-def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, scheduler: str | None = None,
+def run_sweep(study: Study | str | Path, out: str | Path, *, workers: int | None = None, scheduler: str | None = None,
               client=None, resume: bool = True, retry_failed: bool = False, quiet: bool = False,
               on_row: Callable[[dict], None] | None = None,
               on_start: Callable[[], None] | None = None) -> SweepReport:
-    """Run every point of ``study`` not yet in ``out`` and return the table of all finished points.
+    """Run every point of ``study`` (a :class:`Study`, or a study file's path: :func:`.study.load_study`) not yet in
+    ``out`` and return the table of all finished points.
 
     ``workers``: processes of the default LocalCluster (default: every core; 1 runs serially in this process).
     ``scheduler``: address of a running Dask scheduler (``tcp://host:8786``) to use instead. ``client``: a
@@ -126,6 +127,12 @@ def run_sweep(study: Study, out: str | Path, *, workers: int | None = None, sche
     from ....signals import StopSignals
     from ...api import after_an_interrupt
 
+    if isinstance(study, str | Path):  # a study file, as simulate takes a scene file
+        from .study import load_study
+
+        study = load_study(study)
+    elif not isinstance(study, Study):
+        raise TypeError(f"study = {study!r:.80}: expected a Study (apexseal.load_study(path)) or a study file's path")
     check_workers(workers)
     if retry_failed and not resume:
         raise ValueError("retry_failed = True with resume = False: resume = False discards every point in out, so "
