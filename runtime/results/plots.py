@@ -45,9 +45,15 @@ def figure(result, kind: str, *, ports: dict | None = None, pyplot: bool = False
     raise ValueError(f"unknown figure {kind!r}; figures: {', '.join(FIGURES)}")
 
 
-def _check_quantities(result, names: Sequence[str]) -> None:
+def _check_quantities(result, names: Sequence[str], label: str | None = None, elsewhere=frozenset()) -> None:
+    """Every name a column of ``result``; one that another result of the same plot has (``elsewhere``) is named as
+    missing from this one (``label``: an effect off in its model), not as a typo."""
     known = [*result.state_names, *result.outputs]
     bad = [n for n in names if n not in known]
+    absent = [n for n in bad if n in elsewhere]
+    if absent:
+        raise ValueError(f"cannot plot {', '.join(map(repr, absent))} of result {label!r}: the other results have "
+                         "it, this one's model does not (an effect off in its scene?); plot it without that result")
     if bad:
         from ...suggest import did_you_mean
 
@@ -61,11 +67,12 @@ def quantities(results, names: Sequence[str], labels: Sequence[str] | None = Non
     names = [names] if isinstance(names, str) else list(names)  # one quantity, not its characters
     if not names:
         raise ValueError("quantities: name at least one quantity, e.g. ['x', 'Pf_total']")
-    for r in results:
-        _check_quantities(r, names)
     labels = list(labels) if labels is not None else [result_label(r, i) for i, r in enumerate(results)]
     if len(labels) != len(results):
         raise ValueError(f"{len(labels)} labels for {len(results)} results")
+    columns = [{*r.state_names, *r.outputs} for r in results]
+    for i, (r, label) in enumerate(zip(results, labels, strict=True)):
+        _check_quantities(r, names, label, set().union(*columns[:i], *columns[i + 1:]))
     fig = figures.new_figure((10, 1.2 + 2.0 * len(names)), pyplot)
     axes = np.atleast_1d(fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0])
     for ax, name in zip(axes, names, strict=True):
@@ -103,14 +110,18 @@ def plot(result, *what: str, ports: dict | None = None, pyplot: bool = False):
     return quantities([result], what, pyplot=pyplot)
 
 
-def plot_comparison(results, quantities_: Sequence[str] = ("x", "y", "phi", "Pf_total"),
+def plot_comparison(results, quantities: Sequence[str] = ("x", "y", "phi", "Pf_total"),  # noqa: F811
                     labels: Sequence[str] | None = None, *, pyplot: bool = False):
-    """Several results in one Figure: a panel per quantity, a line per result (labels: the scenes' names and
-    content hashes unless given)."""
+    """Several results in one Figure: a panel per quantity (``quantities``: states and outputs by name), a line per
+    result (labels: the scenes' names and content hashes unless given)."""
     from .result import SimulationResult
 
     results = [SimulationResult.load(r) if isinstance(r, str | Path) else r
                for r in ([results] if isinstance(results, str | Path | SimulationResult) else results)]
     if not results:
         raise ValueError("plot_comparison needs at least one result")
-    return quantities(results, quantities_, labels, pyplot=pyplot)
+    return _quantities_figure(results, quantities, labels, pyplot=pyplot)
+
+
+#: :func:`quantities` under a name :func:`plot_comparison`'s keyword ``quantities`` does not hide
+_quantities_figure = quantities

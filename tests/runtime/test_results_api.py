@@ -452,3 +452,18 @@ def test_runs_leave_no_thread_behind(default_scene, default_functions):
     for _ in range(3):
         apexseal.simulate(default_scene, functions=default_functions.sx, samples_per_revolution=72)
     assert threading.active_count() == before
+
+
+def test_plot_comparison_takes_quantities_by_that_name_and_names_the_result_without_one(result):
+    """plot_comparison's keyword was ``quantities_`` (``quantities=["y"]`` a TypeError), and a column one result
+    lacks (its spring off) was reported as a typo ("did you mean 'F_housing_X'?") without saying which result."""
+    from dataclasses import replace
+
+    from apexseal.runtime.results.plots import plot_comparison
+
+    fig = plot_comparison([result, result], quantities=["y"], labels=["a", "b"])
+    assert len(fig.axes) == 1
+    springless = replace(result, outputs={k: v for k, v in result.outputs.items() if k != "F_spring_X"})
+    with pytest.raises(ValueError, match="'F_spring_X' of result 'nospring': the other results have it") as info:
+        plot_comparison([result, springless], quantities=["F_spring_X"], labels=["a", "nospring"])
+    assert "did you mean" not in str(info.value)
