@@ -101,6 +101,7 @@ class Comparison:
             scenes += ("\nthe models differ (model hash " + ", ".join(f"{label} {m}" for label, m in
                                                            zip(self.labels, models, strict=True))
                        + "): the derivation, a submodel or the generator changed between the runs")
+        scenes += _not_alike(self.labels, self.results)
         numbers = self.numbers.copy().astype(object)
         base = self.numbers.iloc[:, 0]
         marked = self.within_noise().reindex(self.numbers.index, fill_value=False)
@@ -307,6 +308,24 @@ def _noise_cell(noise, base) -> str:
     if isinstance(base, (int, float)) and base:
         return f"±{100 * noise / abs(base):.2g} %"
     return f"±{noise:.2g}"
+
+
+def _not_alike(labels: list[str], results: list[SimulationResult]) -> str:
+    """A caveat for runs sampled or run differently: peaks and extremes are taken at the output samples (denser
+    sampling finds higher impact peaks, README), and counts and fractions grow or shrink with the revolutions
+    computed; "" for runs alike in both."""
+    per = [r.info.get("samples_per_revolution") for r in results]
+    revolutions = [round(float(r.revolutions), 2) for r in results]
+    said = []
+    if len(set(per)) > 1:
+        said.append("samples per revolution (" + ", ".join(f"{label} {p}" for label, p in zip(labels, per,
+                                                                                               strict=True))
+                    + "): peaks, extremes and penetrations are the samples' and are not comparable")
+    if len(set(revolutions)) > 1:
+        said.append("revolutions (" + ", ".join(f"{label} {n:g}" for label, n in zip(labels, revolutions,
+                                                                                      strict=True))
+                    + "): switch counts are the runs' and the start-up from rest weighs differently in the means")
+    return "".join(f"\nnot alike: {s}" for s in said)
 
 
 def _tolerances(labels: list[str], results: list[SimulationResult]) -> str:
