@@ -90,6 +90,17 @@ def _files_from_here(dotted: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+def _embedded_hint(path: Path) -> str:
+    """For a scene named like one of apexseal's own (``"soft-contacts"``, ``"hard/speed-6000"``): how to load that."""
+    stem = Path(path).with_suffix(".toml") if Path(path).suffix != ".toml" else Path(path)
+    try:
+        found = Path(str(_scenes_folder().joinpath(stem.as_posix()))).is_file()
+    except (OSError, ValueError):
+        found = False
+    return (f"; apexseal's own scene of that name loads with "
+            f"load_scene(apexseal.embedded_scene_path({stem.as_posix()!r}))") if found else ""
+
+
 def embedded_scene_path(name: str) -> Path:
     """The path of an embedded scene file, e.g. ``"soft-contacts.toml"`` or ``"hard/speed-6000.toml"``."""
     path = Path(str(_scenes_folder().joinpath(name)))
@@ -131,7 +142,7 @@ def load_scene(path: str | Path | None = None, overrides: dict[str, Any] | None 
     try:
         text = p.read_text(encoding="utf-8")
     except FileNotFoundError:
-        raise SceneError([("scene", str(path), "file not found")], source=str(path)) from None
+        raise SceneError([("scene", str(path), "file not found" + _embedded_hint(path))], source=str(path)) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise SceneError([("scene", str(path), f"cannot read: {exc}")], source=str(path)) from None
     return Scene.from_toml_string(text, p.parent, name=p.name, source_path=p, overrides=overrides)

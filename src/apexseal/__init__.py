@@ -29,6 +29,7 @@ __version__ = "0.1.0"
 #: public name -> (module, attribute); imported on first use, so that importing apexseal stays cheap
 _LAZY = {
     "load_scene": ("runtime.scenes.scene", "load_scene"),
+    "embedded_scene_path": ("runtime.scenes.scene", "embedded_scene_path"),
     "Scene": ("runtime.scenes.scene", "Scene"),
     "SceneError": ("runtime.scenes.errors", "SceneError"),
     "simulate": ("runtime.api", "simulate"),

@@ -381,3 +381,15 @@ def test_a_relative_table_given_to_the_embedded_scene_is_the_current_folder_s(tm
         assert scene.pressure.Pa(1.0) == 1e5 and scene.content_hash() != load_scene().content_hash()
     with pytest.raises(SceneError, match="file not found"):
         load_scene().with_overrides(**{"pressure.file": "mine.csv"})  # not the package's folder either
+
+
+def test_a_scene_named_like_one_of_apexseals_own_says_how_to_load_it():
+    """load_scene("soft-contacts") said "file not found" and no more; apexseal's own scenes load by path only."""
+    import apexseal
+
+    with pytest.raises(SceneError, match=r"embedded_scene_path\('soft-contacts.toml'\)"):
+        load_scene("soft-contacts")
+    assert apexseal.load_scene(apexseal.embedded_scene_path("soft-contacts.toml")).name == "soft-contacts.toml"
+    with pytest.raises(SceneError) as info:
+        load_scene("nosuch")
+    assert "embedded_scene_path" not in str(info.value)
