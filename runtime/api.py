@@ -423,6 +423,8 @@ class Model:
             x = np.asarray(state, dtype=float)
         except (TypeError, ValueError):
             raise ValueError(f"state = {state!r}: expected {len(names)} numbers ({', '.join(names)})") from None
+        if x.shape in ((len(names), 1), (1, len(names))):  # a column or row vector (CasADi's DM gives (n, 1))
+            x = x.reshape(len(names))
         if x.shape != (len(names),):
             raise ValueError(f"state: expected shape ({len(names)},) ({', '.join(names)}, SI), got shape {x.shape}")
         if not np.isfinite(x).all():

@@ -223,3 +223,11 @@ def test_resume_takes_progress_as_simulate_does(tmp_path):
     """resume(progress="no") turned the report on, where simulate refuses it."""
     with pytest.raises(SettingsError, match="progress"):
         apexseal.resume(tmp_path, progress="no")
+
+
+def test_model_rhs_takes_a_column_vector_as_casadi_gives_it(default_scene, default_functions):
+    """Model.rhs refused the (6, 1) column CasADi hands back (`got shape (6, 1)`): a column or row is the state."""
+    model = apexseal.Model(default_scene, functions=default_functions.sx)
+    flat = model.rhs(0.4, np.zeros(6))
+    assert np.array_equal(model.rhs(0.4, np.zeros((6, 1))), flat)
+    assert np.array_equal(model.rhs(0.4, np.zeros((1, 6))), flat)
