@@ -160,15 +160,11 @@ def test_a_whole_table_of_a_users_submodel_that_is_off_loads_with_one_warning(tm
     say nothing; nor do the built-in tables of the default scene when an override switches their effect off."""
     import warnings
 
-    from apexseal.derive.options import NONE, ON, Option
     from apexseal.derive.parameters import Parameter
     from apexseal.derive.submodels import registry
-    from apexseal.derive.submodels.base import Submodel
 
-    damper = type("Damper", (Submodel,), {"name": "damper", "__module__": "elsewhere", "switch": "damper",
-                                          "options": (Option("damper", (NONE, ON), "a radial damper"),),
-                                          "parameters": (Parameter("c_d", "N*s/m", "damping", key="damper.c",
-                                                                   default=10.0, ge=0),)})
+    damper = _switched_submodel("damper", "a radial damper",
+                                Parameter("c_d", "N*s/m", "damping", key="damper.c", default=10.0, ge=0))
     path = _write_scene(tmp_path, "[effects]", '[damper]\nc = "30 N*s/m"\n\n[effects]')
     with registry.registered(damper):
         with pytest.warns(IgnoredValueWarning) as caught:
@@ -184,6 +180,17 @@ def test_a_whole_table_of_a_users_submodel_that_is_off_loads_with_one_warning(tm
                                   "effects.spring_friction": False})
 
 
+def _switched_submodel(name: str, meaning: str, parameter):
+    """A user's submodel (defined elsewhere than apexseal) with one parameter and the option ``name`` that switches
+    it on, off by default."""
+    from apexseal.derive.options import NONE, ON, Option
+    from apexseal.derive.submodels.base import Submodel
+
+    return type(name.title(), (Submodel,), {"name": name, "__module__": "elsewhere", "switch": name,
+                                            "options": (Option(name, (NONE, ON), meaning),),
+                                            "parameters": (parameter,)})
+
+
 def test_a_key_of_a_packages_submodel_that_is_off_in_a_built_in_table_warns(tmp_path):
     """A package's key in a built-in table (``contacts.kwp`` while effects.wiper is off), in range, loaded without a
     word: the table's check skipped every table another law reads. Scene loading (the one check both ``apexseal
@@ -191,15 +198,11 @@ def test_a_key_of_a_packages_submodel_that_is_off_in_a_built_in_table_warns(tmp_
     nothing."""
     import warnings
 
-    from apexseal.derive.options import NONE, ON, Option
     from apexseal.derive.parameters import Parameter
     from apexseal.derive.submodels import registry
-    from apexseal.derive.submodels.base import Submodel
 
-    wiper = type("Wiper", (Submodel,), {"name": "wiper", "__module__": "elsewhere", "switch": "wiper",
-                                        "options": (Option("wiper", (NONE, ON), "a wiper ahead of the seal"),),
-                                        "parameters": (Parameter("kwp", "N/m", "wiper stiffness", key="contacts.kwp",
-                                                                 default=1e4, gt=0),)})
+    wiper = _switched_submodel("wiper", "a wiper ahead of the seal",
+                               Parameter("kwp", "N/m", "wiper stiffness", key="contacts.kwp", default=1e4, gt=0))
     path = _write_scene(tmp_path, "[contacts]", '[contacts]\nkwp = "3 kN/m"')
     with registry.registered(wiper):
         with pytest.warns(IgnoredValueWarning) as caught:
