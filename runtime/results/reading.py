@@ -98,7 +98,7 @@ def read_record(folder: Path) -> dict:
                 f"and left what it computed in {', '.join(str(p) for p in partials)}: load or resume that folder "
                 f"(apexseal.resume({str(partials[-1])!r}), apexseal simulate --resume {partials[-1]})")
         if not folder.exists():
-            raise ResultFolderError(f"{folder} does not exist (a result folder holds result.json)")
+            raise ResultFolderError(f"{folder} does not exist: no result.json, not a result folder")
         raise ResultFolderError(f"{folder} is not a result folder: it has no result.json{_what_else(folder)}")
     try:
         meta = json.loads(path.read_text())

@@ -69,16 +69,18 @@ def _scenes_folder() -> Any:
 
 
 def _files_from_here(dotted: dict[str, Any]) -> dict[str, Any]:
-    """Overrides of an embedded scene with its relative file names (``FILE_KEYS``: ``pressure.file``) made absolute
-    from the current folder, as the command line's ``--set`` makes them: the user's file is meant (``apexseal scene
-    --default > my.toml`` writes expander-pressure.csv there), not the package's table of that name beside the
-    embedded scene, which a path relative to the scene's folder found silently. A scene file of the user's keeps
-    its rule: relative to its own folder."""
+    """Overrides of an embedded scene with its relative file names (``FILE_KEYS``: ``pressure.file``) taken from the
+    current folder where a file of that name is there, as the command line's ``--set`` takes them: the user's file
+    is meant (``apexseal scene --default > my.toml`` writes expander-pressure.csv there), not the package's table
+    of that name beside the embedded scene, which a path relative to the scene's folder found silently. A name the
+    current folder does not hold is still the embedded scenes' (their tables: ``expander-pressure.csv``). A scene
+    file of the user's keeps its rule: relative to its own folder."""
     from .schema import FILE_KEYS
 
     def here(value):
-        return str(Path.cwd() / value) if isinstance(value, str) and value and not Path(value).is_absolute() \
-            else value
+        if isinstance(value, str) and value and not Path(value).is_absolute() and (Path.cwd() / value).is_file():
+            return str(Path.cwd() / value)
+        return value
 
     out = dict(dotted)
     for key in FILE_KEYS:

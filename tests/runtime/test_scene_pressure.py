@@ -372,15 +372,19 @@ def test_every_pressure_source_survives_its_resolved_scene(tmp_path, pressure):
 def test_a_relative_table_given_to_the_embedded_scene_is_the_current_folder_s(tmp_path, monkeypatch):
     """``load_scene().with_overrides(**{"pressure.file": "expander-pressure.csv"})`` with the user's edited copy in
     the current folder read the package's table of that name beside the embedded scene, silently (the same
-    content hash as the default). A relative file given to an embedded scene, from Python or --set, is taken from
-    the current folder; a scene file of the user's keeps its own folder (the test above)."""
+    content hash as the default). A relative file given to an embedded scene, from Python or --set, is the current
+    folder's where it holds one (else the embedded scenes' table of that name); a scene file of the user's keeps
+    its own folder (the test above)."""
     monkeypatch.chdir(tmp_path)
     (tmp_path / "expander-pressure.csv").write_text("theta_deg,Pa,Pb\n0,1e5,1e5\n180,1e5,1e5\n")
     for scene in (load_scene().with_overrides(**{"pressure.file": "expander-pressure.csv"}),
                   load_scene(overrides={"pressure.file": "expander-pressure.csv"})):
         assert scene.pressure.Pa(1.0) == 1e5 and scene.content_hash() != load_scene().content_hash()
     with pytest.raises(SceneError, match="file not found"):
-        load_scene().with_overrides(**{"pressure.file": "mine.csv"})  # not the package's folder either
+        load_scene().with_overrides(**{"pressure.file": "mine.csv"})
+    (tmp_path / "expander-pressure.csv").unlink()  # a name the current folder does not hold: the package's table
+    assert load_scene().with_overrides(**{"pressure.file": "expander-pressure.csv"}).content_hash() == \
+        load_scene().content_hash()
 
 
 def test_a_scene_named_like_one_of_apexseals_own_says_how_to_load_it():
