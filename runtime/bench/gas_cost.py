@@ -30,7 +30,9 @@ def gas_scenes() -> dict:
     from ..scenes.scene import embedded_scene_path, load_scene
 
     base = load_scene(embedded_scene_path(SCENE))
-    return {label: base.with_overrides(**over) for label, over in VARIANTS}
+    table = {"pressure.file": str(embedded_scene_path("expander-pressure.csv"))}  # the package's, whatever the cwd
+    return {label: base.with_overrides(**(over | table if "pressure.file" in over else over))
+            for label, over in VARIANTS}
 
 
 def gas_cost(revolutions: int = 2, repeats: int = 5, *, log=print) -> dict:
