@@ -10,7 +10,7 @@ from .cli_common import describe_result
 
 
 @click.command()
-@click.argument("folder", type=click.Path(file_okay=False, exists=True, path_type=Path))
+@click.argument("folder", type=click.Path(file_okay=False, path_type=Path))
 @click.option("--figures", is_flag=True, help="Also draw the figures into FOLDER (a run stopped by a signal or "
               "killed outright has none).")
 @click.option("--csv", "csv", is_flag=True, help="Also write trajectory.csv into FOLDER (a run stopped or killed "

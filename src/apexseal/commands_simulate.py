@@ -40,7 +40,7 @@ OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol
                    "scene.toml).")
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Output folder [default: apexseal-out/<scene name>].")
-@click.option("--resume", "resume", type=click.Path(file_okay=False, exists=True, path_type=Path), default=None,
+@click.option("--resume", "resume", type=click.Path(file_okay=False, path_type=Path), default=None,
               metavar="FOLDER",
               help="Continue the run of the result FOLDER (interrupted, failed, or a killed run's "
                    "OUT.partial-<run id>) after its last whole revolution, with its scene and settings, up to the "

@@ -217,3 +217,6 @@ def test_a_folder_a_killed_run_never_made_points_to_its_partial_folder(tmp_path)
         SimulationResult.load(tmp_path / "killed")
     with pytest.raises(ResultFolderError, match=r"apexseal\.resume\("):
         apexseal.resume(tmp_path / "killed")
+    for args in (["show", str(tmp_path / "killed")], ["simulate", "--resume", str(tmp_path / "killed"), "-q"]):
+        r = CliRunner().invoke(main, args)  # the command line says it too (click refused a missing folder first)
+        assert r.exit_code in (1, 2) and "killed.partial-aa88666ba130: load or resume" in r.output, r.output
