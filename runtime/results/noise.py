@@ -28,7 +28,13 @@ MEASURED_RTOL = 1e-6
 #: friction power of the groove's contacts (a few impacts each), then peaks, extremes and penetrations at the
 #: samples, and the means least
 SPREAD_AT_1E6 = {"count": 0.02, "groove friction": 0.01, "peak": 0.005, "mean": 0.001}
-_GROOVE = ("i1", "c2", "i2", "c4")
+
+
+def _groove() -> tuple[str, ...]:
+    """The groove's contacts (i1, c2, i2, c4), as its submodel declares them."""
+    from ...derive.submodels.groove import GrooveContacts
+
+    return GrooveContacts.contact_names
 
 
 def kind(name: str) -> str | None:
@@ -41,9 +47,9 @@ def kind(name: str) -> str | None:
     if head == "events" or name in ("liftoff_fraction", "gap.open_fraction"):
         return "count"
     if head == "friction_power":
-        return "groove friction" if tail in _GROOVE else "mean"
+        return "groove friction" if tail in _groove() else "mean"
     if head == "wear" and tail.split(".")[-1] in ("work", "power"):  # Archard's sliding work, like friction power
-        return "groove friction" if tail.split(".")[0] in _GROOVE else "mean"
+        return "groove friction" if tail.split(".")[0] in _groove() else "mean"
     if name.endswith((".mean", ".speed_mean")) or head == "gas" and name != "gas.pressure.max":
         return "mean"
     return "peak"  # extremes, largest forces and gaps, penetrations, flank.least, the highest chamber pressure
@@ -86,7 +92,7 @@ def _groove_sum(values: dict[str, float], name: str) -> float:
     ``wear.<c>.<what>``): a few impacts share it out between them."""
     head, _, tail = name.partition(".")
     what = tail.partition(".")[2]
-    names = [f"{head}.{c}" + (f".{what}" if what else "") for c in _GROOVE]
+    names = [f"{head}.{c}" + (f".{what}" if what else "") for c in _groove()]
     return sum(abs(values[n]) for n in names if not math.isnan(values.get(n, math.nan)))
 
 
