@@ -49,8 +49,8 @@ def initial_wall_deflection_normal(*, spring_force, kw, r, L, mu1=0.0):
     mu1 sin(lambda0)), lambda0 = atan(2 r / L) (Eq. 9), Fs the spring's force at rest (Eq. 39), against the normal
     force kw delta_w cos(lambda0) with its friction (``mu1``; 0 without housing friction) that the tip's forward
     slide turns towards +X (Algorithm 2). Numbers for r, L, mu1; Fs and kw may be CasADi symbols."""
-    lam0 = math.atan(2 * r / L)
-    return spring_force / (kw * math.cos(lam0) * (math.cos(lam0) + mu1 * math.sin(lam0)))
+    tilted = initial_wall_deflection_tilted(spring_force=spring_force, kw=kw, r=r, L=L, mu1=mu1)
+    return tilted / math.cos(math.atan(2 * r / L))  # the normal penetration is delta_w cos(lambda0)
 
 
 def initial_wall_deflection_tilted(*, spring_force, kw, r, L, mu1=0.0):

@@ -77,9 +77,8 @@ class ChamberPressure(Submodel):
         Pend = groove_bottom_pressure(Pa, Pb, opts["pend_rule"], closed)
         if opts["gap_pressure"] == "open-side" and grooved:
             # the gap between seal side and groove sees its chamber while the mouth is open, else the groove bottom
-            s_b1, s_b3 = ctx.activation(guard("b1")), ctx.activation(guard("b3"))
-            Ps2 = (1 - s_b1) * Pb + s_b1 * Pend
-            Ps4 = (1 - s_b3) * Pa + s_b3 * Pend
+            Ps2 = (1 - closed["b1"]) * Pb + closed["b1"] * Pend
+            Ps4 = (1 - closed["b3"]) * Pa + closed["b3"] * Pend
         else:
             Ps2, Ps4 = Pb, Pa
         beta, beta_o = g.beta, shape.beta_o

@@ -487,10 +487,11 @@ def guard_label(name: str) -> str:
     message names a damped contact (``the groove contact``, runtime/solving/checks.py) and its declared meaning
     (``b3 (the groove contact i2: gap at g3, the mouth corner on the seal's positive side (Eq. 42))``, ``xs5 (the
     housing contact: ...)``); the name alone for a guard no registered submodel declares."""
-    owner = next((cls for cls in submodels() for g in cls.guards if g.name == name), None)
-    if owner is None:
+    found = next(((cls, g) for cls in submodels() for g in cls.guards if g.name == name), None)
+    if found is None:
         return name
-    g, contact = guard(name), guard_contacts()[name]
+    owner, g = found
+    contact = guard_contacts()[name]
     return f"{name} (the {owner.name} contact{'' if contact == owner.name else ' ' + contact}: {g.meaning})"
 
 

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 5ee2276809a428ef3620dcade4f904e686777ef1ea60be3832db7eee5713cb71.
+ * Effects: all. Input hash: bda124791ab70bcc7bb6bf69f704d3d7e9ee0886481e7f2e2880b9cdc84b717b.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "5ee2276809a428ef3620dcade4f904e686777ef1ea60be3832db7eee5713cb71"
+#define APEXSEAL_INPUT_HASH "bda124791ab70bcc7bb6bf69f704d3d7e9ee0886481e7f2e2880b9cdc84b717b"
 
 /* state x */
 #define APEXSEAL_NX 6
