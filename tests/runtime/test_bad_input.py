@@ -158,26 +158,31 @@ def test_a_whole_table_of_a_users_submodel_that_is_off_loads_with_one_warning(tm
     """An in-range [damper] table while effects.damper is off was ignored without a word (only out-of-range values
     warned): one warning names the table, its keys and the switch. Keys left at their defaults, or the effect on,
     say nothing; nor do the built-in tables of the default scene when an override switches their effect off."""
-    import warnings
-
     from apexseal.derive.parameters import Parameter
-    from apexseal.derive.submodels import registry
 
     damper = _switched_submodel("damper", "a radial damper",
                                 Parameter("c_d", "N*s/m", "damping", key="damper.c", default=10.0, ge=0))
     path = _write_scene(tmp_path, "[effects]", '[damper]\nc = "30 N*s/m"\n\n[effects]')
-    with registry.registered(damper):
-        with pytest.warns(IgnoredValueWarning) as caught:
-            load_scene(path)
-        assert [str(w.message) for w in caught if w.category is IgnoredValueWarning] == [
-            "scene scene.toml: [damper] is not read: no law reads damper.c while effects.damper is off (switch it on "
-            "to use them, or leave the table out)"]
-        with warnings.catch_warnings():
-            warnings.simplefilter("error", IgnoredValueWarning)
-            load_scene(path, overrides={"effects.damper": True})
-            load_scene(path, overrides={"damper.c": "10 N*s/m"})  # its default
-            load_scene(overrides={"effects.spring": False, "effects.spring_damping": False,
-                                  "effects.spring_friction": False})
+    _warns_once_while_off(damper, path, "scene scene.toml: [damper] is not read: no law reads damper.c while "
+                          "effects.damper is off (switch it on to use them, or leave the table out)",
+                          silent=({"damper.c": "10 N*s/m"},  # its default
+                                  {"effects.spring": False, "effects.spring_damping": False,
+                                   "effects.spring_friction": False}))  # a built-in effect off: its keys are read
+
+
+def test_a_key_of_a_packages_submodel_that_is_off_in_a_built_in_table_warns(tmp_path):
+    """A package's key in a built-in table (``contacts.kwp`` while effects.wiper is off), in range, loaded without a
+    word: the table's check skipped every table another law reads. Scene loading (the one check both ``apexseal
+    scene`` and ``apexseal simulate`` run) now names the key, its value and the switch; at its default it says
+    nothing."""
+    from apexseal.derive.parameters import Parameter
+
+    wiper = _switched_submodel("wiper", "a wiper ahead of the seal",
+                               Parameter("kwp", "N/m", "wiper stiffness", key="contacts.kwp", default=1e4, gt=0))
+    path = _write_scene(tmp_path, "[contacts]", '[contacts]\nkwp = "3 kN/m"')
+    _warns_once_while_off(wiper, path, 'scene scene.toml: contacts.kwp = "3 kN/m" is not read: no law reads it '
+                          "while effects.wiper is off (switch it on to use it, or leave the key out)",
+                          silent=({"contacts.kwp": "10 kN/m"},))  # its default
 
 
 def _switched_submodel(name: str, meaning: str, parameter):
@@ -191,29 +196,24 @@ def _switched_submodel(name: str, meaning: str, parameter):
                                             "parameters": (parameter,)})
 
 
-def test_a_key_of_a_packages_submodel_that_is_off_in_a_built_in_table_warns(tmp_path):
-    """A package's key in a built-in table (``contacts.kwp`` while effects.wiper is off), in range, loaded without a
-    word: the table's check skipped every table another law reads. Scene loading (the one check both ``apexseal
-    scene`` and ``apexseal simulate`` run) now names the key, its value and the switch; at its default it says
-    nothing."""
+def _warns_once_while_off(submodel, path, expected: str, silent) -> None:
+    """With ``submodel`` registered, loading ``path`` gives exactly the IgnoredValueWarning ``expected``; loading it
+    with the submodel switched on, or with each override of ``silent`` (applied to ``path``, or to the default
+    scene where it switches a built-in effect off), gives none."""
     import warnings
 
-    from apexseal.derive.parameters import Parameter
     from apexseal.derive.submodels import registry
 
-    wiper = _switched_submodel("wiper", "a wiper ahead of the seal",
-                               Parameter("kwp", "N/m", "wiper stiffness", key="contacts.kwp", default=1e4, gt=0))
-    path = _write_scene(tmp_path, "[contacts]", '[contacts]\nkwp = "3 kN/m"')
-    with registry.registered(wiper):
+    with registry.registered(submodel):
         with pytest.warns(IgnoredValueWarning) as caught:
             load_scene(path)
-        assert [str(w.message) for w in caught if w.category is IgnoredValueWarning] == [
-            'scene scene.toml: contacts.kwp = "3 kN/m" is not read: no law reads it while effects.wiper is off '
-            "(switch it on to use it, or leave the key out)"]
+        assert [str(w.message) for w in caught if w.category is IgnoredValueWarning] == [expected]
         with warnings.catch_warnings():
             warnings.simplefilter("error", IgnoredValueWarning)
-            load_scene(path, overrides={"effects.wiper": True})
-            load_scene(path, overrides={"contacts.kwp": "10 kN/m"})  # its default
+            load_scene(path, overrides={f"effects.{submodel.name}": True})
+            for overrides in silent:
+                builtin = any(k.startswith("effects.") for k in overrides)
+                load_scene(None if builtin else path, overrides=overrides)
 
 
 def test_the_command_line_loads_it_with_the_same_warning(tmp_path):
