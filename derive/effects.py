@@ -45,6 +45,17 @@ class EffectError(OptionError):
     """An effect set that names an unknown effect or breaks the hierarchy."""
 
 
+def refuse_unknown(names, slots: dict[str, Option]) -> None:
+    """Raise :class:`EffectError` for the first of ``names`` that is none of the effects ``slots``, naming it and
+    the registered ones: a submodel's effect exists only once the submodel is registered, so an effect set built
+    before that would otherwise leave it off without a word."""
+    for key in names:
+        if key not in slots:
+            raise EffectError(not_known(f"effects.{key}", key, slots, "an effect")
+                              + " (a submodel's effect exists once the submodel is registered or its package "
+                              "installed)")
+
+
 def declared() -> dict[str, Option]:
     """The effect slots of the registered submodels, parents before children."""
     return slots("effects")
@@ -76,9 +87,7 @@ class Effects(TableView):
     def from_mapping(cls, values: dict[str, bool]) -> Effects:
         """Build from a mapping; children of an effect that is off default to off."""
         slots = declared()
-        for key in values:
-            if key not in slots:
-                raise EffectError(not_known(f"effects.{key}", key, slots, "an effect"))
+        refuse_unknown(values, slots)
         resolved: dict[str, bool] = {}
         for name, opt in slots.items():  # parents come before children
             default = opt.default != NONE and (opt.parent is None or resolved[opt.parent])
@@ -87,11 +96,14 @@ class Effects(TableView):
 
     @classmethod
     def only(cls, *names: str) -> Effects:
-        """Just these effects (and the parents they need)."""
+        """Just these effects (and the parents they need); an effect that is not registered is an
+        :class:`EffectError` (it was left off silently: ``Effects.only("cushion")`` before the cushion was
+        registered built a model without it)."""
         slots = declared()
+        refuse_unknown(names, slots)
         on = set(names)
         for name in names:
-            parent = slots[name].parent if name in slots else None
+            parent = slots[name].parent
             while parent is not None:
                 on.add(parent)
                 parent = slots[parent].parent

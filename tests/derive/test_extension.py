@@ -157,6 +157,22 @@ def test_needs_names_an_effect():
     assert not registry.extended()
 
 
+def test_an_effect_named_before_its_submodel_is_registered_is_refused(cushion):
+    """``Effects.only("cushion")`` before the cushion was registered returned every effect off, the cushion's
+    missing: a model derived from it had no cushion, without a word. It is refused, naming the effect and the
+    registered ones, as ``Effects.from_mapping`` and ``Effects(...)`` refuse it; once registered it is on."""
+    from apexseal.derive.effects import EffectError, Effects
+
+    registry.unregister("cushion")
+    with pytest.raises(EffectError, match=r"effects\.cushion is not an effect; known: inertia, .*chamber_pressure "
+                                          r"\(a submodel's effect exists once the submodel is registered"):
+        Effects.only("cushion")
+    with pytest.raises(EffectError, match=r"effects\.cushon is not an effect \(did you mean 'cushion'\?\)"):
+        registry.register(Cushion)
+        Effects.only("inertia", "cushon")
+    assert Effects.only("cushion").on() == ("cushion",)
+
+
 @pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")  # soft contacts
 @pytest.mark.filterwarnings("error::apexseal.generated.manifest.StaleArtefactWarning")
 def test_a_contact_declared_in_a_test_is_derived_generated_and_simulated(cushion, tmp_path):
