@@ -1,4 +1,4 @@
-"""The checks of a submodel's own declarations when it is registered: its parameters and its switch.
+"""The checks of a submodel's own declarations when it is registered: its parameters, guards and switch.
 
 Each check returns what is wrong, in words that name the parameter (or the switch), the value and what is allowed;
 :func:`~.registry.register` refuses the submodel with them, naming it. A mistake that was accepted silently (a
@@ -105,6 +105,67 @@ def _plausible_problems(p: Parameter, name: str) -> list[str]:
         return [f"{name}: plausible={p.plausible!r} has its low end {low!r} above its high end {high!r} (SI low "
                 "first, then SI high)"]
     return []
+
+
+def guard_problems(cls, others) -> list[str]:
+    """What is wrong with the guards submodel ``cls`` declares, given the guards ``others`` of the registered
+    submodels: an output that is not a name, or another guard's; an activation that is not a name, or another
+    guard's (the two contacts would open and close as one); a sign other than +1 or -1; a mode label another
+    guard's labels or a groove case of Algorithm 3 (q1, ..., p2) take, or with an underscore (a mode's label joins
+    the parts with underscores: the housing's open label h0 is how a run finds the tip off the housing)."""
+    from ..modes import CASES, GROOVE_GUARDS
+
+    out: list[str] = []
+    taken_outputs = {g.output: g.name for g in others}
+    taken_activations = {g.activation: g.name for g in others}
+    taken_labels = {lab: g.name for g in others if g.name not in GROOVE_GUARDS for lab in _labels(g)}
+    taken_labels |= {case: "the groove's cases (Algorithm 3)" for case in CASES}
+    for g in cls.guards:
+        name = f"guard {g.name!r}"
+        for field, value, taken in (("output", g.output, taken_outputs), ("activation", g.activation,
+                                                                            taken_activations)):
+            if not isinstance(value, str) or not value.isidentifier():
+                out.append(f"{name}: {field}={value!r} is not a name (letters, digits and underscores: the "
+                           + ("result's column of its gap or penetration)" if field == "output" else
+                              "symbol that is 1 while the contact is closed, e.g. \"s_\" + the guard's name)"))
+            elif value in taken:
+                out.append(f"{name}: {field}={value!r} is already that of guard {taken[value]!r} (give each guard "
+                           "its own)")
+            else:
+                taken[value] = g.name
+        if isinstance(g.sign, bool) or g.sign not in (1, -1):
+            out.append(f"{name}: sign={g.sign!r} is not 1 or -1 (+1: its output is the gap, the guard itself; -1: "
+                       "a penetration or compression, minus the guard)")
+        for label in dict.fromkeys(_labels(g)):
+            if not isinstance(label, str) or "_" in label:
+                out.append(f"{name}: the mode label {label!r} is not a word without underscores (closed_label, "
+                           "open_label: a mode's label joins its parts with underscores)")
+            elif label in taken_labels:
+                owner = taken_labels[label]
+                out.append(f"{name}: the mode label {label!r} is already one of "
+                           + (owner if owner.startswith("the ") else f"guard {owner!r}") + " (its modes would read as "
+                           "another contact's: give it a closed_label and an open_label of its own)")
+            else:
+                taken_labels[label] = g.name
+    return out
+
+
+def _labels(g) -> tuple[str, str]:
+    """A guard's (closed, open) mode label parts: the declared ones, or its name and its name + "0"
+    (derive/modes.py)."""
+    return g.closed_label or g.name, g.open_label or f"{g.name}0"
+
+
+def reference_problems(cls, known) -> list[str]:
+    """The names in the ``oscillators``, ``dampers`` and ``damping_ratios`` of submodel ``cls`` that are none of
+    the parameters ``known`` (the registered ones and its own): a misspelt one failed only when a scene was run,
+    far from its cause."""
+    from ...suggest import did_you_mean
+
+    named = [("oscillators", n) for pair in cls.oscillators for n in pair]
+    named += [("dampers", n) for n in cls.dampers] + [("damping_ratios", n) for pair in cls.damping_ratios for n in pair]
+    return [f"{field} names {n!r}, which is no parameter{did_you_mean(n, known)} (a parameter it or a registered "
+            "submodel declares, by name)" for field, n in named if n not in known]
 
 
 def switch_problem(cls, slots: dict) -> str | None:

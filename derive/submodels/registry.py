@@ -26,7 +26,7 @@ import importlib
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-from ...suggest import not_known
+from ...suggest import did_you_mean, not_known
 from ..options import NONE, ON, Option, need_met, needed_effects, needed_on, resolve
 from ..parameters import Parameter
 from . import declarations
@@ -108,9 +108,13 @@ def origin(cls: type[Submodel]) -> str:
 
 def _check_declarations(cls: type[Submodel]) -> None:
     """Refuse a submodel whose own declarations are wrong (:mod:`.declarations`: its parameters' names, scene keys,
-    ranges, defaults and units (present), its switch), naming it and each mistake. What pint reads of the units is
-    checked by the scene layer when it builds its tables (runtime/scenes/declared_units.py)."""
+    ranges, defaults and units (present), its guards' outputs, activations, signs and mode labels, the parameters
+    its oscillators, dampers and damping ratios name, its switch), naming it and each mistake. What pint reads of
+    the units is checked by the scene layer when it builds its tables (runtime/scenes/declared_units.py)."""
     problems = declarations.parameter_problems(cls)
+    problems += declarations.guard_problems(cls, [g for c in _registry.values() for g in c.guards])
+    problems += declarations.reference_problems(cls, {p.name for c in (*_registry.values(), cls)
+                                                      for p in c.parameters})
     slots = {o.name: o for c in (*_registry.values(), cls) for o in c.options}
     problems += [p for p in (declarations.switch_problem(cls, slots),) if p is not None]
     if problems:
@@ -124,10 +128,11 @@ def _check_needs(cls: type[Submodel]) -> None:
     slots = {o.name: o for c in (*_registry.values(), cls) for o in c.options}
     effects = {n for n, o in slots.items() if o.table == "effects"}
     choices = {f"{n}={c}" for n, o in slots.items() if o.table != "effects" for c in o.choices}
-    unknown = sorted({n for p in cls.parameters for n in needed_effects(p.needs)} - effects - choices)
+    unknown = [f"parameter {p.name!r}: needs={n!r}{did_you_mean(n, [*effects, *choices])}" for p in cls.parameters
+               for n in needed_effects(p.needs) if n not in effects | choices]
     if unknown:
-        raise RegistryError(f"submodel {cls.name!r} declares parameters that need what is not an effect: "
-                            f"{', '.join(unknown)} (needs names an effect, a switch of [effects], "
+        raise RegistryError(f"submodel {cls.name!r} ({origin(cls)}) declares parameters that need what is not an "
+                            f"effect: {'; '.join(unknown)} (needs names an effect, a switch of [effects], "
                             "or a choice of [assumptions] as \"slot=choice\")")
     undefaulted = sorted(p.name for p in cls.parameters if p.default is None and not p.optional
                          and any("=" in n for n in needed_effects(p.needs)))
@@ -170,10 +175,12 @@ def register(cls: type[Submodel], *, check_needs: bool = True) -> type[Submodel]
         if clash:
             raise RegistryError(f"submodel {cls.name!r} declares {what}s that exist already: "
                                 + ", ".join(f"{n} (the {owners[n]}'s)" for n in clash))
-    keys = {p.key: p.name for p in parameters(all_inputs=True) if p.key is not None}
-    taken = sorted(f"{p.key} (already {keys[p.key]}'s)" for p in cls.parameters if p.key in keys)
+    keys = {p.key: (p.name, c.name) for c in submodels() for p in c.parameters if p.key is not None}
+    taken = sorted(f"parameter {p.name!r}: key={p.key!r} is already that of parameter {keys[p.key][0]!r} of the "
+                   f"{keys[p.key][1]}" for p in cls.parameters if p.key in keys)
     if taken:
-        raise RegistryError(f"submodel {cls.name!r} declares scene keys that exist already: {', '.join(taken)}")
+        raise RegistryError(f"submodel {cls.name!r} ({origin(cls)}) declares scene keys that exist already: "
+                            f"{'; '.join(taken)} (give each parameter a key of its own)")
     own = cls.contact_names or (cls.name,)
     strays = sorted({g.contact or cls.name for g in cls.guards} - set(own))
     if strays:

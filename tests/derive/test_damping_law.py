@@ -109,7 +109,8 @@ def test_a_parameter_may_need_a_modelling_choice_with_a_default_only():
                                           "parameters": (Parameter("eta", "1", "film ratio", key="friction.eta", ge=0,
                                                                    **kw),)})
 
-    with pytest.raises(registry.RegistryError, match=r"need what is not an effect: damping_law=bogus"):
+    with pytest.raises(registry.RegistryError, match=r"need what is not an effect: parameter 'eta': "
+                                                     r"needs='damping_law=bogus'"):
         registry.register(film(default=1.0, needs="damping_law=bogus"))
     with pytest.raises(registry.RegistryError, match=r"a modelling choice reads without a default: eta"):
         registry.register(film(needs="damping_law=penetration"))

@@ -87,6 +87,60 @@ def test_a_switch_no_option_declares_is_refused():
         registry.register(nope)
 
 
+def _guarded(**changes) -> type[Submodel]:
+    """A submodel "zz" with one parameter and one guard, the guard's declaration (or the class's) changed by
+    ``changes``."""
+    guard = {"name": "gzz", "activation": "s_zz", "meaning": "a gap", "output": "zz_gap", "closed_label": "z",
+             "open_label": "z0"}
+    attrs = {k: changes.pop(k) for k in ("oscillators", "dampers", "damping_ratios") if k in changes}
+    return type("ZZ", (Submodel,), {"name": "zz", "__module__": "elsewhere", "guards": (Guard(**guard | changes),),
+                                    "parameters": _with().parameters} | attrs)
+
+
+@pytest.mark.parametrize(("changes", "message"), [
+    ({"output": ""}, r"guard 'gzz': output='' is not a name"),
+    ({"output": None}, r"guard 'gzz': output=None is not a name"),
+    ({"output": "xs5"}, r"guard 'gzz': output='xs5' is already that of guard 'xs5'"),
+    # it shared the housing's activation symbol: the two contacts opened and closed as one
+    ({"activation": "s_h"}, r"guard 'gzz': activation='s_h' is already that of guard 'xs5'"),
+    ({"sign": 2}, r"guard 'gzz': sign=2 is not 1 or -1"),
+    # a run read the modes "*_h0_*" of the cushion open as the tip off the housing
+    ({"closed_label": "h", "open_label": "h0"}, r"guard 'gzz': the mode label 'h' is already one of guard 'xs5'"),
+    ({"closed_label": "q1"}, r"guard 'gzz': the mode label 'q1' is already one of the groove's cases"),
+    ({"open_label": "z_0"}, r"guard 'gzz': the mode label 'z_0' is not a word without underscores"),
+    # a misspelt parameter failed only when a scene was run (a KeyError in the stability or damping checks)
+    ({"oscillators": (("kzz", "cs"),)}, r"oscillators names 'kzz', which is no parameter"),
+    ({"dampers": ("c_zzz",)}, r"dampers names 'c_zzz', which is no parameter \(did you mean 'c_zz'\?\)"),
+    ({"damping_ratios": (("c_zz", "zeta_zz"),)}, r"damping_ratios names 'zeta_zz', which is no parameter"),
+])
+def test_a_wrong_guard_or_parameter_reference_is_refused_at_registration(changes, message):
+    """Each was accepted at registration: an empty or taken output, a taken activation, a sign other than +-1, a
+    mode label of another contact or a groove case, a stability check's parameter that does not exist. Refused,
+    naming the submodel, the guard or field, and the value."""
+    with pytest.raises(registry.RegistryError, match=r"submodel 'zz' \(from module elsewhere\): " + message):
+        registry.register(_guarded(**changes))
+    assert "zz" not in {c.name for c in registry.submodels()}
+    registry.register(_guarded())  # the same submodel without the mistake
+    registry.unregister("zz")
+
+
+def test_a_misspelt_need_or_a_taken_scene_key_names_the_parameter():
+    """The messages named the misspelt need alone (``need what is not an effect: cushon``) and the taken key with
+    its owner's parameter, not which of the submodel's parameters declared it nor whose the key is."""
+    cushion = type("ZZ", (Submodel,), {"name": "zz", "__module__": "elsewhere", "switch": "zz",
+                                       "options": (Option("zz", (NONE, ON), "a pad"),),
+                                       "parameters": (_with(needs="zzz").parameters[0],)})
+    with pytest.raises(registry.RegistryError, match=r"submodel 'zz' \(from module elsewhere\) declares parameters "
+                                                     r"that need what is not an effect: parameter 'c_zz': needs='zzz' "
+                                                     r"\(did you mean 'zz'\?\)"):
+        registry.register(cushion)
+    with pytest.raises(registry.RegistryError, match=r"submodel 'zz' \(from module elsewhere\) declares scene keys "
+                                                     r"that exist already: parameter 'c_zz': key='contacts.kw' is "
+                                                     r"already that of parameter 'kw' of the housing"):
+        registry.register(_with(key="contacts.kw"))
+    assert "zz" not in {c.name for c in registry.submodels()}
+
+
 def test_the_built_in_declarations_pass_every_check():
     """The built-in submodels skip the units' check of the scene layer (pint is not imported for them): they pass it
     and the registry's own."""
