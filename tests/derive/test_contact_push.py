@@ -33,16 +33,16 @@ def cushion(guard_sign: int = 1, pull: bool = False) -> type[Submodel]:
         switch = "cushion"
         parameters = (
             Parameter("kb", "N/m", "cushion stiffness", key="contacts.kb", default=2e5, gt=0),
-            Parameter("hb", "m", "height of the back face above rest below which the cushion acts",
-                      key="contacts.hb", default=4e-6, sign="real"),
+            Parameter("hb", "m", "depth of the back face below its rest position at which the cushion closes",
+                      key="contacts.hb", default=4e-6, gt=0),
         )
         options = (Option("cushion", (NONE, ON), "the cushion under the seal's back face"),)
-        guards = (Guard("cb", "s_cb", "height of the back face above hb", output="cushion_gap", sign=1,
-                        closed_label="c", open_label="c0"),)
+        guards = (Guard("cb", "s_cb", "height of the back face above the cushion, hb below its rest position",
+                        output="cushion_gap", sign=1, closed_label="c", open_label="c0"),)
 
         def contacts(self, ctx):
             g, P = ctx.g, ctx.P
-            gap = g.X_s6 + P["ds2"] - P["hb"]
+            gap = g.X_s6 + P["ds2"] + P["hb"]
             force = laws.penalty(P["kb"], -gap, ctx.activation(self.guards[0])) * ctx.k.G.x
             return [ContactModel("cushion", [Load("cb", g.r_s6, -force if pull else force)], guard_name="cb",
                                  guard=guard_sign * gap)]
