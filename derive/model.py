@@ -201,7 +201,8 @@ def derive_model(effects: Effects | None = None, assumptions: Assumptions | None
             vguards.update(own_vguards)
             outputs.update(forces)
             parts[cls.name] = parts.get(cls.name, sp.S.Zero) + forces[f"F_{c.name}_X"]
-        rest_balance.check(eq.forcing[0], activations, options, parts)  # Eq. 9: the laws balance at rest with delta_w
+        # Eq. 9: the laws balance at rest with delta_w, every contact closed there in it
+        rest_balance.check(eq.forcing[0], guards, activations, options, parts)
     pf = [e for n, e in outputs.items() if n.startswith("Pf_")]
     outputs["Pf_total"] = sum(pf, sp.S.Zero)
     own = [n for n in state_names(options) if n not in STATE_NAMES]

@@ -474,11 +474,34 @@ def test_an_error_in_a_users_laws_names_the_submodel(tmp_path):
     assert "ModuleNotFoundError" in message and "switch it off in the scene" in message
 
 
+def _guide_python_blocks() -> list[str]:
+    """The Python blocks of docs/extending.md, in order."""
+    import re
+
+    guide = (Path(__file__).parents[2] / "docs" / "extending.md").read_text()
+    return re.findall(r"```python\n(.*?)```", guide, flags=re.S)
+
+
+def test_the_guide_s_cushion_is_open_at_rest_and_derived_as_written():
+    """docs/extending.md's cushion, run from the guide's own text (without its registry.register line): a bump stop
+    open at rest, it passes the rest balance of Eq. 9 and the push check. As first written (its gap the back face's
+    height less hb) it was closed at rest, pushing kb hb there, and derived only because the rest balance took
+    every contact but the housing and the spring as open: every run with it started out of balance."""
+    from apexseal.derive import derive_model
+    from apexseal.derive.effects import Effects
+
+    source = next(b for b in _guide_python_blocks() if "class Cushion" in b).split("\n\n\nregistry.register")[0]
+    namespace = {"__name__": "guide"}
+    exec(compile(source, "docs/extending.md", "exec"), namespace)  # noqa: S102 - the guide's text
+    with registry.registered(namespace["Cushion"]):
+        model = derive_model(Effects.only("spring", "housing_contact", "cushion"))
+    assert "cb" in model.guards and "F_cushion_X" in model.outputs
+
+
 def test_the_guide_s_load_that_always_acts_is_derived_as_written():
     """docs/extending.md's second example (a guardless ContactModel, the crank angle, a "real" angle), run from the
     guide's own text: its force peaks at Fe along the seal's Ys axis at theta = theta_e."""
     import re
-    from pathlib import Path
 
     import sympy as sp
 
@@ -486,8 +509,7 @@ def test_the_guide_s_load_that_always_acts_is_derived_as_written():
     from apexseal.derive.model import submodel_contacts
     from apexseal.derive.symbols import theta
 
-    guide = (Path(__file__).parents[2] / "docs" / "extending.md").read_text()
-    blocks = re.findall(r"```python\n(.*?)```", guide, flags=re.S)
+    blocks = _guide_python_blocks()
     imports = next(b for b in blocks if "class Cushion" in b).split("\n\n\nclass")[0]
     source = next(b for b in blocks if "class SideLoad" in b)
     # the guide's submodels import sympy in their laws only (a top-level import is paid by every run)

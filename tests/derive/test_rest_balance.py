@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from apexseal.derive import derive_model
+from apexseal.derive import derive_model, rest_balance
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.choices import options_of
 from apexseal.derive.effects import Effects
@@ -25,7 +25,7 @@ from apexseal.derive.paper_check import values as paper_values
 from apexseal.derive.parameters import Parameter
 from apexseal.derive.rest_balance import RestBalanceError
 from apexseal.derive.submodels import laws, registry
-from apexseal.derive.submodels.base import ContactModel, Load, Submodel
+from apexseal.derive.submodels.base import ContactModel, Guard, Load, Submodel
 from apexseal.derive.submodels.registry import activation_symbols
 from apexseal.derive.submodels.seal import SealBody
 from apexseal.derive.submodels.spring import SpringContact
@@ -154,6 +154,39 @@ def test_a_users_load_at_rest_is_refused_naming_the_submodels_in_the_balance():
     assert isinstance(info.value, registry.RegistryError)
     assert re.search(r"the submodels' X forces there: (spring|housing|push) .*push \d\.\d+ N", str(info.value))
     assert re.search(r"spring -?\d[.\d]* N", str(info.value)) and re.search(r"housing -?\d[.\d]* N", str(info.value))
+
+
+class PreloadedCushion(Submodel):
+    """docs/extending.md's cushion as it was: a linear spring at s6 closed while the back face is less than hb above
+    its rest position, so closed at rest (its gap -hb) and pushing kb hb along the groove axis there."""
+
+    name = "cushion"
+    switch = "cushion"
+    parameters = (Parameter("kb", "N/m", "cushion stiffness", key="contacts.kb", default=2e5, gt=0),
+                  Parameter("hb", "m", "height of the back face above rest below which the cushion acts",
+                            key="contacts.hb", default=4e-6, sign="real"))
+    options = (Option("cushion", (NONE, ON), "the cushion under the seal's back face"),)
+    guards = (Guard("cb", "s_cb", "height of the back face above hb", output="cushion_gap", sign=1,
+                    closed_label="c", open_label="c0"),)
+
+    def contacts(self, ctx):
+        gap = ctx.g.X_s6 + ctx.P["ds2"] - ctx.P["hb"]
+        force = laws.penalty(ctx.P["kb"], -gap, ctx.activation(self.guards[0])) * ctx.k.G.x
+        return [ContactModel("cushion", [Load("cb", ctx.g.r_s6, force)], guard_name="cb", guard=gap)]
+
+
+def test_a_users_contact_closed_at_rest_is_in_the_balance_and_refused_naming_it():
+    """The check closed only the housing and the spring at rest and took every other contact as open, so a user's
+    contact closed at rest (the cushion docs/extending.md showed, preloaded by kb hb) was never in the balance:
+    every run with it started out of balance, silently. Now a contact whose guard is negative at the test point is
+    closed there, and the error names the cushion with its force kb hb."""
+    with registry.registered(PreloadedCushion):
+        values = rest_balance._point(0, registry.parameter_names(all_inputs=True))  # the first test point
+        with pytest.raises(RestBalanceError) as info:
+            derive_model(Effects.only("spring", "housing_contact", "cushion"))
+    message = str(info.value)
+    assert re.search(rf"the submodels' X forces there: .*cushion {float(values['kb'] * values['hb']):.6g} N", message)
+    assert re.search(r"the contacts of guards [^)]*\bcb\b[^)]*closed there", message)
 
 
 def test_the_command_line_reports_a_rest_balance_error_as_an_error_line(monkeypatch):
