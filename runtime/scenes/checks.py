@@ -578,14 +578,22 @@ def ignored_values(ignored: list[Problem]) -> str:
     from apexseal.derive.options import needed_effects
     from apexseal.derive.submodels.registry import unmet
 
-    shown, choices = [], False
+    shown, needs = [], []
     for p in ignored:
         need = key_needing(p.key)
-        choices = choices or any("=" in n for n in needed_effects(need))
+        needs.extend(needed_effects(need))
         shown.append(f"{p.key} = {show_value(p.value)} (not read while {unmet(need)}; allowed: "
                      f"{p.message.partition('allowed: ')[2]})")
-    return (f"ignored, out of range but read by no law of the scene's model: {', '.join(shown)}; switching the "
-            f"effect on {'or making the choice ' if choices else ''}makes it an error")
+    remedy = {"on": "switching the effect on", "choice": "making the choice",
+              "both": "switching the effect on or making the choice"}[_remedy(needs)]
+    return f"ignored, out of range but read by no law of the scene's model: {', '.join(shown)}; {remedy} makes it an error"
+
+
+def _remedy(needs) -> str:
+    """What reads a key that no law reads: ``"on"`` (an effect switched on), ``"choice"`` (a modelling choice made:
+    the entries of ``needs`` written ``slot=choice``) or ``"both"``."""
+    choices = [n for n in needs if "=" in n]
+    return "both" if choices and len(choices) < len(needs) else "choice" if choices else "on"
 
 
 def check_unread_tables(raw: dict[str, Any], sections: dict[str, Section], effects: Effects,
@@ -618,13 +626,23 @@ def check_unread_tables(raw: dict[str, Any], sections: dict[str, Section], effec
             continue
         if len(own) == len(keys):
             off = " and ".join(dict.fromkeys(unmet(key_needing(k)) for k in keys))
-            out.append(f"[{table}] is not read: no law reads {', '.join(keys)} while {off} (switch it on to use "
-                       "them, or leave the table out)")
+            out.append(f"[{table}] is not read: no law reads {', '.join(keys)} while {off} "
+                       f"({_to_use(keys, 'them')}, or leave the table out)")
             continue
         for k in changed:  # a user's or a package's key in a table other laws read ([contacts])
             out.append(f"{k} = {show_value(given[declared[k].leaf])} is not read: no law reads it while "
-                       f"{unmet(key_needing(k))} (switch it on to use it, or leave the key out)")
+                       f"{unmet(key_needing(k))} ({_to_use([k], 'it')}, or leave the key out)")
     return out
+
+
+def _to_use(keys, pronoun: str) -> str:
+    """The advice of :func:`check_unread_tables` for ``keys`` no law reads: switch their effect on, make their
+    modelling choice, or either."""
+    from apexseal.derive.options import needed_effects
+
+    remedy = _remedy([n for k in keys for n in needed_effects(key_needing(k))])
+    return {"on": f"switch it on to use {pronoun}", "choice": f"make that choice to use {pronoun}",
+            "both": f"switch the effect on or make the choice to use {pronoun}"}[remedy]
 
 
 def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure: Any,

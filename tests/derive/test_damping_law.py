@@ -92,8 +92,8 @@ def test_delta_ref_is_read_only_under_its_choice(default_scene):
     assert "delta_ref" in registry.parameter_names(opts=Options({"damping_law": "penetration"}))
     assert "delta_ref" not in default_scene.parameters
     with pytest.warns(IgnoredValueWarning, match=r"contacts\.delta_ref = -1\.0 \(not read while assumptions\."
-                                                 r"damping_law is not 'penetration'; allowed: .*\); switching the "
-                                                 r"effect on or making the choice makes it an error"):
+                                                 r"damping_law is not 'penetration'; allowed: .*\); making the "
+                                                 r"choice makes it an error"):
         default_scene.with_overrides(**{"contacts.delta_ref": -1.0})
     with pytest.raises(SceneError, match=r"contacts\.delta_ref = -1\.0: .* out of range; allowed: 0 < value"):
         default_scene.with_overrides(**{"contacts.delta_ref": -1.0, "assumptions.damping_law": "penetration"})

@@ -185,6 +185,29 @@ def test_a_key_of_a_packages_submodel_that_is_off_in_a_built_in_table_warns(tmp_
                           silent=({"contacts.kwp": "10 kN/m"},))  # its default
 
 
+def test_a_key_read_only_under_a_modelling_choice_asks_for_the_choice(tmp_path):
+    """A package's key read only under a modelling choice of its own (``needs="wiper_law=cubic"``) warned "switch it
+    on to use it" while its submodel was on and the choice not made: the advice of an effect, not of a choice."""
+    from apexseal.derive.options import NONE, ON, Option
+    from apexseal.derive.parameters import Parameter
+    from apexseal.derive.submodels import registry
+    from apexseal.derive.submodels.base import Submodel
+
+    wiper = type("Wiper", (Submodel,), {
+        "name": "wiper", "__module__": "elsewhere", "switch": "wiper",
+        "options": (Option("wiper", (NONE, ON), "a wiper ahead of the seal"),
+                    Option("wiper_law", ("linear", "cubic"), "the wiper's law", table="assumptions")),
+        "parameters": (Parameter("kwp3", "N/m**3", "cubic stiffness", key="contacts.kwp3", default=1e12, ge=0,
+                                 needs="wiper_law=cubic"),)})
+    path = _write_scene(tmp_path, "[contacts]", '[contacts]\nkwp3 = "2e12 N/m**3"')
+    with registry.registered(wiper):
+        with pytest.warns(IgnoredValueWarning) as caught:
+            load_scene(path, overrides={"effects.wiper": True})
+    assert [str(w.message) for w in caught if w.category is IgnoredValueWarning] == [
+        'scene scene.toml: contacts.kwp3 = "2e12 N/m**3" is not read: no law reads it while assumptions.wiper_law '
+        "is not 'cubic' (make that choice to use it, or leave the key out)"]
+
+
 def _switched_submodel(name: str, meaning: str, parameter):
     """A user's submodel (defined elsewhere than apexseal) with one parameter and the option ``name`` that switches
     it on, off by default."""
