@@ -255,6 +255,10 @@ class PreloadSetup:
         if self.rtol is None:
             self.rtol = self.scene.solver.rtol
         self.settings()  # rtol and flags checked as a run checks them (a SettingsError names the field and range)
+        if coarse := coarse_pressure(self.scene, self.samples):
+            from ....stacklevel import user_stacklevel
+
+            warnings.warn(coarse, UserWarning, stacklevel=user_stacklevel())
         self.rtol = float(self.rtol)
         self._engine = None
         self._mapped: dict[int, ca.Function] = {}
@@ -527,6 +531,28 @@ def option_problems(**options) -> dict[str, str]:
         f"samples = {v!r}: must be an integer in 36..100000 (samples per revolution)",
     }
     return {k: p for k, v in options.items() if (p := checks[k](v))}
+
+
+def coarse_pressure(scene, samples: int) -> str | None:
+    """Why a study on ``samples`` output samples a revolution integrates other chamber pressures than
+    ``apexseal simulate`` of the same scene, or None. The study's integrators take the pressures linear (or held
+    at their mean) over each output interval; a run cuts each interval into ``pressure_substeps`` parts when the
+    scene's pressure table has more rows a revolution than it has samples (runtime/solving/run.py), so that it sees
+    every row. Coarser than the table, the study cuts the table's corners: its optimum, friction power and
+    smallest force are those of another pressure input than a simulation of its scene.toml."""
+    from ...solving.run import pressure_substeps
+
+    if not scene.effects.chamber_pressure:
+        return None
+    sub = pressure_substeps(scene.pressure, samples)
+    if sub == 1:
+        return None
+    rows = scene.pressure.rows_per_revolution()
+    return (f"samples = {samples}: coarser than the scene's pressure table ({rows} rows a revolution): the study "
+            f"takes the chamber pressures {scene.solver.pressure} over each of its {samples} intervals and cuts "
+            f"the table's corners, while apexseal simulate of the same scene (the report's scene.toml) cuts each "
+            f"interval into {sub} to see every row, so its numbers differ from the study's (the transients after "
+            f"the chamber switches most); allowed for the same pressures: samples >= {rows}")
 
 
 def check_request(scene, min_force, samples, revolutions, max_groove_force=None) -> None:
