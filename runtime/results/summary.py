@@ -11,6 +11,7 @@ import numpy as np
 
 from ...derive.names import STATE_NAMES
 from .checked import checked
+from .energy import energy_balance
 from .gas import last_revolution
 from .result import SimulationResult, run_mean
 from .spectra import housing_force, spectral_peaks, spectrum
@@ -42,7 +43,10 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     is the part of the run with the seal tip off the housing (:func:`.liftoff.liftoff`: ``fraction`` of the samples,
     the ``longest_deg`` stretch and its start ``longest_from_deg``, ``ok`` false when it is most of the run); null
     for a model without the housing contact. ``wear`` is where and how fast the seal slides on its walls and
-    Archard's sliding work there, with the seal's mass and length (:func:`.wear.wear`). ``last_revolution`` (runs
+    Archard's sliding work there, with the seal's mass and length (:func:`.wear.wear`). ``energy_balance`` is the
+    seal's energy balance over the samples (:func:`.energy.energy_balance`): its ``residual_J_per_rev`` is the work
+    the samples miss, and ``closes`` false says that the contacts' works, friction powers and sliding works as
+    small as it are sums over samples that do not resolve them. ``last_revolution`` (runs
     of two revolutions or more) holds the same numbers (:func:`run_quantities`) over the last revolution alone
     (``from_deg``..``to_deg`` of crank angle from the run's start): without the start-up from rest, the periodic
     regime of a run that went until periodic; the spectrum, the chamber gas (already its last revolution) and the
@@ -96,6 +100,8 @@ def run_quantities(result: SimulationResult) -> dict:
     out["liftoff"] = checks.liftoff
     # sliding speeds and Archard's sliding work at each contact, the seal's mass and length (null: no sliding output)
     out["wear"] = wear(result)
+    # whether the samples resolve the loads' work: the seal's energy balance over them (null: no scene, no load)
+    out["energy_balance"] = energy_balance(result)
     out["events"] = {g: int(result.events[i, -1]) for i, g in enumerate(result.guard_names)}
     out["events_total"] = int(result.events[:, -1].sum()) if result.events.size else 0
     means = {k[3:]: run_mean(v) for k, v in result.outputs.items() if k.startswith("Pf_")}

@@ -234,6 +234,11 @@ def describe_result(result, summary: dict) -> None:
     worn = measured_part(summary).get("wear")  # the part sweeps and compare read (runtime/results/wear.py)
     if worn is not None:
         click.echo(f"  {describe_wear(worn)}" + (" (last revolution)" if worn is not summary.get("wear") else ""))
+    balance = measured_part(summary).get("energy_balance")  # runtime/results/energy.py
+    if balance is not None and not balance["closes"]:  # a note: the default sampling does not close it
+        from .runtime.results.energy import describe_balance
+
+        click.echo(f"  note: {describe_balance(balance, summary.get('samples_per_revolution'))}")
     sampling = summary.get("sampling")
     if sampling is not None and not sampling["resolved"]:  # a note, not a warning: the default sampling is one
         click.echo(f"  note: {describe_sampling(sampling)}")
