@@ -113,7 +113,7 @@ def guard_problems(cls, others) -> list[str]:
     guard's (the two contacts would open and close as one); a sign other than +1 or -1; a mode label another
     guard's labels or a groove case of Algorithm 3 (q1, ..., p2) take, or with an underscore (a mode's label joins
     the parts with underscores: the housing's open label h0 is how a run finds the tip off the housing)."""
-    from ..modes import CASES, GROOVE_GUARDS
+    from ..groove_cases import CASES, GROOVE_GUARDS
 
     out: list[str] = []
     taken_outputs = {g.output: g.name for g in others}

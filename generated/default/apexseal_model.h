@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 39fc46ba3083ab8af86574d4e80d45189a7bbac4d004e0fa4d68b14d9a3d0475.
+ * Effects: all. Input hash: 0945c7e213baa716648ca41fda1a9ceb4363e6b027ae7d4ff839d64f7d5275e1.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "39fc46ba3083ab8af86574d4e80d45189a7bbac4d004e0fa4d68b14d9a3d0475"
+#define APEXSEAL_INPUT_HASH "0945c7e213baa716648ca41fda1a9ceb4363e6b027ae7d4ff839d64f7d5275e1"
 
 /* state x */
 #define APEXSEAL_NX 6
