@@ -53,7 +53,7 @@ PARTS = "parts"
 #: files and folders a result folder may hold (anything else makes :func:`check_replaceable` refuse)
 KNOWN = {"result.json", "summary.json", "trajectory.csv", "trajectory.npz", PARTS, "scene.toml", "pressure.csv"}
 KNOWN_SUFFIXES = (".png", ".svg", ".pdf")
-#: parts of a run kept in memory up to this many bytes (about 140 revolutions of the default scene), so that
+#: parts of a run kept in memory up to this many bytes (about 130 revolutions of the default scene, 2.02 MB each), so that
 #: :meth:`ResultFolder.finish` joins them instead of reading the folder back; a longer run is read back
 KEEP_BYTES = 256 * 2**20
 
