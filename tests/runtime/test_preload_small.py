@@ -12,6 +12,8 @@ groove-force excess quadrature is zero exactly when a bound holds, and its Jacob
 
 from __future__ import annotations
 
+import re
+
 import casadi as ca
 import numpy as np
 import pytest
@@ -157,6 +159,13 @@ def test_a_study_run_from_python_writes_the_command_s_report(studies, light, tmp
     assert written.content_hash() == light[0].with_overrides(**{"solver.samples_per_revolution": SAMPLES}).content_hash()
     assert f"the samples the study ran (the scene's {light[0].solver.samples_per_revolution})" in \
         (out / "scene.toml").read_text()
+    # preload.md says how to simulate the constant optimum (scene.toml keeps the scene's preload), and that a
+    # schedule has no scene key: the --set value it gives is the optimum to 6 digits
+    md = (out / "preload.md").read_text()
+    given = re.search(r'`apexseal simulate scene.toml --set spring.delta_s="([^"]+)"`', md).group(1)
+    optimum = load_scene(out / "scene.toml", overrides={"spring.delta_s": given}).spring.delta_s
+    assert optimum == pytest.approx(c.delta_s, rel=1e-5) and written.spring.delta_s == c.scene_delta_s != optimum
+    assert "A schedule has no scene key" in md
     failed = dataclasses.replace(c, ok=False, message="interrupted by the user")
     failed.__dict__["scene"] = c.scene
     with pytest.warns(KeptAsideWarning):

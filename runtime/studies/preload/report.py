@@ -150,6 +150,7 @@ def markdown(scene_name: str, results: dict, bisection=None, valley=None, overri
         lines += [f"Scene keys replaced (--set): {_shown(overrides)}.", ""]
     if scene_file:
         lines += ["The scene that ran, every value explicit: `scene.toml`.", ""]
+        lines += simulate_lines(results)
     for key, r in results.items():
         if r is None:
             continue
@@ -168,6 +169,23 @@ def markdown(scene_name: str, results: dict, bisection=None, valley=None, overri
                   f"friction power {s.friction_power:.3f} W vs {c.friction_power:.3f} W: saved {saved:.3f} W "
                   f"({100 * saved / c.friction_power:.2f} %)", ""]
     return "\n".join(lines)
+
+
+def simulate_lines(results: dict) -> list[str]:
+    """preload.md's lines on simulating the design with ``apexseal simulate``: the constant optimum is the scene's
+    ``spring.delta_s`` (scene.toml keeps the scene's own preload, the study's start); a schedule has no scene key,
+    so its numbers are the study's re-simulation only."""
+    c, s = results.get("constant"), results.get("schedule")
+    lines = []
+    if c is not None and c.ok and c.delta_s is not None:
+        lines += ["Simulate the constant optimum: `apexseal simulate scene.toml --set "
+                  f'spring.delta_s="{c.delta_s / MM:.6g} mm"` (scene.toml keeps the scene\'s own preload, '
+                  f"{c.scene_delta_s / MM:.6g} mm).", ""]
+    if s is not None:
+        lines += ["A schedule has no scene key (`spring.delta_s` is one constant): its numbers here are the study's "
+                  "re-simulation with the same model and integrator; `apexseal simulate` runs constant preloads only.",
+                  ""]
+    return lines
 
 
 def saved_friction_power(results: dict) -> float | None:
