@@ -45,36 +45,6 @@ def pf_total_at_samples(pf, xf, theta0, delta_s):
     return Y[tuple(s.functions.output_names).index("Pf_total")]
 
 
-#: the preload of :func:`resimulated_and_simulated` (m): about the optimum of a 72-sample study of the soft-contacts
-#: scene with its chamber pressures (min_force 5 N, windows 0:10 and 180:190: 6.409 mm)
-NEAR_OPTIMUM = 6.4e-3
-
-
-def resimulated_and_simulated(scene, folder, n=72, d=NEAR_OPTIMUM):
-    """The study's re-simulation of the constant preload ``d`` on ``n`` samples (4 nodes; CasADi's own evaluation),
-    as it re-simulates an optimum (periodic.periodic), and ``apexseal.simulate`` of the report's scene.toml (written
-    to ``folder``, with its pressure table) at ``d`` for as many revolutions. No warning from the study."""
-    import warnings
-
-    from apexseal.runtime.studies.preload.periodic import periodic
-    from apexseal.runtime.studies.preload.report import _write_scene
-    from apexseal.runtime.studies.preload.schedule import SegmentGrid
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")  # no warning any more: the pressures are the same
-        pf = apexseal.preload_functions(scene, samples=n, per_interval=n // 4, min_force=5.0, compile_c=False)
-    s = pf.setup
-    sim = periodic(s, pf.study, SegmentGrid(n, 4, 1, s.theta_start, s.dth), np.array([d]), s.min_force, ())
-    revolutions = round((sim.thetas[0] - s.dth - s.theta_start) / (2 * np.pi)) + 1
-    _write_scene(folder, scene, None, n)  # the report's scene.toml (and its pressure table)
-    written = apexseal.load_scene(folder / "scene.toml", overrides={"spring.delta_s": d})
-    assert written.solver.samples_per_revolution == n
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the soft contacts' implausible penetration
-        run = apexseal.simulate(written, revolutions=revolutions, method="erk")
-    return pf, sim, run
-
-
 def test_every_slot_is_named(small):
     _, pf, _, _ = small
     f, s = pf.interval, pf.setup
@@ -207,18 +177,6 @@ if __name__ == "__main__":  # the numbers of docs/preload.md, "The study's Funct
           f"contact_friction_power (at the samples) {', '.join(f'{k} {v:.3f}' for k, v in contacts.items())} W, "
           f"sum {sum(contacts.values()):.3f} W")
 
-    import tempfile
-    from pathlib import Path
-
-    with tempfile.TemporaryDirectory() as folder:  # with its chamber pressures: 10 sub-steps a sample
-        pf, sim, run = resimulated_and_simulated(apexseal.load_scene(embedded_scene_path("soft-contacts.toml")),
-                                                 Path(folder))
-    at = run.outputs["Pf_total"][-pf.setup.samples:]
-    print(f"with chamber pressure, {pf.setup.samples} samples ({pf.substeps} sub-steps each), "
-          f"{NEAR_OPTIMUM / 1e-3:g} mm, {round(run.revolutions)} revolutions: study's mean of Pf_total at the samples "
-          f"{sum(contact_powers(pf.setup, sim).values()):.4f} W, its quadrature {sim.friction_power:.4f} W, "
-          f"simulate() of scene.toml {at.mean():.4f} W")
-
 
 def test_it_takes_the_study_s_quantities_as_optimise_preload_does():
     """preload_functions refused min_force="5 N", which optimise_preload takes; a text that is no force names the
@@ -239,12 +197,28 @@ def test_a_study_coarser_than_the_pressure_table_re_simulates_what_simulate_of_i
     samples of the report's scene.toml at that preload and the same samples, the mean friction power at them to
     1e-4 (the quadratures enter the study's error control: other steps, rtol-level differences), and its friction
     quadrature within the rectangle rule's error of that mean."""
-    from apexseal.runtime.studies.preload.result import contact_powers
+    import warnings
 
-    assert soft_scene.pressure.rows_per_revolution() == 720  # the embedded expander table
-    pf, sim, run = resimulated_and_simulated(soft_scene, tmp_path)
-    s, n = pf.setup, pf.setup.samples
+    from apexseal.runtime.studies.preload.periodic import periodic
+    from apexseal.runtime.studies.preload.report import _write_scene
+    from apexseal.runtime.studies.preload.result import contact_powers
+    from apexseal.runtime.studies.preload.schedule import SegmentGrid
+
+    rows, n, d = soft_scene.pressure.rows_per_revolution(), 72, 6.4e-3  # about the 72-sample study's optimum
+    assert rows == 720  # the embedded expander table
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no warning any more: the pressures are the same
+        pf = apexseal.preload_functions(soft_scene, samples=n, per_interval=n // 4, min_force=5.0, compile_c=False)
+    s = pf.setup
     assert pf.substeps == s.substeps == 10 and pf.interval.size_in("u") == (4, 10 * n // 4)
+    sim = periodic(s, pf.study, SegmentGrid(n, 4, 1, s.theta_start, s.dth), np.array([d]), s.min_force, ())
+    revolutions = round((sim.thetas[0] - s.dth - s.theta_start) / (2 * np.pi)) + 1
+
+    _write_scene(tmp_path, soft_scene, None, n)  # the report's scene.toml (and its pressure table)
+    scene = apexseal.load_scene(tmp_path / "scene.toml", overrides={"spring.delta_s": d})
+    assert scene.solver.samples_per_revolution == n
+    with pytest.warns(UserWarning):  # the soft contacts' implausible penetration
+        run = apexseal.simulate(scene, revolutions=revolutions, method="erk")
     assert run.info["pressure_substeps"] == 10
     assert np.allclose(s.theta_start + run.theta[-n:], sim.thetas, rtol=0, atol=1e-9)
     scale = np.abs(run.state).max(axis=1, keepdims=True)
