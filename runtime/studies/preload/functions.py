@@ -11,12 +11,9 @@ CasADi's generic slots ``x0``, ``p``, ``u`` and ``qf`` (docs/preload.md, "The st
 * ``p``: the physical parameter vector at the call's start (the scene's model's names), ``theta0`` (the call's
   absolute crank angle, rad), ``slope`` (d delta_s / d theta along the call, m/rad), ``f_min`` (N), ``f_max`` (N, read
   only with the groove-force quadrature), then the excluded windows' ``window<i>_start`` / ``window<i>_end`` (rad);
-* ``u`` (4 x m substeps, a column per integrator interval: ``substeps`` of them per output interval where the scene's
-  pressure table has more rows a revolution than the samples, as a run cuts them, runtime/solving/run.py; else 1):
-  ``Pa0``, ``Pb0``, the chamber pressures (Pa) at the call's start along the interval's line, and ``Pa_slope``,
-  ``Pb_slope`` (Pa/rad; zero for ``solver.pressure = "steps"``);
-* ``xf`` and ``qf`` have a column per integrator interval too, the output samples every ``substeps``-th;
-* ``qf`` (n_quad x m substeps): each quadrature integrated from the call's start to each integrator edge over crank angle:
+* ``u`` (4 x m, a column per output interval): ``Pa0``, ``Pb0``, the chamber pressures (Pa) at the call's start along
+  the interval's line, and ``Pa_slope``, ``Pb_slope`` (Pa/rad; zero for ``solver.pressure = "steps"``);
+* ``qf`` (n_quad x m): each quadrature integrated from the call's start to each output sample over crank angle:
   ``friction_energy`` (the integral of ``Pf_total`` over crank angle, W rad: divided by the call's span it is the
   mean friction power between samples too), ``force_deficit`` (N^2 rad) and, with a groove-force bound,
   ``groove_excess`` (N^2 rad) (runtime/studies/preload/shooting.py).
@@ -42,11 +39,10 @@ QUADRATURE_NAMES = ("friction_energy", "force_deficit", "groove_excess")
 class PreloadFunctions:
     """The setup and the compiled Functions of the preload study, with the names of their slots (module docstring).
 
-    ``interval(x0=..., p=..., u=...)`` integrates ``m`` output samples (``m * setup.dth`` rad of crank angle, in
-    ``m * substeps`` integrator intervals) and returns ``xf`` (the hybrid state at each integrator edge, the samples
-    every ``substeps``-th) and ``qf`` (the quadratures from the call's start to each edge); ``forward`` is its
-    forward derivative in ``CHUNK`` directions (first derivatives only, as the study uses them). :meth:`p` and
-    :meth:`u` build the inputs as the study does.
+    ``interval(x0=..., p=..., u=...)`` integrates ``m`` output samples (``m * setup.dth`` rad of crank angle) and
+    returns ``xf`` (the hybrid state at each sample) and ``qf`` (the quadratures from the call's start to each
+    sample); ``forward`` is its forward derivative in ``CHUNK`` directions (first derivatives only, as the study
+    uses them). :meth:`p` and :meth:`u` build the inputs as the study does.
     """
 
     setup: PreloadSetup
@@ -69,11 +65,6 @@ class PreloadFunctions:
         """Output samples per call of :attr:`interval`."""
         return self.study.m
 
-    @property
-    def substeps(self) -> int:
-        """Integrator intervals per output sample (the columns of ``u``, ``xf`` and ``qf`` per sample)."""
-        return self.study.substeps
-
     def p(self, delta_s: float, theta0: float, *, slope: float = 0.0) -> np.ndarray:
         """``p`` for a call from absolute crank angle ``theta0`` (rad) at preload ``delta_s`` (m) there, the preload
         growing by ``slope`` m/rad along the call; the setup's min_force, groove-force bound and windows."""
@@ -82,7 +73,7 @@ class PreloadFunctions:
         return np.r_[s.pmap(delta_s), theta0, slope, s.min_force, f_max, window_vector(s.exclude)]
 
     def u(self, theta0: float) -> np.ndarray:
-        """``u`` (4 x m substeps) for a call from absolute crank angle ``theta0`` (rad): the scene's chamber pressures."""
+        """``u`` (4 x m) for a call from absolute crank angle ``theta0`` (rad): the scene's chamber pressures."""
         s = self.setup
         return s.controls(theta0 + s.dth * np.arange(self.m + 1), self.m)
 

@@ -152,7 +152,7 @@ class ShootingNlp:
         nz = Z0.shape[0]
         self.nz = nz
         per = g.per_node
-        U = setup.controls(g.edges(), g.m)  # (4, n substeps): each segment's call from its start
+        U = setup.controls(g.edges(), g.m)  # (4, n): each segment's call from its start
         omega = setup.pmap.at("omega")
         sc = state_scale(omega, lay.state_names)
         nd = -(-(nx + knots) // CHUNK) * CHUNK  # the directions, padded to whole chunks
@@ -169,7 +169,7 @@ class ShootingNlp:
         for k in range(nodes):
             p_k = Q[:setup.pmap.p0.size, node_seg[k]]
             X_k = Z[:, k] * ca.DM(sc)
-            act.append(setup.functions.guards(g.psi[node_seg[k]], X_k, p_k, ca.DM(U[:2, node_seg[k] * sf.n_out])) < 0)
+            act.append(setup.functions.guards(g.psi[node_seg[k]], X_k, p_k, ca.DM(U[:2, node_seg[k] * g.m])) < 0)
         x0 = ca.vertcat(Z, ca.horzcat(*act), ca.MX.zeros(ng, nodes))  # the layout's parts, in its order
         nq = Q.size1()
         Un = ca.DM(U)  # node k takes the columns of its segments, in order

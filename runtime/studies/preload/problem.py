@@ -3,10 +3,7 @@
 Shared by the IPOPT study (runtime/studies/preload/study.py) and its derivative-free check
 (runtime/studies/preload/bisect.py), so both ask exactly the same question of exactly the
 same model: the simulator's hybrid DAE (generated/hybrid.py) integrated by CasADi's
-``erk`` with events, on the simulator's output grid and with its chamber pressures: each output
-interval cut into the ``pressure_substeps`` integrator intervals a run cuts it into
-(runtime/solving/run.py, :func:`substeps`), so that a study coarser than the scene's pressure
-table sees every row of it, as ``apexseal simulate`` of its scene.toml does.
+``erk`` with events, on the simulator's output grid and pressure means.
 
 * **The preload as a parameter.** ``delta_s`` is one entry of the simulator's
   parameter vector, but two others follow from it: the rest deflection of the
@@ -258,8 +255,11 @@ class PreloadSetup:
         if self.rtol is None:
             self.rtol = self.scene.solver.rtol
         self.settings()  # rtol and flags checked as a run checks them (a SettingsError names the field and range)
+        if coarse := coarse_pressure(self.scene, self.samples):
+            from ....stacklevel import user_stacklevel
+
+            warnings.warn(coarse, UserWarning, stacklevel=user_stacklevel())
         self.rtol = float(self.rtol)
-        self.substeps = substeps(self.scene, self.samples)
         self._engine = None
         self._mapped: dict[int, ca.Function] = {}
 
@@ -273,21 +273,9 @@ class PreloadSetup:
         return 2 * np.pi / self.samples
 
     @property
-    def step(self) -> float:
-        """rad, the integrator's interval: :attr:`substeps` of them per output interval (:func:`substeps`)."""
-        return self.dth / self.substeps
-
-    @property
     def profile(self) -> str:
         """The scene's pressure profile (``solver.pressure``): "steps" or "linear"."""
         return self.scene.solver.pressure
-
-    def fine(self, edges: np.ndarray) -> np.ndarray:
-        """The integrator's edges: each interval between ``edges`` cut into :attr:`substeps` equal parts, as a run
-        cuts its output intervals (runtime/solving/run.py)."""
-        edges = np.asarray(edges, float)
-        parts = edges[:-1, None] + np.diff(edges)[:, None] * (np.arange(self.substeps) / self.substeps)
-        return np.r_[parts.ravel(), edges[-1:]]
 
     def engine_pressures(self, edges: np.ndarray) -> np.ndarray:
         """The chamber pressures as the simulator's engines take them over the intervals between ``edges``:
@@ -299,23 +287,20 @@ class PreloadSetup:
 
     def pressures(self, edges: np.ndarray) -> np.ndarray:
         """The chamber pressures at the samples ``edges[1:]`` as the run's outputs see them: the mean of the
-        integrator interval a sample ends ("steps") or the value at it ("linear"); (2, n)."""
-        P = self.engine_pressures(self.fine(edges))
-        k = self.substeps
-        return P[:, k - 1::k] if self.profile == "steps" else P[:, k::k]
+        interval a sample ends ("steps") or the value at it ("linear"); (2, n)."""
+        P = self.engine_pressures(edges)
+        return P if self.profile == "steps" else P[:, 1:]
 
     def controls(self, edges: np.ndarray, per_call: int) -> np.ndarray:
-        """The study integrators' controls over the n output intervals between ``edges``, for calls of ``per_call``
-        output intervals from ``edges[0]``: (4, n substeps), a column per integrator interval (:meth:`fine`), the
-        pressures at each call's tau = 0 along the integrator interval's line and their slopes (zero for "steps";
-        generated/hybrid.py), the lines through the values at the integrator's edges as a run's
-        (runtime/solving/run.py). Column j's first two rows at the first interval of a call are the pressures at the
-        call's start."""
-        P = self.engine_pressures(self.fine(edges))
+        """The study integrators' controls over the n intervals between ``edges``, for calls of ``per_call``
+        intervals from ``edges[0]``: (4, n), the pressures at each call's tau = 0 along the interval's line and
+        their slopes (zero for "steps"; generated/hybrid.py). Column j's first two rows at the first
+        interval of a call are the pressures at the call's start."""
+        P = self.engine_pressures(edges)
         if self.profile == "steps":
             return np.vstack([P, np.zeros_like(P)])
-        slope = np.diff(P, axis=1) / self.step
-        tau0 = (np.arange(P.shape[1] - 1) % (per_call * self.substeps)) * self.step
+        slope = np.diff(P, axis=1) / self.dth
+        tau0 = (np.arange(P.shape[1] - 1) % per_call) * self.dth
         return np.vstack([P[:, :-1] - slope * tau0, slope])
 
     def settings(self):
@@ -326,8 +311,7 @@ class PreloadSetup:
 
     # -- full simulations -----------------------------------------------------
     def engine(self):
-        """The simulator's compiled erk integrator over one revolution (runtime/solving/event_integrator.py), on the
-        integrator's intervals (:attr:`substeps` per sample)."""
+        """The simulator's compiled erk integrator over one revolution (runtime/solving/event_integrator.py)."""
         if self._engine is None:
             import time
 
@@ -336,7 +320,7 @@ class PreloadSetup:
             t = time.perf_counter()
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                self._engine = make_engine(self.functions, self.settings(), n_samples=self.samples * self.substeps)
+                self._engine = make_engine(self.functions, self.settings(), n_samples=self.samples)
             self.compile_s += time.perf_counter() - t
         return self._engine
 
@@ -348,7 +332,7 @@ class PreloadSetup:
 
     def start_state(self, delta_s: float) -> np.ndarray:
         """The hybrid state at the scene's start (its initial state, contacts closed by their gaps)."""
-        u0 = self.engine_pressures(self.theta_start + np.array([0.0, self.step]))[:, 0]  # the run's start
+        u0 = self.engine_pressures(self.theta_start + np.array([0.0, self.dth]))[:, 0]  # the run's start
         return self.hybrid_start(self.theta_start, self.pmap(delta_s), u0)
 
     def hybrid_start(self, theta: float, p: np.ndarray, u0: np.ndarray) -> np.ndarray:
@@ -371,7 +355,7 @@ class PreloadSetup:
         """Simulate ``revolutions`` revolutions from the scene's start at each preload (one mapped call per
         revolution, both cores) and return the last revolution of each."""
         deltas = np.atleast_1d(np.asarray(deltas, float))
-        n, N, lay, k = deltas.size, self.samples, self.layout, self.substeps
+        n, N, lay = deltas.size, self.samples, self.layout
         F = self.mapped(n)
         P = np.stack([self.pmap(d) for d in deltas], axis=1)
         z = np.stack([self.start_state(d) for d in deltas], axis=1)
@@ -380,13 +364,11 @@ class PreloadSetup:
             edges = self.theta_start + rev * 2 * np.pi + self.dth * np.arange(N + 1)
             U = self.pressures(edges)
             engine = self.engine()
-            u = engine_controls(self.engine_pressures(self.fine(edges)), engine.grid, self.profile,
-                                engine.hybrid.dae["u"].size1())
+            u = engine_controls(self.engine_pressures(edges), engine.grid, self.profile, engine.hybrid.dae["u"].size1())
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 out = F(x0=z, p=np.r_[P, np.full((1, n), edges[0])], u=np.tile(u, (1, n)))
-            # column i N k + j: preload i, integrator interval j; the samples end every k-th
-            Z = np.array(out["xf"]).reshape(z.shape[0], n, N * k)[:, :, k - 1::k]
+            Z = np.array(out["xf"]).reshape(z.shape[0], n, N)  # column i N + j: preload i, sample j
             z0 = z
             z = Z[:, :, -1].copy()
             z[lay.counts] = 0.0  # event counts per revolution
@@ -551,14 +533,26 @@ def option_problems(**options) -> dict[str, str]:
     return {k: p for k, v in options.items() if (p := checks[k](v))}
 
 
-def substeps(scene, samples: int) -> int:
-    """Integrator intervals per output interval of a study on ``samples`` samples a revolution: those of
-    ``apexseal simulate`` of the same scene (:func:`~apexseal.runtime.solving.run.pressure_substeps`; 1 without
-    chamber pressure), so that the study integrates the same chamber pressures as a simulation of its
-    scene.toml, every row of the scene's pressure table seen."""
+def coarse_pressure(scene, samples: int) -> str | None:
+    """Why a study on ``samples`` output samples a revolution integrates other chamber pressures than
+    ``apexseal simulate`` of the same scene, or None. The study's integrators take the pressures linear (or held
+    at their mean) over each output interval; a run cuts each interval into ``pressure_substeps`` parts when the
+    scene's pressure table has more rows a revolution than it has samples (runtime/solving/run.py), so that it sees
+    every row. Coarser than the table, the study cuts the table's corners: its optimum, friction power and
+    smallest force are those of another pressure input than a simulation of its scene.toml."""
     from ...solving.run import pressure_substeps
 
-    return pressure_substeps(scene.pressure, samples) if scene.effects.chamber_pressure else 1
+    if not scene.effects.chamber_pressure:
+        return None
+    sub = pressure_substeps(scene.pressure, samples)
+    if sub == 1:
+        return None
+    rows = scene.pressure.rows_per_revolution()
+    return (f"samples = {samples}: coarser than the scene's pressure table ({rows} rows a revolution): the study "
+            f"takes the chamber pressures {scene.solver.pressure} over each of its {samples} intervals and cuts "
+            f"the table's corners, while apexseal simulate of the same scene (the report's scene.toml) cuts each "
+            f"interval into {sub} to see every row, so its numbers differ from the study's (the transients after "
+            f"the chamber switches most); allowed for the same pressures: samples >= {rows}")
 
 
 def check_request(scene, min_force, samples, revolutions, max_groove_force=None) -> None:

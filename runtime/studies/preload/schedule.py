@@ -103,14 +103,14 @@ class SegmentGrid:
 def chain_function(sf, grid: SegmentGrid, n_z: int, *, derivatives: bool, nd: int = 0) -> ca.Function:
     """One shooting interval (``grid.per_node`` segments chained) as a Function, to be mapped over the nodes.
 
-    Inputs: z0 (n_z), Q (n_q x per_node), U (the controls, 4 x m substeps per_node: PreloadSetup.controls, a column
-    per integrator interval) and, with ``derivatives``, the seeds of z0 (n_z x nd) and of Q (n_q x per_node nd).
-    Outputs: the end state, the two quadratures summed, and the samples (n_z x m per_node: the integrator's state at
-    every ``sf.substeps``-th edge) or, with ``derivatives``, their forward derivatives in the nd directions.
+    Inputs: z0 (n_z), Q (n_q x per_node), U (the controls, 4 x m per_node: PreloadSetup.controls) and, with
+    ``derivatives``, the seeds of z0 (n_z x nd) and of Q (n_q x per_node nd). Outputs: the end state, the two
+    quadratures summed, and the samples (n_z x m per_node) or, with ``derivatives``, their forward derivatives in the nd
+    directions.
     """
     from .shooting import CHUNK
 
-    k, m, sub = grid.per_node, sf.n_out, sf.substeps
+    k, m = grid.per_node, grid.m
     nq = sf.interval.size1_in(sf.interval.index_in("p"))
     n_u = sf.interval.size1_in(sf.interval.index_in("u"))
     z0, Q, U = ca.MX.sym("z0", n_z), ca.MX.sym("Q", nq, k), ca.MX.sym("U", n_u, m * k)
@@ -134,7 +134,7 @@ def chain_function(sf, grid: SegmentGrid, n_z: int, *, derivatives: bool, nd: in
             dx = ca.horzcat(*cols_x)
             dq = dq + ca.horzcat(*cols_q)
         else:
-            samples.append(r["xf"][:, sub - 1::sub])
+            samples.append(r["xf"])
         x = r["xf"][:, -1]
         qs = qs + r["qf"][:, -1]
     outs = [x, qs] + ([dx, dq] if derivatives else [ca.horzcat(*samples)])
@@ -178,26 +178,25 @@ def simulate_schedules(setup, sf, grid: SegmentGrid, knots_list, min_force: floa
     n = len(knots_list)
     revolutions = revolutions or setup.revolutions
     lay = setup.layout
-    C = setup.controls(grid.edges(), grid.m)  # each segment's call from its start, a column per integrator interval
+    C = setup.controls(grid.edges(), grid.m)  # each segment's call from its start
     if z_starts is None:  # the scene's initial state at the first node, with each schedule's parameters there
         n_par = setup.pmap.p0.size
         z_starts = [setup.hybrid_start(grid.theta_first, grid.q_columns(setup, k, min_force, exclude)[:n_par, 0], C[:2, 0])
                     for k in knots_list]
     z = np.column_stack([np.asarray(z0, float) for z0 in z_starts])  # one column per schedule
     interval = sf.interval if n == 1 else sf.interval.map(n, "thread", parallel_threads(n))
-    m, sub = sf.n_out, sf.substeps  # a call's integrator intervals; a sample ends every sub-th
+    m = grid.m
     starts = [z.copy()]
     for rev in range(revolutions):
         Q = [grid.q_columns(setup, knots_m, min_force, exclude, rev) for knots_m in knots_list]
         cols, qsum, dq = [], np.zeros((sf.n_quad, n)), []
         for s in range(grid.segments):
             r = interval(x0=z, p=np.column_stack([q[:, s] for q in Q]), u=C[:, s * m:(s + 1) * m])
-            xf = np.array(r["xf"]).reshape(-1, n, m).transpose(1, 0, 2)  # (schedule, state, integrator edge)
-            cols.append(xf[:, :, sub - 1::sub])  # at the samples
-            qf = np.array(r["qf"])  # (n_quad, schedule x integrator edge), each from its call's start
+            xf = np.array(r["xf"]).reshape(-1, n, m).transpose(1, 0, 2)  # (schedule, state, sample)
+            cols.append(xf)
+            qf = np.array(r["qf"])  # (n_quad, schedule x sample), each from its call's start
             qsum += qf[:, m - 1::m]
-            # the deficit over each output interval
-            dq.append(np.diff(qf[1].reshape(n, m)[:, sub - 1::sub], axis=1, prepend=0.0))
+            dq.append(np.diff(qf[1].reshape(n, m), axis=1, prepend=0.0))  # the deficit over each interval
             z = xf[:, :, -1].T.copy()
         z0_rev = starts[-1]
         z[lay.counts] = 0.0  # event counts per revolution

@@ -2,8 +2,7 @@
 
 The DAE is the simulator's (generated/hybrid.py: contact switches as events, the same model
 Functions), with three additions, all inside the DAE so the adaptive steps and the located events
-resolve them (nothing depends on the output grid but the chamber pressures, taken on the simulator's
-integrator intervals: ``substeps`` per output interval where the pressure table is finer than the samples):
+resolve them (nothing depends on the output grid but the pressure means, which the simulator shares):
 
 * **Scheduled preload.** The integrator's parameters are ``q = [p, theta0, slope, f_min, windows]``:
   the physical parameter vector p at the interval's start, and along the interval delta_s grows
@@ -60,22 +59,13 @@ TWO_PI = 2 * np.pi
 class StudyFunctions:
     """The compiled interval integrator, its forward derivative and the one-revolution integrator."""
 
-    #: (x0, p=q, u) -> xf (n_z x m substeps), qf (n_quad x m substeps): [friction energy, deficit(, groove)]
-    interval: ca.Function
+    interval: ca.Function  # (x0, p=q, u) -> xf (n_z x m), qf (n_quad x m): [friction energy, deficit(, groove)]
     forward: ca.Function  # interval.forward(CHUNK): called once per CHUNK directions for a Jacobian
     n_par: int
     m: int  # samples per shooting interval
     compile_s: float
     compiled: bool
     groove: bool = False  # the groove-force excess is the third quadrature
-    #: integrator intervals per sample (PreloadSetup.substeps): the columns of u, xf and qf are m substeps, the samples
-    #: every substeps-th
-    substeps: int = 1
-
-    @property
-    def n_out(self) -> int:
-        """Integrator intervals per call (the columns of u, xf and qf)."""
-        return self.m * self.substeps
 
     @property
     def n_quad(self) -> int:
@@ -165,8 +155,7 @@ def _integrator(name, dae, transition, settings, rtol, n_out, span):
 
 
 def study_functions(setup, m: int, *, compile_c: bool = True) -> StudyFunctions:
-    """The study's interval integrator for shooting intervals of ``m`` samples (``setup.substeps`` integrator
-    intervals each, the pressures linear or held over each as a run's: runtime/solving/run.py) and its forward derivative,
+    """The study's interval integrator for shooting intervals of ``m`` samples and its forward derivative,
     each compiled into its own cached library (in parallel: both cores); with the groove-force excess
     quadrature when the setup bounds the groove forces (``setup.max_groove_force``)."""
     import time
@@ -183,20 +172,19 @@ def study_functions(setup, m: int, *, compile_c: bool = True) -> StudyFunctions:
 
         raise PreloadStudyError("max_groove_force: the scene has no groove contacts (effects.groove_contact is off)")
     dae, tr = study_dae(setup.functions, setup.pmap.dp, setup.measure_fn, st, groove=groove)
-    sub = setup.substeps
-    interval = _integrator("apexseal_preload_interval", dae, tr, st, setup.rtol, m * sub, m * setup.dth)
+    interval = _integrator("apexseal_preload_interval", dae, tr, st, setup.rtol, m, m * setup.dth)
     with warnings.catch_warnings(), events_tested():  # the derivative is an integrator with events too
         warnings.simplefilter("ignore")
         fwd = interval.forward(CHUNK)
     n_par = setup.pmap.p0.size
     if not compile_c:
-        return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False, groove, sub)
+        return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False, groove)
     with stage(f"generating the preload study's C (interval integrator, its forward derivative in {CHUNK} directions)"):
         sources = [function_source(f, model_hash=setup.functions.model_hash) for f in (interval, fwd)]
     try:
         libs = build_function_libraries(sources, flags=setup.flags)  # both at once; a signal abandons both
     except CompilerUnavailable as exc:
         fallback(exc)
-        return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False, groove, sub)
+        return StudyFunctions(interval, fwd, n_par, m, time.perf_counter() - t, False, groove)
     E, Ef = (ca.external(f.name(), str(so)) for f, so in zip((interval, fwd), libs, strict=True))
-    return StudyFunctions(E, Ef, n_par, m, time.perf_counter() - t, True, groove, sub)
+    return StudyFunctions(E, Ef, n_par, m, time.perf_counter() - t, True, groove)
