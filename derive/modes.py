@@ -69,10 +69,9 @@ def _labels(name: str) -> tuple[str, str]:
     from .submodels.registry import guard
 
     try:
-        g = guard(name)
+        return guard(name).labels
     except KeyError:
         return name, name + "0"
-    return g.closed_label or name, g.open_label or name + "0"
 
 
 def modes(guard_names: tuple[str, ...]) -> list[Mode]:

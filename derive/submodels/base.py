@@ -62,6 +62,11 @@ class Guard:
     contact: str | None = None
 
     @property
+    def labels(self) -> tuple[str, str]:
+        """Its (closed, open) parts of a mode's label: the declared ones, or its name and its name + "0"."""
+        return self.closed_label or self.name, self.open_label or self.name + "0"
+
+    @property
     def symbol(self):
         """The activation as a sympy symbol (1 while closed, 0 while open; the one way it is made, so every
         substitution of it matches)."""

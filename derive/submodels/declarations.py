@@ -118,7 +118,7 @@ def guard_problems(cls, others) -> list[str]:
     out: list[str] = []
     taken_outputs = {g.output: g.name for g in others}
     taken_activations = {g.activation: g.name for g in others}
-    taken_labels = {lab: g.name for g in others if g.name not in GROOVE_GUARDS for lab in _labels(g)}
+    taken_labels = {lab: g.name for g in others if g.name not in GROOVE_GUARDS for lab in g.labels}
     taken_labels |= {case: "the groove's cases (Algorithm 3)" for case in CASES}
     for g in cls.guards:
         name = f"guard {g.name!r}"
@@ -136,7 +136,7 @@ def guard_problems(cls, others) -> list[str]:
         if isinstance(g.sign, bool) or g.sign not in (1, -1):
             out.append(f"{name}: sign={g.sign!r} is not 1 or -1 (+1: its output is the gap, the guard itself; -1: "
                        "a penetration or compression, minus the guard)")
-        for label in dict.fromkeys(_labels(g)):
+        for label in dict.fromkeys(g.labels):
             if not isinstance(label, str) or "_" in label:
                 out.append(f"{name}: the mode label {label!r} is not a word without underscores (closed_label, "
                            "open_label: a mode's label joins its parts with underscores)")
@@ -148,12 +148,6 @@ def guard_problems(cls, others) -> list[str]:
             else:
                 taken_labels[label] = g.name
     return out
-
-
-def _labels(g) -> tuple[str, str]:
-    """A guard's (closed, open) mode label parts: the declared ones, or its name and its name + "0"
-    (derive/modes.py)."""
-    return g.closed_label or g.name, g.open_label or f"{g.name}0"
 
 
 def reference_problems(cls, known) -> list[str]:

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 0945c7e213baa716648ca41fda1a9ceb4363e6b027ae7d4ff839d64f7d5275e1.
+ * Effects: all. Input hash: 1f4c22856c71cbb81f0f3437ed004d5bc7f4f5f0d562f596ccf90e167c78f322.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "0945c7e213baa716648ca41fda1a9ceb4363e6b027ae7d4ff839d64f7d5275e1"
+#define APEXSEAL_INPUT_HASH "1f4c22856c71cbb81f0f3437ed004d5bc7f4f5f0d562f596ccf90e167c78f322"
 
 /* state x */
 #define APEXSEAL_NX 6
