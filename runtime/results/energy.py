@@ -78,12 +78,6 @@ def kinetic_energy(result: SimulationResult) -> np.ndarray:
     return 0.5 * p["ms"] * (xd * xd + yd * yd) + 0.5 * p["Icg"] * phid * phid
 
 
-def integral(values: np.ndarray, time: np.ndarray) -> float:
-    """The trapezoidal rule's integral of sampled ``values`` over ``time``."""
-    values, time = np.asarray(values, float), np.asarray(time, float)
-    return float(np.sum(0.5 * (values[1:] + values[:-1]) * np.diff(time)))
-
-
 def energy_balance(result: SimulationResult) -> dict | None:
     """The seal's energy balance over the samples of ``result`` (the module's docstring), per revolution; None for
     a run without a sample after its start, without its scene (the mass, inertia and rotor of :data:`NEEDS`) or
@@ -102,8 +96,8 @@ def energy_balance(result: SimulationResult) -> dict | None:
     turned = float(result.theta[-1] - result.theta[0]) / (2 * math.pi)
     if turned <= 0:
         return None
-    work = {c: integral(p, result.time) / turned for c, p in powers.items()}
-    inertial = integral(inertial_power(result), result.time) / turned
+    work = {c: float(np.trapezoid(p, result.time)) / turned for c, p in powers.items()}
+    inertial = float(np.trapezoid(inertial_power(result), result.time)) / turned
     energy = kinetic_energy(result)
     change = float(energy[-1] - energy[0]) / turned
     residual = change - sum(work.values()) - inertial
