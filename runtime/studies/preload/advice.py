@@ -8,13 +8,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...results.chamber_switches import PRESSURE_STEP, pressure_steps
 from .problem import MM
 
 #: crank angle (deg) on each side of where the force falls short in which a chamber switch or the tip's ringing
 #: marks it as an impact transient
 MARGIN_DEG = 5.0
-#: a chamber switch: a step of Pa - Pb between two samples larger than this fraction of its range over the revolution
-PRESSURE_STEP = 0.25
 #: relative steps above a constant optimum re-simulated to check that more preload stays feasible
 #: (:func:`.study._polish_constant`): a spring loses or gains that much preload in its tolerances
 ROBUST_STEPS = (0.01, 0.05)
@@ -28,15 +27,14 @@ def _near(deg: np.ndarray, start: float, end: float) -> np.ndarray:
 
 def shortfall_kind(thetas, measure, pressures, start: float, end: float) -> tuple[str, str]:
     """("transient", why) where the tip force falls short at [start, end] deg next to a chamber switch (a step of
-    Pa - Pb of more than PRESSURE_STEP of its range) or while the tip rings (two or more local minima of the force at
-    the samples within MARGIN_DEG of it); else ("smooth", why): a single smooth minimum of the force (the seal's
-    inertial or gas load), where the lift-off is real. ``thetas`` (rad), ``measure`` (N) and ``pressures`` (2 x
-    samples, Pa) at the samples of a re-simulated revolution."""
+    Pa - Pb between two samples of more than PRESSURE_STEP of its range: runtime/results/chamber_switches.py) or
+    while the tip rings (two or more local minima of the force at the samples within MARGIN_DEG of it); else
+    ("smooth", why): a single smooth minimum of the force (the seal's inertial or gas load), where the lift-off is
+    real. ``thetas`` (rad), ``measure`` (N) and ``pressures`` (2 x samples, Pa) at the samples of a re-simulated
+    revolution."""
     deg = np.degrees(np.asarray(thetas, float)) % 360.0
     near = _near(deg, start, end)
-    dp = np.asarray(pressures[0], float) - np.asarray(pressures[1], float)
-    span = float(np.ptp(dp))
-    steps = np.abs(dp - np.roll(dp, 1))  # the step into each sample from the one before
+    _, steps, span = pressure_steps(pressures)  # the step into each sample from the one before
     if span > 0 and np.any(steps[near] > PRESSURE_STEP * span):
         j = int(np.argmax(np.where(near, steps, -1.0)))
         return "transient", f"a chamber switch at {deg[j]:.1f} deg (Pa - Pb steps by {steps[j] / 1e5:.3g} bar)"
