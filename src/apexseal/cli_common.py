@@ -152,13 +152,29 @@ def default_folder(scene: Path | None, out: Path | None, study: str = "") -> Pat
     return out or Path("apexseal-out") / name
 
 
-def scene_and_folder(scene: Path | None, out: Path | None, sets: dict[str, object] | None, study: str):
-    """The loaded scene (with the --set keys replaced) and the output folder of ``study`` (default
-    ``apexseal-out/<scene name>-<study>``), created and checked writable."""
-    sc = scene_of(scene, sets)
-    folder = default_folder(scene, out, study)
-    writable(folder)
-    return sc, folder
+def report_target(out: Path, make):
+    """The report folder of a study at ``out`` (``make(out)``: its
+    :class:`~apexseal.runtime.results.folder.ReportFolder`; a folder that holds other files is refused, naming
+    --out) and the folders above it that are made so that it can be written (the nearest first, for
+    :func:`remove_made`), the parent checked writable: all before any work."""
+    from .runtime.results.folder import ResultFolderError
+
+    try:
+        folder = make(out)
+    except ResultFolderError as err:
+        raise click.BadParameter(str(err), param_hint="--out") from None
+    parent = out.parent
+    made = [f for f in (parent, *parent.parents) if not f.exists()]  # what writable() creates, the nearest first
+    writable(parent)
+    return folder, made
+
+
+def remove_made(made: list[Path]) -> None:
+    """Remove the folders :func:`report_target` made where they stayed empty (a study that wrote no report)."""
+    for folder in made:
+        if not folder.is_dir() or any(folder.iterdir()):
+            break
+        folder.rmdir()
 
 
 def result_folder(folder: Path) -> None:

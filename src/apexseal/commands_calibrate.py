@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import json
+import shlex
 import sys
 from pathlib import Path
 
 import click
 
-from .cli_common import IntRange, scene_and_folder, scene_label, scene_settings
+from .cli_common import IntRange, default_folder, remove_made, report_target, scene_label, scene_of, scene_settings
 from .runtime.studies.calibration.fit import COUNTS
 
 
@@ -22,34 +22,53 @@ from .runtime.studies.calibration.fit import COUNTS
 @click.option("--revolutions", "-n", type=IntRange(*COUNTS["revolutions"][:2]), default=2, show_default=True,
               help="Revolutions per simulation; the last one is analysed.")
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Output folder for calibration.json [default: apexseal-out/<scene name>-calibration].")
+              help="Output folder for calibration.json and scene.toml, written beside it and renamed into place as a "
+                   "whole [default: apexseal-out/<scene name>-calibration].")
 @click.option("--quiet", "-q", is_flag=True, help="No line per simulation on stderr.")
 def calibrate(scene: Path | None, sets, grid, polish, revolutions, out, quiet) -> None:
     """Fit kw, kg (kg1..kg4), zeta_w and zeta_g of SCENE (default: the embedded case study) within their plausible
     ranges to the paper's Fig. 14 main peak and the crank angle of the largest x (Fig. 12a), and say which
     features no plausible set matches and why. Ctrl-C or SIGTERM stops it: the simulations completed are written
-    (exit code 130 or 143)."""
-    from .files import atomic_write
+    (exit code 130 or 143), beside a completed report in the folder rather than over it."""
+    from .runtime.results.folder import ResultStorageError
     from .runtime.studies.calibration import CalibrationError
     from .runtime.studies.calibration import calibrate as run_study
     from .runtime.studies.calibration.fit import CalibrationInterrupted
+    from .runtime.studies.calibration.report import SCENE_FILE, report_folder, rerun_line, save_report, simulate_line
+    from .signals import StopSignals
 
-    sc, out = scene_and_folder(scene, out, sets, "calibration")
+    sc = scene_of(scene, sets)
+    out = default_folder(scene, out, "calibration")
+    folder, made = report_target(out, report_folder)  # a folder of other files is never replaced
     click.echo(f"{scene_label(scene, sets)}; grid {grid}, polish {polish}, "
                f"{revolutions} revolutions per simulation; writing to {out}/")
     say = None if quiet else (lambda line: click.echo(line, err=True))
-    from .signals import StopSignals
-
     try:
-        with StopSignals():  # the command's: it writes what was completed and exits with 128 + the signal itself
-            result = run_study(sc, grid=grid, polish=polish, revolutions=revolutions, progress=say)
-    except CalibrationInterrupted as err:
-        click.echo(str(err), err=True)
-        sys.exit(err.exit_code)
-    except CalibrationError as err:
-        raise click.BadParameter(str(err)) from None
-    atomic_write(out / "calibration.json", json.dumps(result.to_dict(), indent=2) + "\n")
+        # the command's: a signal stops the study, whose simulations completed are written whole (a further signal
+        # is only noted meanwhile), and the command exits with 128 + the signal itself
+        with StopSignals() as signals:
+            try:
+                result = run_study(sc, grid=grid, polish=polish, revolutions=revolutions, progress=say,
+                                   run_id=folder.run_id)
+            except CalibrationInterrupted as err:
+                click.echo(str(err), err=True)
+                signals.ignore_after()
+                sys.exit(err.exit_code)
+            except CalibrationError as err:
+                raise click.BadParameter(str(err)) from None
+            where = save_report(result, out, folder)
+            if signals.requested:
+                signals.ignore_after()
+    except ResultStorageError as err:
+        raise click.ClickException(str(err)) from err
+    finally:  # nothing reported (interrupted before a candidate completed, refused): no empty folder left behind
+        remove_made(made)
     click.echo(result.describe())
-    click.echo(f"  wrote calibration.json to {out}/")
+    click.echo(f"  wrote calibration.json and {SCENE_FILE} to {where}/ (run {result.run_id[:12]})")
+    if folder.kept_aside:
+        click.echo(f"  {folder.kept_aside}; this calibration's report is in {where}/", err=True)
+    scene_file = shlex.quote(str(where / SCENE_FILE))
+    click.echo(f"  re-run: {rerun_line(result, scene_file)}")
+    click.echo(f"  simulate the best set: {simulate_line(result, scene_file)}")
     if result.exit_code:
         sys.exit(result.exit_code)

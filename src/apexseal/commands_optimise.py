@@ -9,7 +9,7 @@ from pathlib import Path
 
 import click
 
-from .cli_common import Choice, default_folder, scene_label, scene_of, scene_settings, writable
+from .cli_common import Choice, default_folder, remove_made, report_target, scene_label, scene_of, scene_settings
 from .runtime.studies.preload.options import DEFAULTS, OBJECTIVES, default_text
 
 
@@ -143,7 +143,7 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     last, whole, into ``<out>.partial-<run id>`` beside the output folder (what a study killed outright leaves), and
     at the end renamed to ``<out>``, replacing the report there as a whole; a report of a study that did not
     complete (a signal, a stage refused) stays in ``<out>.partial-<run id>`` when ``<out>`` holds a completed one."""
-    from .runtime.results.folder import ResultFolderError, ResultStorageError
+    from .runtime.results.folder import ResultStorageError
     from .runtime.studies.preload.problem import PreloadSetup, PreloadStudyError, check_grid, check_request, excluded
     from .runtime.studies.preload.report import report_folder, report_status, study_options, write_report
     from .signals import StopSignals
@@ -159,13 +159,7 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     except PreloadStudyError as err:
         raise click.BadParameter(str(err)) from None
     out = default_folder(scene, out, "preload")
-    parent = out.parent
-    try:  # a folder of other files is never replaced
-        folder = report_folder(out)
-    except ResultFolderError as err:
-        raise click.BadParameter(str(err), param_hint="--out") from None
-    made = [f for f in (parent, *parent.parents) if not f.exists()]  # what writable() creates, the nearest first
-    writable(parent)
+    folder, made = report_target(out, report_folder)  # a folder of other files is never replaced
     bound = f"; groove forces <= {max_groove_force:g} N" if max_groove_force is not None else ""
     click.echo(f"{scene_label(scene, sets)}; min force {min_force:g} N"
                f"{excluded(exclude)}{bound}; writing to {out}/")
@@ -238,10 +232,7 @@ def _optimise(scene, sets, min_force, max_groove_force, exclude, knots, max_rate
     except ResultStorageError as err:
         raise click.ClickException(str(err)) from err
     finally:  # nothing reported (interrupted early, refused, failed): no empty folder left behind, parents included
-        for made_folder in made:
-            if not made_folder.is_dir() or any(made_folder.iterdir()):
-                break
-            made_folder.rmdir()
+        remove_made(made)
         if where is not None and folder.kept_aside:
             click.echo(f"  {folder.kept_aside}; this study's report is in {where}/", err=True)
     if signals.requested:

@@ -312,14 +312,14 @@ def test_scene_default_never_overwrites_a_different_file(tmp_path):
 def test_a_study_s_default_folder_is_not_a_simulation_result_s(tmp_path, monkeypatch):
     """optimise-preload wrote preload.json into apexseal-out/default, a result folder, which a later simulate then
     refused to replace ("holds files that are not part of an apexseal result")."""
-    from apexseal.cli_common import default_folder, scene_and_folder
+    from apexseal.cli_common import default_folder
 
     monkeypatch.chdir(tmp_path)
     assert default_folder(None, None) == Path("apexseal-out/default")
-    assert scene_and_folder(None, None, None, "preload")[1] == Path("apexseal-out/default-preload")
+    assert default_folder(None, None, "preload") == Path("apexseal-out/default-preload")
     assert CliRunner().invoke(main, ["scene", "--default", "-o", str(tmp_path / "mine")]).exit_code == 0
     scene = Path("mine/default.toml")
-    assert scene_and_folder(scene, None, None, "calibration")[1] == Path("apexseal-out/default-calibration")
+    assert default_folder(scene, None, "calibration") == Path("apexseal-out/default-calibration")
     for name, folder in (("optimise-preload", "<scene name>-preload"), ("calibrate", "<scene name>-calibration")):
         assert folder in " ".join(CliRunner().invoke(main, [name, "--help"]).output.split())  # unwrapped
 

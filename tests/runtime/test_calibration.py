@@ -115,6 +115,18 @@ def test_a_tiny_calibration(scene):
     main = d["verdicts"]["main_peak"]
     assert not main["matched"] and main["reason"].startswith(
         f"the best of the 6 plausible sets simulated puts it at {main['fit_rad_s']:.3g} rad/s, ")
+    # what identifies the study, as a result's info does (calibration.json: two studies told apart)
+    from apexseal.runtime.api import model_functions
+
+    assert d["status"] == "completed" and len(d["run_id"]) == 32 and d["run_id"] == cal.run_id
+    assert (d["scene"], d["scene_hash"]) == ("default", scene.content_hash())
+    assert d["model_hash"] == model_functions(scene).model_hash and d["versions"]["apexseal"] == apexseal.__version__
+    assert d["overrides"] == {} and d["options"] == {"grid": 2, "polish": 2, "revolutions": 2}
+    assert d["best_overrides"] == {f"contacts.{k}": v for k, v in cal.best.values.items()}
+    # each candidate's chamber switches, from its own run's pressures: the default table's two port openings
+    for e in cal.evaluations:
+        assert len(e.switches_deg) == 2 and 0 < e.switches_deg[0] < 5 and 180 < e.switches_deg[1] < 185, e
+    assert d["verdicts"]["x_max_angle"]["switches_from"] == "run"
 
 
 def test_an_interrupted_calibration_keeps_the_simulations_completed(scene):
@@ -242,3 +254,72 @@ def test_a_peak_near_the_paper_s_that_is_not_the_housing_mode_is_not_called_repr
     at_mode = study(6.1e7, 6.0e4)  # sqrt(6.1e7 / 0.017) = 5.99e4 rad/s
     assert at_mode.verdicts()["main_peak"]["is_housing_mode"]
     assert "main_peak: paper 6e+04, fit 6e+04: reproduced" in at_mode.describe()
+
+
+def _with_angles(best_deg: float, others=(), switches=(2.5, 182.5), scene=None):
+    from apexseal.runtime.studies.calibration.features import Features
+    from apexseal.runtime.studies.calibration.fit import Calibration, Evaluation
+
+    def ev(angle, cost):
+        return Evaluation({"kw": 3e8}, Features(6.1e4, (157.0,), angle, 0.3, 30.0, 200.0), cost, "completed",
+                          switches)
+
+    best = ev(best_deg, 0.1)
+    return Calibration(best, [best, *(ev(a, 0.2) for a in others)], ranges={"kw": (3e8, 1e10)}, mass=0.017,
+                       scene=scene)
+
+
+def test_the_angle_verdict_says_where_the_largest_x_lies_against_the_chamber_switches():
+    """The reason for missing the paper's 270 deg was fixed text: "it falls at a chamber switch". Under
+    assumptions.housing_stiffness = "tilted-wall" the best set's largest x lies some 20 deg after the switch, so
+    the text was wrong there. It now says where the best set's largest x lies against the nearest switch of its
+    run, and where the sets completed put it."""
+    at = _with_angles(184.1, others=(3.1, 188.1)).verdicts()["x_max_angle"]
+    assert not at["matched"] and at["reason"].startswith(
+        "the best set's largest x is at 184.1 deg, at the chamber switch at 182.5 deg, 1.6 deg after it "
+        "(switches at 2.5, 182.5 deg in the chamber pressures of the best set's run); the 3 sets completed put it "
+        "at 3.1..188.1 deg, the nearest to the paper's 270 deg at 188.1 deg, 81.9 deg away (a match is within "
+        "20 deg)")
+    assert at["nearest_switch_deg"] == 182.5 and at["after_nearest_switch_deg"] == pytest.approx(1.6)
+    after = _with_angles(204.2, others=(183.3, 204.3)).verdicts()["x_max_angle"]
+    assert after["reason"].startswith("the best set's largest x is at 204.2 deg, 21.7 deg after the nearest "
+                                      "chamber switch, at 182.5 deg (switches at")
+    assert "at the chamber switch" not in after["reason"] and after["after_nearest_switch_deg"] == pytest.approx(21.7)
+    assert "the nearest to the paper's 270 deg at 204.3 deg, 65.7 deg away" in after["reason"]
+    # before a switch, across 0 deg: 358 deg is 4.5 deg before the one at 2.5 deg
+    before = _with_angles(358.0).verdicts()["x_max_angle"]
+    assert before["nearest_switch_deg"] == 2.5 and before["after_nearest_switch_deg"] == pytest.approx(-4.5)
+    assert "at the chamber switch at 2.5 deg, 4.5 deg before it" in before["reason"]
+    assert "12.0 deg before the nearest chamber switch, at 182.5 deg" in _with_angles(170.5).verdicts()[
+        "x_max_angle"]["reason"]
+    none = _with_angles(88.6, switches=()).verdicts()["x_max_angle"]  # the chamber pressure off
+    assert "88.6 deg, no chamber switch in the chamber pressures of the best set's run" in none["reason"]
+    assert none["nearest_switch_deg"] is None
+    assert _with_angles(265.0).verdicts()["x_max_angle"]["reason"] == "matched"
+
+
+def test_the_switches_are_the_same_at_any_sampling_and_from_the_scene_where_the_run_kept_none(scene):
+    """A step of Pa - Pb between two samples (the preload advice's rule) finds the default table's switches only
+    below 720 samples per revolution (its ports open over 5 deg); the step over 5 deg finds them at any sampling,
+    at the middle of the port's opening. A calibration that kept no switches of its runs takes them from the
+    scene's pressure source."""
+    from apexseal.runtime.results.chamber_switches import chamber_switches, scene_switches
+
+    coarse, dense = scene_switches(scene, 720), scene_switches(scene, 24840)
+    assert [a for a, _ in coarse] == pytest.approx([a for a, _ in dense], abs=0.05)
+
+    def dp(deg):
+        return float(scene.pressure.Pa(np.radians(deg)) - scene.pressure.Pb(np.radians(deg)))
+
+    # each switch's change of Pa - Pb: from before the port opens to after it (the steady values either side)
+    assert [c for _, c in dense] == pytest.approx([dp(10) - dp(355), dp(190) - dp(175)], rel=0.01)
+    thetas = np.arange(24840) * 2 * np.pi / 24840
+    P = np.vstack([scene.pressure.Pa(thetas), scene.pressure.Pb(thetas)])
+    assert chamber_switches(thetas, P, width_deg=0) == []  # between two samples alone: none
+    assert chamber_switches(thetas, P) == dense
+    kept_none = _with_angles(184.1, switches=None, scene=scene).verdicts()["x_max_angle"]
+    assert kept_none["switches_from"] == "scene"
+    assert kept_none["chamber_switches_deg"] == [a for a, _ in scene_switches(scene)]
+    assert "in the scene's chamber pressures" in kept_none["reason"]
+    assert "no chamber pressures to place it against" in _with_angles(184.1, switches=None).verdicts()[
+        "x_max_angle"]["reason"]

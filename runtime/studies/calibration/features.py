@@ -21,6 +21,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from ...results.chamber_switches import chamber_switches
 from ...results.spectra import housing_force, spectrum
 
 #: the paper's Fig. 14 peaks, rad/s (text after Fig. 14): the main one, then the smaller ones
@@ -99,6 +100,15 @@ def features(result, omega: float) -> Features:
     deg = np.degrees(result.theta[window]) % 360
     F = housing_force(result)[window]
     return Features(main, small, float(deg[np.argmax(x)]), float(x.max() * 1e6), float(F.mean()), float(F.max()))
+
+
+def switches_of(result) -> tuple[float, ...]:
+    """The crank angles (deg) of the chamber switches in the last whole revolution of ``result``, found from its
+    chamber pressures ``Pa``, ``Pb`` (runtime/results/chamber_switches.py): where the largest x lies relative to
+    them is part of the calibration's verdict (:mod:`.angle`)."""
+    window = last_revolution(result)
+    pressures = np.vstack([result.outputs["Pa"][window], result.outputs["Pb"][window]])
+    return tuple(a for a, _ in chamber_switches(result.theta[window], pressures))
 
 
 def angle_error_deg(a: float, b: float) -> float:

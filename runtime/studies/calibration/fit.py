@@ -10,7 +10,9 @@ revolution (:mod:`.features`) are compared with the paper's:
 
 over a coarse grid (``grid`` points per unknown, in log stiffness and log ratio), then polished by bounded
 Nelder-Mead (scipy.optimize.minimize) from the best grid point. The report says the fit, its residuals, and, per
-feature, whether a plausible parameter set reaches it and if not, why.
+feature, whether a plausible parameter set reaches it and if not, why (the angle's: :mod:`.angle`), and what
+identifies the study (its run id, the scene, its content hash, the model's hash, the versions, the keys replaced
+and the options: :meth:`Calibration.to_dict`); :mod:`.report` writes it with the scene that ran as a report folder.
 """
 
 from __future__ import annotations
@@ -18,13 +20,17 @@ from __future__ import annotations
 import itertools
 import math
 import time
+import uuid
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
-from .features import PAPER_MAIN_PEAK, PAPER_X_ANGLE_DEG, Features, angle_error_deg, features
+from ...results.chamber_switches import scene_switches
+from .angle import FROM_RUN, FROM_SCENE, angle_verdict
+from .features import PAPER_MAIN_PEAK, PAPER_X_ANGLE_DEG, Features, angle_error_deg, features, switches_of
 
 #: unknown -> (low, high): plausible range (docs/scene-estimates.md)
 PLAUSIBLE = {"kw": (3e8, 1e10), "kg": (3e8, 1e10), "zeta_w": (0.02, 0.5), "zeta_g": (0.02, 0.5)}
@@ -89,10 +95,14 @@ class Evaluation:
     features: Features | None
     cost: float
     status: str
+    #: crank angles (deg) of the chamber switches in the analysed revolution of this candidate's run (its chamber
+    #: pressures, :func:`.features.switches_of`); None where not measured
+    switches_deg: tuple[float, ...] | None = None
 
     def to_dict(self) -> dict:
         return {"values": self.values, "cost": self.cost, "status": self.status,
-                "features": None if self.features is None else self.features.to_dict()}
+                "features": None if self.features is None else self.features.to_dict(),
+                "chamber_switches_deg": None if self.switches_deg is None else list(self.switches_deg)}
 
 
 @dataclass
@@ -107,6 +117,29 @@ class Calibration:
     kw: float = float("nan")  # the scene's tip-housing stiffness, N/m (the housing mode where kw is no unknown)
     stopped: str = ""  # why the study ended early (a signal), or "" for a study that ran to its end
     exit_code: int = 0  # 128 + the signal that stopped it, or 0
+    #: what identifies the study, as a report's record does (runtime/results/folder.py, ReportFolder): its run id
+    run_id: str = ""
+    #: the scene as given, its content hash, the generated model's hash and the package versions
+    #: (:func:`apexseal.runtime.api.provenance`, as a result's info records them)
+    provenance: dict = field(default_factory=dict)
+    #: the study's options: grid, polish, revolutions
+    options: dict = field(default_factory=dict)
+    #: the scene the study ran (its ``overrides``: the keys replaced, ``--set``), or None; not in :meth:`to_dict`
+    scene: Any = field(default=None, repr=False, compare=False)
+
+    @property
+    def status(self) -> str:
+        """The report's status: "interrupted" for a study a signal stopped, else "completed"."""
+        return "interrupted" if self.stopped else "completed"
+
+    @property
+    def scene_overrides(self) -> dict:
+        """The scene keys replaced when the scene was built (--set), as given."""
+        return dict(getattr(self.scene, "overrides", None) or {})
+
+    def best_overrides(self) -> dict[str, float]:
+        """The scene keys that make the scene the best set (:func:`overrides`: kg sets kg1..kg4)."""
+        return overrides(self.best.values)
 
     def residuals(self) -> dict:
         f = self.best.features
@@ -144,17 +177,24 @@ class Calibration:
                  f"kw = {kw_needed:.3g} N/m, below the plausible {PLAUSIBLE['kw'][0]:.3g} N/m of a metal line "
                  "contact"),
             },
-            "x_max_angle": {
-                "paper_deg": PAPER_X_ANGLE_DEG, "fit_deg": f.x_max_deg, "matched": bool(angle_ok),
-                "range_over_evaluations_deg": [float(angles.min()), float(angles.max())],
-                "reason": "matched" if angle_ok else
-                ("the largest x follows the loads, not the contact parameters: with the estimated chamber pressures "
-                 "(the paper's Fig. 11 is not tabulated) it falls at a chamber switch (docs/paper-findings.md)"),
-            },
+            "x_max_angle": angle_verdict(f.x_max_deg, angles, *self._switches(), bool(angle_ok), ANGLE_MATCH_DEG),
         }
 
+    def _switches(self) -> tuple[tuple[float, ...] | None, str]:
+        """The chamber switches the verdict places the largest x against, and where they come from: the best set's
+        run, else (a calibration that kept none) the scene's pressure source, else none (None)."""
+        if self.best.switches_deg is not None:
+            return self.best.switches_deg, FROM_RUN
+        if self.scene is not None:
+            return tuple(a for a, _ in scene_switches(self.scene)), FROM_SCENE
+        return None, ""
+
     def to_dict(self) -> dict:
-        return {"best": self.best.to_dict(), "residuals": self.residuals(), "verdicts": self.verdicts(),
+        """The study as calibration.json records it: first what identifies it (run id, status, scene, its content
+        hash, the model's hash, the versions, the keys replaced and the options), then its results."""
+        return {"run_id": self.run_id, "status": self.status, **self.provenance, "overrides": self.scene_overrides,
+                "options": dict(self.options), "best": self.best.to_dict(), "best_overrides": self.best_overrides(),
+                "residuals": self.residuals(), "verdicts": self.verdicts(),
                 "ranges": {k: list(v) for k, v in self.ranges.items()}, "revolutions": self.revolutions,
                 "samples_per_revolution": self.samples_per_revolution,
                 "evaluations": [e.to_dict() for e in self.evaluations], "wall_time_s": self.wall_time_s,
@@ -198,7 +238,7 @@ def check_counts(**given) -> None:
 
 def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, grid: int = 3, revolutions: int = 2,
               polish: int = 20, samples: int | None = None,
-              progress: Callable[[str], None] | None = None) -> Calibration:
+              progress: Callable[[str], None] | None = None, run_id: str | None = None) -> Calibration:
     """Fit the unknowns within ``ranges`` (default :data:`PLAUSIBLE`, less a damping ratio whose damping is off)
     to the paper's features (module docstring).
 
@@ -206,13 +246,16 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     ``samples``: samples per revolution (default: the scene's, or where that is fewer the least multiple of 360
     with at least 2.4 samples per period of the fastest ringing any candidate can have, :func:`fastest_contact`,
     runtime/solving/ringing.py ``samples_resolving``).
+    ``run_id``: the study's (default: a new one), as its report records it (``apexseal calibrate`` passes its report
+    folder's). The result records what identifies the study (:meth:`Calibration.to_dict`: the scene, its content
+    hash, the model's hash, the versions, the keys replaced, the options).
     A Ctrl-C stops the simulation in progress and keeps the others: in a script
     :class:`~apexseal.signals.RunInterrupted` then carries the study (``stopped`` says why), in an interactive
     session it is returned with a warning, and a SIGTERM ends the process.
     """
     from ....derive.submodels.registry import is_read, needing, parameter, submodels
     from ....signals import StopSignals
-    from ...api import after_an_interrupt, model_functions
+    from ...api import after_an_interrupt, model_functions, provenance
     from ...solving.ringing import samples_resolving
 
     # a damping ratio whose damping is off is read by nothing: not an unknown by default, refused if asked for
@@ -263,7 +306,9 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
         stopped = f"interrupted by {signals.sender()}" if signals.requested else ""
         cal = Calibration(best, evaluations, ranges, revolutions, time.perf_counter() - start, samples,
                           mass=scene.parameters["ms"], kw=scene.parameters["kw"], stopped=stopped,
-                          exit_code=signals.exit_code())
+                          exit_code=signals.exit_code(), run_id=run_id or uuid.uuid4().hex,
+                          provenance=provenance(scene, functions),
+                          options={"grid": grid, "polish": polish, "revolutions": revolutions}, scene=scene)
         return after_an_interrupt(cal, stop, signals, bool(stopped), "the calibration",
                                   f"{len(evaluations)} simulations completed, in the returned result",
                                   f"{len(evaluations)} simulations completed in memory only, lost with the process")
@@ -310,7 +355,7 @@ def _search(scene, functions, names, lo, hi, grid, polish, revolutions, samples,
             ev = Evaluation(values, None, float("inf"), r.status)
         else:
             f = features(r, sc.omega)
-            ev = Evaluation(values, f, cost_of(f), r.status)
+            ev = Evaluation(values, f, cost_of(f), r.status, switches_of(r))
         evaluations.append(ev)
         shown = ", ".join(f"{k} {v:.3g}" for k, v in values.items())
         tail = f"main peak {ev.features.main_peak_rad_s:.3g} rad/s, x largest at {ev.features.x_max_deg:.0f} deg" \

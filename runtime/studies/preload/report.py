@@ -342,20 +342,7 @@ def _write_scene(folder: Path, scene, run_id: str | None, samples: int | None = 
     """scene.toml (and the pressure table it names): the scene the study ran, ``--set`` keys included, with the
     ``samples`` per revolution the study ran (its ``samples`` option) as solver.samples_per_revolution, so that
     ``apexseal simulate scene.toml`` runs the study's grid."""
-    from ...scenes.resolved import resolved_toml
+    from ..scene_file import write_study_scene
 
-    head = (f"apexseal preload study{' ' + run_id if run_id else ''}, scene {scene.name}, content hash "
-            f"{scene.content_hash()}")
-    own = scene.solver.samples_per_revolution
-    if samples and samples != own:
-        scene = scene.with_overrides(**{"solver.samples_per_revolution": samples})
-        head += (f"\nsolver.samples_per_revolution = {samples}: the samples the study ran (the scene's {own}); "
-                 f"content hash as written {scene.content_hash()}")
-    head += "\nre-run: apexseal optimise-preload scene.toml, with the options recorded in preload.json"
-    text, extra = resolved_toml(scene, header=head)
-    paths = []
-    for name, content in extra.items():
-        atomic_write(folder / name, content)
-        paths.append(folder / name)
-    atomic_write(folder / "scene.toml", text)
-    return [folder / "scene.toml", *paths]
+    return write_study_scene(folder, scene, "preload study", run_id,
+                             "apexseal optimise-preload scene.toml, with the options recorded in preload.json", samples)

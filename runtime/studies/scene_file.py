@@ -1,0 +1,33 @@
+"""scene.toml in a study's report folder: the scene the study ran, every value explicit (``--set`` keys included),
+with its pressure table beside it, so that the study can be run again and its designs simulated from the folder."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ...files import atomic_write
+
+
+def write_study_scene(folder: Path, scene, study: str, run_id: str | None, rerun: str,
+                      samples: int | None = None) -> list[Path]:
+    """Write scene.toml (and the pressure table it names) into ``folder``; return their paths. Its first lines name
+    the ``study`` ("preload study"), its ``run_id``, the scene and its content hash, and how to run it again
+    (``rerun``). ``samples``: the samples per revolution the study ran, written as solver.samples_per_revolution
+    where they differ from the scene's (the header says so, with the content hash as written), so that
+    ``apexseal simulate scene.toml`` runs the study's sampling."""
+    from ..scenes.resolved import resolved_toml
+
+    head = f"apexseal {study}{' ' + run_id if run_id else ''}, scene {scene.name}, content hash {scene.content_hash()}"
+    own = scene.solver.samples_per_revolution
+    if samples and samples != own:
+        scene = scene.with_overrides(**{"solver.samples_per_revolution": samples})
+        head += (f"\nsolver.samples_per_revolution = {samples}: the samples the study ran (the scene's {own}); "
+                 f"content hash as written {scene.content_hash()}")
+    head += f"\nre-run: {rerun}"
+    text, extra = resolved_toml(scene, header=head)
+    paths = []
+    for name, content in extra.items():
+        atomic_write(Path(folder) / name, content)
+        paths.append(Path(folder) / name)
+    atomic_write(Path(folder) / "scene.toml", text)
+    return [Path(folder) / "scene.toml", *paths]
