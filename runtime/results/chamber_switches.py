@@ -1,71 +1,88 @@
 """Where the chambers switch: the crank angles at which the pressure difference across the seal, Pa - Pb (Eq. 75),
 changes by a large part of its range in a few degrees (a port opens: the chamber on the seal's other side becomes
 the high-pressure one), found from the chamber pressures at the samples of one revolution: a run's outputs ``Pa``,
-``Pb``, or a scene's pressure source sampled (:func:`scene_switches`).
+``Pb``, or a scene's pressure source sampled (:func:`scene_switches`). The preload study's advice
+(runtime/studies/preload/advice.py) and the calibration's verdict on the largest x (runtime/studies/calibration/
+angle.py) both read them here.
 
-The rule is that of the preload study's advice (runtime/studies/preload/advice.py ``shortfall_kind``): a step of
-Pa - Pb of more than ``PRESSURE_STEP`` of its range over the revolution between two samples. Between two samples
-alone it depends on the sampling: the default scene's table opens its ports over 5 deg
-(runtime/scenes/pressure_default.py), so at 720 samples per revolution or more no step between two samples exceeds
-9 % of the range. :func:`chamber_switches` also takes the change over ``SWITCH_WIDTH_DEG`` before each sample, so
-that it finds the same switches at any sampling.
+A switch is a change of Pa - Pb by more than ``PRESSURE_STEP`` of its range over the revolution between two samples
+``SWITCH_WIDTH_DEG`` apart (one sample apart where the samples are coarser), not a step between two neighbouring
+samples: the default scene's table opens each port over 5 deg (runtime/scenes/pressure_default.py) and a run's
+pressures are linear between its samples, so that the largest step between two samples is 8.6 % of the range at
+720 samples per revolution and 1.7 % at 3600; a rule on neighbouring samples saw no switch there. Within the 5 deg
+a switch changes Pa - Pb by 55 % of its range, the smooth expansion by at most 2.9 % (tests/runtime/
+test_preload_advice.py).
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
-#: a chamber switch: a step of Pa - Pb larger than this fraction of its range over the revolution
+#: a chamber switch: Pa - Pb changes by more than this fraction of its range over the revolution within
+#: SWITCH_WIDTH_DEG
 PRESSURE_STEP = 0.25
-#: crank angle (deg) over which :func:`chamber_switches` also measures the step: a port's opening ramp on the
-#: default scene's table
+#: crank angle (deg) within which a chamber switch changes Pa - Pb: a port's opening ramp on the default scene's table
 SWITCH_WIDTH_DEG = 5.0
 
 
-def pressure_steps(pressures) -> tuple[np.ndarray, np.ndarray, float]:
-    """Pa - Pb at each sample of ``pressures`` (2 x samples, Pa; the samples of one revolution in order), the step
-    into each sample from the one before (periodically: the first from the last) and the range of Pa - Pb."""
-    dp = np.asarray(pressures[0], float) - np.asarray(pressures[1], float)
-    return dp, np.abs(dp - np.roll(dp, 1)), float(np.ptp(dp)) if dp.size else 0.0
+class Switch(NamedTuple):
+    """A chamber switch of a revolution's samples (:func:`chamber_switches`)."""
+
+    angle_deg: float  # where Pa - Pb passes halfway through its change (mod 360, linear between the samples)
+    change: float  # Pa - Pb after less before, Pa
+    width_deg: float  # the window it changed within
 
 
-def chamber_switches(thetas, pressures, width_deg: float = SWITCH_WIDTH_DEG) -> list[tuple[float, float]]:
-    """The chamber switches of one revolution: ``(crank angle in deg, change of Pa - Pb in Pa)`` for each, in
-    increasing angle. ``thetas`` (rad; taken modulo 2 pi, a sample repeated a revolution later counted once) and
-    ``pressures`` (2 x samples, Pa) at the samples. A sample is in a switch where Pa - Pb has changed by more than
-    ``PRESSURE_STEP`` of its range since the sample before or since ``width_deg`` before it (interpolated,
-    periodically); each run of such samples is one switch. Its change is that from ``width_deg`` (or the sample)
-    before the run to the run's last sample, and its angle that of the first sample of the run past the middle of
-    that change (the sample a step leads into; the middle of a ramp). [] where Pa - Pb is constant (no chamber
-    pressure)."""
+def chamber_switches(thetas, pressures, width_deg: float = SWITCH_WIDTH_DEG) -> list[Switch]:
+    """The chamber switches of one revolution, in increasing angle. ``thetas`` (rad): the samples of one
+    revolution, equally spaced (taken modulo 2 pi; a sample repeated a revolution later counted once);
+    ``pressures`` (2 x samples, Pa): Pa and Pb there. A window of ``width_deg`` (at least one sample) is in a switch
+    where Pa - Pb changes across it by more than :data:`PRESSURE_STEP` of its range; each run of such windows is one
+    switch, at the window of the largest change, where Pa - Pb passes halfway through it. [] where Pa - Pb is
+    constant (no chamber pressure) or changes that fast everywhere (no switch stands out)."""
     deg = np.degrees(np.asarray(thetas, float)) % 360.0
     deg, first = np.unique(np.round(deg, 9), return_index=True)  # sorted; a whole revolution's end is its start
     P = np.asarray(pressures, float)[:, first]
-    dp, steps, span = pressure_steps(P)
-    if deg.size < 2 or span <= 0:
+    dp = P[0] - P[1]
+    n = dp.size
+    span = float(np.ptp(dp)) if n else 0.0
+    if n < 2 or not span > 0:
         return []
-    back = np.interp(deg - width_deg, deg, dp, period=360.0) if width_deg > 0 else dp
-    inside = np.maximum(steps, np.abs(dp - back)) > PRESSURE_STEP * span
-    if inside.all():  # Pa - Pb changes everywhere that fast: no switch stands out
+    k = min(max(1, math.ceil(width_deg * n / 360.0 - 1e-9)), n - 1)  # samples in a window
+    change = np.roll(dp, -k) - dp  # from each sample to the one k after it
+    hit = np.abs(change) > PRESSURE_STEP * span
+    if hit.all():
         return []
-    starts = np.flatnonzero(inside & ~np.roll(inside, 1))
     out = []
-    n = deg.size
-    for s in starts:
-        run = [s]
-        while inside[(run[-1] + 1) % n]:
-            run.append((run[-1] + 1) % n)
-        gap = (deg[s] - deg[s - 1]) % 360.0  # to the sample before the run
-        before = np.interp(deg[s] - width_deg, deg, dp, period=360.0) if width_deg > gap else dp[s - 1]
-        change = float(dp[run[-1]] - before)
-        j = next((i for i in run if (dp[i] - before) * math.copysign(1.0, change) >= abs(change) / 2), run[-1])
-        out.append((float(deg[j]), change))
+    for run in _runs(hit):
+        j = run[int(np.argmax(np.abs(change[run])))]
+        idx = (j + np.arange(k + 1)) % n
+        at = deg[j] + (deg[idx] - deg[j]) % 360.0  # the window's angles, increasing across 0
+        rel = (dp[idx] - (dp[j] + change[j] / 2)) * np.sign(change[j])  # < 0 before halfway, >= 0 from it
+        m = int(np.argmax(rel >= 0))
+        a = at[m - 1] + (at[m] - at[m - 1]) * -rel[m - 1] / (rel[m] - rel[m - 1])
+        out.append(Switch(float(a % 360.0), float(change[j]), float(at[-1] - at[0])))
     return sorted(out)
 
 
-def scene_switches(scene, samples: int | None = None) -> list[tuple[float, float]]:
+def _runs(hit: np.ndarray) -> list[np.ndarray]:
+    """The indices of each run of True in ``hit``, cyclically (a run may cross the end); ``hit`` has a False."""
+    n = hit.size
+    first = int(np.argmin(hit))  # a False: no run crosses it
+    runs, current = [], []
+    for i in (first + 1 + np.arange(n)) % n:
+        if hit[i]:
+            current.append(i)
+        elif current:
+            runs.append(np.array(current))
+            current = []
+    return runs
+
+
+def scene_switches(scene, samples: int | None = None) -> list[Switch]:
     """:func:`chamber_switches` of ``scene``'s pressure source (its table, or constant pressures) over one revolution
     of ``samples`` samples (default: the scene's ``solver.samples_per_revolution``), at the crank angles a run's
     ``theta`` measures (from ``operation.start_angle``). [] for the chamber gas model, whose pressures are a run's

@@ -108,7 +108,7 @@ def switches_of(result) -> tuple[float, ...]:
     them is part of the calibration's verdict (:mod:`.angle`)."""
     window = last_revolution(result)
     pressures = np.vstack([result.outputs["Pa"][window], result.outputs["Pb"][window]])
-    return tuple(a for a, _ in chamber_switches(result.theta[window], pressures))
+    return tuple(s.angle_deg for s in chamber_switches(result.theta[window], pressures))
 
 
 def angle_error_deg(a: float, b: float) -> float:

@@ -186,7 +186,7 @@ class Calibration:
         if self.best.switches_deg is not None:
             return self.best.switches_deg, FROM_RUN
         if self.scene is not None:
-            return tuple(a for a, _ in scene_switches(self.scene)), FROM_SCENE
+            return tuple(s.angle_deg for s in scene_switches(self.scene)), FROM_SCENE
         return None, ""
 
     def to_dict(self) -> dict:

@@ -8,42 +8,65 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...results.chamber_switches import PRESSURE_STEP, pressure_steps
+from ...results.chamber_switches import chamber_switches
 from .problem import MM
 
 #: crank angle (deg) on each side of where the force falls short in which a chamber switch or the tip's ringing
-#: marks it as an impact transient
+#: marks it as an impact transient, at :data:`REFERENCE_RPM`; at other speeds it is the same time (:func:`margin_deg`)
 MARGIN_DEG = 5.0
+#: rpm at which :data:`MARGIN_DEG` holds: the default scene's speed, at which it was set
+REFERENCE_RPM = 1500.0
 #: relative steps above a constant optimum re-simulated to check that more preload stays feasible
 #: (:func:`.study._polish_constant`): a spring loses or gains that much preload in its tolerances
 ROBUST_STEPS = (0.01, 0.05)
 
 
-def _near(deg: np.ndarray, start: float, end: float) -> np.ndarray:
-    """The samples (deg mod 360) within MARGIN_DEG of the span [start, end] (deg mod 360, may cross 0)."""
+def margin_deg(rpm: float) -> float:
+    """The crank angle (deg) on each side of a shortfall within which a chamber switch or ringing marks it as an
+    impact transient, at ``rpm``: the time :data:`MARGIN_DEG` takes at :data:`REFERENCE_RPM` (0.556 ms), never less
+    than :data:`MARGIN_DEG`.
+
+    The transient after a switch is a time, not an angle: the seal is thrown across its groove and rattles (impacts
+    and flights, each impact losing energy to the contacts' dampers) until it settles on the housing. Its duration
+    is set by the flights, which do not depend on the speed, and not by the decay of a contact mode's linear ringing
+    (runtime/solving/ringing.py, ``mode_damping``): 1/(zeta w) of the tip contact is 0.08 ms on the default scene
+    (zeta 0.05 at w = sqrt(kw/ms) = 2.4e5 rad/s: zeta_w = 0.1 acting in half of each period, as
+    runtime/solving/contact_stability.py counts it), while the tip force leaves its smooth course for up to 3.7 deg
+    after a switch at 1500 rpm and 8.7 deg at 3000 rpm, 0.41 and 0.48 ms, and twice the tip's damping (zeta_w 0.2)
+    leaves it as long (9.5 deg at 3000 rpm): tests/runtime/test_preload_advice.py,
+    ``test_the_transient_after_a_switch_lasts_a_time``. So the margin is the same time at every speed; a seal whose
+    contacts are damped far less than the default's (zeta 0.1), or stiffer, may rattle longer than it."""
+    return MARGIN_DEG * max(1.0, float(rpm) / REFERENCE_RPM)
+
+
+def _near(deg, start: float, end: float, margin: float):
+    """Whether ``deg`` (mod 360) lies within ``margin`` deg of the span [start, end] (deg mod 360, may cross 0)."""
     width = (end - start) % 360.0
-    return (deg - (start - MARGIN_DEG)) % 360.0 <= width + 2 * MARGIN_DEG
+    return (np.asarray(deg) - (start - margin)) % 360.0 <= width + 2 * margin
 
 
-def shortfall_kind(thetas, measure, pressures, start: float, end: float) -> tuple[str, str]:
-    """("transient", why) where the tip force falls short at [start, end] deg next to a chamber switch (a step of
-    Pa - Pb between two samples of more than PRESSURE_STEP of its range: runtime/results/chamber_switches.py) or
-    while the tip rings (two or more local minima of the force at the samples within MARGIN_DEG of it); else
-    ("smooth", why): a single smooth minimum of the force (the seal's inertial or gas load), where the lift-off is
-    real. ``thetas`` (rad), ``measure`` (N) and ``pressures`` (2 x samples, Pa) at the samples of a re-simulated
+def shortfall_kind(thetas, measure, pressures, start: float, end: float, *, rpm: float) -> tuple[str, str]:
+    """("transient", why) where the tip force falls short at [start, end] deg next to a chamber switch
+    (runtime/results/chamber_switches.py, at an angle within :func:`margin_deg` of the span at the scene's ``rpm``) or while
+    the tip rings (two or more local minima of the force at the samples within that margin of it); else ("smooth",
+    why): a single smooth minimum of the force (the seal's inertial or gas load), where the lift-off is real.
+    ``thetas`` (rad), ``measure`` (N) and ``pressures`` (2 x samples, Pa) at the samples of a re-simulated
     revolution."""
+    margin = margin_deg(rpm)
+    switches = [s for s in chamber_switches(thetas, pressures) if _near(s.angle_deg, start, end, margin)]
+    if switches:
+        s = max(switches, key=lambda s: abs(s.change))
+        return "transient", (f"a chamber switch at {s.angle_deg:.1f} deg (Pa - Pb changes by {s.change / 1e5:+.3g} "
+                             f"bar within {s.width_deg:.3g} deg)")
     deg = np.degrees(np.asarray(thetas, float)) % 360.0
-    near = _near(deg, start, end)
-    _, steps, span = pressure_steps(pressures)  # the step into each sample from the one before
-    if span > 0 and np.any(steps[near] > PRESSURE_STEP * span):
-        j = int(np.argmax(np.where(near, steps, -1.0)))
-        return "transient", f"a chamber switch at {deg[j]:.1f} deg (Pa - Pb steps by {steps[j] / 1e5:.3g} bar)"
+    near = _near(deg, start, end, margin)
     m = np.asarray(measure, float)
     minima = near & (m < np.roll(m, 1)) & (m <= np.roll(m, -1))
     if np.count_nonzero(minima) >= 2:
         return "transient", f"the tip rings there ({np.count_nonzero(minima)} dips of its force within " \
-                            f"{MARGIN_DEG:g} deg)"
-    return "smooth", "a single smooth minimum of the tip force (the seal's inertial and gas load), no chamber switch"
+                            f"{margin:.3g} deg)"
+    return "smooth", ("a single smooth minimum of the tip force (the seal's inertial and gas load), no chamber switch "
+                      f"within {margin:.3g} deg")
 
 
 def shortfall_advice(kind: str, why: str) -> str:

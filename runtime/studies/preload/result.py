@@ -284,8 +284,8 @@ def fill_result(res, setup, grid, knots_m, sim) -> None:
     if span is not None:
         res.deficit_span_deg, res.deficit_span_share = [span[0], span[1]], span[2]
         if (span[1] - span[0]) % 360.0:
-            res.deficit_span_kind, res.deficit_span_why = shortfall_kind(sim.thetas, sim.measure, sim.pressures,
-                                                                         span[0], span[1])
+            res.deficit_span_kind, res.deficit_span_why = shortfall_kind(
+                sim.thetas, sim.measure, sim.pressures, span[0], span[1], rpm=setup.scene.operation.rpm)
     res.min_measure, res.min_measure_angle = setup.smallest(sim)
     res.periodic_change = sim.change
     if setup.max_groove_force is not None:

@@ -474,7 +474,7 @@ def _infeasible_advice(setup, sim, angle: float, max_preload: float) -> str:
     minimum."""
     if limit := spring_capacity(setup, max_preload, setup.min_force):
         return f"The {limit[4:]}, or lower min_force."
-    kind, why = shortfall_kind(sim.thetas, sim.measure, sim.pressures, angle, angle)
+    kind, why = shortfall_kind(sim.thetas, sim.measure, sim.pressures, angle, angle, rpm=setup.scene.operation.rpm)
     if kind == "transient":
         return (f"It is an impact transient ({why}): exclude a window around that angle (exclude=[(start, end)] / "
                 "--exclude START:END), lower min_force, or raise max_preload (--max-preload).")
