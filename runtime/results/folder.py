@@ -589,6 +589,17 @@ class ReportFolder:
                 os.close(lock)
         return out
 
+    def save(self, fill, status: str) -> Path:
+        """Write a study's one report (``fill``, as :meth:`write`) and move it to ``<out>`` (:meth:`commit`); return
+        where it is. A report that could not be written leaves nothing beside ``<out>``; one written but not moved
+        into place stays whole in ``<out>.partial-<run id>``, as the ResultStorageError of :meth:`commit` says."""
+        try:
+            self.write(fill)
+        except BaseException:
+            self.abandon()
+            raise
+        return self.commit(status)
+
     def commit(self, status: str) -> Path:
         """Move the last report written to ``<out>`` and return where it is: ``<out>``, or ``<out>.partial-<run
         id>`` when it is kept aside (see the class docstring; the reason in ``kept_aside``)."""

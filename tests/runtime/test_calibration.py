@@ -2,6 +2,7 @@
 
 import math
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -323,3 +324,31 @@ def test_the_switches_are_the_same_at_any_sampling_and_from_the_scene_where_the_
     assert "in the scene's chamber pressures" in kept_none["reason"]
     assert "no chamber pressures to place it against" in _with_angles(184.1, switches=None).verdicts()[
         "x_max_angle"]["reason"]
+
+
+def test_a_report_that_cannot_be_moved_into_place_stays_whole_beside_it(tmp_path, monkeypatch):
+    """A report written whole but not moved into place stays in <out>.partial-<run id>, as the error says
+    (ReportFolder.save, which calibration's save_report and the preload study's save_preload_report share; the
+    latter's own copy of it removed the complete report when the move failed)."""
+    import json
+
+    from apexseal.runtime.results import folder as folders
+    from apexseal.runtime.results.folder import ResultStorageError
+    from apexseal.runtime.studies.calibration.report import save_report
+
+    real = folders.move_into_place
+    out = tmp_path / "cal"
+
+    def refused_at_the_target(source, target, *args, **kw):
+        if Path(target) == out:
+            raise PermissionError(13, "Permission denied")
+        return real(source, target, *args, **kw)
+
+    monkeypatch.setattr(folders, "move_into_place", refused_at_the_target)
+    cal = _with_angles(184.1)
+    with pytest.raises(ResultStorageError, match="the report is complete in"):
+        save_report(cal, out)
+    assert not out.exists()
+    (kept,) = tmp_path.iterdir()
+    assert kept.name.startswith("cal.partial-")
+    assert json.loads((kept / "calibration.json").read_text())["status"] == "completed"

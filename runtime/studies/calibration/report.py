@@ -78,9 +78,4 @@ def save_report(cal, out, folder=None) -> Path:
     beside ``out``; one that could not be moved into place stays whole in ``<out>.partial-<run id>`` (the
     ResultStorageError says so)."""
     folder = folder if folder is not None else report_folder(Path(out), cal.run_id)
-    try:
-        folder.write(lambda into: write_report(into, cal))
-    except BaseException:
-        folder.abandon()
-        raise
-    return folder.commit(cal.status)
+    return folder.save(lambda into: write_report(into, cal), cal.status)

@@ -112,14 +112,9 @@ def save_report(out, constant, schedule=None) -> Path:
                             constant.objective, constant.samples, constant.nodes) \
         | {"written_by": "apexseal.save_preload_report"}
     folder = report_folder(Path(out))
-    try:
-        folder.write(lambda into: write_report(
-            into, scene, scene.name, results, None, constant.min_force, overrides=scene.overrides,
-            stopped=stopped, options=options, run_id=folder.run_id, status=status))
-        where = folder.commit(status)
-    except BaseException:
-        folder.abandon()
-        raise
+    where = folder.save(lambda into: write_report(
+        into, scene, scene.name, results, None, constant.min_force, overrides=scene.overrides,
+        stopped=stopped, options=options, run_id=folder.run_id, status=status), status)
     if folder.kept_aside:
         warnings.warn(f"{folder.kept_aside}; this report is in {where}", KeptAsideWarning, stacklevel=2)
     return where
