@@ -218,9 +218,9 @@ def test_stiff_friction_completes_and_converges_to_rosenbrock(fns):
     """friction-chatter-groove with the run's limits: the stiffness test hands the stiff friction to the exponential
     step, so the composite completes the revolution (erk stops at its step limit), and its states approach
     rosenbrock's at rtol 1e-9 as rtol shrinks (measured in y: 24 um at rtol 1e-6, 1.6 um at 1e-8, of a 379 um
-    range); rosenbrock stays the scene's method (0.6 s against 10-20 s for each composite run on a quiet machine,
-    2026-11-28). The hard cases' 60 s budget is lifted: a run of 20 s hit it on a 2-core machine running two other
-    suites, and what is tested here is convergence, not speed."""
+    range); rosenbrock stays the scene's method (0.10 s against 10.15 s for the composite, docs/hard-cases.md). The
+    hard cases' 60 s budget is lifted: a composite run hit it on a 2-core machine running two other suites, and
+    what is tested here is convergence, not speed."""
     scene = load("friction-chatter-groove")
     kw = {"revolutions": 1, "compile_c": True, "samples_per_revolution": 360, "max_wall_time": 600}
     ref = simulate(scene, fns, method="rosenbrock", rtol=1e-9, **kw)
