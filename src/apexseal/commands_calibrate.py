@@ -12,11 +12,35 @@ from .cli_common import IntRange, default_folder, remove_made, report_target, sc
 from .runtime.studies.calibration.fit import COUNTS
 
 
+def _unknowns(ctx: click.Context, param: click.Parameter, items: tuple[str, ...]):
+    """``--unknown NAME=LOW:HIGH`` given, in order, as the study's ranges (None: the default ones); the names and
+    ranges are checked by the study, with the same messages as the API's."""
+    if not items:
+        return None
+    ranges: dict[str, tuple[float, float]] = {}
+    for item in items:
+        name, _, bounds = item.partition("=")
+        low, _, high = bounds.partition(":")
+        name = name.strip()
+        if name in ranges:
+            raise click.BadParameter(f"{name} given twice: allowed: each unknown once", ctx, param)
+        try:
+            ranges[name] = (float(low), float(high))
+        except ValueError:
+            raise click.BadParameter(f"{item!r}: allowed: NAME=LOW:HIGH with numbers in SI units, e.g. "
+                                     "kw=1e9:5e9 (N/m) or zeta_w=0.05:0.2 (a damping ratio)", ctx, param) from None
+    return ranges
+
+
 @click.command()
 @click.argument("scene", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @scene_settings
+@click.option("--unknown", "unknowns", multiple=True, callback=_unknowns, metavar="NAME=LOW:HIGH",
+              help="Fit NAME (kw, kg, zeta_w or zeta_g) within LOW..HIGH, in SI units (N/m; a damping ratio), inside "
+                   "its plausible range; repeat for each unknown, and only those given are fitted [default: all four "
+                   "over their plausible ranges, less a damping ratio whose damping is off].")
 @click.option("--grid", type=IntRange(*COUNTS["grid"][:2]), default=3, show_default=True,
-              help="Grid points per unknown (log-spaced over its plausible range).")
+              help="Grid points per unknown (log-spaced over its range).")
 @click.option("--polish", type=IntRange(*COUNTS["polish"][:2]), default=20, show_default=True,
               help="Nelder-Mead simulations after the grid (0: none).")
 @click.option("--revolutions", "-n", type=IntRange(*COUNTS["revolutions"][:2]), default=2, show_default=True,
@@ -25,9 +49,9 @@ from .runtime.studies.calibration.fit import COUNTS
               help="Output folder for calibration.json and scene.toml, written beside it and renamed into place as a "
                    "whole [default: apexseal-out/<scene name>-calibration].")
 @click.option("--quiet", "-q", is_flag=True, help="No line per simulation on stderr.")
-def calibrate(scene: Path | None, sets, grid, polish, revolutions, out, quiet) -> None:
+def calibrate(scene: Path | None, sets, unknowns, grid, polish, revolutions, out, quiet) -> None:
     """Fit kw, kg (kg1..kg4), zeta_w and zeta_g of SCENE (default: the embedded case study) within their plausible
-    ranges to the paper's Fig. 14 main peak and the crank angle of the largest x (Fig. 12a), and say which
+    ranges (or the unknowns and ranges of --unknown) to the paper's Fig. 14 main peak and the crank angle of the largest x (Fig. 12a), and say which
     features no plausible set matches and why. Ctrl-C or SIGTERM stops it: the simulations completed are written
     (exit code 130 or 143), beside a completed report in the folder rather than over it."""
     from .runtime.results.folder import ResultStorageError
@@ -40,7 +64,9 @@ def calibrate(scene: Path | None, sets, grid, polish, revolutions, out, quiet) -
     sc = scene_of(scene, sets)
     out = default_folder(scene, out, "calibration")
     folder, made = report_target(out, report_folder)  # a folder of other files is never replaced
-    click.echo(f"{scene_label(scene, sets)}; grid {grid}, polish {polish}, "
+    fitted = "" if unknowns is None else "; unknowns " + ", ".join(f"{n} {lo:g}..{hi:g}" for n, (lo, hi) in
+                                                                  unknowns.items())
+    click.echo(f"{scene_label(scene, sets)}{fitted}; grid {grid}, polish {polish}, "
                f"{revolutions} revolutions per simulation; writing to {out}/")
     say = None if quiet else (lambda line: click.echo(line, err=True))
     try:
@@ -48,7 +74,7 @@ def calibrate(scene: Path | None, sets, grid, polish, revolutions, out, quiet) -
         # is only noted meanwhile), and the command exits with 128 + the signal itself
         with StopSignals() as signals:
             try:
-                result = run_study(sc, grid=grid, polish=polish, revolutions=revolutions, progress=say,
+                result = run_study(sc, ranges=unknowns, grid=grid, polish=polish, revolutions=revolutions, progress=say,
                                    run_id=folder.run_id)
             except CalibrationInterrupted as err:
                 click.echo(str(err), err=True)

@@ -91,6 +91,50 @@ def test_the_scene_file_reruns_the_same_study(completed, tmp_path):
     assert second["run_id"] != data["run_id"] and second["model_hash"] == data["model_hash"]
 
 
+def test_the_unknowns_and_ranges_of_a_study_rerun_from_its_report(tmp_path):
+    """``calibrate(ranges=...)`` had no counterpart on the command line, and the re-run line printed for such a
+    study ran the default unknowns over their plausible ranges: another study. ``--unknown NAME=LOW:HIGH`` gives
+    them; the re-run line writes them back (exactly) where they are not the scene's default ones, and reruns the
+    same study."""
+    out = tmp_path / "c"
+    r = CliRunner().invoke(main, ["calibrate", "--unknown", "kw=1.5e9:4e9", "--unknown", "zeta_g=0.05:0.3", *TINY,
+                                  "-o", str(out)])
+    assert r.exit_code == 0, r.output
+    assert "unknowns kw 1.5e+09..4e+09, zeta_g 0.05..0.3" in r.output
+    data = json.loads((out / "calibration.json").read_text())
+    assert data["ranges"] == {"kw": [1.5e9, 4e9], "zeta_g": [0.05, 0.3]}
+    assert data["rerun"].endswith("--unknown kw=1500000000.0:4000000000.0 --unknown zeta_g=0.05:0.3")
+    # a 1-point grid sits at the middle of each range (log-spaced); kg and zeta_w keep the scene's values
+    best = data["best_overrides"]
+    assert best["contacts.kw"] == pytest.approx((1.5e9 * 4e9) ** 0.5)
+    assert best["contacts.zeta_g"] == pytest.approx((0.05 * 0.3) ** 0.5)
+    again = tmp_path / "again"
+    r = CliRunner().invoke(main, [*shlex.split(_lines(r.output, "re-run:"))[1:], "-q", "-o", str(again)])
+    assert r.exit_code == 0, r.output
+    second = json.loads((again / "calibration.json").read_text())
+    assert second["ranges"] == data["ranges"] and second["best"] == data["best"]
+    assert second["rerun"].replace(str(again), str(out)) == data["rerun"]
+
+
+@pytest.mark.parametrize("given, words", [
+    ("kw=1e5:1e9", "kw = 100000..1e+09: allowed: a range inside the plausible 3e+08..1e+10"),
+    ("kw=2e9:1e9", "kw = 2e+09..1e+09: allowed: a range inside the plausible 3e+08..1e+10"),
+    ("k=1e9:2e9", "unknown = 'k': not an unknown of the study; allowed: kw, kg, zeta_w, zeta_g"),
+    ("kw=1e9", "'kw=1e9': allowed: NAME=LOW:HIGH with numbers in SI units"),
+    ("kw=1e9 N/m:2e9", "'kw=1e9 N/m:2e9': allowed: NAME=LOW:HIGH"),
+])
+def test_a_bad_unknown_is_refused_naming_it_before_any_simulation(tmp_path, given, words):
+    out = tmp_path / "c"
+    r = CliRunner().invoke(main, ["calibrate", "--unknown", given, *TINY, "-o", str(out)])
+    assert r.exit_code == 2 and words in " ".join(r.output.split()), r.output
+    assert not out.exists() and not list(tmp_path.iterdir())
+
+
+def test_an_unknown_given_twice_is_refused():
+    r = CliRunner().invoke(main, ["calibrate", "--unknown", "kw=1e9:2e9", "--unknown", "kw=1e9:3e9", *TINY])
+    assert r.exit_code == 2 and "kw given twice: allowed: each unknown once" in r.output, r.output
+
+
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_an_interrupted_calibration_does_not_replace_a_completed_one(completed, tmp_path, monkeypatch, signum):
     """A second calibration into the folder of a completed one, stopped by a signal after its first simulation:

@@ -236,6 +236,23 @@ def check_counts(**given) -> None:
         raise CalibrationError("; ".join(problems))
 
 
+def unread_unknowns(scene) -> dict[str, str]:
+    """The unknowns of :data:`PLAUSIBLE` that nothing reads in ``scene``, each with the effect that would read it: a
+    damping ratio whose damping is off is not an unknown by default, and refused if asked for."""
+    from ....derive.submodels.registry import is_read, needing, parameter, submodels
+
+    ratios = {zeta for cls in submodels() for _, zeta in cls.damping_ratios}
+    return {n: needing(parameter(n)) for n in PLAUSIBLE
+            if n in ratios and not is_read(n, scene.effects, scene.assumptions)}
+
+
+def default_ranges(scene) -> dict[str, tuple[float, float]]:
+    """The unknowns and ranges of a study of ``scene`` asked for none: :data:`PLAUSIBLE`, less what it does not
+    read (:func:`unread_unknowns`)."""
+    unread = unread_unknowns(scene)
+    return {n: r for n, r in PLAUSIBLE.items() if n not in unread}
+
+
 def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, grid: int = 3, revolutions: int = 2,
               polish: int = 20, samples: int | None = None,
               progress: Callable[[str], None] | None = None, run_id: str | None = None) -> Calibration:
@@ -253,18 +270,12 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     :class:`~apexseal.signals.RunInterrupted` then carries the study (``stopped`` says why), in an interactive
     session it is returned with a warning, and a SIGTERM ends the process.
     """
-    from ....derive.submodels.registry import is_read, needing, parameter, submodels
     from ....signals import StopSignals
     from ...api import after_an_interrupt, model_functions, provenance
     from ...solving.ringing import samples_resolving
 
-    # a damping ratio whose damping is off is read by nothing: not an unknown by default, refused if asked for
-    ratios = {zeta for cls in submodels() for _, zeta in cls.damping_ratios}
-    unread = {n: needing(parameter(n)) for n in PLAUSIBLE
-              if n in ratios and not is_read(n, scene.effects, scene.assumptions)}
-    if ranges is None:
-        ranges = {n: r for n, r in PLAUSIBLE.items() if n not in unread}
-    ranges = dict(ranges)
+    unread = unread_unknowns(scene)
+    ranges = default_ranges(scene) if ranges is None else dict(ranges)
     for name in ranges:
         if name in unread:
             raise CalibrationError(f"unknown = {name!r}: effects.{unread[name]} is off, so nothing reads it; "

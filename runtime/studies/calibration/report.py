@@ -44,11 +44,19 @@ def simulate_line(cal, scene_file: str = SCENE_FILE) -> str:
 
 
 def rerun_line(cal, scene_file: str = SCENE_FILE) -> str:
-    """The command that runs the study of ``cal`` again from its scene file, with the options it ran (the command's
-    ranges of the unknowns; scene.toml holds the samples per revolution it ran)."""
+    """The command that runs the study of ``cal`` again from its scene file, with the options it ran: its unknowns
+    and their ranges as ``--unknown NAME=LOW:HIGH`` where they are not the default ones of its scene
+    (:func:`~.fit.default_ranges`), each number as Python writes it back exactly (scene.toml holds the samples per
+    revolution it ran)."""
+    from .fit import default_ranges
+
     o = cal.options
-    return (f"apexseal calibrate {scene_file} --grid {o.get('grid')} --polish {o.get('polish')} "
+    line = (f"apexseal calibrate {scene_file} --grid {o.get('grid')} --polish {o.get('polish')} "
             f"--revolutions {cal.revolutions}")
+    ranges = {n: (float(lo), float(hi)) for n, (lo, hi) in cal.ranges.items()}
+    if cal.scene is not None and ranges != default_ranges(cal.scene):
+        line += "".join(f" --unknown {n}={lo!r}:{hi!r}" for n, (lo, hi) in ranges.items())
+    return line
 
 
 def write_report(folder: Path, cal) -> list[Path]:
