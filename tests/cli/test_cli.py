@@ -76,6 +76,7 @@ def test_simulate_rejects_a_bad_scene_with_the_key_named(tmp_path):
     assert not (tmp_path / "o" / "summary.json").exists()
 
 
+@pytest.mark.slow
 def test_set_replaces_scene_keys_and_the_saved_scene_holds_them(tmp_path):
     """--set KEY=VALUE: units, booleans and words as in a scene file; the result's scene.toml re-runs it."""
     import apexseal
@@ -195,6 +196,7 @@ def test_scene_default_writes_a_loadable_scene(tmp_path, monkeypatch):
     assert r.exit_code == 0 and load_scene(tmp_path / "resolved" / "scene.toml") == load_scene()
 
 
+@pytest.mark.slow
 def test_report_commands_write_under_apexseal_out_not_docs(tmp_path, monkeypatch):
     """derive --check and bench wrote into ./docs/ of whatever folder they ran in."""
     from apexseal.commands_bench import bench

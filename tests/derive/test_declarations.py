@@ -203,8 +203,8 @@ def _derive(law):
     (("zz", lambda ctx, sp: sp.Symbol("c_extra") * ctx.X["xd"], None, None),
      r"the submodel zz \(from module elsewhere\) uses in contact zz symbol 'c_extra', which no submodel declares "
      r"\(declare it as a Parameter of zz and read it as ctx.P\['c_extra'\]\)"),
-    (("zz", None, "gzz", lambda ctx, sp: ctx.X["x"] - sp.Symbol("h_extra")),
-     r"uses in contact zz \(guard gzz\) symbol 'h_extra'"),
+    pytest.param(("zz", None, "gzz", lambda ctx, sp: ctx.X["x"] - sp.Symbol("h_extra")),
+                 r"uses in contact zz \(guard gzz\) symbol 'h_extra'", marks=pytest.mark.slow),
     (("zz", lambda ctx, sp: sp.Symbol("c_zz") * ctx.X["xd"], None, None),
      r"a symbol c_zz that is not the parameter c_zz .*ctx.P\['c_zz'\]"),
 ])
@@ -238,7 +238,7 @@ def test_a_contact_or_guard_the_submodel_does_not_declare_is_refused(law, messag
         _derive(law)
 
 
-@pytest.mark.parametrize("jump", ["sign", "Heaviside"])
+@pytest.mark.parametrize("jump", ["sign", pytest.param("Heaviside", marks=pytest.mark.slow)])
 def test_a_law_that_jumps_with_a_velocity_is_refused(jump):
     """A bare sign of a sliding velocity was derived without a word, and the run stopped at its step limit with a
     message about stiffness and friction.v_eps, which the law does not read."""

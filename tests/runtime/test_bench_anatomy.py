@@ -90,6 +90,7 @@ def tiny():
     return Anatomy(problem=problem, reference_z=ref.z, ring_deg=2.5)
 
 
+@pytest.mark.slow
 def test_the_whole_measurement_on_a_short_span(tiny):
     an = tiny
     assert an.switched.any() and an.windows.sum() > an.switched.sum()  # the start rings: windows are longer
@@ -126,6 +127,7 @@ def test_the_whole_measurement_on_a_short_span(tiny):
     assert "| erk | 1e-08 |" in text and "rosenbrock between" in text
 
 
+@pytest.mark.slow
 def test_scipy_methods_count_their_evaluations_and_converge(tiny):
     pytest.importorskip("numba")
     from apexseal.runtime.bench.anatomy import scipy_rows

@@ -182,7 +182,9 @@ def test_stress_scene_ends_as_with_its_own_method(name, fns):
     _check(name, scene, r, COMPOSITE_OUTCOME.get(name, "completed"))
 
 
-@pytest.mark.parametrize("name", [s for s in SCENES if s not in STIFF_FRICTION + ("tip-chatter",)])
+#: pivot-near-chatter, the slowest of these (10 s), runs in the slow step
+@pytest.mark.parametrize("name", [pytest.param(s, marks=pytest.mark.slow) if s == "pivot-near-chatter" else s
+                                  for s in SCENES if s not in STIFF_FRICTION + ("tip-chatter",)])
 def test_stress_scene_agrees_with_erk_at_the_start(name, fns):
     """The first 20 deg (5 deg of the rattling stiff groove, whose runs part at different tolerances after ~10):
     the same switches as erk at rtol 1e-10 and states within 1000 rtol of the scene's size

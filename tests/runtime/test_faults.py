@@ -428,8 +428,10 @@ def _wait_for_parts(out: Path, proc: subprocess.Popen, count: int, timeout: floa
     raise AssertionError(f"no {count} parts after {timeout} s")
 
 
-@pytest.mark.parametrize("signum,code,words", [(signal.SIGTERM, 143, "SIGTERM"), (signal.SIGINT, 130, "Ctrl-C"),
-                                               (signal.SIGHUP, 129, "SIGHUP (its terminal or session closed)")])
+@pytest.mark.parametrize("signum,code,words", [(signal.SIGTERM, 143, "SIGTERM"),
+                                               pytest.param(signal.SIGINT, 130, "Ctrl-C", marks=pytest.mark.slow),
+                                               pytest.param(signal.SIGHUP, 129, "SIGHUP (its terminal or session closed)",
+                                                            marks=pytest.mark.slow)])
 def test_a_signal_keeps_every_completed_revolution(slow_scene, tmp_path, signum, code, words):
     """SIGHUP (a terminal or ssh session that closed) ended the run as SIGKILL does (its .partial- folder left
     interrupted): it is caught as SIGTERM is."""
@@ -448,6 +450,7 @@ def test_a_signal_keeps_every_completed_revolution(slow_scene, tmp_path, signum,
     assert not list(tmp_path.glob("o.partial-*"))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_a_signal_the_run_was_started_ignoring_stays_ignored(slow_scene, tmp_path, signum):
     """A run caught SIGINT and SIGTERM even when its process was started with them ignored: a job that a script
@@ -465,6 +468,7 @@ def test_a_signal_the_run_was_started_ignoring_stays_ignored(slow_scene, tmp_pat
     assert r.status == "completed" and r.revolutions == 6
 
 
+@pytest.mark.slow
 def test_a_signal_says_the_figures_were_not_drawn_and_how_to_draw_them(slow_scene, tmp_path):
     """The figures of a run a signal stopped are skipped (the user asked it to stop); it was not said."""
     out = tmp_path / "o"
@@ -495,8 +499,9 @@ def test_a_second_signal_while_saving_corrupts_nothing(slow_scene, tmp_path):
     assert r.status == "interrupted" and r.n >= 1 + 2 * 360
 
 
-@pytest.mark.parametrize("signum,code,words", [(signal.SIGINT, 130, "the user (Ctrl-C, SIGINT)"),
-                                               (signal.SIGTERM, 143, "SIGTERM")])
+@pytest.mark.parametrize("signum,code,words", [
+    pytest.param(signal.SIGINT, 130, "the user (Ctrl-C, SIGINT)", marks=pytest.mark.slow),
+    (signal.SIGTERM, 143, "SIGTERM")])
 def test_a_signal_during_the_benchmark_s_settling_ends_it_as_simulate_ends(tmp_path, signum, code, words):
     """Ctrl-C while `apexseal bench` settled its scene printed a RuntimeError traceback ("settling default failed:
     ... interrupted"): the settling run noted the signal and ended interrupted, which the benchmark took for a
@@ -618,6 +623,7 @@ def test_a_signal_abandons_builds_running_in_worker_threads(monkeypatch):
     assert ended == [-signal.SIGKILL, -signal.SIGKILL]
 
 
+@pytest.mark.slow
 def test_sigterm_in_a_script_that_loops_over_runs_ends_it_once_the_run_is_kept(slow_scene, tmp_path):
     """apexseal.simulate caught a SIGTERM, returned the interrupted run and the script went on to its next design
     (a batch scheduler could not stop it): the run is kept, then the signal ends the process."""

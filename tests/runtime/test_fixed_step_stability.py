@@ -187,6 +187,7 @@ def test_rk4_is_refused_where_its_step_amplifies_a_contact(fns):
     assert "at 7200 steps per revolution" in rk.stop.reason
 
 
+@pytest.mark.slow
 def test_a_stable_rk_run_completes_at_the_steps_it_takes(default_scene, fns):
     """rk asked for 2000 steps per revolution on the default scene (a 1 cm/s friction regularisation): RK4 needs
     3308 for the metal contacts, and rk takes 7200 (its check sub-grid): judged on the 2000 asked it would be

@@ -68,7 +68,7 @@ def test_tolerance_refinement_converges(name, method, fns):
     _check_rtol(name, fns, method)
 
 
-@pytest.mark.parametrize("name", ["pressure-square-wave", "lift-off"])
+@pytest.mark.parametrize("name", ["pressure-square-wave", pytest.param("lift-off", marks=pytest.mark.slow)])
 def test_euler_step_halving_halves_the_error(name, fns):
     _check_euler(name, fns)
 

@@ -96,6 +96,7 @@ def test_chatter_names_the_guard_and_the_remedies(fns):
         assert 9 < np.degrees(r.stop.theta) < 60  # the chambers swap 10 deg after the start
 
 
+@pytest.mark.slow
 def test_a_seal_settling_at_low_speed_is_no_chatter():
     """The detector's window was a crank angle (1e-3 rad): at 10 rpm that is 150 times as long as at 1500 rpm and
     held 105 switches of the seal settling on its groove wall (b1), which stopped the default scene at 0.9 deg as
@@ -114,6 +115,7 @@ def test_a_seal_settling_at_low_speed_is_no_chatter():
     assert r.ok, r.stop
 
 
+@pytest.mark.slow
 def test_tip_arc_edge_runs_with_methods_that_differentiate(fns):
     """ro = Ws/2: beta_o = asin(1) is a derived parameter, so the derivatives stay finite: erk runs, and its result
     is continuous with the scene nudged off the edge (ro = Ws/2 (1 + 1e-9))."""

@@ -130,6 +130,7 @@ def test_segments_reproduce_the_schedule():
     assert sched(psi_deg[0] + 360.0) == pytest.approx(sched(psi_deg[0]))  # periodic
 
 
+@pytest.mark.slow
 def test_force_deficit_is_grid_independent_where_sample_checks_are_not(soft_scene, functions):
     """At 6.75 mm the tip rings after the chamber switch: the smallest force at the samples depends on the output
     grid, the deficit quadrature (resolved by the adaptive steps and the events) and the friction power do not.
@@ -249,6 +250,7 @@ def test_the_bisection_names_a_bad_option_its_value_and_range(soft_scene, functi
         assert w in str(err.value), str(err.value)
 
 
+@pytest.mark.slow
 def test_the_study_integrates_the_scenes_pressure_profile(soft_scene, functions):
     """With ``solver.pressure = "linear"`` the study's segment integrators (one call per quarter revolution, the
     pressures' line re-based at each call) follow the simulator's one-call revolution with the same profile as
@@ -477,6 +479,7 @@ def _interrupt(tmp_path, when, signum, *args):
     return code, "".join(seen["stdout"]), "".join(seen["stderr"])
 
 
+@pytest.mark.slow
 def test_a_signal_during_ipopt_stops_the_study_as_interrupted_not_failed(tmp_path):
     """SIGTERM at IPOPT's first iteration of the constant optimum: exit 143, said to be an interruption, nothing to
     write. IPOPT turned it into "NonIpopt_Exception_Thrown", reported as a failed study with exit code 2."""

@@ -8,6 +8,11 @@ questions are those of the full study (tests/runtime/test_preload.py, slow): the
 derivative-free bisection over full simulations, the schedule costs no more friction than the constant (the
 constant is a feasible schedule), every re-simulated optimum satisfies its constraints between samples; the
 groove-force excess quadrature is zero exactly when a bound holds, and its Jacobian row is its derivative.
+
+The module grew to five minutes of one test process with the questions of interruption (a signal during the
+bisection, the re-simulation, the writing of a report; a rerun stopped beside a completed report) and of the API's
+and the command's agreement; those run again a study of their own each, and are marked slow (the second step of
+the suite), so the default suite keeps its ten-minute budget on two cores.
 """
 
 from __future__ import annotations
@@ -195,6 +200,7 @@ def _report(folder) -> tuple[dict, list, dict]:
     return data, md, data.pop("options")
 
 
+@pytest.mark.slow
 def test_the_command_and_save_preload_report_report_the_same_results_alike(studies, light, tmp_path, monkeypatch):
     """The command decided its report's status and top line by one rule, save_preload_report by another: for a
     schedule IPOPT did not solve the command's report said "failed" without saying why, and for a constant-only study
@@ -306,6 +312,7 @@ def test_cli_writes_the_report_with_the_groove_bound_and_the_stiffness_valley(li
     assert len(valley) == 5 and "(0 of 5 done" in valley[0] and "(4 x the scene's)" in valley[-1], caplog.messages
 
 
+@pytest.mark.slow
 def test_a_constant_optimum_ipopt_does_not_reach_fails_the_study_and_the_bisection_answers(light, tmp_path):
     """IPOPT stopped short of the constant optimum (--max-iter 1): the report said "completed" though the command
     ended with exit code 2, replaced the completed report at <out>, and the bisection, which needs only the feasible
@@ -364,6 +371,7 @@ def _interrupted(out, when, signum, *args):
     return code, "".join(lines)
 
 
+@pytest.mark.slow
 def test_an_interrupted_rerun_keeps_the_earlier_report_and_its_own_beside_it(light, tmp_path):
     """A study rerun into the folder of a complete report and stopped by Ctrl-C in the schedule's IPOPT: the earlier
     report stays as it was (it was overwritten file by file: the checkpoint of the new study, then its interrupted
@@ -431,6 +439,7 @@ def _check_probes_so_far(b: dict) -> None:
                                                                      at["min_measure"])
 
 
+@pytest.mark.slow
 def test_an_interrupted_bisection_keeps_its_probes_and_their_bracket(light, tmp_path):
     """SIGTERM during the bisection, after its first rounds of probes: the report said the bisection was interrupted
     but kept none of the preloads it had simulated. Now preload.json holds each probe (preload, passes, force
@@ -454,6 +463,7 @@ def test_an_interrupted_bisection_keeps_its_probes_and_their_bracket(light, tmp_
     assert f"and the bisection's {b['simulations']} simulations so far" in err
 
 
+@pytest.mark.slow
 def test_a_bisection_killed_outright_leaves_its_probes_in_the_checkpoint(light, tmp_path):
     """SIGKILL during the bisection, after its first rounds of probes: the checkpoint beside <out> held the constant
     optimum alone. Now each round of probes is checkpointed as the constant optimum is."""
@@ -475,6 +485,7 @@ def test_a_bisection_killed_outright_leaves_its_probes_in_the_checkpoint(light, 
                                                           "scene.toml"]  # the figure and scene files kept with it
 
 
+@pytest.mark.slow
 def test_a_study_killed_while_it_writes_its_report_leaves_each_report_whole(light, tmp_path):
     """SIGKILL while the study's second report (after the schedule) is being written, its figure half done:
     preload.json and preload.md held the schedule while preload.png still showed the constant optimum alone, and a
@@ -717,6 +728,7 @@ def test_a_constant_above_its_boundary_is_lowered_to_it(light, studies):
     assert "lowered by bisection" in "\n".join(res._holding()) and "lowered" not in "\n".join(same._holding())
 
 
+@pytest.mark.slow
 def test_a_constant_optimum_that_needs_no_preload_says_the_bound_holds_it(light):
     """At 0.1 N the seal's inertial load alone (1.5 N at its lowest) keeps the tip pressed: the optimum is no
     preload, where only the bound delta_s >= 0 is active. The report said 'IPOPT stopped at ... mm, above the
@@ -877,6 +889,7 @@ def test_ctrl_c_in_a_script_stops_the_study_and_carries_what_it_had(light, monke
     assert not info.value.result.ok
 
 
+@pytest.mark.slow
 def test_the_api_takes_quantities_and_windows_as_the_command_line_does(light):
     """`optimise_preload(min_force="5 N")`, `max_preload="10 mm"` and `exclude=["180:200"]` were refused (a number
     in N, pairs only) where the command line takes `--min-force 5N` and `--exclude 180:200`."""
@@ -925,6 +938,7 @@ def test_max_rate_takes_a_rate_per_angle_and_is_checked_against_the_knots(light)
     assert "'0.01 mm/deg'" in str(w[0].message) and w[0].filename == __file__
 
 
+@pytest.mark.slow
 def test_a_signal_during_the_re_simulation_keeps_ipopt_s_answer(light, tmp_path, monkeypatch):
     """A signal after "IPOPT ... done" but before its re-simulation ended lost IPOPT's finished answer: from Python
     the result said "nothing solved yet", the command "nothing to report" and wrote no report. Now the result keeps
@@ -961,6 +975,7 @@ def test_a_signal_during_the_re_simulation_keeps_ipopt_s_answer(light, tmp_path,
     assert "IPOPT's answer is kept, not re-simulated" in (folder / "preload.md").read_text()
 
 
+@pytest.mark.slow
 def test_a_saved_study_loads_back_and_its_constant_optimum_starts_a_schedule(studies, light, tmp_path):
     """A saved study could not be loaded back: PreloadResult had no ``load`` and was not exported from apexseal, and
     ``start=`` took only a result in memory, so a schedule could not continue from a saved constant optimum."""
@@ -1035,6 +1050,7 @@ def test_a_signal_during_ipopt_s_iterations_keeps_its_best_feasible_iterate(ligh
     assert sim.deficit <= DEFICIT_TOL * ALLOWANCE, sim.deficit
 
 
+@pytest.mark.slow
 def test_the_command_reports_an_interrupted_schedule_s_best_feasible_knots(studies, light, tmp_path, monkeypatch):
     """Ctrl-C during the schedule's IPOPT iterations: the command's report held the constant optimum and dropped the
     schedule stage, which from Python is returned as far as it got. Now the report holds the schedule's result as

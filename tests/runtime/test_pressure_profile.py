@@ -125,7 +125,8 @@ EDGES_RAMP = np.vstack([np.linspace(2e5, 14e5, N_RAMP + 1), np.full(N_RAMP + 1, 
 MEANS_RAMP = 0.5 * (EDGES_RAMP[:, :-1] + EDGES_RAMP[:, 1:])
 
 
-@pytest.mark.parametrize(("method", "kw"), [("cvodes", {}), ("idas", {}), ("rk", {"steps_per_revolution": 400_000})])
+@pytest.mark.parametrize(("method", "kw"), [("cvodes", {}), pytest.param("idas", {}, marks=pytest.mark.slow),
+                                         pytest.param("rk", {"steps_per_revolution": 400_000}, marks=pytest.mark.slow)])
 def test_the_stepper_engines_integrate_linear_pressures_as_erk_does(method, kw):
     """The engines of the apexseal event loop take the line through the edge values too: on a pressure ramp they
     agree with erk's linear run, and differ from their own interval-means run by far more than they disagree."""

@@ -69,6 +69,7 @@ def test_spring_contact_opens_and_closes(soft_scene, default_functions):
     assert closes >= 1 and opens >= 1
 
 
+@pytest.mark.slow
 def test_cvodes_and_idas_agree(default_scene, default_functions):
     """Both SUNDIALS integrators, with apexseal's event loop, agree within their tolerances."""
     kw = dict(rtol=1e-8, samples_per_revolution=90, revolutions=1)
@@ -93,6 +94,7 @@ def test_erk_and_cvodes_agree(default_scene, default_functions):
     assert np.max(np.abs(a.state[:3] - b.state[:3]).max(axis=1) / scale) < 1e-4
 
 
+@pytest.mark.slow
 @pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")
 def test_euler_converges_at_first_order(soft_scene, default_functions):
     """Explicit Euler (apexseal's reading of the paper's "Euler method"): halving the step halves the error against
@@ -439,6 +441,7 @@ def test_the_default_periodic_tolerance_is_reached_at_the_default_rtol(default_s
     assert r.ok and said["periodic"] and 2 < said["revolution"] < 6 and said["change"] < 3e-2, said
 
 
+@pytest.mark.slow
 def test_until_periodic_compares_the_whole_revolution(default_scene, default_functions):
     """The periodicity test compared the state at the start of each revolution only: a run whose motion within a
     revolution changes from one revolution to the next stopped as periodic once the starts agreed."""
@@ -471,6 +474,7 @@ def test_fixed_steps_count_per_revolution_whatever_the_calls(default_scene, defa
             assert engine.elements * SAMPLES == steps
 
 
+@pytest.mark.slow
 @pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")
 def test_collocation_runs_a_revolution_and_agrees_with_erk(soft_scene, default_functions):
     """Collocation (Radau, fixed steps) completes a revolution; its Newton tolerance sits above round-off.

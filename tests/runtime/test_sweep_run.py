@@ -83,6 +83,7 @@ def test_local_cluster_with_two_workers_gives_the_serial_table_to_the_last_digit
     pd.testing.assert_frame_equal(stable(report.table), stable(serial.table), check_exact=True)
 
 
+@pytest.mark.slow
 def test_a_killed_worker_loses_nothing_and_no_point_is_written_twice(serial, tmp_path):
     from dask.distributed import Client
 
@@ -140,6 +141,7 @@ def test_an_interrupted_sweep_resumes_without_recomputing_or_losing_anything(ser
     assert again.computed == 0 and again.skipped == 16
 
 
+@pytest.mark.slow
 def test_sigterm_stops_a_dask_sweep_as_ctrl_c_does(tmp_path):
     """SIGTERM (kill, timeout, a batch scheduler) to a sweep on a LocalCluster: exit 143 (128 + SIGTERM, as a run's;
     it was 130, Ctrl-C's), every finished point in results.parquet. It used to kill the process outright, with no
@@ -159,6 +161,7 @@ def test_sigterm_stops_a_dask_sweep_as_ctrl_c_does(tmp_path):
     assert 2 <= finished < 16 and len(read_results(out)) == finished
 
 
+@pytest.mark.slow
 def test_ctrl_c_on_the_terminal_stops_a_dask_sweep_without_the_workers_tracebacks(tmp_path):
     """A terminal's Ctrl-C reaches the whole process group: each worker printed a KeyboardInterrupt traceback
     (68 lines for two workers) before the sweep's own message. The workers now start with SIGINT ignored."""
@@ -269,7 +272,8 @@ def _live_in_session(session: int) -> list[int]:
     return live
 
 
-@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
+@pytest.mark.parametrize("signum", [pytest.param(signal.SIGINT, id="ctrl-c"),
+                                    pytest.param(signal.SIGTERM, id="sigterm", marks=pytest.mark.slow)])
 def test_a_signal_while_the_dask_workers_start_stops_the_sweep_as_one_during_the_points(tmp_path, signum):
     """A signal while the sweep's LocalCluster started its workers was not handled as one during the points: a
     Ctrl-C was lost (the sweep ignored SIGINT then, for the workers to inherit the ignore) and the sweep ran to its
@@ -287,6 +291,7 @@ def test_a_signal_while_the_dask_workers_start_stops_the_sweep_as_one_during_the
     assert report.complete and report.computed == 4 and report.skipped == 0
 
 
+@pytest.mark.slow
 def test_a_signal_while_the_cluster_closes_after_the_last_point_is_said_and_exits_as_interrupted(tmp_path):
     """A SIGTERM while the sweep closed its LocalCluster, every point done, was noted and then forgotten: the
     command said nothing of it and exited with status 0, as if no signal had come. Now it says so in one line and
@@ -373,6 +378,7 @@ def test_a_signal_stops_the_points_running_on_a_dask_cluster_not_only_the_sweep(
     assert sigterm_redelivered == [signal.SIGTERM]  # then it ends the process, as the signal asked
 
 
+@pytest.mark.slow
 def test_a_signal_while_a_dask_sweep_writes_a_point_keeps_that_point(tmp_path, signalled_in, sigterm_redelivered):
     """SIGTERM while the row of a finished point was written raised there (KeyboardInterrupt), and the point was
     lost; now the signal is noted, the row written whole, and the sweep stops after it."""
@@ -550,6 +556,7 @@ def test_cli_sweep_writes_table_and_figures(serial, tmp_path):
     assert "writing to" not in r.output, r.output
 
 
+@pytest.mark.slow
 def test_a_signal_while_the_figures_are_drawn_finishes_them_and_exits_as_interrupted(serial, tmp_path, signalled_in):
     """SIGTERM while a finished sweep drew its figures killed it (exit -15, half-written figure files left)."""
     import signal
@@ -702,7 +709,7 @@ def test_a_scheduler_that_does_not_answer_is_refused_naming_it_before_anything_i
     assert not [t.name for t in threading.enumerate() if t.name == "IO loop"]
 
 
-@pytest.mark.parametrize("where", ["serial", "LocalCluster"])
+@pytest.mark.parametrize("where", ["serial", pytest.param("LocalCluster", marks=pytest.mark.slow)])
 def test_the_bar_shows_how_far_the_long_points_running_have_got(where, tmp_path, monkeypatch, capsys):
     """The bar counted finished points only: a point of minutes left it still for minutes. Now a point running
     longer than watch.LONG_POINT_S is shown with its revolutions and time, serially and from the workers (here
@@ -734,6 +741,7 @@ def test_a_long_point_is_described_with_its_revolutions_and_time():
     assert describe({3: (0.25, 20, 1.0)}) == ""
 
 
+@pytest.mark.slow
 def test_a_sweep_on_a_scheduler_that_answers_runs_there(tmp_path):
     """The scheduler is reached by Dask's handshake before the Client (execute._probe): a scheduler that answers
     (here a LocalCluster's, over TCP, as `dask scheduler` serves) runs the sweep as its serial run does."""

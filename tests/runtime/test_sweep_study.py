@@ -220,7 +220,8 @@ def test_the_documented_study_file_is_a_valid_study():
     assert len(design_points(study)) == 64
 
 
-@pytest.mark.parametrize("design", ["grid-1", "grid-2", "sobol"])
+@pytest.mark.parametrize("design", ["grid-1", pytest.param("grid-2", marks=pytest.mark.slow),
+                                    pytest.param("sobol", marks=pytest.mark.slow)])
 def test_figures_of_each_design_shape(design, tmp_path):
     """Line plot (one parameter), heat map (grid), coloured points (sampled), each with the feasible region."""
     from apexseal.runtime.studies.sweep.figures import sweep_figures
