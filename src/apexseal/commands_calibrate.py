@@ -51,9 +51,10 @@ def _unknowns(ctx: click.Context, param: click.Parameter, items: tuple[str, ...]
 @click.option("--quiet", "-q", is_flag=True, help="No line per simulation on stderr.")
 def calibrate(scene: Path | None, sets, unknowns, grid, polish, revolutions, out, quiet) -> None:
     """Fit kw, kg (kg1..kg4), zeta_w and zeta_g of SCENE (default: the embedded case study) within their plausible
-    ranges (or the unknowns and ranges of --unknown) to the paper's Fig. 14 main peak and the crank angle of the largest x (Fig. 12a), and say which
-    features no plausible set matches and why. Ctrl-C or SIGTERM stops it: the simulations completed are written
-    (exit code 130 or 143), beside a completed report in the folder rather than over it."""
+    ranges (or the unknowns and ranges of --unknown) to the paper's Fig. 14 main peak and the crank angle of the
+    largest x (Fig. 12a), and say which features no plausible set matches and why. Ctrl-C or SIGTERM stops it: the
+    simulations completed are written (exit code 130 or 143), beside a completed report in the folder rather than
+    over it."""
     from .runtime.results.folder import ResultStorageError
     from .runtime.studies.calibration import CalibrationError
     from .runtime.studies.calibration import calibrate as run_study
