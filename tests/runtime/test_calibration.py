@@ -169,7 +169,14 @@ def test_bad_ranges_are_refused(scene, ranges, fragment):
                                 "0 <= n <= 500 (0: no polish)"),
     ({"grid": 2.5}, "grid = 2.5: allowed: an integer 1 <= n <= 9"),
     ({"revolutions": 1}, "revolutions = 1: allowed: an integer 2 <= n <= 50 (the first revolution is the start "
-                         "transient)")], ids=["grid-and-polish", "grid-not-an-integer", "one-revolution"])
+                         "transient)"),
+    # samples was checked by the first simulation only, after the model was built (a SettingsError naming
+    # samples_per_revolution, not the argument given); now as the counts are, before any work
+    ({"samples": 0}, "samples = 0: allowed: an integer 36 <= n <= 100000, or None (the scene's, or more to resolve "
+                     "the fastest ringing of any candidate)"),
+    ({"samples": 7.5}, "samples = 7.5: allowed: an integer 36 <= n <= 100000, or None (the scene's, or more to "
+                       "resolve the fastest ringing of any candidate)")],
+    ids=["grid-and-polish", "grid-not-an-integer", "one-revolution", "no-samples", "samples-not-an-integer"])
 def test_bad_counts_are_refused_naming_each_value_and_its_range(scene, counts, message):
     """The API takes the command line's ranges: a negative polish ran, a fractional grid raised a TypeError, and a
     bad grid or revolutions gave one message that named neither the value nor the upper bound."""

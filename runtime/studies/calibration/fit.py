@@ -287,6 +287,16 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
         if not (plo <= lo < hi <= phi):
             raise CalibrationError(f"{name} = {lo:g}..{hi:g}: allowed: a range inside the plausible {plo:g}..{phi:g}")
     check_counts(grid=grid, polish=polish, revolutions=revolutions)
+    if samples is not None:  # the scene's range of samples_per_revolution (runtime/solving/settings.py)
+        import numbers
+
+        from ...solving.settings import LIMITS
+
+        rng = LIMITS["samples_per_revolution"][1]
+        if isinstance(samples, bool) or not isinstance(samples, numbers.Integral) or not rng.ge <= samples <= rng.le:
+            raise CalibrationError(f"samples = {samples!r}: allowed: an integer {rng.ge} <= n <= {rng.le}, or None "
+                                   "(the scene's, or more to resolve the fastest ringing of any candidate)")
+        samples = int(samples)
     off = [e for e in ("housing_contact", "groove_contact") if not getattr(scene.effects, e)]
     if off:  # their stiffnesses and damping are the unknowns
         raise CalibrationError(f"effects.{off[0]} = false: the calibration fits the contacts' stiffness and damping; "
