@@ -29,6 +29,7 @@ def _builds(cache) -> list[dict]:
     return [json.loads(p.read_text()) for p in sorted((cache / "lib").glob("*/build.json"))]
 
 
+@pytest.mark.slow
 def test_levers_compile_every_variant_under_a_record_naming_its_model(fresh_cache):
     """The levers' loop and erk integrator name the model they embed: the manifest's, or the sympy.cse lowering's
     own record, which says what it was built from and how (the loop's record named no model, and the cse variant

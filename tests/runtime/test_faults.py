@@ -710,6 +710,7 @@ def test_ctrl_c_returns_the_run_in_a_session_and_leaves_an_enclosing_owner_s_sig
     assert _after_a_ctrl_c(done, stop, stop, None) is done
 
 
+@pytest.mark.slow
 def test_a_run_in_another_thread_started_first_does_not_take_the_main_thread_s_signals(slow_scene, tmp_path):
     """A simulate in a worker thread, started before the main thread's, became the active StopSignals (which installs
     no handler outside the main thread): a SIGTERM then killed the process at once and neither result was written.

@@ -157,6 +157,7 @@ def test_the_advised_steps_are_a_setting_that_takes_them(method, needed, samples
 
 
 # ---------------------------------------------------------------- contacts
+@pytest.mark.slow
 def test_rk4_is_refused_where_its_step_amplifies_a_contact(fns):
     """kw = 1e10 N/m: sqrt(kw/ms) = 7.6e5 rad/s, h w = 3.8 at 8000 steps per revolution, beyond RK4's 2.83 on the
     imaginary axis. erk-rk4 completed there with x a thousand times its range off rosenbrock's; now it is refused

@@ -131,6 +131,7 @@ def test_the_figure_view_of_a_gas_run_draws_the_same_figures(closed, tmp_path):
         assert a.read_bytes() == b.read_bytes(), a.name
 
 
+@pytest.mark.slow
 def test_the_gas_figures_laid_out_from_the_memo_are_the_same(closed, tmp_path, monkeypatch):
     """Fig. 11 and the p-V diagram (and the four others of a gas run) saved with a kept layout: the bytes
     matplotlib's constrained layout gives (runtime/results/layout_memo.py)."""

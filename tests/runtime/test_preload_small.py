@@ -278,6 +278,7 @@ def test_the_command_and_save_preload_report_report_the_same_results_alike(studi
         assert command == saved, name
 
 
+@pytest.mark.slow
 def test_cli_writes_the_report_with_the_groove_bound_and_the_stiffness_valley(light, tmp_path, caplog):
     """The report records what ran: the --set keys in preload.json and preload.md, and the scene itself (every value
     explicit) in scene.toml, which loads as the scene the study ran; the stiffness valley reports each simulation

@@ -81,6 +81,7 @@ def test_cvodes_and_idas_agree(default_scene, default_functions):
     assert (a.events[:, -1] == b.events[:, -1]).all()
 
 
+@pytest.mark.slow
 def test_erk_and_cvodes_agree(default_scene, default_functions):
     """Events located on erk's dense output and by apexseal's own loop give the same trajectory.
 

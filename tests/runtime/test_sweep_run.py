@@ -272,8 +272,8 @@ def _live_in_session(session: int) -> list[int]:
     return live
 
 
-@pytest.mark.parametrize("signum", [pytest.param(signal.SIGINT, id="ctrl-c"),
-                                    pytest.param(signal.SIGTERM, id="sigterm", marks=pytest.mark.slow)])
+@pytest.mark.slow
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["ctrl-c", "sigterm"])
 def test_a_signal_while_the_dask_workers_start_stops_the_sweep_as_one_during_the_points(tmp_path, signum):
     """A signal while the sweep's LocalCluster started its workers was not handled as one during the points: a
     Ctrl-C was lost (the sweep ignored SIGINT then, for the workers to inherit the ignore) and the sweep ran to its
@@ -709,7 +709,8 @@ def test_a_scheduler_that_does_not_answer_is_refused_naming_it_before_anything_i
     assert not [t.name for t in threading.enumerate() if t.name == "IO loop"]
 
 
-@pytest.mark.parametrize("where", ["serial", pytest.param("LocalCluster", marks=pytest.mark.slow)])
+@pytest.mark.slow
+@pytest.mark.parametrize("where", ["serial", "LocalCluster"])
 def test_the_bar_shows_how_far_the_long_points_running_have_got(where, tmp_path, monkeypatch, capsys):
     """The bar counted finished points only: a point of minutes left it still for minutes. Now a point running
     longer than watch.LONG_POINT_S is shown with its revolutions and time, serially and from the workers (here
