@@ -5,8 +5,8 @@ The key is a sha256 over the derivation's inputs: the source of every module of
 too, while it is on), the effects, the assumptions and the sympy version. A hit
 loads the pickled :class:`DerivedModel` (well under a second); a miss, or an entry
 that is corrupt or not a DerivedModel, derives and stores it atomically
-(:func:`apexseal.files.atomic_write`), so two processes deriving at once never see
-a half-written file.
+(:func:`apexseal.files.atomic_write`), so no process ever reads a half-written file; a
+lock per key lets one process derive a model at a time, and the others wait for it and read it.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import pickle
 from dataclasses import replace
 from pathlib import Path
 
-from ..files import atomic_open, content_key, files_digest
+from ..files import atomic_open, content_key, file_lock, files_digest
 from ..loaded_code import note, refuse_edited
 from ..versions import distribution_version
 from .assumptions import Assumptions
@@ -86,21 +86,37 @@ def derivation_key(effects: Effects, assumptions: Assumptions) -> str:
 
 def cached_model(effects: Effects | None = None, assumptions: Assumptions | None = None, *, refresh: bool = False):
     """The derived model for these inputs, from the cache when it is there (see :func:`model.derive_model`)."""
-    from .model import DerivedModel, derive_model
+    from .model import derive_model
 
     effects = effects or Effects()
     assumptions = assumptions or Assumptions()
     path = cache_dir() / "derive" / f"{derivation_key(effects, assumptions)}.pkl"
-    if path.exists() and not refresh:
-        try:
-            with path.open("rb") as fh:
-                model = pickle.load(fh)
-            if isinstance(model, DerivedModel):  # the same inputs, perhaps with a user's submodel off in one of
-                return replace(model, effects=effects, assumptions=assumptions)  # them and absent in the other
-        except Exception:  # a corrupt or foreign file: derive again and overwrite it
-            pass  # (an entry of the wrong type, a valid pickle of something else, is treated the same way)
-    refuse_edited(derivation_files(effects, assumptions), "derive the model")  # never an old model under a new key
-    model = derive_model(effects, assumptions)
-    with atomic_open(path, "wb") as fh:
-        pickle.dump(model, fh, protocol=pickle.HIGHEST_PROTOCOL)
+    if not refresh and (model := _cached(path, effects, assumptions)) is not None:
+        return model
+    # one process derives a model at a time: another that misses it meanwhile (a parallel test process, a sweep's
+    # workers) waits, saying so, and reads what the first stored, instead of deriving it again beside it
+    with file_lock(path.with_suffix(".lock"), f"the derivation {path.stem[:12]}"):
+        if not refresh and (model := _cached(path, effects, assumptions)) is not None:
+            return model
+        refuse_edited(derivation_files(effects, assumptions), "derive the model")  # never an old model, new key
+        model = derive_model(effects, assumptions)
+        with atomic_open(path, "wb") as fh:
+            pickle.dump(model, fh, protocol=pickle.HIGHEST_PROTOCOL)
     return model
+
+
+def _cached(path: Path, effects: Effects, assumptions: Assumptions):
+    """The DerivedModel stored at ``path`` for these inputs, or None where there is none that loads."""
+    from .model import DerivedModel
+
+    if not path.exists():
+        return None
+    try:
+        with path.open("rb") as fh:
+            model = pickle.load(fh)
+    except Exception:  # a corrupt or foreign file: derive again and overwrite it
+        return None
+    if not isinstance(model, DerivedModel):  # a valid pickle of something else is treated the same way
+        return None
+    return replace(model, effects=effects, assumptions=assumptions)  # the same inputs, perhaps with a user's
+    # submodel off in one of them and absent in the other

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 1f4c22856c71cbb81f0f3437ed004d5bc7f4f5f0d562f596ccf90e167c78f322.
+ * Effects: all. Input hash: 5e2a5035df26d7adf64781fd24b2f4cee080d1f9bacb9a151decfad4c868be3d.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "1f4c22856c71cbb81f0f3437ed004d5bc7f4f5f0d562f596ccf90e167c78f322"
+#define APEXSEAL_INPUT_HASH "5e2a5035df26d7adf64781fd24b2f4cee080d1f9bacb9a151decfad4c868be3d"
 
 /* state x */
 #define APEXSEAL_NX 6

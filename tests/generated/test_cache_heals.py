@@ -1,4 +1,5 @@
-"""Caches that heal: a derivation entry of the wrong type is rebuilt; build folders of killed compiles are swept."""
+"""Caches that heal: a derivation entry of the wrong type is rebuilt; a derivation missed by two processes at once
+is derived once; build folders of killed compiles are swept."""
 
 from __future__ import annotations
 
@@ -30,6 +31,35 @@ def test_a_cache_entry_of_the_wrong_type_is_rebuilt(tmp_path, monkeypatch):
         assert isinstance(pickle.load(fh), derive_model_mod.DerivedModel)  # the entry was overwritten
     derive_cache.cached_model(Effects.only("spring"))
     assert len(calls) == 1  # and is a hit from now on
+
+
+def test_processes_missing_the_same_derivation_at_once_derive_it_once(tmp_path, monkeypatch):
+    """Two test processes (or a sweep's workers) that missed the same model derived it side by side, each for the
+    whole derivation (the chamber gas model's is a minute); a lock per key now lets the first derive it while the
+    other waits, says so, and reads it. Threads stand for the processes: each takes the lock through a file of its
+    own opening, as a process does."""
+    import threading
+
+    real = derive_cache.cached_model(Effects.only("spring"))  # from the session's cache (derived once if cold)
+    monkeypatch.setenv("APEXSEAL_CACHE", str(tmp_path))
+    calls, started = [], threading.Event()
+
+    def slow_derivation(*args):
+        calls.append(args)
+        started.set()
+        time.sleep(0.5)
+        return real
+
+    monkeypatch.setattr(derive_model_mod, "derive_model", slow_derivation)
+    got = []
+    first = threading.Thread(target=lambda: got.append(derive_cache.cached_model(Effects.only("spring"))))
+    first.start()
+    assert started.wait(30)
+    second = derive_cache.cached_model(Effects.only("spring"))  # misses, waits for the lock, then hits
+    first.join()
+    assert len(calls) == 1
+    assert isinstance(second, derive_model_mod.DerivedModel) and isinstance(got[0], derive_model_mod.DerivedModel)
+    assert second.effects == got[0].effects == Effects.only("spring")
 
 
 def test_build_folders_of_killed_compiles_are_swept(tmp_path, monkeypatch):
