@@ -23,7 +23,9 @@ EQUIVALENT = {
 }
 
 
-@pytest.mark.parametrize("effect", list(EQUIVALENT))
+#: each effect compiles a model of its own (4-5 s on a fresh clone): the first in the default suite, the others slow
+@pytest.mark.parametrize("effect", [e if i == 0 else pytest.param(e, marks=pytest.mark.slow)
+                                    for i, e in enumerate(EQUIVALENT)])
 def test_effect_off_is_cheaper_and_equal_to_zero_coefficient(loaded, effect, rng):
     full = loaded.sx
     off = build_functions(cached_model(Effects.from_mapping({effect: False})))
