@@ -222,14 +222,25 @@ def cost_of(f: Features) -> float:
                                                                  / 180) ** 2
 
 
+def count_range(name: str) -> tuple[int, int, str]:
+    """(low, high, why) of the count ``name``: :data:`COUNTS`, or for ``samples`` a run's range of
+    samples_per_revolution (runtime/solving/settings.py, read when asked: the command line imports this module)."""
+    if name == "samples":
+        from ...solving.settings import LIMITS
+
+        rng = LIMITS["samples_per_revolution"][1]
+        return rng.ge, rng.le, ", or None (the scene's, or more to resolve the fastest ringing of any candidate)"
+    return COUNTS[name]
+
+
 def check_counts(**given) -> None:
-    """A :class:`CalibrationError` naming every count of :data:`COUNTS` in ``given`` that is no integer in its range,
-    with its value and the range."""
+    """A :class:`CalibrationError` naming every count in ``given`` (:func:`count_range`) that is no integer in its
+    range, with its value and the range."""
     import numbers
 
     problems = []
     for name, value in given.items():
-        lo, hi, why = COUNTS[name]
+        lo, hi, why = count_range(name)
         if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not lo <= value <= hi:
             problems.append(f"{name} = {value!r}: allowed: an integer {lo} <= n <= {hi}{why}")
     if problems:
@@ -274,29 +285,22 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
     from ...api import after_an_interrupt, model_functions, provenance
     from ...solving.ringing import samples_resolving
 
-    unread = unread_unknowns(scene)
-    ranges = default_ranges(scene) if ranges is None else dict(ranges)
-    for name in ranges:
-        if name in unread:
-            raise CalibrationError(f"unknown = {name!r}: effects.{unread[name]} is off, so nothing reads it; "
-                                   f"allowed: leave it out, or set effects.{unread[name]} = true")
+    if ranges is None:
+        ranges = default_ranges(scene)  # what the scene reads, by construction
+    else:
+        ranges, unread = dict(ranges), unread_unknowns(scene)
+        for name in ranges:
+            if name in unread:
+                raise CalibrationError(f"unknown = {name!r}: effects.{unread[name]} is off, so nothing reads it; "
+                                       f"allowed: leave it out, or set effects.{unread[name]} = true")
     for name, (lo, hi) in ranges.items():
         if name not in PLAUSIBLE:
             raise CalibrationError(f"unknown = {name!r}: not an unknown of the study; allowed: {', '.join(PLAUSIBLE)}")
         plo, phi = PLAUSIBLE[name]
         if not (plo <= lo < hi <= phi):
             raise CalibrationError(f"{name} = {lo:g}..{hi:g}: allowed: a range inside the plausible {plo:g}..{phi:g}")
-    check_counts(grid=grid, polish=polish, revolutions=revolutions)
-    if samples is not None:  # the scene's range of samples_per_revolution (runtime/solving/settings.py)
-        import numbers
-
-        from ...solving.settings import LIMITS
-
-        rng = LIMITS["samples_per_revolution"][1]
-        if isinstance(samples, bool) or not isinstance(samples, numbers.Integral) or not rng.ge <= samples <= rng.le:
-            raise CalibrationError(f"samples = {samples!r}: allowed: an integer {rng.ge} <= n <= {rng.le}, or None "
-                                   "(the scene's, or more to resolve the fastest ringing of any candidate)")
-        samples = int(samples)
+    check_counts(grid=grid, polish=polish, revolutions=revolutions, **({} if samples is None else {"samples": samples}))
+    samples = None if samples is None else int(samples)
     off = [e for e in ("housing_contact", "groove_contact") if not getattr(scene.effects, e)]
     if off:  # their stiffnesses and damping are the unknowns
         raise CalibrationError(f"effects.{off[0]} = false: the calibration fits the contacts' stiffness and damping; "

@@ -67,14 +67,14 @@ def write_report(folder: Path, cal) -> list[Path]:
 
     folder = Path(folder)
     payload = cal.to_dict()
+    rerun = rerun_line(cal) if cal.scene is not None else None
     if cal.scene is not None:
-        payload |= {"scene_file": SCENE_FILE, "rerun": rerun_line(cal), "simulate_best": simulate_line(cal)}
+        payload |= {"scene_file": SCENE_FILE, "rerun": rerun, "simulate_best": simulate_line(cal)}
     path = folder / RECORD
     atomic_write(path, json.dumps(payload, indent=2) + "\n")
     paths = [path]
     if cal.scene is not None:
-        paths += write_study_scene(folder, cal.scene, "calibration", cal.run_id, rerun_line(cal),
-                                   cal.samples_per_revolution)
+        paths += write_study_scene(folder, cal.scene, "calibration", cal.run_id, rerun, cal.samples_per_revolution)
     return paths
 
 
