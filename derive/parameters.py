@@ -63,6 +63,10 @@ class Parameter:
     #: any of which reads it (friction.v_eps: every friction law); None: the switch of its submodel. While it is
     #: off the parameter has no slot in the model, and a scene may omit it (registry.needing)
     needs: str | tuple[str, ...] | None = None
+    #: True where a scene may give it as a schedule along the crank angle instead of one value: periodic and
+    #: piecewise linear through values at knots (``[<section>.schedule]``, runtime/scenes/schedule.py), which the
+    #: event-locating engines integrate exactly between output samples (the spring's preload delta_s)
+    schedulable: bool = False
 
     def __post_init__(self) -> None:
         """Refuse a sign the declared range contradicts: the derivation simplifies with the symbol's assumptions

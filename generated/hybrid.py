@@ -24,6 +24,10 @@ parameters are [physical parameters, crank angle at the start]; the controls u
 are the chamber pressures [Pa, Pb], constant over each output interval (``pressure = "steps"``), or,
 with ``pressure = "linear"``, [Pa, Pb] at tau = 0 and their slopes d/dtau, so that the pressures are
 continuous and linear over each interval: P(tau) = u[:2] + u[2:] tau (see :func:`linear_controls`).
+With ``parameters = "linear"`` (a scene that schedules a parameter along the revolution: the spring's preload,
+runtime/scenes/schedule.py) the controls go on with the parameter vector's line over the interval, as offsets
+from the call's parameters p: p(tau) = p + u_a + u_b tau (:func:`parameter_controls`); the model sees p(tau)
+wherever it reads a parameter, in the right-hand side, the zero functions and the transition.
 A pressure that jumps at every output interval strikes the stiff metal contacts 3600 times a
 revolution; each strike rings at their natural frequency, and resolving that ringing is what costs an
 adaptive integrator its steps on the default scene (docs/bench/levers.md).
@@ -36,7 +40,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from .layout import PRESSURE_PROFILES, HybridLayout
+from .layout import PARAMETER_PROFILES, PRESSURE_PROFILES, HybridLayout
 from .scaling import LENGTH, scaled_rhs, state_scale
 
 
@@ -47,19 +51,37 @@ class HybridDae:
     layout: HybridLayout
 
 
-def linear_controls(edge_values: np.ndarray, grid: np.ndarray) -> np.ndarray:
-    """Controls of the "linear" profile from the pressures at the output edges.
+def linear_controls(edge_values: np.ndarray, grid: np.ndarray, what: str = "pressures", rows: int = 2) -> np.ndarray:
+    """Controls of the "linear" profile from values at the output edges.
 
-    ``edge_values`` is (2, n + 1): [Pa, Pb] at tau = 0 and at each of the n output times ``grid`` (tau, rad);
-    the result is (4, n): per interval, the intercept at tau = 0 and the slope of the line through its two ends.
+    ``edge_values`` is (rows, n + 1): [Pa, Pb] (or ``what`` else) at tau = 0 and at each of the n output times
+    ``grid`` (tau, rad); the result is (2 rows, n): per interval, the intercept at tau = 0 and the slope of the line
+    through its two ends.
     """
     P = np.asarray(edge_values, float)
     tau = np.r_[0.0, np.asarray(grid, float)]
-    if P.ndim != 2 or P.shape != (2, tau.size):
-        raise ValueError(f"pressures: expected the values at the {tau.size} interval edges, shape (2, {tau.size}), "
+    if P.ndim != 2 or P.shape != (rows, tau.size):
+        raise ValueError(f"{what}: expected the values at the {tau.size} interval edges, shape ({rows}, {tau.size}), "
                          f"not shape {P.shape}")
     slope = np.diff(P, axis=1) / np.diff(tau)
     return np.vstack([P[:, :-1] - slope * tau[:-1], slope])
+
+
+def parameter_controls(params: np.ndarray, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The parameters of a call and the controls of the "linear" parameter profile that follow the pressures'.
+
+    ``params`` is the parameter vector (n_par,), the same over the call (the controls' offsets are zero), or its
+    values at the call's n + 1 interval edges (n_par, n + 1), those at the first edge becoming the call's p.
+    Returns ``(p, u)``: u (2 n_par, n) holds per interval the offset from p at tau = 0 and the slope of each
+    parameter's line through the interval's ends.
+    """
+    P = np.asarray(params, float)
+    n = np.size(grid)
+    if P.ndim == 1:
+        return P, np.zeros((2 * P.size, n))
+    u = linear_controls(P, grid, "parameters", P.shape[0])
+    u[:P.shape[0]] -= P[:, :1]
+    return P[:, 0], u
 
 
 #: the controls the model library's hybrid Functions take (generated/functions.py ``with_hybrid``): the "linear"
@@ -68,9 +90,9 @@ LIBRARY_PROFILE = "linear"
 
 
 def controls(pressures: np.ndarray, grid: np.ndarray, profile: str, rows: int) -> np.ndarray:
-    """The controls u of an integrator call whose DAE takes ``rows`` of them, from the engine's ``pressures``:
-    (2, n) interval means for ``profile = "steps"`` (with 4 rows: zero slopes below them), (2, n + 1) values at
-    the edges of the n intervals of ``grid`` for "linear" (:func:`linear_controls`)."""
+    """The pressures' controls u of an integrator call whose DAE takes ``rows`` of them, from the engine's
+    ``pressures``: (2, n) interval means for ``profile = "steps"`` (with 4 rows: zero slopes below them),
+    (2, n + 1) values at the edges of the n intervals of ``grid`` for "linear" (:func:`linear_controls`)."""
     if profile == "linear":
         return linear_controls(pressures, grid)
     P = np.asarray(pressures, float)
@@ -115,12 +137,13 @@ def hybrid_functions(rhs: ca.Function, guards: ca.Function, n_par: int, omega_in
 
 def build_hybrid_dae(rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *,
                      event_tol: float = 1e-10, state_names=None, pressure: str = "steps",
-                     library=None) -> HybridDae:
+                     library=None, parameters: str = "constant") -> HybridDae:
     """The DAE dict and transition Function of the hybrid model (see the module docstring).
 
     ``event_tol`` (crank angle, rad) is the tolerance the integrator locates events
     to; the transition switches the contacts that cross within ``BLIND_WINDOW`` of it.
-    ``pressure`` is one of :data:`PRESSURE_PROFILES`: what the controls u mean.
+    ``pressure`` is one of :data:`PRESSURE_PROFILES`: what the controls u mean; ``parameters`` one of
+    :data:`PARAMETER_PROFILES` ("linear": the parameters' lines follow in u, see the module docstring).
 
     Without ``library`` the DAE is SX: the hybrid Functions built from ``rhs`` and ``guards`` are expanded
     into it, and generating the integrator's C embeds the model. With ``library`` (the pair ``(hybrid_ode,
@@ -130,6 +153,8 @@ def build_hybrid_dae(rhs: ca.Function, guards: ca.Function, n_par: int, omega_in
     """
     if pressure not in PRESSURE_PROFILES:
         raise ValueError(f"pressure = {pressure!r}: expected one of {', '.join(PRESSURE_PROFILES)}")
+    if parameters not in PARAMETER_PROFILES:
+        raise ValueError(f"parameters = {parameters!r}: expected one of {', '.join(PARAMETER_PROFILES)}")
     lay = HybridLayout.of_functions(rhs, guards)
     n_g = lay.n_g
     ode_fn, zero_fn = library or hybrid_functions(rhs, guards, n_par, omega_index, state_names=state_names,
@@ -138,8 +163,13 @@ def build_hybrid_dae(rhs: ca.Function, guards: ca.Function, n_par: int, omega_in
     z = sym.sym("z", lay.size)
     tau = sym.sym("tau")
     p = sym.sym("p", n_par + 1)
-    u = sym.sym("u", ode_fn.size1_in(3))
-    ode, zero = ode_fn(tau, z, p, u), zero_fn(tau, z, p, u)
+    n_pu = ode_fn.size1_in(3)  # the pressures' controls
+    u = sym.sym("u", n_pu + (2 * n_par if parameters == "linear" else 0))
+    pu, pt = u[:n_pu], p
+    if parameters == "linear":  # p(tau) = p + u_a + u_b tau (parameter_controls)
+        a, b = u[n_pu:n_pu + n_par], u[n_pu + n_par:]
+        pt = ca.vertcat(p[:n_par] + a + b * tau, p[n_par])
+    ode, zero = ode_fn(tau, z, pt, pu), zero_fn(tau, z, pt, pu)
     dae = {"x": z, "t": tau, "p": p, "u": u, "ode": ode, "zero": zero}
 
     s, counts = z[lay.active], z[lay.counts]

@@ -9,7 +9,8 @@ Works on a single state (1-D numpy array, CasADi SX/MX column) and on a block of
 column per sample): the layout slices the first axis.
 
 The controls u of the hybrid DAE are the chamber pressures over an output interval, in one of
-:data:`PRESSURE_PROFILES` (:func:`.hybrid.controls` builds them).
+:data:`PRESSURE_PROFILES` (:func:`.hybrid.controls` builds them), and, for a scene that schedules a parameter along
+the revolution, the parameter vector's line over the interval (:data:`PARAMETER_PROFILES`).
 """
 
 from __future__ import annotations
@@ -25,6 +26,11 @@ from ..derive.modes import Mode
 #: mean; "linear" = linear between the values at the interval's ends (continuous: the default; every engine
 #: of apexseal's, a user's engine lists what it takes in ``pressure_profiles``)
 PRESSURE_PROFILES = ("steps", "linear")
+#: how the physical parameters vary over an output interval: "constant" = the parameter vector of the call;
+#: "linear" = linear between its values at the interval's ends (a scene's schedule, runtime/scenes/schedule.py),
+#: carried in the controls after the pressures (:func:`.hybrid.parameter_controls`). An engine lists what it
+#: takes in ``parameter_profiles``
+PARAMETER_PROFILES = ("constant", "linear")
 
 
 @dataclass(frozen=True)

@@ -47,6 +47,7 @@ def settings_of(scene, **overrides) -> RunSettings:
         section, field = key.split(".")
         value = getattr(getattr(scene, section), field)
         base[name] = (not value) if name == "compile_c" else value  # the scene's solver.interpreted
+    base["parameters"] = "constant" if scene.schedule is None else "linear"  # its schedule, not a [solver] key
     return RunSettings(**merged(base, overrides))
 
 
@@ -331,6 +332,7 @@ def run_scene(scene, settings: RunSettings, *, progress: bool = False, functions
     result = run(functions, scene.parameter_vector(functions.parameter_names), settings, theta_start=op.start_angle,
                  state0=initial_state(scene, functions), pressure=pressure, until_periodic=op.until_periodic,
                  periodic_tol=op.periodic_tol, progress=progress, info=info, sink=sink,
+                 path=scene.parameter_path(functions.parameter_names),
                  continue_from=None if continuation is None else (continuation.revolutions, continuation.z,
                                                                    continuation.carried))
     result.scene = ran

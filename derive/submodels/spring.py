@@ -25,7 +25,7 @@ class SpringContact(Submodel):
     parameters = (
         Parameter("ks", "N/m", "spring stiffness (Eq. 39)", key="spring.ks", plausible=(1.0, 1e8, "N/m"), gt=0),
         Parameter("delta_s", "m", "spring preload deflection (Eq. 9)", key="spring.delta_s",
-                  plausible=(0.0, 30e-3, "mm"), ge=0, sign="real"),
+                  plausible=(0.0, 30e-3, "mm"), ge=0, sign="real", schedulable=True),
         Parameter("cs", "N*s/m", "seal-spring contact damping (Eq. 73); default 2 zeta_s sqrt(ks ms)",
                   key="contacts.cs", ge=0, optional=True, needs="spring_damping"),
         Parameter("zeta_s", "1", "damping ratio of the seal-spring contact: cs = 2 zeta_s sqrt(ks ms) unless "

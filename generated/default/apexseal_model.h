@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 5e2a5035df26d7adf64781fd24b2f4cee080d1f9bacb9a151decfad4c868be3d.
+ * Effects: all. Input hash: ada36ba67f0b9f1ac7dbbeecd4d7b52d095ddcd40f61e72dbfacd42a7641785f.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "5e2a5035df26d7adf64781fd24b2f4cee080d1f9bacb9a151decfad4c868be3d"
+#define APEXSEAL_INPUT_HASH "ada36ba67f0b9f1ac7dbbeecd4d7b52d095ddcd40f61e72dbfacd42a7641785f"
 
 /* state x */
 #define APEXSEAL_NX 6
@@ -151,9 +151,10 @@ extern "C" {
 /* The record this library was generated from: the loader compares it with the manifest it trusts. */
 const char* apexseal_model_input_hash(void);
 
-/* The named outputs and the guards at n samples in one call (apexseal_model.c). */
-int apexseal_outputs_block(const double* theta, const double* x, const double* a, const double* p, const double* u,
-                           int n, double* y, double* g);
+/* The named outputs and the guards at n samples in one call (apexseal_model.c); p_stride 0: the parameters
+ * shared by every sample, APEXSEAL_NP: one vector per sample. */
+int apexseal_outputs_block(const double* theta, const double* x, const double* a, const double* p, int p_stride,
+                           const double* u, int n, double* y, double* g);
 
 #ifdef __cplusplus
 }

@@ -51,9 +51,10 @@ extern "C" {
 /* The record this library was generated from: the loader compares it with the manifest it trusts. */
 const char* apexseal_model_input_hash(void);
 
-/* The named outputs and the guards at n samples in one call (apexseal_model.c). */
-int apexseal_outputs_block(const double* theta, const double* x, const double* a, const double* p, const double* u,
-                           int n, double* y, double* g);
+/* The named outputs and the guards at n samples in one call (apexseal_model.c); p_stride 0: the parameters
+ * shared by every sample, APEXSEAL_NP: one vector per sample. */
+int apexseal_outputs_block(const double* theta, const double* x, const double* a, const double* p, int p_stride,
+                           const double* u, int n, double* y, double* g);
 
 #ifdef __cplusplus
 }

@@ -26,9 +26,11 @@ def contact_patterns(closed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return closed[:, first], np.ravel(which)
 
 
-def assemble(functions, params, Z, theta, U, theta_start, omega) -> SimulationResult:
+def assemble(functions, params, Z, theta, U, theta_start, omega, scheduled=()) -> SimulationResult:
     """The result of the hybrid states ``Z`` (layout.size, n) at crank angles ``theta`` (n,), absolute, with
-    the chamber pressures ``U`` (2, n) in force over the interval that ends at each sample.
+    the chamber pressures ``U`` (2, n) in force over the interval that ends at each sample, and the parameters
+    ``params`` (n_par,), or (n_par, n) at each sample (a scene's schedule: then each parameter named in
+    ``scheduled`` is an output too, by its name, as ``delta_s``).
 
     Every named output of the model is evaluated at every sample by the model's ``outputs`` Function in one call
     (runtime/results/sampled.py); the guards give the gaps and penetrations.
@@ -40,6 +42,8 @@ def assemble(functions, params, Z, theta, U, theta_start, omega) -> SimulationRe
     P = np.asarray(params, float)
     Y, g = outputs_at(functions, theta, X, closed, P, U)
     outputs = {name: Y[i] for i, name in enumerate(functions.output_names)}
+    for name in scheduled:  # a scheduled parameter along the samples
+        outputs.setdefault(name, P[list(functions.parameter_names).index(name)])
     for i, name in enumerate(functions.guard_names):  # each guard's declared output: a gap, a penetration, ...
         declared = guard(name)
         outputs[declared.output] = declared.sign * g[i]
@@ -53,10 +57,11 @@ def assemble(functions, params, Z, theta, U, theta_start, omega) -> SimulationRe
 
 
 def assemble_blocks(functions, params, blocks, thetas, pressures, theta_start, omega, first=None,
-                    first_pressures=None) -> SimulationResult:
+                    first_pressures=None, path=None) -> SimulationResult:
     """The part made of the integrator calls ``blocks`` (hybrid states at ``thetas``, with the pressures
     ``pressures`` of each call), after the initial state ``first`` with the pressures ``first_pressures`` (2,) there
-    (both given for the first part of a run only).
+    (both given for the first part of a run only); ``path``: the parameters at given crank angles where a scene
+    schedules them (None: ``params`` at every sample).
     """
     Z = np.hstack(blocks) if blocks else np.zeros((HybridLayout.of(functions).size, 0))
     theta = np.concatenate(thetas) if thetas else np.zeros(0)
@@ -65,4 +70,6 @@ def assemble_blocks(functions, params, blocks, thetas, pressures, theta_start, o
         Z = np.c_[first, Z]
         theta = np.r_[theta_start, theta]
         U = np.c_[np.reshape(first_pressures, (2, 1)), U]
-    return assemble(functions, params, Z, theta, U, theta_start, omega)
+    if path is None:
+        return assemble(functions, params, Z, theta, U, theta_start, omega)
+    return assemble(functions, path(theta), Z, theta, U, theta_start, omega, scheduled=path.names)

@@ -17,21 +17,22 @@ from pathlib import Path
 
 import numpy as np
 
-#: (id of the Function, n) -> (Function, its map over n samples); a few sizes per run, built once each
-_MAPPED: dict[tuple[int, int], tuple] = {}
+#: (id of the Function, n, p shared) -> (Function, its map over n samples); a few sizes per run, built once each
+_MAPPED: dict[tuple[int, int, bool], tuple] = {}
 
 _DBL = ctypes.POINTER(ctypes.c_double)
 
 
-def mapped(f, n: int):
+def mapped(f, n: int, shared_p: bool = True):
     """``f`` mapped over ``n`` samples, built once per Function and size (building a map costs more than
     evaluating it). The parameter vector (input ``p``) is shared by all samples, not repeated: converting
-    ``n`` copies of it into CasADi cost more than evaluating the outputs."""
-    key = (id(f), n)
+    ``n`` copies of it into CasADi cost more than evaluating the outputs; ``shared_p`` False: one per sample (a
+    scene's schedule)."""
+    key = (id(f), n, shared_p)
     if key not in _MAPPED:
         if len(_MAPPED) > 64:
             _MAPPED.clear()
-        shared = [f.name_in().index("p")] if "p" in f.name_in() else []
+        shared = [f.name_in().index("p")] if "p" in f.name_in() and shared_p else []
         _MAPPED[key] = (f, f.map(f"{f.name()}_map", "serial", n, shared, []))
     return _MAPPED[key][1]
 
@@ -42,7 +43,7 @@ def _block(library: Path):
     fn = getattr(ctypes.CDLL(str(library)), "apexseal_outputs_block", None)
     if fn is None:
         return None
-    fn.argtypes = [_DBL, _DBL, _DBL, _DBL, _DBL, ctypes.c_int, _DBL, _DBL]
+    fn.argtypes = [_DBL, _DBL, _DBL, _DBL, ctypes.c_int, _DBL, ctypes.c_int, _DBL, _DBL]
     fn.restype = ctypes.c_int
     return fn
 
@@ -60,10 +61,11 @@ def looped_outputs(functions, theta, X, closed, params, U) -> tuple[np.ndarray |
     n = theta.size
     th, x, u = np.ascontiguousarray(theta, float), _rows(X), _rows(U)
     a = None if closed is None else _rows(closed)
-    p = np.ascontiguousarray(params, float)
+    p = np.ascontiguousarray(params, float) if np.ndim(params) == 1 else _rows(params)  # shared, or per sample
+    stride = 0 if p.ndim == 1 else p.shape[1]
     y = None if closed is None else np.empty((n, len(functions.output_names)))
     g = np.empty((n, len(functions.guard_names)))
-    status = _block(functions.library)(_ptr(th), _ptr(x), _ptr(a), _ptr(p), _ptr(u), n, _ptr(y), _ptr(g))
+    status = _block(functions.library)(_ptr(th), _ptr(x), _ptr(a), _ptr(p), stride, _ptr(u), n, _ptr(y), _ptr(g))
     if status:
         why = "out of memory" if status == 2 else "a Function failed to evaluate"
         raise RuntimeError(f"apexseal_outputs_block of {Path(functions.library).name}: {why}")
@@ -71,11 +73,11 @@ def looped_outputs(functions, theta, X, closed, params, U) -> tuple[np.ndarray |
 
 
 def mapped_outputs(functions, theta, X, closed, params, U) -> tuple[np.ndarray | None, np.ndarray]:
-    n = theta.size
-    g = mapped(functions.guards, n)(theta[None, :], X, params, U).full()
+    n, shared = theta.size, np.ndim(params) == 1
+    g = mapped(functions.guards, n, shared)(theta[None, :], X, params, U).full()
     if closed is None:
         return None, g
-    return mapped(functions.outputs, n)(theta[None, :], X, np.asarray(closed, float), params, U).full(), g
+    return mapped(functions.outputs, n, shared)(theta[None, :], X, np.asarray(closed, float), params, U).full(), g
 
 
 def _loops(functions, n_u: int) -> bool:
@@ -87,8 +89,9 @@ def _loops(functions, n_u: int) -> bool:
 
 def outputs_at(functions, theta, X, closed, params, U) -> tuple[np.ndarray | None, np.ndarray]:
     """(the named outputs (n_outputs, n), the guards (n_guards, n)) at the crank angles ``theta`` (n,), physical
-    states ``X`` (n_x, n), contacts ``closed`` (n_guards, n; bool or 0/1), parameters ``params``, pressures ``U``
-    (n_u, n). With ``closed`` None only the guards are evaluated, and the outputs are None."""
+    states ``X`` (n_x, n), contacts ``closed`` (n_guards, n; bool or 0/1), parameters ``params`` (n_par,), or
+    (n_par, n) one vector per sample (a scene's schedule), pressures ``U`` (n_u, n). With ``closed`` None only the
+    guards are evaluated, and the outputs are None."""
     theta = np.asarray(theta, float)
     way = looped_outputs if _loops(functions, U.shape[0]) else mapped_outputs
     return way(functions, theta, X, closed, params, U)

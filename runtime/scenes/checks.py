@@ -481,7 +481,9 @@ def check_set_by(raw: dict[str, Any], assumptions: Assumptions) -> list[Problem]
 
 def check_consistency(sections: dict[str, Section], raw: dict[str, Any]) -> list[Problem]:
     """Every cross-key check whose sections are valid."""
-    out: list[Problem] = check_alternatives(raw)
+    from .schedule import schedule_problems
+
+    out: list[Problem] = check_alternatives(raw) + schedule_problems(sections, raw)
     m, s = sections.get("machine"), sections.get("seal")
     if m is not None:
         out += check_machine(m, raw)
@@ -512,16 +514,21 @@ def check_needed(sections: dict[str, Section], effects: Effects, assumptions: As
     from apexseal.derive.options import needed_effects
     from apexseal.derive.submodels.registry import is_read, omissible_while_off, parameters
 
+    from .schedule import value_at_start
+
     out = []
     for p in parameters(all_inputs=True):
         need = omissible_while_off(p)
         model = sections.get(p.section) if need is not None else None
         if model is None or getattr(model, p.leaf) is not None or not is_read(p, effects, assumptions):
             continue
+        if value_at_start(sections, p) is not None:  # given as a schedule
+            continue
         spec = validator_of(type(model), p.leaf)
         names = needed_effects(need)
+        scheduled = f", or a schedule ([{p.section}.schedule] {p.leaf})" if p.schedulable else ""
         out.append(Problem(p.key, MISSING, f"required while {' or '.join(f'effects.{n}' for n in names)} is on; "
-                                           f"give {spec.expects()}, or set "
+                                           f"give {spec.expects()}{scheduled}, or set "
                                            f"{' and '.join(f'effects.{n} = false' for n in names)}"))
     return out
 

@@ -91,6 +91,34 @@ class SI:
         return expected(self.unit) + ("" if self.range == Range() else f", {self.allowed()}")
 
 
+class Each:
+    """A TOML array of ``least``..``most`` values, each converted and checked by ``item`` (an :class:`SI`): the
+    knots of a schedule (runtime/scenes/schedule.py). A bad value is named by its position in the array."""
+
+    def __init__(self, item: SI, *, least: int = 2, most: int = 360, optional: bool = True) -> None:
+        self.item, self.least, self.most, self.optional = item, least, most, optional
+        self.unit, self.show = item.unit, item.show
+
+    def __call__(self, value: Any, info: ValidationInfo) -> tuple[float, ...] | None:
+        if value is None and self.optional:
+            return None
+        if not isinstance(value, list | tuple) or not self.least <= len(value) <= self.most:
+            raise _fail(f"expected {self.expects()}")
+        out = []
+        for i, v in enumerate(value, 1):
+            try:
+                out.append(self.item.convert(v))
+            except PydanticCustomError as exc:
+                raise _fail(f"item {i} ({v!r}): {exc.message()}") from None
+        return tuple(out)
+
+    def allowed(self) -> str:
+        return f"{self.least} to {self.most} values, each {self.item.expects()}"
+
+    def expects(self) -> str:
+        return f"an array of {self.allowed()}"
+
+
 class Int:
     """An integer (TOML integer, not float or bool) in a range."""
 

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from .fields import SI
+from .fields import SI, Each
 from .pressure import UnreadTable
 from .schema import GAS_SOURCES, SECTION_ORDER, SECTIONS, Section, _sub_model, validator_of
 
@@ -39,11 +39,17 @@ def _values(model: Section, prefix: str) -> tuple[list[tuple[str, Any]], list[tu
         if value is None:
             continue
         spec = validator_of(type(model), name)
-        plain.append((name, _quantity(value, spec.unit) if isinstance(spec, SI) else value))
+        if isinstance(spec, Each):  # a schedule's knots
+            value = [_quantity(v, spec.unit) for v in value]
+        elif isinstance(spec, SI):
+            value = _quantity(value, spec.unit)
+        plain.append((name, value))
     return plain, tables
 
 
 def _toml_value(v: Any) -> str:
+    if isinstance(v, list):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, int):

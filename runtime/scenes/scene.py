@@ -207,10 +207,13 @@ def parameter_values(sections: dict[str, Section], options, **changes) -> dict[s
     CasADi symbols) in their place, then each submodel's derived parameters computed from them."""
     from apexseal.derive.submodels.registry import omissible_while_off, parameters, submodels
 
+    from .schedule import value_at_start
+
     values: dict[str, Any] = {}
     for p in parameters(all_inputs=True):
         if p.key is not None:
-            values[p.name] = getattr(sections[p.section], p.leaf)
+            given = getattr(sections[p.section], p.leaf)
+            values[p.name] = given if given is not None else value_at_start(sections, p)  # a schedule's at the start
     values.update(changes)
     for cls in submodels():
         left_out = any(values.get(p.name) is None and omissible_while_off(p) for p in cls.parameters)
@@ -396,9 +399,11 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
 def _plain(value: Any) -> Any:
     """An override as the TOML would hold it: numpy scalars and 0-d arrays as the Python numbers and bools they
     hold (``np.bool_(False)`` switched an effect off without its children, which follow a ``False``), paths as
-    strings, pint quantities as their magnitude and unit written out ("3.2 millimeter"), tables likewise."""
+    strings, pint quantities as their magnitude and unit written out ("3.2 millimeter"), tables and arrays likewise."""
     if isinstance(value, dict):
         return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, list | tuple) or (isinstance(value, np.ndarray) and value.ndim == 1):  # a schedule's knots
+        return [_plain(v) for v in value]
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value.item()
     if isinstance(value, bool | np.bool_):
@@ -411,6 +416,12 @@ def _plain(value: Any) -> Any:
         return str(value)
     text = quantity_text(value)
     return value if text is None else text
+
+
+def _dump(section: Section) -> dict[str, Any]:
+    """A section's content; a ``schedule`` sub-table only where one is given (a scene without one hashes as it did
+    before parameters could be scheduled)."""
+    return section.model_dump(exclude={"schedule"} if getattr(section, "schedule", True) is None else None)
 
 
 def _normalise(obj: Any) -> Any:
@@ -534,6 +545,27 @@ class Scene:
         """Rotor speed in rad/s."""
         return self.operation.omega
 
+    @property
+    def schedule(self):
+        """The parameters the scene gives along the revolution (a :class:`~.schedule.Schedule`: ``[spring.schedule]``
+        for the preload), or None: every parameter is one value (runtime/scenes/schedule.py)."""
+        from .schedule import scheduled
+
+        return scheduled(self._sections)
+
+    def parameter_path(self, names=None):
+        """None for a scene without a schedule; else a :class:`~.schedule.ParameterPath`, ``path(theta) -> (n_par,
+        m)``: the parameter vector (in the order of ``names``, default ``self.parameters``) at the crank angles
+        ``theta`` (rad, absolute, m of them), each scheduled parameter at its schedule's value and the parameters
+        derived from it following through the submodels' formulas (:meth:`parameter_function`)."""
+        from .schedule import ParameterPath
+
+        schedule = self.schedule
+        if schedule is None:
+            return None
+        return ParameterPath(schedule, self.parameter_function(*schedule.names), self.parameters,
+                             tuple(names) if names is not None else tuple(self.parameters))
+
     # -- variants -----------------------------------------------------------
 
     def with_overrides(self, **dotted: Any) -> Scene:
@@ -563,12 +595,12 @@ class Scene:
         """Normalised content in SI: every section, the pressure source, effects, assumptions, parameters."""
         content = {
             "format": SCENE_FORMAT,
-            "machine": self.machine.model_dump(),
+            "machine": _dump(self.machine),
             "operation": self.operation.model_dump(),
-            "seal": self.seal.model_dump(),
-            "spring": self.spring.model_dump(),
-            "contacts": self.contacts.model_dump(),
-            "friction": self.friction.model_dump(),
+            "seal": _dump(self.seal),
+            "spring": _dump(self.spring),
+            "contacts": _dump(self.contacts),
+            "friction": _dump(self.friction),
             "pressure": self.pressure.to_dict(),
             "effects": self.effects.as_dict(),
             "assumptions": self.assumptions.as_dict(),

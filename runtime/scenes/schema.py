@@ -24,7 +24,7 @@ from ...suggest import did_you_mean
 from ..solving.methods import METHODS
 from ..solving.settings import DEFAULT_PRESSURE, FLAGS, PRESSURE_PROFILES
 from .errors import MISSING, Problem
-from .fields import SI, TWO_PI, UNRANGED, Choice, Flag, PressureUnit, Text
+from .fields import SI, TWO_PI, UNRANGED, Choice, Each, Flag, PressureUnit, Text
 from .fields import quantity as _q
 from .fields import setting_bounds as _bounds
 from .fields import setting_int as _int
@@ -198,11 +198,30 @@ def _parameter_field(p) -> tuple[Any, Any]:
     effect is on (:func:`.checks.check_needed`, once the effects are known)."""
     from apexseal.derive.submodels.registry import omissible_while_off
 
-    omissible = p.optional or omissible_while_off(p) is not None
+    # a schedulable one may be given as a schedule instead (the [<section>.schedule] table; checks.check_needed)
+    omissible = p.optional or omissible_while_off(p) is not None or p.schedulable
     validator = SI(p.unit, bare=p.bare, optional=omissible, show=p.show, **p.range_kwargs())
     kind = float | None if omissible else float
     default = None if omissible else (p.default if p.default is not None else ...)
     return Annotated[kind, BeforeValidator(validator)], Field(default, description=p.meaning)
+
+
+def _schedule_field(section: str, params: list) -> tuple[Any, Any]:
+    """The ``schedule`` sub-table of a section with schedulable parameters (runtime/scenes/schedule.py): the knots'
+    crank angles and each parameter's values there, checked as its own key is."""
+    angles = Each(SI("rad", ge=-FULL_TURN, le=FULL_TURN, show="deg"), optional=False)
+    fields = {"angles": (Annotated[tuple[float, ...], BeforeValidator(angles)],
+                         Field(description="crank angle theta of each knot, increasing, within less than one "
+                                           "revolution"))}
+    for p in params:
+        item = Each(SI(p.unit, bare=p.bare, show=p.show, **p.range_kwargs()))
+        fields[p.leaf] = (Annotated[tuple[float, ...] | None, BeforeValidator(item)],
+                          Field(None, description=f"{p.meaning}: its value at each knot, periodic and linear "
+                                                  f"between knots (instead of {p.key})"))
+    model = create_model(f"{section.title()}Schedule", __base__=Section, **fields)
+    model.__doc__ = (f"[{section}.schedule]: parameters of [{section}] along the revolution, periodic and "
+                     "piecewise linear in crank angle (runtime/scenes/schedule.py).")
+    return model | None, Field(None, description="parameters along the revolution (runtime/scenes/schedule.py)")
 
 
 def _option_fields(table: str) -> dict[str, Any]:
@@ -236,6 +255,9 @@ def _sections(classes: tuple[type, ...]) -> dict[str, tuple[type[Section], bool]
     for section, params in by_section.items():
         params = sorted(params, key=lambda p: _KIND_ORDER.get(p.unit, 3))
         head, tail = _EXTRA_FIELDS.get(section, ({}, {}))
+        schedulable = [p for p in params if p.schedulable]
+        if schedulable:
+            tail = {**tail, "schedule": _schedule_field(section, schedulable)}
         fields = {**head, **{p.leaf: _parameter_field(p) for p in params}, **tail}
         model = create_model(f"{section.title()}Section", __base__=Section, **fields)
         model.__doc__ = _DOCS.get(section, f"[{section}]: parameters of a submodel.")

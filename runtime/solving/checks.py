@@ -84,11 +84,13 @@ class RunChecks:
     """The checks of one run (see the module docstring); each returns ``(status, StopInfo)`` or None."""
 
     def __init__(self, functions, settings: RunSettings, params, theta_start: float, dtheta: float | None = None,
-                 state0=None):
+                 state0=None, path=None):
         """``dtheta``: the run's intervals (rad; default: its output intervals), at which a fixed-step method's steps
         per revolution are judged (:func:`~.methods.explicit_steps`); ``state0``: the state at ``theta_start`` (the
-        contact modes' ringing is taken near it; default: the seal at rest in its groove's centre)."""
-        self.functions, self.settings, self.params = functions, settings, params
+        contact modes' ringing is taken near it; default: the seal at rest in its groove's centre); ``path``: the
+        parameters at given crank angles where a scene schedules them (``Scene.parameter_path``), the outputs and
+        guards at the samples then evaluated with those (None: ``params`` everywhere)."""
+        self.functions, self.settings, self.params, self.path = functions, settings, params, path
         self.theta_start = theta_start
         self.state0 = np.zeros(len(functions.state_names)) if state0 is None else np.asarray(state0, float)
         self.layout = HybridLayout.of(functions)
@@ -96,6 +98,10 @@ class RunChecks:
         #: an explicit fixed-step method's steps (None for the others)
         self.steps = run_steps(settings, dtheta)
         self.sticking = FrictionWatch(functions, params, self.steps) if self.steps is not None else None
+
+    def params_at(self, thetas) -> np.ndarray:
+        """The parameters at the samples ``thetas``: the run's vector, or one per sample along a schedule."""
+        return self.params if self.path is None else self.path(thetas)
 
     def finite(self, Z, thetas) -> tuple[np.ndarray, tuple | None]:
         """Z up to its first non-finite sample, and the failure it means (None if all finite)."""
@@ -159,7 +165,7 @@ class RunChecks:
             return Z, None
         n = Z.shape[1]  # a call cut short (a wall-time budget) has fewer samples than its intervals
         thetas, X = thetas[:n], to_physical(Z[lay.x], self.omega, lay.state_names)
-        Y, _ = outputs_at(self.functions, thetas, X, Z[lay.active] > 0.5, self.params, P[:, :n])
+        Y, _ = outputs_at(self.functions, thetas, X, Z[lay.active] > 0.5, self.params_at(thetas), P[:, :n])
         dth = thetas[1] - thetas[0] if thetas.size > 1 else 2 * np.pi / self.settings.samples_per_revolution
         found = watch.check(int((thetas[0] - self.theta_start) // (2 * np.pi)), Y, dth)
         if found is None:
@@ -203,7 +209,7 @@ class RunChecks:
         reason says so, with the advice for its contact (:func:`chatter_advice`), instead of calling it a bug."""
         lay = self.layout
         X = to_physical(Z[lay.x], self.omega, lay.state_names)
-        g = guards_at(self.functions, thetas, X, self.params, P)
+        g = guards_at(self.functions, thetas, X, self.params_at(thetas), P)
         bad = (Z[lay.active] < 0.5) & (g / LENGTH < -MISSED_EVENT_UM)
         if not bad.any():
             return None

@@ -21,7 +21,7 @@ from ...signals import StopSignals
 from ..results.plausibility import METAL_STIFFNESS
 from ..results.result import StopInfo
 from .checks import Chattering, chatter_advice, tilt_reason
-from .methods import WallTimeExceeded, make_engine, single_interval_engine
+from .methods import WallTimeExceeded, edge_params, first_params, make_engine, single_interval_engine
 from .preflight import MAX_START_PENETRATION, penetration_guards
 from .settings import MAX_TILT, RunSettings, out_of_time
 
@@ -89,17 +89,18 @@ def _interval_by_interval(functions, settings, params, z, edges, P, err, deadlin
                 return _cols(cols, z), ("interrupted", where)
             try:
                 try:
-                    out = (fast or single).run(z, params, edges[k], P[:, k:k + 1 + linear])
+                    out = (fast or single).run(z, edge_params(params, k), edges[k], P[:, k:k + 1 + linear])
                 except RuntimeError as e:
                     if fast is None or isinstance(e, WallTimeExceeded):
                         raise
-                    out = single.run(z, params, edges[k], P[:, k:k + 1 + linear])  # for the statistics
+                    out = single.run(z, edge_params(params, k), edges[k], P[:, k:k + 1 + linear])  # statistics
             except WallTimeExceeded:
                 where.reason = _stopped(signals, settings, deadline, context)
                 return _cols(cols, z), ("interrupted", where)
             except RuntimeError as e:
-                status, where.reason = _diagnose(functions, settings, single, e, z, edges[k], dth, params,
-                                                 P[:, k:k + 1 + linear], theta_start, deadline, make)
+                status, where.reason = _diagnose(functions, settings, single, e, z, edges[k], dth,
+                                                 edge_params(params, k), P[:, k:k + 1 + linear], theta_start,
+                                                 deadline, make)
                 if signals.requested:  # the diagnosis was cut short: the signal is the run's reason
                     status, where.reason = "interrupted", _stopped(signals, settings, deadline, ", while diagnosing a "
                                                                    f"failed interval ({where.reason})")
@@ -129,12 +130,13 @@ def _last_line(err) -> str:
     return text.splitlines()[-1] if text else repr(err)
 
 
-def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, params, P,
+def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, line, P,
               theta_start: float, deadline: float = math.inf, make=make_engine) -> tuple[str, str]:
     """(status, reason) of one output interval that failed, from the interpreted integrator's statistics.
 
     ``P`` is the interval's pressure input as the engine takes it: (2, 1), its mean, or (2, 2), its values at
-    the two ends (``pressure = "linear"``).
+    the two ends (``pressure = "linear"``); ``line`` the parameters likewise: the vector, or its values at the
+    two ends (a scene's schedule).
 
     Compiled integrators only say 'Evaluation failed'; the interpreted one counts
     its steps, rejections and events, which tell an event limit (chattering) and a
@@ -145,6 +147,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
     """
     msg = _last_line(err)
     u = P[:, 0]  # the pressures at the interval's start, as the run sees them
+    params = first_params(line)  # the parameters there
     try:
         stats = dict(engine.function.stats())
     except Exception:  # noqa: BLE001 - the stepper engines have no single function
@@ -156,7 +159,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
             return "failed", _leaves_domain(functions, z, theta, theta_start, params, u, msg)
         return "failed", f"the right-hand side is not finite at {where}: {msg}"
     if "max_events" in str(err) or stats.get("n_events", 0) >= settings.max_events_per_revolution:
-        z_end, head = _longest_head(functions, settings, params, z, theta, dth, P, deadline, make)
+        z_end, head = _longest_head(functions, settings, line, z, theta, dth, P, deadline, make)
         switches = z_end[lay.counts] - z[lay.counts]
         guard = functions.guard_names[int(np.argmax(switches))] if switches.any() else "(unknown)"
         # the integrator stopped at its event limit inside the interval; the longest head of it that passes on its
@@ -172,7 +175,7 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
                   "solver.rtol; or raise max_steps_per_interval if the stiffness is physical")
         return "failed", (f"step limit: more than max_steps_per_interval = {settings.max_steps_per_interval} steps in "
                           f"one output interval; the problem is too stiff for {settings.method!r} here: {advice}")
-    z_end, head = _longest_head(functions, settings, params, z, theta, dth, P, deadline, make)
+    z_end, head = _longest_head(functions, settings, line, z, theta, dth, P, deadline, make)
     if not _finite_ahead(functions, z_end, theta + head, params, u):
         return "failed", _leaves_domain(functions, z_end, theta + head, theta_start, params, u, msg)
     where_seal, depth = _seal_at(functions, z_end, theta + head, params, u)
@@ -185,6 +188,15 @@ def _diagnose(functions, settings: RunSettings, engine, err, z, theta, dth, para
         return "failed", (f"the step size fell below its minimum after {stats.get('n_steps', 0)} steps and "
                           f"{stats['n_reject']} rejected ones, {head_at(head)}{where_seal}{deep} (CasADi: {msg})")
     return "failed", f"solver failed {head_at(head)}{where_seal}{deep} (CasADi: {msg})"
+
+
+def _head(values: np.ndarray, frac: float) -> np.ndarray:
+    """An interval's input over its first ``frac``: a column (held) or a vector as it is; the values at the
+    interval's two ends as those at the ends of the head, on the interval's line."""
+    V = np.asarray(values, float)
+    if V.ndim == 1 or V.shape[1] == 1:
+        return V
+    return np.c_[V[:, 0], V[:, 0] + (V[:, 1] - V[:, 0]) * frac]
 
 
 def head_at(head: float) -> str:
@@ -244,23 +256,22 @@ def _finite_ahead(functions, z, theta, params, u) -> bool:
                for h in (1e-9, 1e-8, 1e-7))
 
 
-def _longest_head(functions, settings: RunSettings, params, z, theta, dth, P,
+def _longest_head(functions, settings: RunSettings, line, z, theta, dth, P,
                   deadline: float = math.inf, make=make_engine) -> tuple[np.ndarray, float]:
     """The state at the end of the longest head of a failing interval that the interpreted integrator passes,
     and the head's length: bisection on the length, 12 halvings or until the deadline (z itself and 0 when no
-    head passes). ``P``: the interval's pressure input (see :func:`_diagnose`); a head of a "linear" interval
-    ends at the value on the interval's line."""
+    head passes). ``P``, ``line``: the interval's pressure and parameter input (see :func:`_diagnose`); a head of
+    a "linear" interval ends at the value on the interval's line."""
     lo, hi, end = 0.0, dth, z
     for _ in range(12):
         if time.perf_counter() > deadline or StopSignals.pending():
             break
         mid = 0.5 * (lo + hi)
         try:
-            head = P if P.shape[1] == 1 else np.c_[P[:, 0], P[:, 0] + (P[:, 1] - P[:, 0]) * (mid / dth)]
             engine = single_interval_engine(functions, settings, mid, make)
             engine.deadline = deadline
             with StopSignals() as signals, signals.watching(engine):
-                out = engine.run(z, params, theta, head)
+                out = engine.run(z, _head(line, mid / dth), theta, _head(P, mid / dth))
         except WallTimeExceeded:
             break
         except RuntimeError:

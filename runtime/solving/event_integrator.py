@@ -22,7 +22,7 @@ import warnings
 import casadi as ca
 import numpy as np
 
-from ...generated.hybrid import build_hybrid_dae, controls
+from ...generated.hybrid import build_hybrid_dae, controls, parameter_controls
 from .methods import METHODS, Engine, RevolutionResult
 
 #: what CasADi 3.8 prints whenever an integrator with events is built; apexseal's tests cover crossings in
@@ -47,6 +47,7 @@ class EventIntegrator(Engine):
     """Integrates the hybrid model over `span` of crank angle with `n_samples` outputs."""
 
     pressure_profiles = ("steps", "linear")
+    parameter_profiles = ("constant", "linear")
 
     @classmethod
     def build(cls, functions, settings, *, method, n_samples, span, compile_c):
@@ -58,17 +59,19 @@ class EventIntegrator(Engine):
                    atol=settings.atol, n_samples=n_samples, span=span, max_events=settings.max_events_per_revolution,
                    max_steps=settings.max_steps_per_interval, event_tol=settings.event_tol, compile_c=compile_c,
                    flags=settings.flags, model_hash=sx.model_hash, state_names=functions.state_names,
-                   pressure=settings.pressure, library=functions if compile_c else None)
+                   pressure=settings.pressure, library=functions if compile_c else None,
+                   parameters=settings.parameters)
 
     def __init__(self, rhs: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *, method: str,
                  rtol: float, atol: float | None, n_samples: int, span: float = 2 * np.pi,
                  max_events: int = 10000, max_steps: int = 200000, event_tol: float = 1e-10, compile_c: bool = True,
                  flags: str = "optimised", model_hash: str | None = None, state_names=None, pressure: str = "steps",
-                 library=None):
+                 library=None, parameters: str = "constant"):
         """``library``: model Functions (:class:`~apexseal.generated.functions.ModelFunctions`); when they are the
         compiled model library's, the DAE calls its hybrid Functions and the compiled integrator links against it
         (``self.link``; either pressure profile: the library takes the controls of both, :func:`.hybrid.controls`);
-        otherwise (or None) the DAE embeds the SX Functions built from ``rhs`` and ``guards``."""
+        otherwise (or None) the DAE embeds the SX Functions built from ``rhs`` and ``guards``. ``parameters``:
+        "linear" to take the parameters' values at the interval edges (a scene's schedule; generated/hybrid.py)."""
         plugin = METHODS[method].plugin
         # rosenbrock would need the hybrid Functions' Jacobians in the library too (without them it built its
         # Jacobian column by column: 3.2x slower), which would add 40 % to the library's instructions; it embeds
@@ -80,8 +83,8 @@ class EventIntegrator(Engine):
         self.model_hash = model_hash
         externals = (library.hybrid_ode, library.hybrid_zero) if self.link is not None else None
         self.hybrid = build_hybrid_dae(rhs, guards, n_par, omega_index, event_tol=event_tol, state_names=state_names,
-                                       pressure=pressure, library=externals)
-        self.pressure = pressure
+                                       pressure=pressure, library=externals, parameters=parameters)
+        self.pressure, self.parameters = pressure, parameters
         self.n_samples = n_samples
         self.grid = np.linspace(0.0, span, n_samples + 1)[1:]
         opts = {"transition": self.hybrid.transition, "reltol": rtol, "abstol": atol if atol is not None else rtol,
@@ -106,8 +109,17 @@ class EventIntegrator(Engine):
 
     def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:
         """Integrate from z0 at crank angle theta0; pressures is (2, n_samples), one column per output interval
-        (``pressure = "steps"``), or (2, n_samples + 1), the values at the intervals' ends ("linear")."""
-        u = controls(pressures, self.grid, self.pressure, self.hybrid.dae["u"].size1())
+        (``pressure = "steps"``), or (2, n_samples + 1), the values at the intervals' ends ("linear"); params is
+        the parameter vector, or, built with ``parameters = "linear"``, its values at the intervals' ends too."""
+        rows = self.hybrid.dae["u"].size1()
+        if self.parameters == "linear":
+            params, u_par = parameter_controls(params, self.grid)
+            u = np.vstack([controls(pressures, self.grid, self.pressure, rows - u_par.shape[0]), u_par])
+        else:
+            if np.ndim(params) != 1:
+                raise ValueError("params: one parameter vector; an engine built with parameters = 'constant' "
+                                 "does not take their values at the interval edges")
+            u = controls(pressures, self.grid, self.pressure, rows)
         out = self.function(x0=z0, p=np.r_[params, theta0], u=u)
         stats = {}
         try:

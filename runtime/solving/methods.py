@@ -34,7 +34,9 @@ class Engine:
     integrates from the hybrid state ``z0`` at crank angle ``theta0`` with the physical parameter vector
     ``params`` and the chamber pressures ``pressures`` (2, n_samples), or, for an engine that lists "linear" in
     ``pressure_profiles`` and was built with ``settings.pressure = "linear"``, their values at the n_samples + 1
-    interval edges; it returns a :class:`RevolutionResult`.
+    interval edges; it returns a :class:`RevolutionResult`. An engine that lists "linear" in
+    ``parameter_profiles`` and was built with ``settings.parameters = "linear"`` (a scene's schedule) also takes
+    ``params`` as its values at the n_samples + 1 interval edges (n_par, n_samples + 1), linear between them.
     It raises :class:`WallTimeExceeded` (with the samples done) past ``deadline`` (a ``time.perf_counter()``
     value; engines that cannot stop inside a call may ignore it) and ``RuntimeError`` when the solver fails.
     """
@@ -49,6 +51,9 @@ class Engine:
     deadline: float = math.inf
     #: the settings' pressure profiles this engine can integrate (runtime/solving/settings.py)
     pressure_profiles: tuple[str, ...] = ("steps",)
+    #: the settings' parameter profiles this engine can integrate (generated/layout.py ``PARAMETER_PROFILES``):
+    #: "linear" for the parameters a scene schedules along the revolution
+    parameter_profiles: tuple[str, ...] = ("constant",)
 
     @classmethod
     def build(cls, functions, settings, *, method: str, n_samples: int, span: float, compile_c: bool) -> Engine:
@@ -80,6 +85,19 @@ class Engine:
     def carry_on(self, z: np.ndarray, carried: np.ndarray | None) -> None:
         """Continue from the hybrid state ``z`` as if the last call had ended there, carrying ``carried`` (what
         :meth:`carried` gave for ``z``; None: nothing carried, the next call starts afresh)."""
+
+
+def edge_params(params, k: int, n: int = 1) -> np.ndarray:
+    """What an engine's ``run`` takes as the parameters of intervals k..k+n-1 of a call that took ``params``: the
+    parameter vector itself, or its values at those intervals' n + 1 edges (a scene's schedule)."""
+    P = np.asarray(params, float)
+    return P if P.ndim == 1 else P[:, k:k + n + 1]
+
+
+def first_params(params) -> np.ndarray:
+    """The parameter vector at the first edge of a call that took ``params`` (see :func:`edge_params`)."""
+    P = np.asarray(params, float)
+    return P if P.ndim == 1 else P[:, 0]
 
 
 class WallTimeExceeded(RuntimeError):

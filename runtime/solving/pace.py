@@ -21,7 +21,7 @@ import time
 
 import numpy as np
 
-from .methods import Engine, RevolutionResult, WallTimeExceeded, single_interval_engine
+from .methods import Engine, RevolutionResult, WallTimeExceeded, edge_params, single_interval_engine
 
 
 class Pace:
@@ -61,6 +61,7 @@ class IntervalByInterval(Engine):
         self.dtheta = dtheta
         self.n_samples = engine.n_samples
         self.pressure_profiles = engine.pressure_profiles
+        self.parameter_profiles = engine.parameter_profiles
         self.compiled = self.single.compiled
         self.counts_steps = self.single.counts_steps
 
@@ -91,7 +92,7 @@ class IntervalByInterval(Engine):
             if time.perf_counter() > self.deadline:
                 raise WallTimeExceeded(done())
             try:
-                out = self.single.run(z, params, theta0 + k * self.dtheta, P[:, k:k + 1 + linear])
+                out = self.single.run(z, edge_params(params, k), theta0 + k * self.dtheta, P[:, k:k + 1 + linear])
             except WallTimeExceeded:
                 raise WallTimeExceeded(done()) from None
             except RuntimeError as err:

@@ -40,7 +40,7 @@ from .accuracy import accuracy
 from .checks import RunChecks
 from .cost import SlowRunWarning, estimate, slow_rotor_note
 from .diagnosis import locate_failure
-from .methods import WallTimeExceeded, make_engine
+from .methods import WallTimeExceeded, edge_params, make_engine
 from .near_chatter import SwitchClusters
 from .pace import FailedInterval, IntervalByInterval, Pace
 from .periodicity import PeriodicWatch
@@ -64,7 +64,7 @@ RERUN_REPORT = 0.2
 def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: float, state0: np.ndarray,
         revolutions: int | None = None, pressure=None, until_periodic: bool = False, periodic_tol: float = 3e-2,
         progress: bool = False, engine=None, info: dict | None = None, sink=None,
-        pressure_values=None, continue_from: tuple | None = None) -> SimulationResult:
+        pressure_values=None, continue_from: tuple | None = None, path=None) -> SimulationResult:
     """Integrate ``revolutions`` (default ``settings.revolutions``) revolutions from ``state0`` (physical) at crank
     angle ``theta_start``.
 
@@ -82,7 +82,9 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     scene's pressure source (``scene.pressure``: its ``interval_means(edges)`` and its values ``pressure(theta)``,
     whichever ``settings.pressure`` integrates), or a function giving the means over intervals (``pressure(edges)``)
     with ``pressure_values(theta)`` giving the values at crank angles for ``settings.pressure = "linear"``; None:
-    no chamber pressure.
+    no chamber pressure. ``path`` (a scene's schedule, ``Scene.parameter_path``; None: none) gives the parameters
+    at given crank angles: each call then takes their values at its interval edges (an engine whose
+    ``parameter_profiles`` hold "linear"), and the start checks and the outputs take them where they are.
     """
     if revolutions is not None:
         settings = settings.replace(revolutions=revolutions)
@@ -101,16 +103,17 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
         raise ValueError("pressure = 'linear' needs pressure_values, the chamber pressures at given crank angles")
     values, linear = pressure_values, settings.pressure == "linear"
     u0 = _pressures(pressure, theta_start + np.array([0.0, dth]), values, linear)[:, 0]
-    z = lay.pack(to_scaled(state0, omega, lay.state_names), initial_activations(functions, theta_start, state0, params, u0))
-    ring = ringing(functions, params, theta_start, state0)  # for the speed check and the sampling record
+    p0 = params if path is None else path(theta_start)[:, 0]  # the parameters at the start
+    z = lay.pack(to_scaled(state0, omega, lay.state_names), initial_activations(functions, theta_start, state0, p0, u0))
+    ring = ringing(functions, p0, theta_start, state0)  # for the speed check and the sampling record
     if continue_from is None:
         done = 0  # revolutions in the sink before the first call
-        part = _Part(functions, params, theta_start, omega, sink, first=z.copy(), first_pressures=u0)
-        stop = preflight(functions, settings, params, theta_start, state0, z[lay.active], u0, dth, ring)
+        part = _Part(functions, params, theta_start, omega, sink, first=z.copy(), first_pressures=u0, path=path)
+        stop = preflight(functions, settings, p0, theta_start, state0, z[lay.active], u0, dth, ring)
     else:  # the run was checked when it started from its scene's state
         done, z = continue_from[0], np.array(continue_from[1], float)
         carried = continue_from[2] if len(continue_from) > 2 else None
-        part = _Part(functions, params, theta_start, omega, sink, first=None, first_pressures=None)
+        part = _Part(functions, params, theta_start, omega, sink, first=None, first_pressures=None, path=path)
         part.after(done * 2 * np.pi, z, carried)
         stop = None
     cost = estimate(ring, omega, settings, done)  # said before the first step, where it is far above the default's
@@ -148,7 +151,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                                "refused_at_start": stop is not None}
     sink.begin(info)  # what is known before the first step: a killed run's progress record says how it was run
     stats_total: dict = {}
-    check = RunChecks(functions, settings, params, theta_start, dth, state0)
+    check = RunChecks(functions, settings, p0, theta_start, dth, state0, path=path)
     clusters = SwitchClusters(lay.guard_names, settings, omega, dth)  # how close to the chatter detectors
     # until_periodic: each revolution against the one before (runtime/solving/periodicity.py)
     watch = PeriodicWatch(periodic_tol, revolutions, lay.state_names) if until_periodic else None
@@ -174,6 +177,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 edges = theta_start + rev * 2 * np.pi + dth * (c * m + np.arange(m + 1))
                 P_in = _pressures(pressure, edges, values, linear)
                 P = P_in if settings.pressure == "steps" else P_in[:, 1:]  # the pressures at the samples
+                line = params if path is None else path(edges)  # the parameters, or their values at the edges
                 if split is None and m > 1 and pace.would_overrun(m) and not engine.stops_at_deadline:
                     split = IntervalByInterval(functions, settings, engine, dth, make_engine)
                     split.carry_on(z, _carried(engine, z))
@@ -182,7 +186,7 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                 use.deadline = deadline if not signals.requested else -math.inf
                 t_call = time.perf_counter()
                 try:
-                    out = use.run(z, params, edges[0], P_in)
+                    out = use.run(z, line, edges[0], P_in)
                     Z, stats, failure = out.z, out.stats, None
                     pace.record(time.perf_counter() - t_call, m)
                 except WallTimeExceeded as late:
@@ -194,7 +198,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
                     # a call made interval by interval keeps the intervals before the one that failed
                     head = err.partial if isinstance(err, FailedInterval) else np.zeros((z.size, 0))
                     k = head.shape[1]
-                    Z, failure = locate_failure(functions, settings, params, head[:, -1] if k else z, edges[k:],
+                    Z, failure = locate_failure(functions, settings, edge_params(line, k, m - k),
+                                                head[:, -1] if k else z, edges[k:],
                                                 P_in[:, k:], err, deadline, theta_start, make_engine,
                                                 counts_before=z_rev[lay.counts],
                                                 advance=lambda j, c0=call * m + k: report((c0 + j) / m / calls))
@@ -356,8 +361,9 @@ def _up_to_stop(Z: np.ndarray, edges: np.ndarray, theta_start: float, found) -> 
 class _Part:
     """The integrator calls of the revolution in progress; :meth:`flush` hands them to the sink as one part."""
 
-    def __init__(self, functions, params, theta_start, omega, sink, first, first_pressures):
+    def __init__(self, functions, params, theta_start, omega, sink, first, first_pressures, path=None):
         self.functions, self.params, self.theta_start, self.omega, self.sink = functions, params, theta_start, omega, sink
+        self.path = path  # the parameters along a schedule (None: params at every sample)
         self.first, self.first_pressures = first, first_pressures
         self.blocks, self.thetas, self.pressures = [], [], []
         self.theta_done = 0.0  # crank angle of the last sample, from the start
@@ -389,7 +395,8 @@ class _Part:
             return
         w0 = time.perf_counter()
         part = assemble_blocks(self.functions, self.params, self.blocks, self.thetas, self.pressures,
-                               self.theta_start, self.omega, first=self.first, first_pressures=self.first_pressures)
+                               self.theta_start, self.omega, first=self.first, first_pressures=self.first_pressures,
+                               path=self.path)
         z_end = self.z_end  # where a run continuing this one starts (runtime/results/continuation.py)
         self.blocks, self.thetas, self.pressures, self.first = [], [], [], None
         w1 = time.perf_counter()

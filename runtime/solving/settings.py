@@ -19,7 +19,7 @@ from pydantic_core import PydanticCustomError
 
 from ...derive.submodels.seal import MAX_TILT  # noqa: F401 - the run's tilt limit, as the seal declares it
 from ...generated.compiler import FLAG_SETS
-from ...generated.layout import PRESSURE_PROFILES
+from ...generated.layout import PARAMETER_PROFILES, PRESSURE_PROFILES
 from ..scenes.errors import Problem
 from ..scenes.units import Range
 
@@ -132,6 +132,12 @@ def _pressure(value: Any) -> str:
     raise _fail(f"not allowed; allowed: {', '.join(PRESSURE_PROFILES)}")
 
 
+def _parameters(value: Any) -> str:
+    if value in PARAMETER_PROFILES:
+        return value
+    raise _fail(f"not allowed; allowed: {', '.join(PARAMETER_PROFILES)}")
+
+
 def not_a_flag(value: Any) -> str:
     """What is wrong with a value given for a switch (a TOML boolean: true or false, not 0/1 or "yes"); a string
     "true" or "false" (from Python, where quotes come naturally beside "2e4 N/m") is told how to write it."""
@@ -203,6 +209,9 @@ class RunSettings(BaseModel):
     calls_per_revolution: _ranged("calls_per_revolution", int | None) = None  # None: 1, or 36 with a wall-time budget
     revolutions: _ranged("revolutions", int) = 1
     pressure: Annotated[str, BeforeValidator(_pressure)] = DEFAULT_PRESSURE
+    #: "linear" for a scene that schedules a parameter along the revolution (runtime/scenes/schedule.py; set from the
+    #: scene, not a [solver] key): the engine then takes the parameters' values at its interval edges
+    parameters: Annotated[str, BeforeValidator(_parameters)] = "constant"
 
     def __init__(self, **values: Any) -> None:
         given = {SCENE_NAMES[k]: k for k in values if k in SCENE_NAMES}  # errors name what the caller wrote
@@ -218,6 +227,13 @@ class RunSettings(BaseModel):
             raise SettingsError([("pressure", self.pressure, f"method {self.method!r} integrates the pressure "
                                   f"profiles {allowed} (its engine's pressure_profiles): set solver.pressure = "
                                   f"\"steps\" (pressure=\"steps\")")])
+
+        if self.parameters != "constant" and self.parameters not in _profiles_of(self.method, "parameter"):
+            can = [name for name in _methods() if self.parameters in _profiles_of(name, "parameter")]
+            raise SettingsError([("method", self.method if isinstance(self.method, str) else self.method.__name__,
+                                  "cannot integrate parameters that follow the crank angle (a scene's schedule, "
+                                  f"[spring.schedule]; its engine's parameter_profiles); methods that can: "
+                                  f"{', '.join(can)}")])
 
     def replace(self, **changes: Any) -> RunSettings:
         """A copy with ``changes`` (validated like the original; ``None`` values are ignored)."""
@@ -243,11 +259,18 @@ def settings_error(exc: ValidationError, given: dict[str, str] | None = None) ->
     return SettingsError(out)
 
 
-def _profiles_of(method: Any) -> tuple[str, ...]:
-    """The pressure profiles the engine of ``method`` integrates (``Engine.pressure_profiles``)."""
+def _profiles_of(method: Any, kind: str = "pressure") -> tuple[str, ...]:
+    """The pressure (or, ``kind = "parameter"``, parameter) profiles the engine of ``method`` integrates
+    (``Engine.pressure_profiles``, ``Engine.parameter_profiles``)."""
     from .methods import method_of
 
-    return method_of(method).engine_class().pressure_profiles
+    return getattr(method_of(method).engine_class(), f"{kind}_profiles")
+
+
+def _methods() -> tuple[str, ...]:
+    from .methods import METHODS
+
+    return tuple(METHODS)
 
 
 def samples_per_call(settings: RunSettings) -> int:

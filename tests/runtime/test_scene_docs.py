@@ -64,14 +64,15 @@ def test_key_paths_cover_nested_tables():
 
 def test_the_keys_an_effect_needs_are_documented_as_such(docs, a_users_submodel):
     """Each key without a default that an effect reads says, in its row's default column, which effect needs it
-    (registry.needing)."""
+    (registry.needing), and a schedulable one that its schedule may give it instead."""
     from apexseal.derive.submodels.registry import omissible_while_off, parameters
 
     rows = {line.split(" | ")[0]: line.split(" | ") for line in docs.splitlines()
             if line.startswith("| `") and line.count(" | ") == 5}  # the sections' tables: key, unit, default, ...
     for p in parameters(all_inputs=True):
         if omissible_while_off(p) and p.key not in _users_keys():
-            assert rows[f"| `{p.key}`"][2] == f"required while `{omissible_while_off(p)}` is on", p.key
+            unless = f", unless `{p.section}.schedule` gives it" if p.schedulable else ""  # runtime/scenes/schedule.py
+            assert rows[f"| `{p.key}`"][2] == f"required while `{omissible_while_off(p)}` is on{unless}", p.key
 
 
 _NUMBER = r"[-−]?\d[\d.]*(?:e[-+]?\d+)?"

@@ -23,6 +23,7 @@ import casadi as ca
 import numpy as np
 
 from ....cores import parallel_threads
+from ...scenes.schedule import periodic_line
 from .problem import MM
 from .shooting import TWO_PI, q_layout, window_vector
 
@@ -35,12 +36,7 @@ class Schedule:
     values: tuple[float, ...]
 
     def __call__(self, theta_deg):
-        if len(self.values) == 1:
-            return np.full(np.shape(theta_deg), self.values[0])
-        a = np.r_[self.angles, self.angles[0] + 360.0]
-        v = np.r_[self.values, self.values[0]]
-        x = (np.asarray(theta_deg, float) - self.angles[0]) % 360.0 + self.angles[0]
-        return np.interp(x, a, v)
+        return periodic_line(self.angles, self.values, theta_deg, period=360.0)
 
     def to_dict(self) -> dict:
         return {"angles_deg": list(self.angles), "delta_s_m": list(self.values)}
