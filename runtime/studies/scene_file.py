@@ -9,9 +9,9 @@ from ...files import atomic_write
 
 
 def write_study_scene(folder: Path, scene, study: str, run_id: str | None, rerun: str,
-                      samples: int | None = None) -> list[Path]:
-    """Write scene.toml (and the pressure table it names) into ``folder``; return their paths. Its first lines name
-    the ``study`` ("preload study"), its ``run_id``, the scene and its content hash, and how to run it again
+                      samples: int | None = None, name: str = "scene.toml") -> list[Path]:
+    """Write scene.toml (or ``name``; and the pressure table it names) into ``folder``; return their paths. Its first
+    lines name the ``study`` ("preload study"), its ``run_id``, the scene and its content hash, and how to run it again
     (``rerun``). ``samples``: the samples per revolution the study ran, written as solver.samples_per_revolution
     where they differ from the scene's (the header says so, with the content hash as written), so that
     ``apexseal simulate scene.toml`` runs the study's sampling."""
@@ -26,8 +26,8 @@ def write_study_scene(folder: Path, scene, study: str, run_id: str | None, rerun
     head += f"\nre-run: {rerun}"
     text, extra = resolved_toml(scene, header=head)
     paths = []
-    for name, content in extra.items():
-        atomic_write(Path(folder) / name, content)
-        paths.append(Path(folder) / name)
-    atomic_write(Path(folder) / "scene.toml", text)
-    return [Path(folder) / "scene.toml", *paths]
+    for file, content in extra.items():
+        atomic_write(Path(folder) / file, content)
+        paths.append(Path(folder) / file)
+    atomic_write(Path(folder) / name, text)
+    return [Path(folder) / name, *paths]

@@ -568,6 +568,10 @@ def check_request(scene, min_force, samples, revolutions, max_groove_force=None)
     if not (eff.spring and eff.housing_contact):
         problems.append("effects: the preload study needs both 'spring' and 'housing_contact' on (the spring presses "
                         "the tip on the housing)")
+    if scene.schedule is not None:
+        problems.append("spring.schedule: the preload study designs the preload along the revolution itself, from "
+                        "one constant preload (its start, and the design its schedule is compared with): give the "
+                        "scene spring.delta_s instead of [spring.schedule]")
     source = scene.pressure.to_dict()["source"]
     if source in GAS_SOURCES:
         problems.append(f"pressure.source = {source!r}: the preload study takes the chamber pressures as the run's "

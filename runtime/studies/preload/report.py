@@ -1,5 +1,6 @@
 """The preload study's report: ``preload.json``, ``preload.md``, ``preload.png`` and ``scene.toml`` (the scene that
-ran, every value explicit, with its pressure table when it has one) in one folder, written as one unit by
+ran, every value explicit, with its pressure table when it has one; ``schedule.toml``, the same scene with the
+schedule optimum as its ``[spring.schedule]``, where a schedule was solved) in one folder, written as one unit by
 :class:`~apexseal.runtime.results.folder.ReportFolder` (:func:`report_folder`).
 
 The figure has four panels: delta_s(theta) of the scene, the constant optimum and the schedule beside the
@@ -22,7 +23,7 @@ from .problem import MM
 from .result import squares_text
 
 #: the files a preload report folder may hold (another file makes the command refuse to replace the folder)
-REPORT_FILES = frozenset({"preload.json", "preload.md", "preload.png", "scene.toml", "pressure.csv"})
+REPORT_FILES = frozenset({"preload.json", "preload.md", "preload.png", "scene.toml", "schedule.toml", "pressure.csv"})
 #: the report's record: its run id and status ("completed", "interrupted", "failed"), as a result's result.json
 RECORD = "preload.json"
 
@@ -168,19 +169,33 @@ def markdown(scene_name: str, results: dict, bisection=None, valley=None, overri
 
 def simulate_lines(results: dict) -> list[str]:
     """preload.md's lines on simulating the design with ``apexseal simulate``: the constant optimum is the scene's
-    ``spring.delta_s`` (scene.toml keeps the scene's own preload, the study's start); a schedule has no scene key,
-    so its numbers are the study's re-simulation only."""
+    ``spring.delta_s`` (scene.toml keeps the scene's own preload, the study's start); the schedule is the scene's
+    ``[spring.schedule]``, written as schedule.toml (:func:`schedule_scene`)."""
     c, s = results.get("constant"), results.get("schedule")
     lines = []
     if c is not None and c.ok and c.delta_s is not None:
         lines += ["Simulate the constant optimum: `apexseal simulate scene.toml --set "
                   f'spring.delta_s="{c.delta_s / MM:.6g} mm"` (scene.toml keeps the scene\'s own preload, '
                   f"{c.scene_delta_s / MM:.6g} mm).", ""]
-    if s is not None:
-        lines += ["A schedule has no scene key (`spring.delta_s` is one constant): its numbers here are the study's "
-                  "re-simulation with the same model and integrator; `apexseal simulate` runs constant preloads only.",
-                  ""]
+    if s is not None and s.ok and s.knots and len(s.knots) > 1:
+        lines += ["Simulate the schedule: `apexseal simulate schedule.toml` (scene.toml with the schedule as its "
+                  "`[spring.schedule]`, docs/scenes.md).", ""]
     return lines
+
+
+def schedule_scene(scene, result):
+    """``scene`` with the schedule ``result`` found as its ``[spring.schedule]`` (the knots sorted by their crank
+    angle in 0..360 deg: the schedule is periodic), or None where no schedule was solved."""
+    if scene is None or result is None or not result.ok or not result.knots or len(result.knots) < 2:
+        return None
+    import warnings
+
+    knots = sorted(zip((float(a) % 360.0 for a in result.knot_angles_deg), map(float, result.knots), strict=True))
+    with warnings.catch_warnings():  # the scene's warnings were given when it was loaded
+        warnings.simplefilter("ignore")
+        return scene.with_overrides(**{"spring.delta_s": None,
+                                       "spring.schedule.angles": [f"{a!r} deg" for a, _ in knots],
+                                       "spring.schedule.delta_s": [f"{v!r} m" for _, v in knots]})
 
 
 def saved_friction_power(results: dict) -> float | None:
@@ -281,7 +296,8 @@ def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=
                  valley=None, stopped: str = "", *, overrides: dict | None = None, options: dict | None = None,
                  run_id: str | None = None, status: str = "completed", unchanged_from: Path | None = None) -> list:
     """Write preload.json, preload.md, scene.toml (with ``scene``: the scene that ran, every value explicit, and its
-    pressure table) and preload.png into ``folder``; return their paths. ``valley``: the constant optimum's spring
+    pressure table; and schedule.toml, that scene with the schedule optimum, where one was solved) and preload.png
+    into ``folder``; return their paths. ``valley``: the constant optimum's spring
     force at other stiffnesses (runtime/studies/preload/stiffness.py); ``stopped``: why the study ended before its
     last stage (a signal), stated at the top of both reports; ``overrides``: the scene keys replaced on the command
     line (--set), recorded in both; ``options``: the study's own (the command's options), recorded in the JSON;
@@ -293,10 +309,12 @@ def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=
     from ...results.figures import save_png
 
     folder = Path(folder)
+    scheduled = schedule_scene(scene, results.get("schedule"))  # the schedule optimum as a scene: schedule.toml
     payload = ({"run_id": run_id} if run_id else {}) | {"status": status, "scene": scene_name,
                                                          "overrides": dict(overrides or {})} \
         | ({"options": dict(options)} if options else {}) \
         | ({"scene_file": "scene.toml"} if scene is not None else {}) | ({"stopped": stopped} if stopped else {}) \
+        | ({"schedule_file": "schedule.toml"} if scheduled is not None else {}) \
         | {k: (r.to_dict() if r is not None else None) for k, r in results.items()}
     if bisection is not None:
         payload["bisection"] = bisection.to_dict()
@@ -315,8 +333,10 @@ def write_report(folder: Path, scene, scene_name: str, results: dict, bisection=
     if copied:
         return paths + copied
     if scene is not None:
-        paths += _write_scene(folder, scene, run_id, next((r.samples for r in results.values() if r is not None
-                                                           and r.samples), None))
+        samples = next((r.samples for r in results.values() if r is not None and r.samples), None)
+        paths += _write_scene(folder, scene, run_id, samples)
+        if scheduled is not None:
+            paths += _write_scene(folder, scheduled, run_id, samples, "schedule.toml")[:1]
     paths.append(folder / "preload.png")
     save_png(figure(scene, results, min_force), paths[-1], 100)
     return paths
@@ -327,17 +347,20 @@ def _copy_unchanged(source: Path, folder: Path) -> list:
     into place as a whole); [] where ``source`` has no figure."""
     if not (source / "preload.png").is_file():
         return []
-    names = [n for n in ("scene.toml", "pressure.csv", "preload.png") if (source / n).is_file()]
+    names = [n for n in ("scene.toml", "schedule.toml", "pressure.csv", "preload.png") if (source / n).is_file()]
     for name in names:
         shutil.copyfile(source / name, folder / name)
     return [folder / n for n in names]
 
 
-def _write_scene(folder: Path, scene, run_id: str | None, samples: int | None = None) -> list:
+def _write_scene(folder: Path, scene, run_id: str | None, samples: int | None = None, name: str = "scene.toml") -> list:
     """scene.toml (and the pressure table it names): the scene the study ran, ``--set`` keys included, with the
     ``samples`` per revolution the study ran (its ``samples`` option) as solver.samples_per_revolution, so that
-    ``apexseal simulate scene.toml`` runs the study's grid."""
+    ``apexseal simulate scene.toml`` runs the study's grid; or, ``name`` "schedule.toml", that scene with the
+    schedule optimum as its preload."""
     from ..scene_file import write_study_scene
 
-    return write_study_scene(folder, scene, "preload study", run_id,
-                             "apexseal optimise-preload scene.toml, with the options recorded in preload.json", samples)
+    rerun = ("apexseal optimise-preload scene.toml, with the options recorded in preload.json" if name == "scene.toml"
+             else "apexseal simulate schedule.toml (the schedule optimum of preload.json; the study re-runs from "
+                  "scene.toml)")
+    return write_study_scene(folder, scene, "preload study", run_id, rerun, samples, name)
