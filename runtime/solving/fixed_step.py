@@ -57,6 +57,7 @@ class FixedStepIntegrator(Engine):
 
     rule: StepRule = EULER
     pressure_profiles = ("steps", "linear")
+    parameter_profiles = ("constant", "linear")
 
     @classmethod
     def build(cls, functions, settings, *, method, n_samples, span, compile_c):
@@ -65,12 +66,15 @@ class FixedStepIntegrator(Engine):
         return cls(sx.rhs_switched, sx.guards, len(names), names.index("omega"), n_samples=n_samples,
                    steps_per_revolution=settings.steps_per_revolution, span=span, compile_c=compile_c,
                    flags=settings.flags, model_hash=sx.model_hash, state_names=functions.state_names,
-                   pressure=settings.pressure)
+                   pressure=settings.pressure, parameters=settings.parameters)
 
     def __init__(self, rhs_switched: ca.Function, guards: ca.Function, n_par: int, omega_index: int, *,
                  n_samples: int, steps_per_revolution: int, span: float = 2 * np.pi, compile_c: bool = True,
-                 flags: str = "optimised", model_hash: str | None = None, state_names=None, pressure: str = "steps"):
-        self.pressure = pressure
+                 flags: str = "optimised", model_hash: str | None = None, state_names=None, pressure: str = "steps",
+                 parameters: str = "constant"):
+        """``parameters = "linear"``: the parameters follow a line over each output interval (a scene's schedule),
+        their slopes in the interval's column after theta_k."""
+        self.pressure, self.parameters = pressure, parameters
         self.model_hash = model_hash  # the model the fold embeds, as its compiled C's record names it
         self.layout = layout = HybridLayout.sized(rhs_switched.size1_in(1), guards.size1_out(0))
         n_x, n_g = layout.n_x, layout.n_g
@@ -78,22 +82,29 @@ class FixedStepIntegrator(Engine):
         self.sub = sub = fixed_steps(steps_per_revolution, span / n_samples)  # steps per sample
         self.h = h = span / (n_samples * sub)
         # accumulated: [theta, z (n_x), each contact closed (1) or open (0) at the last step's start, its running
-        # count of switches (n_g each)]; per interval: [params, [Pa, Pb] at its start theta_k, their slopes d/dtheta
-        # (zero for the "steps" profile: P + 0 is P exactly), theta_k]
+        # count of switches (n_g each)]; per interval: [params at its start theta_k, [Pa, Pb] there, their slopes
+        # d/dtheta (zero for the "steps" profile: P + 0 is P exactly), theta_k, and with parameters = "linear" the
+        # parameters' slopes d/dtheta]
         n_u = rhs_switched.size1_in(3)
-        n_q = n_par + 2 * n_u + 1
+        i_t = n_par + 2 * n_u  # theta_k's row
+        n_dp = n_par if parameters == "linear" else 0
+        n_q = i_t + 1 + n_dp
         n_a = 1 + n_x + 2 * n_g
         acc = ca.SX.sym("acc", n_a)
         q = ca.SX.sym("q", n_q)
-        par, u0, du, theta_k = q[:n_par], q[n_par:n_par + n_u], q[n_par + n_u:-1], q[-1]
+        par, u0, du, theta_k = q[:n_par], q[n_par:n_par + n_u], q[n_par + n_u:i_t], q[i_t]
         omega = par[omega_index]
         sc = state_scale(omega, state_names)
 
+        def par_at(theta):
+            return par + q[i_t + 1:] * (theta - theta_k) if n_dp else par
+
         def f(theta, z):
-            return scaled_rhs(rhs_switched(theta, z * sc, par, u0 + du * (theta - theta_k)), omega, state_names)
+            return scaled_rhs(rhs_switched(theta, z * sc, par_at(theta), u0 + du * (theta - theta_k)), omega,
+                              state_names)
 
         theta, z, before, count = acc[0], acc[1:1 + n_x], acc[1 + n_x:1 + n_x + n_g], acc[1 + n_x + n_g:]
-        closed = guards(theta, z * sc, par, u0 + du * (theta - theta_k)) < 0  # as rhs_switched's activations
+        closed = guards(theta, z * sc, par_at(theta), u0 + du * (theta - theta_k)) < 0  # as rhs_switched's activations
         out = ca.vertcat(theta + h, self.rule.advance(f, theta, z, h), closed, count + (closed != before))
         step = ca.Function(f"{self.rule.name}_step", [acc, q], [ca.cse(out)])  # the guards share the rhs's gaps
         interval = step.fold(sub)  # q repeated for each step of the interval
@@ -101,10 +112,12 @@ class FixedStepIntegrator(Engine):
         one = ca.Function("one_interval", [ai, qi], [interval(ai, ca.repmat(qi, 1, sub))])
         a0, Q = ca.MX.sym("a0", n_a), ca.MX.sym("Q", n_q, n_samples)
         A = one.mapaccum(n_samples)(a0, Q)
-        u_end = Q[n_par:n_par + n_u, :] + Q[n_par + n_u:-1, :] * ca.repmat(A[0, :] - Q[-1, :], n_u, 1)
+        past = A[0, :] - Q[i_t, :]  # from each interval's start to its sample
+        u_end = Q[n_par:n_par + n_u, :] + Q[n_par + n_u:i_t, :] * ca.repmat(past, n_u, 1)
+        p_end = Q[:n_par, :] + Q[i_t + 1:, :] * ca.repmat(past, n_par, 1) if n_dp else Q[:n_par, 0]
         g = guards.map(n_samples)(A[0, :], A[1:1 + n_x, :] * ca.repmat(state_scale(Q[omega_index, 0], state_names),
                                                                        1, n_samples),
-                                  Q[:n_par, 0], u_end) / LENGTH
+                                  p_end, u_end) / LENGTH
         self.vm = self.function = ca.Function(f"apexseal_{self.rule.name}", [a0, Q], [A, g])
         self.compiled = False
         if compile_c:
@@ -127,7 +140,16 @@ class FixedStepIntegrator(Engine):
         n, dth = self.n_samples, self.h * self.sub
         P = np.asarray(pressures, float)
         slope = np.zeros((P.shape[0], n)) if self.pressure == "steps" else np.diff(P, axis=1) / dth
-        Q = np.vstack([np.repeat(params[:, None], n, axis=1), P[:, :n], slope, theta0 + dth * np.arange(n)])
+        params = np.asarray(params, float)
+        if params.ndim == 1:
+            par, dpar = np.repeat(params[:, None], n, axis=1), np.zeros((params.size, n))
+        elif self.parameters == "linear":  # the values at the edges: each interval's start and slope
+            par, dpar = params[:, :n], np.diff(params, axis=1) / dth
+        else:
+            raise ValueError("params: one parameter vector; an engine built with parameters = 'constant' does not "
+                             "take their values at the interval edges")
+        Q = np.vstack([par, P[:, :n], slope, theta0 + dth * np.arange(n)] + ([dpar] if self.parameters == "linear"
+                                                                               else []))
         n_x, n_g = lay.n_x, lay.n_g
         A, g = self.function(np.r_[theta0, z0[lay.x], z0[lay.active], np.zeros(n_g)], Q)
         A, g = np.array(A), np.array(g)
