@@ -30,6 +30,10 @@
 typedef struct {
   const casadi_real* p; /* [parameters, crank angle at the start] */
   const casadi_real* U; /* per output interval: the pressures at tau = 0 and their slopes */
+  /* per output interval, the parameters' lines as offsets from p: [a (NP), b (NP)], p(tau) = p + a + b tau (a
+   * scene's schedule); NULL: the parameters are p all along */
+  const casadi_real* L;
+  casadi_real pt[APEXSEAL_NP + 1]; /* the parameters at the last inputs() */
   const casadi_real* rate; /* 1 for the rate states */
   casadi_real s[NG];
   long long evals;
@@ -40,13 +44,20 @@ typedef struct {
   casadi_real w[WORK];
 } Ctx;
 
-/* the library's inputs (t, z, p, u) at w in mode s, output interval k: c->arg[0..3], pointing at t and z */
+/* the library's inputs (t, z, p, u) at w in mode s, output interval k: c->arg[0..3], pointing at t and z (and p
+ * at the parameters there, on interval k's lines where they follow a schedule) */
 static void inputs(Ctx* c, const double* w, int k, double* t, double* z) {
   *t = w[NX];
   memcpy(z, w, NX * sizeof(double));
   memcpy(z + NX, c->s, NG * sizeof(double));
   memset(z + NX + NG, 0, NG * sizeof(double));
   c->arg[0] = t; c->arg[1] = z; c->arg[2] = c->p; c->arg[3] = c->U + NU_CALL * k;
+  if (c->L) {
+    const double* l = c->L + 2 * APEXSEAL_NP * k;
+    for (int i = 0; i < APEXSEAL_NP; i++) c->pt[i] = c->p[i] + l[i] + l[APEXSEAL_NP + i] * *t;
+    c->pt[APEXSEAL_NP] = c->p[APEXSEAL_NP];
+    c->arg[2] = c->pt;
+  }
 }
 
 /* dw/dtheta in mode s, output interval k */
@@ -199,6 +210,8 @@ static int jacobian(Ctx* c, const double* w, int k, const double* f0, double* J)
     memset(dz, 0, sizeof(dz));
     dt = 0.0;
     if (j < NX) dz[j] = 1.0; else dt = 1.0;
+    if (c->L) /* along the crank angle the parameters move by their slopes */
+      for (int i = 0; i < APEXSEAL_NP; i++) dp[i] = j < NX ? 0.0 : c->L[2 * APEXSEAL_NP * k + APEXSEAL_NP + i];
     if (fwd1_hybrid_ode(c->arg, c->res, c->iw, c->w, 0)) return 1;
     c->evals++;
     for (int i = 0; i < NX; i++) J[i * NW + j] = col[i];
@@ -370,14 +383,22 @@ static int interval_at(double t, double dth, int N) {
   return j < 0 ? 0 : (j > N - 1 ? N - 1 : j);
 }
 
-/* 1 when the controls of intervals j and k (u = a + b t, rows [a, b]) agree at crank angle t, to round-off */
-static int agree_at(const Ctx* c, int j, int k, double t) {
-  const double *a = c->U + NU_CALL * j, *b = c->U + NU_CALL * k;
-  for (int i = 0; i < APEXSEAL_NU; i++) {
-    double ua = a[i] + a[APEXSEAL_NU + i] * t, ub = b[i] + b[APEXSEAL_NU + i] * t;
+/* 1 when the lines x = a + b t of intervals j and k (n of them, rows [a, b], one interval's every `stride`)
+ * agree at crank angle t, to round-off */
+static int lines_agree(const double* rows, int stride, int n, int j, int k, double t) {
+  const double *a = rows + stride * j, *b = rows + stride * k;
+  for (int i = 0; i < n; i++) {
+    double ua = a[i] + a[n + i] * t, ub = b[i] + b[n + i] * t;
     if (fabs(ua - ub) > 1e-12 * fmax(1.0, fmax(fabs(ua), fabs(ub)))) return 0;
   }
   return 1;
+}
+
+/* 1 when the controls of intervals j and k (u = a + b t, rows [a, b]) and the parameters' lines agree at crank
+ * angle t, to round-off */
+static int agree_at(const Ctx* c, int j, int k, double t) {
+  return lines_agree(c->U, NU_CALL, APEXSEAL_NU, j, k, t)
+         && (!c->L || lines_agree(c->L, 2 * APEXSEAL_NP, APEXSEAL_NP, j, k, t));
 }
 
 /* 1 when the controls of interval k hold over interval j too (one line across both: the same values at j's ends) */
@@ -440,8 +461,10 @@ static void close_interval(double* Z, double* phase, int k, const double* x, con
  * h |lambda| above `stiff_hlam`) counted within this call (0: only after `ring`). stats (8): tight steps, quiet
  * steps, rejected steps, evaluations, Jacobians, events, quiet steps given back, intervals done. Returns 0; 1
  * when the model failed to evaluate, 2 when an output interval took more than max_steps steps (rejected ones
- * included), 3 when the model's work arrays exceed this file's, 4 after more than max_events events. */
-int apexseal_composite_run(const double* z0, const double* p, const double* U, const double* rate, int N,
+ * included), 3 when the model's work arrays exceed this file's, 4 after more than max_events events. L: per interval
+ * the parameters' lines as offsets from p, [a (NP), b (NP)] (a scene's schedule), or NULL. */
+int apexseal_composite_run(const double* z0, const double* p, const double* U, const double* L, const double* rate,
+                           int N,
                            double dth, double rtol, double atol, double loose, double quiet, double ring,
                            long long stiff_steps, double stiff_hlam, double ev_tol, long long max_steps,
                            long long max_events, double* since, double* Z, double* phase, long long* stats) {
@@ -454,7 +477,7 @@ int apexseal_composite_run(const double* z0, const double* p, const double* U, c
   if (sz_arg > 16 || a2 > 16 || a3 > 16 || sz_res > 16 || r2 > 16 || r3 > 16 || sz_iw > WORK || i2 > WORK ||
       i3 > WORK || sz_w > WORK || w2 > WORK || w3 > WORK)
     return 3;
-  c->p = p; c->U = U; c->rate = rate; c->evals = 0;
+  c->p = p; c->U = U; c->L = L; c->rate = rate; c->evals = 0;
   double w[NW], w1[NW], f0[NW], f1[NW], J[NW * NW], K[7][NW], err[NW], e0[NG], e1[NG], counts[NG], x[NX];
   memcpy(w, z0, NX * sizeof(double));
   w[NX] = 0.0;

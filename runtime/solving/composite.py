@@ -48,7 +48,7 @@ import math
 
 import numpy as np
 
-from ...generated.hybrid import controls
+from ...generated.hybrid import controls, parameter_controls
 from ...generated.scaling import declared_scales
 from .methods import Engine, RevolutionResult
 
@@ -98,7 +98,7 @@ _LL = ctypes.POINTER(ctypes.c_longlong)
 def composite_function(library) -> ctypes._CFuncPtr:
     """``apexseal_composite_run`` of the compiled model library at ``library`` (a path), with its signature."""
     fn = ctypes.CDLL(str(library)).apexseal_composite_run
-    fn.argtypes = [_DBL, _DBL, _DBL, _DBL, ctypes.c_int, ctypes.c_double, ctypes.c_double, ctypes.c_double,
+    fn.argtypes = [_DBL, _DBL, _DBL, _DBL, _DBL, ctypes.c_int, ctypes.c_double, ctypes.c_double, ctypes.c_double,
                    ctypes.c_double, ctypes.c_double, ctypes.c_double, ctypes.c_longlong, ctypes.c_double,
                    ctypes.c_double, ctypes.c_longlong, ctypes.c_longlong, _DBL, _DBL, _DBL, _LL]
     fn.restype = ctypes.c_int
@@ -120,6 +120,7 @@ class CompositeIntegrator(Engine):
     """RK45 with events where contacts switch, exprb32 between (see the module docstring)."""
 
     pressure_profiles = ("steps", "linear")
+    parameter_profiles = ("constant", "linear")
     compiled = True
     counts_steps = True
 
@@ -182,16 +183,22 @@ class CompositeIntegrator(Engine):
         return dict(self._stats)
 
     def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray) -> RevolutionResult:
-        """Integrate from the hybrid state z0 at crank angle theta0 (see :class:`.methods.Engine`)."""
+        """Integrate from the hybrid state z0 at crank angle theta0 (see :class:`.methods.Engine`); ``params`` at
+        the intervals' edges (a scene's schedule) go to the C as each interval's lines."""
         z0 = np.ascontiguousarray(z0, float)
+        params = np.asarray(params, float)
+        lines = None  # the parameters' lines per interval (a scene's schedule), NULL for the C
+        if params.ndim == 2:
+            params, u_par = parameter_controls(params, self.grid)
+            lines = np.ascontiguousarray(u_par.T)
         par = np.ascontiguousarray(np.r_[params, theta0], float)
         U = np.ascontiguousarray(controls(pressures, self.grid, self.pressure, self.n_u).T)
         since = np.array([self._carry[1] if self._carry and self._carry[0] == z0.tobytes() else 0.0])
         Z, phase, st = np.empty((self.n_samples, z0.size)), np.empty(self.n_samples), np.zeros(8, np.int64)
-        status = self._fn(_ptr(z0), _ptr(par), _ptr(U), _ptr(self.rate), self.n_samples, self.dth,
-                          self.rtol, self.atol, self.loose, self.quiet, self.ring, self.stiff_steps, self.stiff_hlam,
-                          self.event_tol, self.max_steps, self.max_events, _ptr(since), _ptr(Z), _ptr(phase),
-                          st.ctypes.data_as(_LL))
+        status = self._fn(_ptr(z0), _ptr(par), _ptr(U), None if lines is None else _ptr(lines), _ptr(self.rate),
+                          self.n_samples, self.dth, self.rtol, self.atol, self.loose, self.quiet, self.ring,
+                          self.stiff_steps, self.stiff_hlam, self.event_tol, self.max_steps, self.max_events,
+                          _ptr(since), _ptr(Z), _ptr(phase), st.ctypes.data_as(_LL))
         tight, quiet, rejected, evals, jacobians, events, given_back, done = (int(v) for v in st)
         self._stats = {"n_steps": tight + quiet, "n_tight_steps": tight, "n_quiet_steps": quiet, "n_reject": rejected,
                        "n_rhs": evals, "n_jac": jacobians, "n_events": events, "n_given_back": given_back,
