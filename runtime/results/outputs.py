@@ -99,6 +99,15 @@ def describe(name: str) -> Column:
         for column, unit, meaning, *shown in cls.output_columns:
             if column == name:
                 return Column(name, unit, meaning, *shown)
+    from ...derive.submodels.registry import parameters
+
+    for p in parameters(all_inputs=True):  # a parameter a scene schedules along the revolution (delta_s)
+        if p.schedulable and p.name == name:
+            from ..scenes.units import show_factor
+
+            shown = p.show or (p.plausible[2] if p.plausible else p.unit)
+            return Column(name, p.unit, f"{p.meaning} along the revolution, where the scene schedules it "
+                                        f"([{p.section}.schedule])", shown, show_factor(p.unit, shown))
     if extended():  # a user's submodel may output what it does not declare: the run's files still hold it
         return Column(name, "", "an output of a user's submodel that declares no unit for it (Submodel.output_columns)")
     raise KeyError(f"no description of the result column {name!r}; add it to runtime/results/outputs.py")

@@ -206,7 +206,8 @@ def test_explicit_euler_follows_a_schedule_to_first_order(light):
 def test_the_command_line_runs_a_scheduled_scene_with_the_composite(light, tmp_path):
     """`apexseal simulate` of a scheduled scene file with the composite method (the schedule's lines in its C,
     generated/templates/apexseal_composite.in.c): the run reaches erk's at rtol 1e-10 within 1e-4 of each state's
-    range (measured 1.8e-5 at rtol 1e-6, 4e-8 at 1e-8) and writes delta_s at every sample."""
+    range (measured 1.8e-5 at rtol 1e-6, 4e-8 at 1e-8) and writes delta_s at every sample, a column of
+    trajectory.csv with its unit."""
     from click.testing import CliRunner
 
     from apexseal.cli import main
@@ -219,8 +220,11 @@ def test_the_command_line_runs_a_scheduled_scene_with_the_composite(light, tmp_p
     for name, body in files.items():
         (tmp_path / name).write_text(body)
     done = CliRunner().invoke(main, ["simulate", str(tmp_path / "s.toml"), "--method", "composite", "--quiet",
-                                     "--out", str(tmp_path / "out")])
+                                     "--csv", "--out", str(tmp_path / "out")])
     assert done.exit_code == 0, done.output
+    header = next(line for line in (tmp_path / "out" / "trajectory.csv").read_text().splitlines()
+                  if not line.startswith("#"))
+    assert "delta_s [m]" in header.split(",")  # described in runtime/results/outputs.py
     run = apexseal.SimulationResult.load(tmp_path / "out")
     erk = _run(scene, rtol=1e-10)
     np.testing.assert_allclose(run.outputs["delta_s"], scene.schedule("delta_s", run.theta), rtol=1e-12)
