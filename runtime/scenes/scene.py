@@ -548,10 +548,15 @@ class Scene:
     @property
     def schedule(self):
         """The parameters the scene gives along the revolution (a :class:`~.schedule.Schedule`: ``[spring.schedule]``
-        for the preload), or None: every parameter is one value (runtime/scenes/schedule.py)."""
-        from .schedule import scheduled
+        for the preload), or None: every parameter is one value (runtime/scenes/schedule.py). A schedule of a
+        parameter the model does not have (its effect off: ``effects.spring = false``) is not read."""
+        from .schedule import Schedule, scheduled
 
-        return scheduled(self._sections)
+        given = scheduled(self._sections)
+        if given is None:
+            return None
+        read = {n: v for n, v in given.values.items() if n in self.parameters}  # an effect that is off reads none
+        return Schedule(given.angles, read) if read else None
 
     def parameter_path(self, names=None):
         """None for a scene without a schedule; else a :class:`~.schedule.ParameterPath`, ``path(theta) -> (n_par,

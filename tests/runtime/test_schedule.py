@@ -110,6 +110,17 @@ def test_a_schedule_that_holds_one_preload_runs_as_that_constant_preload(light):
     assert np.all(flat.outputs["delta_s"] == light.parameters["delta_s"]) and "delta_s" not in plain.outputs
 
 
+def test_a_schedule_of_a_spring_that_is_off_is_not_read(light):
+    """With effects.spring = false the model has no preload (no slot for delta_s): the schedule is not read, as
+    spring.delta_s is not, and the run is the scene's without a spring (it raised a KeyError from
+    parameter_function before)."""
+    scene = scheduled(light).with_overrides(**{"effects.spring": False})
+    assert scene.schedule is None and scene.parameter_path() is None and "delta_s" not in scene.parameters
+    run = _run(scene)
+    assert run.status == "completed" and "delta_s" not in run.outputs
+    assert np.array_equal(run.state, _run(light.with_overrides(**{"effects.spring": False})).state)
+
+
 def _study_and_run(light, knots_mm, rtol, revolutions=3):
     """The study's re-simulation of a schedule (its last revolution, physical states) and the run of the scene with
     that schedule (its last revolution), on the study's grid."""
