@@ -23,7 +23,7 @@ import casadi as ca
 import numpy as np
 
 from ...generated.hybrid import build_hybrid_dae, controls, parameter_controls
-from .methods import METHODS, Engine, RevolutionResult
+from .methods import METHODS, Engine, RevolutionResult, run_params
 
 #: what CasADi 3.8 prints whenever an integrator with events is built; apexseal's tests cover crossings in
 #: both directions for every event method (tests/runtime/test_simulate.py), so the run does not repeat it
@@ -112,13 +112,11 @@ class EventIntegrator(Engine):
         (``pressure = "steps"``), or (2, n_samples + 1), the values at the intervals' ends ("linear"); params is
         the parameter vector, or, built with ``parameters = "linear"``, its values at the intervals' ends too."""
         rows = self.hybrid.dae["u"].size1()
+        params = run_params(params, self.parameters)
         if self.parameters == "linear":
             params, u_par = parameter_controls(params, self.grid)
             u = np.vstack([controls(pressures, self.grid, self.pressure, rows - u_par.shape[0]), u_par])
         else:
-            if np.ndim(params) != 1:
-                raise ValueError("params: one parameter vector; an engine built with parameters = 'constant' "
-                                 "does not take their values at the interval edges")
             u = controls(pressures, self.grid, self.pressure, rows)
         out = self.function(x0=z0, p=np.r_[params, theta0], u=u)
         stats = {}

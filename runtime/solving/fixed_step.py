@@ -24,7 +24,7 @@ import numpy as np
 
 from ...generated.layout import HybridLayout
 from ...generated.scaling import LENGTH, scaled_rhs, state_scale
-from .methods import Engine, RevolutionResult, fixed_steps
+from .methods import Engine, RevolutionResult, fixed_steps, run_params
 
 
 @dataclass(frozen=True)
@@ -140,14 +140,11 @@ class FixedStepIntegrator(Engine):
         n, dth = self.n_samples, self.h * self.sub
         P = np.asarray(pressures, float)
         slope = np.zeros((P.shape[0], n)) if self.pressure == "steps" else np.diff(P, axis=1) / dth
-        params = np.asarray(params, float)
+        params = run_params(params, self.parameters)
         if params.ndim == 1:
             par, dpar = np.repeat(params[:, None], n, axis=1), np.zeros((params.size, n))
-        elif self.parameters == "linear":  # the values at the edges: each interval's start and slope
+        else:  # the values at the edges: each interval's start and slope
             par, dpar = params[:, :n], np.diff(params, axis=1) / dth
-        else:
-            raise ValueError("params: one parameter vector; an engine built with parameters = 'constant' does not "
-                             "take their values at the interval edges")
         Q = np.vstack([par, P[:, :n], slope, theta0 + dth * np.arange(n)] + ([dpar] if self.parameters == "linear"
                                                                                else []))
         n_x, n_g = lay.n_x, lay.n_g

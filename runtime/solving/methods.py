@@ -87,6 +87,17 @@ class Engine:
         :meth:`carried` gave for ``z``; None: nothing carried, the next call starts afresh)."""
 
 
+def run_params(params, parameters: str) -> np.ndarray:
+    """``params`` as an engine built with ``parameters`` (``settings.parameters``) takes them: the parameter vector,
+    or, built with "linear", their values at the call's interval edges too; a ValueError for values at the edges
+    given to an engine built with "constant"."""
+    P = np.asarray(params, float)
+    if P.ndim != 1 and parameters != "linear":
+        raise ValueError("params: one parameter vector; an engine built with parameters = 'constant' does not take "
+                         "their values at the interval edges")
+    return P
+
+
 def edge_params(params, k: int, n: int = 1) -> np.ndarray:
     """What an engine's ``run`` takes as the parameters of intervals k..k+n-1 of a call that took ``params``: the
     parameter vector itself, or its values at those intervals' n + 1 edges (a scene's schedule)."""

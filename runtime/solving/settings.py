@@ -126,16 +126,15 @@ def _flags(value: Any) -> str:
 DEFAULT_PRESSURE = "linear"
 
 
-def _pressure(value: Any) -> str:
-    if value in PRESSURE_PROFILES:
-        return value
-    raise _fail(f"not allowed; allowed: {', '.join(PRESSURE_PROFILES)}")
+def _one_of(allowed: tuple[str, ...]):
+    """The validator of a setting that takes one of ``allowed`` (a profile: of the pressures, of the parameters)."""
 
+    def check(value: Any) -> str:
+        if value in allowed:
+            return value
+        raise _fail(f"not allowed; allowed: {', '.join(allowed)}")
 
-def _parameters(value: Any) -> str:
-    if value in PARAMETER_PROFILES:
-        return value
-    raise _fail(f"not allowed; allowed: {', '.join(PARAMETER_PROFILES)}")
+    return check
 
 
 def not_a_flag(value: Any) -> str:
@@ -208,10 +207,10 @@ class RunSettings(BaseModel):
     max_wall_time: _ranged("max_wall_time", float | None) = None
     calls_per_revolution: _ranged("calls_per_revolution", int | None) = None  # None: 1, or 36 with a wall-time budget
     revolutions: _ranged("revolutions", int) = 1
-    pressure: Annotated[str, BeforeValidator(_pressure)] = DEFAULT_PRESSURE
+    pressure: Annotated[str, BeforeValidator(_one_of(PRESSURE_PROFILES))] = DEFAULT_PRESSURE
     #: "linear" for a scene that schedules a parameter along the revolution (runtime/scenes/schedule.py; set from the
     #: scene, not a [solver] key): the engine then takes the parameters' values at its interval edges
-    parameters: Annotated[str, BeforeValidator(_parameters)] = "constant"
+    parameters: Annotated[str, BeforeValidator(_one_of(PARAMETER_PROFILES))] = "constant"
 
     def __init__(self, **values: Any) -> None:
         given = {SCENE_NAMES[k]: k for k in values if k in SCENE_NAMES}  # errors name what the caller wrote

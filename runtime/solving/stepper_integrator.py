@@ -30,7 +30,7 @@ import numpy as np
 
 from ...generated.layout import HybridLayout
 from ...generated.scaling import LENGTH, scaled_rhs, state_scale
-from .methods import METHODS, Engine, RevolutionResult, WallTimeExceeded, fixed_steps
+from .methods import METHODS, Engine, RevolutionResult, WallTimeExceeded, fixed_steps, run_params
 
 #: zero-function values this far below 0 (in µm) are integration noise, not a crossing
 _NOISE = 1e-9
@@ -199,10 +199,7 @@ class StepperIntegrator(Engine):
     def run(self, z0: np.ndarray, params: np.ndarray, theta0: float, pressures: np.ndarray):
         """See :class:`~.methods.Engine`: hybrid states (:mod:`.layout`) at each sample."""
         lay = self.layout
-        params = np.asarray(params, float)
-        if params.ndim != 1 and self.parameters != "linear":
-            raise ValueError("params: one parameter vector; an engine built with parameters = 'constant' does not "
-                             "take their values at the interval edges")
+        params = run_params(params, self.parameters)
         self.stats = {"n_calls": 0, "n_events": 0}
         z = np.array(z0[lay.x], float)
         act = np.array(z0[lay.active], float)
