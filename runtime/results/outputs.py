@@ -83,7 +83,7 @@ def describe(name: str) -> Column:
     if name in guard_cols:
         display, scale = ("mm", 1e3) if name == "spring_compression" else ("µm", 1e6)
         return Column(name, "m", guard_cols[name][1], display, scale)
-    from ...derive.submodels.registry import contacts, extended, submodels
+    from ...derive.submodels.registry import contacts, extended, parameters, submodels
 
     for pattern, unit, meaning, display, scale in _PATTERNS:
         m = re.fullmatch(pattern, name)
@@ -99,8 +99,6 @@ def describe(name: str) -> Column:
         for column, unit, meaning, *shown in cls.output_columns:
             if column == name:
                 return Column(name, unit, meaning, *shown)
-    from ...derive.submodels.registry import parameters
-
     for p in parameters(all_inputs=True):  # a parameter a scene schedules along the revolution (delta_s)
         if p.schedulable and p.name == name:
             from ..scenes.units import show_factor
