@@ -190,9 +190,10 @@ def test_a_study_run_from_python_writes_the_command_s_report(studies, light, tmp
 def _simulates_the_schedule(path, s, written) -> None:
     """schedule.toml is scene.toml with the schedule's knots as its [spring.schedule], and `apexseal simulate` of
     it from the study's first node over the study's revolutions ends in the study's re-simulated revolution of the
-    schedule: within 2e-3 of each state's range at the scene's rtol 1e-6 (4.5e-4 measured; the study's DAE carries
-    its quadratures in the error control, and tests/runtime/test_schedule.py shows the two converge as the tolerance
-    shrinks), where the same schedule 5 degrees late differs by 17 % (measured)."""
+    schedule: within 2e-3 of each state's range at the scene's rtol 1e-6 (the study's DAE carries its quadratures in
+    the error control, and tests/runtime/test_schedule.py shows the two converge as the tolerance shrinks), where a
+    schedule 5 degrees late moves the states by a quarter of their range (``python tests/runtime/test_schedule.py``
+    prints it for its 2-knot schedule)."""
     import warnings
 
     import apexseal

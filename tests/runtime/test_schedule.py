@@ -23,6 +23,16 @@ KNOTS_MM = ("1.5 mm", "2.6 mm", "2.0 mm", "1.2 mm")
 SAMPLES = 72
 
 
+#: the 2-knot schedule the methods are held to erk on: 1 mm at the start, 3 mm half a revolution on
+TWO_KNOTS = (("0 deg", "180 deg"), ("1 mm", "3 mm"))
+
+
+def state_gap(X: np.ndarray, ref: np.ndarray) -> float:
+    """The largest difference of the states ``X`` from ``ref`` (a row per state), over each state's range in
+    ``ref``."""
+    return max(np.abs(X[i] - ref[i]).max() / np.ptp(ref[i]) for i in range(ref.shape[0]))
+
+
 def scheduled(scene, angles=KNOTS_DEG, values=KNOTS_MM):
     return scene.with_overrides(**{"spring.delta_s": None, "spring.schedule.angles": list(angles),
                                    "spring.schedule.delta_s": list(values)})
@@ -160,7 +170,26 @@ def gap(light, rtol: float) -> float:
     """The largest difference between the run and the study's re-simulation of the 2-knot schedule, over each
     state's range."""
     X_study, X_run = _study_and_run(light, [1.0, 3.0], rtol)
-    return max(np.abs(X_run[i] - X_study[i]).max() / np.ptp(X_study[i]) for i in range(X_study.shape[0]))
+    return state_gap(X_run, X_study)
+
+
+def cvodes_gap(light, rtol: float = 1e-9) -> float:
+    """cvodes against erk on the 2-knot schedule, both at ``rtol``."""
+    erk, cv = (_run(scheduled(light, *TWO_KNOTS), method=m, rtol=rtol) for m in ("erk", "cvodes"))
+    assert erk.status == cv.status == "completed"
+    return state_gap(cv.state, erk.state)
+
+
+def euler_gaps(light, steps=(100000, 200000, 400000)) -> list[float]:
+    """Explicit Euler at each of ``steps`` a revolution against erk at rtol 1e-10 on the 2-knot schedule."""
+    scene = scheduled(light, *TWO_KNOTS)
+    erk = _run(scene, rtol=1e-10)
+    gaps = []
+    for n in steps:
+        eu = _run(scene, method="euler", steps_per_revolution=n)
+        assert eu.status == "completed"
+        gaps.append(state_gap(eu.state, erk.state))
+    return gaps
 
 
 def test_an_engine_that_cannot_follow_a_schedule_is_refused_naming_the_methods_that_can():
@@ -180,15 +209,12 @@ def test_an_engine_that_cannot_follow_a_schedule_is_refused_naming_the_methods_t
 
 
 def test_the_stepper_engines_follow_a_schedule_as_erk_does(light):
-    """cvodes (apexseal's own event location, runtime/solving/stepper_integrator.py: the parameters' slopes ride in
-    the call's vector after the pressures') runs the 2-knot schedule to erk's samples within 1e-5 of each state's
-    range at rtol 1e-9 (measured 1.2e-7; 1.6e-5 at rtol 1e-7), where the same schedule 5 degrees late moves erk's
-    by 25 %; a schedule of one value is its constant preload's run bit for bit (rk, 20000 steps a revolution:
-    its default 200000 took 12 s a run here)."""
-    scene = scheduled(light, ("0 deg", "180 deg"), ("1 mm", "3 mm"))
-    erk, cv = (_run(scene, method=m, rtol=1e-9) for m in ("erk", "cvodes"))
-    assert erk.status == cv.status == "completed"
-    gap = max(np.abs(cv.state[i] - erk.state[i]).max() / np.ptp(erk.state[i]) for i in range(erk.state.shape[0]))
+    """cvodes (apexseal's own event location, runtime/solving/stepper_integrator.py: the parameters' slopes ride in the
+    call's vector after the pressures') runs the 2-knot schedule to erk's samples within 1e-5 of each state's range at
+    rtol 1e-9 (1.2e-7; 1.6e-5 at rtol 1e-7), where the same schedule 5 degrees late moves erk's by 25 % (``python
+    tests/runtime/test_schedule.py`` prints these); a schedule of one value is its constant preload's run bit for bit
+    (rk, 20000 steps a revolution: fewer than its default 200000, for time)."""
+    gap = cvodes_gap(light)
     assert gap < 1e-5, gap
     mm = light.parameters["delta_s"] / 1e-3
     flat = _run(scheduled(light, ("0 deg", "180 deg"), [f"{mm!r} mm"] * 2), method="rk", steps_per_revolution=20000)
@@ -197,17 +223,12 @@ def test_the_stepper_engines_follow_a_schedule_as_erk_does(light):
 
 
 def test_explicit_euler_follows_a_schedule_to_first_order(light):
-    """The fixed-step fold (runtime/solving/fixed_step.py: the parameters' slopes in each interval's column) on the
-    2-knot schedule: its gap to erk at rtol 1e-10 halves as its steps double (measured 0.204, 0.092, 0.043 of a
-    state's range at 1e5, 2e5, 4e5 steps a revolution), as a first-order method's does; parameters held over each
-    5-degree interval would leave a floor the steps cannot lower. A schedule of one value runs as its constant."""
-    scene = scheduled(light, ("0 deg", "180 deg"), ("1 mm", "3 mm"))
-    erk = _run(scene, rtol=1e-10)
-    gaps = []
-    for steps in (100000, 200000, 400000):
-        eu = _run(scene, method="euler", steps_per_revolution=steps)
-        assert eu.status == "completed"
-        gaps.append(max(np.abs(eu.state[i] - erk.state[i]).max() / np.ptp(erk.state[i]) for i in range(6)))
+    """The fixed-step fold (runtime/solving/fixed_step.py: the parameters' slopes in each interval's column) on the 2-knot
+    schedule: its gap to erk at rtol 1e-10 halves as its steps double (0.204, 0.092, 0.043 of a state's range at 1e5,
+    2e5, 4e5 steps a revolution, as ``python tests/runtime/test_schedule.py`` prints), as a first-order method's does;
+    parameters held over each 5-degree interval would leave a floor the steps cannot lower. A schedule of one value runs
+    as its constant."""
+    gaps = euler_gaps(light)
     assert all(1.7 < a / b < 2.6 for a, b in zip(gaps[:-1], gaps[1:], strict=True)), gaps
     mm = light.parameters["delta_s"] / 1e-3
     flat = _run(scheduled(light, ("0 deg", "180 deg"), [f"{mm!r} mm"] * 2), method="euler")
@@ -216,15 +237,15 @@ def test_explicit_euler_follows_a_schedule_to_first_order(light):
 
 def test_the_command_line_runs_a_scheduled_scene_with_the_composite(light, tmp_path):
     """`apexseal simulate` of a scheduled scene file with the composite method (the schedule's lines in its C,
-    generated/templates/apexseal_composite.in.c): the run reaches erk's at rtol 1e-10 within 1e-4 of each state's
-    range (measured 1.8e-5 at rtol 1e-6, 4e-8 at 1e-8) and writes delta_s at every sample, a column of
-    trajectory.csv with its unit."""
+    generated/templates/apexseal_composite.in.c): the run reaches erk's at rtol 1e-10 within 1e-4 of each state's range
+    (1.8e-5 at rtol 1e-6, 4e-8 at 1e-8 from the API: ``python tests/runtime/test_schedule.py``) and writes delta_s at
+    every sample, a column of trajectory.csv with its unit."""
     from click.testing import CliRunner
 
     from apexseal.cli import main
     from apexseal.runtime.scenes.resolved import resolved_toml
 
-    scene = scheduled(light, ("0 deg", "180 deg"), ("1 mm", "3 mm")).with_overrides(
+    scene = scheduled(light, *TWO_KNOTS).with_overrides(
         **{"solver.samples_per_revolution": SAMPLES})
     text, files = resolved_toml(scene)
     (tmp_path / "s.toml").write_text(text)
@@ -239,13 +260,25 @@ def test_the_command_line_runs_a_scheduled_scene_with_the_composite(light, tmp_p
     run = apexseal.SimulationResult.load(tmp_path / "out")
     erk = _run(scene, rtol=1e-10)
     np.testing.assert_allclose(run.outputs["delta_s"], scene.schedule("delta_s", run.theta), rtol=1e-12)
-    gap = max(np.abs(run.state[i] - erk.state[i]).max() / np.ptp(erk.state[i]) for i in range(6))
+    gap = state_gap(run.state, erk.state)
     assert run.info["method"] == "composite" and gap < 1e-4, gap
 
 
-if __name__ == "__main__":  # the gaps the README quotes
+if __name__ == "__main__":  # the gaps the README and the docstrings above quote
     scene = apexseal.load_scene(embedded_scene_path("soft-contacts.toml"))
     scene = scene.with_overrides(**{"effects.chamber_pressure": False})
     for rtol in (1e-6, 1e-7, 1e-8, 1e-9):
         print(f"rtol {rtol:.0e}: largest gap between the run and the study's re-simulation {gap(scene, rtol):.2e} "
               "of a state's range")
+    for rtol in (1e-9, 1e-7):
+        print(f"rtol {rtol:.0e}: cvodes against erk on the 2-knot schedule {cvodes_gap(scene, rtol):.2e}")
+    print("euler at 1e5, 2e5, 4e5 steps against erk at rtol 1e-10:", ", ".join(f"{g:.3f}" for g in euler_gaps(scene)))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        two = scheduled(scene, *TWO_KNOTS)
+        erk = _run(two, rtol=1e-10)
+        for rtol in (1e-6, 1e-8):
+            composite = apexseal.simulate(two, samples_per_revolution=SAMPLES, method="composite", rtol=rtol)
+            print(f"rtol {rtol:.0e}: composite against erk at rtol 1e-10 {state_gap(composite.state, erk.state):.2e}")
+        late = _run(scheduled(scene, ("5 deg", "185 deg"), TWO_KNOTS[1]), rtol=1e-7)
+        print(f"the schedule 5 degrees late, erk at rtol 1e-7: {state_gap(late.state, _run(two, rtol=1e-7).state):.2f}")
