@@ -42,9 +42,12 @@ def orifice_flow(cd_area, p_up, T_up, p_down, gamma, R):
     """
     import sympy as sp
 
+    from .laws import Max_, Min_  # never evaluated: sympy's Max compared these large arguments in every rebuild,
+    # most of a cold derivation (docs/gas.md: 59 s, 11 s with these), for the same functions
+
     crit = (2 / (gamma + 1)) ** (gamma / (gamma - 1))
-    pr = sp.Max(sp.Min(p_down / p_up, 1), crit)
-    x = sp.Max(2 * gamma / (gamma - 1) * (pr ** (2 / gamma) - pr ** ((gamma + 1) / gamma)), 0)
+    pr = Max_(Min_(p_down / p_up, 1), crit)
+    x = Max_(2 * gamma / (gamma - 1) * (pr ** (2 / gamma) - pr ** ((gamma + 1) / gamma)), 0)
     return cd_area * p_up / sp.sqrt(R * T_up) * x / sp.sqrt(x + X_EPS)
 
 

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: dd2755653df5dd23d6a659bde13e1a8bda2b292cdcbe92448df591e3aeb5bf32.
+ * Effects: all. Input hash: 8b18038e5dd15619bb4175bcb82aaf3b397e488a484eb1ab5884bf34c9fb3802.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "dd2755653df5dd23d6a659bde13e1a8bda2b292cdcbe92448df591e3aeb5bf32"
+#define APEXSEAL_INPUT_HASH "8b18038e5dd15619bb4175bcb82aaf3b397e488a484eb1ab5884bf34c9fb3802"
 
 /* state x */
 #define APEXSEAL_NX 6
