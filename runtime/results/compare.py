@@ -252,6 +252,8 @@ def compared() -> tuple[str, ...]:
             # the tip's sliding speed and the sliding work (Archard) at each contact (runtime/results/wear.py)
             "wear.housing.speed_mean", "wear.housing.speed_max", "wear.housing.pv_max",
             *(f"wear.{c}.work" for c in sliding_contacts()), "wear.seal_mass",
+            # whether the samples resolve the loads' work (runtime/results/energy.py)
+            "energy.residual", "energy.residual_fraction",
             *(f"gas.{name}" for name in GAS_QUANTITIES))  # left out where no run has the gas model
 
 

@@ -63,6 +63,11 @@ def quantity_help() -> dict[str, tuple[str, str]]:
         **{f"wear.{c}.{name}": (unit, f"{meaning}, {'seal tip on the housing' if c == 'housing' else c + ' contact'}")
            for c in sliding_contacts() for name, (unit, meaning, _) in WEAR_QUANTITIES.items()},
         "wear.seal_mass": ("g", "seal mass ms as the scene gives it (Eq. 80)"),
+        "energy.residual": ("J", "the seal's energy balance over the output samples: the change of its kinetic energy "
+                                 "minus the work of its loads and inertia forces, per revolution (what the samples miss "
+                                 "of the loads' work; it shrinks with solver.samples_per_revolution)"),
+        "energy.residual_fraction": ("1", "abs(energy.residual) over the sum of the balance's terms' magnitudes (the "
+                                          "balance closes at 0.05 or less)"),
         "revolutions": ("rev", "revolutions computed (less than asked when a point stopped early)"),
         **{f"gas.{name}": (unit, f"{meaning}, last revolution (the chamber gas model; NaN without it)")
            for name, (unit, meaning, _) in GAS_QUANTITIES.items()},
@@ -145,6 +150,9 @@ def _get(summary: dict, name: str) -> float:
         contact, _, what = tail.partition(".")
         entry = block["contacts"].get(contact)
         return math.nan if entry is None else _number(entry[WEAR_QUANTITIES[what][2]])
+    if head == "energy":
+        block = summary.get("energy_balance")
+        return math.nan if block is None else _number(block[f"{tail}_J_per_rev" if tail == "residual" else tail])
     if head in EXTREMES:
         return float(summary["extremes"][head][tail.replace("_at", "_at_deg")])
     raise KeyError(name)  # pragma: no cover - names are checked when the study is loaded

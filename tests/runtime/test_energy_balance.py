@@ -75,8 +75,12 @@ def test_the_summary_says_when_its_samples_miss_the_contacts_work(default_scene,
     """At the default 3600 samples per revolution the samples miss a large part of the groove contacts' work, and
     neither summary.json nor the console said so: ``energy_balance`` records the residual (not closing) and the
     console prints a note; at 36000 samples it closes (residual under 1 % of its terms) and the note is gone. The
-    change of kinetic energy is exact, so the residual is the sampled work's."""
+    change of kinetic energy is exact, so the residual is the sampled work's. A sweep and ``apexseal compare`` read
+    the same residual as the quantities ``energy.residual`` and ``energy.residual_fraction``."""
     from apexseal.cli_common import describe_result
+    from apexseal.runtime.results.quantities import collect
+
+    names = ("energy.residual", "energy.residual_fraction")
 
     low = _run(default_scene, default_functions, 3600)
     s = summarise(low)
@@ -86,6 +90,7 @@ def test_the_summary_says_when_its_samples_miss_the_contacts_work(default_scene,
     describe_result(low, s)
     notes = [line for line in capsys.readouterr().out.splitlines() if "energy balance" in line]
     assert len(notes) == 1 and f"{abs(b['residual_J_per_rev']):.3g} J per revolution" in notes[0]
+    assert collect(low, names) == dict(zip(names, (b["residual_J_per_rev"], b["residual_fraction"]), strict=True))
 
     high = _run(default_scene, default_functions, 36000)
     t = summarise(high)
@@ -93,6 +98,7 @@ def test_the_summary_says_when_its_samples_miss_the_contacts_work(default_scene,
     assert abs(t["energy_balance"]["residual_J_per_rev"]) < 0.05 * abs(b["residual_J_per_rev"])
     describe_result(high, t)
     assert "energy balance" not in capsys.readouterr().out
+    assert collect(high, names)["energy.residual_fraction"] == t["energy_balance"]["residual_fraction"] < 0.01
 
 
 @pytest.mark.slow
