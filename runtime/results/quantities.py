@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 
+from .energy import CLOSES_WITHIN
 from .liftoff import fraction
 from .plausibility import penetrations
 from .summary import EXTREMES, summarise
@@ -67,7 +68,7 @@ def quantity_help() -> dict[str, tuple[str, str]]:
                                  "minus the work of its loads and inertia forces, per revolution (what the samples miss "
                                  "of the loads' work; it shrinks with solver.samples_per_revolution)"),
         "energy.residual_fraction": ("1", "abs(energy.residual) over the sum of the balance's terms' magnitudes (the "
-                                          "balance closes at 0.05 or less)"),
+                                          f"balance closes at {CLOSES_WITHIN} or less)"),
         "revolutions": ("rev", "revolutions computed (less than asked when a point stopped early)"),
         **{f"gas.{name}": (unit, f"{meaning}, last revolution (the chamber gas model; NaN without it)")
            for name, (unit, meaning, _) in GAS_QUANTITIES.items()},
