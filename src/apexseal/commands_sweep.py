@@ -12,7 +12,7 @@ import click
 from .cli_common import Choice, IntRange, writable
 from .cores import MAX_WORKERS
 
-EXAMPLES = ("preload-map",)
+EXAMPLES = ("preload-map", "sampling")
 
 
 def example_path(name: str) -> Path:
@@ -50,7 +50,8 @@ def _address(ctx, param, value: str | None) -> str | None:
 @click.command()
 @click.argument("study", required=False, type=click.Path(dir_okay=False, path_type=Path))
 @click.option("--example", type=Choice(EXAMPLES), help="Run a study shipped with apexseal instead of STUDY "
-              "(preload-map: the design map of the default machine over spring preload and stiffness).")
+              "(preload-map: the design map of the default machine over spring preload and stiffness; sampling: its "
+              "energy balance and sampled sums against the output samples per revolution).")
 @click.option("--workers", "-w", type=IntRange(1, MAX_WORKERS),
               help="Worker processes of the local Dask cluster [default: every core]; 1 runs serially here.")
 @click.option("--scheduler", metavar="ADDRESS", callback=_address,

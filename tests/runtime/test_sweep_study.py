@@ -198,6 +198,25 @@ def test_the_shipped_example_is_the_200_point_design_map():
     assert {c.column for c in st.constraints} == {"liftoff_fraction", "friction_power.total"}
 
 
+def test_the_sampling_example_asks_where_the_energy_balance_closes():
+    """`apexseal sweep --example sampling`: the default machine over the output samples per revolution (a decade
+    and more on a log axis), its region where the seal's energy balance over the samples closes as a run's summary
+    says it does (runtime/results/energy.py)."""
+    from apexseal.commands_sweep import EXAMPLES, example_path
+    from apexseal.runtime.results.energy import CLOSES_WITHIN
+    from apexseal.runtime.studies.sweep import load_study
+
+    assert "sampling" in EXAMPLES
+    st = load_study(example_path("sampling"))
+    (p,) = st.parameters
+    assert p.key == "solver.samples_per_revolution" and p.scale == "log"
+    values = [pt[p.key] for pt in design_points(st)]
+    assert values == sorted(values) and values[0] <= 360 and values[-1] >= 36000 and 3600 in values
+    (c,) = st.constraints
+    assert (c.column, c.min, c.max) == ("energy.residual_fraction", None, CLOSES_WITHIN)
+    assert {"energy.residual", "energy.residual_fraction"} <= set(st.quantities)
+
+
 def test_docs_list_every_quantity_and_design():
     from pathlib import Path
 
