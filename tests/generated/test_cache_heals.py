@@ -35,7 +35,7 @@ def test_a_cache_entry_of_the_wrong_type_is_rebuilt(tmp_path, monkeypatch):
 
 def test_processes_missing_the_same_derivation_at_once_derive_it_once(tmp_path, monkeypatch):
     """Two test processes (or a sweep's workers) that missed the same model derived it side by side, each for the
-    whole derivation (the chamber gas model's takes some 30 s); a lock per key now lets the first derive it while the
+    whole derivation (the chamber gas model's took some 30 s then); a lock per key now lets the first derive it while the
     other waits, says so, and reads it. Threads stand for the processes: each takes the lock through a file of its
     own opening, as a process does."""
     import threading
