@@ -25,12 +25,15 @@ from .symbols import P, phi, theta, to_plain, x, y
 t = dynamicsymbols._t
 #: crank angle as a function of time; d(theta)/dt = omega is substituted at the end
 theta_t = dynamicsymbols("theta")
+#: the crank angle's time functions as plain symbols at constant speed (Eq. 13: theta' = omega, theta'' = 0),
+#: replaced in one pass over the tree: the node itself where it occurs, never its parts (xreplace; ``subs`` compared
+#: every rebuilt subtree with the old one, most of the chamber gas model's derivation)
+_CRANK = {theta_t.diff(t, 2): sp.S.Zero, theta_t.diff(t): P["omega"], theta_t: theta}
 
 
 def plain(expr: sp.Expr) -> sp.Expr:
     """Turn a time-dependent expression into one of (theta, state symbols, parameters)."""
-    expr = sp.sympify(expr)
-    expr = expr.subs({theta_t.diff(t, 2): 0}).subs({theta_t.diff(t): P["omega"]}).subs({theta_t: theta})
+    expr = sp.sympify(expr).xreplace(_CRANK)
     return to_plain(expr)
 
 
