@@ -8,7 +8,7 @@ the chamber pressures (Pa, Pb) and the activations of the contacts that exist.
 
 A cold derivation reports its long steps through :mod:`apexseal.progress` (lines on stderr where progress is on:
 the command line, ``simulate(..., progress=True)``): kinematics and contact geometry, the contacts and Eq. 80, and
-for a submodel with its own states (the chamber gas: 2 s of its 7-8 s, docs/gas.md) each rate and output as it is
+for a submodel with its own states (the chamber gas: 1-2 s of its 5 s, docs/gas.md) each rate and output as it is
 brought to plain symbols. The reports change nothing that is derived.
 """
 

@@ -13,13 +13,13 @@ import sympy as sp
 
 def approach(v: sp.Expr) -> sp.Expr:
     """max(v, 0): the one-sided ('on approach only') velocity rule of Eqs. 55, 62, 67, 73."""
-    return sp.Max(v, 0)
+    return Max_(v, 0)
 
 
 def penalty(stiffness: sp.Expr, penetration: sp.Expr, activation: sp.Expr) -> sp.Expr:
     """activation * k * max(penetration, 0): elastic, and a contact never pulls (Eq. 34, Algorithm 1; the spring's
     law, Eq. 39, is its own: SpringContact.push)."""
-    return activation * stiffness * sp.Max(penetration, 0)
+    return activation * stiffness * Max_(penetration, 0)
 
 
 def damped(normal: sp.Expr, damping: sp.Expr, closing: sp.Expr, activation: sp.Expr, rule: str,
@@ -46,7 +46,7 @@ def damper_depth(ctx, guard, penetration: sp.Expr) -> sp.Expr:
 
     if not penetration_damped(guard, ctx.options["damping_law"]):
         return sp.S.One
-    return sp.Max(penetration, 0) / ctx.P["delta_ref"]
+    return Max_(penetration, 0) / ctx.P["delta_ref"]
 
 
 def slip_sign(v: sp.Expr, v_eps: sp.Expr) -> sp.Expr:
@@ -71,7 +71,11 @@ class Max_(sp.Max):
     node). sympy's ``Max(a, b, ...)`` compares its arguments pairwise to drop the redundant ones (``factor_terms``
     of their differences); for the leakage model's kinematic gaps and flows (submodels/gas.py) that was most
     of a cold derivation (measured: 72 s, 25 s with these; the model's functions are the same, bit for bit, at
-    40 random states). The lowering maps it to ``fmax`` like any ``Max`` (generated/lower.py)."""
+    40 random states), and so it was for the laws above, whose max(penetration, 0) and max(v, 0) every contact
+    rebuilt when its expressions were brought to plain symbols (2026-11-29: the default model's cold `apexseal derive
+    --refresh` 5.0-6.0 s, 3.0-4.1 s with these; the default and chamber gas models' expressions the same node for
+    node but for the class, their generated C byte for byte). The lowering maps it to ``fmax`` like any ``Max``
+    (generated/lower.py); every printer prints it as ``Max``."""
 
     def __new__(cls, *args, **kwargs):
         kwargs["evaluate"] = False
@@ -84,6 +88,13 @@ class Max_(sp.Max):
         return _pick(sp.Max, max, [a.evalf(n, **options) for a in self.args])
 
     n = evalf
+
+    def _printed(self, printer, *args, **kwargs):  # every printer prints it as the Max it is
+        return printer._print(sp.Max(*self.args, evaluate=False), *args, **kwargs)
+
+    # str (the paper check's report), LaTeX, C, and the Python printers of lambdify (math, numpy, mpmath) and of the
+    # benchmark's numba peer: each looks a function's name up by its class, where Max_ is no name it knows
+    _sympystr = _latex = _ccode = _pythoncode = _numpycode = _mpmathcode = _printed
 
 
 class Min_(sp.Min):
@@ -100,6 +111,11 @@ class Min_(sp.Min):
         return _pick(sp.Min, min, [a.evalf(n, **options) for a in self.args])
 
     n = evalf
+
+    def _printed(self, printer, *args, **kwargs):
+        return printer._print(sp.Min(*self.args, evaluate=False), *args, **kwargs)
+
+    _sympystr = _latex = _ccode = _pythoncode = _numpycode = _mpmathcode = _printed
 
 
 def _numeric(op, args, prec):

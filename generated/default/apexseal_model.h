@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 0fa2e6e7e50bf46c6c6f1a367419811d51bd1cfc8f466ce0edd4e551404a1e00.
+ * Effects: all. Input hash: 712ce448c227c79a7e125700509bf0e21e6a74dae25429a5048ff7333c82da1c.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "0fa2e6e7e50bf46c6c6f1a367419811d51bd1cfc8f466ce0edd4e551404a1e00"
+#define APEXSEAL_INPUT_HASH "712ce448c227c79a7e125700509bf0e21e6a74dae25429a5048ff7333c82da1c"
 
 /* state x */
 #define APEXSEAL_NX 6
