@@ -66,7 +66,36 @@ def coulomb(mu: sp.Expr, normal: sp.Expr, v_slide: sp.Expr, v_eps: sp.Expr) -> t
     return -mu * sigma * normal, mu * normal * sigma * v_slide
 
 
-class Max_(sp.Max):
+class _Unevaluated:
+    """What :class:`Max_` and :class:`Min_` share: sympy's ``_op`` (Max or Min), never evaluated symbolically; its
+    numbers through ``_choose`` (max or min); printed as ``_op``."""
+
+    _op: type
+    _choose: object
+
+    def __new__(cls, *args, **kwargs):
+        kwargs["evaluate"] = False
+        return super().__new__(cls, *args, **kwargs)
+
+    def _eval_evalf(self, prec):  # numbers: as sympy's op (evalf looks functions up by their exact type)
+        from mpmath.libmp import prec_to_dps
+
+        return _pick(self._op, self._choose, [a.evalf(prec_to_dps(prec)) for a in self.args])
+
+    def evalf(self, n=15, **options):  # sympy's Max.evalf rebuilds with self.func, which would stay unevaluated
+        return _pick(self._op, self._choose, [a.evalf(n, **options) for a in self.args])
+
+    n = evalf
+
+    def _printed(self, printer, *args, **kwargs):  # every printer prints it as the Max (Min) it is
+        return printer._print(self._op(*self.args, evaluate=False), *args, **kwargs)
+
+    # str (the paper check's report), LaTeX, C, and the Python printers of lambdify (math, numpy, mpmath) and of the
+    # benchmark's numba peer: each looks a function's name up by its class, where Max_ is no name it knows
+    _sympystr = _latex = _ccode = _pythoncode = _numpycode = _mpmathcode = _printed
+
+
+class Max_(_Unevaluated, sp.Max):
     """``Max`` that is never evaluated, also when an expression holding it is rebuilt (substitutions rebuild every
     node). sympy's ``Max(a, b, ...)`` compares its arguments pairwise to drop the redundant ones (``factor_terms``
     of their differences); for the leakage model's kinematic gaps and flows (submodels/gas.py) that was most
@@ -77,52 +106,13 @@ class Max_(sp.Max):
     node but for the class, their generated C byte for byte). The lowering maps it to ``fmax`` like any ``Max``
     (generated/lower.py); every printer prints it as ``Max``."""
 
-    def __new__(cls, *args, **kwargs):
-        kwargs["evaluate"] = False
-        return super().__new__(cls, *args, **kwargs)
-
-    def _eval_evalf(self, prec):  # numbers: as sympy's Max (evalf looks functions up by their exact type)
-        return _numeric(sp.Max, self.args, prec)
-
-    def evalf(self, n=15, **options):  # sympy's Max.evalf rebuilds with self.func, which would stay unevaluated
-        return _pick(sp.Max, max, [a.evalf(n, **options) for a in self.args])
-
-    n = evalf
-
-    def _printed(self, printer, *args, **kwargs):  # every printer prints it as the Max it is
-        return printer._print(sp.Max(*self.args, evaluate=False), *args, **kwargs)
-
-    # str (the paper check's report), LaTeX, C, and the Python printers of lambdify (math, numpy, mpmath) and of the
-    # benchmark's numba peer: each looks a function's name up by its class, where Max_ is no name it knows
-    _sympystr = _latex = _ccode = _pythoncode = _numpycode = _mpmathcode = _printed
+    _op, _choose = sp.Max, max
 
 
-class Min_(sp.Min):
+class Min_(_Unevaluated, sp.Min):
     """``Min`` that is never evaluated (see :class:`Max_`)."""
 
-    def __new__(cls, *args, **kwargs):
-        kwargs["evaluate"] = False
-        return super().__new__(cls, *args, **kwargs)
-
-    def _eval_evalf(self, prec):
-        return _numeric(sp.Min, self.args, prec)
-
-    def evalf(self, n=15, **options):
-        return _pick(sp.Min, min, [a.evalf(n, **options) for a in self.args])
-
-    n = evalf
-
-    def _printed(self, printer, *args, **kwargs):
-        return printer._print(sp.Min(*self.args, evaluate=False), *args, **kwargs)
-
-    _sympystr = _latex = _ccode = _pythoncode = _numpycode = _mpmathcode = _printed
-
-
-def _numeric(op, args, prec):
-    """``op(*args)`` evaluated at binary precision ``prec`` (each argument evaluated first: they may nest)."""
-    from mpmath.libmp import prec_to_dps
-
-    return _pick(op, max if op is sp.Max else min, [a.evalf(prec_to_dps(prec)) for a in args])
+    _op, _choose = sp.Min, min
 
 
 def _pick(op, choose, values):

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: 712ce448c227c79a7e125700509bf0e21e6a74dae25429a5048ff7333c82da1c.
+ * Effects: all. Input hash: edea1db23b456adb2e96a8be04200c6e4b9e72721f9a5506b2420a8d5f0f997e.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "712ce448c227c79a7e125700509bf0e21e6a74dae25429a5048ff7333c82da1c"
+#define APEXSEAL_INPUT_HASH "edea1db23b456adb2e96a8be04200c6e4b9e72721f9a5506b2420a8d5f0f997e"
 
 /* state x */
 #define APEXSEAL_NX 6
