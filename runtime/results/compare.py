@@ -24,7 +24,7 @@ import pandas as pd
 
 from .noise import measured_noise, rerun, rtol_of, rule_noise, same_run_but_rtol, within
 from .plausibility import penetrations
-from .quantities import GAS_QUANTITIES, collect, friction_contacts, quantity_help
+from .quantities import ENERGY_QUANTITIES, GAS_QUANTITIES, collect, friction_contacts, quantity_help
 from .result import SimulationResult
 from .summary import EXTREMES
 from .wear import sliding_contacts
@@ -253,7 +253,7 @@ def compared() -> tuple[str, ...]:
             "wear.housing.speed_mean", "wear.housing.speed_max", "wear.housing.pv_max",
             *(f"wear.{c}.work" for c in sliding_contacts()), "wear.seal_mass",
             # whether the samples resolve the loads' work (runtime/results/energy.py)
-            "energy.residual", "energy.residual_fraction",
+            *(f"energy.{name}" for name in ENERGY_QUANTITIES),
             *(f"gas.{name}" for name in GAS_QUANTITIES))  # left out where no run has the gas model
 
 

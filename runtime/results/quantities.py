@@ -64,11 +64,7 @@ def quantity_help() -> dict[str, tuple[str, str]]:
         **{f"wear.{c}.{name}": (unit, f"{meaning}, {'seal tip on the housing' if c == 'housing' else c + ' contact'}")
            for c in sliding_contacts() for name, (unit, meaning, _) in WEAR_QUANTITIES.items()},
         "wear.seal_mass": ("g", "seal mass ms as the scene gives it (Eq. 80)"),
-        "energy.residual": ("J", "the seal's energy balance over the output samples: the change of its kinetic energy "
-                                 "minus the work of its loads and inertia forces, per revolution (what the samples miss "
-                                 "of the loads' work; it shrinks with solver.samples_per_revolution)"),
-        "energy.residual_fraction": ("1", "abs(energy.residual) over the sum of the balance's terms' magnitudes (the "
-                                          f"balance closes at {CLOSES_WITHIN} or less)"),
+        **{f"energy.{name}": (unit, meaning) for name, (unit, meaning, _) in ENERGY_QUANTITIES.items()},
         "revolutions": ("rev", "revolutions computed (less than asked when a point stopped early)"),
         **{f"gas.{name}": (unit, f"{meaning}, last revolution (the chamber gas model; NaN without it)")
            for name, (unit, meaning, _) in GAS_QUANTITIES.items()},
@@ -83,6 +79,17 @@ GAS_QUANTITIES = {
     "work": ("J", "indicated work of both chambers (their p-V loops)", lambda g: g["indicated_work_J"]["total"]),
     "power": ("W", "indicated power", lambda g: g["indicated_power_W"]),
     "pressure.max": ("Pa", "highest chamber pressure", lambda g: max(g["pressure_Pa"][c]["max"] for c in "ab")),
+}
+
+
+#: the seal's energy balance over the samples (``energy_balance`` of summary.json, runtime/results/energy.py):
+#: name -> (unit, meaning, its key)
+ENERGY_QUANTITIES = {
+    "residual": ("J", "the seal's energy balance over the output samples: the change of its kinetic energy minus the "
+                      "work of its loads and inertia forces, per revolution (what the samples miss of the loads' work; "
+                      "it shrinks with solver.samples_per_revolution)", "residual_J_per_rev"),
+    "residual_fraction": ("1", "abs(energy.residual) over the sum of the balance's terms' magnitudes (the balance "
+                               f"closes at {CLOSES_WITHIN} or less)", "residual_fraction"),
 }
 
 
@@ -153,7 +160,7 @@ def _get(summary: dict, name: str) -> float:
         return math.nan if entry is None else _number(entry[WEAR_QUANTITIES[what][2]])
     if head == "energy":
         block = summary.get("energy_balance")
-        return math.nan if block is None else _number(block[f"{tail}_J_per_rev" if tail == "residual" else tail])
+        return math.nan if block is None else _number(block[ENERGY_QUANTITIES[tail][2]])
     if head in EXTREMES:
         return float(summary["extremes"][head][tail.replace("_at", "_at_deg")])
     raise KeyError(name)  # pragma: no cover - names are checked when the study is loaded
