@@ -194,3 +194,33 @@ def test_a_failing_compiler_is_never_kept(probes, fresh_cache):
         with pytest.raises(comp.CompilerUnavailable, match="does not work"):
             comp.compiler_identity("false", ("-O1",))
     assert len(probes) == 2 and not (fresh_cache / "lib" / comp.IDENTITIES).exists()
+
+
+def test_a_parallel_build_starts_the_file_that_takes_longest(tmp_path, monkeypatch):
+    """The model library's four files compile two at a time; in order of size the composite's template (a quarter
+    of casadi_model.c's bytes, but loops that -O3 unrolls and vectorises: the longest to compile) started last and
+    the build took the time of its longest file plus the first to finish. compile_cost weighs the loops, and the
+    build starts the files in its order."""
+    from pathlib import Path
+
+    from apexseal.generated import compile as build
+
+    folder = Path(build.__file__).parent / "default"
+    files = sorted(folder.glob("*.c"))
+    costs = {p.name: build.compile_cost(p) for p in files}
+    assert max(costs, key=costs.get) == "apexseal_composite.c", costs
+    assert max(files, key=lambda p: p.stat().st_size).name == "casadi_model.c"  # what the size alone started first
+    loops = tmp_path / "loops.c"
+    loops.write_text("void f(double* x) { for (int i = 0; i < 4; i++) x[i] = 0; for(int j=0;j<2;j++) x[j] = 1; }\n")
+    assert build.compile_cost(loops) == loops.stat().st_size + 2 * build.LOOP_BYTES
+
+    started = []
+
+    def record(one, items, threads, stop):
+        started.extend(p.name for p in items)
+        raise RuntimeError("recorded")
+
+    monkeypatch.setattr(build, "_abandonable_map", record)
+    with pytest.raises(RuntimeError, match="recorded"):
+        build._compile_all("cc", ("-O1",), files, tmp_path, tmp_path / "lib.so")
+    assert started == sorted(costs, key=costs.get, reverse=True)
