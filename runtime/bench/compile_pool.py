@@ -3,7 +3,7 @@
 ``generated.compile.compile_function`` generates, compiles and loads one Function
 at a time. The benchmark needs ~25 integrators (one per tolerance: the tolerance is
 a constant of the generated C), so it fills the same content-hash cache first,
-with ``workers`` compilers at once: C generation stays serial (CasADi symbolics
+with ``workers`` compilers at once, the longest to compile first: C generation stays serial (CasADi symbolics
 are not thread-safe); only the compiler subprocesses overlap. Afterwards the
 engines are built with ``compile_c=True`` and find their libraries in the cache.
 Each target (:class:`CompileTarget`, ``methods.compile_target(engine)``) names the model its C embeds or calls
@@ -57,7 +57,7 @@ def precompile(targets: list[CompileTarget], *, flags: str, workers: int = 2, lo
     Returns the phase totals and ``builds``: one record per target, in order
     (C size, compile wall time in this run, ~0 when it was already cached).
     """
-    from ...generated.compile import build_function
+    from ...generated.compile import build_function, compile_cost
     from ...generated.compiler import CompilerUnavailable
 
     jobs, index, seen = [], [], {}
@@ -79,9 +79,12 @@ def precompile(targets: list[CompileTarget], *, flags: str, workers: int = 2, lo
         return {"name": source.name, "c_sha256": source.key_payload["c_sha256"],
                 "c_bytes": source.c_file.stat().st_size, "wall_s": time.perf_counter() - w0, "error": err}
 
+    # the longest to compile first (generated.compile.compile_cost): the pool ends soonest
+    order = sorted(range(len(jobs)), key=lambda i: compile_cost(jobs[i].c_file), reverse=True)
     w0, c0 = time.perf_counter(), _children_cpu()
     with ThreadPoolExecutor(max_workers=max(1, workers)) as pool:
-        builds = list(pool.map(build, jobs))
+        done = dict(zip(order, pool.map(build, [jobs[i] for i in order]), strict=True))
+    builds = [done[i] for i in range(len(jobs))]
     total = {"functions": len(jobs), "wall_s": time.perf_counter() - w0, "compiler_cpu_s": _children_cpu() - c0,
              "workers": workers, "builds": [builds[i] for i in index]}
     if log:

@@ -124,6 +124,28 @@ def test_bench_precompile_fills_the_entry_compile_function_finds(fresh_cache):
     assert float(g([0.5, 2.0])) == pytest.approx(np.sin(0.5) * 2 + 3, rel=1e-15)
 
 
+def test_bench_precompile_starts_the_longest_build_first_and_reports_in_target_order(fresh_cache, monkeypatch):
+    """The pool starts its builds longest to compile first (compile_cost, as a library's own files), and its
+    records stay in the order of the targets."""
+    from apexseal.generated import compile as build
+    from apexseal.runtime.bench.compile_pool import CompileTarget, precompile
+
+    x = ca.SX.sym("x", 8)
+    small, big = _tiny("small_one"), ca.Function("big_one", [x], [ca.sum1(ca.cumsum(ca.sin(x) * ca.cos(x)) ** 3)])
+    started = []
+    real = build.build_function
+
+    def recording(source, *, flags):
+        started.append(source.name)
+        return real(source, flags=flags)
+
+    monkeypatch.setattr(build, "build_function", recording)
+    total = precompile([CompileTarget(small, None), CompileTarget(big, None)], flags="quick", workers=1)
+    assert [b["name"] for b in total["builds"]] == ["small_one", "big_one"]
+    sizes = {b["name"]: b["c_bytes"] for b in total["builds"]}
+    assert sizes["big_one"] > sizes["small_one"] and started == ["big_one", "small_one"]
+
+
 def test_a_flag_set_of_ones_own_is_registered_under_a_name_its_flags_give(fresh_cache):
     """A measurement's flag set is named by :func:`compiler.register_flags`, from its flags: the same name in
     another process (whose string hashes differ) and the project's name for the project's flags; the project's
