@@ -107,6 +107,28 @@ def test_a_point_outside_the_scene_range_is_refused_before_any_work():
     assert "-0.002" in text and "out of range" in text and ">= 0" in text and "(points 1, 3, 5, 7)" in text
 
 
+@pytest.mark.parametrize("design", ["grid", "sobol"])
+def test_a_sweep_over_angles_gives_each_point_its_angle(design):
+    """The points' values are SI numbers, and a scene refuses a bare angle (deg or rad?): every point of a sweep
+    over operation.start_angle or the initial tilt was refused ("give a unit: deg or rad"). The scenes take them
+    with their unit, rad; the table keeps the SI numbers."""
+    st = light_study(**{'[parameters."spring.ks"]\nfrom = "3e3 N/m"\nto = "2e4 N/m"\npoints = 4\nscale = "log"':
+                        '[parameters."operation.start_angle"]\nfrom = "0 deg"\nto = "90 deg"\npoints = 3',
+                        'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': "",
+                        '[parameters."spring.delta_s"]':
+                        '[parameters."operation.initial_state.phi"]\nvalues = ["0 deg", "0.1 deg"]',
+                        "[feasible]": (f"[design]\nkind = \"{design}\"\npoints = 4\n\n[feasible]" if design != "grid"
+                                       else "[feasible]")})
+    points = scenes_of(st)
+    assert len(points) == (6 if design == "grid" else 4)
+    for _, scene, values in points:
+        assert isinstance(values["operation.start_angle"], float)
+        assert scene.operation.start_angle == pytest.approx(values["operation.start_angle"], rel=1e-14, abs=0)
+        assert scene.operation.initial_state.phi == pytest.approx(values["operation.initial_state.phi"], rel=1e-14)
+    if design == "grid":
+        assert sorted({v["operation.start_angle"] for _, _, v in points}) == pytest.approx([0, np.pi / 4, np.pi / 2])
+
+
 def test_a_value_refused_at_many_points_is_one_problem_naming_them():
     """A bad listed value recurs at every point of the grid that holds it: one line naming the points (it was one
     line per point, cut at ten lines under a header that counted those ten as the study's problems)."""

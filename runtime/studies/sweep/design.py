@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from ...scenes.errors import Problem
-from ...scenes.units import QuantityError, parse_quantity, registry
+from ...scenes.units import ANGULAR, QuantityError, parse_quantity, registry
 
 
 @dataclass(frozen=True)
@@ -184,6 +184,15 @@ def _scaled(u: np.ndarray, p) -> list[Any]:
     if p.unit == "1" and isinstance(p.values[0], int):
         return [int(round(v)) for v in x]
     return [float(f"{v:.12g}") for v in x]
+
+
+def scene_values(study, point: dict[str, Any]) -> dict[str, Any]:
+    """A point's values as :meth:`Scene.with_overrides` takes them: an angle or angular speed with its SI unit
+    written out (a scene refuses a bare angle: deg or rad is ambiguous; a sweep of operation.start_angle was refused
+    at every point), every other value as it is (a bare number is in the key's SI unit)."""
+    units = {p.key: p.unit for p in study.parameters}
+    return {k: f"{v!r} {units[k]}" if units.get(k) in ANGULAR and isinstance(v, float | int) else v
+            for k, v in point.items()}
 
 
 def design_points(study) -> list[dict[str, Any]]:

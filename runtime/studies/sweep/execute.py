@@ -24,7 +24,7 @@ from typing import Any
 import pandas as pd
 
 from ....cores import MAX_WORKERS, available_cores
-from .design import design_points
+from .design import design_points, scene_values
 from .point import run_point
 from .store import Store
 from .study import Study, StudyError
@@ -82,7 +82,7 @@ def scenes_of(study: Study) -> list[tuple[int, Any, dict[str, Any]]]:
     note = None
     for i, overrides in enumerate(designs):
         try:
-            out.append((i, study.scene.with_overrides(**overrides), overrides))
+            out.append((i, study.scene.with_overrides(**scene_values(study, overrides)), overrides))
         except SceneError as err:
             for p in err.errors:
                 refused.setdefault((p.key, show_value(p.value), p.message), (p, []))[1].append(i)
