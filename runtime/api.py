@@ -39,15 +39,25 @@ def model_functions(scene, *, compiled: bool | None = None):
     return loaded.c if compiled else loaded.sx
 
 
-def settings_of(scene, **overrides) -> RunSettings:
-    """RunSettings from the scene's [solver] table and [operation] revolutions, with keyword overrides (None =
-    keep); every value is checked by :class:`RunSettings` (a bad one raises :class:`SettingsError`)."""
+def scene_settings(scene) -> dict:
+    """The run settings the scene's [solver] table and [operation] revolutions give, by RunSettings field (not
+    checked together: :func:`settings_of` does)."""
     base = {}
     for name, (key, _) in _SCENE_KEYS.items():
         section, field = key.split(".")
         value = getattr(getattr(scene, section), field)
         base[name] = (not value) if name == "compile_c" else value  # the scene's solver.interpreted
     base["parameters"] = "constant" if scene.schedule is None else "linear"  # its schedule, not a [solver] key
+    return base
+
+
+def settings_of(scene, **overrides) -> RunSettings:
+    """RunSettings from the scene's [solver] table and [operation] revolutions, with keyword overrides (None =
+    keep); every value is checked by :class:`RunSettings` (a bad one raises :class:`SettingsError`)."""
+    base = scene_settings(scene)
+    interpreted = not base.pop("compile_c")
+    if overrides.get("compile_c") is None and overrides.get("interpreted") is None:
+        base["interpreted"] = interpreted  # under the scene's name, which a problem then names
     return RunSettings(**merged(base, overrides))
 
 
@@ -101,11 +111,11 @@ def scene_that_ran(scene, settings: RunSettings):
 
     if settings.max_wall_time and settings.calls_per_revolution is None:
         settings = settings.replace(calls_per_revolution=settings.samples_per_revolution // samples_per_call(settings))
-    base = settings_of(scene)
+    base = scene_settings(scene)
     over = {}
     for name, (key, form) in _SCENE_KEYS.items():
         value = getattr(settings, name)
-        if value == getattr(base, name) or value is None or (name == "method" and not isinstance(value, str)):
+        if value == base[name] or value is None or (name == "method" and not isinstance(value, str)):
             continue
         over[key] = form(value)
     if not over:

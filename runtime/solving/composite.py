@@ -122,14 +122,18 @@ class CompositeIntegrator(Engine):
     pressure_profiles = ("steps", "linear")
     parameter_profiles = ("constant", "linear")
     compiled = True
+    needs_library = True
     counts_steps = True
 
     @classmethod
     def build(cls, functions, settings, *, method, n_samples, span, compile_c):
         # compile_c is about compiling an integrator of CasADi's; this one is always the library's C
-        if functions.library is None:
-            raise ValueError("solver.method = 'composite' runs in the compiled model library, and this model has none: "
-                             "it needs a C compiler and solver.interpreted = false; or choose method 'erk'")
+        if functions.library is None:  # no C compiler (interpreted settings are refused before: RunSettings)
+            from .settings import SettingsError
+
+            raise SettingsError([("method", method, "runs in the compiled model library, and these model Functions "
+                                  "have none (interpreted ones: no working C compiler, or given so); allowed: the "
+                                  "compiled Functions, or a method of CasADi's, e.g. 'erk'")])
         return cls(functions, n_samples=n_samples, span=span, rtol=settings.rtol, atol=settings.atol,
                    event_tol=settings.event_tol, max_steps=settings.max_steps_per_interval,
                    max_events=settings.max_events_per_revolution, pressure=settings.pressure)

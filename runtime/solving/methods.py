@@ -43,6 +43,9 @@ class Engine:
 
     n_samples: int
     compiled: bool = False
+    #: True where the engine runs only in the compiled model library (its C: the composite): the settings refuse it
+    #: with ``compile_c = False`` (a scene's ``solver.interpreted = true``), and a model without a library
+    needs_library: bool = False
     #: True where ``run`` checks ``deadline`` inside a call (the apexseal event loop's engines): the run then never
     #: cuts its calls into intervals near the end of a wall-time budget (runtime/solving/pace.py)
     stops_at_deadline: bool = False

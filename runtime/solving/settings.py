@@ -227,6 +227,12 @@ class RunSettings(BaseModel):
                                   f"profiles {allowed} (its engine's pressure_profiles): set solver.pressure = "
                                   f"\"steps\" (pressure=\"steps\")")])
 
+        if not self.compile_c and method_class(self.method).needs_library:
+            name = given.get("compile_c", "compile_c")
+            raise SettingsError([(name, True if name == "interpreted" else False,
+                                  f"method {self.method!r} runs only in the compiled model library (its C); allowed "
+                                  f"with {name} = {'false' if name == 'interpreted' else 'true'}, or a method of "
+                                  "CasADi's, e.g. 'erk'")])
         if self.parameters != "constant" and self.parameters not in _profiles_of(self.method, "parameter"):
             can = [name for name in _methods() if self.parameters in _profiles_of(name, "parameter")]
             raise SettingsError([("method", self.method if isinstance(self.method, str) else self.method.__name__,
@@ -258,12 +264,17 @@ def settings_error(exc: ValidationError, given: dict[str, str] | None = None) ->
     return SettingsError(out)
 
 
+def method_class(method: Any):
+    """The engine class of ``method`` (a name, or a subclass of Engine)."""
+    from .methods import method_of
+
+    return method_of(method).engine_class()
+
+
 def _profiles_of(method: Any, kind: str = "pressure") -> tuple[str, ...]:
     """The pressure (or, ``kind = "parameter"``, parameter) profiles the engine of ``method`` integrates
     (``Engine.pressure_profiles``, ``Engine.parameter_profiles``)."""
-    from .methods import method_of
-
-    return getattr(method_of(method).engine_class(), f"{kind}_profiles")
+    return getattr(method_class(method), f"{kind}_profiles")
 
 
 def _methods() -> tuple[str, ...]:

@@ -23,7 +23,8 @@ from .runtime.solving.methods import METHODS
 from .stopwatch import Stopwatch
 
 #: run setting -> the option that sets it (a bad value is reported against the option)
-OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol", "max_wall_time": "--max-wall-time"}
+OPTIONS = {"revolutions": "--revolutions", "method": "--method", "rtol": "--rtol", "max_wall_time": "--max-wall-time",
+           "interpreted": "solver.interpreted"}
 
 
 @click.command()

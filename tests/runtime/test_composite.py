@@ -135,10 +135,30 @@ def test_pressures_held_at_interval_means_jump_between_steps(default_scene, fns)
     assert _diff(r, ref) < 1e-4
 
 
-def test_composite_needs_the_compiled_library(default_scene, default_functions):
-    """An interpreted model has no library to run in: the error names the setting and what to do."""
-    with pytest.raises(ValueError, match="solver.method = 'composite'.*C compiler.*solver.interpreted"):
+def test_composite_needs_the_compiled_library(default_scene, default_functions, tmp_path):
+    """An interpreted model has no library to run in: the error names the setting and what to do. Asked for with
+    interpreted settings (solver.interpreted = true, or compile_c=False) it is refused with them, before the model
+    loads and before a folder is made: it was a traceback from the command line, after "writing to ...". """
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+    from apexseal.runtime.solving.settings import SettingsError
+
+    with pytest.raises(SettingsError, match="method = \"composite\": runs in the compiled model library.*C compiler"):
         apexseal.simulate(default_scene, method="composite", functions=default_functions.sx, revolutions=1)
+    interpreted = default_scene.with_overrides(**{"solver.interpreted": True})
+    with pytest.raises(SettingsError, match="interpreted = true: method 'composite' runs only in the compiled model"):
+        apexseal.simulate(interpreted, method="composite", revolutions=1)
+    with pytest.raises(SettingsError, match="compile_c = false: .*allowed with compile_c = true"):
+        apexseal.simulate(default_scene, method="composite", compile_c=False, revolutions=1)
+    out = tmp_path / "o"
+    r = CliRunner().invoke(main, ["simulate", "--method", "composite", "--set", "solver.interpreted=true", "-n", "1",
+                                  "-o", str(out)])
+    assert r.exit_code == 2 and "Invalid value for solver.interpreted: method 'composite' runs only" in r.output
+    assert "Traceback" not in r.output and not out.exists()
+    ran = apexseal.simulate(interpreted.with_overrides(**{"solver.method": "composite"}), compile_c=True,
+                            revolutions=1, samples_per_revolution=36, progress=False)  # the keyword decides
+    assert ran.ok and ran.info["method"] == "composite" and not ran.scene.solver.interpreted
 
 
 def test_the_step_limit_ends_a_call_with_its_reason(default_scene, fns):
