@@ -318,6 +318,26 @@ def _assumptions(sections: dict[str, Section]) -> Assumptions | None:
     return resolve_assumptions(sections["assumptions"], sections["pressure"].source if "pressure" in sections else None)
 
 
+def _section_of(content: dict[str, Any], key: str) -> tuple[dict[str, Any] | None, str]:
+    """The table of ``content`` (nested dicts) that holds the dotted ``key``, and its last part."""
+    *path, leaf = key.split(".")
+    section: Any = content
+    for part in path:
+        section = section.get(part) if isinstance(section, dict) else None
+    return (section if isinstance(section, dict) else None), leaf
+
+
+def _get(content: dict[str, Any], key: str) -> Any:
+    section, leaf = _section_of(content, key)
+    return None if section is None else section.get(leaf)
+
+
+def _pop(content: dict[str, Any], key: str) -> None:
+    section, leaf = _section_of(content, key)
+    if section is not None:
+        section.pop(leaf, None)
+
+
 def _recording(scene: Scene, overrides: dict[str, Any]) -> Scene:
     """``scene`` holding the ``overrides`` it was built with (:attr:`Scene.overrides`)."""
     object.__setattr__(scene, "overrides", dict(overrides))
@@ -612,13 +632,14 @@ class Scene:
             "solver": self.solver.model_dump(),
             "parameters": self.parameters,
         }
+        from apexseal.derive.submodels.registry import superseding
+
         for key in self.left_out_keys():  # a submodel that is off and enters no model (a user's or a package's)
-            *path, leaf = key.split(".")
-            section = content
-            for part in path:
-                section = section.get(part) if isinstance(section, dict) else None
-            if isinstance(section, dict):
-                section.pop(leaf, None)
+            _pop(content, key)
+        for key, unread in superseding():  # seal.density beside seal.ms: not read, and not in the resolved file
+            section, leaf = _section_of(content, unread)
+            if section is not None and section.get(leaf) is not None and _get(content, key) is not None:
+                section[leaf] = None  # as a scene that does not give it
         return content
 
     def left_out_keys(self) -> frozenset[str]:

@@ -653,8 +653,15 @@ def test_a_mass_beside_a_density_is_read_and_the_density_is_said_not_to_be(defau
     assert scene.parameters["ms"] == pytest.approx(0.04)
     from apexseal.runtime.scenes.resolved import resolved_toml
 
-    text, _ = resolved_toml(scene)
+    text, files = resolved_toml(scene)
     assert "ms = " in text and "density = " not in text  # a result writes the one it read
+    # ... and the content hash is that of what it read: the result's scene.toml hashed otherwise, so `apexseal show`
+    # called it "not the scene the run computed" and --resume refused the folder
+    for name, content in files.items():
+        (tmp_path / name).write_text(content)
+    (tmp_path / "scene.toml").write_text(text)
+    assert load_scene(tmp_path / "scene.toml").content_hash() == scene.content_hash()
+    assert scene.content_hash() == default.with_overrides(**{"seal.ms": "40 g"}).content_hash()
 
 
 def test_an_override_of_the_pressure_source_drops_the_keys_the_new_source_does_not_use(default):
