@@ -51,9 +51,7 @@ def _still_written(folder: Path, stop: StopInfo | None, parts: int) -> StopInfo 
     its lock says that the run goes on, not that it was killed."""
     if stop is None or not stop.reason.startswith(UNFINISHED):
         return stop
-    lock = try_lock_folder(folder)
-    if lock is not None:
-        os.close(lock)
+    if not _being_written(folder):
         return stop
     return StopInfo(stop.theta, stop.mode, f"the run is still going on (a running process writes {folder}): this is "
                     f"what it had written when read, {parts} completed part(s); the revolution in progress is not in "
@@ -79,6 +77,17 @@ def _what_else(folder: Path) -> str:
     return f"; it is {what}" if what else ""
 
 
+def _being_written(folder: Path) -> bool:
+    """Whether a running process holds the lock of ``folder`` (a run's, runtime/results/folder.py)."""
+    if not folder.is_dir():
+        return False
+    fd = try_lock_folder(folder)
+    if fd is None:
+        return True
+    os.close(fd)
+    return False
+
+
 def read_record(folder: Path) -> dict:
     path = folder / "result.json"
     if not path.is_file():
@@ -92,6 +101,12 @@ def read_record(folder: Path) -> dict:
             raise ResultFolderError(f"{folder} holds no result: a run was killed here before it wrote anything (an "
                                     "empty parts/), so there is nothing to load or continue; delete this folder")
         partials = sorted(folder.parent.glob(f"{folder.name}.partial-*")) if folder.name else []
+        running = [p for p in partials if _being_written(p)]
+        if running:  # a run into ``folder`` that is still going: not a killed one's
+            raise ResultFolderError(
+                f"{folder} {'has no result.json' if folder.exists() else 'does not exist'} yet: a running process is "
+                f"writing its result in {', '.join(str(p) for p in running)} (moved to {folder} when the run ends); "
+                "wait for it to end, or stop it (Ctrl-C or SIGTERM keep what it computed)")
         if partials:  # a run into ``folder`` killed outright left its revolutions beside it
             raise ResultFolderError(
                 f"{folder} {'has no result.json' if folder.exists() else 'does not exist'}: a run into it was killed "

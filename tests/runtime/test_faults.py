@@ -345,10 +345,18 @@ def test_a_killed_run_leaves_a_loadable_folder(default_scene, default_functions,
     sink.sync()  # written while the second revolution integrates (sync: at the latest)
     live = SimulationResult.load(sink.staging)  # read while the run goes on: it says so, not that it was killed
     assert live.status == "interrupted" and "still going on" in live.stop.reason, live.stop.reason
+    # its --out folder, not there yet, was "killed and left what it computed in <partial>: load or resume that"
+    # (and resuming it is refused while the run goes on)
+    with pytest.raises(ResultFolderError, match=r"does not exist yet: a running process is writing its result in "
+                       r".*\.partial-.* \(moved to .* when the run ends\)") as info:
+        SimulationResult.load(tmp_path / "o")
+    assert "was killed" not in str(info.value)
     os.close(sink._lock)  # then the process dies, and its lock with it
     sink._lock = None  # closed: the folder's release must not close the number again (another file may hold it)
     back = SimulationResult.load(sink.staging)
     assert back.status == "interrupted" and "without its final record" in back.stop.reason
+    with pytest.raises(ResultFolderError, match="a run into it was killed and left what it computed in"):
+        SimulationResult.load(tmp_path / "o")
     assert back.n == live.n == 1 + SAMPLES and np.array_equal(back.state, full.state[:, :1 + SAMPLES])
     assert not (tmp_path / "o").exists()
 
