@@ -350,7 +350,8 @@ def load_table(file: str, base_dir: Any, unit: str = "Pa") -> TablePressure:
         else:
             data = target.read_bytes()
     except FileNotFoundError:
-        raise refuse(f"file not found: {target} (a relative path is taken from the scene file's folder)") from None
+        relative = "" if Path(file).is_absolute() else " (a relative path is taken from the scene file's folder)"
+        raise refuse(f"file not found: {target}{relative}") from None
     except OSError as exc:
         raise refuse(f"cannot read {target}: {exc.strerror or exc}") from None
     if len(data) > MAX_TABLE_BYTES:

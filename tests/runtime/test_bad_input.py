@@ -124,10 +124,20 @@ def test_scene_file_not_utf8(tmp_path):
         load_scene(tmp_path / "s.toml")
 
 
-def test_missing_pressure_table(tmp_path):
+def test_missing_pressure_table(tmp_path, monkeypatch):
+    """A relative name is taken from the scene file's folder, and the message says so; a path given on the command
+    line is the current folder's (made absolute there), and the message said the scene file's folder too."""
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+
     path = _write_scene(tmp_path, 'file = "expander-pressure.csv"', 'file = "missing.csv"')
-    with pytest.raises(SceneError, match="file not found: .*missing.csv"):
+    with pytest.raises(SceneError, match="file not found: .*missing.csv \\(a relative path is taken from the scene"):
         load_scene(path)
+    monkeypatch.chdir(tmp_path)
+    r = CliRunner().invoke(main, ["scene", "--set", "pressure.file=absent.csv"])
+    assert r.exit_code != 0 and f"file not found: {tmp_path / 'absent.csv'}" in r.output, r.output
+    assert "scene file's folder" not in r.output
 
 
 #: the one warning of the groove friction's coefficient out of range while that friction is off
