@@ -272,8 +272,13 @@ def check_stamp(path: Path, run_id: str) -> None:
             with open(path) as fh:
                 head = fh.readline()
             found = head.split()[3].rstrip(",") if head.startswith("# apexseal result ") else None
-    except (OSError, ValueError, AttributeError, IndexError):
-        found = None
+    except (OSError, ValueError, AttributeError, IndexError) as err:  # no run of its own to name: "run None" was
+        why = err.strerror if isinstance(err, OSError) and err.strerror else str(err) or type(err).__name__
+        raise ResultFolderError(f"{path} is unreadable ({why}): not a file of this result (run {run_id}); simulate "
+                                f"again, or remove {path.name}") from err
+    if found is None:
+        raise ResultFolderError(f"{path} names no run: not a file of this result (run {run_id}); mixed folder "
+                                f"(simulate again, or remove {path.name})")
     if found != run_id:
         raise ResultFolderError(f"{path} belongs to run {found}, result.json to run {run_id}: mixed folder "
                                 f"(simulate again, or remove {path.name})")

@@ -150,6 +150,10 @@ MIXED = [
     ("legacy-record", lambda a, b: (a / "result.json").write_text('{"status": "completed"}'), "older apexseal"),
     ("missing-part", lambda a, b: (a / "parts" / "part-00000.npz").unlink(), "missing"),
     ("not-a-result", lambda a, b: (a / "result.json").unlink(), "no result.json"),
+    # said to "belong to run None" of a "mixed folder" before
+    ("unreadable-summary", lambda a, b: (a / "summary.json").write_text("{"), r"summary.json is unreadable \("),
+    ("unstamped-csv", lambda a, b: (a / "trajectory.csv").write_text("theta,x\n0,1\n"),
+     r"trajectory.csv names no run: not a file of this result"),
 ]
 
 
