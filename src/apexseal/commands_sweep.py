@@ -134,7 +134,9 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
                    f"column): point{'s' if len(warned) != 1 else ''} "
                    + ", ".join(str(p) for p in warned["point"].head(10)) + (", ..." if len(warned) > 10 else "")
                    + f"; point {warned['point'].iloc[0]}: {warned['warnings'].iloc[0]}", err=True)
-    if "periodic" in report.table:  # operation.until_periodic: the points whose run did not become periodic
+    # operation.until_periodic: the points whose run did not become periodic (of those that ran: an empty table of a
+    # sweep stopped before its first point said "all 0 points became periodic" of a study that never asked)
+    if "periodic" in report.table and report.table["periodic"].notna().any():
         late = report.table[~report.table["periodic"].fillna(False).astype(bool)]
         if len(late):
             click.echo(f"  {len(late)} of {len(report.table)} points did not become periodic (the periodic and "

@@ -839,6 +839,16 @@ def test_a_sweep_until_periodic_has_a_periodic_column_and_says_which_points_did_
     assert "): point 0; more revolutions" in r.output
 
 
+def test_a_sweep_stopped_before_its_first_point_says_nothing_of_periodicity(tmp_path):
+    """The table of a sweep with no finished point held the periodic columns, and the command then said "all 0
+    points became periodic (the periodic column)" of a study that never asked (stopped before its first point)."""
+    from apexseal.runtime.studies.sweep.store import PERIODIC, Store
+
+    table = Store(tmp_path / "o").table(light_study())
+    assert table.empty and not set(PERIODIC) & set(table.columns)
+    assert {"point", "status", "spring.ks", "friction_power.total"} <= set(table.columns)
+
+
 def test_invalid_points_are_counted_apart_and_said_without_a_crank_angle(tmp_path):
     """Points refused at their start were counted ``failed=`` by the progress bar while the closing line said
     "invalid", their stop began with a meaningless "stopped at crank angle 0.000 deg in mode ...:", and the

@@ -108,8 +108,8 @@ class Store:
         """Every finished point, sorted by point, columns in a fixed order (parameters, then quantities)."""
         files = sorted(p for p in self.parts.iterdir() if _PART.match(p.name)) if self.parts.is_dir() else []
         order = [*HEAD, *PERIODIC, *(p.key for p in study.parameters), *study.quantities, *TAIL]
-        if not files:
-            return pd.DataFrame(columns=order)
+        if not files:  # no point has said whether it became periodic: that column is a finished point's
+            return pd.DataFrame(columns=[c for c in order if c not in PERIODIC])
         df = pd.concat([pd.read_parquet(f) for f in files], ignore_index=True)
         df = df.sort_values("point", kind="stable").reset_index(drop=True)
         return df[[c for c in order if c in df.columns]]
