@@ -142,7 +142,7 @@ def load_scene(path: str | Path | None = None, overrides: dict[str, Any] | None 
                                       overrides=None if overrides is None else _files_from_here(overrides))
     p = path
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # a byte-order mark (an editor's) is no TOML: dropped
     except FileNotFoundError:
         raise SceneError([("scene", str(path), "file not found" + _embedded_hint(path))], source=str(path)) from None
     except (OSError, UnicodeDecodeError) as exc:

@@ -124,6 +124,22 @@ def test_scene_file_not_utf8(tmp_path):
         load_scene(tmp_path / "s.toml")
 
 
+def test_a_scene_or_study_saved_with_a_byte_order_mark_loads(tmp_path):
+    """An editor's UTF-8 byte-order mark was "malformed TOML at line 1, column 1: Invalid statement" (its pressure
+    tables were read with or without one already)."""
+    from apexseal.runtime.studies.sweep import load_study
+
+    path = _write_scene(tmp_path, "", "")
+    plain = load_scene(path)
+    path.write_bytes(b"\xef\xbb\xbf" + path.read_bytes())
+    assert load_scene(path).content_hash() == plain.content_hash()
+    study = tmp_path / "study.toml"
+    study.write_bytes(b"\xef\xbb\xbf" + f'[study]\nname = "bom"\nscene = "{path.name}"\n\n'
+                      '[parameters."spring.ks"]\nvalues = ["3e3 N/m"]\n\n[collect]\nquantities = ["revolutions"]\n'
+                      .encode())
+    assert load_study(study).name == "bom"
+
+
 def test_missing_pressure_table(tmp_path, monkeypatch):
     """A relative name is taken from the scene file's folder, and the message says so; a path given on the command
     line is the current folder's (made absolute there), and the message said the scene file's folder too."""

@@ -206,7 +206,7 @@ def load_study(path: str | Path) -> Study:
     """Read and check a study file (TOML); raises :class:`StudyError` listing every problem."""
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        text = p.read_text(encoding="utf-8-sig")  # without a byte-order mark (an editor's), as a scene file
     except (OSError, UnicodeDecodeError) as exc:
         raise StudyError([("study", str(path), f"cannot read: {getattr(exc, 'strerror', None) or exc}")],
                          source=str(path)) from None
