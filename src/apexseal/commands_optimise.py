@@ -17,7 +17,7 @@ def _checked(ctx, param, value):
     """An option converted and range-checked by the study's own check (study.check_option: the API's, with its
     message naming the option, its value and the allowed range); None where not given (the API's default is then
     the option's own default, from runtime/studies/preload/options.py)."""
-    from .runtime.studies.preload.problem import PreloadStudyError
+    from .runtime.studies.preload.problem import MAX_KNOTS, PreloadStudyError
     from .runtime.studies.preload.study import check_option
 
     name = param.name
@@ -29,13 +29,16 @@ def _checked(ctx, param, value):
         value = _parsed(value, int)
     elif name in ("deficit_tol", "min_force", "max_groove_force", "max_preload"):  # a bare number: in the SI unit
         value = _parsed(value, float)
+    # the study's range, 1..MAX_KNOTS, holds the constant preload, which is no schedule: refused in the command's
+    # own range (0 was refused as "must be in 1..72", and then 1 as "a schedule has KNOTS >= 2"); the rest as the
+    # study refuses it, in the same words as the API
+    if name == "knots" and isinstance(value, int) and value < 2:
+        raise click.BadParameter(f"knots = {value!r}: must be an integer in 2..{MAX_KNOTS} (a schedule; 1 knot is the "
+                                 "constant preload, which the study always optimises)")
     try:
         value = check_option(name, value, knots=ctx.params.get("knots") if name == "max_rate" else None)
     except PreloadStudyError as err:
         raise click.BadParameter(str(err)) from None
-    if name == "knots" and value == 1:
-        raise click.BadParameter("knots = 1: the constant preload, which the study always optimises; a schedule has "
-                                 "KNOTS >= 2")
     return value
 
 

@@ -1150,6 +1150,19 @@ def test_the_command_and_the_api_refuse_an_option_with_the_same_message(cli, api
     assert r.exit_code == 2 and str(err.value) in " ".join(r.output.split()), (str(err.value), r.output)
 
 
+@pytest.mark.parametrize("knots", ["0", "1", "-3"])
+def test_a_schedule_of_fewer_than_two_knots_is_refused_in_the_command_s_range(knots):
+    """--schedule 0 was refused as "must be an integer in 1..72 (1: a constant preload)", and then --schedule 1 as
+    "a schedule has KNOTS >= 2": the command's range is 2..72."""
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+
+    r = CliRunner().invoke(main, ["optimise-preload", "--schedule", knots, "--quiet"])
+    assert r.exit_code == 2 and f"knots = {knots}: must be an integer in 2..72 (a schedule; 1 knot is the constant " \
+        "preload" in " ".join(r.output.split()), r.output
+
+
 @pytest.mark.parametrize("cli, api, given", [
     (("--schedule", "4", "--max-rate", "-1"), {"knots": 4, "max_rate": "-1 mm/deg"}, "'-1 mm/deg'"),
     (("--max-preload", "-2 mm"), {"max_preload": "-2 mm"}, "'-2 mm'"),

@@ -508,14 +508,18 @@ def deficit_tol_problem(deficit_tol) -> str | None:
     return f"deficit_tol = {deficit_tol!r}: must be in (0, {MAX_DEFICIT_TOL:g}) N^2 rad"
 
 
+#: the most knots a preload schedule takes
+MAX_KNOTS = 72
+
+
 def option_problems(**options) -> dict[str, str]:
     """What is wrong with each of the study options given (by name, as ``optimise_preload`` takes them, converted to N
     and m), by name: the one statement of their ranges, for the API and the command line alike
     (:func:`.study.check_option`)."""
     checks = {
         "nodes": nodes_problem,
-        "knots": lambda v: None if is_integer(v) and 1 <= v <= 72 else
-        f"knots = {v!r}: must be an integer in 1..72 (1: a constant preload)",
+        "knots": lambda v: None if is_integer(v) and 1 <= v <= MAX_KNOTS else
+        f"knots = {v!r}: must be an integer in 1..{MAX_KNOTS} (1: a constant preload)",
         "min_force": lambda v: None if is_force(v) else
         f"min_force = {v!r}: must be a force > 0 and <= {MAX_FORCE:g} N (a number, in N)",
         "max_groove_force": lambda v: None if v is None or is_force(v) else
