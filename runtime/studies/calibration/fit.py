@@ -297,7 +297,10 @@ def calibrate(scene, *, ranges: dict[str, tuple[float, float]] | None = None, gr
         if name not in PLAUSIBLE:
             raise CalibrationError(f"unknown = {name!r}: not an unknown of the study; allowed: {', '.join(PLAUSIBLE)}")
         plo, phi = PLAUSIBLE[name]
-        if not (plo <= lo < hi <= phi):
+        if not lo < hi:  # within the plausible range it was refused as not inside it
+            raise CalibrationError(f"{name} = {lo:g}..{hi:g}: the low end is not below the high end; allowed: LOW..HIGH "
+                                   f"with LOW < HIGH, inside the plausible {plo:g}..{phi:g}")
+        if not (plo <= lo and hi <= phi):
             raise CalibrationError(f"{name} = {lo:g}..{hi:g}: allowed: a range inside the plausible {plo:g}..{phi:g}")
     check_counts(grid=grid, polish=polish, revolutions=revolutions, **({} if samples is None else {"samples": samples}))
     samples = None if samples is None else int(samples)
