@@ -76,7 +76,9 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
     from .runtime.studies.sweep.execute import SchedulerError
     from .runtime.studies.sweep.store import StoreError
 
-    if (study is None) == (example is None):
+    if study is not None and example is not None:
+        raise click.UsageError(f"give a STUDY file or --example NAME, not both ({study} and --example {example})")
+    if study is None and example is None:
         raise click.UsageError("give a STUDY file or --example NAME (e.g. apexseal sweep --example preload-map)")
     if retry_failed and not resume:
         raise click.UsageError("--retry-failed with --fresh: --fresh discards every point in --out, so none is there "

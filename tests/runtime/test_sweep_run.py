@@ -488,6 +488,21 @@ def test_retry_failed_computes_again_only_the_points_that_did_not_complete(seria
         run_sweep(light_study(), out, workers=1, resume=False, retry_failed=True, quiet=True)
 
 
+def test_a_study_file_and_an_example_together_are_refused_as_both(tmp_path):
+    """Both given, the command answered "give a STUDY file or --example NAME", as to neither."""
+    from click.testing import CliRunner
+
+    from apexseal.cli import main
+
+    study = tmp_path / "light.toml"
+    study.write_text(LIGHT)
+    both = CliRunner().invoke(main, ["sweep", str(study), "--example", "sampling", "-o", str(tmp_path / "o")])
+    assert both.exit_code == 2 and "give a STUDY file or --example NAME, not both" in both.output, both.output
+    neither = CliRunner().invoke(main, ["sweep", "-o", str(tmp_path / "o")])
+    assert neither.exit_code == 2 and "not both" not in neither.output and "--example preload-map" in neither.output
+    assert not (tmp_path / "o").exists()
+
+
 def test_cli_retry_failed_is_named_after_failed_points_and_refused_with_fresh(tmp_path, monkeypatch):
     from click.testing import CliRunner
 
