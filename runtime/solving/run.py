@@ -29,7 +29,7 @@ import numpy as np
 
 from ...generated.layout import HybridLayout
 from ...generated.scaling import to_scaled
-from ...progress import advanced, stage
+from ...progress import advanced, bar_output, stage
 from ...signals import StopSignals
 from ..results.assemble import assemble_blocks
 from ..results.folder import ResultStorageError
@@ -51,8 +51,6 @@ from .settings import RunSettings, out_of_time, samples_per_call
 #: samples from which a run says that it joins its result once the revolutions' bar has ended (about a second
 #: and more: 3.3 s for 300 revolutions of 3600 samples)
 LONG_RESULT = 500_000
-#: seconds between the progress lines of a run whose stderr is a log, not a terminal
-LOG_INTERVAL = 10.0
 #: integrator calls per revolution of a run announced as slow (runtime/solving/cost.py) that sets none: 10 degrees
 #: each, as under a wall-time budget, so that its bar moves within a revolution (a whole revolution of erk at 1 rpm
 #: was one call of 52 s, the bar at 0 all along) and a failed call's re-run covers 10 degrees at most
@@ -156,9 +154,8 @@ def run(functions, params: np.ndarray, settings: RunSettings, *, theta_start: fl
     # until_periodic: each revolution against the one before (runtime/solving/periodicity.py)
     watch = PeriodicWatch(periodic_tol, revolutions, lay.state_names) if until_periodic else None
     # on a terminal a bar redrawn in place; in a log (stderr not a terminal) a line every LOG_INTERVAL s, kept
-    tty = sys.stderr.isatty()
-    bar = revolutions_bar(total=revolutions, initial=done, unit="rev", disable=not progress, leave=not tty,
-               mininterval=0.1 if tty else LOG_INTERVAL, file=sys.stderr)
+    bar = revolutions_bar(total=revolutions, initial=done, unit="rev", disable=not progress,
+                          leave=not sys.stderr.isatty(), **bar_output())
     z_rev = z.copy()
     report = _Progress(bar, revolutions)
     pace, split = Pace(deadline), None  # near the deadline, calls interval by interval (runtime/solving/pace.py)

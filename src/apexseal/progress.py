@@ -89,3 +89,31 @@ def advanced(done: float, total: int) -> None:
     """A run of this thread has done ``done`` of its ``total`` revolutions: tell the listeners of :func:`following_runs`."""
     for listener in getattr(_following, "listeners", ()):
         listener(done, total)
+
+
+#: s between two lines of a progress bar in a log (stderr not a terminal)
+LOG_INTERVAL = 10.0
+
+
+class LogLines:
+    """A log's stream for a tqdm bar: each redraw a line of its own. tqdm redraws a bar in place, starting each
+    redraw with a carriage return, which a log file keeps: a run's log held one line of every redraw."""
+
+    def __init__(self, stream) -> None:
+        self.stream = stream
+
+    def write(self, text: str) -> None:
+        for line in text.replace("\r", "\n").split("\n"):
+            if line.strip():  # the spaces that clear a bar's last redraw, the bare returns between redraws
+                self.stream.write(line.rstrip() + "\n")
+
+    def flush(self) -> None:
+        self.stream.flush()
+
+
+def bar_output() -> dict:
+    """tqdm's ``file`` and ``mininterval`` for a bar on stderr: on a terminal a bar redrawn in place (at most every
+    0.1 s); in a log a line at most every :data:`LOG_INTERVAL` s (:class:`LogLines`)."""
+    if sys.stderr.isatty():
+        return {"file": sys.stderr, "mininterval": 0.1}
+    return {"file": LogLines(sys.stderr), "mininterval": LOG_INTERVAL}

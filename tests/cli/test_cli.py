@@ -369,6 +369,10 @@ def test_a_run_logged_to_a_file_shows_its_progress(tmp_path):
         assert runs[name].returncode == 0, runs[name].stderr
     assert "100%" in runs["shown"].stderr and "rev/s" in runs["shown"].stderr, runs["shown"].stderr
     assert "rev/s" not in runs["quiet"].stderr
+    # each redraw a line of its own: tqdm's carriage returns made the log one line of every redraw
+    assert "\r" not in runs["shown"].stderr
+    bars = [line for line in runs["shown"].stderr.splitlines() if "rev/s" in line]
+    assert bars[-1].startswith("100%") and all(line.rstrip() == line for line in bars), bars
 
 
 def test_a_signal_while_a_completed_run_is_saved_is_said_and_ends_the_process_as_asked(tmp_path, signalled_in):

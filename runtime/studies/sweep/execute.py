@@ -227,6 +227,8 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, retry_f
            on_start) -> SweepReport:
     from tqdm.auto import tqdm
 
+    from ....progress import bar_output
+
     done = store.open(study, resume=resume)
     retried = store.not_completed() & done if retry_failed else set()
     done -= retried
@@ -240,7 +242,8 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, retry_f
         capped = local_workers(n, len(todo))
         asked, n = (n if capped < n else None), capped
     serial = (client is None and scheduler is None and n == 1) or not todo  # nothing to do: no cluster
-    bar = tqdm(total=len(points), initial=skipped, unit="pt", disable=quiet, desc=study.name, dynamic_ncols=True)
+    bar = tqdm(total=len(points), initial=skipped, unit="pt", disable=quiet, desc=study.name, dynamic_ncols=True,
+               **bar_output())  # in a log a line at a time
     shown = Bar(bar)  # finished and failed points, and how far the long ones running have got (watch.py)
 
     recorded: set[int] = set()
