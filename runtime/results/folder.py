@@ -114,6 +114,14 @@ def result_at(folder: Path, record: str = "result.json") -> tuple[str | None, st
     return (data.get("run_id"), data.get("status")) if isinstance(data, dict) else (None, None)
 
 
+def not_into_a_result(folder: Path, what: str) -> None:
+    """Refuse to write ``what`` (a comparison's files, a sweep's) into ``folder`` where it holds a simulation's
+    result: they mixed with it, and ``--resume`` then refused the folder for files that are not a result's."""
+    if (Path(folder) / "result.json").is_file():
+        raise ResultFolderError(f"{folder} holds a simulation's result (result.json): {what} would mix with it; "
+                                "allowed: a new or empty folder, or one of your own files")
+
+
 def kept_aside(target: Path, record: str, found: str | None, run_id: str, status: str, what: str) -> str:
     """Why run ``run_id``, which ended with ``status``, must not replace the folder at ``target`` ("" when it may):
     another run wrote ``target`` while this one ran (``found``: the run id there when this one began), or this

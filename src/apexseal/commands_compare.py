@@ -25,7 +25,7 @@ def compare(folders: tuple[Path, ...], out: Path | None, rerun: bool, noise_from
     the numerical noise of each: a change within it (marked ~) is not an effect of what the runs differ in."""
     from .cli_common import writable
     from .runtime.results.compare import compare as compare_results
-    from .runtime.results.folder import ResultFolderError
+    from .runtime.results.folder import ResultFolderError, not_into_a_result
     from .runtime.results.noise import rerun as rerun_first
     from .runtime.results.result import SimulationResult
 
@@ -34,6 +34,10 @@ def compare(folders: tuple[Path, ...], out: Path | None, rerun: bool, noise_from
     if rerun and noise_from is not None:
         raise click.UsageError("--noise and --noise-from: give one (--noise runs, --noise-from reads a re-run)")
     if out is not None:
+        try:
+            not_into_a_result(out, "the comparison's files")
+        except ResultFolderError as err:
+            raise click.BadParameter(str(err), param_hint="--out") from None
         writable(out)  # before reading anything
     try:
         noise = noise_from

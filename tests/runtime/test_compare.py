@@ -103,6 +103,17 @@ def test_the_command_refuses_one_folder_and_a_folder_without_a_result(folders, t
     assert f"{folders['default']} (1)" in twice.output and f"{folders['default']} (2)" in twice.output
 
 
+def test_the_command_does_not_write_into_a_result_folder(folders):
+    """--out of a result folder wrote comparison.csv into it, and --resume then refused the folder for files that
+    are not a result's."""
+    into = folders["stiff"]
+    before = sorted(p.name for p in into.iterdir())
+    r = CliRunner().invoke(main, ["compare", str(folders["default"]), str(into), "-o", str(into)])
+    assert r.exit_code == 2 and "holds a simulation's result (result.json): the comparison's files would mix" in \
+        " ".join(r.output.split()), r.output
+    assert sorted(p.name for p in into.iterdir()) == before
+
+
 def test_results_of_the_same_scene_and_other_models_say_so(folders, tmp_path):
     """Two runs of one scene with models of other sources read as "the scenes are the same" and nothing else."""
     import json

@@ -503,6 +503,19 @@ def test_a_study_file_and_an_example_together_are_refused_as_both(tmp_path):
     assert not (tmp_path / "o").exists()
 
 
+def test_a_sweep_is_not_written_into_a_result_folder(tmp_path):
+    """A sweep's --out of a simulation's result folder wrote its points and tables into it."""
+    import apexseal
+    from apexseal.runtime.studies.sweep.store import StoreError
+
+    out = tmp_path / "result"
+    apexseal.simulate(apexseal.load_scene(), revolutions=1, samples_per_revolution=36, out=out)
+    before = sorted(p.name for p in out.iterdir())
+    with pytest.raises(StoreError, match="holds a simulation's result \\(result.json\\): a sweep's points"):
+        run_sweep(light_study(**{"points = 4": "points = 2"}), out, workers=1, quiet=True)
+    assert sorted(p.name for p in out.iterdir()) == before
+
+
 def test_cli_retry_failed_is_named_after_failed_points_and_refused_with_fresh(tmp_path, monkeypatch):
     from click.testing import CliRunner
 

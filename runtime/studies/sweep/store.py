@@ -26,6 +26,7 @@ from pathlib import Path
 import pandas as pd
 
 from apexseal.files import atomic_write, try_lock_folder
+from apexseal.runtime.results.folder import ResultFolderError, not_into_a_result
 
 #: columns every row has, before the parameters and quantities, with their units
 HEAD = {"point": "", "scene_hash": "", "status": "", "stop": "", "warnings": ""}
@@ -49,6 +50,10 @@ class Store:
     def open(self, study, *, resume: bool = True) -> set[int]:
         """Prepare the folder for ``study``; returns the points already done (empty unless resuming). The folder
         is locked until :meth:`close`: a second sweep into it is refused (two sweeps mixed their rows)."""
+        try:
+            not_into_a_result(self.folder, "a sweep's points and tables")
+        except ResultFolderError as err:
+            raise StoreError(str(err)) from None
         self.folder.mkdir(parents=True, exist_ok=True)
         self._lock = try_lock_folder(self.folder)
         if self._lock is None:
