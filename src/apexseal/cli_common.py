@@ -225,8 +225,13 @@ def describe_result(result, summary: dict) -> None:
     ext = summary["extremes"]
     at = at_samples(summary)
     wall = result.info.get("wall_time_s")
+    before = [c.get("wall_time_s") for c in result.info.get("continued", [])]  # a continued run's earlier runs
+    if wall is not None and before and all(w is not None for w in before):
+        shown = f", wall {wall:.2f} s (its last run; {wall + sum(before):.2f} s in all, {len(before) + 1} runs)"
+    else:
+        shown = f", wall {wall:.2f} s" if wall is not None else ""
     click.echo(f"{result.status}: {summary['revolutions']:.2f} revolutions, {summary['events_total']} contact switches"
-               + (f", wall {wall:.2f} s" if wall is not None else ""))
+               + shown)
     click.echo(f"  x {ext['x']['min']:.3f}..{ext['x']['max']:.3f} µm, y {ext['y']['min']:.2f}..{ext['y']['max']:.2f} µm, "
                f"phi {ext['phi']['min']:.3f}..{ext['phi']['max']:.3f} mrad ({at}); "
                + _power(summary["mean_friction_power_W"].get("total", 0.0)))

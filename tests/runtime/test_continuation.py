@@ -53,6 +53,11 @@ def test_a_finished_run_given_more_revolutions_on_the_command_line(light, tmp_pa
     assert continued.scene.operation.revolutions == 3  # its scene.toml re-runs the whole of it
     assert json.loads((out / "summary.json").read_text())["scene"]["source"] == first.info["scene"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["b"]
+    # the wall time said is the last run's, and the whole run's beside it (it said only the last part's)
+    total = continued.info["wall_time_s"] + before["wall_time_s"]
+    assert f"wall {continued.info['wall_time_s']:.2f} s (its last run; {total:.2f} s in all, 2 runs)" in r.output
+    shown = CliRunner().invoke(main, ["show", str(out)])
+    assert f"(its last run; {total:.2f} s in all, 2 runs)" in shown.output, shown.output
 
 
 def test_a_resumed_run_writes_the_trajectory_csv_its_run_asked_for(light, tmp_path):
