@@ -768,6 +768,7 @@ def test_a_long_point_is_described_with_its_revolutions_and_time():
     running = {3: (0.25, 20, 1.0), 12: (3.5, 20, 65.2), 4: (10.0, 20, 30.0), 7: (1.0, 20, 2.5)}
     assert describe(running) == "point 12: 3.5/20 rev, 1m05s; point 4: 10/20 rev, 30s; 1 more"
     assert describe({3: (0.25, 20, 1.0)}) == ""
+    assert describe({0: (0.0, 0, 2.0)}) == "point 0: starting, 2s"  # its run not begun (the model compiling)
 
 
 @pytest.mark.slow

@@ -29,7 +29,8 @@ def describe(running: dict[int, tuple[float, int, float]]) -> str:
     """The long points of ``running`` (point -> (revolutions done, asked, seconds running)), longest first:
     ``point 12: 3.5/20 rev, 1m05s; point 3: 0.2/20 rev, 4s; 2 more``; "" when none runs that long."""
     long = sorted(((t, i, d, n) for i, (d, n, t) in running.items() if t >= LONG_POINT_S), reverse=True)
-    shown = [f"point {i}: {d:.3g}/{n} rev, {_duration(t)}" for t, i, d, n in long[:SHOWN]]
+    # a point whose run has not begun (its model building or compiling) has no revolutions yet: "0/0 rev" was said
+    shown = [f"point {i}: {f'{d:.3g}/{n} rev' if n else 'starting'}, {_duration(t)}" for t, i, d, n in long[:SHOWN]]
     if len(long) > SHOWN:
         shown.append(f"{len(long) - SHOWN} more")
     return "; ".join(shown)
