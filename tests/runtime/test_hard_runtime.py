@@ -3,6 +3,7 @@ missed events, NaN, stiff explicit Euler, wall-time budgets and failed calls (do
 
 from __future__ import annotations
 
+import math
 import os
 import signal
 import time
@@ -277,15 +278,20 @@ def test_a_gas_at_1e9_pa_stops_one_interval_past_its_budget_at_most():
     """The case the random scenes found: the chamber gas at a supply pressure of 1e9 Pa is stiff, and erk's calls
     slow (interpreted, 10-deg calls: 29 s each; the run ended after 61 s against a budget of 30). Here 2-deg calls of
     20 output intervals: the first run's budget ends it after its first call, whose time T1 sets the second run's
-    budget, 1.6 T1. Its second call is made interval by interval (before, it ran whole, to about 2 T1)."""
+    budget, 1.5 T1. Its second call is made interval by interval (before, it ran whole, to about 2 T1). T1 is the
+    shorter of two such runs, and the budget was 1.6 T1 of one: in the slow step once T1 was 11.8 s and the second
+    run's first call, from which it paces the next, at most 0.8 T1 (the calls' times vary by 10 % and more on a
+    loaded machine), so the next seemed to fit and ran whole, to 41 samples and 1.9 T1."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # 1e9 Pa is implausible (PlausibilityWarning), on purpose
         scene = apexseal.load_scene().with_overrides(**{"pressure": {"source": "chamber"}, "gas.p_supply": 1e9})
     kw = {"revolutions": 1, "samples_per_revolution": 3600, "calls_per_revolution": 180, "interpreted": True}
-    first = apexseal.simulate(scene, max_wall_time=0.5, **kw)
-    assert first.status == "interrupted" and first.n == 21, (first.n, first.stop)
-    t1 = first.info["wall_time_s"]
-    r = apexseal.simulate(scene, max_wall_time=1.6 * t1, **kw)
+    t1 = math.inf
+    for _ in range(2):
+        first = apexseal.simulate(scene, max_wall_time=0.5, **kw)
+        assert first.status == "interrupted" and first.n == 21, (first.n, first.stop)
+        t1 = min(t1, first.info["wall_time_s"])
+    r = apexseal.simulate(scene, max_wall_time=1.5 * t1, **kw)
     assert r.status == "interrupted" and 21 < r.n < 41 and r.info["wall_time_s"] < 1.9 * t1, \
         (r.n, r.info["wall_time_s"], t1)
     assert r.info["solver_stats"]["n_calls_split"] == 1
