@@ -16,17 +16,16 @@ next call in its tight phase: close to the run never stopped, not equal to it).
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ...files import try_lock_folder
 from .reading import (
     PARTIAL,
     SCENE_FILE,
     ResultFolderError,
+    being_written,
     check_stamp,
     check_tables,
     read_part,
@@ -124,10 +123,8 @@ def continuation(folder: str | Path, read: SimulationResult | None = None) -> Co
 
 def _not_being_written(folder: Path) -> None:
     """Refuse a folder a running process writes (it holds the folder's lock, runtime/results/folder.py)."""
-    lock = try_lock_folder(folder)
-    if lock is None:
+    if being_written(folder):
         raise ResultFolderError(f"{folder} is being written by a running process: wait for it to end, or stop it")
-    os.close(lock)
 
 
 def _holds_state(path: Path) -> bool:

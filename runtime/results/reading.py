@@ -51,7 +51,7 @@ def _still_written(folder: Path, stop: StopInfo | None, parts: int) -> StopInfo 
     its lock says that the run goes on, not that it was killed."""
     if stop is None or not stop.reason.startswith(UNFINISHED):
         return stop
-    if not _being_written(folder):
+    if not being_written(folder):
         return stop
     return StopInfo(stop.theta, stop.mode, f"the run is still going on (a running process writes {folder}): this is "
                     f"what it had written when read, {parts} completed part(s); the revolution in progress is not in "
@@ -77,8 +77,9 @@ def _what_else(folder: Path) -> str:
     return f"; it is {what}" if what else ""
 
 
-def _being_written(folder: Path) -> bool:
-    """Whether a running process holds the lock of ``folder`` (a run's, runtime/results/folder.py)."""
+def being_written(folder: Path) -> bool:
+    """Whether a running process holds the lock of ``folder`` (a run's, runtime/results/folder.py); False for what
+    is no folder."""
     if not folder.is_dir():
         return False
     fd = try_lock_folder(folder)
@@ -101,7 +102,7 @@ def read_record(folder: Path) -> dict:
             raise ResultFolderError(f"{folder} holds no result: a run was killed here before it wrote anything (an "
                                     "empty parts/), so there is nothing to load or continue; delete this folder")
         partials = sorted(folder.parent.glob(f"{folder.name}.partial-*")) if folder.name else []
-        running = [p for p in partials if _being_written(p)]
+        running = [p for p in partials if being_written(p)]
         if running:  # a run into ``folder`` that is still going: not a killed one's
             raise ResultFolderError(
                 f"{folder} {'has no result.json' if folder.exists() else 'does not exist'} yet: a running process is "

@@ -52,7 +52,7 @@ from .checks import (
 )
 from .errors import IgnoredValueWarning, Problem, SceneError
 from .pressure import PressureSource, make_source
-from .schema import OperationSection, Section, SolverSection, validate_sections
+from .schema import MISSING, OperationSection, Section, SolverSection, raw_at, validate_sections
 from .units import PlausibilityWarning, quantity_text
 
 __all__ = ["Scene", "SceneError", "load_scene", "scene_file", "default_scene_text", "derive_parameters",
@@ -325,11 +325,6 @@ def _section_of(content: dict[str, Any], key: str) -> tuple[dict[str, Any] | Non
     for part in path:
         section = section.get(part) if isinstance(section, dict) else None
     return (section if isinstance(section, dict) else None), leaf
-
-
-def _get(content: dict[str, Any], key: str) -> Any:
-    section, leaf = _section_of(content, key)
-    return None if section is None else section.get(leaf)
 
 
 def _pop(content: dict[str, Any], key: str) -> None:
@@ -638,7 +633,8 @@ class Scene:
             _pop(content, key)
         for key, unread in superseding():  # seal.density beside seal.ms: not read, and not in the resolved file
             section, leaf = _section_of(content, unread)
-            if section is not None and section.get(leaf) is not None and _get(content, key) is not None:
+            if section is not None and section.get(leaf) is not None \
+                    and raw_at(content, key.split(".")) not in (None, MISSING):
                 section[leaf] = None  # as a scene that does not give it
         return content
 
