@@ -14,7 +14,7 @@ from .results.gas import GasCycleWarning, describe_cycle
 from .results.liftoff import LiftOffWarning, describe_liftoff
 from .results.plausibility import FlankWarning, PenetrationWarning, describe, describe_flank, side_clearance
 from .results.result import SimulationResult
-from .solving.accuracy import AccuracyWarning, loose_tolerances
+from .solving.accuracy import AccuracyWarning, UnusedToleranceWarning, loose_tolerances, unused_tolerances
 from .solving.near_chatter import NearChatterWarning, describe_near_chatter
 from .solving.periodicity import UntilPeriodicWarning, single_revolution
 from .solving.run import run
@@ -53,12 +53,19 @@ def scene_settings(scene) -> dict:
 
 def settings_of(scene, **overrides) -> RunSettings:
     """RunSettings from the scene's [solver] table and [operation] revolutions, with keyword overrides (None =
-    keep); every value is checked by :class:`RunSettings` (a bad one raises :class:`SettingsError`)."""
+    keep); every value is checked by :class:`RunSettings` (a bad one raises :class:`SettingsError`). A tolerance
+    overridden for a fixed-step method, which reads none, warns (:class:`~.solving.accuracy.UnusedToleranceWarning`)."""
     base = scene_settings(scene)
     interpreted = not base.pop("compile_c")
     if overrides.get("compile_c") is None and overrides.get("interpreted") is None:
         base["interpreted"] = interpreted  # under the scene's name, which a problem then names
-    return RunSettings(**merged(base, overrides))
+    settings = RunSettings(**merged(base, overrides))
+    unused = unused_tolerances(settings, {k: overrides.get(k) for k in ("rtol", "atol")})
+    if unused:
+        from ..stacklevel import user_stacklevel
+
+        warnings.warn(unused, UnusedToleranceWarning, stacklevel=user_stacklevel())
+    return settings
 
 
 def check_progress(progress) -> None:

@@ -14,14 +14,17 @@ A fixed-step method (``Method.fixed_step``: euler, rk, erk-rk4, collocation) has
 error: it completes whatever its error. Its run says so in a note (summary.json's ``accuracy``, a note of
 ``apexseal simulate``) and how to check it at the cost of a run: the same scene with erk, compared with ``apexseal
 compare``. Half the step is a weaker check: on the default scene explicit Euler's largest housing force is 1.6
-times erk's at 200000 and at 400000 steps per revolution. Nothing is added to the run itself.
+times erk's at 200000 and at 400000 steps per revolution. Nothing is added to the run itself. A tolerance given to
+such a method (``--rtol``, ``simulate(scene, method="euler", rtol=...)``) warns with :class:`UnusedToleranceWarning`
+that it has no effect, as scipy's ``solve_ivp`` does with options its method does not read.
 """
 
 from __future__ import annotations
 
 from .methods import method_of
 
-__all__ = ["LOOSE_ATOL", "LOOSE_RTOL", "AccuracyWarning", "accuracy", "loose_tolerances"]
+__all__ = ["LOOSE_ATOL", "LOOSE_RTOL", "AccuracyWarning", "UnusedToleranceWarning", "accuracy", "loose_tolerances",
+           "unused_tolerances"]
 
 #: the loosest rtol whose peaks stay within 2 % of a tight run's on the default scene (rtol 1e-4 moved one by 34 %)
 LOOSE_RTOL = 1e-5
@@ -31,6 +34,22 @@ LOOSE_ATOL = 1e-3
 
 class AccuracyWarning(UserWarning):
     """A run whose tolerances are looser than its peaks bear (:func:`loose_tolerances`)."""
+
+
+class UnusedToleranceWarning(UserWarning):
+    """A tolerance given to a fixed-step method, which reads none (:func:`unused_tolerances`)."""
+
+
+def unused_tolerances(settings, given: dict) -> str | None:
+    """What the tolerances ``given`` to a run (name -> value, None: not given) leave unused: a message when its
+    method takes fixed steps and reads no rtol or atol, else None."""
+    named = [f"{name} = {value:g}" for name, value in given.items() if value is not None]
+    if not named or not method_of(settings.method).fixed_step:
+        return None
+    method = settings.method if isinstance(settings.method, str) else getattr(settings.method, "__name__", "?")
+    return (f"{' and '.join(named)} {'have' if len(named) > 1 else 'has'} no effect: method {method!r} takes fixed "
+            f"steps (solver.euler_steps_per_revolution = {settings.steps_per_revolution}) and controls no error; "
+            "an adaptive method reads it (erk, composite, rosenbrock, cvodes)")
 
 
 def loose_tolerances(settings) -> str | None:

@@ -11,8 +11,16 @@ from click.testing import CliRunner
 import apexseal
 from apexseal.cli import main
 from apexseal.cli_common import describe_result
+from apexseal.runtime.api import settings_of
 from apexseal.runtime.results.summary import summarise
-from apexseal.runtime.solving.accuracy import LOOSE_ATOL, LOOSE_RTOL, AccuracyWarning, accuracy, loose_tolerances
+from apexseal.runtime.solving.accuracy import (
+    LOOSE_ATOL,
+    LOOSE_RTOL,
+    AccuracyWarning,
+    UnusedToleranceWarning,
+    accuracy,
+    loose_tolerances,
+)
 from apexseal.runtime.solving.methods import METHODS
 from apexseal.runtime.solving.settings import LIMITS, RunSettings
 
@@ -75,6 +83,25 @@ def test_fixed_step_methods_read_no_tolerance():
     assert loose_tolerances(RunSettings(method="euler", rtol=1e-2)) is None
     record = accuracy(RunSettings(method="rk", steps_per_revolution=3000))
     assert record["error_control"] is False and "euler_steps_per_revolution=6000" in record["note"]
+
+
+def test_a_tolerance_given_to_a_fixed_step_method_warns_that_it_has_no_effect(default_scene):
+    """``apexseal simulate --method euler --rtol 1e-8`` (and the API's ``rtol=``) was taken silently, and the run
+    controlled no error: the warning names the tolerance, the method and the step setting it reads instead. The
+    scene's own rtol (every written scene.toml has one) and an adaptive method's are quiet."""
+    with pytest.warns(UnusedToleranceWarning) as caught:
+        settings_of(default_scene, method="euler", rtol=1e-8, atol=1e-9)
+    (w,) = caught
+    assert str(w.message).startswith("rtol = 1e-08 and atol = 1e-09 have no effect: method 'euler' takes fixed steps "
+                                     "(solver.euler_steps_per_revolution = 200000)")
+    assert w.filename == __file__  # points at the caller's line
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnusedToleranceWarning)
+        settings_of(default_scene, method="erk", rtol=1e-8)
+        settings_of(default_scene, method="rk")  # the scene's rtol, not given
+        settings_of(default_scene, method="collocation", rtol=None)
+    with pytest.warns(UnusedToleranceWarning, match="^rtol = 0.001 has no effect: method 'erk-rk4'"):
+        settings_of(default_scene, method="erk-rk4", rtol=1e-3)
 
 
 @pytest.mark.filterwarnings("ignore::apexseal.runtime.results.plausibility.PenetrationWarning")  # soft contacts
