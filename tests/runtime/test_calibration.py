@@ -19,14 +19,19 @@ def scene():
 
 def test_without_pressure_the_main_peak_is_the_housing_mode(scene, default_functions):
     """The paper's main peak is the tip-housing mode: with the chamber pressure off, the largest peak of |Fs5| above
-    the rotor harmonics lies at sqrt(kw / ms) (kw = 6.2e7 N/m puts it at the paper's 6e4 rad/s)."""
+    the rotor harmonics lies at sqrt(kw / ms) (kw = 6.2e7 N/m puts it at the paper's 6e4 rad/s), the undamped
+    frequency of the tip-and-spring mode (runtime/solving/ringing.py gives it to 1e-4), or below it by what the
+    contact's damper takes: 0.964 of it at kw = 6.2e7 N/m, where the damper cw is 0.4 of critical, and 0.989 at
+    1e9 N/m, where it is 0.1 (one run each, 2026-11-29). A damped ringing does not peak above its undamped
+    frequency: the upper bound is one bin of the last revolution's spectrum (omega, where the features look)."""
     for kw in (6.2e7, 1e9):
         s = scene.with_overrides(**{"effects.chamber_pressure": False, "contacts.kw": kw})
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             r = apexseal.simulate(s, revolutions=2, functions=default_functions.sx)
         f = features(r, s.omega)
-        assert f.main_peak_rad_s == pytest.approx(math.sqrt(kw / s.parameters["ms"]), rel=0.06), kw
+        undamped = math.sqrt(kw / s.parameters["ms"])
+        assert 0.94 * undamped < f.main_peak_rad_s <= undamped + s.omega, kw
         # the band around the paper's 0.01e4 rad/s peak is highest at the rotor speed, the spectrum's first bin
         assert f.small_peaks_rad_s[0] == pytest.approx(s.omega, rel=1e-3)
         assert 80 <= f.x_max_deg <= 100  # inertia alone: the seal digs in where the chord's sliding reverses

@@ -194,7 +194,12 @@ def test_summary_has_the_promised_fields(erk_result):
         assert key in s
     assert abs(sum(s["mode_fraction"].values()) - 1) < 1e-12
     assert s["mean_friction_power_W"]["total"] > 0
-    assert s["extremes"]["y"]["min"] <= s["extremes"]["y"]["max"]
+    y, deg = erk_result.state[1] * 1e6, np.degrees(erk_result.theta) % 360  # µm, as the summary reports y
+    assert s["extremes"]["y"]["unit"] == "um"
+    assert s["extremes"]["y"]["min"] == pytest.approx(y.min(), rel=1e-12) and s["extremes"]["y"]["max"] == pytest.approx(
+        y.max(), rel=1e-12)
+    assert s["extremes"]["y"]["min"] < 0 < s["extremes"]["y"]["max"]  # the seal crosses its groove (±31 µm)
+    assert s["extremes"]["y"]["max_at_deg"] == pytest.approx(deg[y.argmax()])
 
 
 def test_the_summary_says_its_peaks_are_at_the_output_samples(erk_result, capsys):
