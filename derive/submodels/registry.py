@@ -143,11 +143,12 @@ def _check_needs(cls: type[Submodel]) -> None:
 
 def installed(opts=None) -> dict[str, str]:
     """The submodels added by installed packages: name -> "distribution version" (part of a run's provenance); with
-    ``opts`` (a model's options) those that enter that model alone."""
+    ``opts`` (a model's options) those that enter that model alone (:func:`entering`: on, or off with a choice of
+    its own made, which its scene then records)."""
     _ensure()
     if opts is None:
         return dict(_installed)
-    return {cls.name: _installed[cls.name] for cls in submodels() if cls.name in _installed and cls.active(opts)}
+    return {cls.name: _installed[cls.name] for cls in entering(opts) if cls.name in _installed}
 
 
 def register(cls: type[Submodel], *, check_needs: bool = True) -> type[Submodel]:
@@ -350,12 +351,13 @@ def is_read(p: Parameter | str, effects, assumptions=None) -> bool:
     """Whether a law of a model with the effects ``effects`` (an :class:`~..effects.Effects`) and the modelling
     choices ``assumptions`` (an :class:`~..assumptions.Assumptions`; None: the defaults) reads parameter ``p`` (a
     :class:`Parameter`, its name or its scene key, e.g. ``"friction.mu2"``): always one that no effect or choice
-    switches, else while an entry its :func:`needing` names holds (:func:`need_met`). An effect that ``effects``
+    switches, else while an entry its :func:`needing` names holds (:func:`need_met`), inside its submodel (a
+    ``needs`` of a parameter whose submodel is off does not hold). An effect that ``effects``
     does not name (its submodel registered after they were made) counts as on. The one answer of the scene's
     checks, a sweep's and a calibration's: what is not read is neither required, range-checked as an error,
     questioned nor varied."""
     q = p if isinstance(p, Parameter) else _declared(p)
-    return need_holds(needing(q), effects, assumptions)
+    return need_holds(needing(q, effects, assumptions), effects, assumptions)
 
 
 def need_holds(need: str | tuple[str, ...] | None, effects, assumptions=None) -> bool:
@@ -392,12 +394,20 @@ def parameter_of_key(key: str) -> Parameter:
     raise KeyError(key)
 
 
-def needing(p: Parameter) -> str | tuple[str, ...] | None:
+def needing(p: Parameter, effects=None, assumptions=None) -> str | tuple[str, ...] | None:
     """The effect that must be on for ``p`` to be read: its ``needs``, else its submodel's switch, else the
     modelling choices that bring its submodel in (``Submodel.enters_with``); None for a parameter read whatever the
-    effects and choices (the seal body's)."""
+    effects and choices (the seal body's). A ``needs`` holds only inside its submodel: with ``effects`` (and the
+    choices ``assumptions``, None: the defaults), where the ``needs`` holds but the submodel's own switch or
+    choices do not (a package's parameter that needs a choice of its own, while the package's effect is off),
+    those; else as without them."""
     for cls in submodels():
         if p in cls.parameters:
+            if effects is not None and p.needs is not None and need_holds(p.needs, effects, assumptions):
+                own = [e for e in (cls.switch, tuple(cls.enters_with) or None) if e is not None]
+                unmet_own = next((e for e in own if not need_holds(e, effects, assumptions)), None)
+                if unmet_own is not None:
+                    return unmet_own
             return _needing(cls, p)
     raise KeyError(p.name)
 

@@ -562,23 +562,25 @@ def _within(key: str, table: str) -> bool:
     return key == table or key.startswith(f"{table}.")
 
 
-def key_needing(key: str) -> str | tuple[str, ...] | None:
+def key_needing(key: str, effects: Effects | None = None, assumptions: Assumptions | None = None
+                ) -> str | tuple[str, ...] | None:
     """What must hold for a law to read the value of scene key ``key``: the effects or choices of its parameter
-    (registry.needing), or that of the submodel whose scene input it is (registry.scene_inputs); None for a key
-    read whatever the effects, or one that holds no parameter or input (a switch, a solver setting). The keys
-    :func:`unread_keys` gives are those whose need does not hold."""
+    (registry.needing; with ``effects`` and ``assumptions``, what of it does not hold there), or that of the
+    submodel whose scene input it is (registry.scene_inputs); None for a key read whatever the effects, or one that
+    holds no parameter or input (a switch, a solver setting). The keys :func:`unread_keys` gives are those whose
+    need does not hold."""
     from apexseal.derive.submodels.registry import needing, parameter_of_key, scene_inputs
 
     for table, need in scene_inputs().items():
         if _within(key, table):
             return need
     try:
-        return needing(parameter_of_key(key))
+        return needing(parameter_of_key(key), effects, assumptions)
     except KeyError:  # no parameter's key
         return None
 
 
-def ignored_values(ignored: list[Problem]) -> str:
+def ignored_values(ignored: list[Problem], effects: Effects | None = None, assumptions: Assumptions | None = None) -> str:
     """The one warning of the out-of-range values a scene gives that no law of its model reads (``ignored``: their
     range problems, of keys of :func:`unread_keys`): each key with its value, the effects that are off, and the
     range that holds while they are on."""
@@ -587,7 +589,7 @@ def ignored_values(ignored: list[Problem]) -> str:
 
     shown, needs = [], []
     for p in ignored:
-        need = key_needing(p.key)
+        need = key_needing(p.key, effects, assumptions)
         needs.extend(needed_effects(need))
         shown.append(f"{p.key} = {show_value(p.value)} (not read while {unmet(need)}; allowed: "
                      f"{p.message.partition('allowed: ')[2]})")
@@ -632,22 +634,23 @@ def check_unread_tables(raw: dict[str, Any], sections: dict[str, Section], effec
         if not changed:
             continue
         if len(own) == len(keys):
-            off = " and ".join(dict.fromkeys(unmet(key_needing(k)) for k in keys))
+            off = " and ".join(dict.fromkeys(unmet(key_needing(k, effects, assumptions)) for k in keys))
             out.append(f"[{table}] is not read: no law reads {', '.join(keys)} while {off} "
-                       f"({_to_use(keys, 'them')}, or leave the table out)")
+                       f"({_to_use(keys, 'them', effects, assumptions)}, or leave the table out)")
             continue
         for k in changed:  # a user's or a package's key in a table other laws read ([contacts])
             out.append(f"{k} = {show_value(given[declared[k].leaf])} is not read: no law reads it while "
-                       f"{unmet(key_needing(k))} ({_to_use([k], 'it')}, or leave the key out)")
+                       f"{unmet(key_needing(k, effects, assumptions))} ({_to_use([k], 'it', effects, assumptions)}, "
+                       "or leave the key out)")
     return out
 
 
-def _to_use(keys, pronoun: str) -> str:
+def _to_use(keys, pronoun: str, effects: Effects, assumptions: Assumptions | None) -> str:
     """The advice of :func:`check_unread_tables` for ``keys`` no law reads: switch their effect on, make their
     modelling choice, or either."""
     from apexseal.derive.options import needed_effects
 
-    remedy = _remedy([n for k in keys for n in needed_effects(key_needing(k))])
+    remedy = _remedy([n for k in keys for n in needed_effects(key_needing(k, effects, assumptions))])
     return {"on": f"switch it on to use {pronoun}", "choice": f"make that choice to use {pronoun}",
             "both": f"switch the effect on or make the choice to use {pronoun}"}[remedy]
 

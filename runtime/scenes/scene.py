@@ -378,7 +378,7 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
     for p in doubtful:
         warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=user_stacklevel())
     if ignored:
-        warnings.warn(f"scene {name}: {ignored_values(ignored)}", IgnoredValueWarning,
+        warnings.warn(f"scene {name}: {ignored_values(ignored, effects, assumptions)}", IgnoredValueWarning,
                       stacklevel=user_stacklevel())
     for p in [*check_superseded(raw), *check_set_by(raw, assumptions),
               *(check_unread_tables(raw, sections, effects, assumptions, {p.key for p in ignored}) if effects else [])]:

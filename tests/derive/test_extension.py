@@ -617,3 +617,50 @@ def test_a_load_whose_force_is_not_a_vector_names_the_submodel():
     message = str(info.value)
     assert "the submodel damper (from module my_models.damper) returned ContactModel('damper')" in message
     assert "Load 'dv' whose force is -cv*" in message and "not a vector" in message and "* k.G.x" in message
+
+
+def _drag():
+    """A package's drag in the groove, off by default, with a law of its own to choose and a coefficient for each
+    law (each parameter ``needs`` its choice)."""
+    return type("Drag", (Submodel,), {"name": "drag", "__module__": "elsewhere", "switch": "drag", "parameters": (
+        Parameter("cd1", "N*s/m", "linear drag coefficient", key="drag.cd1", default=10.0, ge=0, le=1e3,
+                  needs="drag_law=linear"),
+        Parameter("cd2", "N*s**2/m**2", "quadratic drag coefficient", key="drag.cd2", default=1.0, ge=0, le=100,
+                  needs="drag_law=quadratic")),
+        "options": (Option("drag", (NONE, ON), "a drag in the groove"),
+                    Option("drag_law", ("linear", "quadratic"), "its law", table="assumptions"))})
+
+
+def test_a_parameter_that_needs_a_choice_is_not_read_while_its_submodel_is_off():
+    """A parameter whose ``needs`` is a choice of its own submodel was range-checked, as an error, while that
+    submodel was off (the parameter vector left it out, the scene's checks did not): ``--set drag.cd1=-3`` with the
+    drag off was refused, and a [drag] table given with it off loaded without the warning that it is not read.
+    Off, the value is ignored with the warning naming the switch that is off; on, it is an error."""
+    drag = _drag()
+    with registry.registered(drag):
+        scene = apexseal.load_scene()
+        with pytest.warns(Warning, match=r'drag.cd1 = "-3 N\*s/m" \(not read while effects.drag is off; allowed: '):
+            scene.with_overrides(**{"drag.cd1": "-3 N*s/m"})
+        with pytest.warns(Warning, match=r'drag.cd2 = "500 N\*s\*\*2/m\*\*2" \(not read while effects.drag is off'):
+            scene.with_overrides(**{"assumptions.drag_law": "quadratic", "drag.cd2": "500 N*s**2/m**2"})
+        with pytest.warns(Warning, match=r"\[drag\] is not read: no law reads drag.cd1 while effects.drag is off"):
+            scene.with_overrides(**{"drag.cd1": "20 N*s/m"})
+        with pytest.raises(SceneError, match=r'drag.cd1 = "-3 N\*s/m": -3 N\*s/m is out of range'):
+            scene.with_overrides(**{"effects.drag": True, "drag.cd1": "-3 N*s/m"})
+        with pytest.warns(Warning, match=r"drag.cd2 = .500 .*not read while assumptions.drag_law is not 'quadratic'"):
+            scene.with_overrides(**{"effects.drag": True, "drag.cd2": "500 N*s**2/m**2"})
+        on = scene.with_overrides(**{"effects.drag": True, "drag.cd1": "20 N*s/m"})
+        assert registry.is_read("drag.cd1", on.effects, on.assumptions)
+        assert not registry.is_read("drag.cd1", scene.effects, scene.assumptions)
+
+
+def test_a_package_whose_choice_a_scene_makes_is_in_the_runs_versions(monkeypatch):
+    """A package's submodel off but with a choice of its own made enters the model (its option is recorded, the
+    result's scene.toml writes it): the run's versions name the package, so a result read where it is missing says
+    which package to install (they named it only while its submodel was on)."""
+    drag = _drag()
+    with registry.registered(drag):
+        monkeypatch.setitem(registry._installed, "drag", "seal-drag 0.1")
+        assert registry.installed(Options()) == {}
+        assert registry.installed(Options({"drag_law": "quadratic"})) == {"drag": "seal-drag 0.1"}
+        assert registry.installed(Options({"drag": ON})) == {"drag": "seal-drag 0.1"}

@@ -253,7 +253,7 @@ def unread_unknowns(scene) -> dict[str, str]:
     from ....derive.submodels.registry import is_read, needing, parameter, submodels
 
     ratios = {zeta for cls in submodels() for _, zeta in cls.damping_ratios}
-    return {n: needing(parameter(n)) for n in PLAUSIBLE
+    return {n: needing(parameter(n), scene.effects, scene.assumptions) for n in PLAUSIBLE
             if n in ratios and not is_read(n, scene.effects, scene.assumptions)}
 
 

@@ -340,7 +340,7 @@ def _unread(parameters, scene, given: dict) -> list[Problem]:
     unread = unread_keys(scene.effects, scene.assumptions)
     out = []
     for p in parameters:
-        need = key_needing(p.key)
+        need = key_needing(p.key, scene.effects, scene.assumptions)
         if need is None or any(k in varied for n in needed_effects(need) for k in keys(n)):
             continue
         if p.key in unread:
