@@ -182,13 +182,17 @@ def read(folder: str | Path) -> SimulationResult:
     result = join(parts, meta["status"], stop, meta["info"])
     result.info.setdefault("run_id", run_id)
     if (folder / SCENE_FILE).is_file():
-        result.scene = scene_of_result(folder, result.info)
-        changed = scene_changed(folder, result.scene, result.info)
+        import warnings
+
+        from apexseal.stacklevel import user_stacklevel
+
+        try:
+            result.scene = scene_of_result(folder, result.info)
+        except ResultFolderError as err:  # the samples stay readable (a range narrowed since, a package missing)
+            warnings.warn(f"{err}\nresult.scene is None: the samples are read without their scene",
+                          SceneChangedWarning, stacklevel=user_stacklevel())
+        changed = result.scene is not None and scene_changed(folder, result.scene, result.info)
         if changed:
-            import warnings
-
-            from apexseal.stacklevel import user_stacklevel
-
             warnings.warn(f"{changed}: result.scene is the scene as the file reads now", SceneChangedWarning,
                           stacklevel=user_stacklevel())
     theta = result.theta
@@ -219,7 +223,9 @@ def _check_table(path: Path, digest: str) -> None:
 
 
 class SceneChangedWarning(UserWarning):
-    """A result's scene.toml is not the scene its run computed (:func:`scene_changed`)."""
+    """A result's scene.toml is not the scene its run computed (:func:`scene_changed`), or does not load here (a
+    range narrowed since the run, a submodel's package missing: :func:`scene_of_result`), and the result is read
+    without it."""
 
 
 def scene_changed(folder: Path, scene, info: dict) -> str | None:

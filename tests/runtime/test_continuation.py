@@ -188,6 +188,14 @@ def test_what_cannot_be_continued_is_refused_with_the_reason(light, tmp_path):
         with pytest.raises(ResultFolderError, match=r"edited since, or the model changed since the run, model hash "
                                                     r"[0-9a-f]{12}, now ffffffffffff: the derivation, a submodel"):
             apexseal.resume(done, revolutions=2)
+    # a range narrowed since the run (here: a value the ranges refuse): the samples stay readable, without the scene
+    (done / "scene.toml").write_text(text.replace('ks = "5000.0 N/m"', 'ks = "-5 N/m"'))
+    with pytest.warns(SceneChangedWarning, match=r"(?s)scene.toml does not load here.*spring.ks = \"-5 N/m\".*"
+                                                 r"result.scene is None: the samples are read without their scene"):
+        unscened = apexseal.SimulationResult.load(done)
+    assert unscened.scene is None and unscened.n > 1 and np.isfinite(unscened.state).all()
+    with pytest.raises(ResultFolderError, match="does not load here"):  # a continuation needs its scene
+        apexseal.resume(done, revolutions=2)
     (done / "scene.toml").write_text(text)
     with warnings.catch_warnings():
         warnings.simplefilter("error", SceneChangedWarning)
