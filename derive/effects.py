@@ -13,7 +13,8 @@ from __future__ import annotations
 from ..suggest import did_you_mean, not_known
 from .choices import Options
 from .options import NONE, Option, OptionError, TableView, without_parent
-from .submodels.registry import left_out_options, slots
+from .submodels.base import built_in
+from .submodels.registry import left_out_options, slots, submodels
 
 
 def on_choice(opt: Option) -> str:
@@ -119,9 +120,13 @@ class Effects(TableView):
 
     @property
     def label(self) -> str:
-        """Short label of the model's effects, for messages and the generated header: "all" when every effect is
-        on, but for those of a user's submodel that enters no model (off at its defaults,
+        """Short label of the model's effects, for messages and the generated header: "all" when every built-in
+        effect is on, else those that are on joined by "+" ("none" for none), and after it those of a user's or a
+        package's submodel that are on ("all+drag"; one that enters no model, off at its defaults, is not named:
         :func:`~.submodels.registry.left_out_options`)."""
         out = left_out_options(Options(self.choices()))
-        values = {n: v for n, v in self._values.items() if n not in out}
-        return "all" if all(values.values()) else "+".join(n for n, v in values.items() if v) or "none"
+        own = {o.name for cls in submodels() if built_in(cls) for o in cls.options}
+        values = {n: v for n, v in self._values.items() if n not in out and n in own}
+        extra = [n for n, v in self._values.items() if v and n not in out and n not in own]
+        head = "all" if all(values.values()) else "+".join(n for n, v in values.items() if v)
+        return "+".join([head] * bool(head) + extra) or "none"

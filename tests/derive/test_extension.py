@@ -664,3 +664,17 @@ def test_a_package_whose_choice_a_scene_makes_is_in_the_runs_versions(monkeypatc
         assert registry.installed(Options()) == {}
         assert registry.installed(Options({"drag_law": "quadratic"})) == {"drag": "seal-drag 0.1"}
         assert registry.installed(Options({"drag": ON})) == {"drag": "seal-drag 0.1"}
+
+
+def test_the_effects_label_names_a_users_submodel_that_is_on():
+    """The label of the derivation's progress, ``apexseal scene`` and the generated header said "all" for the
+    default model and for the one with a user's submodel on alike."""
+    from apexseal.derive.effects import Effects
+
+    assert Effects().label == "all"
+    with registry.registered(Cushion):
+        assert Effects().label == "all"  # off at its defaults: the model without it
+        assert Effects.from_mapping({"cushion": True}).label == "all+cushion"
+        assert Effects.only("spring", "cushion").label == "spring+cushion"
+        assert Effects.only("cushion").label == "cushion"
+        assert Effects.only().label == "none"
