@@ -352,8 +352,13 @@ def raw_at(raw: Any, path: list[str]) -> Any:
     return raw
 
 
-def _unknown(key: str, known: list[str], what: str = "key") -> str:
-    return f"unknown {what}{did_you_mean(key, known, cutoff=0.5)}; known: {', '.join(known)}"
+#: what an unknown section, effect or modelling choice may be: a submodel's, whose package is not installed here
+NOT_INSTALLED = "; if it is a submodel's, its package is not installed here (apexseal scene lists those that are)"
+
+
+def _unknown(key: str, known: list[str], what: str = "key", package_hint: bool = False) -> str:
+    hint = NOT_INSTALLED if package_hint else ""
+    return f"unknown {what}{did_you_mean(key, known, cutoff=0.5)}{hint}; known: {', '.join(known)}"
 
 
 def _problems(exc: ValidationError, section: str, model: type[Section], raw: Any) -> list[Problem]:
@@ -377,7 +382,8 @@ def _problems(exc: ValidationError, section: str, model: type[Section], raw: Any
         elif kind == "extra_forbidden":
             parent = model_at(model, loc[:-1])
             known = list(parent.model_fields) if parent is not None else []
-            out.append(Problem(key, err["input"], _unknown(loc[-1], known)))
+            out.append(Problem(key, err["input"], _unknown(loc[-1], known,
+                                                          package_hint=section in ("effects", "assumptions"))))
         elif kind in ("model_type", "model_attributes_type", "dict_type"):
             out.append(Problem(key, raw_at(raw, loc), "expected a table of keys"))
         else:  # pragma: no cover - every field has a scene validator
@@ -399,7 +405,7 @@ def validate_sections(raw: dict[str, Any], unranged: frozenset[str] = frozenset(
     for key, value in raw.items():
         if key not in known:
             what = "section" if isinstance(value, dict) else "top-level key (keys belong in sections)"
-            problems.append(Problem(key, value, _unknown(key, list(known), what)))
+            problems.append(Problem(key, value, _unknown(key, list(known), what, package_hint=isinstance(value, dict))))
     for name, (model, required) in known.items():
         if name not in raw:
             if required:

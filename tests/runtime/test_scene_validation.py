@@ -251,7 +251,8 @@ CASES = [
         {"sael.Ws": 3},
         "sael",
         "{Ws = 3}",  # as TOML writes an inline table (a Python dict before)
-        ["unknown section (did you mean 'seal'?); known: machine, operation, seal"],
+        ["unknown section (did you mean 'seal'?); if it is a submodel's, its package is not installed here "
+         "(apexseal scene lists those that are); known: machine, operation, seal"],
     ),
     ("top-level-key", {"title": "x"}, "title", '"x"', ["unknown top-level key", "known: machine"]),
     ("missing-key", {"seal.Ws": None}, "seal.Ws", MISSING, ["required; give a length in m", "> 0 m"]),
