@@ -24,7 +24,7 @@ import sympy as sp
 
 from .submodels.housing import HousingContact
 from .submodels.registry import RegistryError, guard, parameter_names
-from .submodels.seal import SealBody
+from .submodels.seal import SealBody, rest_force
 from .submodels.spring import SpringContact
 from .symbols import P, Pa, Pb, qs, theta, us
 
@@ -66,7 +66,7 @@ def check(forcing_x: sp.Expr, guards: dict[str, sp.Expr], activations: dict[str,
         closed = closed_at_rest(guards_at_rest, activations, subs, shift)
         shut = {a: sp.S.One if name in closed else sp.S.Zero for name, a in activations.items()}
         residual = _evaluate(at_rest.xreplace(shut), subs, shift)
-        force = float(SpringContact.rest_force(values))
+        force = float(rest_force(values, options))
         if not abs(residual) <= REL_TOL * max(abs(force), 1e-300):
             acting = {n: _evaluate(f.xreplace(rest | shut), subs, shift).real for n, f in (parts or {}).items()}
             raise RestBalanceError(_message(residual, force, options, acting, REL_TOL * abs(force), closed))
@@ -98,8 +98,9 @@ def _message(residual: complex, force: float, options, acting: dict[str, float],
     stiffness = options["housing_stiffness"]
     forces = ", ".join(f"{n} {f:.6g} N" for n, f in acting.items() if abs(f) > small)
     return (
-        f"Eq. 9: the seal is not in balance at rest: its X force is {residual.real:.6g} N against the spring's force "
-        f"at rest of {force:.6g} N (at a test point: the state at zero, theta = 0, the contacts of guards "
+        f"Eq. 9: the seal is not in balance at rest: its X force is {residual.real:.6g} N against the force at rest "
+        f"of {force:.6g} N that delta_w balances (at a test point, every parameter at an exact stand-in value "
+        "between 1.1 and 3.3, not the scene's: the state at zero, theta = 0, the contacts of guards "
         f"{', '.join(closed) or 'none'} closed there (a negative guard, or closed at rest by declaration), every "
         "other contact open, no pressure, no inertia, the tip sliding forward"
         + (f"; the submodels' X forces there: {forces}" if forces else "") + "). The wall deflection "
@@ -109,6 +110,7 @@ def _message(residual: complex, force: float, options, acting: dict[str, float],
         "(derive/submodels/spring.py; contacts() and the rest balance both call it), and when the housing's law "
         "changes, change SealBody.rest_wall_deflection (derive/submodels/seal.py, numbers.initial_wall_deflection) "
         "to the deflection at which that law balances SpringContact.rest_force; a submodel of your own whose "
-        "force acts at rest (a contact of it closed at rest) belongs in that deflection too, or open its contact "
-        "at rest, or switch it off in the scene"
+        "force acts at rest (a load that always acts, a contact of it closed at rest) returns that force from its "
+        "rest_force(p) (Submodel.rest_force, which delta_w balances with the spring's), or opens its contact at "
+        "rest, or is switched off in the scene"
     )

@@ -233,6 +233,15 @@ class Submodel:
         pairs it :attr:`supersedes` (of which only these may both be given)."""
         return cls.damping_alternatives() + cls.alternatives + cls.supersedes
 
+    @classmethod
+    def rest_force(cls, p) -> Any:
+        """The force along the groove axis (+X, towards the housing) that its laws put on the seal at rest (the
+        state at zero, theta = 0, no chamber pressure, no inertia), which the housing's rest deflection delta_w of
+        Eq. 9 balances with the others' (``SealBody.rest_wall_deflection``; the derivation checks the balance,
+        derive/rest_balance.py). 0 by default; the spring's is its preload (Eq. 39); a load of one's own that
+        acts at rest returns it here. ``p``: the parameters by name (numbers, or CasADi or sympy symbols)."""
+        return 0
+
     def contacts(self, ctx: Context) -> list[ContactModel]:
         """The contacts and loads it puts on the seal."""
         return []

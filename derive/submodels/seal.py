@@ -36,6 +36,17 @@ MAX_TILT = math.pi / 4
 DENSEST = 22590.0
 
 
+def rest_force(values, options) -> Any:
+    """The force along the groove axis that the model's laws put on the seal at rest, which the housing balances
+    (Eq. 9): the spring's (``SpringContact.rest_force``, Eq. 39) and every other submodel's of the model of
+    ``options`` (``Submodel.rest_force``: 0 but for a load of one's own that acts at rest). ``values``: the
+    parameters by name (numbers, or CasADi or sympy symbols)."""
+    from .registry import submodels
+
+    others = [cls.rest_force(values) for cls in submodels() if cls is not SpringContact and cls.active(options)]
+    return SpringContact.rest_force(values) + sum(f for f in others if not (isinstance(f, int | float) and f == 0))
+
+
 class SealBody(Submodel):
     name = "seal"
     summary = "the seal as a rigid body in its groove: geometry, mass, the rotor's inertial loads (Eqs. 1-31, 80)"
@@ -143,7 +154,8 @@ class SealBody(Submodel):
     @staticmethod
     def rest_wall_deflection(values, options):
         """delta_w, Eq. 9: the housing wall's deflection that balances the spring's force at rest
-        (``SpringContact.rest_force``, Eq. 39) when the spring and the housing contact are both on, else 0.
+        (``SpringContact.rest_force``, Eq. 39), and that of any other submodel of the model whose laws act at rest
+        (``Submodel.rest_force``: a package's load), when the spring and the housing contact are both on, else 0.
 
         With the groove-axis component of the housing force kw delta_w, or, under housing_stiffness = "normal", the
         X component of the normal force and its friction at theta = 0 (numbers.initial_wall_deflection_normal; under
@@ -153,7 +165,7 @@ class SealBody(Submodel):
         v = values
         if not (options.on("spring") and options.on("housing_contact")):
             return 0.0
-        force = SpringContact.rest_force(v)
+        force = rest_force(v, options)
         stiffness = options["housing_stiffness"]
         if stiffness in ("normal", "tilted-wall"):  # kw on a normal penetration: its X component balances
             mu1 = v["mu1"] if options.on("housing_friction") else 0.0

@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
+import apexseal
 from apexseal.derive import derive_model, rest_balance
 from apexseal.derive.assumptions import Assumptions
 from apexseal.derive.choices import options_of
@@ -154,6 +155,36 @@ def test_a_users_load_at_rest_is_refused_naming_the_submodels_in_the_balance():
     assert isinstance(info.value, registry.RegistryError)
     assert re.search(r"the submodels' X forces there: (spring|housing|push) .*push \d\.\d+ N", str(info.value))
     assert re.search(r"spring -?\d[.\d]* N", str(info.value)) and re.search(r"housing -?\d[.\d]* N", str(info.value))
+
+
+class DeclaredPush(ConstantPush):
+    """The constant push with its force at rest declared (``Submodel.rest_force``): delta_w balances it too."""
+
+    @classmethod
+    def rest_force(cls, p):
+        return p["Fp"]
+
+
+def test_a_users_load_that_declares_its_rest_force_is_balanced_by_the_housing():
+    """A package's load that always acts could not be balanced at rest without editing apexseal's
+    SealBody.rest_wall_deflection: declared through ``rest_force``, it derives (the rest balance holds at the test
+    points) and moves delta_w by Fp / kw (Eq. 9 with the load beside the spring's preload); the spring's force at
+    rest stays the spring's (the preload study's). Off, it moves nothing."""
+    from apexseal.derive.choices import Options
+    from apexseal.derive.submodels.seal import rest_force
+
+    with registry.registered(DeclaredPush):
+        derive_model(Effects.only("spring", "housing_contact", "push"))  # no RestBalanceError
+        on, off = Options({"push": ON}), Options()
+        values = {"ks": 5e3, "delta_s": 1e-3, "kw": 1e9, "Fp": 5.0}
+        assert rest_force(values, on) == pytest.approx(10.0) and rest_force(values, off) == pytest.approx(5.0)
+        assert SealBody.rest_wall_deflection(values, on) == pytest.approx(10.0 / 1e9, rel=1e-12)
+        assert SealBody.rest_wall_deflection(values, off) == pytest.approx(5.0 / 1e9, rel=1e-12)
+        assert SpringContact.rest_force(values) == pytest.approx(5.0)
+        scene = apexseal.load_scene()
+        pushed = scene.with_overrides(**{"effects.push": True, "push.Fp": "2 N"})
+        w0 = scene.parameters["delta_w"]
+        assert pushed.parameters["delta_w"] == pytest.approx(w0 + 2.0 / scene.parameters["kw"], rel=1e-12)
 
 
 class PreloadedCushion(Submodel):
