@@ -17,6 +17,13 @@ def test_did_you_mean_suggests_the_closest_string_only():
     assert did_you_mean("kww", ("kw", "cw"), cutoff=0.5) == " (did you mean 'kw'?)"
 
 
+def test_did_you_mean_names_every_name_equally_close_in_their_order():
+    """``drag.cd`` was said to mean only ``cd2``, though ``cd1`` is as close."""
+    assert did_you_mean("cd", ["cd1", "cd2", "kw"]) == " (did you mean 'cd1' or 'cd2'?)"
+    assert did_you_mean("kg", ["kw", "kg1", "kg2", "kg3", "kg4"]) == (
+        " (did you mean 'kg1' or 'kg2' or 'kg3'?)")  # at most three
+
+
 @pytest.mark.parametrize(("call", "error", "message"), [
     (lambda: check_method("cvode"), ValueError,
      "solver.method = 'cvode' is not a method (did you mean 'cvodes'?); allowed: erk"),
