@@ -83,6 +83,7 @@ def test_fixed_step_methods_read_no_tolerance():
     assert loose_tolerances(RunSettings(method="euler", rtol=1e-2)) is None
     record = accuracy(RunSettings(method="rk", steps_per_revolution=3000))
     assert record["error_control"] is False and "euler_steps_per_revolution=6000" in record["note"]
+    assert "Euler" not in record["note"]  # explicit Euler's measured example is not RK4's
 
 
 def test_a_tolerance_given_to_a_fixed_step_method_warns_that_it_has_no_effect(default_scene):
