@@ -173,10 +173,13 @@ def test_a_study_run_from_python_writes_the_command_s_report(studies, light, tmp
     # preload.md says how to simulate the constant optimum (scene.toml keeps the scene's preload) and the schedule
     # (schedule.toml): the --set value it gives is the optimum to 6 digits
     md = (out / "preload.md").read_text()
-    given = re.search(r'`apexseal simulate scene.toml --set spring.delta_s="([^"]+)"`', md).group(1)
+    given = re.search(r'`apexseal simulate scene.toml --set spring.delta_s="([^"]+)" -n 3 -o ../constant-run`',
+                      md).group(1)
     optimum = load_scene(out / "scene.toml", overrides={"spring.delta_s": given}).spring.delta_s
     assert optimum == pytest.approx(c.delta_s, rel=1e-5) and written.spring.delta_s == c.scene_delta_s != optimum
-    assert "`apexseal simulate schedule.toml`" in md and data["schedule_file"] == "schedule.toml"
+    assert "`apexseal simulate schedule.toml -o ../schedule-run`" in md and data["schedule_file"] == "schedule.toml"
+    assert f"for its 3 revolutions: the line \"last revolution\" of its summary is the study's re-simulated " \
+           f"revolution, {s.friction_power:.3f} W here" in md
     _simulates_the_schedule(out / "schedule.toml", s, written)
     failed = dataclasses.replace(c, ok=False, message="interrupted by the user")
     failed.__dict__["scene"] = c.scene
@@ -211,18 +214,23 @@ def _simulates_the_schedule(path, s, written) -> None:
     angles, values = zip(*sorted(zip(np.radians(np.mod(s.knot_angles_deg, 360.0)), s.knots, strict=True)), strict=True)
     np.testing.assert_allclose(scene.schedule.angles, angles, atol=1e-12)
     np.testing.assert_allclose(scene.schedule.values["delta_s"], values, rtol=1e-12)
-    assert scene.with_overrides(**{"spring.schedule": None, "spring.delta_s": written.spring.delta_s}) == written
+    assert scene.with_overrides(**{"spring.schedule": None, "spring.delta_s": written.spring.delta_s,
+                                   "operation.start_angle": f"{written.operation.start_angle!r} rad",
+                                   "operation.revolutions": written.operation.revolutions}) == written
     # the study re-simulates from the scene's initial state at its first node (the first knot, 60 deg here), not at
-    # the scene's start angle
+    # the scene's start angle, over its revolutions: schedule.toml starts there and runs them (it ran one revolution
+    # from the scene's start, whose start-up from rest hid the schedule's saving)
     sim, first = s.simulation, np.radians(s.knot_angles_deg[0])
     n = sim.thetas.size
-    revolutions = round((sim.thetas[-1] - first) / (2 * np.pi))
+    assert scene.operation.start_angle == pytest.approx(first, abs=1e-12) != written.operation.start_angle
+    assert scene.operation.revolutions == s.revolutions == 3
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the soft contacts' penetration warnings
-        run = apexseal.simulate(scene.with_overrides(**{"operation.start_angle": f"{s.knot_angles_deg[0]!r} deg"}),
-                                revolutions=revolutions, interpreted=True)
-    assert run.status == "completed" and run.n == revolutions * n + 1
-    np.testing.assert_allclose(run.theta[-n:] + first, sim.thetas, rtol=1e-12)
+        run = apexseal.simulate(scene, interpreted=True)  # as `apexseal simulate schedule.toml` runs it
+    assert run.status == "completed" and run.n == s.revolutions * n + 1
+    # the same crank angles, within whole turns (the study counts its first node from the scene's start)
+    turns = (sim.thetas - run.theta[-n:] - first) / (2 * np.pi)
+    np.testing.assert_allclose(turns, np.round(turns[0]), atol=1e-9)
     np.testing.assert_allclose(run.outputs["delta_s"][-n:], sim.delta_s, rtol=1e-9, atol=1e-15)
     lay = HybridLayout(tuple(run.state_names), tuple(run.guard_names))
     X_study = to_physical(sim.z[lay.x][:, 1:], scene.omega, lay.state_names)

@@ -174,28 +174,40 @@ def simulate_lines(results: dict) -> list[str]:
     c, s = results.get("constant"), results.get("schedule")
     lines = []
     if c is not None and c.ok and c.delta_s is not None:
-        lines += ["Simulate the constant optimum: `apexseal simulate scene.toml --set "
-                  f'spring.delta_s="{c.delta_s / MM:.6g} mm"` (scene.toml keeps the scene\'s own preload, '
-                  f"{c.scene_delta_s / MM:.6g} mm).", ""]
+        lines += ["Simulate the constant optimum, from this folder: `apexseal simulate scene.toml --set "
+                  f'spring.delta_s="{c.delta_s / MM:.6g} mm" -n {c.revolutions} -o ../constant-run` (scene.toml '
+                  f"keeps the scene's own preload, {c.scene_delta_s / MM:.6g} mm; the line \"last revolution\" of "
+                  f"its summary is the periodic revolution the study reports, {c.friction_power:.3f} W here; a result "
+                  "folder outside this one, which a new study replaces whole).", ""]
     if s is not None and s.ok and s.knots and len(s.knots) > 1:
-        lines += ["Simulate the schedule: `apexseal simulate schedule.toml` (scene.toml with the schedule as its "
-                  "`[spring.schedule]`, docs/scenes.md).", ""]
+        lines += ["Simulate the schedule, from this folder: `apexseal simulate schedule.toml -o ../schedule-run` "
+                  "(scene.toml with the schedule as its `[spring.schedule]`, docs/scenes.md, started at the study's "
+                  f"first node, {float(s.knot_angles_deg[0]) % 360.0:.4g} deg, for its {s.revolutions} "
+                  "revolutions: the line \"last revolution\" of its summary is the study's re-simulated revolution, "
+                  f"{s.friction_power:.3f} W here).", ""]
     return lines
 
 
 def schedule_scene(scene, result):
     """``scene`` with the schedule ``result`` found as its ``[spring.schedule]`` (the knots sorted by their crank
-    angle in 0..360 deg: the schedule is periodic), or None where no schedule was solved."""
+    angle in 0..360 deg: the schedule is periodic), started where the study re-simulates it, at its first node (the
+    first knot) from the scene's initial state, over the study's revolutions (``result.revolutions``): its last
+    revolution is the study's re-simulated one computed a second way (docs/preload.md); None where no schedule was
+    solved. A scene started at its own angle for its own revolutions (one, by default) reported the start-up from
+    rest, with the saving of the schedule lost in it."""
     if scene is None or result is None or not result.ok or not result.knots or len(result.knots) < 2:
         return None
     import warnings
 
+    first = float(result.knot_angles_deg[0]) % 360.0
     knots = sorted(zip((float(a) % 360.0 for a in result.knot_angles_deg), map(float, result.knots), strict=True))
     with warnings.catch_warnings():  # the scene's warnings were given when it was loaded
         warnings.simplefilter("ignore")
         return scene.with_overrides(**{"spring.delta_s": None,
                                        "spring.schedule.angles": [f"{a!r} deg" for a, _ in knots],
-                                       "spring.schedule.delta_s": [f"{v!r} m" for _, v in knots]})
+                                       "spring.schedule.delta_s": [f"{v!r} m" for _, v in knots],
+                                       "operation.start_angle": f"{first!r} deg",
+                                       "operation.revolutions": int(result.revolutions)})
 
 
 def saved_friction_power(results: dict) -> float | None:

@@ -92,6 +92,9 @@ class PreloadResult:
     start_delta_s: float | None = None  # m, the feasible constant start
     nodes: int = 0
     samples: int = 0
+    #: the revolutions the study's simulations run from the scene's initial state before the one it reports (the
+    #: re-simulation of an optimum goes on, 2 at a time, until periodic: .periodic.PERIODIC_TOL)
+    revolutions: int = 3
     rtol: float = 0.0
     max_defect: float | None = None  # largest continuity/periodicity defect at the solution (scaled state)
     history: list = field(default_factory=list)  # [(delta_s m, min force at samples N, deficit), ...] start search

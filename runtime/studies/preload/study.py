@@ -242,6 +242,7 @@ def optimise_preload(scene, *, min_force: float = DEFAULTS["min_force"], exclude
     res = PreloadResult(False, "", float(min_force), [list(w) for w in exclude], objective=objective,
                         knot_angles_deg=knot_angles(grid0),
                         scene_delta_s=scene_ds, deficit_tol=float(deficit_tol), nodes=nodes, samples=setup.samples,
+                        revolutions=setup.revolutions,
                         rtol=setup.rtol, max_groove_force=setup.max_groove_force)
     res.__dict__["scene"] = scene  # for the report (save_preload_report)
     if _holder is not None:  # what an interruption from here on returns (_kept_on_interrupt)
