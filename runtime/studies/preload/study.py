@@ -442,19 +442,33 @@ def _check(knots, nodes, objective, deficit_tol, max_rate, rounds, min_force, ma
 
 def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, deficit_tol: float, res: PreloadResult):
     """The smallest scene_ds * 1.5^k (k >= 0, up to max_preload) whose periodic revolution keeps the force deficit
-    within its bound (re-simulations from the scene's initial state)."""
+    within its bound, and the groove-force excess too where the study bounds the groove forces (re-simulations from
+    the scene's initial state). A start that met the deficit but not the groove bound was taken before, and IPOPT
+    then spent its iterations (100 by default, minutes) on a bound no preload met."""
     base = scene_ds if scene_ds > 0 else MM
     batch = parallel_threads(60)  # candidates simulated together, a thread per core; the first passing one is kept
+    below = 0.0  # the largest preload tried that did not keep the force (0: none)
+
+    def tried(ds):
+        out = simulate_schedules(setup, sf, grid, [np.array([d]) for d in ds], setup.min_force, setup.exclude)
+        for d, sim in zip(ds, out, strict=True):
+            res.history.append((float(d), *setup.smallest(sim)[:1], float(sim.deficit)))
+        return out
+
     with stage("searching a feasible constant start (scene's preload x 1.5^k)"):
         for k0 in range(0, 60, batch):
             ds = [min(base * 1.5**k, max_preload) for k in range(k0, min(k0 + batch, 60))]
             ds = ds[:next((i + 1 for i, d in enumerate(ds) if d >= max_preload), len(ds))]
-            for d, sim in zip(ds, simulate_schedules(setup, sf, grid, [np.array([d]) for d in ds], setup.min_force,
-                                                     setup.exclude), strict=True):
+            for d, sim in zip(ds, tried(ds), strict=True):
                 force, angle = setup.smallest(sim)
-                res.history.append((float(d), force, float(sim.deficit)))
                 if sim.deficit <= deficit_tol:
-                    return d
+                    if sim.groove_excess <= deficit_tol:
+                        return d
+                    # the force is kept but a groove force exceeds its bound: the groove forces grow with the
+                    # preload, so the best chance is the least preload that keeps the force, between the last
+                    # preload that did not and this one (bisected to 1 %)
+                    return _least_groove_start(setup, tried, below, float(d), sim, deficit_tol, res)
+                below = float(d)
             if ds[-1] >= max_preload:
                 break
     # the measure is kw xs5 < 0 while the tip is off the housing (problem.py): a lift-off only where it is negative
@@ -466,6 +480,36 @@ def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, defici
                    f"{sim.deficit:.3g} N^2 rad (bound {deficit_tol:.3g}); the smallest force at the samples is "
                    f"{force:.3g} N at crank angle {angle:.1f} deg ({where}). " + _infeasible_advice(setup, sim, angle,
                                                                                                  max_preload))
+    return None
+
+
+def _least_groove_start(setup, tried, below: float, above: float, sim, deficit_tol: float,
+                        res: PreloadResult) -> float | None:
+    """A start for a study with a groove-force bound where the first preload that keeps the contact force,
+    ``above`` (its revolution ``sim``), exceeds that bound: the least preload that keeps the force, bisected between
+    ``below`` (the largest that did not; 0: none tried) and ``above`` to 1 %, if its groove forces meet the bound;
+    else None, with the study's message naming max_groove_force, that preload and its excess. The search took the
+    first preload that kept the force before, whatever its groove forces, and IPOPT then spent its iterations (100
+    and minutes at a bound far below the forces) on a bound no preload met."""
+    lo, hi, at = below, above, sim
+    while hi - lo > 0.01 * hi:
+        probes = [lo + (hi - lo) * (i + 1) / 3 for i in range(2)]  # two at a time, a thread per core
+        for d, s in zip(probes, tried(probes), strict=True):
+            if s.deficit <= deficit_tol:
+                hi, at = d, s
+                break
+            lo = d
+    if at.groove_excess <= deficit_tol:
+        return hi
+    close = at.groove_peak is not None and at.groove_peak <= setup.max_groove_force
+    res.message = (f"infeasible: at the least constant preload that keeps the contact force >= {setup.min_force:g} "
+                   f"N, {hi / MM:.4g} mm (to 1 %), the seal-groove contact forces exceed max_groove_force = "
+                   f"{setup.max_groove_force:g} N: excess {at.groove_excess:.3g} N^2 rad (bound {deficit_tol:.3g}), "
+                   f"the largest groove force at the samples {at.groove_peak:.3g} N"
+                   + (" (the excess counts the forces between the samples too)" if close else "")
+                   + "; more preload presses the seal harder into its groove, so no constant preload meets both. "
+                   "Raise max_groove_force (--max-groove-force) above the groove forces the force asked needs, or "
+                   "lower min_force.")
     return None
 
 
