@@ -19,14 +19,17 @@ log = logging.getLogger("apexseal")
 @contextmanager
 def stage(what: str):
     """Report ``what ...`` at the start and ``what: done in 1.2 s`` at the end, or ``what: abandoned after 1.2 s``
-    when an interruption (or, naming it, an error) leaves it (used on the cold paths only: a cached derivation or
-    library is silent)."""
+    when an interruption (or, naming it, an error that no signal caused) leaves it (used on the cold paths only: a
+    cached derivation or library is silent)."""
     t0 = time.perf_counter()
     log.info("%s ...", what)
     try:
         yield
     except BaseException as exc:
-        why = "" if isinstance(exc, KeyboardInterrupt) else f" ({type(exc).__name__})"
+        from .signals import StopSignals
+
+        # a signal caught meanwhile is the cause (a compiler it stopped fails with CompilerUnavailable)
+        why = "" if isinstance(exc, KeyboardInterrupt) or StopSignals.pending() else f" ({type(exc).__name__})"
         log.info("%s: abandoned after %.1f s%s", what, time.perf_counter() - t0, why)
         raise
     log.info("%s: done in %.1f s", what, time.perf_counter() - t0)

@@ -643,3 +643,27 @@ def test_a_compiled_run_re_runs_a_failed_call_compiled(default_scene, fns, monke
     r = sim.run(fns, default_scene.parameter_vector(), st.replace(max_wall_time=1e6), theta_start=0.0,
                 state0=np.zeros(6), revolutions=1, pressure=default_scene.pressure)
     assert r.ok and True not in _CountingFailsOnLongCalls.built
+
+
+def test_a_stage_a_signal_ended_is_not_blamed_on_the_error_it_caused(caplog):
+    """Ctrl-C during a cold build of the preload study said "compiling ...: abandoned after 4.1 s
+    (CompilerUnavailable)": the compilers the signal stopped failed, and the stage named that failure as if the
+    compiler were missing. With a signal caught, the stage says it was abandoned, naming no error; without one, the
+    error is named."""
+    import logging
+
+    from apexseal.generated.compiler import CompilerUnavailable
+    from apexseal.progress import stage
+    from apexseal.signals import StopSignals
+
+    caplog.set_level(logging.INFO, logger="apexseal")
+    with pytest.raises(CompilerUnavailable), stage("compiling x"):
+        raise CompilerUnavailable("gcc failed")
+    assert caplog.records[-1].getMessage().endswith("s (CompilerUnavailable)")
+    with StopSignals() as signals:
+        signals.received.append(signal.SIGINT)  # as its handler notes a Ctrl-C
+        with pytest.raises(CompilerUnavailable), stage("compiling x"):
+            raise CompilerUnavailable("gcc failed")
+        signals.received.clear()
+    said = caplog.records[-1].getMessage()
+    assert said.startswith("compiling x: abandoned after ") and "CompilerUnavailable" not in said

@@ -215,6 +215,24 @@ def test_a_study_run_from_python_writes_the_command_s_report(studies, light, tmp
     assert not (tmp_path / "x").exists()
 
 
+def test_a_schedule_of_another_scene_is_refused_naming_the_keys_that_differ(studies, tmp_path):
+    """save_preload_report refused a schedule studied on another scene by content hashes alone (a schedule started
+    from PreloadResult.load, whose scene is the report's scene.toml, with the study's samples): it names the keys
+    that differ and the call that studies the loaded optimum's scene."""
+    import dataclasses
+
+    import apexseal
+
+    c, s = studies[0], studies[2]
+    other = dataclasses.replace(s)
+    other.__dict__["scene"] = c.scene.with_overrides(**{"solver.samples_per_revolution": 360})
+    with pytest.raises(PreloadStudyError, match=r"schedule: a study of another scene .*: "
+                                                r"solver.samples_per_revolution = 360 against 3600; .*"
+                                                r"optimise_preload\(start.scene, ..., start=start\)"):
+        apexseal.save_preload_report(tmp_path / "x", c, other)
+    assert not (tmp_path / "x").exists()
+
+
 def _simulates_the_schedule(path, s, written) -> None:
     """schedule.toml is scene.toml with the schedule's knots as its [spring.schedule], and `apexseal simulate` of
     it from the study's first node over the study's revolutions ends in the study's re-simulated revolution of the

@@ -103,9 +103,16 @@ def save_report(out, constant, schedule=None) -> Path:
                                     "returned in this session does); its report cannot name what it ran")
     scene = constant.scene
     if schedule is not None and schedule.scene.content_hash() != scene.content_hash():
+        from ...results.compare import scene_keys
+
+        a, b = scene_keys(schedule.scene), scene_keys(scene)
+        differ = sorted(k for k in a.keys() | b.keys() if a.get(k) != b.get(k))
+        shown = "; ".join(f"{k} = {a.get(k, '(none)')} against {b.get(k, '(none)')}" for k in differ[:5])
         raise PreloadStudyError(f"schedule: a study of another scene ({schedule.scene.name}, content hash "
                                 f"{schedule.scene.content_hash()}) than the constant optimum's ({scene.name}, "
-                                f"{scene.content_hash()})")
+                                f"{scene.content_hash()}): {shown}{' …' if len(differ) > 5 else ''}; a schedule "
+                                "started from a saved constant optimum (PreloadResult.load) is a study of that "
+                                "optimum's scene: optimise_preload(start.scene, ..., start=start)")
     results = {"constant": constant} | ({"schedule": schedule} if schedule is not None else {})  # as the command's
     status, stopped = report_status(results)
     knots = (len(schedule.knots or schedule.knot_angles_deg) or None) if schedule is not None else None
