@@ -498,7 +498,8 @@ def test_a_signal_during_ipopt_stops_the_study_as_interrupted_not_failed(tmp_pat
 
 @pytest.mark.parametrize(("sets", "message"), [
     ([f"effects.{e}=false" for e in ("housing_contact", "housing_damping", "housing_friction")],
-     "the preload study needs both 'spring' and 'housing_contact' on"),
+     "effects.housing_contact = false: the preload study needs both 'spring' and 'housing_contact' on"),
+    (["effects.spring=false"], "effects.spring = false: the preload study needs both"),
     (['pressure={source="chamber"}'], "pressure.source = 'chamber': the preload study takes the chamber pressures"),
 ])
 def test_a_study_it_cannot_answer_is_refused_before_a_folder_is_made(tmp_path, sets, message):

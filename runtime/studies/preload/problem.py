@@ -570,7 +570,8 @@ def check_request(scene, min_force, samples, revolutions, max_groove_force=None)
         problems.append(f"revolutions = {revolutions!r}: must be an integer in 2..50")
     eff = scene.effects
     if not (eff.spring and eff.housing_contact):
-        problems.append("effects: the preload study needs both 'spring' and 'housing_contact' on (the spring presses "
+        off = " and ".join(f"effects.{n} = false" for n in ("spring", "housing_contact") if not getattr(eff, n))
+        problems.append(f"{off}: the preload study needs both 'spring' and 'housing_contact' on (the spring presses "
                         "the tip on the housing)")
     if scene.schedule is not None:
         problems.append("spring.schedule: the preload study designs the preload along the revolution itself, from "

@@ -450,10 +450,7 @@ def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, defici
     below = 0.0  # the largest preload tried that did not keep the force (0: none)
 
     def tried(ds):
-        out = simulate_schedules(setup, sf, grid, [np.array([d]) for d in ds], setup.min_force, setup.exclude)
-        for d, sim in zip(ds, out, strict=True):
-            res.history.append((float(d), *setup.smallest(sim)[:1], float(sim.deficit)))
-        return out
+        return simulate_schedules(setup, sf, grid, [np.array([d]) for d in ds], setup.min_force, setup.exclude)
 
     with stage("searching a feasible constant start (scene's preload x 1.5^k)"):
         for k0 in range(0, 60, batch):
@@ -461,6 +458,7 @@ def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, defici
             ds = ds[:next((i + 1 for i, d in enumerate(ds) if d >= max_preload), len(ds))]
             for d, sim in zip(ds, tried(ds), strict=True):
                 force, angle = setup.smallest(sim)
+                res.history.append((float(d), force, float(sim.deficit)))
                 if sim.deficit <= deficit_tol:
                     if sim.groove_excess <= deficit_tol:
                         return d
@@ -494,7 +492,9 @@ def _least_groove_start(setup, tried, below: float, above: float, sim, deficit_t
     lo, hi, at = below, above, sim
     while hi - lo > 0.01 * hi:
         probes = [lo + (hi - lo) * (i + 1) / 3 for i in range(2)]  # two at a time, a thread per core
-        for d, s in zip(probes, tried(probes), strict=True):
+        sims = tried(probes)
+        res.history.extend((float(d), setup.smallest(s)[0], float(s.deficit)) for d, s in zip(probes, sims, strict=True))
+        for d, s in zip(probes, sims, strict=True):
             if s.deficit <= deficit_tol:
                 hi, at = d, s
                 break
