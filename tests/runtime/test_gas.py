@@ -39,7 +39,11 @@ def test_closed_chambers_are_isentropic(closed):
         assert np.max(np.abs(pv / pv[0] - 1)) < 1e-5
 
 
+@pytest.mark.slow
 def test_chambers_are_pi_out_of_phase_for_the_symmetric_machine():
+    """Slow (two revolutions of the chamber gas model: 27 s in a suite run on a loaded machine, --durations): the
+    default suite keeps its ten-minute budget on two cores; the gas model's runs there check its mass, energy and
+    leakage."""
     r = apexseal.simulate(_scene(), revolutions=2)
     assert r.ok
     n = 360
