@@ -444,7 +444,7 @@ def _feasible_start(setup, sf, grid, scene_ds: float, max_preload: float, defici
     """The smallest scene_ds * 1.5^k (k >= 0, up to max_preload) whose periodic revolution keeps the force deficit
     within its bound, and the groove-force excess too where the study bounds the groove forces (re-simulations from
     the scene's initial state). A start that met the deficit but not the groove bound was taken before, and IPOPT
-    then spent its iterations (100 by default, minutes) on a bound no preload met."""
+    then spent its iterations on a bound no preload met (29 at 10.5 N on the small study, docs/preload.md)."""
     base = scene_ds if scene_ds > 0 else MM
     batch = parallel_threads(60)  # candidates simulated together, a thread per core; the first passing one is kept
     below = 0.0  # the largest preload tried that did not keep the force (0: none)
@@ -487,8 +487,8 @@ def _least_groove_start(setup, tried, below: float, above: float, sim, deficit_t
     ``above`` (its revolution ``sim``), exceeds that bound: the least preload that keeps the force, bisected between
     ``below`` (the largest that did not; 0: none tried) and ``above`` to 1 %, if its groove forces meet the bound;
     else None, with the study's message naming max_groove_force, that preload and its excess. The search took the
-    first preload that kept the force before, whatever its groove forces, and IPOPT then spent its iterations (100
-    and minutes at a bound far below the forces) on a bound no preload met."""
+    first preload that kept the force before, whatever its groove forces, and IPOPT then spent its iterations on a
+    bound no preload met."""
     lo, hi, at = below, above, sim
     while hi - lo > 0.01 * hi:
         probes = [lo + (hi - lo) * (i + 1) / 3 for i in range(2)]  # two at a time, a thread per core
