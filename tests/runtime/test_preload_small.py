@@ -108,7 +108,7 @@ def test_a_groove_force_bound_no_preload_can_meet_is_reported_infeasible(light):
     """At 10.5 N the groove forces between samples exceed the bound at every preload that keeps the tip force: the
     study says so (it does not return an optimum that breaks the bound), from its search of a feasible start,
     without IPOPT: the search took the first preload that kept the tip force, groove forces unchecked, and IPOPT
-    then took 29 iterations to find the bound infeasible (100 and minutes at a bound of 1 N)."""
+    then took 29 iterations to find the bound infeasible."""
     tight = tight_study(light)
     assert not tight.ok and tight.ipopt_iterations == 0 and tight.start_delta_s is None, tight.message
     found = re.match(r"infeasible: at the least constant preload that keeps the contact force >= 10 N, ([\d.]+) mm "
