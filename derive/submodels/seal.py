@@ -43,8 +43,8 @@ def rest_force(values, options) -> Any:
     parameters by name (numbers, or CasADi or sympy symbols)."""
     from .registry import submodels
 
-    others = [cls.rest_force(values) for cls in submodels() if cls is not SpringContact and cls.active(options)]
-    return SpringContact.rest_force(values) + sum(f for f in others if not (isinstance(f, int | float) and f == 0))
+    return SpringContact.rest_force(values) + sum(cls.rest_force(values) for cls in submodels()
+                                                  if cls is not SpringContact and cls.active(options))
 
 
 class SealBody(Submodel):

@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: c5c325feaafdab1c1de82a56909df892fe167b809b7b040797598fe0e1c45628.
+ * Effects: all. Input hash: b06e0ea2f3eec6fee0602f7f010c82f5f56f65286e929ea12d7886620acd1b9d.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "c5c325feaafdab1c1de82a56909df892fe167b809b7b040797598fe0e1c45628"
+#define APEXSEAL_INPUT_HASH "b06e0ea2f3eec6fee0602f7f010c82f5f56f65286e929ea12d7886620acd1b9d"
 
 /* state x */
 #define APEXSEAL_NX 6

@@ -36,6 +36,11 @@ class AccuracyWarning(UserWarning):
     """A run whose tolerances are looser than its peaks bear (:func:`loose_tolerances`)."""
 
 
+def _method_name(settings) -> str:
+    """The run's method as its messages name it: its name, or the name of an engine class passed directly."""
+    return settings.method if isinstance(settings.method, str) else getattr(settings.method, "__name__", "?")
+
+
 class UnusedToleranceWarning(UserWarning):
     """A tolerance given to a fixed-step method, which reads none (:func:`unused_tolerances`)."""
 
@@ -46,7 +51,7 @@ def unused_tolerances(settings, given: dict) -> str | None:
     named = [f"{name} = {value:g}" for name, value in given.items() if value is not None]
     if not named or not method_of(settings.method).fixed_step:
         return None
-    method = settings.method if isinstance(settings.method, str) else getattr(settings.method, "__name__", "?")
+    method = _method_name(settings)
     return (f"{' and '.join(named)} {'have' if len(named) > 1 else 'has'} no effect: method {method!r} takes fixed "
             f"steps (solver.euler_steps_per_revolution = {settings.steps_per_revolution}) and controls no error; "
             "an adaptive method reads it (erk, composite, rosenbrock, cvodes)")
@@ -75,7 +80,7 @@ def loose_tolerances(settings) -> str | None:
 def accuracy(settings) -> dict:
     """The record of a run's error control, as summary.json carries it: ``error_control`` (False for a fixed-step
     method), and ``note``, what its results can be trusted for and how to check them (None: nothing to say)."""
-    method = settings.method if isinstance(settings.method, str) else getattr(settings.method, "__name__", "?")
+    method = _method_name(settings)
     if not method_of(settings.method).fixed_step:
         return {"error_control": True, "note": loose_tolerances(settings)}
     steps = settings.steps_per_revolution

@@ -103,11 +103,10 @@ def save_report(out, constant, schedule=None) -> Path:
                                     "returned in this session does); its report cannot name what it ran")
     scene = constant.scene
     if schedule is not None and schedule.scene.content_hash() != scene.content_hash():
-        from ...results.compare import scene_keys
+        from ...results.compare import scene_differences
 
-        a, b = scene_keys(schedule.scene), scene_keys(scene)
-        differ = sorted(k for k in a.keys() | b.keys() if a.get(k) != b.get(k))
-        shown = "; ".join(f"{k} = {a.get(k, '(none)')} against {b.get(k, '(none)')}" for k in differ[:5])
+        differ = scene_differences([schedule.scene, scene], ["schedule", "constant"])
+        shown = "; ".join(f"{k} = {row['schedule']} against {row['constant']}" for k, row in differ.head(5).iterrows())
         raise PreloadStudyError(f"schedule: a study of another scene ({schedule.scene.name}, content hash "
                                 f"{schedule.scene.content_hash()}) than the constant optimum's ({scene.name}, "
                                 f"{scene.content_hash()}): {shown}{' …' if len(differ) > 5 else ''}; a schedule "
