@@ -9,6 +9,7 @@ allowed, so a user can fix a scene file in one pass.
 from __future__ import annotations
 
 import json
+import math
 from typing import Any
 
 #: placeholder shown as the value of a key that was not given
@@ -51,7 +52,18 @@ def show_value(value: Any) -> str:
         return f"'{value}'" if '"' in value and "'" not in value else f'"{value}"'
     if isinstance(value, dict):  # an inline table, as TOML writes it
         return "{" + ", ".join(f"{k} = {show_value(v)}" for k, v in value.items()) + "}"
-    return repr(value)
+    return show_repr(value)
+
+
+def show_repr(value: Any) -> str:
+    """Python's repr, but a float from 1e6 up in exponent form, as short as it reads back exactly (``1e+09``, not
+    ``1000000000.0``), as a user writes a stiffness or a bound; Python and TOML read both forms."""
+    if not isinstance(value, float) or not math.isfinite(value) or abs(value) < 1e6:
+        return repr(value)
+    digits = 0
+    while float(f"{value:.{digits}e}") != value:
+        digits += 1
+    return f"{value:.{digits}e}"
 
 
 class SceneError(ValueError):

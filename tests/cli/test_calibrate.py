@@ -103,7 +103,7 @@ def test_the_unknowns_and_ranges_of_a_study_rerun_from_its_report(tmp_path):
     assert "unknowns kw 1.5e+09..4e+09, zeta_g 0.05..0.3" in r.output
     data = json.loads((out / "calibration.json").read_text())
     assert data["ranges"] == {"kw": [1.5e9, 4e9], "zeta_g": [0.05, 0.3]}
-    assert data["rerun"].endswith("--unknown kw=1500000000.0:4000000000.0 --unknown zeta_g=0.05:0.3")
+    assert data["rerun"].endswith("--unknown kw=1.5e+09:4e+09 --unknown zeta_g=0.05:0.3")
     # a 1-point grid sits at the middle of each range (log-spaced); kg and zeta_w keep the scene's values
     best = data["best_overrides"]
     assert best["contacts.kw"] == pytest.approx((1.5e9 * 4e9) ** 0.5)

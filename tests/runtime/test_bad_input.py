@@ -288,6 +288,7 @@ def test_a_malformed_value_of_an_effect_that_is_off_is_still_an_error(tmp_path, 
     assert info.value.keys() == ["friction.mu2"] and fragment in str(info.value)
 
 
+@pytest.mark.slow  # 11 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_missing_pressure_table_while_chamber_pressure_is_off(tmp_path):
     """With effects.chamber_pressure = false no law reads the table: the file is neither needed nor read (a missing
     file stopped the scene)."""

@@ -17,6 +17,7 @@ def scene():
     return apexseal.load_scene()
 
 
+@pytest.mark.slow  # 7 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_without_pressure_the_main_peak_is_the_housing_mode(scene, default_functions):
     """The paper's main peak is the tip-housing mode: with the chamber pressure off, the largest peak of |Fs5| above
     the rotor harmonics lies at sqrt(kw / ms) (kw = 6.2e7 N/m puts it at the paper's 6e4 rad/s), the undamped

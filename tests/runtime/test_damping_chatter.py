@@ -53,6 +53,7 @@ def test_a_tip_damped_above_critical_is_advised_less_damping(default_scene, defa
     assert "assumptions.damping_law = 'penetration' damps in proportion to the penetration" in reason
 
 
+@pytest.mark.slow  # 15 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_a_tip_damped_above_critical_completes_under_the_penetration_law(default_scene, default_functions):
     """The same zeta_w = 3 that chatters on the tip within 2 deg under the paper's dampers completes two revolutions
     under the damping law "penetration" (the dampers start from 0 at the touch), with a few tip switches."""

@@ -71,6 +71,7 @@ def _run(scene, functions, samples: int):
                                  flags="quick")
 
 
+@pytest.mark.slow  # 6 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_the_summary_says_when_its_samples_miss_the_contacts_work(default_scene, default_functions, capsys):
     """At the default 3600 samples per revolution the samples miss a large part of the groove contacts' work, and
     neither summary.json nor the console said so: ``energy_balance`` records the residual (not closing) and the

@@ -49,6 +49,7 @@ def fns(default_functions):
     return default_functions.sx
 
 
+@pytest.mark.slow  # 7 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_euler_stops_where_its_groove_friction_flips_sign_at_every_step(default_scene, fns):
     """mu2 = 0.5 with v_eps = 0.1 mm/s: h mu N / (v_eps m) = 16 on the groove's normal force (about 200 N) at the
     default 200000 steps. Euler's radial velocity then changes sign at most samples where rosenbrock's keeps it

@@ -29,6 +29,7 @@ def _run(**over):
     return result, caught, json.loads(json.dumps(summarise(result)))
 
 
+@pytest.mark.slow  # 13 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_a_compressor_design_on_the_gas_model_is_warned_of_once_and_recorded():
     """A compressor's pressures (supply below exhaust) on the gas model, which has fixed ports and no valves, gave a
     negative inducted mass (gas pushed back out through the inlet) and negative indicated work without a word: the run

@@ -53,6 +53,7 @@ def test_few_switches_are_not_near_and_a_run_without_switches_has_no_cluster():
     assert watch.record()["near"] is False
 
 
+@pytest.mark.slow  # 6 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_a_completed_run_near_the_event_budget_warns_naming_the_contact_and_records_it(default_scene,
                                                                                         default_functions):
     """The default scene with max_events_per_revolution just above its own switches completes, and now says that it

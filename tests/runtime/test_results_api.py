@@ -158,7 +158,7 @@ def test_event_list_accounts_for_every_switch(result):
     assert set(ev["direction"]) <= {"closes", "opens", "closes+opens", "opens+closes"}
 
 
-@pytest.mark.parametrize("method", ["erk", "cvodes"])
+@pytest.mark.parametrize("method", ["erk", pytest.param("cvodes", marks=pytest.mark.slow)])  # cvodes: 9 s
 def test_solver_statistics_for_every_method(default_scene, default_functions, method, result):
     """erk's statistics were empty: a compiled integrator reports none, so calls and events are counted."""
     r = result if method == "erk" else apexseal.simulate(default_scene, method=method, samples_per_revolution=90,
@@ -442,6 +442,7 @@ def test_whole_degrees_of_the_pandas_index_are_whole(result):
     assert whole and all(float(d) in df.index for d in whole)
 
 
+@pytest.mark.slow  # 7 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_runs_leave_no_thread_behind(default_scene, default_functions):
     """Each run defined its progress bar's class anew, and tqdm started a monitor thread per class: 300 runs in a
     notebook left 300 threads."""

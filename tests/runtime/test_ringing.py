@@ -79,6 +79,7 @@ def test_the_fastest_ringing_is_that_of_the_jacobian_along_a_run(default_scene, 
     assert r.info["sampling"]["ringing_rad_s"] == estimate.rad_s
 
 
+@pytest.mark.slow  # 7 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_a_run_says_whether_its_samples_resolve_the_ringing(default_scene, default_functions, capsys):
     """At the default 3600 samples per revolution the Nyquist frequency (2.83e5 rad/s) lies below the contacts'
     ringing, and nothing said so (the docs claimed it lay above the "2.4e5 rad/s housing mode"): summary.json's

@@ -222,6 +222,7 @@ def test_the_stepper_engines_follow_a_schedule_as_erk_does(light):
     assert np.array_equal(flat.state, plain.state) and np.array_equal(flat.closed, plain.closed)
 
 
+@pytest.mark.slow  # 7 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_explicit_euler_follows_a_schedule_to_first_order(light):
     """The fixed-step fold (runtime/solving/fixed_step.py: the parameters' slopes in each interval's column) on the 2-knot
     schedule: its gap to erk at rtol 1e-10 halves as its steps double (0.204, 0.092, 0.043 of a state's range at 1e5,

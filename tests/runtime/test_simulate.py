@@ -346,6 +346,7 @@ def _settling(scene):
                                    "operation.until_periodic": True, "operation.periodic_tol": 1e-4})
 
 
+@pytest.mark.slow  # 9 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_until_periodic_stops_early_and_says_so(default_scene, default_functions, capsys):
     """The run stops once a revolution repeats; it stopped without a word on the console, and its record held only
     the revolution (solver_stats.periodic_after): the run's info (summary.json's run.periodic) and its console line

@@ -76,6 +76,7 @@ def test_serial_sweep_writes_one_row_per_point_with_units_and_scene_hashes(seria
     assert df["feasible"].tolist() == list((df["liftoff_fraction"] <= 0) & (df["friction_power.total"] <= 35))
 
 
+@pytest.mark.slow  # 9 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_local_cluster_with_two_workers_gives_the_serial_table_to_the_last_digit(serial, tmp_path):
     report = run_sweep(light_study(), tmp_path / "dask", workers=2, quiet=True)
     assert report.where == "LocalCluster" and report.workers == 2 and report.complete

@@ -46,8 +46,9 @@ def simulate_line(cal, scene_file: str = SCENE_FILE) -> str:
 def rerun_line(cal, scene_file: str = SCENE_FILE) -> str:
     """The command that runs the study of ``cal`` again from its scene file, with the options it ran: its unknowns
     and their ranges as ``--unknown NAME=LOW:HIGH`` where they are not the default ones of its scene
-    (:func:`~.fit.default_ranges`), each number as Python writes it back exactly (scene.toml holds the samples per
-    revolution it ran)."""
+    (:func:`~.fit.default_ranges`), each number as short as it reads back exactly (scenes.errors.show_repr;
+    scene.toml holds the samples per revolution it ran)."""
+    from ...scenes.errors import show_repr
     from .fit import default_ranges
 
     o = cal.options
@@ -55,7 +56,7 @@ def rerun_line(cal, scene_file: str = SCENE_FILE) -> str:
             f"--revolutions {cal.revolutions}")
     ranges = {n: (float(lo), float(hi)) for n, (lo, hi) in cal.ranges.items()}
     if cal.scene is not None and ranges != default_ranges(cal.scene):
-        line += "".join(f" --unknown {n}={lo!r}:{hi!r}" for n, (lo, hi) in ranges.items())
+        line += "".join(f" --unknown {n}={show_repr(lo)}:{show_repr(hi)}" for n, (lo, hi) in ranges.items())
     return line
 
 

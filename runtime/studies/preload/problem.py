@@ -45,6 +45,7 @@ from ....cores import parallel_threads
 from ....generated.hybrid import controls as engine_controls
 from ....generated.layout import HybridLayout
 from ....generated.scaling import LENGTH, to_physical, to_scaled
+from ...scenes.errors import show_repr
 from ...scenes.schema import GAS_SOURCES
 from ...solving.preflight import initial_activations
 from .options import OBJECTIVES
@@ -455,9 +456,9 @@ def max_rate_problem(max_rate, knots) -> str | None:
     if max_rate is None:
         return None
     if not (isinstance(max_rate, numbers.Real) and not isinstance(max_rate, bool | np.bool_) and max_rate > 0):
-        return f"max_rate = {max_rate!r}: must be > 0 m per degree, e.g. 1e-5 or '0.01 mm/deg' (or None: no bound)"
+        return f"max_rate = {show_repr(max_rate)}: must be > 0 m per degree, e.g. 1e-5 or '0.01 mm/deg' (or None: no bound)"
     if is_integer(knots) and knots == 1:
-        return (f"max_rate = {max_rate!r}: bounds the slope of a schedule, and a constant preload (knots = 1) has "
+        return (f"max_rate = {show_repr(max_rate)}: bounds the slope of a schedule, and a constant preload (knots = 1) has "
                 "none: give knots >= 2 or max_rate=None")
     return None
 
@@ -492,7 +493,7 @@ def max_preload_problem(max_preload) -> str | None:
     if isinstance(max_preload, numbers.Real) and not isinstance(max_preload, bool | np.bool_) \
             and 0 < max_preload <= MAX_PRELOAD:
         return None
-    return f"max_preload = {max_preload!r}: must be a length > 0 and <= {MAX_PRELOAD:g} m"
+    return f"max_preload = {show_repr(max_preload)}: must be a length > 0 and <= {MAX_PRELOAD:g} m"
 
 
 #: the largest deficit_tol (N^2 rad) a study takes, from the command line and the API alike
@@ -505,7 +506,7 @@ def deficit_tol_problem(deficit_tol) -> str | None:
     if isinstance(deficit_tol, numbers.Real) and not isinstance(deficit_tol, bool | np.bool_) \
             and 0 < deficit_tol < MAX_DEFICIT_TOL:
         return None
-    return f"deficit_tol = {deficit_tol!r}: must be in (0, {MAX_DEFICIT_TOL:g}) N^2 rad"
+    return f"deficit_tol = {show_repr(deficit_tol)}: must be in (0, {MAX_DEFICIT_TOL:g}) N^2 rad"
 
 
 #: the most knots a preload schedule takes
@@ -521,9 +522,9 @@ def option_problems(**options) -> dict[str, str]:
         "knots": lambda v: None if is_integer(v) and 1 <= v <= MAX_KNOTS else
         f"knots = {v!r}: must be an integer in 1..{MAX_KNOTS} (1: a constant preload)",
         "min_force": lambda v: None if is_force(v) else
-        f"min_force = {v!r}: must be a force > 0 and <= {MAX_FORCE:g} N (a number, in N)",
+        f"min_force = {show_repr(v)}: must be a force > 0 and <= {MAX_FORCE:g} N (a number, in N)",
         "max_groove_force": lambda v: None if v is None or is_force(v) else
-        f"max_groove_force = {v!r}: must be a force > 0 and <= {MAX_FORCE:g} N, or None (no bound)",
+        f"max_groove_force = {show_repr(v)}: must be a force > 0 and <= {MAX_FORCE:g} N, or None (no bound)",
         "max_iter": lambda v: None if is_integer(v) and v >= 1 else
         f"max_iter = {v!r}: must be an integer >= 1 (IPOPT's iterations)",
         "objective": lambda v: None if v in OBJECTIVES else f"objective = {v!r}: must be one of {', '.join(OBJECTIVES)}",

@@ -71,6 +71,7 @@ import numpy as np
 from ....cores import parallel_threads
 from ....progress import announce, stage
 from ....signals import StopSignals
+from ...scenes.errors import show_repr
 from .advice import ROBUST_STEPS, shortfall_kind, spring_capacity
 from .nlp import STUCK_ITERATIONS, THETA_MAX_FACT, ShootingNlp
 from .options import DEFAULTS, UNITS
@@ -116,7 +117,8 @@ def check_option(name: str, value, knots: int | None = None):
         value = max_rate_of(value)
     if problem := option_problems(**{name: value}, **({"knots": knots} if name == "max_rate" else {})).get(name):
         if isinstance(given, str) and not isinstance(value, str):  # as given ("-1 mm/deg"), then as checked
-            problem = problem.replace(f"{name} = {value!r}", f"{name} = {given!r} (= {value!r} in SI units)", 1)
+            shown = show_repr(value)
+            problem = problem.replace(f"{name} = {shown}", f"{name} = {given!r} (= {shown} in SI units)", 1)
         raise PreloadStudyError(problem)
     return value
 
