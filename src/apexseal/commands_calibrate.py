@@ -46,8 +46,8 @@ def _unknowns(ctx: click.Context, param: click.Parameter, items: tuple[str, ...]
 @click.option("--revolutions", "-n", type=IntRange(*COUNTS["revolutions"][:2]), default=2, show_default=True,
               help="Revolutions per simulation; the last one is analysed.")
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Output folder for calibration.json and scene.toml, written beside it and renamed into place as a "
-                   "whole [default: apexseal-out/<scene name>-calibration].")
+              help="Output folder for calibration.json, scene.toml and pressure.csv, written beside it and renamed into "
+                   "place as a whole [default: apexseal-out/<scene name>-calibration].")
 @click.option("--quiet", "-q", is_flag=True, help="No line per simulation on stderr.")
 def calibrate(scene: Path | None, sets, unknowns, grid, polish, revolutions, out, quiet) -> None:
     """Fit kw, kg (kg1..kg4), zeta_w and zeta_g of SCENE (default: the embedded case study) within their plausible

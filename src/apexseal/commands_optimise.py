@@ -117,8 +117,9 @@ def _kept(results: dict, key: str):
 @click.option("--check/--no-check", "check", default=True, show_default=True,
               help="Also run the derivative-free bisection of the constant preload over full simulations.")
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Output folder for preload.json, preload.md, preload.png and scene.toml, written beside it and "
-                   "renamed into place as a whole [default: apexseal-out/<scene name>-preload].")
+              help="Output folder for preload.json, preload.md, preload.png, scene.toml, pressure.csv and, with "
+                   "--schedule, schedule.toml, written beside it and renamed into place as a whole [default: "
+                   "apexseal-out/<scene name>-preload].")
 @click.option("--quiet", "-q", is_flag=True, help="No progress (stages, compilation times, IPOPT iterations).")
 def optimise_preload(scene: Path | None, sets, min_force: float, max_groove_force, exclude, knots, max_rate,
                      deficit_tol, max_preload, max_iter, objective, samples, nodes, vary_stiffness, check, out,

@@ -68,7 +68,7 @@ def _address(ctx, param, value: str | None) -> str | None:
 @click.option("--repeats", type=IntRange(1, 20), default=3, show_default=True, help="Repeats of --bench.")
 @click.option("--list-quantities", is_flag=True, expose_value=False, is_eager=True, callback=_quantities,
               help="List the quantities a study can collect, and exit.")
-@click.option("--quiet", "-q", is_flag=True, help="No progress bar.")
+@click.option("--quiet", "-q", is_flag=True, help="No progress (the models' derivation and compilation stages, the bar).")
 def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures, bench, repeats, quiet) -> None:
     """Run the design study STUDY (a TOML file, docs/sweeps.md): every point simulated, one row each in
     <out>/results.parquet, figures of each quantity and of the feasible region. Rerun to resume."""
