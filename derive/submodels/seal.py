@@ -85,7 +85,8 @@ class SealBody(Submodel):
         Parameter("Icg", "kg*m^2", "seal moment of inertia about its centre of gravity (Eq. 80); default "
                   "ms (Ws^2 + (ds1 + ds2)^2) / 12", key="seal.Icg", gt=0, optional=True),
         Parameter("zeta0", "m", "initial protrusion of the seal out of the groove (Eq. 17); default the groove "
-                  "truncation z of Eqs. 6-8", key="seal.zeta0", ge=0, optional=True, sign="real"),
+                  "truncation z of Eqs. 6-8", key="seal.zeta0", plausible=(1e-6, 30e-3, "mm"), ge=0, optional=True,
+                  sign="real"),
         Parameter("v_eps", "m/s", "sliding-speed width of the friction regularisation tanh(v / v_eps)",
                   key="friction.v_eps", default=1e-3, gt=0,
                   needs=("housing_friction", "groove_friction", "spring_friction")),

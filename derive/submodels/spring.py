@@ -23,7 +23,7 @@ class SpringContact(Submodel):
     switch = "spring"
     contact_meanings = {"spring": "groove-bottom spring Fs6 (Eqs. 37-39, 73)"}
     parameters = (
-        Parameter("ks", "N/m", "spring stiffness (Eq. 39)", key="spring.ks", plausible=(1.0, 1e8, "N/m"), gt=0),
+        Parameter("ks", "N/m", "spring stiffness (Eq. 39)", key="spring.ks", plausible=(100.0, 1e8, "N/m"), gt=0),
         Parameter("delta_s", "m", "spring preload deflection (Eq. 9)", key="spring.delta_s",
                   plausible=(0.0, 30e-3, "mm"), ge=0, sign="real", schedulable=True),
         Parameter("cs", "N*s/m", "seal-spring contact damping (Eq. 73); default 2 zeta_s sqrt(ks ms)",

@@ -681,6 +681,8 @@ def check_plausible(sections: dict[str, Section], raw: dict[str, Any], pressure:
     if why:
         out.append(Problem("pressure.unit", raw_at(raw, ["pressure", "unit"]) if "unit" in raw.get("pressure", {})
                            else "Pa", why))
+    if table and (why := pressure.angles_in_radians()):
+        out.append(Problem("pressure.file", raw_at(raw, ["pressure", "file"]), why))
     return out
 
 

@@ -226,6 +226,17 @@ class TablePressure(PressureSource):
         """The table's rows (one revolution)."""
         return int(self._a.x.size)
 
+    def angles_in_radians(self) -> str | None:
+        """Why the table's angles look written in radians (all of them within 0..2 pi = 6.283, read as degrees:
+        the whole cycle squeezed into the first 6.3 deg of the revolution, a linear ramp back over the rest), or
+        None. A table of one revolution spans most of it; none of engineering practice holds only 6 degrees."""
+        theta = np.asarray(self.theta_deg, dtype=float)
+        if theta.size < 2 or theta.max() > 2 * math.pi + 1e-9:
+            return None
+        return (f"the table's angles span {theta.min():.4g}..{theta.max():.4g} deg, all within 2 pi = 6.283: "
+                f"{HEADER[0]} is in degrees, and a table of one revolution spans most of its 360 deg; were they "
+                "written in radians (multiply them by 180/pi)?")
+
     def data_sha256(self) -> str:
         """Hash of the numbers (angles in deg, pressures in Pa), independent of the file's spelling."""
         h = hashlib.sha256()

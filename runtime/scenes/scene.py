@@ -373,7 +373,10 @@ def _build(raw: dict[str, Any], base_dir: Any, source_path: Path | None, name: s
     if effects is not None:
         problems += check_needed(sections, effects, assumptions)
     doubtful = check_plausible(sections, raw, pressure, effects, assumptions)
-    if problems:  # an implausible value (a unit slip) is the likely cause of the rest: report it first
+    if problems:  # an implausible value (a unit slip) is the likely cause of the rest: report it first, and on
+        # a key refused as well, with the refusal ("did you mean "0.6 mm"?" after the range a bare 0.6 m leaves)
+        doubts = {p.key: p.message for p in doubtful}
+        problems = [Problem(q.key, q.value, f"{q.message}; {doubts[q.key]}") if q.key in doubts else q for q in problems]
         raise SceneError([p for p in doubtful if p.key not in {q.key for q in problems}] + problems, source=name)
     for p in doubtful:
         warnings.warn(f"scene {name}: {p}", PlausibilityWarning, stacklevel=user_stacklevel())

@@ -447,8 +447,7 @@ def table_pressures_implausible(pa, pb, unit: str = "Pa") -> str | None:
         return _subatmospheric(low, high, unit)
     why = (f"below {lo:g} Pa (a vacuum far beyond engineering practice)" if low < lo else
            f"above {hi:g} Pa (far beyond engineering practice)")
-    return (f"the table's absolute pressures span {low:.4g}..{high:.4g} Pa, {why}: is the table in another unit "
-            "(unit = \"Pa\", \"kPa\" or \"bar\")?")
+    return f"the table's absolute pressures span {low:.4g}..{high:.4g} Pa, {why}{_unit_hint(low, high, unit)}"
 
 
 def _subatmospheric(low: float, high: float, unit: str) -> str | None:
@@ -457,13 +456,23 @@ def _subatmospheric(low: float, high: float, unit: str) -> str | None:
     it."""
     if high >= SUBATMOSPHERIC_MAX:
         return None
-    factor = parse_pressure_unit(unit)
-    lifted = [u for u in TABLE_UNITS if ATMOSPHERIC <= high / factor * parse_pressure_unit(u) <= TABLE_PRESSURES.hi]
-    hint = (f"; read in {lifted[0]}, its numbers would span {low / factor:.4g}..{high / factor:.4g} {lifted[0]}: "
-            f"is the table in {lifted[0]} (unit = \"{lifted[0]}\")?" if lifted else "")
     return (f"the table's absolute pressures span {low:.4g}..{high:.4g} Pa (unit = \"{unit}\"), all below "
             f"{SUBATMOSPHERIC_MAX:g} Pa, well below atmospheric ({ATMOSPHERIC:g} Pa) in both chambers over the whole "
-            f"revolution: no expander's chambers{hint}")
+            f"revolution: no machine's chambers{_unit_hint(low, high, unit)}")
+
+
+def _unit_hint(low: float, high: float, unit: str) -> str:
+    """``; read in bar, its numbers would span 1..4 bar: is the table in bar (unit = "bar")?`` for a table of
+    absolute pressures ``low``..``high`` Pa declared in ``unit``: the first of :data:`TABLE_UNITS` (another than
+    ``unit``) in which its highest number is at least atmospheric and within :data:`TABLE_PRESSURES`; else a
+    question naming the units a table may be in."""
+    factor = parse_pressure_unit(unit)
+    lifted = [u for u in TABLE_UNITS if u != unit
+              and ATMOSPHERIC <= high / factor * parse_pressure_unit(u) <= TABLE_PRESSURES.hi]
+    if not lifted:
+        return f": is the table in another unit (unit = {', '.join(f'{chr(34)}{u}{chr(34)}' for u in TABLE_UNITS)})?"
+    return (f"; read in {lifted[0]}, its numbers would span {low / factor:.4g}..{high / factor:.4g} {lifted[0]}: "
+            f"is the table in {lifted[0]} (unit = \"{lifted[0]}\")?")
 
 
 def plausible_ranges() -> dict[str, Plausible]:

@@ -11,8 +11,8 @@ import click
 @click.argument("folders", nargs=-1, required=True, type=click.Path(file_okay=False, exists=True, path_type=Path))
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Also write comparison.csv (the numbers), scene-differences.csv, comparison.png (x, y, phi and "
-                   "the friction power against crank angle, a line per result) and, with --noise, noise.csv (each "
-                   "number's noise) into this folder.")
+                   "the friction power against crank angle, a line per result) and noise.csv (each number's noise, "
+                   "measured with --noise, else estimated from the run's tolerance) into this folder.")
 @click.option("--noise", "rerun", is_flag=True,
               help="Measure the numerical noise of every number: re-run the first folder's scene at a tenth of its "
                    "rtol (as long as its run; into OUT/noise-rerun with --out) and take its change. Without it, the "

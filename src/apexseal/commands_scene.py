@@ -47,10 +47,30 @@ def scene(scene: Path | None, sets, default: bool, out: Path | None, resolved: b
                            "scene with it, and `apexseal simulate` writes it beside a result's scene.toml", err=True)
         return
     click.echo(f"{sc.name}: valid; content hash {sc.content_hash()}; effects {sc.effects.label}")
+    if derived := derived_values(sc):
+        click.echo(f"  derived: {derived}")
     from .derive.submodels.registry import installed
 
     for name, dist in installed().items():  # entry points of installed packages (docs/extending.md)
         click.echo(f"  submodel {name} from {dist}")
+
+
+def derived_values(sc) -> str:
+    """What a designer checks first that the scene does not state: the seal's mass, the spring's preload force, the
+    housing wall's deflection at rest (Eq. 9) and the seal's protrusion (Eq. 17; Eqs. 6-8 when not given), those
+    of them the scene's model has."""
+    p = sc.parameters
+    out = []
+    if "ms" in p:
+        out.append(f"seal mass ms = {p['ms'] * 1e3:.4g} g")
+    if "ks" in p and "delta_s" in p:
+        out.append(f"spring preload ks delta_s = {p['ks'] * p['delta_s']:.4g} N")
+    if "delta_w" in p:
+        out.append(f"wall deflection at rest delta_w = {p['delta_w'] * 1e6:.4g} µm (Eq. 9)")
+    if "zeta0" in p:
+        how = "given" if sc.seal.zeta0 is not None else "the groove truncation of Eqs. 6-8"
+        out.append(f"protrusion zeta0 = {p['zeta0'] * 1e3:.4g} mm ({how})")
+    return ", ".join(out)
 
 
 def _read_by_a_pipe_or_terminal() -> bool:

@@ -426,3 +426,15 @@ def test_a_write_protected_result_is_not_replaced(tmp_path, monkeypatch):
         apexseal.simulate(apexseal.load_scene(), revolutions=1, out=out)
     assert apexseal.SimulationResult.load(out).info["run_id"] == first.info["run_id"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["prot"]
+
+
+def test_scene_states_what_a_designer_checks_first():
+    """``apexseal scene`` said only "valid": the seal's mass, the spring's preload force, the wall deflection at rest
+    (Eq. 9) and the protrusion (Eq. 17) were seen only after a run. They follow the scene (preload ks delta_s), and
+    the spring's force is not stated when the spring is off."""
+    r = CliRunner().invoke(main, ["scene", "--set", "spring.ks=4e3 N/m", "--set", "spring.delta_s=2.5 mm"])
+    assert r.exit_code == 0, r.output
+    assert "derived: seal mass ms = 17.26 g, spring preload ks delta_s = 10 N" in r.output
+    assert "protrusion zeta0 = 0.71 mm (given)" in r.output and "delta_w = " in r.output
+    off = CliRunner().invoke(main, ["scene", "--set", "effects.spring=false"])
+    assert off.exit_code == 0 and "derived: seal mass" in off.output and "preload" not in off.output

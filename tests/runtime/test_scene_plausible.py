@@ -160,3 +160,45 @@ def test_a_pressure_table_in_bar_declared_in_kpa_warns(default_scene, tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error", PlausibilityWarning)
         default_scene.with_overrides(**{"pressure.file": str(table), "pressure.unit": "bar"})
+
+
+def test_a_pressure_table_without_its_unit_is_told_the_unit_that_lifts_it(default_scene, tmp_path):
+    """A table in bar with its unit left out (read in Pa: 1-4 Pa) was asked whether it is in "Pa", "kPa" or "bar",
+    the unit in use first and kPa, still a vacuum; the warning names bar, the unit that lifts it above atmospheric."""
+    table = tmp_path / "bar.csv"
+    table.write_text("theta_deg,Pa,Pb\n0,1,4\n180,4,1\n")
+    with pytest.warns(PlausibilityWarning, match=r'1\.\.4 Pa, below 1000 Pa .*read in bar, its numbers would span '
+                      r'1\.\.4 bar: is the table in bar \(unit = "bar"\)\?') as caught:
+        default_scene.with_overrides(**{"pressure.file": str(table)})
+    assert not any('"kPa"' in str(w.message) for w in caught)
+
+
+def test_a_pressure_table_in_radians_warns(default_scene, tmp_path):
+    """A table whose angles were written in radians (0..6.1 under theta_deg) loaded without a word: the whole cycle
+    ran in the first 6 degrees, a linear ramp back over the rest. It warns, naming the file and the factor."""
+    table = tmp_path / "rad.csv"
+    table.write_text("theta_deg,Pa,Pb\n0,1e5,4e5\n3.1,4e5,1e5\n6.1,2e5,2e5\n")
+    with pytest.warns(PlausibilityWarning, match=r"pressure\.file = .*rad\.csv.*angles span 0\.\.6\.1 deg, all within "
+                      r"2 pi.*radians \(multiply them by 180/pi\)"):
+        default_scene.with_overrides(**{"pressure.file": str(table)})
+    table.write_text("theta_deg,Pa,Pb\n0,1e5,4e5\n180,4e5,1e5\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        default_scene.with_overrides(**{"pressure.file": str(table)})
+
+
+def test_a_refused_bare_length_is_asked_whether_it_was_meant_in_mm(default_scene):
+    """``zeta0 = 0.6`` (mm meant, 0.6 m read) was refused with its range in mm only, 0.4 mm < zeta0 < 8 mm, where
+    0.6 reads as inside it: a key both refused and implausible keeps the implausibility's "did you mean" after the
+    refusal."""
+    with pytest.raises(SceneError) as info:
+        default_scene.with_overrides(**{"seal.zeta0": 0.6})
+    (problem,) = info.value.errors
+    assert problem.key == "seal.zeta0"
+    assert "the seal would leave its groove" in problem.message and 'did you mean "0.6 mm"?' in problem.message
+
+
+def test_a_spring_stiffness_written_in_n_per_mm_warns(default_scene):
+    """``ks = 4`` meant as 4 N/mm (4 N/m read: a preload of 0.01 N) loaded without a word."""
+    with pytest.warns(PlausibilityWarning, match=r"spring\.ks = 4: 4 N/m is far outside engineering practice"):
+        default_scene.with_overrides(**{"spring.ks": 4})
