@@ -1,6 +1,6 @@
 /* apexseal_model.h: indices and mode numbers of the generated apex-seal model.
  * Rendered by apexseal from templates/apexseal_model.in.h; do not edit (run `apexseal generate`).
- * Effects: all. Input hash: b06e0ea2f3eec6fee0602f7f010c82f5f56f65286e929ea12d7886620acd1b9d.
+ * Effects: all. Input hash: 3960e40cfbb69485b333d2445ebfdf75fc772cfd329cee27558b898403140a71.
  * All Functions take (theta, x[APEXSEAL_NX], [a[APEXSEAL_NG]], p[APEXSEAL_NP], u[APEXSEAL_NU]).
  */
 #ifndef APEXSEAL_MODEL_H
@@ -10,7 +10,7 @@
 extern "C" {
 #endif
 
-#define APEXSEAL_INPUT_HASH "b06e0ea2f3eec6fee0602f7f010c82f5f56f65286e929ea12d7886620acd1b9d"
+#define APEXSEAL_INPUT_HASH "3960e40cfbb69485b333d2445ebfdf75fc772cfd329cee27558b898403140a71"
 
 /* state x */
 #define APEXSEAL_NX 6
