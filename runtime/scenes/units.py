@@ -470,7 +470,8 @@ def _unit_hint(low: float, high: float, unit: str) -> str:
     lifted = [u for u in TABLE_UNITS if u != unit
               and ATMOSPHERIC <= high / factor * parse_pressure_unit(u) <= TABLE_PRESSURES.hi]
     if not lifted:
-        return f": is the table in another unit (unit = {', '.join(f'{chr(34)}{u}{chr(34)}' for u in TABLE_UNITS)})?"
+        units = ", ".join(f'"{u}"' for u in TABLE_UNITS)
+        return f": is the table in another unit (unit = {units})?"
     return (f"; read in {lifted[0]}, its numbers would span {low / factor:.4g}..{high / factor:.4g} {lifted[0]}: "
             f"is the table in {lifted[0]} (unit = \"{lifted[0]}\")?")
 
