@@ -115,7 +115,26 @@ class Comparison:
         if marked.to_numpy().any():
             lines.append("~: a change within the numerical noise (no larger than the two runs' noises together): not "
                          "an effect of what the runs differ in; a tighter --rtol for every run resolves it")
+        if unresolved := self.unresolved_by_samples():
+            lines.append("sampling: the seal's energy balance over the samples does not close for "
+                         + ", ".join(f"{label} (misses {abs(j):.3g} J per revolution)" for label, j in unresolved.items())
+                         + ": a contact's friction power and wear work of that size or less are not resolved by the "
+                         "samples, whatever their noise (the rtol's) says; more samples per revolution "
+                         "(solver.samples_per_revolution) resolve them (docs/results.md)")
         return "\n".join(lines)
+
+    def unresolved_by_samples(self) -> dict[str, float]:
+        """label -> the energy residual per revolution (J) of each result whose balance over its samples does not
+        close (:mod:`.energy`): its contacts' friction powers and wear works of that size are sampling-limited."""
+        from .energy import CLOSES_WITHIN
+
+        rows = {str(row).split(" (")[0]: row for row in self.numbers.index}  # "energy.residual (J)"
+        if "energy.residual_fraction" not in rows or "energy.residual" not in rows:
+            return {}
+        fraction = self.numbers.loc[rows["energy.residual_fraction"]]
+        residual = self.numbers.loc[rows["energy.residual"]]
+        return {label: float(residual[label]) for label in self.labels
+                if math.isfinite(fraction[label]) and fraction[label] > CLOSES_WITHIN}
 
 
 def compare(results: Sequence[SimulationResult | str | Path], labels: Sequence[str] | None = None, *,

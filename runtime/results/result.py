@@ -125,8 +125,9 @@ class SimulationResult:
 
     @property
     def friction_power(self) -> float:
-        """Mean friction power of all contacts over the run, W (Pf_total; 0 without friction; NaN before the first
-        output interval ends: nothing computed)."""
+        """Mean friction power of all contacts over the run, W: of Pf_total at the samples after the first (each the
+        end of an output interval, :func:`run_mean`; ``to_pandas()["Pf_total"].mean()`` counts the start too); 0
+        without friction; NaN before the first output interval ends: nothing computed."""
         p = self.outputs.get("Pf_total")
         return run_mean(p) if p is not None else 0.0
 

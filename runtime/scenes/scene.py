@@ -107,7 +107,9 @@ def embedded_scene_path(name: str) -> Path:
     """The path of an embedded scene file, e.g. ``"soft-contacts.toml"`` or ``"hard/speed-6000.toml"``."""
     path = Path(str(_scenes_folder().joinpath(name)))
     if not path.is_file():
-        raise SceneError([("scene", name, "no such embedded scene")], source=name)
+        folder = Path(str(_scenes_folder()))
+        known = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*.toml"))
+        raise SceneError([("scene", name, f"no such embedded scene; embedded: {', '.join(known)}")], source=name)
     return path
 
 
@@ -596,8 +598,9 @@ class Scene:
 
         Values are written as in the TOML (numbers in SI, or strings with units; numpy numbers, 0-d arrays and pint
         quantities are read as what they hold);
-        ``None`` removes a key, restoring its default. Setting one key of a pair that states one thing two ways
-        (``contacts.cw`` or the damping ratio ``contacts.zeta_w``, ...) removes the other, unless both are given.
+        ``None`` removes a key, restoring its default (a key without one is then missing: refused, named). Setting
+        one key of a pair that states one thing two ways (``contacts.cw`` or the damping ratio ``contacts.zeta_w``,
+        ...) removes the other, unless both are given.
         """
         dotted = _files_from_here(dotted) if self.embedded else dotted
         with _naming_overrides(dotted):

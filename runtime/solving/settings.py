@@ -185,7 +185,12 @@ def _field_names(values: dict[str, Any]) -> tuple[dict[str, Any], list[tuple[str
 
 
 class RunSettings(BaseModel):
-    """Settings of one run: method, tolerances, samples, budgets and revolutions (see the module docstring)."""
+    """Settings of one run: method, tolerances, samples, budgets and revolutions, each checked against its range
+    (the module docstring). ``apexseal.simulate(scene, **settings)`` takes them by these names (or by the scene's
+    [solver] key names, e.g. ``interpreted``), over the scene's [solver] table: ``method`` one of
+    ``apexseal.runtime.solving.methods.METHODS`` (or an engine class), ``flags`` one of "quick", "optimised",
+    ``pressure`` "linear" or "steps", ``compile_c`` true or false, and the numbers in the ranges listed below.
+    """
 
     model_config = ConfigDict(frozen=True, extra="forbid", arbitrary_types_allowed=True)
 
@@ -243,6 +248,11 @@ class RunSettings(BaseModel):
     def replace(self, **changes: Any) -> RunSettings:
         """A copy with ``changes`` (validated like the original; ``None`` values are ignored)."""
         return RunSettings(**merged(dict(self), changes))
+
+
+RunSettings.__doc__ += "\n    Ranges (:data:`LIMITS`):\n\n" + "\n".join(  # help(apexseal.RunSettings) lists them
+    f"    * ``{name}``: {kind.rstrip('?')}, {rng.describe()}" + (" or None" if kind.endswith("?") else "")
+    for name, (kind, rng) in LIMITS.items()) + "\n"
 
 
 def settings_error(exc: ValidationError, given: dict[str, str] | None = None) -> SettingsError:

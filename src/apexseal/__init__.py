@@ -7,6 +7,7 @@ Public API::
 
     scene = apexseal.load_scene()            # the embedded default (the paper's case study)
     result = apexseal.simulate(scene)        # a SimulationResult
+    help(apexseal.RunSettings)               # the run settings simulate takes (rtol=..., method=...), their ranges
     apexseal.resume("apexseal-out/default")  # continue a stopped run (or a finished one, for more revolutions)
     apexseal.Model(scene).rhs(theta, state)  # the state derivative, numpy
     result.plot("fig12"); result.to_xarray(); result.to_pandas(); result.summary()
@@ -46,6 +47,7 @@ _LAZY = {
     "save_preload_report": ("runtime.studies.preload.report", "save_report"),
     "PreloadResult": ("runtime.studies.preload.result", "PreloadResult"),
     # the exceptions a user of the API catches (each a ValueError or an OSError, so older handlers still catch it)
+    "RunSettings": ("runtime.solving.settings", "RunSettings"),
     "SettingsError": ("runtime.solving.settings", "SettingsError"),
     "PreloadStudyError": ("runtime.studies.preload.problem", "PreloadStudyError"),
     "StudyError": ("runtime.studies.sweep.study", "StudyError"),

@@ -468,3 +468,13 @@ def test_plot_comparison_takes_quantities_by_that_name_and_names_the_result_with
     with pytest.raises(ValueError, match="'F_spring_X' of result 'nospring': the other results have it") as info:
         plot_comparison([result, springless], quantities=["F_spring_X"], labels=["a", "nospring"])
     assert "did you mean" not in str(info.value)
+
+
+def test_the_run_settings_and_their_ranges_are_public():
+    """help(apexseal.simulate) named RunSettings for the settings' ranges, but apexseal.RunSettings did not exist and
+    its docstring said "see the module docstring": it is public, and its docstring lists every range of LIMITS."""
+    from apexseal.runtime.solving.settings import LIMITS, RunSettings
+
+    assert apexseal.RunSettings is RunSettings and "RunSettings" in apexseal.__all__ and "RunSettings" in apexseal.__doc__
+    for name, (_, rng) in LIMITS.items():
+        assert f"``{name}``: " in RunSettings.__doc__ and rng.describe() in RunSettings.__doc__, name

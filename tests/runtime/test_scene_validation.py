@@ -738,3 +738,13 @@ def test_overrides_from_numpy_and_pint_are_read_as_the_toml_would_hold_them(defa
                                     "contacts.kw": np.float32(2e9)})
     assert odd.seal.Ws == pytest.approx(2.9e-3) and odd.operation.rpm == 1600.0 and odd.contacts.kw == 2e9
     assert 'seal.Ws = "3.2 kilogram": wrong unit: expected a length' in str(_error(default, {"seal.Ws": 3.2 * u.kg}))
+
+
+def test_an_unknown_embedded_scene_lists_the_embedded_ones():
+    """embedded_scene_path("default") said only "no such embedded scene": the names (default.toml, hard/...) were
+    found by browsing the package."""
+    import apexseal
+
+    with pytest.raises(SceneError, match=r'scene = "default": no such embedded scene; embedded: default\.toml, '
+                       r"expander-gas\.toml, hard/.*soft-contacts\.toml"):
+        apexseal.embedded_scene_path("default")
