@@ -36,6 +36,9 @@ from .units import parse_pressure_unit
 
 TWO_PI = 2 * math.pi
 HEADER = ("theta_deg", "Pa", "Pb")
+#: a table whose angles span no more than this (deg) was most likely written in radians (a revolution is 2 pi =
+#: 6.283 rad; 1 % above it for a last row rounded up)
+RADIANS_SPAN = 1.01 * 2 * math.pi
 #: how many row problems a table error lists before summarising the rest
 MAX_ROW_PROBLEMS = 20
 #: the largest pressure table read (one revolution; 10 MB is ~300 000 rows)
@@ -227,14 +230,14 @@ class TablePressure(PressureSource):
         return int(self._a.x.size)
 
     def angles_in_radians(self) -> str | None:
-        """Why the table's angles look written in radians (all of them within 0..2 pi = 6.283, read as degrees:
+        """Why the table's angles look written in radians (spanning no more than 2 pi = 6.283, read as degrees:
         the whole cycle squeezed into the first 6.3 deg of the revolution, a linear ramp back over the rest), or
         None. A table of one revolution spans most of it; none of engineering practice holds only 6 degrees."""
         theta = np.asarray(self.theta_deg, dtype=float)
-        if theta.size < 2 or theta.max() > 2 * math.pi + 1e-9:
+        if theta.size < 2 or theta.max() - theta.min() > RADIANS_SPAN:
             return None
-        return (f"the table's angles span {theta.min():.4g}..{theta.max():.4g} deg, all within 2 pi = 6.283: "
-                f"{HEADER[0]} is in degrees, and a table of one revolution spans most of its 360 deg; were they "
+        return (f"the table's angles span {theta.min():.4g}..{theta.max():.4g} deg, no more than 2 pi = 6.283 of "
+                f"them: {HEADER[0]} is in degrees, and a table of one revolution spans most of its 360 deg; were they "
                 "written in radians (multiply them by 180/pi)?")
 
     def data_sha256(self) -> str:

@@ -464,12 +464,13 @@ def _subatmospheric(low: float, high: float, unit: str) -> str | None:
 def _unit_hint(low: float, high: float, unit: str) -> str:
     """``; read in bar, its numbers would span 1..4 bar: is the table in bar (unit = "bar")?`` for a table of
     absolute pressures ``low``..``high`` Pa declared in ``unit``: the first of :data:`TABLE_UNITS` (another than
-    ``unit``) in which its highest number is at least atmospheric and within :data:`TABLE_PRESSURES`; else a
-    question naming the units a table may be in."""
+    ``unit``) in which its highest number is at least atmospheric and within :data:`TABLE_PRESSURES`; else (or when
+    its lowest is too low but its highest atmospheric already: a few rows too low are no unit slip) a question
+    naming the units a table may be in."""
     factor = parse_pressure_unit(unit)
-    lifted = [u for u in TABLE_UNITS if u != unit
+    lifted = [u for u in TABLE_UNITS if parse_pressure_unit(u) != factor
               and ATMOSPHERIC <= high / factor * parse_pressure_unit(u) <= TABLE_PRESSURES.hi]
-    if not lifted:
+    if not lifted or low < TABLE_PRESSURES.lo <= ATMOSPHERIC <= high:  # a few rows too low, the rest lifted: no slip
         units = ", ".join(f'"{u}"' for u in TABLE_UNITS)
         return f": is the table in another unit (unit = {units})?"
     return (f"; read in {lifted[0]}, its numbers would span {low / factor:.4g}..{high / factor:.4g} {lifted[0]}: "

@@ -250,9 +250,12 @@ class RunSettings(BaseModel):
         return RunSettings(**merged(dict(self), changes))
 
 
-RunSettings.__doc__ += "\n    Ranges (:data:`LIMITS`):\n\n" + "\n".join(  # help(apexseal.RunSettings) lists them
-    f"    * ``{name}``: {kind.rstrip('?')}, {rng.describe()}" + (" or None" if kind.endswith("?") else "")
-    for name, (kind, rng) in LIMITS.items()) + "\n"
+#: the units of the run settings that have one (the others count steps, samples, events or revolutions)
+SETTING_UNITS = {"event_tol": "rad", "chatter_window": "rad", "max_wall_time": "s"}
+if RunSettings.__doc__ is not None:  # help(apexseal.RunSettings) lists the ranges (none under python -OO)
+    RunSettings.__doc__ += "\n    Ranges (:data:`LIMITS`; rad of crank angle):\n\n" + "\n".join(
+        f"    * ``{name}``: {kind.rstrip('?')}, {rng.describe(SETTING_UNITS.get(name, ''))}"
+        + (" or None" if kind.endswith("?") else "") for name, (kind, rng) in LIMITS.items()) + "\n"
 
 
 def settings_error(exc: ValidationError, given: dict[str, str] | None = None) -> SettingsError:

@@ -58,15 +58,16 @@ def scene(scene: Path | None, sets, default: bool, out: Path | None, resolved: b
 def derived_values(sc) -> str:
     """What a designer checks first that the scene does not state: the seal's mass, the spring's preload force, the
     housing wall's deflection at rest (Eq. 9) and the seal's protrusion (Eq. 17; Eqs. 6-8 when not given), those
-    of them the scene's model has."""
+    of them the scene's model has; a preload the scene schedules along the revolution at its start angle."""
     p = sc.parameters
+    at_start = " at the start angle (scheduled)" if sc.schedule is not None else ""
     out = []
     if "ms" in p:
         out.append(f"seal mass ms = {p['ms'] * 1e3:.4g} g")
     if "ks" in p and "delta_s" in p:
-        out.append(f"spring preload ks delta_s = {p['ks'] * p['delta_s']:.4g} N")
+        out.append(f"spring preload ks delta_s = {p['ks'] * p['delta_s']:.4g} N{at_start}")
     if "delta_w" in p:
-        out.append(f"wall deflection at rest delta_w = {p['delta_w'] * 1e6:.4g} µm (Eq. 9)")
+        out.append(f"wall deflection at rest delta_w = {p['delta_w'] * 1e6:.4g} µm (Eq. 9){at_start}")
     if "zeta0" in p:
         how = "given" if sc.seal.zeta0 is not None else "the groove truncation of Eqs. 6-8"
         out.append(f"protrusion zeta0 = {p['zeta0'] * 1e3:.4g} mm ({how})")

@@ -438,3 +438,18 @@ def test_scene_states_what_a_designer_checks_first():
     assert "protrusion zeta0 = 0.71 mm (given)" in r.output and "delta_w = " in r.output
     off = CliRunner().invoke(main, ["scene", "--set", "effects.spring=false"])
     assert off.exit_code == 0 and "derived: seal mass" in off.output and "preload" not in off.output
+
+
+
+def test_a_scheduled_preload_is_stated_at_the_start_angle():
+    """A scene that schedules the preload along the revolution has no one preload: the scene command states the
+    start angle's (what delta_w balances at rest), and says so."""
+    import apexseal
+    from apexseal.commands_scene import derived_values
+
+    scene = apexseal.load_scene().with_overrides(**{
+        "spring.delta_s": None, "spring.schedule.angles": ["0 deg", "180 deg"],
+        "spring.schedule.delta_s": ["3 mm", "1 mm"]})
+    text = derived_values(scene)
+    assert "spring preload ks delta_s = 15 N at the start angle (scheduled)" in text
+    assert "preload ks delta_s = 10 N," in derived_values(apexseal.load_scene())

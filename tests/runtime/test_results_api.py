@@ -476,5 +476,9 @@ def test_the_run_settings_and_their_ranges_are_public():
     from apexseal.runtime.solving.settings import LIMITS, RunSettings
 
     assert apexseal.RunSettings is RunSettings and "RunSettings" in apexseal.__all__ and "RunSettings" in apexseal.__doc__
+    from apexseal.runtime.solving.settings import SETTING_UNITS
+
     for name, (_, rng) in LIMITS.items():
-        assert f"``{name}``: " in RunSettings.__doc__ and rng.describe() in RunSettings.__doc__, name
+        assert f"``{name}``: " in RunSettings.__doc__, name
+        assert rng.describe(SETTING_UNITS.get(name, "")) in RunSettings.__doc__, name
+    assert "``max_wall_time``: float, 0 < value <= 1e+07 s or None" in RunSettings.__doc__

@@ -171,6 +171,12 @@ def test_a_pressure_table_without_its_unit_is_told_the_unit_that_lifts_it(defaul
                       r'1\.\.4 bar: is the table in bar \(unit = "bar"\)\?') as caught:
         default_scene.with_overrides(**{"pressure.file": str(table)})
     assert not any('"kPa"' in str(w.message) for w in caught)
+    table.write_text("theta_deg,Pa,Pb\n0,0.005,4\n180,4,1\n")  # one row too low in a table in bar: no unit slip
+    with pytest.warns(PlausibilityWarning, match=r'is the table in another unit \(unit = "Pa", "kPa", "bar", "MPa"\)'):
+        default_scene.with_overrides(**{"pressure.file": str(table), "pressure.unit": "bar"})
+    table.write_text("theta_deg,Pa,Pb\n0,1e5,4e5\n180,4e5,1e5\n")  # in Pa, declared in bar: read in Pa, it fits
+    with pytest.warns(PlausibilityWarning, match=r'above 1e\+08 Pa .*: is the table in Pa \(unit = "Pa"\)\?'):
+        default_scene.with_overrides(**{"pressure.file": str(table), "pressure.unit": "bar"})
 
 
 def test_a_pressure_table_in_radians_warns(default_scene, tmp_path):
@@ -178,13 +184,17 @@ def test_a_pressure_table_in_radians_warns(default_scene, tmp_path):
     ran in the first 6 degrees, a linear ramp back over the rest. It warns, naming the file and the factor."""
     table = tmp_path / "rad.csv"
     table.write_text("theta_deg,Pa,Pb\n0,1e5,4e5\n3.1,4e5,1e5\n6.1,2e5,2e5\n")
-    with pytest.warns(PlausibilityWarning, match=r"pressure\.file = .*rad\.csv.*angles span 0\.\.6\.1 deg, all within "
-                      r"2 pi.*radians \(multiply them by 180/pi\)"):
+    with pytest.warns(PlausibilityWarning, match=r"pressure\.file = .*rad\.csv.*angles span 0\.\.6\.1 deg, no more "
+                      r"than 2 pi.*radians \(multiply them by 180/pi\)"):
         default_scene.with_overrides(**{"pressure.file": str(table)})
-    table.write_text("theta_deg,Pa,Pb\n0,1e5,4e5\n180,4e5,1e5\n")
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", PlausibilityWarning)
+    table.write_text("theta_deg,Pa,Pb\n-3.1416,1e5,4e5\n0,4e5,1e5\n3.1,2e5,2e5\n")  # radians from -pi
+    with pytest.warns(PlausibilityWarning, match=r"angles span -3\.142\.\.3\.1 deg"):
         default_scene.with_overrides(**{"pressure.file": str(table)})
+    for rows in ("0,1e5,4e5\n180,4e5,1e5\n", "-180,1e5,4e5\n-90,4e5,1e5\n0,2e5,2e5\n"):  # degrees, from -180 too
+        table.write_text("theta_deg,Pa,Pb\n" + rows)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", PlausibilityWarning)
+            default_scene.with_overrides(**{"pressure.file": str(table)})
 
 
 def test_a_refused_bare_length_is_asked_whether_it_was_meant_in_mm(default_scene):
