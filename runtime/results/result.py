@@ -161,8 +161,16 @@ class SimulationResult:
         reason = self.stop.reason if self.stop is not None and self.status != "completed" else ""
         why = f" ({reason if len(reason) <= 60 else reason[:59] + '…'})" if reason else ""  # the whole: .stop
         return (f"SimulationResult({self.status}{why}, {self.revolutions:.2f} rev, {self.n} samples, "
-                f"{self.n_events} events, "
+                f"{self.n_events} events, {self._outside_model()}"
                 f"friction power {self.friction_power:.3g} W, method {method})")
+
+    def _outside_model(self) -> str:
+        """``outside the model from 23 deg, `` when the seal left the seal-groove contacts' domain (Eqs. 20-23,
+        :func:`.plausibility.flank_check`): the numbers beside it (the friction power) mix samples from outside it."""
+        from .plausibility import flank_check
+
+        check = flank_check(self)
+        return "" if check is None or check["ok"] else f"outside the model from {check['first_off_deg']:.4g} deg, "
 
     def _repr_html_(self) -> str:
         from html import escape
@@ -171,7 +179,8 @@ class SimulationResult:
                 ("revolutions", f"{self.revolutions:.3f}"), ("samples", str(self.n)),
                 ("events", ", ".join(f"{g} {int(self.events[i, -1])}" for i, g in enumerate(self.guard_names))
                  + f" (total {self.n_events})"),
-                ("mean friction power", f"{self.friction_power:.4g} W"),
+                ("mean friction power", f"{self.friction_power:.4g} W" + (
+                    f" ({self._outside_model().rstrip(', ')}: FlankWarning)" if self._outside_model() else "")),
                 ("method", f"{self.info.get('method', '?')}, rtol {self.info.get('rtol', '?')}"),
                 ("wall time", f"{self.info.get('wall_time_s', float('nan')):.3g} s"),
                 ("scene", f"{self.info.get('scene', '?')} ({str(self.info.get('scene_hash', ''))[:12]})")]

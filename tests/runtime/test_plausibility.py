@@ -157,6 +157,10 @@ def test_a_seal_driven_into_its_groove_is_flagged(scene, default_functions):
     assert (lengths[:, :first] > 0).all() and (lengths[:, first] <= 0).any()
     assert check["least_mm"]["l1"] == pytest.approx(r.outputs["l1"].min() * 1e3)
     assert collect(r, ("flank.least",))["flank.least"] == min(check["least_mm"].values()) < 0  # a sweep's quantity
+    # its repr (a notebook's first view, beside the mean friction power) says where the model stops holding
+    assert f"outside the model from {check['first_off_deg']:.4g} deg, friction power" in repr(r)
+    assert "outside the model" in r._repr_html_() and "outside the model" not in repr(
+        apexseal.simulate(scene, functions=default_functions.sx, samples_per_revolution=SAMPLES))
 
 
 def test_the_check_needs_a_clearance(scene, default_functions):
