@@ -114,7 +114,7 @@ class Comparison:
                  f"results (change against {self.labels[0]}):\n{numbers.to_string()}"]
         if marked.to_numpy().any():
             lines.append("~: a change within the numerical noise (no larger than the two runs' noises together): not "
-                         "an effect of what the runs differ in; a tighter --rtol for every run resolves it")
+                         "an effect of what the runs differ in; a tighter rtol for every run (--rtol, rtol=) resolves it")
         if unresolved := self.unresolved_by_samples():
             lines.append("sampling: the seal's energy balance over the samples does not close for "
                          + ", ".join(f"{label} (misses {abs(j):.3g} J per revolution)" for label, j in unresolved.items())
@@ -165,7 +165,7 @@ def _noise_run(first: SimulationResult, noise) -> tuple[SimulationResult | None,
     """The re-run of ``first`` that ``noise`` asks for (None: the rule), and how it names the estimate."""
     if noise is None or noise is False:
         return None, ("estimated from each run's rtol by the spread rtol alone gives on the default scene "
-                      "(docs/results.md, \"Numerical noise\"); --noise measures it for these runs")
+                      "(docs/results.md, \"Numerical noise\"); --noise (noise=True) measures it for these runs")
     if noise is True:
         rerun_result = rerun(first)
     elif isinstance(noise, str | Path | SimulationResult):

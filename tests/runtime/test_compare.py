@@ -197,8 +197,8 @@ def test_runs_that_differ_only_in_rtol_are_within_the_noise(folders):
     assert changed and _marked(c, "tight") == changed
     text = c.text()
     assert "runs: default erk, rtol 1e-06; tight erk, rtol 1e-07" in text
-    assert "estimated from each run's rtol" in text and "--noise measures it" in text
-    assert "~: a change within the numerical noise" in text and "a tighter --rtol" in text
+    assert "estimated from each run's rtol" in text and "--noise (noise=True) measures it" in text
+    assert "~: a change within the numerical noise" in text and "a tighter rtol for every run (--rtol, rtol=)" in text
     row = next(ln for ln in text.splitlines() if ln.startswith(changed[0]))
     assert row.endswith("%)~") and row.split()[3].startswith("±")  # the noise column beside the first, a share
 
