@@ -208,6 +208,7 @@ def test_an_engine_that_cannot_follow_a_schedule_is_refused_naming_the_methods_t
         apexseal.simulate(scene, method=Mine)
 
 
+@pytest.mark.slow  # 8 s of a 2-core test process: in the second step, to keep the default suite under 10 min
 def test_the_stepper_engines_follow_a_schedule_as_erk_does(light):
     """cvodes (apexseal's own event location, runtime/solving/stepper_integrator.py: the parameters' slopes ride in the
     call's vector after the pressures') runs the 2-knot schedule to erk's samples within 1e-5 of each state's range at

@@ -899,7 +899,13 @@ def test_invalid_points_are_counted_apart_and_said_without_a_crank_angle(tmp_pat
     assert shown[-1] == "failed=1, invalid=2", shown
 
 
-def test_a_study_file_s_path_is_a_study_and_anything_else_a_clear_type_error(tmp_path):
+def test_anything_but_a_study_or_its_file_is_a_clear_type_error(tmp_path):
+    with pytest.raises(TypeError, match="expected a Study"):
+        run_sweep(42, tmp_path / "bad", workers=1, quiet=True)
+
+
+@pytest.mark.slow  # 7 s of a 2-core test process: in the second step, to keep the default suite under 10 min
+def test_a_study_file_s_path_is_a_study(tmp_path):
     """run_sweep("tiny.toml", ...) failed inside with AttributeError: 'str' object has no attribute 'parameters'
     (simulate takes a scene file's path, so a Python user tries this): a path is loaded as the study file it is."""
     path = tmp_path / "light.toml"
@@ -907,5 +913,3 @@ def test_a_study_file_s_path_is_a_study_and_anything_else_a_clear_type_error(tmp
     report = run_sweep(str(path), tmp_path / "from-path", workers=1, quiet=True)
     assert stable(report.table).equals(stable(run_sweep(light_study(), tmp_path / "from-study", workers=1,
                                                         quiet=True).table))
-    with pytest.raises(TypeError, match="expected a Study"):
-        run_sweep(42, tmp_path / "bad", workers=1, quiet=True)
