@@ -126,15 +126,14 @@ class Comparison:
     def unresolved_by_samples(self) -> dict[str, float]:
         """label -> the energy residual per revolution (J) of each result whose balance over its samples does not
         close (:mod:`.energy`): its contacts' friction powers and wear works of that size are sampling-limited."""
-        from .energy import CLOSES_WITHIN
+        from .energy import closes
 
-        rows = {str(row).split(" (")[0]: row for row in self.numbers.index}  # "energy.residual (J)"
-        if "energy.residual_fraction" not in rows or "energy.residual" not in rows:
+        rows = quantity_row("energy.residual_fraction"), quantity_row("energy.residual")
+        if not all(row in self.numbers.index for row in rows):
             return {}
-        fraction = self.numbers.loc[rows["energy.residual_fraction"]]
-        residual = self.numbers.loc[rows["energy.residual"]]
+        fraction, residual = (self.numbers.loc[row] for row in rows)
         return {label: float(residual[label]) for label in self.labels
-                if math.isfinite(fraction[label]) and fraction[label] > CLOSES_WITHIN}
+                if math.isfinite(fraction[label]) and not closes(fraction[label])}
 
 
 def compare(results: Sequence[SimulationResult | str | Path], labels: Sequence[str] | None = None, *,
@@ -188,8 +187,8 @@ def _noise_run(first: SimulationResult, noise) -> tuple[SimulationResult | None,
 def _noise(numbers: pd.DataFrame, results: list[SimulationResult], rerun_result, source: str):
     """The noise table of ``numbers`` (:mod:`.noise`): by the rule, or the re-run's change scaled to each run's
     rtol; with the source and the re-run."""
-    names = [q for q in compared() if any(f"{q} (" == row[:len(q) + 2] for row in numbers.index)]
-    rows = {q: f"{q} ({quantity_help()[q][0]})" for q in names}
+    rows = {q: quantity_row(q) for q in compared() if quantity_row(q) in numbers.index}
+    names = list(rows)
     columns = {}
     first = {q: numbers.loc[rows[q]].iloc[0] for q in names}
     measured = None if rerun_result is None else measured_noise(first, collect(rerun_result, tuple(names)))
@@ -279,13 +278,17 @@ def compared() -> tuple[str, ...]:
 def designer_numbers(results: Sequence[SimulationResult], labels: Sequence[str]) -> pd.DataFrame:
     """A row per quantity of :func:`compared` (named as in a sweep, its unit beside), after the runs' status; a
     quantity no result has (friction at a contact whose effect is off everywhere) is left out."""
-    names, units = compared(), quantity_help()
+    names = compared()
     columns = {label: {"status": r.status, **collect(r, names)} for label, r in zip(labels, results, strict=True)}
     table = pd.DataFrame(columns, index=["status", *names])
     table = table.loc[[q == "status" or table.loc[q].notna().any() for q in table.index]]
-    table.index = pd.Index([q if q == "status" else f"{q} ({units[q][0]})" for q in table.index],
-                           name="quantity")
+    table.index = pd.Index([q if q == "status" else quantity_row(q) for q in table.index], name="quantity")
     return table
+
+
+def quantity_row(name: str) -> str:
+    """A quantity's row in :func:`designer_numbers`: its name with its unit, ``energy.residual (J)``."""
+    return f"{name} ({quantity_help()[name][0]})"
 
 
 def _flatten(table: dict, prefix: str = ""):

@@ -104,7 +104,12 @@ def energy_balance(result: SimulationResult) -> dict | None:
     scale = sum(abs(w) for w in work.values()) + abs(inertial) + abs(change)
     fraction = abs(residual) / scale if scale > 0 else 0.0
     return {"work_J_per_rev": work, "inertial_J_per_rev": inertial, "kinetic_change_J_per_rev": change,
-            "residual_J_per_rev": residual, "residual_fraction": fraction, "closes": fraction <= CLOSES_WITHIN}
+            "residual_J_per_rev": residual, "residual_fraction": fraction, "closes": closes(fraction)}
+
+
+def closes(fraction: float) -> bool:
+    """Whether a balance whose residual is ``fraction`` of its terms' magnitudes closes (:data:`CLOSES_WITHIN`)."""
+    return fraction <= CLOSES_WITHIN
 
 
 def describe_balance(block: dict, samples_per_revolution: int | None) -> str:

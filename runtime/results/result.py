@@ -175,12 +175,12 @@ class SimulationResult:
     def _repr_html_(self) -> str:
         from html import escape
 
+        outside = self._outside_model().rstrip(", ")
         rows = [("status", self.status + ("" if self.stop is None else f": {self.stop.describe()}")),
                 ("revolutions", f"{self.revolutions:.3f}"), ("samples", str(self.n)),
                 ("events", ", ".join(f"{g} {int(self.events[i, -1])}" for i, g in enumerate(self.guard_names))
                  + f" (total {self.n_events})"),
-                ("mean friction power", f"{self.friction_power:.4g} W" + (
-                    f" ({self._outside_model().rstrip(', ')}: FlankWarning)" if self._outside_model() else "")),
+                ("mean friction power", f"{self.friction_power:.4g} W" + (f" ({outside}: FlankWarning)" if outside else "")),
                 ("method", f"{self.info.get('method', '?')}, rtol {self.info.get('rtol', '?')}"),
                 ("wall time", f"{self.info.get('wall_time_s', float('nan')):.3g} s"),
                 ("scene", f"{self.info.get('scene', '?')} ({str(self.info.get('scene_hash', ''))[:12]})")]

@@ -64,8 +64,10 @@ def derived_values(sc) -> str:
     out = []
     if "ms" in p:
         out.append(f"seal mass ms = {p['ms'] * 1e3:.4g} g")
-    if "ks" in p and "delta_s" in p:
-        out.append(f"spring preload ks delta_s = {p['ks'] * p['delta_s']:.4g} N{at_start}")
+    if "ks" in p and "delta_s" in p:  # the spring's own law (Eq. 39), which delta_w balances
+        from .derive.submodels.spring import SpringContact
+
+        out.append(f"spring preload ks delta_s = {SpringContact.rest_force(p):.4g} N{at_start}")
     if "delta_w" in p:
         out.append(f"wall deflection at rest delta_w = {p['delta_w'] * 1e6:.4g} µm (Eq. 9){at_start}")
     if "zeta0" in p:
