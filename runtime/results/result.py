@@ -164,6 +164,30 @@ class SimulationResult:
                 f"{self.n_events} events, {self._outside_model()}"
                 f"friction power {self.friction_power:.3g} W, method {method})")
 
+    def _sampling(self) -> str:
+        """What the output samples resolve, for the HTML repr: their number (per revolution), whether they resolve the
+        contacts' ringing (``info["sampling"]``, runtime/solving/ringing.py) and, where the seal's energy balance over
+        them does not close (:func:`.energy.energy_balance`), the loads' work they miss as a power: a contact's
+        friction power of that size or less is not resolved by them (the console's notes, ``summary()``)."""
+        from ..solving.ringing import SAMPLES_PER_PERIOD
+        from .energy import energy_balance
+
+        per_revolution = self.info.get("samples_per_revolution")
+        parts = [f"{self.n}" + (f" ({per_revolution} per revolution)" if per_revolution else "")]
+        ring = self.info.get("sampling")
+        if ring is not None:
+            parts.append(f"the contacts' ringing ({ring['ringing_rad_s']:.3g} rad/s) "
+                         + ("resolved" if ring["resolved"] else
+                            f"not resolved ({ring['samples_per_revolution_resolving']} per revolution take "
+                            f"{SAMPLES_PER_PERIOD:g} samples per period of it)"))
+        block = energy_balance(self)
+        if block is not None and not block["closes"]:
+            omega = self.scene.parameters["omega"]
+            parts.append(f"the energy balance misses {abs(block['residual_J_per_rev']) * omega / (2 * math.pi):.3g} W "
+                         f"of the loads' work ({block['residual_fraction']:.0%}): a contact's friction power that "
+                         "small is not resolved")
+        return "; ".join(parts)
+
     def _outside_model(self) -> str:
         """``outside the model from 23 deg, `` when the seal left the seal-groove contacts' domain (Eqs. 20-23,
         :func:`.plausibility.flank_check`): the numbers beside it (the friction power) mix samples from outside it."""
@@ -177,7 +201,7 @@ class SimulationResult:
 
         outside = self._outside_model().rstrip(", ")
         rows = [("status", self.status + ("" if self.stop is None else f": {self.stop.describe()}")),
-                ("revolutions", f"{self.revolutions:.3f}"), ("samples", str(self.n)),
+                ("revolutions", f"{self.revolutions:.3f}"), ("samples", self._sampling()),
                 ("events", ", ".join(f"{g} {int(self.events[i, -1])}" for i, g in enumerate(self.guard_names))
                  + f" (total {self.n_events})"),
                 ("mean friction power", f"{self.friction_power:.4g} W" + (f" ({outside}: FlankWarning)" if outside else "")),

@@ -35,7 +35,7 @@ def summarise(result: SimulationResult, scene_info: dict | None = None) -> dict:
     ``plausibility``'s ``penetration_um`` and ``peak_force_N``) is the largest over the output samples, whose number
     per revolution is ``samples_per_revolution`` (null for a result that does not record it): an impact of a few
     microseconds between two samples is not seen, so these peaks grow with ``solver.samples_per_revolution``.
-    ``sampling`` says whether those samples resolve the contacts' fastest ringing (its Nyquist frequency above it)
+    ``sampling`` says whether those samples resolve the contacts' fastest ringing (2.4 samples per period of it)
     and which sampling would (runtime/solving/ringing.py); null for a run without contacts, one that failed at its
     start, or a result that does not record it. ``accuracy`` says whether the method controls its error
     (``error_control``; false for a fixed-step method) and, in ``note``, what a fixed step or a loose tolerance

@@ -16,10 +16,11 @@ Friction, which the rest state does not engage, and damping move the ringing by 
 stability check judges every mode by the two (runtime/solving/contact_stability.py, ``model_growth``), and the
 preflight's speed check by the fastest ringing (runtime/solving/preflight.py, ``speed_problem``).
 
-The output samples resolve a ringing of w rad/s when their Nyquist frequency, samples per revolution x omega / 2,
-lies above it (:func:`sampling`, the ``sampling`` record of a run and its summary.json): below, the peaks, extremes
-and |Fs5| spectrum computed from the samples see it aliased (docs/paper-findings.md, "The main peak and the output
-sampling"); :func:`samples_resolving` is the sampling to ask for, with a margin.
+The output samples resolve a ringing of w rad/s when they take at least :data:`SAMPLES_PER_PERIOD` of its periods
+(:func:`sampling`, the ``sampling`` record of a run and its summary.json): Nyquist's criterion, their Nyquist
+frequency (samples per revolution x omega / 2) above w, with a margin. Below it the peaks, extremes and |Fs5|
+spectrum computed from the samples see the ringing aliased (docs/paper-findings.md, "The main peak and the output
+sampling"); :func:`samples_resolving` is the sampling to ask for, the same criterion in whole samples per degree.
 """
 
 from __future__ import annotations
@@ -40,8 +41,9 @@ __all__ = [
 #: m: how far every contact of a mode is pressed into its wall where the mode is linearised (a contact's force is
 #: k max(penetration, 0): its stiffness acts only with some penetration; a nanometre moves no arm measurably)
 PENETRATION = 1e-9
-#: samples per period of the ringing that :func:`samples_resolving` asks for: above the Nyquist criterion's 2 by a
-#: fifth, for what the estimate at rest leaves out (friction and the motion move the ringing by a few percent)
+#: samples per period of the ringing that resolve it (:func:`sampling`, :func:`samples_resolving`): above the Nyquist
+#: criterion's 2 by a fifth, for what the estimate at rest leaves out (friction and the motion move the ringing by a
+#: few percent)
 SAMPLES_PER_PERIOD = 2.4
 #: m/s (rad/s for the tilt): how fast the seal moves along a mode where its damping is taken, slow against the
 #: friction regularisation (its part of the Jacobian cancels out: :func:`mode_damping`)
@@ -203,30 +205,38 @@ def ringing(functions, params, theta: float, X) -> Ringing | None:
 
 
 def samples_resolving(rad_s: float, omega: float) -> int:
-    """The output samples per revolution that resolve a ringing of ``rad_s`` with a margin: :data:`SAMPLES_PER_PERIOD`
-    per period of it, rounded up to a multiple of 360 (whole samples per degree)."""
+    """The output samples per revolution that resolve a ringing of ``rad_s`` (:data:`SAMPLES_PER_PERIOD` per period of
+    it, Nyquist's 2 with a margin), rounded up to a multiple of 360 (whole samples per degree): a run at this
+    sampling has its ``sampling`` record's ``resolved`` true."""
     return 360 * math.ceil(SAMPLES_PER_PERIOD * rad_s / omega / 360)
 
 
 def sampling(functions, params, ring: Ringing | None, samples_per_revolution: int) -> dict | None:
     """Whether ``samples_per_revolution`` output samples resolve the seal's fastest ringing ``ring``
     (:func:`ringing`): the record a run keeps (``info["sampling"]``, summary.json's ``sampling``); None for a model
-    without contacts."""
+    without contacts. ``resolved``: at least :data:`SAMPLES_PER_PERIOD` samples per period of the ringing
+    (``samples_per_period``), the criterion :func:`samples_resolving` rounds up to whole samples per degree, so a
+    run at ``samples_per_revolution_resolving`` is resolved and one with fewer samples per degree is not; the
+    Nyquist frequency (``nyquist_rad_s``) above the ringing is the criterion without the margin."""
     omega = functions.omega(params)
     if ring is None:
         return None
-    nyquist = samples_per_revolution * omega / 2
-    return {"ringing_rad_s": ring.rad_s, "ringing_mode": ring.mode, "nyquist_rad_s": nyquist,
-            "resolved": bool(nyquist > ring.rad_s), "samples_per_revolution": int(samples_per_revolution),
+    per_period = samples_per_revolution * omega / ring.rad_s if ring.rad_s > 0 else math.inf
+    return {"ringing_rad_s": ring.rad_s, "ringing_mode": ring.mode,
+            "nyquist_rad_s": samples_per_revolution * omega / 2, "samples_per_period": per_period,
+            "resolved": bool(per_period >= SAMPLES_PER_PERIOD), "samples_per_revolution": int(samples_per_revolution),
             "samples_per_revolution_resolving": samples_resolving(ring.rad_s, omega)}
 
 
 def describe_sampling(record: dict) -> str:
-    """What a run's ``sampling`` record says, on one line: the ringing, the Nyquist frequency of its samples, and,
-    where they do not resolve it, the setting that would."""
+    """What a run's ``sampling`` record says, on one line: the ringing, the Nyquist frequency of its samples and
+    how many of them a period of the ringing takes, and, where they do not resolve it, the setting that would."""
     head = (f"the contacts ring at up to {record['ringing_rad_s']:.3g} rad/s (mode {record['ringing_mode']}), the "
             f"Nyquist frequency of {record['samples_per_revolution']} output samples per revolution is "
             f"{record['nyquist_rad_s']:.3g} rad/s")
+    per_period = record.get("samples_per_period")  # absent from the summaries written before it was recorded
+    if per_period is not None:
+        head += f" ({per_period:.3g} samples per period of the ringing; {SAMPLES_PER_PERIOD:g} resolve it)"
     if record["resolved"]:
         return head + ": the samples resolve the ringing"
     aliased = head + ": peaks, extremes and the |Fs5| spectrum computed from the samples see the ringing aliased; "

@@ -40,6 +40,12 @@ def test_repr_is_short_and_says_what_matters(result):
         assert part in text, part
     html = result._repr_html_()
     assert html.startswith("<table") and "friction power" in html and "b1" in html
+    # the samples' row says what a notebook user otherwise finds only in summary(): whether the samples resolve the
+    # contacts' ringing and the loads' work (the console's notes)
+    summary = result.summary()
+    assert f"{result.n} ({SAMPLES} per revolution); the contacts&#x27; ringing" in html
+    assert ("not resolved (" in html) == (not summary["sampling"]["resolved"])
+    assert ("the energy balance misses" in html) == (not summary["energy_balance"]["closes"])
     from dataclasses import replace
 
     from apexseal.runtime.results.result import StopInfo

@@ -140,3 +140,26 @@ def test_the_note_never_advises_a_sampling_beyond_the_allowed_range():
     assert "--set" not in line and f"17703360 samples per revolution, above the {most} allowed" in line
     assert "--set solver.samples_per_revolution=7920 resolves it" in describe_sampling(
         record | {"samples_per_revolution_resolving": 7920})
+
+
+@pytest.mark.parametrize("rad_s", [2.41e5, 5.07e5, 7.7e5])
+def test_resolved_and_the_sampling_that_resolves_agree(rad_s):
+    """summary.json's ``sampling`` said ``resolved`` by Nyquist's 2 samples per period while its
+    ``samples_per_revolution_resolving`` asked for 2.4: at 3000 rpm and 5.07e5 rad/s, 3600 samples were "resolved"
+    beside a resolving 3960. One criterion now: the advised sampling is resolved, a degree's sample fewer is not,
+    and ``resolved`` holds exactly from SAMPLES_PER_PERIOD samples per period on."""
+    from types import SimpleNamespace
+
+    from apexseal.runtime.solving.ringing import SAMPLES_PER_PERIOD, Ringing, sampling
+
+    omega = 3000 * math.pi / 30
+    functions = SimpleNamespace(omega=lambda params: omega)
+    ring = Ringing(rad_s, "q3_h_s")
+    needed = sampling(functions, None, ring, 3600)["samples_per_revolution_resolving"]
+    assert sampling(functions, None, ring, needed)["resolved"]
+    assert not sampling(functions, None, ring, needed - 360)["resolved"]
+    for n in range(36, needed + 1, 36):
+        record = sampling(functions, None, ring, n)
+        assert record["resolved"] == (n * omega / rad_s >= SAMPLES_PER_PERIOD)
+        assert record["samples_per_period"] == pytest.approx(n * omega / rad_s)
+        assert describe_sampling(record).count("samples per period") == 1
