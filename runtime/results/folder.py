@@ -391,11 +391,9 @@ class ResultFolder:
     def write_scene(self, scene) -> None:
         """scene.toml: the scene that ran with every value explicit (and its pressure table beside it), stamped
         with the run id, so that ``apexseal simulate <folder>/scene.toml`` re-runs this result."""
-        from ..scenes.resolved import resolved_toml
+        from ..scenes.resolved import stamped_toml
 
-        head = (f"apexseal result {self.run_id}, scene {scene.name}, content hash {scene.content_hash()}\n"
-                f"re-run: apexseal simulate {SCENE_FILE}")
-        text, extra = resolved_toml(scene, header=head)
+        text, extra = stamped_toml(scene, f"result {self.run_id}", f"apexseal simulate {SCENE_FILE}")
         for name, content in extra.items():  # unstamped (a table's own format): result.json records its sha256
             data = content.encode()
             self._store(name, data, name)

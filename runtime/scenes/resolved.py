@@ -69,6 +69,16 @@ PARAMETER_SECTIONS = SECTION_ORDER[:SECTION_ORDER.index("pressure")]
 OTHER_SECTIONS = SECTION_ORDER[SECTION_ORDER.index("pressure"):]
 
 
+def stamped_toml(scene, what: str, rerun: str, notes: tuple[str, ...] = (), *,
+                 written=None) -> tuple[str, dict[str, str]]:
+    """:func:`resolved_toml` of ``written`` (default: ``scene``) under the header a result or study folder's
+    scene.toml carries: what wrote it (``what``: "result <run id>", "preload study <run id>"), the name and content
+    hash of ``scene``, ``notes`` (one line each: how ``written`` differs from it), and how to run it again
+    (``rerun``)."""
+    head = [f"apexseal {what}, scene {scene.name}, content hash {scene.content_hash()}", *notes, f"re-run: {rerun}"]
+    return resolved_toml(scene if written is None else written, header="\n".join(head))
+
+
 def resolved_toml(scene, *, header: str = "") -> tuple[str, dict[str, str]]:
     """The scene as TOML text with every value explicit, and the extra files it names (file name -> text)."""
     lines = [f"# {line}" if line else "#" for line in header.splitlines()]

@@ -15,16 +15,14 @@ def write_study_scene(folder: Path, scene, study: str, run_id: str | None, rerun
     (``rerun``). ``samples``: the samples per revolution the study ran, written as solver.samples_per_revolution
     where they differ from the scene's (the header says so, with the content hash as written), so that
     ``apexseal simulate scene.toml`` runs the study's sampling."""
-    from ..scenes.resolved import resolved_toml
+    from ..scenes.resolved import stamped_toml
 
-    head = f"apexseal {study}{' ' + run_id if run_id else ''}, scene {scene.name}, content hash {scene.content_hash()}"
-    own = scene.solver.samples_per_revolution
+    own, written, notes = scene.solver.samples_per_revolution, scene, ()
     if samples and samples != own:
-        scene = scene.with_overrides(**{"solver.samples_per_revolution": samples})
-        head += (f"\nsolver.samples_per_revolution = {samples}: the samples the study ran (the scene's {own}); "
-                 f"content hash as written {scene.content_hash()}")
-    head += f"\nre-run: {rerun}"
-    text, extra = resolved_toml(scene, header=head)
+        written = scene.with_overrides(**{"solver.samples_per_revolution": samples})
+        notes = (f"solver.samples_per_revolution = {samples}: the samples the study ran (the scene's {own}); "
+                 f"content hash as written {written.content_hash()}",)
+    text, extra = stamped_toml(scene, f"{study}{' ' + run_id if run_id else ''}", rerun, notes, written=written)
     paths = []
     for file, content in extra.items():
         atomic_write(Path(folder) / file, content)
