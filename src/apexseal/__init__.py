@@ -18,6 +18,8 @@ Public API::
     apexseal.preload_functions(scene)        # that study's compiled CasADi Functions, every input/output slot named
     apexseal.save_preload_report("out", constant, schedule)  # its report, as the command writes it
     apexseal.PreloadResult.load("out")     # a saved study's constant optimum, e.g. to start a schedule from
+    apexseal.run_sweep("my-study.toml", "out")  # a design study (a SweepReport); under if __name__ == "__main__"
+    apexseal.load_study("my-study.toml"); apexseal.read_results("out")  # a study file; a sweep's table (pandas)
 
 Exceptions to catch: SceneError (a scene), SettingsError (run settings), PreloadStudyError (the preload study's
 options), StudyError (a sweep's study file), SchedulerError (a sweep's Dask scheduler), ResultFolderError (a
@@ -46,6 +48,9 @@ _LAZY = {
     "preload_functions": ("runtime.studies.preload.functions", "preload_functions"),
     "save_preload_report": ("runtime.studies.preload.report", "save_report"),
     "PreloadResult": ("runtime.studies.preload.result", "PreloadResult"),
+    "load_study": ("runtime.studies.sweep.study", "load_study"),
+    "run_sweep": ("runtime.studies.sweep.execute", "run_sweep"),
+    "read_results": ("runtime.studies.sweep.store", "read_results"),
     # the exceptions a user of the API catches (each a ValueError or an OSError, so older handlers still catch it)
     "RunSettings": ("runtime.solving.settings", "RunSettings"),
     "SettingsError": ("runtime.solving.settings", "SettingsError"),

@@ -127,7 +127,12 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
         click.echo(f"  {int(invalid.sum())} point{'' if one else 's'} invalid: refused at the start for the values of "
                    f"{'its scene' if one else 'their scenes'} (the stop column says which key and the allowed range); "
                    "no retry can change that: change the study's values", err=True)
-    if (~invalid).any():
+    budget = bad["stop"].fillna("").str.startswith("wall-time budget used up")
+    if budget.any():  # the same budget stops them again: it is the study's to change (its points are kept)
+        click.echo(f"  {int(budget.sum())} of them used up their wall-time budget (run.max_wall_time = "
+                   f"{st.max_wall_time:g} s): raise it in the study and run it again (its finished points are kept: "
+                   "an edited study keeps the points whose scene did not change)", err=True)
+    if (~invalid & ~budget).any():
         click.echo("  --retry-failed computes them again (the same command, the other points kept)"
                    + (", the invalid ones excepted" if invalid.any() else ""), err=True)
     warned = report.table[report.table["warnings"].fillna("") != ""] if "warnings" in report.table else bad[:0]
@@ -169,6 +174,9 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
         click.echo(f"  interrupted by {drawing.sender()} while the figures were drawn: they were finished first",
                    err=True)
         sys.exit(drawing.exit_code())
+    if len(report.table) and not (report.table["status"] == "completed").any():  # a script or CI job sees it
+        click.echo(f"  error: none of the {len(report.table)} points completed (exit status 1)", err=True)
+        sys.exit(1)
 
 
 def _bench(st, out: Path, repeats: int) -> None:

@@ -422,12 +422,34 @@ def test_resume_refuses_a_folder_of_another_study_and_fresh_recomputes(serial, t
 
     out = tmp_path / "out"
     run_sweep(light_study(**{"points = 4": "points = 2"}), out, workers=1, quiet=True)
-    with pytest.raises(StoreError, match="another study"):
-        run_sweep(light_study(**{"points = 4": "points = 3"}), out, workers=1, quiet=True)
+    other = {"points = 4": "points = 3", 'name = "light"': 'name = "heavy"'}
+    with pytest.raises(StoreError, match="holds the results of another study \\('light', this one is 'heavy'\\)"):
+        run_sweep(light_study(**other), out, workers=1, quiet=True)
     (out / "a-quantity-of-the-old-study.png").write_bytes(b"")  # as its figures were
-    report = run_sweep(light_study(**{"points = 4": "points = 3"}), out, workers=1, resume=False, quiet=True)
+    report = run_sweep(light_study(**other), out, workers=1, resume=False, quiet=True)
     assert report.computed == 12 and report.skipped == 0 and len(report.table) == 12
     assert not (out / "a-quantity-of-the-old-study.png").exists()  # --fresh leaves no figure of the study it discards
+
+
+def test_an_edited_study_keeps_the_points_whose_scene_did_not_change(serial, tmp_path):
+    """Adding a value to a grid, or raising the wall-time budget, refused the folder ("holds the results of another
+    study"): only --fresh, which discarded every finished point, ran the edited study. The finished points whose
+    scene (content hash) the edited study has are kept as its own, renumbered; the others are computed, and the
+    table is the one a fresh run gives to the last digit. A quantity the old rows lack computes every point."""
+    out = tmp_path / "out"
+    run_sweep(light_study(**{"points = 4": "points = 2"}), out, workers=1, quiet=True)  # ks 3e3 and 2e4 only
+    grown = run_sweep(light_study(), out, workers=1, quiet=True)
+    assert (grown.computed, grown.skipped, grown.carried) == (8, 8, (8, 0))
+    assert "8 resumed (8 of them kept from the study before its edit, the same scene and quantities; 0 of its " \
+           "rows discarded)" in grown.describe()
+    pd.testing.assert_frame_equal(stable(grown.table), stable(serial.table), check_exact=True)
+    assert not (out / "points.new").exists() and not (out / "points.old").exists()
+    shrunk = run_sweep(light_study(**{'"1 mm", "2 mm", "3 mm", "4 mm"': '"2 mm"'}), out, workers=1, quiet=True)
+    assert (shrunk.computed, shrunk.carried, len(shrunk.table)) == (0, (4, 12), 4)
+    assert list(shrunk.table["point"]) == [0, 1, 2, 3] and (shrunk.table["spring.delta_s"] == 2e-3).all()
+    more = run_sweep(light_study(**{'"1 mm", "2 mm", "3 mm", "4 mm"': '"2 mm"',
+                                    '"events.total", ': '"events.total", "gap.max", '}), out, workers=1, quiet=True)
+    assert (more.computed, more.carried) == (4, (0, 4)) and more.table["gap.max"].notna().all()
 
 
 def test_failed_points_are_recorded_with_their_reason_and_the_sweep_goes_on(tmp_path, monkeypatch):
@@ -454,6 +476,9 @@ def test_failed_points_are_recorded_with_their_reason_and_the_sweep_goes_on(tmp_
                        tmp_path / "budget", workers=1, quiet=True)
     assert len(budget.table) == 8 and (budget.table["status"] == "interrupted").all()
     assert budget.table["stop"].str.contains("wall-time budget used up").all()
+    # the same budget stops them again (--retry-failed did): a larger one, an edit of the study, computes them
+    larger = run_sweep(light_study(**{"points = 4": "points = 2"}), tmp_path / "budget", workers=1, quiet=True)
+    assert (larger.computed, larger.carried) == (8, (0, 8)) and (larger.table["status"] == "completed").all()
 
 
 def test_retry_failed_computes_again_only_the_points_that_did_not_complete(serial, tmp_path, monkeypatch):
@@ -534,8 +559,8 @@ def test_cli_retry_failed_is_named_after_failed_points_and_refused_with_fresh(tm
 
     monkeypatch.setattr(api, "simulate", failing)
     r = CliRunner().invoke(main, ["sweep", str(study), "-w", "1", "-q", "--no-figures", "-o", str(tmp_path / "o")])
-    assert r.exit_code == 0, r.output
-    assert "--retry-failed computes them again" in r.output
+    assert r.exit_code == 1, r.output  # none completed: a script or CI job sees it (it exited 0)
+    assert "--retry-failed computes them again" in r.output and "error: none of the 2 points completed" in r.output
     monkeypatch.undo()
     r = CliRunner().invoke(main, ["sweep", str(study), "-w", "1", "-q", "--no-figures", "--retry-failed", "-o",
                                   str(tmp_path / "o")])
@@ -577,9 +602,11 @@ def test_cli_sweep_writes_table_and_figures(serial, tmp_path):
     assert r.exit_code == 1 and "collect.quantities" in r.output and "did you mean 'revolutions'" in r.output
     r = CliRunner().invoke(main, ["sweep", "--list-quantities"])
     assert r.exit_code == 0 and "friction_power.total" in r.output and "liftoff_fraction" in r.output
-    # a folder that holds another study is refused before anything is written: nothing says it is written to
+    # a folder that holds another study (another name) is refused before anything is written: nothing says it is
+    # written to
     edited = tmp_path / "edited.toml"
-    edited.write_text(LIGHT.replace('"solver.rtol" = 1e-4', '"solver.rtol" = 1e-5'))
+    edited.write_text(LIGHT.replace('name = "light"', 'name = "other"').replace('"solver.rtol" = 1e-4',
+                                                                                 '"solver.rtol" = 1e-5'))
     r = CliRunner().invoke(main, ["sweep", str(edited), "--workers", "1", "--out", str(out), "-q"])
     assert r.exit_code == 1 and "holds the results of another study" in r.output, r.output
     assert "writing to" not in r.output, r.output
@@ -821,9 +848,10 @@ print("the script went on", flush=True)
         assert f"apexseal: SIGTERM: the sweep was stopped: {finished} of 16 points finished, kept in" in stderr
 
 
-def _sweep_of_one_preload(tmp_path, parameter: str, base: str = LIGHT):
+def _sweep_of_one_preload(tmp_path, parameter: str, base: str = LIGHT, code: int = 0):
     """The light study (or ``base``, a variant of it) with its spring stiffness replaced by ``parameter`` (a
-    ``[parameters."..."]`` table) at one preload, 2 mm, run by the command: its text, output and table."""
+    ``[parameters."..."]`` table) at one preload, 2 mm, run by the command (its exit status ``code``): its text,
+    output and table."""
     from click.testing import CliRunner
 
     from apexseal.cli import main
@@ -833,7 +861,7 @@ def _sweep_of_one_preload(tmp_path, parameter: str, base: str = LIGHT):
     (tmp_path / "start.toml").write_text(text)
     r = CliRunner().invoke(main, ["sweep", str(tmp_path / "start.toml"), "-w", "1", "-q", "--no-figures", "-o",
                                   str(tmp_path / "o")])
-    assert r.exit_code == 0, r.output
+    assert r.exit_code == code, r.output
     return text, r, read_results(tmp_path / "o")
 
 
@@ -888,8 +916,9 @@ def test_invalid_points_are_counted_apart_and_said_without_a_crank_angle(tmp_pat
 
     from apexseal.runtime.studies.sweep.watch import Bar
 
-    _, r, df = _sweep_of_one_preload(tmp_path, '[parameters."operation.initial_state.y"]\nvalues = ["0.4 mm", "0.5 mm"]')
-    assert df["status"].tolist() == ["invalid", "invalid"]
+    _, r, df = _sweep_of_one_preload(tmp_path, '[parameters."operation.initial_state.y"]\nvalues = ["0.4 mm", "0.5 mm"]',
+                                     code=1)  # no point completed
+    assert df["status"].tolist() == ["invalid", "invalid"] and "none of the 2 points completed" in r.output
     assert not df["stop"].str.startswith("stopped at crank angle").any() and df["stop"].str.contains("wall").all()
     assert "2 points invalid: refused at the start for the values of their scenes" in r.output
     shown = []
@@ -900,8 +929,15 @@ def test_invalid_points_are_counted_apart_and_said_without_a_crank_angle(tmp_pat
 
 
 def test_anything_but_a_study_or_its_file_is_a_clear_type_error(tmp_path):
-    with pytest.raises(TypeError, match="expected a Study"):
+    """The error named apexseal.load_study, which did not exist (AttributeError): the sweep's functions are
+    apexseal's own names, each the module's function."""
+    import apexseal
+    from apexseal.runtime.studies.sweep import load_study
+
+    with pytest.raises(TypeError, match=r"expected a Study \(apexseal.load_study\(path\)\)"):
         run_sweep(42, tmp_path / "bad", workers=1, quiet=True)
+    assert (apexseal.load_study, apexseal.run_sweep, apexseal.read_results) == (load_study, run_sweep, read_results)
+    assert {"load_study", "run_sweep", "read_results"} <= set(apexseal.__all__)
 
 
 @pytest.mark.slow  # 7 s of a 2-core test process: in the second step, to keep the default suite under 10 min

@@ -48,6 +48,9 @@ class SweepReport:
     where: str  # "serial", "LocalCluster", or the scheduler address
     workers_asked: int | None = None  # the workers asked, when more than the points left to run (then n is those)
     retried: int = 0  # of those computed now, points whose earlier rows had not completed (retry_failed)
+    #: the study was edited since ``folder`` was written: (rows kept, as the edited study's points, and counted in
+    #: ``skipped``; rows discarded: their points are not the edited study's, or their scene or quantities changed)
+    carried: tuple[int, int] | None = None
 
     @property
     def complete(self) -> bool:
@@ -57,8 +60,13 @@ class SweepReport:
         rate = self.computed / self.wall_time_s if self.wall_time_s > 0 else 0.0
         head = "interrupted" if self.interrupted else "done"
         again = f" ({self.retried} of them again: their rows had not completed)" if self.retried else ""
+        edited = ""
+        if self.carried is not None:
+            kept, dropped = self.carried
+            edited = (f" ({kept} of them kept from the study before its edit, the same scene and quantities; "
+                      f"{dropped} of its rows discarded)")
         return (f"{head}: {len(self.table)} of {self.total} points in {self.folder}/ ({self.computed} computed now"
-                f"{again}, {self.skipped} resumed, {self.failed} not completed); {self.wall_time_s:.1f} s, "
+                f"{again}, {self.skipped} resumed{edited}, {self.failed} not completed); {self.wall_time_s:.1f} s, "
                 f"{rate:.2f} points/s "
                 f"on {self.workers} worker{'s' if self.workers != 1 else ''} ({self.where}"
                 + (f"; {self.workers_asked} asked, as many as points left" if self.workers_asked else "") + ")")
@@ -229,7 +237,7 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, retry_f
 
     from ....progress import bar_output
 
-    done = store.open(study, resume=resume)
+    done = store.open(study, resume=resume, points=points)
     retried = store.not_completed() & done if retry_failed else set()
     done -= retried
     if on_start is not None:
@@ -270,7 +278,7 @@ def _sweep(store, study, points, t0, workers, scheduler, client, resume, retry_f
     return SweepReport(table=table, folder=store.folder, total=len(points), skipped=skipped,
                        computed=len(recorded), failed=int((table["status"] != "completed").sum()),
                        wall_time_s=time.perf_counter() - t0, interrupted=interrupted, workers=n, where=where,
-                       workers_asked=asked, retried=len(recorded & retried))
+                       workers_asked=asked, retried=len(recorded & retried), carried=store.carried)
 
 
 def _models_built(todo, quiet: bool) -> bool:

@@ -12,6 +12,13 @@ Layout of the output folder::
 Only the process that runs the sweep writes (workers return rows), so a part-file is complete or absent:
 a killed worker, Ctrl-C or a crashed machine loses at most the points that were running, and a resumed sweep
 recomputes exactly the points without a part-file.
+
+A study edited since its folder was written (a value added to a grid, a longer wall-time budget, one more
+quantity) keeps the finished points whose scene the edited study has too (:meth:`Store.open`, :func:`carried`):
+a point's row depends on its scene (every value and setting, its content hash in the row's ``scene_hash``) and on
+the quantities collected, so a row with the same scene and every quantity now asked for is the row the edited study
+would compute. The others are computed; the rows of points the edited study no longer has are discarded. A folder
+of a study of another name is refused (a mistaken --out would otherwise discard it).
 """
 
 from __future__ import annotations
@@ -45,11 +52,15 @@ class Store:
     def __init__(self, folder: str | Path):
         self.folder = Path(folder)
         self.parts = self.folder / "points"
+        self.carried: tuple[int, int] | None = None  # rows kept and discarded of the study before an edit (open)
 
     # ------------------------------------------------------------------ opening
-    def open(self, study, *, resume: bool = True) -> set[int]:
+    def open(self, study, *, resume: bool = True, points=None) -> set[int]:
         """Prepare the folder for ``study``; returns the points already done (empty unless resuming). The folder
-        is locked until :meth:`close`: a second sweep into it is refused (two sweeps mixed their rows)."""
+        is locked until :meth:`close`: a second sweep into it is refused (two sweeps mixed their rows). A folder of
+        ``study`` before an edit (same name, another content hash) keeps the rows of ``points`` ((point, scene,
+        overrides) of the edited study) that :func:`carried` finds in it, renumbered, and discards the others
+        (``self.carried``: (rows kept, rows discarded)); of a study of another name it is refused."""
         try:
             not_into_a_result(self.folder, "a sweep's points and tables")
         except ResultFolderError as err:
@@ -59,16 +70,22 @@ class Store:
         if self._lock is None:
             raise StoreError(f"{self.folder} is being written by another sweep running now: wait for it to end, or "
                              "choose another --out folder")
+        before = self.folder / "points.old"  # killed while an edit's rows were put in place: the old rows are whole
+        if before.is_dir() and not self.parts.exists():
+            before.rename(self.parts)
         record = self.folder / "study.json"
         digest = study.content_hash()
         if record.exists() and resume:
             try:
-                old = json.loads(record.read_text()).get("hash")
+                written = json.loads(record.read_text())
             except (OSError, ValueError):
-                old = None
-            if old != digest and self.done():
-                raise StoreError(f"{self.folder} holds the results of another study (or of this study before it "
-                                 "was edited); use --fresh to discard them, or another --out folder")
+                written = {}
+            if written.get("hash") != digest and self.done():
+                if written.get("name") != study.name or points is None:
+                    raise StoreError(f"{self.folder} holds the results of another study "
+                                     f"({written.get('name', 'unnamed')!r}, this one is {study.name!r}); use --fresh "
+                                     "to discard them, or another --out folder")
+                self._carry_over(study, points)
         if not resume:
             shutil.rmtree(self.parts, ignore_errors=True)
             for name in ("results.parquet", "results.csv"):
@@ -79,6 +96,27 @@ class Store:
         atomic_write(record, json.dumps({"name": study.name, "hash": digest, "source": study.source,
                                          "study": study.raw, "units": study.units()}, indent=2, default=str) + "\n")
         return self.done()
+
+    def _carry_over(self, study, points) -> None:
+        """Replace the part-files of the study before its edit by the rows :func:`carried` keeps for ``points``: the
+        new ones written beside the old (points.new/), then put in their place, so that a kill in between leaves the
+        old rows or the new, and the earlier study's tables and figures removed (the sweep writes them again)."""
+        files = sorted(p for p in self.parts.iterdir() if _PART.match(p.name))
+        rows = carried(pd.concat([pd.read_parquet(f) for f in files], ignore_index=True), study, points)
+        staged, old = self.folder / "points.new", self.folder / "points.old"
+        for folder in (staged, old):
+            shutil.rmtree(folder, ignore_errors=True)
+        staged.mkdir()
+        for row in rows:
+            self.write(row, staged)
+        self.parts.rename(old)
+        staged.rename(self.parts)
+        shutil.rmtree(old, ignore_errors=True)
+        for name in ("results.parquet", "results.csv"):
+            (self.folder / name).unlink(missing_ok=True)
+        for figure in self.folder.glob("*.png"):
+            figure.unlink(missing_ok=True)
+        self.carried = (len(rows), len(files) - len(rows))
 
     def close(self) -> None:
         """Let go of the folder (another sweep may resume it from now on)."""
@@ -101,9 +139,9 @@ class Store:
                 if (~pd.read_parquet(f, columns=["status"])["status"].isin(FINAL)).any()}
 
     # ------------------------------------------------------------------ writing
-    def write(self, row: dict) -> Path:
-        """Write one point's row (atomically: a temporary file renamed into place)."""
-        path = self.parts / f"point-{int(row['point']):06d}.parquet"
+    def write(self, row: dict, folder: Path | None = None) -> Path:
+        """Write one point's row (atomically: a temporary file renamed into place) into points/ (or ``folder``)."""
+        path = (folder or self.parts) / f"point-{int(row['point']):06d}.parquet"
         buf = io.BytesIO()
         pd.DataFrame([row]).to_parquet(buf, index=False)
         atomic_write(path, buf.getvalue(), durable=True)
@@ -141,6 +179,27 @@ class Store:
         atomic_write(self.folder / "results.csv", df.to_csv(index=False))
         df.attrs["units"] = units
         return df
+
+
+def carried(old: pd.DataFrame, study, points) -> list[dict]:
+    """The rows of ``old`` (the part-files of a study before its edit) that the edited ``study`` keeps: for each of
+    its ``points`` ((point, scene, overrides)) whose scene's content hash is a row's ``scene_hash``, that row with the
+    point's number and parameter values, if its status is final (completed or invalid: computing it again gives the
+    same row; the others are computed) and it holds every quantity ``study`` collects: none when the old rows lack
+    one (a quantity added to ``[collect]``), every point is then computed."""
+    from .point import FINAL
+
+    if not set(study.quantities) <= set(old.columns):
+        return []
+    final = old[old["status"].isin(FINAL)].drop_duplicates("scene_hash").set_index("scene_hash")
+    keep = [c for c in (*HEAD, *PERIODIC, *study.quantities, *TAIL) if c in final.columns and c != "point"]
+    rows = []
+    for i, scene, overrides in points:
+        digest = scene.content_hash()
+        if digest in final.index:
+            row = final.loc[digest, keep].to_dict()
+            rows.append({"point": int(i), "scene_hash": digest, **overrides, **row})
+    return rows
 
 
 def read_results(folder_or_file: str | Path) -> pd.DataFrame:
