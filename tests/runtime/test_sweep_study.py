@@ -98,10 +98,10 @@ def test_bad_study_files_are_refused_naming_key_value_and_range(replace, key, me
 
 
 def test_a_point_outside_the_scene_range_is_refused_before_any_work():
-    """A value the scene refuses (delta_s < 0) names the point, the key, the value and the allowed range."""
-    st = light_study(**{'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'values = ["1 mm", "-2 mm"]'})
+    """A value the scene refuses (delta_s < 0) names the point, the key, the value and the allowed range; reading
+    the study says so (load_study accepted it and only the sweep refused it), with the file's other problems."""
     with pytest.raises(StudyError) as info:
-        scenes_of(st)
+        light_study(**{'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'values = ["1 mm", "-2 mm"]'})
     text = str(info.value)
     assert "parameters.spring.delta_s" in info.value.keys()
     assert "-0.002" in text and "out of range" in text and ">= 0" in text and "(points 1, 3, 5, 7)" in text
@@ -132,16 +132,14 @@ def test_a_sweep_over_angles_gives_each_point_its_angle(design):
 def test_a_value_refused_at_many_points_is_one_problem_naming_them():
     """A bad listed value recurs at every point of the grid that holds it: one line naming the points (it was one
     line per point, cut at ten lines under a header that counted those ten as the study's problems)."""
-    st = light_study(**{'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'values = ["1 mm", "-2 mm", "3 mm", "4 mm"]'})
     with pytest.raises(StudyError) as info:
-        scenes_of(st)
+        light_study(**{'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'values = ["1 mm", "-2 mm", "3 mm", "4 mm"]'})
     assert [str(p) for p in info.value.errors] == [
         "parameters.spring.delta_s = -0.002: -0.002 m is out of range; allowed: >= 0 m (points 1, 5, 9, 13)"]
     assert str(info.value).startswith("study light.toml: 1 problem\n")
-    many = light_study(**{"[collect]": '[parameters."operation.revolutions"]\nvalues = [1, 0, 2, 3, 4, 5, 6, 7]\n\n'
-                                       "[collect]"})  # 0 at 16 of the 128 points
-    with pytest.raises(StudyError) as info:
-        scenes_of(many)
+    with pytest.raises(StudyError) as info:  # 0 at 16 of the 128 points
+        light_study(**{"[collect]": '[parameters."operation.revolutions"]\nvalues = [1, 0, 2, 3, 4, 5, 6, 7]\n\n'
+                                    "[collect]"})
     (problem,) = info.value.errors
     assert problem.key == "parameters.operation.revolutions" and problem.value == 0
     assert problem.message.endswith("(16 points: 1, 9, 17, 25, 33, ..., 121)")
@@ -150,9 +148,8 @@ def test_a_value_refused_at_many_points_is_one_problem_naming_them():
 def test_past_ten_distinct_problems_the_check_stops_and_says_where():
     """Every point refused with a value of its own: the first ten are listed, and the error says that the points
     after them were not checked (it listed ten as if they were all)."""
-    st = light_study(**{'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'from = "-20 mm"\nto = "-1 mm"\npoints = 12'})
     with pytest.raises(StudyError) as info:
-        scenes_of(st)
+        light_study(**{'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'from = "-20 mm"\nto = "-1 mm"\npoints = 12'})
     assert len(info.value.errors) == 10 and all(p.message.endswith(f"(point {i})")
                                                 for i, p in enumerate(info.value.errors))
     assert str(info.value).startswith("study light.toml: 10 problems (checked points 0 to 9 of 48; the others were "
@@ -470,3 +467,19 @@ def test_a_heat_map_keeps_positive_values_positive_and_names_the_points_without_
     quantity_figure(st, table, "friction_power.total", None, ax=ax, feasible=st.feasible(table))
     assert ax.get_xlim()[0] >= 0, ax.get_xlim()
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["invalid (4): no value"]
+
+
+def test_a_points_value_is_refused_with_the_files_other_problems_and_checked_once():
+    """The study file was checked first and the points' scenes only by the sweep: a misspelt quantity hid a value
+    the scene refuses until the next run, and load_study accepted a study the sweep then refused. Both are said at
+    once now, and the sweep takes the points load_study checked (a study changed since is checked again)."""
+    from dataclasses import replace
+
+    with pytest.raises(StudyError) as info:
+        light_study(**{'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'values = ["1 mm", "-2 mm"]',
+                       '"revolutions"]': '"revolution"]'})
+    assert set(info.value.keys()) == {"collect.quantities", "parameters.spring.delta_s"}, str(info.value)
+    st = light_study()
+    assert st.points_checked[0] == st.content_hash() and scenes_of(st) == list(st.points_checked[1])
+    other = replace(st, scene=st.scene.with_overrides(**{"solver.rtol": 1e-5}))
+    assert {s.solver.rtol for _, s, _ in scenes_of(other)} == {1e-5}  # not the points of the study it came from

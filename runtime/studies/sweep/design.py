@@ -212,3 +212,42 @@ def design_points(study) -> list[dict[str, Any]]:
             engine(d=d, seed=study.seed).random(n)
     columns = [_scaled(u[:, j], p) for j, p in enumerate(pars)]
     return [{p.key: columns[j][i] for j, p in enumerate(pars)} for i in range(n)]
+
+
+#: distinct problems (key, value, message) of refused points after which the check of a study's points stops
+MAX_REFUSALS = 10
+#: points named in full in a problem shared by more points
+POINTS_SHOWN = 5
+
+
+def checked_points(study) -> tuple[list[tuple[int, Any, dict[str, Any]]], list[Problem], str | None]:
+    """(point, scene, overrides) of every point of ``study`` whose scene its values make, the problems of those
+    they do not (each distinct problem once, with the points it refuses: a value that recurs across a grid is one
+    line, not one per point; keyed ``parameters.<key>``), and a note when the check stopped early: past
+    :data:`MAX_REFUSALS` distinct problems it says at which point."""
+    from ...scenes.errors import SceneError, show_value
+
+    designs = design_points(study)
+    out: list[tuple[int, Any, dict[str, Any]]] = []
+    refused: dict[tuple[str, str, str], tuple[Any, list[int]]] = {}
+    note = None
+    for i, overrides in enumerate(designs):
+        try:
+            out.append((i, study.scene.with_overrides(**scene_values(study, overrides)), overrides))
+        except SceneError as err:
+            for p in err.errors:
+                refused.setdefault((p.key, show_value(p.value), p.message), (p, []))[1].append(i)
+            if len(refused) >= MAX_REFUSALS and i + 1 < len(designs):
+                note = f"checked points 0 to {i} of {len(designs)}; the others were not checked"
+                break
+    problems = [Problem(f"parameters.{p.key}", p.value, f"{p.message} ({_points(at)})") for p, at in refused.values()]
+    return out, problems, note
+
+
+def _points(at: list[int]) -> str:
+    """The points a problem refuses, e.g. "point 1", "points 1, 4, 7", "20 points: 1, 4, 7, 10, 13, ..., 58"."""
+    if len(at) == 1:
+        return f"point {at[0]}"
+    if len(at) <= POINTS_SHOWN + 1:
+        return "points " + ", ".join(map(str, at))
+    return f"{len(at)} points: {', '.join(map(str, at[:POINTS_SHOWN]))}, ..., {at[-1]}"

@@ -24,7 +24,7 @@ from typing import Any
 import pandas as pd
 
 from ....cores import MAX_WORKERS, available_cores
-from .design import design_points, scene_values
+from .design import checked_points
 from .point import run_point
 from .store import Store
 from .study import Study, StudyError
@@ -72,44 +72,16 @@ class SweepReport:
                 + (f"; {self.workers_asked} asked, as many as points left" if self.workers_asked else "") + ")")
 
 
-#: distinct problems (key, value, message) of refused points after which the check of a study's points stops
-MAX_REFUSALS = 10
-#: points named in full in a problem shared by more points
-POINTS_SHOWN = 5
-
-
 def scenes_of(study: Study) -> list[tuple[int, Any, dict[str, Any]]]:
-    """(point, scene, overrides) of every point, each scene checked; bad points raise :class:`StudyError`, each
-    distinct problem once with the points it refuses (a value that recurs across a grid is one line, not one per
-    point). Past :data:`MAX_REFUSALS` distinct problems the check stops, and the error says at which point."""
-    from ...scenes.errors import SceneError, show_value
-
-    designs = design_points(study)
-    out: list[tuple[int, Any, dict[str, Any]]] = []
-    refused: dict[tuple[str, str, str], tuple[Any, list[int]]] = {}
-    note = None
-    for i, overrides in enumerate(designs):
-        try:
-            out.append((i, study.scene.with_overrides(**scene_values(study, overrides)), overrides))
-        except SceneError as err:
-            for p in err.errors:
-                refused.setdefault((p.key, show_value(p.value), p.message), (p, []))[1].append(i)
-            if len(refused) >= MAX_REFUSALS and i + 1 < len(designs):
-                note = f"checked points 0 to {i} of {len(designs)}; the others were not checked"
-                break
-    if refused:
-        raise StudyError([(f"parameters.{p.key}", p.value, f"{p.message} ({_points(at)})")
-                          for p, at in refused.values()], source=study.source, note=note)
-    return out
-
-
-def _points(at: list[int]) -> str:
-    """The points a problem refuses, e.g. "point 1", "points 1, 4, 7", "20 points: 1, 4, 7, 10, 13, ..., 58"."""
-    if len(at) == 1:
-        return f"point {at[0]}"
-    if len(at) <= POINTS_SHOWN + 1:
-        return "points " + ", ".join(map(str, at))
-    return f"{len(at)} points: {', '.join(map(str, at[:POINTS_SHOWN]))}, ..., {at[-1]}"
+    """(point, scene, overrides) of every point, each scene checked (by :func:`.study.load_study` already, for a
+    study it read: its ``points_checked``); bad points raise :class:`StudyError`, each distinct problem once with the points
+    it refuses (:func:`.design.checked_points`)."""
+    if study.points_checked is not None and study.points_checked[0] == study.content_hash():
+        return list(study.points_checked[1])
+    points, problems, note = checked_points(study)
+    if problems:
+        raise StudyError(problems, source=study.source, note=note)
+    return points
 
 
 def run_sweep(study: Study | str | Path, out: str | Path, *, workers: int | None = None, scheduler: str | None = None,

@@ -40,7 +40,7 @@ import hashlib
 import json
 import math
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Literal
 
@@ -50,7 +50,7 @@ from apexseal.suggest import did_you_mean
 
 from ...results.quantities import quantity_help, quantity_unit
 from ...scenes.errors import Problem, show_value
-from .design import Parameter, parameter_of
+from .design import Parameter, checked_points, parameter_of
 
 #: the designs of experiments (design.py)
 DESIGNS = ("grid", "random", "sobol", "halton", "lhs")
@@ -179,6 +179,10 @@ class Study:
     constraints: tuple[Constraint, ...]
     source: str = "<string>"
     raw: dict = field(default_factory=dict, repr=False)
+    #: (content hash of the study they are of, ((point, scene, overrides) of every point, each scene checked)) as
+    #: :func:`study_from_dict` found them; None: not checked yet (a sweep checks them first: .execute.scenes_of, which
+    #: checks them again for a study changed since, dataclasses.replace)
+    points_checked: tuple | None = field(default=None, repr=False, compare=False)
 
     def content_hash(self) -> str:
         """sha256 of what decides the points and their results (not of where the file lives)."""
@@ -463,8 +467,16 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
                                     "min must not exceed max"))
         constraints.append(Constraint(col, columns[col] or "1", bounds["min"], bounds["max"]))
 
+    study = Study(name=spec.study.name, description=spec.study.description, scene=scene,
+                  parameters=tuple(parameters), design=d.kind, points=d.points, seed=d.seed,
+                  quantities=tuple(spec.collect.quantities), max_wall_time=budget, constraints=tuple(constraints),
+                  source=source, raw=raw)
+    note = None
+    if scene is not None and parameters and not any(p.key.startswith(("parameters", "design")) for p in problems):
+        # every point's scene, checked here with the file's other problems (all at once), and kept for the sweep
+        points, refused, note = checked_points(study)
+        problems += refused
+        study = replace(study, points_checked=(study.content_hash(), tuple(points)))
     if problems:
-        raise StudyError(problems, source=source)
-    return Study(name=spec.study.name, description=spec.study.description, scene=scene, parameters=tuple(parameters),
-                 design=d.kind, points=d.points, seed=d.seed, quantities=tuple(spec.collect.quantities),
-                 max_wall_time=budget, constraints=tuple(constraints), source=source, raw=raw)
+        raise StudyError(problems, source=source, note=note)
+    return study
