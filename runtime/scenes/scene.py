@@ -99,8 +99,22 @@ def _embedded_hint(path: Path) -> str:
         found = Path(str(_scenes_folder().joinpath(stem.as_posix()))).is_file()
     except (OSError, ValueError):
         found = False
-    return (f"; apexseal's own scene of that name loads with "
-            f"load_scene(apexseal.embedded_scene_path({stem.as_posix()!r}))") if found else ""
+    if found:
+        return (f"; apexseal's own scene of that name loads with "
+                f"load_scene(apexseal.embedded_scene_path({stem.as_posix()!r}))")
+    from apexseal.suggest import did_you_mean
+
+    # a misspelt name of the default or of an embedded scene ("defualt"), and where a relative name was looked for
+    folder = Path(str(_scenes_folder()))
+    own = list(dict.fromkeys([DEFAULT_NAME, *sorted(p.relative_to(folder).with_suffix("").as_posix()
+                                                    for p in folder.rglob("*.toml"))]))
+    given = Path(path).with_suffix("") if Path(path).suffix == ".toml" else Path(path)
+    # a relative name as given, or the end of a path made absolute (a study file's scene, from the study's folder)
+    near = did_you_mean(given.as_posix(), own) or did_you_mean(given.name, own)
+    where = "" if Path(path).is_absolute() else f" (looked for {Path(path).resolve()})"
+    if near and near != f" (did you mean {DEFAULT_NAME!r}?)":
+        near += "; apexseal's own scenes load with load_scene(apexseal.embedded_scene_path(\"<name>.toml\"))"
+    return where + near
 
 
 def embedded_scene_path(name: str) -> Path:

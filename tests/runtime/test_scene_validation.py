@@ -748,3 +748,14 @@ def test_an_unknown_embedded_scene_lists_the_embedded_ones():
     with pytest.raises(SceneError, match=r'scene = "default": no such embedded scene; embedded: default\.toml, '
                        r"expander-gas\.toml, hard/.*soft-contacts\.toml"):
         apexseal.embedded_scene_path("default")
+
+
+def test_a_misspelt_scene_name_is_told_the_name_and_where_it_was_looked_for(tmp_path, monkeypatch):
+    """load_scene("defualt") said "file not found" alone: the closest of apexseal's own names, and for a relative
+    name the path it was looked for at."""
+    monkeypatch.chdir(tmp_path)
+    for name, hint in (("defualt", "(did you mean 'default'?)"), ("soft-contact", "(did you mean 'soft-contacts'?); "
+                       "apexseal's own scenes load with load_scene(apexseal.embedded_scene_path(\"<name>.toml\"))")):
+        with pytest.raises(SceneError) as info:
+            load_scene(name)
+        assert info.value.errors[0].message == f"file not found (looked for {tmp_path / name}) {hint}"

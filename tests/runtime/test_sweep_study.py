@@ -71,12 +71,18 @@ BAD = [
     ({'name = "light"': 'name = ""'}, "study.name", "not a plain folder name"),
     # a base scene file that is not there, beside a [scene] table: it was named "scene.scene"
     ({'name = "light"': 'name = "light"\nscene = "nope.toml"'}, "study.scene", "file not found"),
+    # a misspelt default had no suggestion
+    ({'name = "light"': 'name = "light"\nscene = "defualt"'}, "study.scene", "file not found (did you mean 'default'?)"),
     ({'"solver.rtol" = 1e-4': 'solver.rtol = 5'}, "scene.solver.rtol", "out of range"),  # a nested key
     ({"points = 4": 'points = "4"'}, "parameters.spring.ks.points", "expected an integer"),
     ({"[collect]": '[design]\nseed = -1\n\n[collect]'}, "design.seed", "-1 is out of range; allowed: n >= 0"),
     ({'[parameters."spring.delta_s"]\nvalues = ["1 mm", "2 mm", "3 mm", "4 mm"]':
       '[parameters."operation.revolutions"]\nfrom = 1\nto = 1.4\npoints = 3'},
      "parameters.operation.revolutions.points", "at least 3 integers"),  # collapsed to one point before
+    # spring.delta_s = [...] in [parameters]: TOML's parameter "spring" with a key "delta_s" ("unknown key" alone)
+    ({'[parameters."spring.delta_s"]\nvalues = ["1 mm", "2 mm", "3 mm", "4 mm"]':
+      '[parameters]\nspring.delta_s = ["1 mm", "2 mm"]'},
+     "parameters.spring.delta_s", 'quote its dotted name: "spring.delta_s" = ["1 mm", "2 mm"]'),
     # a value listed twice (in any unit) ran the same point twice; in a sampled design it weighed double
     ({'values = ["1 mm", "2 mm", "3 mm", "4 mm"]': 'values = ["1 mm", "2 mm", "0.001 m"]'},
      "parameters.spring.delta_s.values", "0.001 m repeated (values[0], values[2]); allowed: distinct values"),

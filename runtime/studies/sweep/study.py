@@ -245,6 +245,12 @@ def _pydantic_problems(exc: ValidationError, raw: dict) -> list[Problem]:
             value = show_value(value)
             msg = (f'a table in a parameter\'s table; to vary the scene key {loc[1]}.{loc[2]}, quote its dotted name: '
                    f'[parameters."{loc[1]}.{loc[2]}"]')
+        elif (err["type"] == "extra_forbidden" and loc[0] == "parameters" and len(loc) == 3
+              and loc[2] not in _known_keys(loc[:2])):
+            # spring.ks = [...] in [parameters] is TOML for a parameter "spring" with a key "ks"
+            written = json.dumps(value, default=str)  # the TOML of a list of strings and numbers
+            msg = (f"unknown key of a parameter's table; to vary the scene key {loc[1]}.{loc[2]}, quote its dotted "
+                   f'name: "{loc[1]}.{loc[2]}" = {written}')
         elif err["type"] == "extra_forbidden":
             parent = _known_keys(loc[:-1])
             msg = "unknown key" + did_you_mean(loc[-1], parent, cutoff=0.5) + (
