@@ -163,7 +163,7 @@ def compare(results: Sequence[SimulationResult | str | Path], labels: Sequence[s
 def _noise_run(first: SimulationResult, noise) -> tuple[SimulationResult | None, str]:
     """The re-run of ``first`` that ``noise`` asks for (None: the rule), and how it names the estimate."""
     if noise is None or noise is False:
-        return None, ("estimated from each run's rtol by the spread rtol alone gives on the default scene "
+        return None, ("estimated from each run's rtol: the spread that the rtol alone gives on the default scene "
                       "(docs/results.md, \"Numerical noise\"); --noise (noise=True) measures it for these runs")
     if noise is True:
         rerun_result = rerun(first)

@@ -42,6 +42,32 @@ def test_sampled_designs_stay_in_the_box_and_repeat_with_the_seed(kind):
     assert below == 16 if kind in ("sobol", "halton", "lhs") else below in range(10, 23)
 
 
+def test_a_sampled_design_draws_from_a_range_without_its_points():
+    """A sampled design's range was refused without ``points`` ("from, to and points go together"), which it then
+    did not use: from and to are enough, an integer key's draws stay integers, and a grid still needs them."""
+    st = light_study(**{"points = 4\n": "", "[collect]": '[design]\nkind = "sobol"\npoints = 8\n\n[collect]',
+                        '[parameters."spring.delta_s"]\nvalues = ["1 mm", "2 mm", "3 mm", "4 mm"]':
+                        '[parameters."operation.revolutions"]\nfrom = 1\nto = 3'})
+    points = design_points(st)
+    assert len({p["spring.ks"] for p in points}) == 8 and all(3e3 <= p["spring.ks"] <= 2e4 for p in points)
+    assert {type(p["operation.revolutions"]) for p in points} == {int}
+    assert {p["operation.revolutions"] for p in points} <= {1, 2, 3}
+    with pytest.raises(StudyError, match="parameters.spring.ks.points = \"\\(missing\\)\": from, to and points go"):
+        light_study(**{"points = 4\n": ""})
+
+
+def test_a_quoted_plain_number_is_read_as_the_scene_reads_it():
+    """``"friction.mu1" = ["0.1", "0.2"]`` was refused ("expected a number", no range) although the scene takes
+    "0.1"; an angle without its unit, or an integer key's quoted value, is told what is allowed."""
+    mu = light_study(**{'values = ["1 mm", "2 mm", "3 mm", "4 mm"]':
+                        'values = ["1 mm"]\n[parameters."friction.mu1"]\nvalues = ["0.1", "0.2"]'})
+    assert {p["friction.mu1"] for p in design_points(mu)} == {0.1, 0.2}
+    for table, message in (('"operation.start_angle" = [0, 30]', "allowed: -360 <= value <= 360 deg"),
+                           ('"operation.revolutions" = ["2", 3]', "expected an integer, 1 <= n <= 100000")):
+        with pytest.raises(StudyError, match=message):
+            light_study(**{"[collect]": f"[parameters]\n{table}\n\n[collect]"})
+
+
 def test_listed_values_are_categorical_in_a_sampled_design():
     st = light_study(**{"[collect]": '[design]\nkind = "lhs"\npoints = 40\n\n[collect]'})
     assert {p["spring.delta_s"] for p in design_points(st)} <= {0.001, 0.002, 0.003, 0.004}

@@ -17,9 +17,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from pydantic_core import PydanticCustomError
 
 from ...scenes.errors import Problem
-from ...scenes.units import ANGULAR, QuantityError, parse_quantity, registry
+from ...scenes.units import ANGULAR, registry
 
 
 @dataclass(frozen=True)
@@ -64,8 +65,10 @@ def _unit_written(value: Any) -> str:
     return f"{q.units:~}" if hasattr(q, "units") and tuple(q.unit_items()) else ""
 
 
-def parameter_of(key: str, ps) -> tuple[Parameter | None, list[Problem]]:
-    """A :class:`Parameter` from a ``[parameters."<key>"]`` table, and the problems found."""
+def parameter_of(key: str, ps, *, sampled: bool = False) -> tuple[Parameter | None, list[Problem]]:
+    """A :class:`Parameter` from a ``[parameters."<key>"]`` table, and the problems found. In a ``sampled`` design
+    (not a grid) a range needs no ``points``: the design draws ``design.points`` values from ``from`` to ``to``
+    (a range's points are then not used)."""
     from ...scenes.schema import key_paths
 
     where = f"parameters.{key}"
@@ -88,16 +91,19 @@ def parameter_of(key: str, ps) -> tuple[Parameter | None, list[Problem]]:
         return None, problems
 
     def number(x: Any, sub: str) -> float | None:
-        if unit in ("", "1"):
-            if isinstance(x, bool) or not isinstance(x, int | float):
-                problems.append(Problem(f"{where}.{sub}", x, "expected a number"))
+        """``x`` as the scene reads it (a quoted plain number "0.1" too); its range is the scene's to check, with
+        the points that hold it. What is no number of the key's kind names what is allowed."""
+        if hasattr(v, "convert"):  # a quantity (SI): the scene's own conversion
+            try:
+                return v.convert(x, ranged=False)
+            except PydanticCustomError as exc:
+                problems.append(Problem(f"{where}.{sub}", x, exc.context["message"]))
                 return None
-            return x
-        try:
-            return parse_quantity(x, unit, key=f"{where}.{sub}", bare=getattr(v, "bare", None))
-        except QuantityError as exc:
-            problems.append(Problem(f"{where}.{sub}", x, exc.reason))
+        if isinstance(x, bool) or not isinstance(x, int | float):
+            expects = getattr(v, "expects", None)
+            problems.append(Problem(f"{where}.{sub}", x, f"expected {expects() if expects else 'a number'}"))
             return None
+        return x
 
     display = ""
     if ps.values is not None:
@@ -117,8 +123,10 @@ def parameter_of(key: str, ps) -> tuple[Parameter | None, list[Problem]]:
     if unit == "":
         return None, [Problem(where, ps.from_, "a key of words or flags takes values = [...], not from/to")]
     for sub, x in (("from", ps.from_), ("to", ps.to), ("points", ps.points)):
-        if x is None:
-            problems.append(Problem(f"{where}.{sub}", "(missing)", "from, to and points go together"))
+        if x is None and not (sampled and sub == "points"):
+            problems.append(Problem(f"{where}.{sub}", "(missing)", "from, to and points go together" if not sampled
+                                    else "from and to go together (a sampled design draws design.points values "
+                                    "between them)"))
     if problems:
         return None, problems
     low, high = number(ps.from_, "from"), number(ps.to, "to")
@@ -131,6 +139,8 @@ def parameter_of(key: str, ps) -> tuple[Parameter | None, list[Problem]]:
         problems.append(Problem(f"{where}.from", ps.from_, "a log scale needs from > 0"))
     if problems:
         return None, problems
+    if ps.points is None:  # a sampled design's range: no grid of its own
+        return Parameter(key, unit, None, low, high, ps.scale, _unit_written(ps.from_)), problems
     if ps.scale == "log":
         grid = np.geomspace(low, high, ps.points)
     else:
@@ -181,7 +191,7 @@ def _scaled(u: np.ndarray, p) -> list[Any]:
         x = np.exp(np.log(p.low) + u * (np.log(p.high) - np.log(p.low)))
     else:
         x = p.low + u * (p.high - p.low)
-    if p.unit == "1" and isinstance(p.values[0], int):
+    if p.unit == "1" and (isinstance(p.values[0], int) if p.values else type(key_validator(p.key)).__name__ == "Int"):
         return [int(round(v)) for v in x]
     return [float(f"{v:.12g}") for v in x]
 

@@ -393,7 +393,7 @@ def study_from_dict(raw: dict, *, base_dir: Path, source: str = "<string>") -> S
 
     parameters = []
     for key, ps in spec.parameters.items():
-        par, more = parameter_of(key, ps)
+        par, more = parameter_of(key, ps, sampled="design" not in malformed and spec.design.kind != "grid")
         problems += more
         if par is not None:
             parameters.append(par)
