@@ -501,6 +501,29 @@ def test_a_heat_map_keeps_positive_values_positive_and_names_the_points_without_
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["invalid (4): no value"]
 
 
+def test_a_heat_map_of_three_parameters_says_its_cells_are_feasible_at_every_value_of_the_third():
+    """With a third parameter a cell's colour was the mean over it and its hatching "not feasible at every value of
+    it", while the title counted points ("5 of 8 points" over 1 clear cell of 4): title and panel say both."""
+    import pandas as pd
+
+    from apexseal.runtime.results.figures import new_figure
+    from apexseal.runtime.studies.sweep.figures import feasible_count, quantity_figure
+
+    st = light_study(**{"points = 4": "points = 2", '"1 mm", "2 mm", "3 mm", "4 mm"': '"1 mm", "2 mm"',
+                        "[collect]": '[parameters]\n"friction.mu1" = [0.1, 0.2]\n\n[collect]'})
+    pts = design_points(st)
+    power = [20.0 if (p["spring.ks"] < 1e4 and p["spring.delta_s"] < 1.5e-3) or p["friction.mu1"] < 0.15 else 50.0
+             for p in pts]  # below the 35 W bound: one cell at both mu1, three cells at mu1 = 0.1 alone
+    table = pd.DataFrame([{"point": i, "status": "completed", **p, "friction_power.total": w,
+                           **{q: 0.0 for q in st.quantities if q != "friction_power.total"}}
+                          for i, (p, w) in enumerate(zip(pts, power, strict=True))])
+    feasible = st.feasible(table)
+    assert feasible_count(st, table, feasible) == "5 of 8 points; 1 of 4 cells feasible at every value of friction.mu1"
+    ax = new_figure((6.4, 4.8)).add_subplot()
+    quantity_figure(st, table, "friction_power.total", None, ax=ax, feasible=feasible)
+    assert "(mean over friction.mu1; unhatched: feasible at every value of it)" in ax.get_title().replace("\n", " ")
+
+
 def test_a_points_value_is_refused_with_the_files_other_problems_and_checked_once():
     """The study file was checked first and the points' scenes only by the sweep: a misspelt quantity hid a value
     the scene refuses until the next run, and load_study accepted a study the sweep then refused. Both are said at

@@ -1,7 +1,8 @@
 """Figures of a sweep: each collected quantity against the varied parameters, and the feasible region.
 
 * one varied parameter: a line plot of the quantity (points that did not complete marked with a red x);
-* two or more, grid design: a heat map over the first two parameters (the mean over any others);
+* two or more, grid design: a heat map over the first two parameters (the mean over any others; a cell is
+  feasible when every point in it is);
 * two or more, sampled design: the points coloured by the quantity;
 * ``feasible.png`` (when the study states constraints): each constrained quantity with the infeasible points
   hatched and the border of the feasible region drawn, and the region itself.
@@ -161,7 +162,9 @@ def quantity_figure(study, table: pd.DataFrame, column: str, path: Path, *, ax=N
         _axis(ax, p1, "x")
         _axis(ax, p2, "y")
     if len(study.parameters) > 2 and study.design == "grid":
-        title += f" (mean over {', '.join(p.key for p in study.parameters[2:])})"
+        others = ", ".join(p.key for p in study.parameters[2:])
+        title += f" (mean over {others}" + ("; unhatched: feasible at every value of it)" if feasible is not None
+                                              else ")")
     ax.set_title(textwrap.fill(title, 64), fontsize=9)  # a long meaning wraps instead of running off the panel
     if own:
         save_png(fig, path, 120)
@@ -181,9 +184,21 @@ def feasible_figure(study, table: pd.DataFrame, path: Path) -> Path | None:
         quantity_figure(study, table, col, path, ax=ax, feasible=feasible)
     rule = "; ".join(c.describe() for c in study.constraints)
     fig.suptitle(textwrap.fill(f"{study.name}: feasible region (unhatched, white border) where {rule} "
-                               f"- {int(feasible.sum())} of {len(table)} points", 64 * len(axes[0])), fontsize=10)
+                               f"- {feasible_count(study, table, feasible)}", 64 * len(axes[0])), fontsize=10)
     save_png(fig, path, 120)
     return path
+
+
+def feasible_count(study, table: pd.DataFrame, feasible: np.ndarray) -> str:
+    """How many points are feasible, and on the heat map of a grid of three parameters or more, whose cells each
+    hold the points of every value of the others, how many cells are feasible at every one of them (those left
+    unhatched): "5 of 8 points; 1 of 4 cells feasible at every value of friction.mu1"."""
+    count = f"{int(feasible.sum())} of {len(table)} points"
+    if len(study.parameters) > 2 and study.design == "grid" and _numeric(study):
+        _, _, cells = _grid(study, table.assign(_feasible=feasible.astype(float)), "_feasible", agg="min")
+        count += (f"; {int((np.nan_to_num(cells) >= 0.5).sum())} of {cells.size} cells feasible at every value of "
+                  + ", ".join(p.key for p in study.parameters[2:]))
+    return count
 
 
 def sweep_figures(study, table: pd.DataFrame, folder: str | Path) -> list[Path]:
