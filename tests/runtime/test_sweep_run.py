@@ -595,6 +595,11 @@ def test_cli_sweep_writes_table_and_figures(serial, tmp_path):
     for name in ("results.parquet", "results.csv", "study.json", "feasible.png", "friction_power.total.png",
                  "liftoff_fraction.png"):
         assert (out / name).stat().st_size > 0, name
+    # the spreadsheet's table is the Parquet one, each column's unit in its header (it had none)
+    csv, table = pd.read_csv(out / "results.csv"), read_results(out)
+    assert list(csv.columns[:9]) == ["point", "scene_hash", "status", "stop", "warnings", "spring.ks [N/m]",
+                                     "spring.delta_s [m]", "friction_power.total [W]", "friction_power.housing [W]"]
+    assert csv["spring.ks [N/m]"].tolist() == table["spring.ks"].tolist() and len(csv.columns) == len(table.columns)
     assert "feasible (liftoff_fraction <= 0; friction_power.total <= 35 W)" in r.output
     bad = tmp_path / "bad.toml"
     bad.write_text(LIGHT.replace('"revolutions"]', '"revolution"]'))

@@ -5,7 +5,7 @@ Layout of the output folder::
     study.json               the study (its hash decides whether a folder can be resumed)
     points/point-000012.parquet   one row per finished point, written atomically as the point finishes
     results.parquet          every finished point, sorted, with units in the column metadata
-    results.csv              the same table for spreadsheets
+    results.csv              the same table for spreadsheets, each column's unit in its header (spring.ks [N/m])
     (``feasible``: a last column when the study states constraints: completed and every constraint met;
     ``periodic``, ``periodic_change`` after the status when its scene asks operation.until_periodic)
 
@@ -176,7 +176,9 @@ class Store:
         buf = io.BytesIO()
         pq.write_table(table, buf)
         atomic_write(self.folder / "results.parquet", buf.getvalue())
-        atomic_write(self.folder / "results.csv", df.to_csv(index=False))
+        # each column's unit in its header cell (spring.ks [N/m]), as trajectory.csv's (a spreadsheet has no metadata)
+        named = df.rename(columns={c: f"{c} [{units[c]}]" for c in df.columns if units.get(c, "") not in ("", "1")})
+        atomic_write(self.folder / "results.csv", named.to_csv(index=False))
         df.attrs["units"] = units
         return df
 
