@@ -407,14 +407,23 @@ def test_a_second_sweep_into_a_folder_being_written_is_refused(tmp_path):
                      resume=False).complete
 
 
-def test_reading_a_killed_sweep_says_where_its_points_are(tmp_path):
+def test_reading_a_killed_or_running_sweep_reads_its_finished_points(tmp_path):
     """A sweep killed outright (SIGKILL) leaves its points but no results.parquet: reading it raised a bare
-    FileNotFoundError."""
-    run_sweep(light_study(**{"points = 4": "points = 2"}), tmp_path / "o", workers=1, quiet=True)
-    (tmp_path / "o" / "results.parquet").unlink()  # as if killed before the table was written
-    with pytest.raises(FileNotFoundError, match=r"its 8 finished point\(s\) are in .*points/, and running the same "
-                                                r"sweep again writes the table"):
-        read_results(tmp_path / "o")
+    FileNotFoundError, then one saying where the points are; a running sweep could not be looked at. Its table is
+    read from the points' part-files, with a warning, the same columns and units as the table's but feasible."""
+    from apexseal.runtime.studies.sweep.store import PartialResultsWarning
+
+    out = tmp_path / "o"
+    whole = run_sweep(light_study(**{"points = 4": "points = 2"}), out, workers=1, quiet=True).table
+    table = read_results(out)
+    (out / "results.parquet").unlink()  # as if killed before the table was written
+    with pytest.warns(PartialResultsWarning, match=r"not written yet .* read from the 8 finished point\(s\) in"):
+        partial = read_results(out)
+    pd.testing.assert_frame_equal(partial, whole.drop(columns="feasible"), check_exact=True)
+    assert partial.attrs["units"] == {c: u for c, u in table.attrs["units"].items() if c != "feasible"}
+    (out / "study.json").unlink()  # no record of the study's units: said where the points are, as before
+    with pytest.raises(FileNotFoundError, match=r"stopped before writing it; its 8 finished point\(s\) are in"):
+        read_results(out)
 
 
 def test_resume_refuses_a_folder_of_another_study_and_fresh_recomputes(serial, tmp_path):

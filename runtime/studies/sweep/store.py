@@ -204,21 +204,47 @@ def carried(old: pd.DataFrame, study, points) -> list[dict]:
     return rows
 
 
+class PartialResultsWarning(UserWarning):
+    """A sweep's table read from its finished points' part-files: the sweep is running, was stopped, or was killed
+    before it wrote results.parquet (or has finished points since)."""
+
+
 def read_results(folder_or_file: str | Path) -> pd.DataFrame:
-    """A sweep's results.parquet as a DataFrame; ``df.attrs["units"]`` maps each column to its unit."""
+    """A sweep's results.parquet as a DataFrame; ``df.attrs["units"]`` maps each column to its unit.
+
+    A sweep running, stopped or killed before it wrote the table (or one with points finished since it did) is read
+    from its points' part-files instead (a table that holds fewer or more points than there are part-files is of
+    another moment of the sweep), with a :class:`PartialResultsWarning` saying how many there are: the same columns
+    but ``feasible`` (written with the table)."""
+    import warnings
+
     import pyarrow.parquet as pq
 
     path = Path(folder_or_file)
     if path.is_dir():
         path = path / "results.parquet"
-    if not path.is_file():
-        parts = path.parent / "points"
-        found = len([p for p in parts.iterdir() if _PART.match(p.name)]) if parts.is_dir() else 0
+    parts = path.parent / "points"
+    files = sorted(p for p in parts.iterdir() if _PART.match(p.name)) if parts.is_dir() else []
+    written = pq.read_metadata(path).num_rows if path.is_file() else None  # the points the table holds
+    if files and (written is None or len(files) != written):
+        record = path.parent / "study.json"
+        if record.is_file():
+            units = json.loads(record.read_text()).get("units", {})
+            df = pd.concat([pd.read_parquet(f) for f in files], ignore_index=True)
+            df = df.sort_values("point", kind="stable").reset_index(drop=True)
+            order = [*HEAD, *PERIODIC, *units, *TAIL]
+            df = df[[c for c in order if c in df.columns]]
+            df.attrs["units"] = {c: {**HEAD, **PERIODIC, **units, **TAIL}.get(c, "") for c in df.columns}
+            state = "not written yet" if written is None else f"of {written} points, not of the {len(files)} now"
+            warnings.warn(f"{path} is {state} (the sweep is running, or was stopped before it wrote it): read from the "
+                          f"{len(files)} finished point(s) in {parts}/ (no feasible column); running the same sweep "
+                          "again computes the others and writes the table", PartialResultsWarning, stacklevel=2)
+            return df
+    if written is None:
         raise FileNotFoundError(f"{path} does not exist" + (
-            f": the sweep was stopped before writing it; its {found} finished point(s) are in {parts}/, and running "
-            "the same sweep again writes the table (without recomputing them)" if found else ""))
+            f": the sweep was stopped before writing it; its {len(files)} finished point(s) are in {parts}/, and "
+            "running the same sweep again writes the table (without recomputing them)" if files else ""))
     table = pq.read_table(path)
     df = table.to_pandas()
     df.attrs["units"] = {f.name: (f.metadata or {}).get(b"unit", b"").decode() for f in table.schema}
     return df
-
