@@ -62,7 +62,8 @@ def _still_written(folder: Path, stop: StopInfo | None, parts: int) -> StopInfo 
 STUDY_REPORTS = {"preload.md": "a preload study's report (`apexseal optimise-preload`): read preload.md, or "
                                "preload.json for its numbers",
                  "results.parquet": "a sweep's folder (`apexseal sweep`): its table is results.csv (or "
-                                    "results.parquet, with units), one row per point",
+                                    "results.parquet), one row per point; `apexseal sweep STUDY --scene-of N` "
+                                    "writes point N's scene to simulate it alone",
                  "calibration.json": "a calibration's report (`apexseal calibrate`): read calibration.json"}
 
 

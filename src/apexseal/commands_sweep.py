@@ -68,8 +68,13 @@ def _address(ctx, param, value: str | None) -> str | None:
 @click.option("--repeats", type=IntRange(1, 20), default=3, show_default=True, help="Repeats of --bench.")
 @click.option("--list-quantities", is_flag=True, expose_value=False, is_eager=True, callback=_quantities,
               help="List the quantities a study can collect, and exit.")
+@click.option("--scene-of", "scene_of", type=IntRange(0), metavar="POINT",
+              help="Write the scene of that point (the table's point column) to <out>/point-<POINT>.toml, every value "
+              "explicit, instead of running the sweep: `apexseal simulate` of it runs the point alone with every "
+              "output a run keeps.")
 @click.option("--quiet", "-q", is_flag=True, help="No progress (the models' derivation and compilation stages, the bar).")
-def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures, bench, repeats, quiet) -> None:
+def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures, bench, repeats, scene_of,
+          quiet) -> None:
     """Run the design study STUDY (a TOML file, docs/sweeps.md): every point simulated, one row each in
     <out>/results.parquet, figures of each quantity and of the feasible region. Rerun to resume."""
     from .runtime.studies.sweep import StudyError, load_study, run_sweep
@@ -95,6 +100,9 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
     writable(out)
     if bench:
         _bench(st, out, repeats)
+        return
+    if scene_of is not None:
+        _write_point_scene(st, out, scene_of)
         return
 
     def accepted() -> None:  # said once the points are checked and the folder is the study's: not for a refusal
@@ -177,6 +185,26 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
     if len(report.table) and not (report.table["status"] == "completed").any():  # a script or CI job sees it
         click.echo(f"  error: none of the {len(report.table)} points completed (exit status 1)", err=True)
         sys.exit(1)
+
+
+def _write_point_scene(st, out: Path, point: int) -> None:
+    """--scene-of: the point's scene as a scene file in ``out`` (its pressure table beside it)."""
+    from .files import atomic_write
+    from .runtime.scenes.resolved import stamped_toml
+    from .runtime.studies.sweep import point_scene
+
+    try:
+        scene = point_scene(st, point)
+    except ValueError as err:
+        raise click.BadParameter(str(err).replace("point = ", ""), param_hint="--scene-of") from None
+    name = f"point-{point}.toml"
+    text, extra = stamped_toml(scene, f"sweep {st.name}, point {point}", f"apexseal simulate {name}")
+    out.mkdir(parents=True, exist_ok=True)
+    for file, content in extra.items():
+        atomic_write(out / file, content)
+    atomic_write(out / name, text)
+    click.echo(f"wrote {out / name}" + "".join(f" and {out / f}" for f in extra)
+               + f": `apexseal simulate {out / name}` runs point {point} alone")
 
 
 def _bench(st, out: Path, repeats: int) -> None:

@@ -963,3 +963,24 @@ def test_a_study_file_s_path_is_a_study(tmp_path):
     report = run_sweep(str(path), tmp_path / "from-path", workers=1, quiet=True)
     assert stable(report.table).equals(stable(run_sweep(light_study(), tmp_path / "from-study", workers=1,
                                                         quiet=True).table))
+
+
+def test_one_point_of_a_sweep_is_written_as_a_scene_to_simulate_alone(serial, tmp_path):
+    """A sweep keeps a row of numbers per point, and its folder is not a result (`apexseal show` refuses it): a
+    point could be looked at only by rebuilding its scene by hand. --scene-of N writes it, every value explicit;
+    it loads as the point's own scene (the row's scene_hash), and a point outside the study is told the range."""
+    from click.testing import CliRunner
+
+    import apexseal
+    from apexseal.cli import main
+    from apexseal.runtime.studies.sweep import point_scene
+
+    study = tmp_path / "light.toml"
+    study.write_text(LIGHT)
+    r = CliRunner().invoke(main, ["sweep", str(study), "--scene-of", "5", "-o", str(tmp_path / "o")])
+    assert r.exit_code == 0 and f"`apexseal simulate {tmp_path / 'o' / 'point-5.toml'}` runs point 5 alone" in r.output
+    scene = apexseal.load_scene(tmp_path / "o" / "point-5.toml")
+    assert scene.content_hash() == serial.table.loc[5, "scene_hash"] == point_scene(study, 5).content_hash()
+    assert not (tmp_path / "o" / "points").exists()  # nothing of the sweep ran
+    r = CliRunner().invoke(main, ["sweep", str(study), "--scene-of", "16", "-o", str(tmp_path / "o")])
+    assert r.exit_code == 2 and "16: allowed: an integer 0 <= point <= 15 (the study light has 16 points" in r.output

@@ -84,6 +84,21 @@ def scenes_of(study: Study) -> list[tuple[int, Any, dict[str, Any]]]:
     return points
 
 
+def point_scene(study: Study | str | Path, point: int):
+    """The scene of point ``point`` of ``study`` (a :class:`Study` or a study file's path), as the sweep runs it: to
+    simulate that point alone with every output a run keeps (``apexseal.simulate(point_scene(study, 3))``; the sweep
+    keeps a row of numbers per point). A point outside the study is a ValueError naming the allowed range."""
+    if isinstance(study, str | Path):
+        from .study import load_study
+
+        study = load_study(study)
+    points = scenes_of(study)
+    if isinstance(point, bool) or not isinstance(point, int) or not 0 <= point < len(points):
+        raise ValueError(f"point = {point!r}: allowed: an integer 0 <= point <= {len(points) - 1} (the study "
+                         f"{study.name} has {len(points)} points, numbered as its table's point column)")
+    return points[point][1]
+
+
 def run_sweep(study: Study | str | Path, out: str | Path, *, workers: int | None = None, scheduler: str | None = None,
               client=None, resume: bool = True, retry_failed: bool = False, quiet: bool = False,
               on_row: Callable[[dict], None] | None = None,
