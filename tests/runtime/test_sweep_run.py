@@ -576,7 +576,8 @@ def test_cli_retry_failed_is_named_after_failed_points_and_refused_with_fresh(tm
     assert r.exit_code == 0 and "2 computed now (2 of them again" in r.output and "0 not completed" in r.output
 
 
-def test_a_sweep_over_parameters_compiles_one_library(tmp_path, monkeypatch):
+@pytest.mark.slow  # 15 s of a 2-core test process (a cold cache on 2 workers): in the second step, to keep the default
+def test_a_sweep_over_parameters_compiles_one_library(tmp_path, monkeypatch):  # suite under 10 min
     """Empty cache, 2 workers, 8 points: one compiled integrator (and at most one model library), each built once."""
     import json
 
