@@ -29,8 +29,9 @@ def settings_for(spec: MethodSpec, value: float, *, samples: int, span: float, f
     method = RK4Integrator if spec.kind == "rk4" else spec.method  # rk4-C: the fixed-step engine's RK4 rule
     return RunSettings(method=method, rtol=float(value) if spec.sweep == "rtol" else 1e-6,
                        steps_per_revolution=steps if spec.sweep == "steps" else RunSettings().steps_per_revolution,
-                       samples_per_revolution=per_revolution, compile_c=compiled, flags=flags, pressure=pressure,
-                       **kw)
+                       # a method on the model library's C (the composite) has it whether or not its engine compiles
+                       samples_per_revolution=per_revolution, compile_c=compiled or spec.model_c, flags=flags,
+                       pressure=pressure, **kw)
 
 
 #: the fewest output samples per revolution a run allows (runtime/solving/settings.py)

@@ -53,12 +53,14 @@ def captured_output(fds: tuple[int, ...] = (1,)):
             box["text"] = tmp.read().decode(errors="replace")
 
 
-def _base(problem, spec: MethodSpec, value: float) -> dict:
+def point_base(problem, spec: MethodSpec, value: float) -> dict:
+    """The fields every point of ``spec`` at ``value`` on ``problem`` has, whatever became of it."""
     return {"scene": problem.name, "method": spec.id, "label": spec.label, "family": spec.family, "sweep": spec.sweep,
             "value": value, "generated_c": spec.generated_c}
 
 
-def _failure(point: dict, exc: BaseException, cpu_s: float) -> dict:
+def failed_point(point: dict, exc: BaseException, cpu_s: float) -> dict:
+    """``point`` as failed with ``exc`` (its last line the reason) after ``cpu_s`` of CPU time: a result."""
     reason = str(exc).strip().splitlines()[-1] if str(exc).strip() else type(exc).__name__
     return point | {"status": "failed", "reason": f"{type(exc).__name__}: {reason}"[:300], "timing": None,
                     "cpu_s_until_failure": cpu_s, "load_average": os.getloadavg()[0]}
@@ -77,7 +79,8 @@ def _analyse(point: dict, problem, ref, out, timing) -> dict:
 
 def casadi_point(problem, ref, spec: MethodSpec, value: float, engine, *, repeats: int, slow_run_s: float,
                  budget_s: float | None, stats_engine=None, build_s: float | None = None) -> dict:
-    point = _base(problem, spec, value) | {"engine_build_s": build_s, "compiled": bool(getattr(engine, "compiled", False))}
+    point = point_base(problem, spec, value) | {"engine_build_s": build_s,
+                                                "compiled": bool(getattr(engine, "compiled", False))}
     z0, P = problem.z0, problem.pressures
 
     def call():
@@ -90,7 +93,7 @@ def casadi_point(problem, ref, spec: MethodSpec, value: float, engine, *, repeat
         except Exception as exc:  # noqa: BLE001 - every failure is a result
             out, failure = None, exc
     if out is None:
-        return _failure(point, failure, time.process_time() - c0) | {"solver_output": printed["text"][-2000:]}
+        return failed_point(point, failure, time.process_time() - c0) | {"solver_output": printed["text"][-2000:]}
     point = _analyse(point, problem, ref, out, timing)
     point["load_average"] = os.getloadavg()[0]
     stats = normalise_stats(out.stats, "run")
@@ -119,13 +122,13 @@ def casadi_point(problem, ref, spec: MethodSpec, value: float, engine, *, repeat
 
 def scipy_point(problem, ref, spec: MethodSpec, rtol: float, model, *, repeats: int, slow_run_s: float,
                 budget_s: float | None) -> dict:
-    point = _base(problem, spec, rtol) | {"compiled": False}
+    point = point_base(problem, spec, rtol) | {"compiled": False}
     c0 = time.process_time()
     try:
         out, timing = measure(lambda: solve(model, problem, spec.method, rtol), repeats=repeats, slow_run_s=slow_run_s,
                               budget_s=budget_s)
     except Exception as exc:  # noqa: BLE001
-        return _failure(point, exc, time.process_time() - c0)
+        return failed_point(point, exc, time.process_time() - c0)
     point = _analyse(point, problem, ref, out, timing)
     point["load_average"] = os.getloadavg()[0]
     stats = normalise_stats(out.stats, "solve_ivp (nfev, njev); events = switches seen on the output grid")
@@ -138,14 +141,14 @@ def scipy_point(problem, ref, spec: MethodSpec, rtol: float, model, *, repeats: 
 def peer_point(problem, ref, spec: MethodSpec, rtol: float, peer, *, repeats: int, slow_run_s: float,
                budget_s: float | None) -> dict:
     """A point of the hand-written numba peer (runtime/bench/peer_numba.py); its kernels are compiled beforehand."""
-    point = _base(problem, spec, rtol) | {"compiled": True, "engine_build_s": peer.build_s}
+    point = point_base(problem, spec, rtol) | {"compiled": True, "engine_build_s": peer.build_s}
     c0 = time.process_time()
     try:
         with captured_output((1, 2)) as printed:  # LSODA's warnings (numbalsoda's C++ prints them)
             out, timing = measure(lambda: peer.run(spec.method, rtol), repeats=repeats, slow_run_s=slow_run_s,
                                   budget_s=budget_s)
     except Exception as exc:  # noqa: BLE001
-        return _failure(point, exc, time.process_time() - c0)
+        return failed_point(point, exc, time.process_time() - c0)
     point = _analyse(point, problem, ref, out, timing)
     if printed["text"].strip():
         lines = [ln.strip() for ln in printed["text"].splitlines() if ln.strip()]

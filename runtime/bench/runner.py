@@ -17,7 +17,7 @@ from .config import METHODS, BenchConfig
 from .effects import run_effects
 from .methods import EngineCache, compile_target
 from .metrics import time_at_error
-from .points import casadi_point, peer_point, scipy_point
+from .points import casadi_point, failed_point, peer_point, point_base, scipy_point
 from .problem import load_model, make_problem
 from .reference import check_reference, solve_reference
 from .rhs_cost import rhs_costs
@@ -222,12 +222,15 @@ class _Context:
                                       "options": "modules='numpy', cse=True; accelerations = M.LUsolve(f)"}
             return scipy_point(problem, ref, spec, value, self.lambdified, **kw)
         fns, key = (self.c_model, MODEL_C) if spec.model_c else (self.sx, MODEL)
-        w0 = time.perf_counter()
-        engine = self.engines.get(key, fns, spec, value, compiled=spec.compiled)
-        build = time.perf_counter() - w0
-        stats_engine = None
-        if spec.compiled and spec.kind == "casadi" and spec.method not in ("euler", "erk-rk4"):
-            stats_engine = self.engines.get(key, fns, spec, value, compiled=False)
+        w0, c0 = time.perf_counter(), time.process_time()
+        try:  # an engine that cannot be built (its settings refused, a library missing) is that point's failure
+            engine = self.engines.get(key, fns, spec, value, compiled=spec.compiled)
+            build = time.perf_counter() - w0
+            stats_engine = None
+            if spec.compiled and spec.kind == "casadi" and spec.method not in ("euler", "erk-rk4"):
+                stats_engine = self.engines.get(key, fns, spec, value, compiled=False)
+        except Exception as exc:  # noqa: BLE001 - every failure is a result, the other points go on
+            return failed_point(point_base(problem, spec, value), exc, time.process_time() - c0)
         return casadi_point(problem, ref, spec, value, engine, stats_engine=stats_engine, build_s=build, **kw)
 
 

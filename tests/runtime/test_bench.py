@@ -252,3 +252,40 @@ def test_a_run_whose_methods_are_all_unavailable_stops_before_settling(monkeypat
     assert ("no method left to measure: numbalsoda-LSODA: numbalsoda is not installed (here: on purpose)"
             in res.output)
     assert "settling" not in res.output
+
+
+def test_every_method_of_the_bench_has_run_settings_its_engine_accepts():
+    """The composite's bench points asked for compile_c = False (the spec compiles no integrator of CasADi's), which
+    the settings refuse since the composite runs only in the model library: `apexseal bench` with composite-C
+    stopped with a traceback after minutes, every point measured lost. Every method's settings are accepted, at
+    every setting of its sweep, for its timed engine and its interpreted twin alike."""
+    from apexseal.runtime.bench.config import METHODS, PRESETS
+    from apexseal.runtime.bench.methods import settings_for
+
+    values = {m: v for preset in PRESETS.values() for s in preset().scenes for m, v in s.sweeps.items()}
+    for spec in METHODS.values():
+        if spec.kind not in ("casadi", "rk4"):
+            continue
+        for value in values.get(spec.id, [1e-6]):
+            for compiled in {spec.compiled, False}:
+                st = settings_for(spec, value, samples=360, span=2 * math.pi, flags="quick", compiled=compiled)
+                assert st.compile_c if spec.model_c else st.compile_c == compiled, (spec.id, compiled)
+
+
+def test_a_point_whose_engine_cannot_be_built_is_a_failed_point_not_the_end_of_the_run(monkeypatch):
+    """An engine refused at its construction raised out of the whole bench, which wrote nothing: it is that
+    point's failure, with its reason, and the run goes on."""
+    from types import SimpleNamespace
+
+    from apexseal.runtime.bench.config import METHODS
+    from apexseal.runtime.bench.runner import _Context
+
+    def refused(*args, **kw):
+        raise ValueError("method 'composite' runs only in the compiled model library (test)")
+
+    ctx = _Context.__new__(_Context)
+    ctx.cfg = SimpleNamespace(repeats=1, slow_run_s=1.0, budget_s=None)
+    ctx.engines, ctx.c_model, ctx.sx = SimpleNamespace(get=refused), None, None
+    point = ctx.point(SimpleNamespace(name="default"), None, METHODS["composite-C"], 1e-6)
+    assert point["status"] == "failed" and point["method"] == "composite-C" and point["value"] == 1e-6
+    assert point["reason"] == "ValueError: method 'composite' runs only in the compiled model library (test)"
