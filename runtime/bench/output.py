@@ -44,20 +44,30 @@ def write_outputs(results: dict, out: Path, command: str) -> dict[str, Path]:
 
 
 def rewrite_reports(folder: Path) -> list[Path]:
-    """Write ``table.md`` and ``effects.md`` of a benchmark folder again from its ``results.json``, without
-    running anything: after a change of the reports, a committed run shows the new sections
-    (``python -m apexseal.runtime.bench.output docs/bench``)."""
+    """Write ``table.md``, ``effects.md`` and ``work-precision.png`` of a benchmark folder again from its
+    ``results.json``, without running anything: after a change of the reports or of the diagram, a committed run
+    shows them (``python -m apexseal.runtime.bench.output docs/bench``). A folder without effects.md (a run kept
+    for its table alone) gets none."""
     folder = Path(folder)
     results = json.loads((folder / "results.json").read_text())
     command = results["command"]
+    written = [folder / "table.md"]
     atomic_write(folder / "table.md", table_md(results, command) + "\n")
-    atomic_write(folder / "effects.md", effects_md(results, command))
-    return [folder / "table.md", folder / "effects.md"]
+    if (folder / "effects.md").exists():
+        atomic_write(folder / "effects.md", effects_md(results, command))
+        written.append(folder / "effects.md")
+    with atomic_open(folder / "work-precision.png", "wb") as fh:
+        work_precision(results, fh)
+    return [*written, folder / "work-precision.png"]
 
 
 if __name__ == "__main__":
-    import sys
+    import argparse
 
-    for folder in sys.argv[1:] or ["apexseal-out/bench"]:
-        for path in rewrite_reports(Path(folder)):
+    parser = argparse.ArgumentParser(prog="python -m apexseal.runtime.bench.output",
+                                     description="Write the reports of benchmark runs again from their results.json.")
+    parser.add_argument("folders", nargs="*", default=["apexseal-out/bench"], type=Path,
+                        help="folders holding results.json (default: apexseal-out/bench)")
+    for folder in parser.parse_args().folders:
+        for path in rewrite_reports(folder):
             print(f"wrote {path}")

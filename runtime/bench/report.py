@@ -96,6 +96,15 @@ def metrics_lines(cfg: dict) -> list[str]:
     ]
 
 
+def span_note(cfg: dict) -> list[str]:
+    """A run over less or more than a revolution (``--span``): its times are per span, not per revolution."""
+    span = cfg.get("span_deg", 360.0)
+    if span == 360.0:
+        return []
+    return [f"- **Span {span:g} deg, not a revolution** (`--span`): every time labelled per revolution (`CPU / rev`) "
+            "in this run is per span, not scaled, and the one-revolution target is not judged."]
+
+
 def targets_md(r: dict) -> list[str]:
     rows = ["| scene | target | measured | status |", "|---|---|---|---|"]
     for t in r.get("targets", []):
@@ -192,7 +201,7 @@ def table_md(r: dict, command: str) -> str:
     lines = ["# Work-precision benchmark", "",
              f"Made by `{command}` ({r['config']['mode']} mode). Data: `results.json`; diagram: `work-precision.png`; "
              "effects: `effects.md`.", "", f"Machine and software: {_versions(r)}.", "",
-             "## Problem and metrics", "", *problem_lines(r), *metrics_lines(r["config"]), "",
+             "## Problem and metrics", "", *problem_lines(r), *metrics_lines(r["config"]), *span_note(r["config"]), "",
              "## Targets", "", *targets_md(r), "",
              f"## CPU time per revolution at scaled error {r['config']['target_error']:g}", "",
              "Interpolated (log-log) on each method's Pareto front; *extrapolated* along its last two points when its "
@@ -229,14 +238,16 @@ def peer_md(r: dict) -> list[str]:
     lines = ["## Against the hand-written numba peer", "",
              "The same sympy equations through `sympy.cse` into a numba right-hand side (runtime/bench/peer_source.py) "
              "under scipy's and numbalsoda's integrators (runtime/bench/peer_numba.py); CPU per revolution at each "
-             "scaled error, interpolated on each method's Pareto front as above. `ratio` = peer / apexseal: above 1 "
-             "apexseal is faster.", "", *note, *([""] if note else []),
+             "scaled error, interpolated on each method's Pareto front as above (*extrap.*: extrapolated beyond the "
+             "method's most accurate point, an estimate). `ratio` = peer / apexseal: above 1 apexseal is faster.", "",
+             *note, *([""] if note else []),
              "| scene | scaled error | fastest apexseal (generated C) | fastest peer | ratio |", "|---|---|---|---|---|"]
     for s in r["scenes"]:
         for row in peer_ratios(r, s["name"]):
-            a = f"{row['apexseal']} {_t(row['apexseal_s'])}" if row["apexseal"] else "not reached"
-            p = f"{row['peer']} {_t(row['peer_s'])}" if row["peer"] else "not reached"
-            ratio = f"{row['ratio']:.2f}" if row["ratio"] else "–"
+            mark = {side: " (*extrap.*)" if row[f"{side}_extrapolated"] else "" for side in ("apexseal", "peer")}
+            a = f"{row['apexseal']} {_t(row['apexseal_s'])}{mark['apexseal']}" if row["apexseal"] else "not reached"
+            p = f"{row['peer']} {_t(row['peer_s'])}{mark['peer']}" if row["peer"] else "not reached"
+            ratio = (f"{row['ratio']:.2f}" + (" (*extrap.*)" if any(mark.values()) else "")) if row["ratio"] else "–"
             lines.append(f"| {s['name']} | {row['error']:g} | {a} | {p} | {ratio} |")
     info = next((s["peer"] for s in r["scenes"] if s.get("peer")), None)
     if info:

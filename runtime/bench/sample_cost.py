@@ -17,8 +17,11 @@ from ..scenes.scene import load_scene
 
 def main(argv=None) -> None:
     """Time both ways at one revolution of the default run's samples (3600): medians of 9 after a warm-up."""
-    argv = sys.argv[1:] if argv is None else argv
-    n = int(argv[0]) if argv else 3600
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m apexseal.runtime.bench.sample_cost", description=__doc__)
+    parser.add_argument("samples", nargs="?", type=int, default=3600, help="samples to time (default: 3600)")
+    n = parser.parse_args(sys.argv[1:] if argv is None else argv).samples
     sc = load_scene()
     f = model_functions(sc)
     if f.library is None:

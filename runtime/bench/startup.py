@@ -52,4 +52,8 @@ def main(runs: int = 5) -> float:
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 5)
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m apexseal.runtime.bench.startup", description=__doc__)
+    parser.add_argument("runs", nargs="?", type=int, default=5, help="timed runs (default: 5)")
+    main(parser.parse_args().runs)

@@ -59,6 +59,10 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
 
     cfg = PRESETS["quick" if quick else "full"]()
     split = lambda s: tuple(x.strip() for x in s.split(",") if x.strip())  # noqa: E731
+    for option, given in (("--methods", methods), ("--scenes", scenes)):
+        if given.strip() and not split(given):  # ",," kept nothing and ran every method, as no option does
+            raise click.BadParameter(f"{given!r} names none; allowed: comma-separated ids, e.g. erk-C,composite-C",
+                                     param_hint=option)
     try:
         cfg = cfg.restricted(methods=split(methods), scenes=split(scenes), samples=samples, span_deg=span_deg,
                              settle=settle, repeats=repeats, flags=flags, effects=False if no_effects else None,

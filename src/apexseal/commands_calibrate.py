@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import shlex
 import sys
 from pathlib import Path
@@ -26,8 +27,10 @@ def _unknowns(ctx: click.Context, param: click.Parameter, items: tuple[str, ...]
             raise click.BadParameter(f"{name} given twice: allowed: each unknown once", ctx, param)
         try:
             ranges[name] = (float(low), float(high))
+            if not all(map(math.isfinite, ranges[name])):
+                raise ValueError
         except ValueError:
-            raise click.BadParameter(f"{item!r}: allowed: NAME=LOW:HIGH with numbers in SI units, e.g. "
+            raise click.BadParameter(f"{item!r}: allowed: NAME=LOW:HIGH with finite numbers in SI units, e.g. "
                                      "kw=1e9:5e9 (N/m) or zeta_w=0.05:0.2 (a damping ratio)", ctx, param) from None
     return ranges
 
@@ -81,8 +84,8 @@ def calibrate(scene: Path | None, sets, unknowns, grid, polish, revolutions, out
                 click.echo(str(err), err=True)
                 signals.ignore_after()
                 sys.exit(err.exit_code)
-            except CalibrationError as err:
-                raise click.BadParameter(str(err)) from None
+            except CalibrationError as err:  # an unknown or its range (--unknown), or the scene's effects
+                raise click.BadParameter(str(err), param_hint="--unknown" if unknowns else None) from None
             where = save_report(result, out, folder)
             if signals.requested:
                 signals.ignore_after()

@@ -72,6 +72,8 @@ def test_the_report_says_what_it_calibrated_and_its_scene_simulates_the_fit(comp
     # the values printed read back as the very numbers of the best set (kg: kg1..kg4)
     sets = dict(args[i + 1].split("=", 1) for i, a in enumerate(args) if a == "--set")
     assert {k: float(v) for k, v in sets.items()} == data["best_overrides"]
+    # at most the 12 significant digits scenes keep (the grid's 4e9 was printed 3999999999.999998)
+    assert all(float(v) == float(f"{float(v):.12g}") for v in sets.values()), sets
     assert sorted(sets) == sorted(f"contacts.{k}" for k in ("kw", "kg1", "kg2", "kg3", "kg4", "zeta_w", "zeta_g"))
 
 
@@ -120,13 +122,16 @@ def test_the_unknowns_and_ranges_of_a_study_rerun_from_its_report(tmp_path):
     ("kw=1e5:1e9", "kw = 100000..1e+09: allowed: a range inside the plausible 3e+08..1e+10"),
     ("kw=2e9:1e9", "kw = 2e+09..1e+09: the low end is not below the high end; allowed: LOW..HIGH with LOW < HIGH"),
     ("k=1e9:2e9", "unknown = 'k': not an unknown of the study; allowed: kw, kg, zeta_w, zeta_g"),
-    ("kw=1e9", "'kw=1e9': allowed: NAME=LOW:HIGH with numbers in SI units"),
+    ("kw=1e9", "'kw=1e9': allowed: NAME=LOW:HIGH with finite numbers in SI units"),
     ("kw=1e9 N/m:2e9", "'kw=1e9 N/m:2e9': allowed: NAME=LOW:HIGH"),
+    ("kw=nan:2e9", "'kw=nan:2e9': allowed: NAME=LOW:HIGH with finite numbers"),  # was "not below the high end"
 ])
 def test_a_bad_unknown_is_refused_naming_it_before_any_simulation(tmp_path, given, words):
+    """Each refusal names the option (those the study refused said "Invalid value:" without it)."""
     out = tmp_path / "c"
     r = CliRunner().invoke(main, ["calibrate", "--unknown", given, *TINY, "-o", str(out)])
     assert r.exit_code == 2 and words in " ".join(r.output.split()), r.output
+    assert "Invalid value for" in r.output and "--unknown" in r.output.split("Invalid value for")[1][:20], r.output
     assert not out.exists() and not list(tmp_path.iterdir())
 
 

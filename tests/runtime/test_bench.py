@@ -74,6 +74,9 @@ def test_tables_name_the_command_and_targets(tiny):
     assert r["command"].startswith("apexseal bench --quick") and r["command"] in table
     assert "## Targets" in table and "scaled error" in table
     assert all(t["status"] in ("met", "missed", "not measured") for t in r["targets"])
+    # a span of 20 deg is not a revolution: its times are per span, and the one-revolution target was judged on them
+    assert "**Span 20 deg, not a revolution** (`--span`)" in table
+    assert not [t for t in r["targets"] if "one revolution" in t["target"]]
 
 
 def test_reports_are_written_again_from_results_json_alone(tiny, tmp_path):
@@ -84,8 +87,11 @@ def test_reports_are_written_again_from_results_json_alone(tiny, tmp_path):
 
     out, _, _ = tiny
     shutil.copy(out / "results.json", tmp_path / "results.json")
-    for path in rewrite_reports(tmp_path):
-        assert path.read_text() == (out / path.name).read_text(), path.name
+    shutil.copy(out / "effects.md", tmp_path / "effects.md")  # a folder without it gets none
+    written = rewrite_reports(tmp_path)
+    assert sorted(p.name for p in written) == ["effects.md", "table.md", "work-precision.png"]
+    for path in written:
+        assert path.read_bytes() == (out / path.name).read_bytes(), path.name
 
 
 def test_budget_and_failure_are_recorded():
@@ -231,7 +237,8 @@ def test_what_c_code_prints_on_stdout_and_stderr_is_captured():
                                         "stiff only in the full run"]),
     (["--quick", "--methods", "rk4-C"], ["--methods", "none of the method(s) rk4-C is measured in the quick run",
                                          "its methods: composite-C, erk-C"]),
-], ids=["scene-of-the-full-run", "method-of-the-full-run"])
+    (["--quick", "--methods", ",,"], ["--methods", "',,' names none"]),  # it ran every method
+], ids=["scene-of-the-full-run", "method-of-the-full-run", "no-method"])
 def test_a_selection_the_run_does_not_hold_is_told_where_it_is(args, fragments, tmp_path):
     """`--quick --scenes stiff` said "unknown scene" of a scene the full run measures, and `--quick --methods rk4-C`
     went on to settle the reference with nothing to measure."""

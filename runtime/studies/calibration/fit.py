@@ -372,7 +372,8 @@ def _search(scene, functions, names, lo, hi, grid, polish, revolutions, samples,
         at = tuple(float(v) for v in np.clip(u, lo, hi))
         if at in known:
             return known[at]
-        values = {n: float(np.exp(v)) for n, v in zip(names, at, strict=True)}
+        # 12 significant digits, as scenes keep them: the grid's 4e9 is 4e9, not exp(log(4e9)) = 3999999999.999998
+        values = {n: float(f"{np.exp(v):.12g}") for n, v in zip(names, at, strict=True)}
         sc = scene.with_overrides(**overrides(values))
         with warnings.catch_warnings(), engine_pool.reusing():  # every candidate runs the same engine
             warnings.simplefilter("ignore")
