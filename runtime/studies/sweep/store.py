@@ -2,7 +2,7 @@
 
 Layout of the output folder::
 
-    study.json               the study (its hash decides whether a folder can be resumed)
+    study.json               the study (its hash and name: resumed as it is, carried over from an edit, or refused)
     points/point-000012.parquet   one row per finished point, written atomically as the point finishes
     results.parquet          every finished point, sorted, with units in the column metadata
     results.csv              the same table for spreadsheets, each column's unit in its header (spring.ks [N/m])
