@@ -200,7 +200,9 @@ def setup_md(r: dict) -> list[str]:
 def table_md(r: dict, command: str) -> str:
     lines = ["# Work-precision benchmark", "",
              f"Made by `{command}` ({r['config']['mode']} mode). Data: `results.json`; diagram: `work-precision.png`; "
-             "effects: `effects.md`.", "", f"Machine and software: {_versions(r)}.", "",
+             "effects: `effects.md`.", "",
+             *([f"**A partial run**, {r['interrupted']}.", ""] if r.get("interrupted") else []),
+             f"Machine and software: {_versions(r)}.", "",
              "## Problem and metrics", "", *problem_lines(r), *metrics_lines(r["config"]), *span_note(r["config"]), "",
              "## Targets", "", *targets_md(r), "",
              f"## CPU time per revolution at scaled error {r['config']['target_error']:g}", "",

@@ -33,8 +33,9 @@ class NothingToMeasure(Exception):
     """Every method asked for is unavailable here (numba or numbalsoda not installed): said before settling."""
 
 
-def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
-    """Run the benchmark ``cfg`` describes; the returned dict is what ``output.write_outputs`` writes."""
+def run_benchmark(cfg: BenchConfig, *, log=print, into: dict | None = None) -> dict:
+    """Run the benchmark ``cfg`` describes; the returned dict is what ``output.write_outputs`` writes. ``into``: the
+    dict to fill, point by point (a run stopped halfway leaves there what it measured: :func:`partial_results`)."""
     from ...generated.load import load_functions
     from ..scenes.scene import load_scene
 
@@ -43,7 +44,9 @@ def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
     if not any(s.sweeps for s in cfg.scenes):
         raise NothingToMeasure("no method left to measure: " + "; ".join(f"{s['method']}: {s['reason']}"
                                                                          for s in skipped))
-    results: dict = {"config": _config_dict(cfg), "machine": machine_info(), "skipped": skipped}
+    results: dict = into if into is not None else {}
+    results.update({"config": _config_dict(cfg), "machine": machine_info(), "skipped": skipped,
+                    "started_wall": t0})  # time.perf_counter() at the start: a partial run's elapsed time
     base = load_scene()
     log("model: deriving / loading")
     sx, derive_info = load_model(base.effects, base.assumptions)
@@ -72,10 +75,9 @@ def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
     results["compile"] = pool(targets)
 
     ctx = _Context(cfg, engines, sx, c_model, base)
-    scenes = []
+    scenes = results["scenes"] = []  # each scene's entry from its reference on, its points as they are measured
     for s in cfg.scenes:
-        scenes.append(_run_scene(ctx, s, log, with_rhs_cost=not scenes))
-    results["scenes"] = scenes
+        _run_scene(ctx, s, log, with_rhs_cost=not scenes, into=scenes)
     results["summary"] = summarise(scenes, cfg.target_error)
     if cfg.cold_compile:
         results["cold_compile"] = _cold_compile(results["summary"], scenes, cfg, engines, sx, log)
@@ -92,8 +94,28 @@ def run_benchmark(cfg: BenchConfig, *, log=print) -> dict:
 
         results["gas"] = gas_cost(cfg.gas_revolutions, cfg.repeats, log=log)
     results["machine"]["load_average_at_end"] = list(os.getloadavg())
-    results["elapsed_wall_s"] = time.perf_counter() - t0
+    results["elapsed_wall_s"] = time.perf_counter() - results.pop("started_wall")
     return results
+
+
+def partial_results(results: dict, cfg: BenchConfig, why: str) -> dict | None:
+    """What a run stopped halfway (``why``: the signal) measured, as a result of its own: the points measured, with
+    the summary, targets and peer ratios over them and ``interrupted`` saying so; None when no point was measured
+    (nothing to report)."""
+    scenes = [s for s in results.get("scenes", []) if s["points"]]
+    if not scenes:
+        return None
+    done = dict(results, scenes=scenes)
+    done["summary"] = summarise(scenes, cfg.target_error)
+    done["targets"] = targets_table(done, cfg)
+    done["interrupted"] = (f"{why}: {sum(len(s['points']) for s in scenes)} of "
+                           f"{sum(len(v) for s in cfg.scenes for v in s.sweeps.values())} points measured; the "
+                           "effects, end-to-end and cold-compile parts not run")
+    for part in ("effects", "e2e", "gas", "cold_compile"):
+        done.pop(part, None)
+    done["machine"] = dict(done["machine"], load_average_at_end=list(os.getloadavg()))
+    done["elapsed_wall_s"] = time.perf_counter() - done.pop("started_wall")
+    return done
 
 
 def _takes_linear_pressure(spec) -> bool:
@@ -130,8 +152,9 @@ def _available(cfg: BenchConfig, log) -> tuple[BenchConfig, list[dict]]:
     return (cfg.without(tuple(s["method"] for s in skipped)) if skipped else cfg), skipped
 
 
-def _run_scene(ctx, s, log, *, with_rhs_cost: bool) -> dict:
-    """Settle, reference (and its check), then every point of one scene."""
+def _run_scene(ctx, s, log, *, with_rhs_cost: bool, into: list) -> dict:
+    """Settle, reference (and its check), then every point of one scene; its entry is appended to ``into`` once its
+    reference is solved, and each point to the entry as it is measured."""
     cfg, engines, sx, c_model, base = ctx.cfg, ctx.engines, ctx.sx, ctx.c_model, ctx.base
     ref_tols = (cfg.reference_rtol, cfg.reference_event_tol)
     scene = base.with_overrides(**s.overrides) if s.overrides else base
@@ -158,13 +181,15 @@ def _run_scene(ctx, s, log, *, with_rhs_cost: bool) -> dict:
         d = ref_info["check"].get("difference", {})
         log(f"  reference: {ref_info['events']} events; check vs {how.split()[0]}: state "
             f"{d.get('state', float('nan')):.2g}, friction power {d.get('friction_power') or float('nan'):.2g}")
-    points = []
+    points: list = []
+    entry = {"name": s.name, "overrides": s.overrides, "problem": problem.describe(), "reference": ref_info,
+             "points": points, "lambdify": ctx.lambdify_info}
+    into.append(entry)
     for mid, values in s.sweeps.items():
         for v in values:
             points.append(ctx.point(problem, ref, METHODS[mid], v))
             _log_point(log, points[-1])
-    entry = {"name": s.name, "overrides": s.overrides, "problem": problem.describe(), "reference": ref_info,
-             "points": points, "lambdify": ctx.lambdify_info}
+    entry["lambdify"] = ctx.lambdify_info
     if problem.name in ctx.peers:
         entry["peer"] = ctx.peer_info(problem.name)
     if with_rhs_cost:  # per-evaluation costs, once

@@ -54,7 +54,7 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     """Work-precision benchmark: error against CPU time for every method, targets, effects cost."""
     from .runtime.bench.config import PRESETS
     from .runtime.bench.output import write_outputs
-    from .runtime.bench.runner import NothingToMeasure, run_benchmark
+    from .runtime.bench.runner import NothingToMeasure, partial_results, run_benchmark
     from .signals import StopSignals
 
     cfg = PRESETS["quick" if quick else "full"]()
@@ -74,9 +74,10 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     writable(out)  # before the hours of measuring, not at the end
     command = _command_line(click.get_current_context())
     t0 = time.perf_counter()
+    measured: dict = {}  # filled point by point: what a signal leaves of the run
     with StopSignals(raising=True) as signals:  # Ctrl-C/SIGTERM abandon the measuring wherever it is
         try:
-            results = run_benchmark(cfg, log=lambda msg: click.echo(msg, err=True))
+            results = run_benchmark(cfg, log=lambda msg: click.echo(msg, err=True), into=measured)
         except NothingToMeasure as err:
             raise click.UsageError(str(err)) from None
         except BaseException:  # a signal surfaces as whatever the call it landed in made of it (a settling run
@@ -85,7 +86,14 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
         signals.raising = False  # the report is written whole; a further signal is only noted
         if signals.requested:
             signals.ignore_after()
-            click.echo(f"  interrupted by {signals.sender()} while measuring: nothing written", err=True)
+            kept = partial_results(measured, cfg, f"interrupted by {signals.sender()}")
+            if kept is None:
+                click.echo(f"  interrupted by {signals.sender()} before the first point was measured: nothing "
+                           "written", err=True)
+            else:
+                paths = write_outputs(kept, out, command)
+                click.echo(f"  {kept['interrupted']}: wrote {', '.join(str(p) for p in paths.values())} (a partial "
+                           "run: its table says so)", err=True)
             sys.exit(signals.exit_code())
         paths = write_outputs(results, out, command)
     click.echo(f"wrote {', '.join(str(p) for p in paths.values())} in {(time.perf_counter() - t0) / 60:.1f} min")

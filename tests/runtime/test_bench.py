@@ -296,3 +296,55 @@ def test_a_point_whose_engine_cannot_be_built_is_a_failed_point_not_the_end_of_t
     point = ctx.point(SimpleNamespace(name="default"), None, METHODS["composite-C"], 1e-6)
     assert point["status"] == "failed" and point["method"] == "composite-C" and point["value"] == 1e-6
     assert point["reason"] == "ValueError: method 'composite' runs only in the compiled model library (test)"
+
+
+def test_a_run_stopped_halfway_writes_what_it_measured_as_a_partial_result(tiny, tmp_path):
+    """A Ctrl-C while measuring wrote nothing ("nothing written"), every point measured lost: the points measured
+    are written, with the summary, targets and tables over them, and the table says it is a partial run."""
+    from apexseal.runtime.bench.config import PRESETS
+    from apexseal.runtime.bench.output import write_outputs
+    from apexseal.runtime.bench.runner import partial_results
+
+    _, r, _ = tiny
+    cfg = PRESETS["quick"]().restricted(methods=("erk-C", "scipy-LSODA"), samples=24, span_deg=20, settle=0, repeats=1,
+                                        flags="quick")
+    measured = dict(r, scenes=[dict(r["scenes"][0], points=r["scenes"][0]["points"][:2])])
+    for part in ("summary", "targets", "elapsed_wall_s"):
+        measured.pop(part)
+    measured["started_wall"] = 0.0  # what run_benchmark puts there: time.perf_counter() at its start
+    kept = partial_results(measured, cfg, "interrupted by the user (Ctrl-C, SIGINT)")
+    total = sum(len(v) for s in cfg.scenes for v in s.sweeps.values())
+    assert kept["interrupted"].startswith(f"interrupted by the user (Ctrl-C, SIGINT): 2 of {total} points measured")
+    assert list(kept["summary"]["default"]) == ["erk-C"] and kept["summary"]["default"]["erk-C"]["points"] == 2
+    paths = write_outputs(kept, tmp_path, r["command"])
+    assert "**A partial run**, interrupted by the user" in paths["table.md"].read_text()
+    assert json.loads(paths["results.json"].read_text())["interrupted"] == kept["interrupted"]
+    assert partial_results(dict(r, scenes=[dict(r["scenes"][0], points=[])]), cfg, "interrupted") is None
+
+
+@pytest.mark.slow  # a bench run of its own (20-40 s): in the second step
+def test_a_ctrl_c_between_points_keeps_the_points_measured(tmp_path, monkeypatch):
+    """The command's side of the partial result: a Ctrl-C as the second point starts ends the run with exit code
+    130, and the folder holds the first point's result, its table marked partial."""
+    import os
+    import signal
+
+    import apexseal.runtime.bench.runner as runner
+
+    real, calls = runner.casadi_point, []
+
+    def second_interrupted(*args, **kw):
+        calls.append(1)
+        if len(calls) == 2:
+            os.kill(os.getpid(), signal.SIGINT)  # the command's handler raises here: the point is not measured
+        return real(*args, **kw)
+
+    monkeypatch.setattr(runner, "casadi_point", second_interrupted)
+    out = tmp_path / "bench"
+    res = CliRunner().invoke(main, [*TINY[:TINY.index("--methods") + 1], "erk-C", *TINY[TINY.index("--methods") + 2:],
+                                    "--out", str(out)])
+    assert res.exit_code == 130, res.output
+    data = json.loads((out / "results.json").read_text())
+    assert [p["value"] for p in data["scenes"][0]["points"]] == [data["config"]["scenes"][0]["sweeps"]["erk-C"][0]]
+    assert data["interrupted"].startswith("interrupted by the user (Ctrl-C, SIGINT): 1 of ")
+    assert "**A partial run**" in (out / "table.md").read_text() and "a partial run: its table says so" in res.output
