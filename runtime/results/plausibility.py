@@ -98,12 +98,15 @@ def penetration_check(result, clearance: float | None = None, fraction: float = 
     if clearance is None:
         raise ValueError("the result records no side clearance (run it with apexseal.simulate, or pass clearance)")
     limit = max(fraction * clearance, floor)
-    depths, forces = {}, {}
+    depths, forces, at_start = {}, {}, []
     for contact, guards in penetrations().items():
-        deepest = [float(np.max(sign * np.asarray(result.outputs[name], float))) for name, sign in guards
-                   if name in result.outputs and result.n]
+        series = [sign * np.asarray(result.outputs[name], float) for name, sign in guards
+                  if name in result.outputs and result.n]
+        deepest = [float(np.max(g)) for g in series]
         if deepest:
             depths[contact] = max(0.0, *deepest)
+            if depths[contact] > 0 and any(g[0] >= depths[contact] for g in series):  # its deepest: the first sample
+                at_start.append(contact)
         force = contact_force(result.outputs, contact)
         if force is not None and result.n:
             forces[contact] = float(np.max(force))
@@ -111,13 +114,14 @@ def penetration_check(result, clearance: float | None = None, fraction: float = 
     return {"side_clearance_um": clearance * 1e6, "fraction": fraction, "floor_um": floor * 1e6,
             "limit_um": limit * 1e6,
             "penetration_um": {c: d * 1e6 for c, d in depths.items()}, "peak_force_N": forces,
-            "beyond_limit": beyond, "ok": not beyond}
+            "beyond_limit": beyond, "deepest_at_start": [c for c in beyond if c in at_start], "ok": not beyond}
 
 
 def describe(check: dict) -> str:
-    """One line for a warning: which contacts, how deep, against what, and the likely cause: a contact softer than
-    metal, or, where the peak force over the depth is a metal's stiffness, loads beyond the seal's (a check of a
-    summary.json written before the forces were recorded names both)."""
+    """One line for a warning: which contacts, how deep, against what, and the likely cause: the initial state where
+    every contact beyond the limit is deepest at the run's first sample, a contact softer than metal, or, where the
+    peak force over the depth is a metal's stiffness, loads beyond the seal's (a check of a summary.json written
+    before the forces were recorded names both)."""
     worst = ", ".join(f"{c} {check['penetration_um'][c]:.3g} µm" for c in check["beyond_limit"])
     side = f"{check['fraction']:g} of the side clearance (Wg - Ws)/2 = {check['side_clearance_um']:.3g} µm"
     bound = f"{side} (limit {check['limit_um']:.3g} µm)"
@@ -128,6 +132,10 @@ def describe(check: dict) -> str:
     soft = "the contact stiffness is far below a metal contact's (docs/scene-estimates.md gives plausible values)"
     loads = ("the loads are beyond what the seal takes (rotor speed, chamber pressures and their unit, preload, "
              "mass: the scene's plausibility warnings name doubtful keys)")
+    if check["beyond_limit"] and check.get("deepest_at_start") == check["beyond_limit"]:
+        # deepest at the run's first sample: the seal started inside the wall, whatever the loads and stiffness
+        return (f"{head}, deepest at the run's first sample: the initial state puts the seal into the wall (check "
+                "operation.initial_state; the start check lets a start this deep through: docs/scenes.md)")
     forces = check.get("peak_force_N", {})
     if not all(c in forces for c in check["beyond_limit"]):
         return f"{head}; either {soft}, or {loads}"

@@ -162,7 +162,13 @@ class SimulationResult:
         why = f" ({reason if len(reason) <= 60 else reason[:59] + '…'})" if reason else ""  # the whole: .stop
         return (f"SimulationResult({self.status}{why}, {self.revolutions:.2f} rev, {self.n} samples, "
                 f"{self.n_events} events, {self._outside_model()}"
-                f"friction power {self.friction_power:.3g} W, method {method})")
+                f"friction power {self._power(3)}, method {method})")
+
+    def _power(self, digits: int) -> str:
+        """The mean friction power with its unit, or "none computed" before the first output interval ended (NaN:
+        the console's summary says so, the repr printed "nan W")."""
+        p = self.friction_power
+        return f"{p:.{digits}g} W" if math.isfinite(p) else "none computed"
 
     def _sampling(self) -> str:
         """What the output samples resolve, for the HTML repr: their number (per revolution), whether they resolve the
@@ -204,7 +210,7 @@ class SimulationResult:
                 ("revolutions", f"{self.revolutions:.3f}"), ("samples", self._sampling()),
                 ("events", ", ".join(f"{g} {int(self.events[i, -1])}" for i, g in enumerate(self.guard_names))
                  + f" (total {self.n_events})"),
-                ("mean friction power", f"{self.friction_power:.4g} W" + (f" ({outside}: FlankWarning)" if outside else "")),
+                ("mean friction power", self._power(4) + (f" ({outside}: FlankWarning)" if outside else "")),
                 ("method", f"{self.info.get('method', '?')}, rtol {self.info.get('rtol', '?')}"),
                 ("wall time", f"{self.info.get('wall_time_s', float('nan')):.3g} s"),
                 ("scene", f"{self.info.get('scene', '?')} ({str(self.info.get('scene_hash', ''))[:12]})")]

@@ -187,7 +187,7 @@ def mode_damping(functions, params, theta: float, X, dampers, undamped=(), modes
         C = A @ C @ np.linalg.inv(A)  # in the positions' rates
         zeta = float(psi @ C @ phi) / (2 * w * float(psi @ phi)) if w > 0 else 0.0
         # dampers only take energy: below 0 is round-off (no damper at all: -1e-7); not finite, none is counted
-        zeta = max(zeta, 0.0) if math.isfinite(zeta) else 0.0
+        zeta = max(zeta, 0.0) + 0.0 if math.isfinite(zeta) else 0.0  # + 0.0: no -0.0 (max keeps it), printed "-0"
         guards = functions.guard_names
         out.append(ModeRinging(mode.label, w, zeta, tuple(g for g, c in zip(guards, mode.closed, strict=True) if c)))
     return out

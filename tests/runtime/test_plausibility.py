@@ -142,6 +142,25 @@ def test_the_penetration_warning_blames_the_loads_when_the_contacts_are_metal():
     assert "; either the contact stiffness is far below a metal contact's" in older and "or the loads" in older
 
 
+def test_a_seal_started_inside_its_groove_wall_is_told_to_check_its_initial_state():
+    """operation.initial_state.y = 0.2 mm started the seal 170 µm into two groove corners (the start check lets up
+    to 0.1 Ws through), and the warning blamed the loads: a contact deepest at the run's first sample is the start's."""
+    from types import SimpleNamespace
+
+    from apexseal.runtime.results.plausibility import describe, penetration_check
+
+    depth = np.array([170e-6, 20e-6, 1e-6])  # b3 below zero is penetration (sign -1)
+    outputs = {"xs5": np.zeros(3), "b1": np.zeros(3), "b2": np.zeros(3), "b3": -depth, "b4": -depth[::-1]}
+    check = penetration_check(SimpleNamespace(outputs=outputs, n=3), clearance=30e-6)
+    assert check["beyond_limit"] == ["c4", "i2"] and check["deepest_at_start"] == ["i2"]  # c4 deepest at the end
+    assert "initial state" not in describe(check)
+    started = penetration_check(SimpleNamespace(outputs={**outputs, "b4": -depth}, n=3), clearance=30e-6)
+    assert started["deepest_at_start"] == ["c4", "i2"]
+    assert describe(started).endswith("deepest at the run's first sample: the initial state puts the seal into the "
+                                      "wall (check operation.initial_state; the start check lets a start this deep "
+                                      "through: docs/scenes.md)")
+
+
 def test_a_seal_driven_into_its_groove_is_flagged(scene, default_functions):
     """Thrown inwards at 2 m/s, the seal sinks about 0.7 mm into its groove, which puts the mouth corners g1 and g3
     on its tip arc, outside the seal-groove contact model (Eqs. 20-23): the run says so, from the first sample."""

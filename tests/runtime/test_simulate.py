@@ -248,6 +248,8 @@ def test_a_run_that_computed_no_interval_has_no_friction_power(erk_result, capsy
     assert s["mean_friction_power_W"]["total"] is None
     describe_result(start, s)
     assert "friction power: none computed (no output interval)" in capsys.readouterr().out
+    # the repr and the notebook's table say it as the console does (they printed "friction power nan W")
+    assert "friction power none computed, method" in repr(start) and "nan" not in start._repr_html_()
 
 
 class _FlakyEngine:
