@@ -114,7 +114,8 @@ def partial_results(results: dict, cfg: BenchConfig, why: str) -> dict | None:
     for part in ("effects", "e2e", "gas", "cold_compile"):
         done.pop(part, None)
     done["machine"] = dict(done["machine"], load_average_at_end=list(os.getloadavg()))
-    done["elapsed_wall_s"] = time.perf_counter() - done.pop("started_wall")
+    started = done.pop("started_wall", None)
+    done["elapsed_wall_s"] = time.perf_counter() - started if started is not None else done.get("elapsed_wall_s")
     return done
 
 

@@ -75,6 +75,7 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     command = _command_line(click.get_current_context())
     t0 = time.perf_counter()
     measured: dict = {}  # filled point by point: what a signal leaves of the run
+    results = None
     with StopSignals(raising=True) as signals:  # Ctrl-C/SIGTERM abandon the measuring wherever it is
         try:
             results = run_benchmark(cfg, log=lambda msg: click.echo(msg, err=True), into=measured)
@@ -84,7 +85,7 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
             if not signals.requested:  # ends "interrupted", which the benchmark reports as a failed settling)
                 raise
         signals.raising = False  # the report is written whole; a further signal is only noted
-        if signals.requested:
+        if signals.requested and results is None:  # a signal as the run returned: its whole result is written
             signals.ignore_after()
             kept = partial_results(measured, cfg, f"interrupted by {signals.sender()}")
             if kept is None:
@@ -106,3 +107,7 @@ def bench(quick, out, methods, scenes, samples, span_deg, settle, repeats, no_ef
     for name, v in (results.get("gas") or {}).get("variants", {}).items():
         click.echo(f"  gas states ({name}): {1e3 * v['integrate_per_rev_s']:.0f} ms integrating per revolution "
                    f"(x{v['integrate_ratio']:.2f} the table's), {v['rhs_evaluations']} RHS evaluations")
+    if signals.requested:  # it came as the run returned: the whole result is written, the exit code says it came
+        click.echo(f"  interrupted by {signals.sender()} once every point was measured: the whole result is written",
+                   err=True)
+        sys.exit(signals.exit_code())
