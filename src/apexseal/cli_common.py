@@ -264,7 +264,8 @@ def describe_result(result, summary: dict) -> None:
     if sampling is not None and not sampling["resolved"]:  # a note, not a warning: the default sampling is one
         click.echo(f"  note: {describe_sampling(sampling)}")
     accuracy = summary.get("accuracy")  # a fixed step's note; a loose tolerance's warning (runtime/solving/accuracy.py)
-    if accuracy is not None and accuracy["note"]:
+    # (not for a run refused before its first step: it has no error to speak of)
+    if accuracy is not None and accuracy["note"] and not result.info.get("refused_at_start"):
         if accuracy["error_control"]:
             click.echo(f"  warning: {accuracy['note']}", err=True)
         else:

@@ -120,3 +120,10 @@ def test_an_euler_run_says_it_controls_no_error(soft_scene, capsys):
     assert "--set solver.euler_steps_per_revolution=400000" in note
     describe_result(euler, summary)
     assert f"  note: {note}" in capsys.readouterr().out
+    # a run refused before its first step (its steps would amplify a contact's ringing) has no error to speak of:
+    # the note said it "completes whatever its error" beside the refusal
+    from dataclasses import replace
+
+    refused = replace(euler, info={**euler.info, "refused_at_start": True})
+    describe_result(refused, summary)
+    assert "estimates no error" not in capsys.readouterr().out
