@@ -105,9 +105,7 @@ def _embedded_hint(path: Path) -> str:
     from apexseal.suggest import did_you_mean
 
     # a misspelt name of the default or of an embedded scene ("defualt"), and where a relative name was looked for
-    folder = Path(str(_scenes_folder()))
-    own = list(dict.fromkeys([DEFAULT_NAME, *sorted(p.relative_to(folder).with_suffix("").as_posix()
-                                                    for p in folder.rglob("*.toml"))]))
+    own = list(dict.fromkeys([DEFAULT_NAME, *sorted(Path(n).with_suffix("").as_posix() for n in _embedded_names())]))
     given = Path(path).with_suffix("") if Path(path).suffix == ".toml" else Path(path)
     # a relative name as given, or the end of a path made absolute (a study file's scene, from the study's folder)
     near = did_you_mean(given.as_posix(), own) or did_you_mean(given.name, own)
@@ -117,13 +115,18 @@ def _embedded_hint(path: Path) -> str:
     return where + near
 
 
+def _embedded_names() -> list[str]:
+    """apexseal's own scene files, as :func:`embedded_scene_path` takes them ("hard/speed-6000.toml"), sorted."""
+    folder = Path(str(_scenes_folder()))
+    return sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*.toml"))
+
+
 def embedded_scene_path(name: str) -> Path:
     """The path of an embedded scene file, e.g. ``"soft-contacts.toml"`` or ``"hard/speed-6000.toml"``."""
     path = Path(str(_scenes_folder().joinpath(name)))
     if not path.is_file():
-        folder = Path(str(_scenes_folder()))
-        known = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*.toml"))
-        raise SceneError([("scene", name, f"no such embedded scene; embedded: {', '.join(known)}")], source=name)
+        raise SceneError([("scene", name, f"no such embedded scene; embedded: {', '.join(_embedded_names())}")],
+                         source=name)
     return path
 
 

@@ -189,8 +189,7 @@ def sweep(study, example, workers, scheduler, out, resume, retry_failed, figures
 
 def _write_point_scene(st, out: Path, point: int) -> None:
     """--scene-of: the point's scene as a scene file in ``out`` (its pressure table beside it)."""
-    from .files import atomic_write
-    from .runtime.scenes.resolved import stamped_toml
+    from .runtime.studies.scene_file import write_study_scene
     from .runtime.studies.sweep import point_scene
 
     try:
@@ -198,13 +197,11 @@ def _write_point_scene(st, out: Path, point: int) -> None:
     except ValueError as err:
         raise click.BadParameter(str(err).replace("point = ", ""), param_hint="--scene-of") from None
     name = f"point-{point}.toml"
-    text, extra = stamped_toml(scene, f"sweep {st.name}, point {point}", f"apexseal simulate {name}")
     out.mkdir(parents=True, exist_ok=True)
-    for file, content in extra.items():
-        atomic_write(out / file, content)
-    atomic_write(out / name, text)
-    click.echo(f"wrote {out / name}" + "".join(f" and {out / f}" for f in extra)
-               + f": `apexseal simulate {out / name}` runs point {point} alone")
+    written, *extra = write_study_scene(out, scene, f"sweep {st.name}, point {point}", None,
+                                        f"apexseal simulate {name}", name=name)
+    click.echo(f"wrote {written}" + "".join(f" and {f}" for f in extra)
+               + f": `apexseal simulate {written}` runs point {point} alone")
 
 
 def _bench(st, out: Path, repeats: int) -> None:

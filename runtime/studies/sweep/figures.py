@@ -54,6 +54,13 @@ def _grid(study, table: pd.DataFrame, column: str, agg: str = "mean") -> tuple[n
             piv.to_numpy(float))
 
 
+def _feasible_cells(study, table: pd.DataFrame, feasible: np.ndarray) -> np.ndarray:
+    """The (ny, nx) cells of the heat map over the first two parameters that are feasible: every point in them (at
+    each value of the other parameters) feasible; a cell without a point is not."""
+    _, _, m = _grid(study, table.assign(_feasible=feasible.astype(float)), "_feasible", agg="min")
+    return np.nan_to_num(m) >= 0.5
+
+
 def _edges(centres: np.ndarray, log: bool) -> np.ndarray:
     """Cell edges around grid values: midpoints (geometric on a log axis), the outer cells mirrored; on a linear
     axis of values of one sign the outer edges stop at zero (speeds of 0.01, 1500 and 3000 rpm had their first cell
@@ -145,8 +152,7 @@ def quantity_figure(study, table: pd.DataFrame, column: str, path: Path, *, ax=N
         mesh = ax.pcolormesh(xe, ye, z, cmap="viridis")
         ax.figure.colorbar(mesh, ax=ax, label=_label(column, unit))
         if feasible is not None:
-            _, _, m = _grid(study, table.assign(_feasible=feasible.astype(float)), "_feasible", agg="min")
-            _region(ax, xe, ye, np.nan_to_num(m) >= 0.5)
+            _region(ax, xe, ye, _feasible_cells(study, table, feasible))
         _not_completed(ax, study, table, ok)
         _axis(ax, p1, "x")
         _axis(ax, p2, "y")
@@ -195,8 +201,8 @@ def feasible_count(study, table: pd.DataFrame, feasible: np.ndarray) -> str:
     unhatched): "5 of 8 points; 1 of 4 cells feasible at every value of friction.mu1"."""
     count = f"{int(feasible.sum())} of {len(table)} points"
     if len(study.parameters) > 2 and study.design == "grid" and _numeric(study):
-        _, _, cells = _grid(study, table.assign(_feasible=feasible.astype(float)), "_feasible", agg="min")
-        count += (f"; {int((np.nan_to_num(cells) >= 0.5).sum())} of {cells.size} cells feasible at every value of "
+        cells = _feasible_cells(study, table, feasible)
+        count += (f"; {int(cells.sum())} of {cells.size} cells feasible at every value of "
                   + ", ".join(p.key for p in study.parameters[2:]))
     return count
 

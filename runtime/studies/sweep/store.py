@@ -101,7 +101,7 @@ class Store:
         """Replace the part-files of the study before its edit by the rows :func:`carried` keeps for ``points``: the
         new ones written beside the old (points.new/), then put in their place, so that a kill in between leaves the
         old rows or the new, and the earlier study's tables and figures removed (the sweep writes them again)."""
-        files = sorted(p for p in self.parts.iterdir() if _PART.match(p.name))
+        files = part_files(self.parts)
         rows = carried(pd.concat([pd.read_parquet(f) for f in files], ignore_index=True), study, points)
         staged, old = self.folder / "points.new", self.folder / "points.old"
         for folder in (staged, old):
@@ -134,8 +134,7 @@ class Store:
         error...): not ``completed``, nor ``invalid`` (refused at its start for its scene's values, point.FINAL)."""
         from .point import FINAL
 
-        files = [p for p in self.parts.iterdir() if _PART.match(p.name)] if self.parts.is_dir() else []
-        return {int(_PART.match(f.name)[1]) for f in files
+        return {int(_PART.match(f.name)[1]) for f in part_files(self.parts)
                 if (~pd.read_parquet(f, columns=["status"])["status"].isin(FINAL)).any()}
 
     # ------------------------------------------------------------------ writing
@@ -149,13 +148,11 @@ class Store:
 
     def table(self, study) -> pd.DataFrame:
         """Every finished point, sorted by point, columns in a fixed order (parameters, then quantities)."""
-        files = sorted(p for p in self.parts.iterdir() if _PART.match(p.name)) if self.parts.is_dir() else []
         order = [*HEAD, *PERIODIC, *(p.key for p in study.parameters), *study.quantities, *TAIL]
+        files = part_files(self.parts)
         if not files:  # no point has said whether it became periodic: that column is a finished point's
             return pd.DataFrame(columns=[c for c in order if c not in PERIODIC])
-        df = pd.concat([pd.read_parquet(f) for f in files], ignore_index=True)
-        df = df.sort_values("point", kind="stable").reset_index(drop=True)
-        return df[[c for c in order if c in df.columns]]
+        return rows_of(files, order)
 
     def consolidate(self, study) -> pd.DataFrame:
         """Write results.parquet (units in each column's metadata) and results.csv from the part-files."""
@@ -181,6 +178,19 @@ class Store:
         atomic_write(self.folder / "results.csv", named.to_csv(index=False))
         df.attrs["units"] = units
         return df
+
+
+def part_files(parts: Path) -> list[Path]:
+    """The points' part-files in the folder ``parts`` (points/), by point; none when it is not there."""
+    return sorted(p for p in parts.iterdir() if _PART.match(p.name)) if parts.is_dir() else []
+
+
+def rows_of(files: list[Path], order: list[str]) -> pd.DataFrame:
+    """The rows of the part-files ``files`` as one table, sorted by point, with the columns of ``order`` they have,
+    in that order."""
+    df = pd.concat([pd.read_parquet(f) for f in files], ignore_index=True)
+    df = df.sort_values("point", kind="stable").reset_index(drop=True)
+    return df[[c for c in order if c in df.columns]]
 
 
 def carried(old: pd.DataFrame, study, points) -> list[dict]:
@@ -224,16 +234,13 @@ def read_results(folder_or_file: str | Path) -> pd.DataFrame:
     if path.is_dir():
         path = path / "results.parquet"
     parts = path.parent / "points"
-    files = sorted(p for p in parts.iterdir() if _PART.match(p.name)) if parts.is_dir() else []
+    files = part_files(parts)
     written = pq.read_metadata(path).num_rows if path.is_file() else None  # the points the table holds
     if files and (written is None or len(files) != written):
         record = path.parent / "study.json"
         if record.is_file():
             units = json.loads(record.read_text()).get("units", {})
-            df = pd.concat([pd.read_parquet(f) for f in files], ignore_index=True)
-            df = df.sort_values("point", kind="stable").reset_index(drop=True)
-            order = [*HEAD, *PERIODIC, *units, *TAIL]
-            df = df[[c for c in order if c in df.columns]]
+            df = rows_of(files, [*HEAD, *PERIODIC, *units, *TAIL])
             df.attrs["units"] = {c: {**HEAD, **PERIODIC, **units, **TAIL}.get(c, "") for c in df.columns}
             state = "not written yet" if written is None else f"of {written} points, not of the {len(files)} now"
             warnings.warn(f"{path} is {state} (the sweep is running, or was stopped before it wrote it): read from the "
